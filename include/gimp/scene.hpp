@@ -1,0 +1,115 @@
+// A scene: everything a run needs, read from the PETSc options database and validated
+// before the first step. Bad input raises InputError with one line naming the option,
+// the value and what would be valid.
+#pragma once
+
+#include "gimp/petsc_compat.hpp"
+
+#include <array>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace gimp {
+
+/// One-line user error (bad option value, inconsistent scene). main() prints it and exits.
+struct InputError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+enum class Update { USF, USL, MUSL };
+enum class Tracking { None, Strain, Stretch };
+enum class MaterialModel { Linear, NeoHookean };
+enum class Side { Left = 0, Right = 1, Bottom = 2, Top = 3 };
+enum class Mms { None, Skb1d };
+
+using Vec2 = std::array<double, 2>;
+using Box = std::array<double, 4>; // x0, y0, x1, y1
+
+/// Piecewise-linear time table of a load factor; empty means constant 1 (dead load).
+struct Ramp {
+  std::vector<double> t, f;
+  double at(double time) const;
+};
+
+struct Hole {
+  double cx, cy, r;
+};
+
+struct Body {
+  Box box{};
+  std::vector<Hole> holes;
+  int ppc = 4;              // particles per cell (a perfect square: 1, 4, 9, ...)
+  int holePpc = 0;          // particles per cell in cells next to a hole (0: same as ppc)
+  double holeBand = 0;      // width of the band next to a hole that gets holePpc [m]
+  Vec2 velocity{};          // initial velocity [m/s]
+  bool sineProfile = false; // v = velocity * sin(k (X - x0)) instead of uniform
+  double wavenumber = 0;    // k [1/m]
+  bool inside(double x, double y) const;
+};
+
+struct Traction {
+  int body = 0;
+  Side side = Side::Right;
+  Vec2 value{}; // traction vector at full load [Pa]
+  bool hasRange = false;
+  std::array<double, 2> range{}; // along the side
+  Ramp ramp;
+};
+
+/// Grid-node constraint on a grid line x = c (axis 0) or y = c (axis 1).
+struct NodeBC {
+  int axis = 0;
+  double coord = 0;
+  bool fix[2] = {true, true};
+  bool hasRange = false;
+  std::array<double, 2> range{};
+};
+
+struct Probe {
+  std::string name;
+  Vec2 x{};
+};
+
+struct Material {
+  MaterialModel model = MaterialModel::Linear;
+  double E = 0, nu = 0, rho = 0;
+  bool planeStrain = true;
+  double thickness = 1.0; // [m]
+  // derived
+  double lambda = 0, mu = 0;
+  double lambdaEff() const; // lambda, or its plane-stress reduction
+  double waveSpeed() const; // P-wave speed of the 2D model [m/s]
+};
+
+struct Scene {
+  std::string name = "scene";
+  std::string outputDir;
+  int outputInterval = 0; // steps between field outputs (0: initial and final only)
+  int historyInterval = 10;
+  int monitorInterval = 0; // steps between monitor lines (0: off)
+  Box domain{};
+  double h = 0;
+  std::vector<Body> bodies;
+  Material material;
+  Vec2 gravity{};
+  std::vector<Traction> tractions;
+  std::vector<NodeBC> bcs;
+  double damping = 0;
+  Update update = Update::MUSL;
+  double flip = 1.0;
+  Tracking tracking = Tracking::Stretch;
+  double massCutoff = 1e-8; // relative to the mean particle mass
+  double cfl = 0.3;
+  std::vector<Probe> probes;
+  Mms mms = Mms::None;
+  double mmsAmplitude = 1e-4;
+  std::string particleDump;
+  std::string gridDump;
+  bool help = false;
+};
+
+/// Read and validate the scene from the options database (collective).
+PetscErrorCode readScene(MPI_Comm comm, Scene &scene);
+
+} // namespace gimp

@@ -1,0 +1,45 @@
+// GIMP grid shape functions and particle weights with influence zones.
+//
+// Paper equations: the tent function of a node with influence zone [L-, L+] is Eq. 14,
+// the weight between a particle of half-size l and the node is its average over the
+// particle (Eqs. 10, 13, 15). In 2D both are products of the 1D functions (Eq. 11).
+// A zone of zero on one side (a node on the domain edge) makes that side empty.
+#pragma once
+
+#include <algorithm>
+
+namespace gimp::shape {
+
+/// Nodal tent function S(s), s = x - x_i, Eq. 14.
+inline double tent(double s, double Lm, double Lp) {
+  if (s < 0.0) return s > -Lm ? 1.0 + s / Lm : 0.0;
+  return s < Lp ? 1.0 - s / Lp : 0.0;
+}
+
+/// Integral of the tent over [A, B] (A <= B); the numerator of Eq. 15 times 2l.
+inline double tentIntegral(double A, double B, double Lm, double Lp) {
+  double r = 0.0;
+  const double a1 = std::max(A, -Lm), b1 = std::min(B, 0.0); // left part
+  if (b1 > a1) r += (b1 - a1) + (b1 * b1 - a1 * a1) / (2.0 * Lm);
+  const double a2 = std::max(A, 0.0), b2 = std::min(B, Lp); // right part
+  if (b2 > a2) r += (b2 - a2) - (b2 * b2 - a2 * a2) / (2.0 * Lp);
+  return r;
+}
+
+/// 1D GIMP weight, Eq. 15: d = x_p - x_i, l = particle half-size.
+inline double weight(double d, double l, double Lm, double Lp) {
+  return tentIntegral(d - l, d + l, Lm, Lp) / (2.0 * l);
+}
+
+/// d/dx_p of the 1D weight: (S(d + l) - S(d - l)) / (2 l), exact.
+inline double weightGradient(double d, double l, double Lm, double Lp) {
+  return (tent(d + l, Lm, Lp) - tent(d - l, Lm, Lp)) / (2.0 * l);
+}
+
+/// Weight and gradient together (one call in the inner loops).
+inline void weightAndGradient(double d, double l, double Lm, double Lp, double &w, double &g) {
+  w = weight(d, l, Lm, Lp);
+  g = weightGradient(d, l, Lm, Lp);
+}
+
+} // namespace gimp::shape

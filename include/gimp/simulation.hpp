@@ -1,0 +1,119 @@
+// One explicit GIMP run: the scene, the grid, the particles and PETSc's TS.
+//
+// Nodal momentum is the TS solution (a DMDA global Vec). TS type euler advances it with
+// RHS = f_int + f_b + f_tau - d p (Eq. 8 and Eq. 16). Particle-to-grid runs in the TS
+// pre-step, grid-to-particle and the stress update in the post-step.
+#pragma once
+
+#include "gimp/grid.hpp"
+#include "gimp/particles.hpp"
+#include "gimp/scene.hpp"
+
+#include <petscts.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace gimp {
+
+class Output;
+
+struct Energies {
+  double kinetic = 0, strain = 0, externalWork = 0, damping = 0;
+  double momentum[2] = {0, 0};
+  double total() const { return kinetic + strain - externalWork + damping; }
+};
+
+struct ProbeState {
+  PetscInt64 id = -1;
+  double X0[2] = {0, 0}, u[2] = {0, 0}, stress[4] = {0, 0, 0, 0};
+};
+
+class Simulation {
+public:
+  explicit Simulation(MPI_Comm comm);
+  ~Simulation();
+  Simulation(const Simulation &) = delete;
+  Simulation &operator=(const Simulation &) = delete;
+
+  /// Read the scene, build grid, particles and TS; validate everything (collective).
+  PetscErrorCode setup();
+  /// Run TSSolve and write the final outputs.
+  PetscErrorCode run();
+
+  const Scene &scene() const { return sc_; }
+  /// True when the run stopped early because it went unstable.
+  bool failed() const { return failed_; }
+
+private:
+  // TS callbacks
+  static PetscErrorCode preStep(TS ts);
+  static PetscErrorCode postStep(TS ts);
+  static PetscErrorCode rhs(TS ts, PetscReal t, Vec X, Vec F, void *ctx);
+
+  PetscErrorCode migrate();
+  PetscErrorCode computeStencils(const ParticleView &p);
+  PetscErrorCode particleToGrid(const ParticleView &p, bool withMass, Vec P);
+  PetscErrorCode nodalVelocity(Vec P, Vec Vout);
+  PetscErrorCode internalAndExternalForces(const ParticleView &p, double t, Vec F);
+  PetscErrorCode gridToParticle(ParticleView &p, double dt);
+  PetscErrorCode updateStress(ParticleView &p, Vec Vlocal, double dt);
+  PetscErrorCode checkParticles(const ParticleView &p, PetscInt step, double t);
+  PetscErrorCode applyConstraintMask();
+
+public:
+  // Diagnostics used by monitors and output.
+  PetscErrorCode energies(Energies &e);
+  PetscErrorCode probes(std::vector<ProbeState> &out);
+  PetscErrorCode mmsErrors(double t, double &linf, double &rms);
+  PetscErrorCode particleCount(PetscInt64 &n);
+  PetscErrorCode writeParticleDump(const std::string &file);
+
+  MPI_Comm comm_;
+  PetscMPIInt rank_ = 0, size_ = 1;
+  Scene sc_;
+  Grid grid_;
+  DM sw_ = nullptr;
+  TS ts_ = nullptr;
+
+  // Nodal vectors (global unless named L).
+  Vec P_ = nullptr;     // momentum: the TS solution
+  Vec mass_ = nullptr;  // nodal mass (da1)
+  Vec massL_ = nullptr; // local nodal mass (da1)
+  Vec vel_ = nullptr;   // nodal velocity
+  Vec velL_ = nullptr;  // local nodal velocity
+  Vec acc_ = nullptr;   // nodal acceleration
+  Vec accL_ = nullptr;  // local nodal acceleration
+  Vec workL_ = nullptr; // local accumulator (dof 2)
+  Vec force_ = nullptr; // last RHS (total nodal force incl. damping)
+  Vec fext_ = nullptr;  // external nodal force (tractions + body force), if the scene has any
+  Vec extL_ = nullptr;
+  Vec bcMask_ = nullptr; // 1 free, 0 constrained, per dof
+  Vec mask_ = nullptr;   // bcMask_ times (node has mass)
+  Vec invMass_ = nullptr;
+
+  // Per-particle stencil, rebuilt each step: base local node and 1D weights/gradients.
+  static constexpr int kMaxStencil = 4;
+  int ns_ = 3; // nodes per direction in use this step
+  std::vector<PetscInt> base_;
+  std::vector<double> wx_, wy_, gx_, gy_;
+
+  // Energy accounting.
+  double extWork_ = 0, dampWork_ = 0;
+  double extPowerStart_ = 0, dampPowerStart_ = 0;
+  double meanParticleMass_ = 0;
+  bool hasExternal_ = false;
+
+  std::vector<ProbeState> probeIds_;
+  double mmsLinf_ = 0, mmsRms_ = 0;
+  PetscInt64 nParticles_ = 0;
+  std::unique_ptr<Output> out_;
+  PetscLogStage stageP2G_ = 0, stageForces_ = 0, stageGrid_ = 0, stageG2P_ = 0, stageStress_ = 0,
+                stageOutput_ = 0;
+  PetscLogDouble wall0_ = 0;
+  bool failed_ = false;
+  friend class Output;
+};
+
+} // namespace gimp

@@ -1,0 +1,26 @@
+#include "gimp/mms.hpp"
+
+#include <cmath>
+
+namespace gimp::mms {
+
+namespace {
+constexpr double kPi = 3.14159265358979323846;
+}
+
+Skb1d::Skb1d(const Scene &sc) : A(sc.mmsAmplitude), c(std::sqrt(sc.material.E / sc.material.rho)) {}
+
+double Skb1d::u(double X, double t) const {
+  return A * std::sin(2 * kPi * X) * std::cos(c * kPi * t);
+}
+
+double Skb1d::F(double X, double t) const {
+  return 1.0 + 2 * kPi * A * std::cos(2 * kPi * X) * std::cos(c * kPi * t);
+}
+
+double Skb1d::bodyForce(double X, double t) const {
+  const double f = F(X, t);
+  return c * c * kPi * kPi * u(X, t) * (1.0 + 2.0 / (f * f));
+}
+
+} // namespace gimp::mms

@@ -1,0 +1,179 @@
+#include "gimp/particles.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+namespace gimp {
+
+namespace {
+
+struct FieldSpec {
+  const char *name;
+  PetscInt bs;
+  PetscDataType type;
+};
+
+const FieldSpec kFields[] = {
+    {"x", 2, PETSC_REAL},      {"X0", 2, PETSC_REAL},  {"v", 2, PETSC_REAL},
+    {"m", 1, PETSC_REAL},      {"V0", 1, PETSC_REAL},  {"V", 1, PETSC_REAL},
+    {"l", 2, PETSC_REAL},      {"l0", 2, PETSC_REAL},  {"F", 4, PETSC_REAL},
+    {"stress", 4, PETSC_REAL}, {"eps", 2, PETSC_REAL}, {"id", 1, PETSC_INT64},
+    {"trac", 2, PETSC_INT}};
+
+template <typename T> PetscErrorCode getField(DM sw, const char *name, T **p) {
+  PetscCall(DMSwarmGetField(sw, name, nullptr, nullptr, reinterpret_cast<void **>(p)));
+  return PETSC_SUCCESS;
+}
+
+template <typename T> PetscErrorCode restoreField(DM sw, const char *name, T **p) {
+  PetscCall(DMSwarmRestoreField(sw, name, nullptr, nullptr, reinterpret_cast<void **>(p)));
+  return PETSC_SUCCESS;
+}
+
+} // namespace
+
+PetscErrorCode ParticleView::get(DM sw) {
+  PetscCall(DMSwarmGetLocalSize(sw, &n));
+  PetscCall(getField(sw, "x", &x));
+  PetscCall(getField(sw, "X0", &X0));
+  PetscCall(getField(sw, "v", &v));
+  PetscCall(getField(sw, "m", &m));
+  PetscCall(getField(sw, "V0", &V0));
+  PetscCall(getField(sw, "V", &V));
+  PetscCall(getField(sw, "l", &l));
+  PetscCall(getField(sw, "l0", &l0));
+  PetscCall(getField(sw, "F", &F));
+  PetscCall(getField(sw, "stress", &s));
+  PetscCall(getField(sw, "eps", &eps));
+  PetscCall(getField(sw, "id", &id));
+  PetscCall(getField(sw, "trac", &trac));
+  PetscCall(getField(sw, DMSwarmField_rank, &rank));
+  return PETSC_SUCCESS;
+}
+
+PetscErrorCode ParticleView::restore(DM sw) {
+  PetscCall(restoreField(sw, "x", &x));
+  PetscCall(restoreField(sw, "X0", &X0));
+  PetscCall(restoreField(sw, "v", &v));
+  PetscCall(restoreField(sw, "m", &m));
+  PetscCall(restoreField(sw, "V0", &V0));
+  PetscCall(restoreField(sw, "V", &V));
+  PetscCall(restoreField(sw, "l", &l));
+  PetscCall(restoreField(sw, "l0", &l0));
+  PetscCall(restoreField(sw, "F", &F));
+  PetscCall(restoreField(sw, "stress", &s));
+  PetscCall(restoreField(sw, "eps", &eps));
+  PetscCall(restoreField(sw, "id", &id));
+  PetscCall(restoreField(sw, "trac", &trac));
+  PetscCall(restoreField(sw, DMSwarmField_rank, &rank));
+  return PETSC_SUCCESS;
+}
+
+PetscErrorCode createSwarm(MPI_Comm comm, DM *sw) {
+  PetscCall(DMCreate(comm, sw));
+  PetscCall(DMSetType(*sw, DMSWARM));
+  PetscCall(PetscObjectSetName(reinterpret_cast<PetscObject>(*sw), "particles"));
+  PetscCall(DMSetDimension(*sw, 2));
+  PetscCall(DMSwarmSetType(*sw, DMSWARM_BASIC));
+  PetscCall(DMSwarmInitializeFieldRegister(*sw));
+  for (const FieldSpec &f : kFields)
+    PetscCall(DMSwarmRegisterPetscDatatypeField(*sw, f.name, f.bs, f.type));
+  PetscCall(DMSwarmFinalizeFieldRegister(*sw));
+  return PETSC_SUCCESS;
+}
+
+PetscErrorCode seedParticles(const Scene &sc, const Grid &g, DM sw) {
+  struct Seed {
+    double x, y, l;
+    PetscInt64 id;
+    int body;
+  };
+  std::vector<Seed> seeds;
+  const double h = g.h;
+  const PetscInt64 ncell = static_cast<PetscInt64>(g.M) * g.N;
+  // Owned cells: lower-left node owned, and not the last node line.
+  const PetscInt ie = std::min(g.xs + g.xm, g.M - 1), je = std::min(g.ys + g.ym, g.N - 1);
+  for (size_t b = 0; b < sc.bodies.size(); ++b) {
+    const Body &body = sc.bodies[b];
+    const double band = body.holeBand > 0 ? body.holeBand : h;
+    for (PetscInt j = g.ys; j < je; ++j)
+      for (PetscInt i = g.xs; i < ie; ++i) {
+        const double cx0 = g.x0 + i * h, cy0 = g.y0 + j * h;
+        if (cx0 + h <= body.box[0] || cx0 >= body.box[2] || cy0 + h <= body.box[1] ||
+            cy0 >= body.box[3])
+          continue;
+        int ppc = body.ppc;
+        for (const Hole &c : body.holes) {
+          // Nearest and farthest points of the cell from the hole centre.
+          const double nx = std::clamp(c.cx, cx0, cx0 + h), ny = std::clamp(c.cy, cy0, cy0 + h);
+          const double dmin = std::hypot(nx - c.cx, ny - c.cy);
+          const double fx = std::max(std::fabs(cx0 - c.cx), std::fabs(cx0 + h - c.cx));
+          const double fy = std::max(std::fabs(cy0 - c.cy), std::fabs(cy0 + h - c.cy));
+          if (dmin <= c.r + band && std::hypot(fx, fy) >= c.r) ppc = body.holePpc;
+        }
+        const int n = static_cast<int>(std::lround(std::sqrt(static_cast<double>(ppc))));
+        const double d = h / n;
+        for (int b2 = 0; b2 < n; ++b2)
+          for (int a = 0; a < n; ++a) {
+            const double x = cx0 + (a + 0.5) * d, y = cy0 + (b2 + 0.5) * d;
+            if (!body.inside(x, y)) continue;
+            const PetscInt64 cell = static_cast<PetscInt64>(j) * g.M + i;
+            // 64 sub-cell slots per cell per direction at most (n <= 64).
+            const PetscInt64 id = ((static_cast<PetscInt64>(b) * ncell + cell) * 64 + b2) * 64 + a;
+            seeds.push_back({x, y, 0.5 * d, id, static_cast<int>(b)});
+          }
+      }
+  }
+  PetscCall(DMSwarmSetLocalSizes(sw, static_cast<PetscInt>(seeds.size()), 16));
+  ParticleView p;
+  PetscCall(p.get(sw));
+  PetscMPIInt rank = 0;
+  PetscCallMPI(MPI_Comm_rank(PetscObjectComm(reinterpret_cast<PetscObject>(sw)), &rank));
+  const Material &mat = sc.material;
+  const double tol = 1e-9 * h;
+  for (PetscInt k = 0; k < p.n; ++k) {
+    const Seed &s = seeds[k];
+    const Body &body = sc.bodies[s.body];
+    p.x[2 * k] = p.X0[2 * k] = s.x;
+    p.x[2 * k + 1] = p.X0[2 * k + 1] = s.y;
+    double vx = body.velocity[0], vy = body.velocity[1];
+    if (body.sineProfile) {
+      const double f = std::sin(body.wavenumber * (s.x - body.box[0]));
+      vx *= f;
+      vy *= f;
+    }
+    p.v[2 * k] = vx;
+    p.v[2 * k + 1] = vy;
+    p.V0[k] = p.V[k] = 4.0 * s.l * s.l * mat.thickness;
+    p.m[k] = mat.rho * p.V0[k];
+    p.l[2 * k] = p.l[2 * k + 1] = p.l0[2 * k] = p.l0[2 * k + 1] = s.l;
+    p.F[4 * k] = p.F[4 * k + 3] = 1.0;
+    p.F[4 * k + 1] = p.F[4 * k + 2] = 0.0;
+    for (int c = 0; c < 4; ++c)
+      p.s[4 * k + c] = 0.0;
+    p.eps[2 * k] = p.eps[2 * k + 1] = 0.0;
+    p.id[k] = s.id;
+    p.rank[k] = rank;
+    p.trac[2 * k] = p.trac[2 * k + 1] = -1;
+    for (size_t t = 0; t < sc.tractions.size(); ++t) {
+      const Traction &tr = sc.tractions[t];
+      if (tr.body != s.body) continue;
+      const int axis = (tr.side == Side::Left || tr.side == Side::Right) ? 0 : 1;
+      const double edge = axis == 0 ? (tr.side == Side::Left ? s.x - s.l : s.x + s.l)
+                                    : (tr.side == Side::Bottom ? s.y - s.l : s.y + s.l);
+      const double target = body.box[static_cast<int>(tr.side) == 0   ? 0
+                                     : static_cast<int>(tr.side) == 1 ? 2
+                                     : static_cast<int>(tr.side) == 2 ? 1
+                                                                      : 3];
+      if (std::fabs(edge - target) > tol) continue;
+      const double along = axis == 0 ? s.y : s.x;
+      if (tr.hasRange && (along < tr.range[0] || along > tr.range[1])) continue;
+      p.trac[2 * k + axis] = static_cast<PetscInt>(t);
+    }
+  }
+  PetscCall(p.restore(sw));
+  return PETSC_SUCCESS;
+}
+
+} // namespace gimp

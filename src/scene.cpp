@@ -1,0 +1,440 @@
+#include "gimp/scene.hpp"
+
+#include <cmath>
+#include <sstream>
+
+namespace gimp {
+
+namespace {
+
+std::string fmt(double v) {
+  std::ostringstream s;
+  s.precision(12);
+  s << v;
+  return s.str();
+}
+
+std::string fmtList(const double *v, PetscInt n) {
+  std::string r;
+  for (PetscInt i = 0; i < n; ++i)
+    r += (i ? "," : "") + fmt(v[i]);
+  return r;
+}
+
+[[noreturn]] void bad(const std::string &opt, const std::string &value, const std::string &valid) {
+  throw InputError("option -" + opt + " " + value + ": " + valid);
+}
+
+bool isPerfectSquare(int n) {
+  const int r = static_cast<int>(std::lround(std::sqrt(static_cast<double>(n))));
+  return n > 0 && r * r == n;
+}
+
+const char *const kSides[] = {"left", "right", "bottom", "top"};
+
+} // namespace
+
+double Ramp::at(double time) const {
+  if (t.empty()) return 1.0;
+  if (time <= t.front()) return f.front();
+  for (size_t k = 1; k < t.size(); ++k)
+    if (time <= t[k]) return f[k - 1] + (f[k] - f[k - 1]) * (time - t[k - 1]) / (t[k] - t[k - 1]);
+  return f.back();
+}
+
+bool Body::inside(double x, double y) const {
+  if (x < box[0] || x > box[2] || y < box[1] || y > box[3]) return false;
+  for (const Hole &c : holes)
+    if ((x - c.cx) * (x - c.cx) + (y - c.cy) * (y - c.cy) < c.r * c.r) return false;
+  return true;
+}
+
+double Material::lambdaEff() const {
+  return planeStrain ? lambda : 2.0 * mu * lambda / (lambda + 2.0 * mu);
+}
+
+double Material::waveSpeed() const {
+  return std::sqrt((lambdaEff() + 2.0 * mu) / rho);
+}
+
+namespace {
+
+PetscErrorCode readMaterial(MPI_Comm comm, Scene &sc) {
+  Material &m = sc.material;
+  const char *models[] = {"linear", "neohookean"};
+  const char *planes[] = {"strain", "stress"};
+  PetscInt model = 0, plane = 0;
+  PetscBool setE = PETSC_FALSE, setRho = PETSC_FALSE;
+  PetscOptionsBegin(comm, nullptr, "Material", "gimp");
+  PetscCall(PetscOptionsEList("-gimp_material",
+                              "Constitutive model: linear (hypoelastic, Jaumann rate) or "
+                              "neohookean (compressible)",
+                              "docs/options.md", models, 2, models[0], &model, nullptr));
+  PetscCall(
+      PetscOptionsReal("-gimp_E", "Young's modulus [Pa]", "docs/options.md", m.E, &m.E, &setE));
+  PetscCall(
+      PetscOptionsReal("-gimp_nu", "Poisson's ratio [-]", "docs/options.md", m.nu, &m.nu, nullptr));
+  PetscCall(PetscOptionsReal("-gimp_rho", "Mass density [kg/m^3]", "docs/options.md", m.rho, &m.rho,
+                             &setRho));
+  PetscCall(PetscOptionsEList("-gimp_plane", "Two-dimensional model: plane strain or plane stress",
+                              "docs/options.md", planes, 2, planes[0], &plane, nullptr));
+  PetscCall(PetscOptionsReal("-gimp_thickness", "Out-of-plane thickness [m]", "docs/options.md",
+                             m.thickness, &m.thickness, nullptr));
+  PetscOptionsEnd();
+  m.model = model == 0 ? MaterialModel::Linear : MaterialModel::NeoHookean;
+  m.planeStrain = plane == 0;
+  if (sc.help) return PETSC_SUCCESS;
+  if (!setE) bad("gimp_E", "(missing)", "Young's modulus is required, a value > 0 in Pa");
+  if (!(m.E > 0)) bad("gimp_E", fmt(m.E), "must be > 0 [Pa]");
+  if (!setRho) bad("gimp_rho", "(missing)", "density is required, a value > 0 in kg/m^3");
+  if (!(m.rho > 0)) bad("gimp_rho", fmt(m.rho), "must be > 0 [kg/m^3]");
+  if (!(m.nu > -1.0 && m.nu < 0.5)) bad("gimp_nu", fmt(m.nu), "must lie in (-1, 0.5)");
+  if (!(m.thickness > 0)) bad("gimp_thickness", fmt(m.thickness), "must be > 0 [m]");
+  m.mu = m.E / (2.0 * (1.0 + m.nu));
+  m.lambda = m.E * m.nu / ((1.0 + m.nu) * (1.0 - 2.0 * m.nu));
+  return PETSC_SUCCESS;
+}
+
+PetscErrorCode readBodies(MPI_Comm comm, Scene &sc) {
+  PetscInt nb = 1;
+  PetscOptionsBegin(comm, nullptr, "Bodies", "gimp");
+  PetscCall(PetscOptionsInt("-gimp_bodies", "Number of bodies (each -gimp_bodyK_* with K = 0..N-1)",
+                            "docs/options.md", nb, &nb, nullptr));
+  PetscOptionsEnd();
+  if (!sc.help && nb < 1) bad("gimp_bodies", std::to_string(nb), "must be >= 1");
+  for (PetscInt k = 0; k < std::max<PetscInt>(nb, 1); ++k) {
+    Body b;
+    const std::string p = "-gimp_body" + std::to_string(k) + "_";
+    PetscReal box[4] = {0, 0, 0, 0}, holes[300], vel[2] = {0, 0};
+    PetscInt nbox = 4, nholes = 300, nvel = 2, ppc = 4, hppc = 0;
+    PetscBool setBox = PETSC_FALSE, setHoles = PETSC_FALSE;
+    const char *profiles[] = {"uniform", "sine_x"};
+    PetscInt profile = 0;
+    PetscReal band = 0, k0 = 0;
+    PetscOptionsBegin(comm, nullptr, "Body", "gimp");
+    PetscCall(PetscOptionsRealArray((p + "box").c_str(), "Body rectangle x0,y0,x1,y1 [m]",
+                                    "docs/options.md", box, &nbox, &setBox));
+    PetscCall(PetscOptionsRealArray((p + "holes").c_str(),
+                                    "Circular holes removed from the body: cx,cy,r,... [m]",
+                                    "docs/options.md", holes, &nholes, &setHoles));
+    PetscCall(PetscOptionsInt((p + "ppc").c_str(),
+                              "Particles per cell (1, 4, 9, 16, 25, ...: n x n per cell)",
+                              "docs/options.md", ppc, &ppc, nullptr));
+    PetscCall(PetscOptionsInt((p + "hole_ppc").c_str(),
+                              "Particles per cell in cells next to a hole (0: same as ppc)",
+                              "docs/options.md", hppc, &hppc, nullptr));
+    PetscCall(PetscOptionsReal((p + "hole_band").c_str(),
+                               "Width of the band around each hole that gets hole_ppc "
+                               "(0: one cell) [m]",
+                               "docs/options.md", band, &band, nullptr));
+    PetscCall(PetscOptionsRealArray((p + "velocity").c_str(), "Initial velocity vx,vy [m/s]",
+                                    "docs/options.md", vel, &nvel, nullptr));
+    PetscCall(PetscOptionsEList((p + "velocity_profile").c_str(),
+                                "Initial velocity profile: uniform, or sine_x: "
+                                "v = velocity sin(k (X - x0))",
+                                "docs/options.md", profiles, 2, profiles[0], &profile, nullptr));
+    PetscCall(PetscOptionsReal((p + "wavenumber").c_str(), "Wavenumber k of sine_x [1/m]",
+                               "docs/options.md", k0, &k0, nullptr));
+    PetscOptionsEnd();
+    if (sc.help) continue;
+    const std::string q = p.substr(1);
+    if (!setBox) bad(q + "box", "(missing)", "each body needs its rectangle x0,y0,x1,y1 [m]");
+    if (nbox != 4) bad(q + "box", fmtList(box, nbox), "needs 4 values x0,y0,x1,y1 [m]");
+    if (!(box[2] > box[0] && box[3] > box[1]))
+      bad(q + "box", fmtList(box, 4), "needs x1 > x0 and y1 > y0 (an empty body)");
+    if (setHoles && nholes % 3 != 0)
+      bad(q + "holes", fmtList(holes, nholes), "needs triples cx,cy,r");
+    for (PetscInt i = 0; setHoles && i + 2 < nholes; i += 3) {
+      if (!(holes[i + 2] > 0)) bad(q + "holes", fmtList(holes, nholes), "radii must be > 0");
+      b.holes.push_back({holes[i], holes[i + 1], holes[i + 2]});
+    }
+    if (!isPerfectSquare(ppc))
+      bad(q + "ppc", std::to_string(ppc), "must be a perfect square (1, 4, 9, 16, 25, ...)");
+    if (hppc != 0 && !isPerfectSquare(hppc))
+      bad(q + "hole_ppc", std::to_string(hppc), "must be 0 or a perfect square (1, 4, 9, ...)");
+    if (band < 0) bad(q + "hole_band", fmt(band), "must be >= 0 [m]");
+    if (nvel != 2 && nvel != 0) bad(q + "velocity", fmtList(vel, nvel), "needs 2 values vx,vy");
+    std::copy(box, box + 4, b.box.begin());
+    b.ppc = static_cast<int>(ppc);
+    b.holePpc = static_cast<int>(hppc ? hppc : ppc);
+    b.holeBand = band;
+    b.velocity = {vel[0], vel[1]};
+    b.sineProfile = profile == 1;
+    b.wavenumber = k0;
+    sc.bodies.push_back(b);
+  }
+  return PETSC_SUCCESS;
+}
+
+PetscErrorCode readRamp(MPI_Comm comm, const std::string &opt, Ramp &r, bool help) {
+  PetscReal v[200];
+  PetscInt n = 200;
+  PetscBool set = PETSC_FALSE;
+  PetscOptionsBegin(comm, nullptr, "Ramp", "gimp");
+  PetscCall(PetscOptionsRealArray(opt.c_str(),
+                                  "Load factor table t0,f0,t1,f1,... [s,-], linear in between, "
+                                  "held after the last entry (default: constant 1)",
+                                  "docs/options.md", v, &n, &set));
+  PetscOptionsEnd();
+  if (!set || help) return PETSC_SUCCESS;
+  if (n < 2 || n % 2) bad(opt.substr(1), fmtList(v, n), "needs pairs t,f (at least one)");
+  for (PetscInt i = 0; i < n; i += 2) {
+    if (i > 0 && !(v[i] > v[i - 2]))
+      bad(opt.substr(1), fmtList(v, n), "times must increase strictly");
+    r.t.push_back(v[i]);
+    r.f.push_back(v[i + 1]);
+  }
+  return PETSC_SUCCESS;
+}
+
+PetscErrorCode readLoads(MPI_Comm comm, Scene &sc) {
+  PetscInt nt = 0, nbc = 0, np = 0;
+  PetscReal g[2] = {0, 0};
+  PetscInt ng = 2;
+  PetscOptionsBegin(comm, nullptr, "Loads and constraints", "gimp");
+  PetscCall(PetscOptionsRealArray("-gimp_gravity", "Body force per unit mass gx,gy [m/s^2]",
+                                  "docs/options.md", g, &ng, nullptr));
+  PetscCall(PetscOptionsInt("-gimp_tractions", "Number of traction loads -gimp_tractionK_*",
+                            "docs/options.md", nt, &nt, nullptr));
+  PetscCall(PetscOptionsInt("-gimp_bcs", "Number of grid-node constraints -gimp_bcK_*",
+                            "docs/options.md", nbc, &nbc, nullptr));
+  PetscCall(PetscOptionsInt("-gimp_probes", "Number of probes -gimp_probeK_*", "docs/options.md",
+                            np, &np, nullptr));
+  PetscOptionsEnd();
+  sc.gravity = {g[0], g[1]};
+  if (!sc.help) {
+    if (nt < 0) bad("gimp_tractions", std::to_string(nt), "must be >= 0");
+    if (nbc < 0) bad("gimp_bcs", std::to_string(nbc), "must be >= 0");
+    if (np < 0) bad("gimp_probes", std::to_string(np), "must be >= 0");
+  }
+  for (PetscInt k = 0; k < (sc.help ? 1 : nt); ++k) {
+    Traction t;
+    const std::string p = "-gimp_traction" + std::to_string(k) + "_";
+    PetscInt body = 0, side = 1, nv = 2, nr = 2;
+    PetscReal val[2] = {0, 0}, rng[2] = {0, 0};
+    PetscBool setV = PETSC_FALSE, setR = PETSC_FALSE;
+    PetscOptionsBegin(comm, nullptr, "Traction", "gimp");
+    PetscCall(PetscOptionsInt((p + "body").c_str(), "Body the traction acts on", "docs/options.md",
+                              body, &body, nullptr));
+    PetscCall(PetscOptionsEList((p + "side").c_str(), "Side of the body's rectangle",
+                                "docs/options.md", kSides, 4, kSides[1], &side, nullptr));
+    PetscCall(PetscOptionsRealArray((p + "value").c_str(),
+                                    "Traction vector tx,ty at full load [Pa]", "docs/options.md",
+                                    val, &nv, &setV));
+    PetscCall(PetscOptionsRealArray((p + "range").c_str(),
+                                    "Part of the side that is loaded: from,to along it [m]",
+                                    "docs/options.md", rng, &nr, &setR));
+    PetscOptionsEnd();
+    PetscCall(readRamp(comm, p + "ramp", t.ramp, sc.help));
+    if (sc.help) continue;
+    const std::string q = p.substr(1);
+    if (body < 0 || body >= static_cast<PetscInt>(sc.bodies.size()))
+      bad(q + "body", std::to_string(body),
+          "must name a body, 0 to " + std::to_string(sc.bodies.size() - 1));
+    if (!setV || nv != 2)
+      bad(q + "value", setV ? fmtList(val, nv) : "(missing)", "needs tx,ty [Pa]");
+    if (setR && (nr != 2 || !(rng[1] > rng[0])))
+      bad(q + "range", fmtList(rng, nr), "needs from,to with to > from [m]");
+    t.body = static_cast<int>(body);
+    t.side = static_cast<Side>(side);
+    t.value = {val[0], val[1]};
+    t.hasRange = setR;
+    t.range = {rng[0], rng[1]};
+    sc.tractions.push_back(t);
+  }
+  for (PetscInt k = 0; k < (sc.help ? 1 : nbc); ++k) {
+    NodeBC b;
+    const std::string p = "-gimp_bc" + std::to_string(k) + "_";
+    PetscReal x = 0, y = 0, rng[2] = {0, 0};
+    PetscBool setX = PETSC_FALSE, setY = PETSC_FALSE, setR = PETSC_FALSE;
+    PetscInt nr = 2, type = 0;
+    const char *types[] = {"fixed", "roller"};
+    PetscOptionsBegin(comm, nullptr, "Grid-node constraint", "gimp");
+    PetscCall(PetscOptionsReal((p + "x").c_str(),
+                               "Constrain the grid nodes on the line x = value [m]",
+                               "docs/options.md", x, &x, &setX));
+    PetscCall(PetscOptionsReal((p + "y").c_str(),
+                               "Constrain the grid nodes on the line y = value [m]",
+                               "docs/options.md", y, &y, &setY));
+    PetscCall(PetscOptionsEList((p + "type").c_str(),
+                                "fixed (both components) or roller (normal component only)",
+                                "docs/options.md", types, 2, types[0], &type, nullptr));
+    PetscCall(PetscOptionsRealArray((p + "range").c_str(),
+                                    "Part of the line that is constrained: from,to [m]",
+                                    "docs/options.md", rng, &nr, &setR));
+    PetscOptionsEnd();
+    if (sc.help) continue;
+    const std::string q = p.substr(1);
+    if (setX == setY)
+      bad(q + "x", setX ? "and -" + q + "y both given" : "(missing)",
+          "give exactly one of -" + q + "x or -" + q + "y");
+    if (setR && (nr != 2 || !(rng[1] > rng[0])))
+      bad(q + "range", fmtList(rng, nr), "needs from,to with to > from [m]");
+    b.axis = setX ? 0 : 1;
+    b.coord = setX ? x : y;
+    b.fix[0] = type == 0 || b.axis == 0;
+    b.fix[1] = type == 0 || b.axis == 1;
+    b.hasRange = setR;
+    b.range = {rng[0], rng[1]};
+    sc.bcs.push_back(b);
+  }
+  for (PetscInt k = 0; k < (sc.help ? 1 : np); ++k) {
+    Probe pr;
+    const std::string p = "-gimp_probe" + std::to_string(k) + "_";
+    char name[256] = "";
+    PetscReal x[2] = {0, 0};
+    PetscInt nx = 2;
+    PetscBool setX = PETSC_FALSE;
+    pr.name = "probe" + std::to_string(k);
+    PetscOptionsBegin(comm, nullptr, "Probe", "gimp");
+    PetscCall(PetscOptionsString((p + "name").c_str(), "Probe name in history.csv and summary.json",
+                                 "docs/options.md", pr.name.c_str(), name, sizeof(name), nullptr));
+    PetscCall(PetscOptionsRealArray((p + "x").c_str(),
+                                    "Initial position x,y; the probe follows the particle nearest "
+                                    "to it [m]",
+                                    "docs/options.md", x, &nx, &setX));
+    PetscOptionsEnd();
+    if (sc.help) continue;
+    if (!setX || nx != 2)
+      bad(p.substr(1) + "x", setX ? fmtList(x, nx) : "(missing)", "needs x,y [m]");
+    pr.name = name;
+    pr.x = {x[0], x[1]};
+    sc.probes.push_back(pr);
+  }
+  return PETSC_SUCCESS;
+}
+
+} // namespace
+
+PetscErrorCode readScene(MPI_Comm comm, Scene &sc) {
+  PetscBool help = PETSC_FALSE;
+  PetscCall(PetscOptionsHasHelp(nullptr, &help));
+  sc.help = help;
+  char name[256] = "scene", outdir[PETSC_MAX_PATH_LEN] = "", pdump[PETSC_MAX_PATH_LEN] = "",
+       gdump[PETSC_MAX_PATH_LEN] = "";
+  PetscReal dom[4] = {0, 0, 0, 0};
+  PetscInt ndom = 4, pad = 2, update = 2, tracking = 2, mms = 0;
+  PetscBool setDom = PETSC_FALSE, setH = PETSC_FALSE;
+  const char *updates[] = {"usf", "usl", "musl"};
+  const char *trackings[] = {"none", "strain", "stretch"};
+  const char *mmss[] = {"none", "skb1d"};
+  PetscOptionsBegin(comm, nullptr, "gimp scene", "gimp");
+  PetscCall(PetscOptionsString("-gimp_scene", "Scene name (output/<name> by default)",
+                               "docs/options.md", name, name, sizeof(name), nullptr));
+  PetscCall(PetscOptionsString("-gimp_output_dir", "Output directory (default output/<scene>)",
+                               "docs/options.md", outdir, outdir, sizeof(outdir), nullptr));
+  PetscCall(PetscOptionsInt("-gimp_output_interval",
+                            "Steps between HDF5 field outputs (0: initial and final only)",
+                            "docs/options.md", sc.outputInterval, &sc.outputInterval, nullptr));
+  PetscCall(PetscOptionsInt("-gimp_history_interval", "Steps between rows of history.csv",
+                            "docs/options.md", sc.historyInterval, &sc.historyInterval, nullptr));
+  PetscCall(PetscOptionsInt("-gimp_monitor_interval",
+                            "Steps between energy/momentum monitor lines (0: off)",
+                            "docs/options.md", sc.monitorInterval, &sc.monitorInterval, nullptr));
+  PetscCall(PetscOptionsReal("-gimp_h", "Cell size of the background grid [m]", "docs/options.md",
+                             sc.h, &sc.h, &setH));
+  PetscCall(PetscOptionsRealArray("-gimp_domain",
+                                  "Grid domain x0,y0,x1,y1 [m] (default: the bodies' bounding box "
+                                  "padded by -gimp_pad cells)",
+                                  "docs/options.md", dom, &ndom, &setDom));
+  PetscCall(PetscOptionsInt("-gimp_pad",
+                            "Cells of padding around the bodies for the default domain",
+                            "docs/options.md", pad, &pad, nullptr));
+  PetscCall(PetscOptionsReal("-gimp_damping", "Artificial damping coefficient d of Eq. 16 [1/s]",
+                             "docs/options.md", sc.damping, &sc.damping, nullptr));
+  PetscCall(PetscOptionsEList("-gimp_update", "Update scheme", "docs/options.md", updates, 3,
+                              updates[2], &update, nullptr));
+  PetscCall(PetscOptionsReal("-gimp_flip",
+                             "FLIP fraction of the particle velocity update (1: FLIP, 0: PIC)",
+                             "docs/options.md", sc.flip, &sc.flip, nullptr));
+  PetscCall(PetscOptionsEList("-gimp_tracking",
+                              "Particle size tracking: none, strain ((1+eps) l0), stretch (F l0)",
+                              "docs/options.md", trackings, 3, trackings[2], &tracking, nullptr));
+  PetscCall(PetscOptionsReal("-gimp_mass_cutoff",
+                             "Nodes lighter than this fraction of the mean particle mass are "
+                             "treated as empty [-]",
+                             "docs/options.md", sc.massCutoff, &sc.massCutoff, nullptr));
+  PetscCall(PetscOptionsReal("-gimp_cfl", "Default time step as a fraction of h / c_p [-]",
+                             "docs/options.md", sc.cfl, &sc.cfl, nullptr));
+  PetscCall(PetscOptionsEList("-gimp_mms", "Manufactured solution: none or skb1d",
+                              "docs/options.md", mmss, 2, mmss[0], &mms, nullptr));
+  PetscCall(PetscOptionsReal("-gimp_mms_amplitude", "Amplitude A of the manufactured solution [m]",
+                             "docs/options.md", sc.mmsAmplitude, &sc.mmsAmplitude, nullptr));
+  PetscCall(PetscOptionsString("-gimp_particle_dump",
+                               "Write the final particles as CSV (sorted by id) to this file",
+                               "docs/options.md", pdump, pdump, sizeof(pdump), nullptr));
+  PetscCall(PetscOptionsString("-gimp_grid_dump",
+                               "Write the active grid nodes as CSV level,x,y,Lxm,Lxp,Lym,Lyp",
+                               "docs/options.md", gdump, gdump, sizeof(gdump), nullptr));
+  PetscOptionsEnd();
+  sc.name = name;
+  sc.outputDir = outdir[0] ? outdir : "output/" + sc.name;
+  sc.particleDump = pdump;
+  sc.gridDump = gdump;
+  sc.update = static_cast<Update>(update);
+  sc.tracking = static_cast<Tracking>(tracking);
+  sc.mms = static_cast<Mms>(mms);
+
+  PetscCall(readMaterial(comm, sc));
+  PetscCall(readBodies(comm, sc));
+  PetscCall(readLoads(comm, sc));
+  if (sc.help) return PETSC_SUCCESS;
+
+  if (!setH) bad("gimp_h", "(missing)", "the cell size is required, a value > 0 in m");
+  if (!(sc.h > 0)) bad("gimp_h", fmt(sc.h), "must be > 0 [m]");
+  if (sc.damping < 0) bad("gimp_damping", fmt(sc.damping), "must be >= 0 [1/s]");
+  if (!(sc.flip >= 0 && sc.flip <= 1)) bad("gimp_flip", fmt(sc.flip), "must lie in [0, 1]");
+  if (!(sc.massCutoff >= 0 && sc.massCutoff < 1))
+    bad("gimp_mass_cutoff", fmt(sc.massCutoff), "must lie in [0, 1)");
+  if (!(sc.cfl > 0 && sc.cfl <= 1)) bad("gimp_cfl", fmt(sc.cfl), "must lie in (0, 1]");
+  if (sc.outputInterval < 0)
+    bad("gimp_output_interval", std::to_string(sc.outputInterval), "must be >= 0");
+  if (sc.historyInterval < 1)
+    bad("gimp_history_interval", std::to_string(sc.historyInterval), "must be >= 1");
+  if (sc.monitorInterval < 0)
+    bad("gimp_monitor_interval", std::to_string(sc.monitorInterval), "must be >= 0");
+  if (pad < 0) bad("gimp_pad", std::to_string(pad), "must be >= 0");
+  if (sc.mms != Mms::None && !(sc.mmsAmplitude > 0))
+    bad("gimp_mms_amplitude", fmt(sc.mmsAmplitude), "must be > 0 [m]");
+
+  if (setDom) {
+    if (ndom != 4) bad("gimp_domain", fmtList(dom, ndom), "needs 4 values x0,y0,x1,y1 [m]");
+    if (!(dom[2] > dom[0] && dom[3] > dom[1]))
+      bad("gimp_domain", fmtList(dom, 4), "needs x1 > x0 and y1 > y0");
+  } else {
+    dom[0] = dom[1] = 1e300;
+    dom[2] = dom[3] = -1e300;
+    for (const Body &b : sc.bodies) {
+      dom[0] = std::min(dom[0], b.box[0]);
+      dom[1] = std::min(dom[1], b.box[1]);
+      dom[2] = std::max(dom[2], b.box[2]);
+      dom[3] = std::max(dom[3], b.box[3]);
+    }
+    dom[0] -= pad * sc.h;
+    dom[1] -= pad * sc.h;
+    dom[2] += pad * sc.h;
+    dom[3] += pad * sc.h;
+    // Whole cells from the lower corner.
+    dom[2] = dom[0] + std::ceil((dom[2] - dom[0]) / sc.h - 1e-9) * sc.h;
+    dom[3] = dom[1] + std::ceil((dom[3] - dom[1]) / sc.h - 1e-9) * sc.h;
+  }
+  for (int d = 0; d < 2; ++d) {
+    const double n = (dom[d + 2] - dom[d]) / sc.h;
+    if (std::fabs(n - std::round(n)) > 1e-6 * std::max(1.0, n))
+      bad("gimp_domain", fmtList(dom, 4),
+          "its extent in " + std::string(d ? "y" : "x") + " (" + fmt(dom[d + 2] - dom[d]) +
+              " m) is not a whole number of cells of -gimp_h " + fmt(sc.h));
+    if (std::round(n) < 2)
+      bad("gimp_domain", fmtList(dom, 4), "needs at least 2 cells of -gimp_h in each direction");
+  }
+  std::copy(dom, dom + 4, sc.domain.begin());
+  for (size_t k = 0; k < sc.bodies.size(); ++k) {
+    const Box &b = sc.bodies[k].box;
+    if (b[0] < dom[0] || b[1] < dom[1] || b[2] > dom[2] || b[3] > dom[3])
+      bad("gimp_body" + std::to_string(k) + "_box", fmtList(b.data(), 4),
+          "lies outside the grid domain " + fmtList(dom, 4));
+  }
+  return PETSC_SUCCESS;
+}
+
+} // namespace gimp

@@ -1,0 +1,902 @@
+#include "gimp/simulation.hpp"
+
+#include "gimp/material.hpp"
+#include "gimp/mms.hpp"
+#include "gimp/output.hpp"
+#include "gimp/shape.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <sstream>
+
+namespace gimp {
+
+namespace {
+
+std::string fmt(double v) {
+  std::ostringstream s;
+  s.precision(10);
+  s << v;
+  return s.str();
+}
+
+Simulation *fromTS(TS ts) {
+  void *ctx = nullptr;
+  (void)TSGetApplicationContext(ts, &ctx);
+  return static_cast<Simulation *>(ctx);
+}
+
+} // namespace
+
+Simulation::Simulation(MPI_Comm comm) : comm_(comm) {}
+
+Simulation::~Simulation() {
+  Vec *vecs[] = {&P_,     &mass_,  &massL_, &vel_,  &velL_,   &acc_,  &accL_,
+                 &workL_, &force_, &fext_,  &extL_, &bcMask_, &mask_, &invMass_};
+  for (Vec *v : vecs)
+    if (*v) (void)VecDestroy(v);
+  if (ts_) (void)TSDestroy(&ts_);
+  if (sw_) (void)DMDestroy(&sw_);
+}
+
+PetscErrorCode Simulation::setup() {
+  PetscCall(PetscTime(&wall0_));
+  PetscCallMPI(MPI_Comm_rank(comm_, &rank_));
+  PetscCallMPI(MPI_Comm_size(comm_, &size_));
+  PetscCall(PetscLogStageRegister("P2G", &stageP2G_));
+  PetscCall(PetscLogStageRegister("Forces", &stageForces_));
+  PetscCall(PetscLogStageRegister("Grid update", &stageGrid_));
+  PetscCall(PetscLogStageRegister("G2P", &stageG2P_));
+  PetscCall(PetscLogStageRegister("Stress", &stageStress_));
+  PetscCall(PetscLogStageRegister("Output", &stageOutput_));
+
+  PetscCall(readScene(comm_, sc_));
+  if (sc_.help) {
+    PetscCall(TSCreate(comm_, &ts_));
+    PetscCall(TSSetFromOptions(ts_));
+    return PETSC_SUCCESS;
+  }
+  if (sc_.material.model == MaterialModel::NeoHookean && !sc_.material.planeStrain)
+    throw InputError("option -gimp_material neohookean: needs -gimp_plane strain (the plane-stress "
+                     "neo-Hookean model is not implemented)");
+  for (size_t b = 0; b < sc_.bodies.size(); ++b)
+    if (std::max(sc_.bodies[b].ppc, sc_.bodies[b].holePpc) > 64 * 64)
+      throw InputError("option -gimp_body" + std::to_string(b) +
+                       "_ppc: at most 4096 particles per cell (64 x 64)");
+
+  PetscCall(grid_.create(comm_, sc_));
+  if (!sc_.gridDump.empty()) PetscCall(grid_.dump(comm_, sc_.gridDump));
+
+  // Particles.
+  PetscCall(createSwarm(comm_, &sw_));
+  PetscCall(seedParticles(sc_, grid_, sw_));
+  {
+    ParticleView p;
+    PetscCall(p.get(sw_));
+    // Count particles per body; an empty body is an input error.
+    const PetscInt64 slots = static_cast<PetscInt64>(grid_.M) * grid_.N * 64 * 64;
+    std::vector<PetscInt64> count(sc_.bodies.size(), 0), total(sc_.bodies.size(), 0);
+    double msum = 0;
+    for (PetscInt k = 0; k < p.n; ++k) {
+      ++count[p.id[k] / slots];
+      msum += p.m[k];
+    }
+    PetscCallMPI(MPI_Allreduce(count.data(), total.data(), static_cast<int>(count.size()),
+                               MPI_INT64_T, MPI_SUM, comm_));
+    double mtot = 0;
+    PetscCallMPI(MPI_Allreduce(&msum, &mtot, 1, MPI_DOUBLE, MPI_SUM, comm_));
+    nParticles_ = 0;
+    for (size_t b = 0; b < total.size(); ++b) {
+      if (total[b] == 0)
+        throw InputError("option -gimp_body" + std::to_string(b) +
+                         "_box: the body holds no particle (its cells are all removed by holes "
+                         "or it is thinner than a particle); enlarge it or refine -gimp_h");
+      nParticles_ += total[b];
+    }
+    meanParticleMass_ = mtot / static_cast<double>(nParticles_);
+
+    if (sc_.mms == Mms::Skb1d) {
+      const mms::Skb1d ex(sc_);
+      for (PetscInt k = 0; k < p.n; ++k) {
+        const double X = p.X0[2 * k];
+        const double F = ex.F(X, 0.0);
+        p.x[2 * k] = X + ex.u(X, 0.0);
+        p.v[2 * k] = p.v[2 * k + 1] = 0.0;
+        p.F[4 * k] = F;
+        p.V[k] = F * p.V0[k];
+        p.l[2 * k] = F * p.l0[2 * k];
+      }
+    }
+    if (sc_.material.model == MaterialModel::NeoHookean)
+      for (PetscInt k = 0; k < p.n; ++k)
+        material::neoHookeanStress(sc_.material, &p.F[4 * k], &p.s[4 * k]);
+    PetscInt64 outside = INT64_MAX, gOutside = INT64_MAX;
+    for (PetscInt k = 0; k < p.n; ++k) {
+      const double x = p.x[2 * k], y = p.x[2 * k + 1];
+      if (x - p.l[2 * k] < sc_.domain[0] || x + p.l[2 * k] > sc_.domain[2] ||
+          y - p.l[2 * k + 1] < sc_.domain[1] || y + p.l[2 * k + 1] > sc_.domain[3])
+        outside = std::min(outside, p.id[k]);
+    }
+    PetscCallMPI(MPI_Allreduce(&outside, &gOutside, 1, MPI_INT64_T, MPI_MIN, comm_));
+    if (gOutside != INT64_MAX)
+      throw InputError("option -gimp_domain " + fmt(sc_.domain[0]) + "," + fmt(sc_.domain[1]) +
+                       "," + fmt(sc_.domain[2]) + "," + fmt(sc_.domain[3]) + ": particle " +
+                       std::to_string(gOutside) + " of body " + std::to_string(gOutside / slots) +
+                       " is not inside the grid; enlarge the domain or -gimp_pad");
+    PetscCall(p.restore(sw_));
+  }
+
+  // Nodal vectors.
+  PetscCall(DMCreateGlobalVector(grid_.da, &P_));
+  PetscCall(PetscObjectSetName(reinterpret_cast<PetscObject>(P_), "momentum"));
+  PetscCall(VecDuplicate(P_, &vel_));
+  PetscCall(PetscObjectSetName(reinterpret_cast<PetscObject>(vel_), "velocity"));
+  PetscCall(VecDuplicate(P_, &acc_));
+  PetscCall(VecDuplicate(P_, &force_));
+  PetscCall(VecDuplicate(P_, &bcMask_));
+  PetscCall(VecDuplicate(P_, &mask_));
+  PetscCall(VecDuplicate(P_, &invMass_));
+  PetscCall(DMCreateLocalVector(grid_.da, &velL_));
+  PetscCall(DMCreateLocalVector(grid_.da, &accL_));
+  PetscCall(DMCreateLocalVector(grid_.da, &workL_));
+  PetscCall(DMCreateGlobalVector(grid_.da1, &mass_));
+  PetscCall(PetscObjectSetName(reinterpret_cast<PetscObject>(mass_), "mass"));
+  PetscCall(DMCreateLocalVector(grid_.da1, &massL_));
+  hasExternal_ =
+      !sc_.tractions.empty() || sc_.gravity[0] != 0 || sc_.gravity[1] != 0 || sc_.mms != Mms::None;
+  if (hasExternal_) {
+    PetscCall(VecDuplicate(P_, &fext_));
+    PetscCall(DMCreateLocalVector(grid_.da, &extL_));
+  }
+
+  // Grid-node constraints.
+  PetscCall(VecSet(bcMask_, 1.0));
+  {
+    PetscScalar ***mk;
+    PetscCall(DMDAVecGetArrayDOF(grid_.da, bcMask_, &mk));
+    for (size_t k = 0; k < sc_.bcs.size(); ++k) {
+      const NodeBC &bc = sc_.bcs[k];
+      const PetscInt line = grid_.lineIndex(bc.axis, bc.coord);
+      if (line < 0) {
+        const double o = bc.axis == 0 ? grid_.x0 : grid_.y0;
+        throw InputError("option -gimp_bc" + std::to_string(k) + (bc.axis == 0 ? "_x " : "_y ") +
+                         fmt(bc.coord) + ": not on a grid line inside the domain (lines at " +
+                         fmt(o) + " + i * " + fmt(grid_.h) + ")");
+      }
+      for (PetscInt j = grid_.ys; j < grid_.ys + grid_.ym; ++j)
+        for (PetscInt i = grid_.xs; i < grid_.xs + grid_.xm; ++i) {
+          if ((bc.axis == 0 ? i : j) != line) continue;
+          const double along = bc.axis == 0 ? grid_.y0 + j * grid_.h : grid_.x0 + i * grid_.h;
+          const double tol = 1e-9 * grid_.h;
+          if (bc.hasRange && (along < bc.range[0] - tol || along > bc.range[1] + tol)) continue;
+          for (int c = 0; c < 2; ++c)
+            if (bc.fix[c]) mk[j][i][c] = 0.0;
+        }
+    }
+    PetscCall(DMDAVecRestoreArrayDOF(grid_.da, bcMask_, &mk));
+  }
+
+  // Probes: the particle nearest to each requested initial position (ties: smallest id).
+  {
+    ParticleView p;
+    PetscCall(p.get(sw_));
+    for (const Probe &pr : sc_.probes) {
+      double best = 1e300;
+      PetscInt64 bestId = INT64_MAX;
+      for (PetscInt k = 0; k < p.n; ++k) {
+        const double dx = p.X0[2 * k] - pr.x[0], dy = p.X0[2 * k + 1] - pr.x[1];
+        const double d2 = dx * dx + dy * dy;
+        if (d2 < best || (d2 == best && p.id[k] < bestId)) {
+          best = d2;
+          bestId = p.id[k];
+        }
+      }
+      double gbest = 0;
+      PetscCallMPI(MPI_Allreduce(&best, &gbest, 1, MPI_DOUBLE, MPI_MIN, comm_));
+      PetscInt64 mine = best == gbest ? bestId : INT64_MAX, gid = 0;
+      PetscCallMPI(MPI_Allreduce(&mine, &gid, 1, MPI_INT64_T, MPI_MIN, comm_));
+      ProbeState ps;
+      ps.id = gid;
+      probeIds_.push_back(ps);
+    }
+    PetscCall(p.restore(sw_));
+  }
+
+  // Time stepping: TS euler on the nodal momentum.
+  PetscCall(TSCreate(comm_, &ts_));
+  PetscCall(TSSetDM(ts_, grid_.da));
+  PetscCall(TSSetType(ts_, TSEULER));
+  PetscCall(TSSetProblemType(ts_, TS_NONLINEAR));
+  PetscCall(TSSetApplicationContext(ts_, this));
+  PetscCall(TSSetRHSFunction(ts_, nullptr, &Simulation::rhs, this));
+  PetscCall(TSSetPreStep(ts_, &Simulation::preStep));
+  PetscCall(TSSetPostStep(ts_, &Simulation::postStep));
+  const double cp = sc_.material.waveSpeed();
+  const double dtStable = grid_.h / cp;
+  PetscCall(TSSetTimeStep(ts_, sc_.cfl * dtStable));
+  PetscCall(TSSetMaxSteps(ts_, 1000));
+  PetscCall(TSSetMaxTime(ts_, 1e300));
+  PetscCall(TSSetExactFinalTime(ts_, TS_EXACTFINALTIME_STEPOVER));
+  PetscCall(TSSetFromOptions(ts_));
+  PetscReal dt = 0;
+  PetscCall(TSGetTimeStep(ts_, &dt));
+  if (!(dt > 0)) throw InputError("option -ts_dt " + fmt(dt) + ": must be > 0 [s]");
+  if (dt > dtStable)
+    throw InputError("option -ts_dt " + fmt(dt) + ": exceeds the stable limit h / c_p = " +
+                     fmt(dtStable) + " s (h = " + fmt(grid_.h) + " m, c_p = " + fmt(cp) +
+                     " m/s); choose -ts_dt <= " + fmt(dtStable));
+  PetscCall(TSSetSolution(ts_, P_));
+
+  // Unknown or misspelled options stop the run here (options read at exit are allowed).
+  {
+    PetscInt nleft = 0;
+    char **names = nullptr, **values = nullptr;
+    PetscCall(PetscOptionsLeftGet(nullptr, &nleft, &names, &values));
+    std::string unknown;
+    const char *lateOptions[] = {
+        "log_view",        "log_all",     "log_trace",   "options_left", "options_view",
+        "malloc_dump",     "malloc_view", "memory_view", "objects_dump", "check_pointer_intensity",
+        "log_view_memory", "info"};
+    for (PetscInt i = 0; i < nleft && unknown.empty(); ++i) {
+      bool late = false;
+      for (const char *o : lateOptions)
+        if (std::string(names[i]).rfind(o, 0) == 0) late = true;
+      if (!late) unknown = std::string(names[i]) + (values[i] ? std::string(" ") + values[i] : "");
+    }
+    PetscCall(PetscOptionsLeftRestore(nullptr, &nleft, &names, &values));
+    if (!unknown.empty())
+      throw InputError("option -" + unknown +
+                       ": unknown option (misspelled, or not used by this scene); see -help and "
+                       "docs/options.md");
+  }
+
+  out_ = std::make_unique<Output>(*this);
+  PetscCall(out_->open());
+  return PETSC_SUCCESS;
+}
+
+PetscErrorCode Simulation::run() {
+  if (sc_.help) return PETSC_SUCCESS;
+  PetscCall(out_->writeFields(0, 0.0));
+  PetscCall(out_->writeHistory(0, 0.0));
+  PetscCall(TSSolve(ts_, P_));
+  PetscInt steps = 0;
+  PetscReal t = 0;
+  PetscCall(TSGetStepNumber(ts_, &steps));
+  PetscCall(TSGetTime(ts_, &t));
+  PetscCall(PetscLogStagePush(stageOutput_));
+  if (!failed_) {
+    if (sc_.outputInterval == 0 || steps % sc_.outputInterval != 0)
+      PetscCall(out_->writeFields(steps, t));
+    if (steps % sc_.historyInterval != 0) PetscCall(out_->writeHistory(steps, t));
+  }
+  if (!sc_.particleDump.empty()) PetscCall(writeParticleDump(sc_.particleDump));
+  PetscLogDouble wall1 = 0;
+  PetscCall(PetscTime(&wall1));
+  PetscCall(out_->writeSummary(steps, t, wall1 - wall0_));
+  PetscCall(PetscLogStagePop());
+  return PETSC_SUCCESS;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Time step phases
+
+PetscErrorCode Simulation::preStep(TS ts) {
+  Simulation *s = fromTS(ts);
+  PetscReal dt = 0;
+  PetscCall(TSGetTimeStep(ts, &dt));
+  PetscCall(PetscLogStagePush(s->stageP2G_));
+  PetscCall(s->migrate());
+  ParticleView p;
+  PetscCall(p.get(s->sw_));
+  PetscCall(s->computeStencils(p));
+  PetscCall(s->particleToGrid(p, true, s->P_));
+  PetscCall(s->applyConstraintMask());
+  PetscCall(VecPointwiseMult(s->P_, s->P_, s->mask_));
+  PetscCall(VecPointwiseMult(s->vel_, s->P_, s->invMass_));
+  PetscCall(PetscLogStagePop());
+  if (s->sc_.update == Update::USF) {
+    PetscCall(PetscLogStagePush(s->stageStress_));
+    PetscCall(DMGlobalToLocal(s->grid_.da, s->vel_, INSERT_VALUES, s->velL_));
+    PetscCall(s->updateStress(p, s->velL_, dt));
+    PetscCall(PetscLogStagePop());
+  }
+  PetscCall(p.restore(s->sw_));
+  return PETSC_SUCCESS;
+}
+
+PetscErrorCode Simulation::rhs(TS, PetscReal t, Vec X, Vec F, void *ctx) {
+  Simulation *s = static_cast<Simulation *>(ctx);
+  PetscCall(PetscLogStagePush(s->stageForces_));
+  ParticleView p;
+  PetscCall(p.get(s->sw_));
+  PetscCall(s->internalAndExternalForces(p, t, F));
+  PetscCall(p.restore(s->sw_));
+  if (s->sc_.damping > 0) {
+    PetscCall(VecAXPY(F, -s->sc_.damping, X));
+    PetscScalar pv = 0;
+    PetscCall(VecDot(X, s->vel_, &pv));
+    s->dampPowerStart_ = s->sc_.damping * pv;
+  }
+  PetscCall(VecPointwiseMult(F, F, s->mask_));
+  PetscCall(VecCopy(F, s->force_));
+  if (s->hasExternal_) {
+    PetscScalar fv = 0;
+    PetscCall(VecDot(s->fext_, s->vel_, &fv));
+    s->extPowerStart_ = fv;
+  }
+  PetscCall(PetscLogStagePop());
+  return PETSC_SUCCESS;
+}
+
+PetscErrorCode Simulation::postStep(TS ts) {
+  Simulation *s = fromTS(ts);
+  PetscReal dt = 0, t = 0;
+  PetscInt step = 0;
+  PetscCall(TSGetTimeStep(ts, &dt));
+  PetscCall(TSGetTime(ts, &t));
+  PetscCall(TSGetStepNumber(ts, &step));
+  const Scene &sc = s->sc_;
+
+  PetscCall(PetscLogStagePush(s->stageGrid_));
+  PetscCall(VecPointwiseMult(s->vel_, s->P_, s->invMass_));
+  PetscCall(VecPointwiseMult(s->acc_, s->force_, s->invMass_));
+  PetscCall(DMGlobalToLocal(s->grid_.da, s->vel_, INSERT_VALUES, s->velL_));
+  PetscCall(DMGlobalToLocal(s->grid_.da, s->acc_, INSERT_VALUES, s->accL_));
+  if (s->hasExternal_) {
+    PetscScalar fv = 0;
+    PetscCall(VecDot(s->fext_, s->vel_, &fv));
+    s->extWork_ += 0.5 * dt * (s->extPowerStart_ + fv);
+  }
+  if (sc.damping > 0) {
+    PetscScalar pv = 0;
+    PetscCall(VecDot(s->P_, s->vel_, &pv));
+    s->dampWork_ += 0.5 * dt * (s->dampPowerStart_ + sc.damping * pv);
+  }
+  PetscCall(PetscLogStagePop());
+
+  ParticleView p;
+  PetscCall(p.get(s->sw_));
+  PetscCall(PetscLogStagePush(s->stageG2P_));
+  PetscCall(s->gridToParticle(p, dt));
+  if (sc.update == Update::MUSL) {
+    // Re-project the updated particle momentum; acc_ serves as the momentum work vector.
+    PetscCall(s->particleToGrid(p, false, s->acc_));
+    PetscCall(VecPointwiseMult(s->vel_, s->acc_, s->invMass_));
+    PetscCall(DMGlobalToLocal(s->grid_.da, s->vel_, INSERT_VALUES, s->velL_));
+  }
+  PetscCall(PetscLogStagePop());
+  if (sc.update != Update::USF) {
+    PetscCall(PetscLogStagePush(s->stageStress_));
+    PetscCall(s->updateStress(p, s->velL_, dt));
+    PetscCall(PetscLogStagePop());
+  }
+  PetscCall(s->checkParticles(p, step, t));
+  PetscCall(p.restore(s->sw_));
+  PetscBool anyFailed = PETSC_FALSE, failed = s->failed_ ? PETSC_TRUE : PETSC_FALSE;
+  PetscCallMPI(MPI_Allreduce(&failed, &anyFailed, 1, MPIU_BOOL, MPI_LOR, s->comm_));
+  if (anyFailed) {
+    s->failed_ = true;
+    PetscCall(TSSetConvergedReason(ts, TS_DIVERGED_STEP_REJECTED));
+    return PETSC_SUCCESS;
+  }
+
+  PetscCall(PetscLogStagePush(s->stageOutput_));
+  if (step % sc.historyInterval == 0) PetscCall(s->out_->writeHistory(step, t));
+  if (sc.outputInterval > 0 && step % sc.outputInterval == 0)
+    PetscCall(s->out_->writeFields(step, t));
+  if (sc.monitorInterval > 0 && step % sc.monitorInterval == 0) {
+    Energies e;
+    PetscCall(s->energies(e));
+    PetscCall(PetscPrintf(s->comm_,
+                          "%6" PetscInt_FMT " t %.6e  KE %.6e  SE %.6e  Wext %.6e  Wdamp %.6e  "
+                          "E %.6e  p (%.6e, %.6e)\n",
+                          step, (double)t, e.kinetic, e.strain, e.externalWork, e.damping,
+                          e.total(), e.momentum[0], e.momentum[1]));
+  }
+  PetscCall(PetscLogStagePop());
+  return PETSC_SUCCESS;
+}
+
+PetscErrorCode Simulation::migrate() {
+  if (size_ == 1) return PETSC_SUCCESS;
+  ParticleView p;
+  PetscCall(p.get(sw_));
+  PetscBool moved = PETSC_FALSE, any = PETSC_FALSE;
+  for (PetscInt k = 0; k < p.n; ++k) {
+    const PetscMPIInt r = grid_.ownerOf(p.x[2 * k], p.x[2 * k + 1]);
+    p.rank[k] = r;
+    if (r != rank_) moved = PETSC_TRUE;
+  }
+  PetscCall(p.restore(sw_));
+  PetscCallMPI(MPI_Allreduce(&moved, &any, 1, MPIU_BOOL, MPI_LOR, comm_));
+  if (any) PetscCall(DMSwarmMigrate(sw_, PETSC_TRUE));
+  return PETSC_SUCCESS;
+}
+
+PetscErrorCode Simulation::computeStencils(const ParticleView &p) {
+  const Grid &g = grid_;
+  const double h = g.h, ih = 1.0 / h;
+  double lmax = 0;
+  for (PetscInt k = 0; k < 2 * p.n; ++k)
+    lmax = std::max(lmax, p.l[k]);
+  ns_ = lmax <= 0.5 * h * (1 + 1e-12) ? 3 : kMaxStencil;
+  const size_t n = static_cast<size_t>(p.n);
+  base_.resize(n);
+  wx_.resize(n * kMaxStencil);
+  wy_.resize(n * kMaxStencil);
+  gx_.resize(n * kMaxStencil);
+  gy_.resize(n * kMaxStencil);
+  const PetscInt iend = std::min(g.gxs + g.gxm, g.M), jend = std::min(g.gys + g.gym, g.N);
+  for (PetscInt k = 0; k < p.n; ++k) {
+    const double xp = p.x[2 * k], yp = p.x[2 * k + 1], lx = p.l[2 * k], ly = p.l[2 * k + 1];
+    PetscInt i0 = static_cast<PetscInt>(std::floor((xp - lx - g.x0) * ih));
+    PetscInt j0 = static_cast<PetscInt>(std::floor((yp - ly - g.y0) * ih));
+    i0 = std::max(std::min(i0, iend - ns_), g.gxs);
+    j0 = std::max(std::min(j0, jend - ns_), g.gys);
+    base_[k] = (j0 - g.gys) * g.gxm + (i0 - g.gxs);
+    for (int a = 0; a < ns_; ++a) {
+      const PetscInt i = i0 + a, j = j0 + a;
+      shape::weightAndGradient(xp - (g.x0 + i * h), lx, g.Lxm[i], g.Lxp[i],
+                               wx_[k * kMaxStencil + a], gx_[k * kMaxStencil + a]);
+      shape::weightAndGradient(yp - (g.y0 + j * h), ly, g.Lym[j], g.Lyp[j],
+                               wy_[k * kMaxStencil + a], gy_[k * kMaxStencil + a]);
+    }
+  }
+  return PETSC_SUCCESS;
+}
+
+namespace {
+
+template <int NS>
+void scatterMomentum(PetscInt n, const PetscInt *base, const double *wx, const double *wy,
+                     PetscInt gxm, const double *m, const double *v, double *mass, double *mom) {
+  constexpr int S = 4;
+  for (PetscInt k = 0; k < n; ++k) {
+    const double mp = m[k], px = mp * v[2 * k], py = mp * v[2 * k + 1];
+    const double *ax = wx + k * S, *ay = wy + k * S;
+    for (int b = 0; b < NS; ++b) {
+      const PetscInt row = base[k] + b * gxm;
+      for (int a = 0; a < NS; ++a) {
+        const double w = ax[a] * ay[b];
+        const PetscInt node = row + a;
+        if (mass) mass[node] += w * mp;
+        mom[2 * node] += w * px;
+        mom[2 * node + 1] += w * py;
+      }
+    }
+  }
+}
+
+} // namespace
+
+PetscErrorCode Simulation::particleToGrid(const ParticleView &p, bool withMass, Vec P) {
+  PetscScalar *mom = nullptr, *mass = nullptr;
+  PetscCall(VecZeroEntries(workL_));
+  PetscCall(VecGetArray(workL_, &mom));
+  if (withMass) {
+    PetscCall(VecZeroEntries(massL_));
+    PetscCall(VecGetArray(massL_, &mass));
+  }
+  if (ns_ == 3)
+    scatterMomentum<3>(p.n, base_.data(), wx_.data(), wy_.data(), grid_.gxm, p.m, p.v, mass, mom);
+  else
+    scatterMomentum<4>(p.n, base_.data(), wx_.data(), wy_.data(), grid_.gxm, p.m, p.v, mass, mom);
+  PetscCall(VecRestoreArray(workL_, &mom));
+  PetscCall(VecZeroEntries(P));
+  PetscCall(DMLocalToGlobal(grid_.da, workL_, ADD_VALUES, P));
+  if (withMass) {
+    PetscCall(VecRestoreArray(massL_, &mass));
+    PetscCall(VecZeroEntries(mass_));
+    PetscCall(DMLocalToGlobal(grid_.da1, massL_, ADD_VALUES, mass_));
+  }
+  return PETSC_SUCCESS;
+}
+
+PetscErrorCode Simulation::applyConstraintMask() {
+  // mask = bcMask * (m > cutoff); invMass = mask / m.
+  const PetscScalar *m = nullptr, *bc = nullptr;
+  PetscScalar *mk = nullptr, *im = nullptr;
+  PetscInt nloc = 0;
+  PetscCall(VecGetLocalSize(mass_, &nloc));
+  PetscCall(VecGetArrayRead(mass_, &m));
+  PetscCall(VecGetArrayRead(bcMask_, &bc));
+  PetscCall(VecGetArray(mask_, &mk));
+  PetscCall(VecGetArray(invMass_, &im));
+  const double cut = sc_.massCutoff * meanParticleMass_;
+  for (PetscInt i = 0; i < nloc; ++i) {
+    const bool has = m[i] > cut;
+    for (int c = 0; c < 2; ++c) {
+      mk[2 * i + c] = has ? bc[2 * i + c] : 0.0;
+      im[2 * i + c] = has ? 1.0 / m[i] : 0.0;
+    }
+  }
+  PetscCall(VecRestoreArray(invMass_, &im));
+  PetscCall(VecRestoreArray(mask_, &mk));
+  PetscCall(VecRestoreArrayRead(bcMask_, &bc));
+  PetscCall(VecRestoreArrayRead(mass_, &m));
+  // A constrained dof keeps zero velocity: zero its inverse mass too.
+  PetscCall(VecPointwiseMult(invMass_, invMass_, mask_));
+  return PETSC_SUCCESS;
+}
+
+namespace {
+
+template <int NS>
+void scatterForces(PetscInt n, const PetscInt *base, const double *wx, const double *wy,
+                   const double *gx, const double *gy, PetscInt gxm, const double *V,
+                   const double *s, double *f) {
+  constexpr int S = 4;
+  for (PetscInt k = 0; k < n; ++k) {
+    const double sxx = -V[k] * s[4 * k], syy = -V[k] * s[4 * k + 1], sxy = -V[k] * s[4 * k + 2];
+    const double *ax = wx + k * S, *ay = wy + k * S, *dx = gx + k * S, *dy = gy + k * S;
+    for (int b = 0; b < NS; ++b) {
+      const PetscInt row = base[k] + b * gxm;
+      for (int a = 0; a < NS; ++a) {
+        const double Sx = dx[a] * ay[b], Sy = ax[a] * dy[b];
+        const PetscInt node = row + a;
+        f[2 * node] += sxx * Sx + sxy * Sy;
+        f[2 * node + 1] += sxy * Sx + syy * Sy;
+      }
+    }
+  }
+}
+
+} // namespace
+
+PetscErrorCode Simulation::internalAndExternalForces(const ParticleView &p, double t, Vec F) {
+  PetscScalar *f = nullptr, *fe = nullptr;
+  PetscCall(VecZeroEntries(workL_));
+  PetscCall(VecGetArray(workL_, &f));
+  if (ns_ == 3)
+    scatterForces<3>(p.n, base_.data(), wx_.data(), wy_.data(), gx_.data(), gy_.data(), grid_.gxm,
+                     p.V, p.s, f);
+  else
+    scatterForces<4>(p.n, base_.data(), wx_.data(), wy_.data(), gx_.data(), gy_.data(), grid_.gxm,
+                     p.V, p.s, f);
+  if (hasExternal_) {
+    PetscCall(VecZeroEntries(extL_));
+    PetscCall(VecGetArray(extL_, &fe));
+    const Grid &g = grid_;
+    const int ns = ns_;
+    constexpr int S = kMaxStencil;
+    const double gxv = sc_.gravity[0], gyv = sc_.gravity[1];
+    const bool gravity = gxv != 0 || gyv != 0;
+    std::unique_ptr<mms::Skb1d> ex;
+    if (sc_.mms == Mms::Skb1d) ex = std::make_unique<mms::Skb1d>(sc_);
+    std::vector<double> factor(sc_.tractions.size());
+    for (size_t q = 0; q < factor.size(); ++q)
+      factor[q] = sc_.tractions[q].ramp.at(t);
+    for (PetscInt k = 0; k < p.n; ++k) {
+      const double *ax = &wx_[k * S], *ay = &wy_[k * S];
+      double bx = gxv, by = gyv;
+      if (ex) bx += ex->bodyForce(p.X0[2 * k], t);
+      if (gravity || ex) {
+        const double fx = p.m[k] * bx, fy = p.m[k] * by;
+        for (int b = 0; b < ns; ++b)
+          for (int a = 0; a < ns; ++a) {
+            const PetscInt node = base_[k] + b * g.gxm + a;
+            const double w = ax[a] * ay[b];
+            fe[2 * node] += w * fx;
+            fe[2 * node + 1] += w * fy;
+          }
+      }
+      // Tractions, Eq. 8: integrate tau S_i exactly along the particle's loaded edge. The
+      // load is dead: its resultant is the traction times the initial edge length.
+      for (int axis = 0; axis < 2; ++axis) {
+        const PetscInt q = p.trac[2 * k + axis];
+        if (q < 0) continue;
+        const Traction &tr = sc_.tractions[q];
+        const bool low = tr.side == Side::Left || tr.side == Side::Bottom;
+        const double edge = p.x[2 * k + axis] + (low ? -1.0 : 1.0) * p.l[2 * k + axis];
+        const double len = 2.0 * p.l0[2 * k + 1 - axis] * sc_.material.thickness;
+        const double tx = tr.value[0] * factor[q] * len, ty = tr.value[1] * factor[q] * len;
+        // Node base indices of this particle in global numbering.
+        const PetscInt bi = g.gxs + base_[k] % g.gxm, bj = g.gys + base_[k] / g.gxm;
+        for (int b = 0; b < ns; ++b)
+          for (int a = 0; a < ns; ++a) {
+            const PetscInt i = bi + a, j = bj + b;
+            double w;
+            if (axis == 0)
+              w = shape::tent(edge - (g.x0 + i * g.h), g.Lxm[i], g.Lxp[i]) * ay[b];
+            else
+              w = ax[a] * shape::tent(edge - (g.y0 + j * g.h), g.Lym[j], g.Lyp[j]);
+            const PetscInt node = base_[k] + b * g.gxm + a;
+            fe[2 * node] += w * tx;
+            fe[2 * node + 1] += w * ty;
+          }
+      }
+    }
+    const PetscInt nloc = 2 * g.gxm * g.gym;
+    for (PetscInt i = 0; i < nloc; ++i)
+      f[i] += fe[i];
+    PetscCall(VecRestoreArray(extL_, &fe));
+    PetscCall(VecZeroEntries(fext_));
+    PetscCall(DMLocalToGlobal(grid_.da, extL_, ADD_VALUES, fext_));
+  }
+  PetscCall(VecRestoreArray(workL_, &f));
+  PetscCall(VecZeroEntries(F));
+  PetscCall(DMLocalToGlobal(grid_.da, workL_, ADD_VALUES, F));
+  return PETSC_SUCCESS;
+}
+
+namespace {
+
+template <int NS>
+void gatherG2P(PetscInt n, const PetscInt *base, const double *wx, const double *wy, PetscInt gxm,
+               const double *vg, const double *ag, double flip, double dt, double *x, double *v) {
+  constexpr int S = 4;
+  for (PetscInt k = 0; k < n; ++k) {
+    const double *ax = wx + k * S, *ay = wy + k * S;
+    double vx = 0, vy = 0, accx = 0, accy = 0;
+    for (int b = 0; b < NS; ++b) {
+      const PetscInt row = base[k] + b * gxm;
+      for (int a = 0; a < NS; ++a) {
+        const double w = ax[a] * ay[b];
+        const PetscInt node = row + a;
+        vx += w * vg[2 * node];
+        vy += w * vg[2 * node + 1];
+        accx += w * ag[2 * node];
+        accy += w * ag[2 * node + 1];
+      }
+    }
+    v[2 * k] = flip * (v[2 * k] + dt * accx) + (1.0 - flip) * vx;
+    v[2 * k + 1] = flip * (v[2 * k + 1] + dt * accy) + (1.0 - flip) * vy;
+    x[2 * k] += dt * vx;
+    x[2 * k + 1] += dt * vy;
+  }
+}
+
+template <int NS>
+void velocityGradient(PetscInt n, const PetscInt *base, const double *wx, const double *wy,
+                      const double *gx, const double *gy, PetscInt gxm, const double *vg,
+                      double *L) {
+  constexpr int S = 4;
+  for (PetscInt k = 0; k < n; ++k) {
+    const double *ax = wx + k * S, *ay = wy + k * S, *dx = gx + k * S, *dy = gy + k * S;
+    double lxx = 0, lxy = 0, lyx = 0, lyy = 0;
+    for (int b = 0; b < NS; ++b) {
+      const PetscInt row = base[k] + b * gxm;
+      for (int a = 0; a < NS; ++a) {
+        const double Sx = dx[a] * ay[b], Sy = ax[a] * dy[b];
+        const PetscInt node = row + a;
+        lxx += vg[2 * node] * Sx;
+        lxy += vg[2 * node] * Sy;
+        lyx += vg[2 * node + 1] * Sx;
+        lyy += vg[2 * node + 1] * Sy;
+      }
+    }
+    L[4 * k] = lxx;
+    L[4 * k + 1] = lxy;
+    L[4 * k + 2] = lyx;
+    L[4 * k + 3] = lyy;
+  }
+}
+
+} // namespace
+
+PetscErrorCode Simulation::gridToParticle(ParticleView &p, double dt) {
+  const PetscScalar *vg = nullptr, *ag = nullptr;
+  PetscCall(VecGetArrayRead(velL_, &vg));
+  PetscCall(VecGetArrayRead(accL_, &ag));
+  if (ns_ == 3)
+    gatherG2P<3>(p.n, base_.data(), wx_.data(), wy_.data(), grid_.gxm, vg, ag, sc_.flip, dt, p.x,
+                 p.v);
+  else
+    gatherG2P<4>(p.n, base_.data(), wx_.data(), wy_.data(), grid_.gxm, vg, ag, sc_.flip, dt, p.x,
+                 p.v);
+  PetscCall(VecRestoreArrayRead(accL_, &ag));
+  PetscCall(VecRestoreArrayRead(velL_, &vg));
+  return PETSC_SUCCESS;
+}
+
+PetscErrorCode Simulation::updateStress(ParticleView &p, Vec Vlocal, double dt) {
+  const PetscScalar *vg = nullptr;
+  std::vector<double> L(4 * static_cast<size_t>(p.n));
+  PetscCall(VecGetArrayRead(Vlocal, &vg));
+  if (ns_ == 3)
+    velocityGradient<3>(p.n, base_.data(), wx_.data(), wy_.data(), gx_.data(), gy_.data(),
+                        grid_.gxm, vg, L.data());
+  else
+    velocityGradient<4>(p.n, base_.data(), wx_.data(), wy_.data(), gx_.data(), gy_.data(),
+                        grid_.gxm, vg, L.data());
+  PetscCall(VecRestoreArrayRead(Vlocal, &vg));
+  const Material &mat = sc_.material;
+  for (PetscInt k = 0; k < p.n; ++k) {
+    const double *Lk = &L[4 * k];
+    double *F = &p.F[4 * k];
+    const double f0 = F[0], f1 = F[1], f2 = F[2], f3 = F[3];
+    F[0] = f0 + dt * (Lk[0] * f0 + Lk[1] * f2);
+    F[1] = f1 + dt * (Lk[0] * f1 + Lk[1] * f3);
+    F[2] = f2 + dt * (Lk[2] * f0 + Lk[3] * f2);
+    F[3] = f3 + dt * (Lk[2] * f1 + Lk[3] * f3);
+    const double J = F[0] * F[3] - F[1] * F[2];
+    p.V[k] = J * p.V0[k];
+    if (mat.model == MaterialModel::Linear)
+      material::jaumannUpdate(mat, Lk, dt, &p.s[4 * k]);
+    else
+      material::neoHookeanStress(mat, F, &p.s[4 * k]);
+    switch (sc_.tracking) {
+    case Tracking::None:
+      break;
+    case Tracking::Strain:
+      p.eps[2 * k] += dt * Lk[0];
+      p.eps[2 * k + 1] += dt * Lk[3];
+      p.l[2 * k] = (1.0 + p.eps[2 * k]) * p.l0[2 * k];
+      p.l[2 * k + 1] = (1.0 + p.eps[2 * k + 1]) * p.l0[2 * k + 1];
+      break;
+    case Tracking::Stretch:
+      p.l[2 * k] = std::sqrt(F[0] * F[0] + F[2] * F[2]) * p.l0[2 * k];
+      p.l[2 * k + 1] = std::sqrt(F[1] * F[1] + F[3] * F[3]) * p.l0[2 * k + 1];
+      break;
+    }
+  }
+  return PETSC_SUCCESS;
+}
+
+PetscErrorCode Simulation::checkParticles(const ParticleView &p, PetscInt step, double t) {
+  const double *d = sc_.domain.data();
+  for (PetscInt k = 0; k < p.n && !failed_; ++k) {
+    const double x = p.x[2 * k], y = p.x[2 * k + 1], lx = p.l[2 * k], ly = p.l[2 * k + 1];
+    std::string why;
+    if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(p.s[4 * k]) ||
+        !std::isfinite(p.s[4 * k + 1]) || !std::isfinite(p.s[4 * k + 2]))
+      why = "its position or stress is not finite: the run went unstable (reduce -ts_dt)";
+    else if (x - lx < d[0] || x + lx > d[2] || y - ly < d[1] || y + ly > d[3])
+      why = "it left the grid domain (enlarge -gimp_domain or -gimp_pad)";
+    else if (!(lx > 0 && ly > 0) || lx > grid_.h || ly > grid_.h)
+      why = "its half-size (" + fmt(lx) + ", " + fmt(ly) +
+            ") is not in (0, h]: the particle is inverted or stretched beyond one cell";
+    if (why.empty()) continue;
+    failed_ = true;
+    PetscCall(PetscSynchronizedFPrintf(comm_, PETSC_STDERR,
+                                       "gimp: error: step %" PetscInt_FMT
+                                       " t %.9g s: particle %" PetscInt64_FMT
+                                       " at (%.9g, %.9g): %s\n",
+                                       step, t, p.id[k], x, y, why.c_str()));
+  }
+  PetscCall(PetscSynchronizedFlush(comm_, PETSC_STDERR));
+  return PETSC_SUCCESS;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Diagnostics
+
+PetscErrorCode Simulation::energies(Energies &e) {
+  ParticleView p;
+  PetscCall(p.get(sw_));
+  double loc[4] = {0, 0, 0, 0}, glob[4];
+  for (PetscInt k = 0; k < p.n; ++k) {
+    const double vx = p.v[2 * k], vy = p.v[2 * k + 1];
+    loc[0] += 0.5 * p.m[k] * (vx * vx + vy * vy);
+    loc[1] += material::strainEnergy(sc_.material, &p.s[4 * k], &p.F[4 * k], p.V0[k], p.V[k]);
+    loc[2] += p.m[k] * vx;
+    loc[3] += p.m[k] * vy;
+  }
+  PetscCall(p.restore(sw_));
+  PetscCallMPI(MPI_Allreduce(loc, glob, 4, MPI_DOUBLE, MPI_SUM, comm_));
+  e.kinetic = glob[0];
+  e.strain = glob[1];
+  e.momentum[0] = glob[2];
+  e.momentum[1] = glob[3];
+  e.externalWork = extWork_;
+  e.damping = dampWork_;
+  return PETSC_SUCCESS;
+}
+
+PetscErrorCode Simulation::probes(std::vector<ProbeState> &out) {
+  ParticleView p;
+  PetscCall(p.get(sw_));
+  out = probeIds_;
+  std::vector<double> loc(out.size() * 8, 0.0), glob(out.size() * 8, 0.0);
+  for (PetscInt k = 0; k < p.n; ++k)
+    for (size_t q = 0; q < out.size(); ++q)
+      if (p.id[k] == out[q].id) {
+        double *r = &loc[8 * q];
+        r[0] = p.X0[2 * k];
+        r[1] = p.X0[2 * k + 1];
+        r[2] = p.x[2 * k] - p.X0[2 * k];
+        r[3] = p.x[2 * k + 1] - p.X0[2 * k + 1];
+        for (int c = 0; c < 4; ++c)
+          r[4 + c] = p.s[4 * k + c];
+      }
+  PetscCall(p.restore(sw_));
+  PetscCallMPI(MPI_Allreduce(loc.data(), glob.data(), static_cast<int>(loc.size()), MPI_DOUBLE,
+                             MPI_SUM, comm_));
+  for (size_t q = 0; q < out.size(); ++q) {
+    const double *r = &glob[8 * q];
+    out[q].X0[0] = r[0];
+    out[q].X0[1] = r[1];
+    out[q].u[0] = r[2];
+    out[q].u[1] = r[3];
+    for (int c = 0; c < 4; ++c)
+      out[q].stress[c] = r[4 + c];
+  }
+  return PETSC_SUCCESS;
+}
+
+PetscErrorCode Simulation::mmsErrors(double t, double &linf, double &rms) {
+  linf = rms = 0;
+  if (sc_.mms == Mms::None) return PETSC_SUCCESS;
+  const mms::Skb1d ex(sc_);
+  ParticleView p;
+  PetscCall(p.get(sw_));
+  double loc[3] = {0, 0, 0}, glob[3];
+  for (PetscInt k = 0; k < p.n; ++k) {
+    const double X = p.X0[2 * k];
+    const double ex_ = p.x[2 * k] - X - ex.u(X, t), ey = p.x[2 * k + 1] - p.X0[2 * k + 1];
+    const double e2 = ex_ * ex_ + ey * ey;
+    loc[0] = std::max(loc[0], std::sqrt(e2));
+    loc[1] += e2 * p.V0[k];
+    loc[2] += p.V0[k];
+  }
+  PetscCall(p.restore(sw_));
+  PetscCallMPI(MPI_Allreduce(&loc[0], &glob[0], 1, MPI_DOUBLE, MPI_MAX, comm_));
+  PetscCallMPI(MPI_Allreduce(&loc[1], &glob[1], 2, MPI_DOUBLE, MPI_SUM, comm_));
+  linf = glob[0];
+  rms = std::sqrt(glob[1] / glob[2]);
+  mmsLinf_ = std::max(mmsLinf_, linf);
+  mmsRms_ = std::max(mmsRms_, rms);
+  return PETSC_SUCCESS;
+}
+
+PetscErrorCode Simulation::particleCount(PetscInt64 &n) {
+  PetscInt nl = 0;
+  PetscCall(DMSwarmGetLocalSize(sw_, &nl));
+  PetscInt64 loc = nl;
+  PetscCallMPI(MPI_Allreduce(&loc, &n, 1, MPI_INT64_T, MPI_SUM, comm_));
+  return PETSC_SUCCESS;
+}
+
+PetscErrorCode Simulation::writeParticleDump(const std::string &file) {
+  // Gather id and state on rank 0, sorted by id: rank-independent for comparisons.
+  constexpr int kCols = 10;
+  ParticleView p;
+  PetscCall(p.get(sw_));
+  std::vector<double> loc(static_cast<size_t>(p.n) * kCols);
+  for (PetscInt k = 0; k < p.n; ++k) {
+    double *r = &loc[static_cast<size_t>(k) * kCols];
+    r[0] = static_cast<double>(p.id[k]);
+    r[1] = p.x[2 * k];
+    r[2] = p.x[2 * k + 1];
+    r[3] = p.v[2 * k];
+    r[4] = p.v[2 * k + 1];
+    for (int c = 0; c < 4; ++c)
+      r[5 + c] = p.s[4 * k + c];
+    r[9] = p.V[k];
+  }
+  PetscCall(p.restore(sw_));
+  const int mine = static_cast<int>(loc.size());
+  std::vector<int> counts(size_), displs(size_, 0);
+  PetscCallMPI(MPI_Gather(&mine, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, comm_));
+  std::vector<double> all;
+  if (rank_ == 0) {
+    for (int r = 1; r < size_; ++r)
+      displs[r] = displs[r - 1] + counts[r - 1];
+    all.resize(static_cast<size_t>(displs.back() + counts.back()));
+  }
+  PetscCallMPI(MPI_Gatherv(loc.data(), mine, MPI_DOUBLE, all.data(), counts.data(), displs.data(),
+                           MPI_DOUBLE, 0, comm_));
+  if (rank_ != 0) return PETSC_SUCCESS;
+  const size_t n = all.size() / kCols;
+  std::vector<size_t> order(n);
+  for (size_t i = 0; i < n; ++i)
+    order[i] = i;
+  std::sort(order.begin(), order.end(),
+            [&](size_t a, size_t b) { return all[a * kCols] < all[b * kCols]; });
+  FILE *f = std::fopen(file.c_str(), "w");
+  if (!f) throw InputError("option -gimp_particle_dump " + file + ": cannot open for writing");
+  std::fprintf(f, "id,x,y,vx,vy,sxx,syy,sxy,szz,V\n");
+  for (size_t i : order) {
+    const double *r = &all[i * kCols];
+    std::fprintf(f, "%.0f", r[0]);
+    for (int c = 1; c < kCols; ++c)
+      std::fprintf(f, ",%.17g", r[c]);
+    std::fprintf(f, "\n");
+  }
+  std::fclose(f);
+  return PETSC_SUCCESS;
+}
+
+} // namespace gimp
