@@ -4,13 +4,34 @@
 #include <petscsys.h>
 
 #include <cstdio>
+#include <cstring>
 
 static const char help[] =
     "gimp: explicit Generalized Interpolation Material Point solver.\n"
     "Usage: gimp -options_file runs/plate.opts [-ts_max_steps N] [-log_view]\n"
     "Options are listed below and in docs/options.md (SI units).\n";
 
+namespace {
+
+/// PETSc reports a missing -options_file with a long trace; say it in one line instead.
+bool optionsFilesExist(int argc, char **argv) {
+  for (int i = 1; i + 1 < argc; ++i) {
+    if (std::strcmp(argv[i], "-options_file") != 0) continue;
+    std::FILE *f = std::fopen(argv[i + 1], "r");
+    if (!f) {
+      std::fprintf(stderr, "gimp: error: option -options_file %s: cannot open the file\n",
+                   argv[i + 1]);
+      return false;
+    }
+    std::fclose(f);
+  }
+  return true;
+}
+
+} // namespace
+
 int main(int argc, char **argv) {
+  if (!optionsFilesExist(argc, argv)) return 2;
   PetscCall(PetscInitialize(&argc, &argv, nullptr, help));
   int code = 0;
   try {

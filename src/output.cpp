@@ -214,8 +214,9 @@ PetscErrorCode Output::writeSummary(PetscInt steps, double t, double wall) {
                  p.X0[1], p.u[0], p.u[1], p.stress[0], p.stress[1], p.stress[2], p.stress[3]);
   }
   std::fprintf(f, "%s},\n  \"measures\": {", probes.empty() ? "" : "\n  ");
+  std::fprintf(f, "\"particles_migrated\": %lld", static_cast<long long>(sim_.migrated_));
   if (sc.mms != Mms::None)
-    std::fprintf(f, "\"mms_linf\": %.12e, \"mms_rms\": %.12e", sim_.mmsLinf_, sim_.mmsRms_);
+    std::fprintf(f, ", \"mms_linf\": %.12e, \"mms_rms\": %.12e", sim_.mmsLinf_, sim_.mmsRms_);
   std::fprintf(f, "}\n}\n");
   std::fclose(f);
   return PETSC_SUCCESS;

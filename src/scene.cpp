@@ -32,6 +32,20 @@ bool isPerfectSquare(int n) {
 
 const char *const kSides[] = {"left", "right", "bottom", "top"};
 
+/// PETSc's EList stops with a trace on an unknown value; check it first and say it in one line.
+PetscErrorCode checkChoice(const std::string &opt, const char *const *list, int n) {
+  char buf[256];
+  PetscBool set = PETSC_FALSE;
+  PetscCall(PetscOptionsGetString(nullptr, nullptr, opt.c_str(), buf, sizeof(buf), &set));
+  if (!set) return PETSC_SUCCESS;
+  std::string valid;
+  for (int i = 0; i < n; ++i) {
+    if (std::string(buf) == list[i]) return PETSC_SUCCESS;
+    valid += (i ? ", " : "") + std::string(list[i]);
+  }
+  bad(opt.substr(1), buf, "must be one of " + valid);
+}
+
 } // namespace
 
 double Ramp::at(double time) const {
@@ -65,6 +79,8 @@ PetscErrorCode readMaterial(MPI_Comm comm, Scene &sc) {
   const char *planes[] = {"strain", "stress"};
   PetscInt model = 0, plane = 0;
   PetscBool setE = PETSC_FALSE, setRho = PETSC_FALSE;
+  PetscCall(checkChoice("-gimp_material", models, 2));
+  PetscCall(checkChoice("-gimp_plane", planes, 2));
   PetscOptionsBegin(comm, nullptr, "Material", "gimp");
   PetscCall(PetscOptionsEList("-gimp_material",
                               "Constitutive model: linear (hypoelastic, Jaumann rate) or "
@@ -111,6 +127,7 @@ PetscErrorCode readBodies(MPI_Comm comm, Scene &sc) {
     const char *profiles[] = {"uniform", "sine_x"};
     PetscInt profile = 0;
     PetscReal band = 0, k0 = 0;
+    PetscCall(checkChoice(p + "velocity_profile", profiles, 2));
     PetscOptionsBegin(comm, nullptr, "Body", "gimp");
     PetscCall(PetscOptionsRealArray((p + "box").c_str(), "Body rectangle x0,y0,x1,y1 [m]",
                                     "docs/options.md", box, &nbox, &setBox));
@@ -213,6 +230,7 @@ PetscErrorCode readLoads(MPI_Comm comm, Scene &sc) {
     PetscInt body = 0, side = 1, nv = 2, nr = 2;
     PetscReal val[2] = {0, 0}, rng[2] = {0, 0};
     PetscBool setV = PETSC_FALSE, setR = PETSC_FALSE;
+    PetscCall(checkChoice(p + "side", kSides, 4));
     PetscOptionsBegin(comm, nullptr, "Traction", "gimp");
     PetscCall(PetscOptionsInt((p + "body").c_str(), "Body the traction acts on", "docs/options.md",
                               body, &body, nullptr));
@@ -249,6 +267,7 @@ PetscErrorCode readLoads(MPI_Comm comm, Scene &sc) {
     PetscBool setX = PETSC_FALSE, setY = PETSC_FALSE, setR = PETSC_FALSE;
     PetscInt nr = 2, type = 0;
     const char *types[] = {"fixed", "roller"};
+    PetscCall(checkChoice(p + "type", types, 2));
     PetscOptionsBegin(comm, nullptr, "Grid-node constraint", "gimp");
     PetscCall(PetscOptionsReal((p + "x").c_str(),
                                "Constrain the grid nodes on the line x = value [m]",
@@ -318,6 +337,9 @@ PetscErrorCode readScene(MPI_Comm comm, Scene &sc) {
   const char *updates[] = {"usf", "usl", "musl"};
   const char *trackings[] = {"none", "strain", "stretch"};
   const char *mmss[] = {"none", "skb1d"};
+  PetscCall(checkChoice("-gimp_update", updates, 3));
+  PetscCall(checkChoice("-gimp_tracking", trackings, 3));
+  PetscCall(checkChoice("-gimp_mms", mmss, 2));
   PetscOptionsBegin(comm, nullptr, "gimp scene", "gimp");
   PetscCall(PetscOptionsString("-gimp_scene", "Scene name (output/<name> by default)",
                                "docs/options.md", name, name, sizeof(name), nullptr));

@@ -21,6 +21,10 @@ std::string fmt(double v) {
   return s.str();
 }
 
+std::string boxText(const Box &b) {
+  return fmt(b[0]) + "," + fmt(b[1]) + "," + fmt(b[2]) + "," + fmt(b[3]);
+}
+
 Simulation *fromTS(TS ts) {
   void *ctx = nullptr;
   (void)TSGetApplicationContext(ts, &ctx);
@@ -89,8 +93,9 @@ PetscErrorCode Simulation::setup() {
     nParticles_ = 0;
     for (size_t b = 0; b < total.size(); ++b) {
       if (total[b] == 0)
-        throw InputError("option -gimp_body" + std::to_string(b) +
-                         "_box: the body holds no particle (its cells are all removed by holes "
+        throw InputError("option -gimp_body" + std::to_string(b) + "_box " +
+                         boxText(sc_.bodies[b].box) +
+                         ": the body holds no particle (its cells are all removed by holes "
                          "or it is thinner than a particle); enlarge it or refine -gimp_h");
       nParticles_ += total[b];
     }
@@ -403,15 +408,16 @@ PetscErrorCode Simulation::migrate() {
   if (size_ == 1) return PETSC_SUCCESS;
   ParticleView p;
   PetscCall(p.get(sw_));
-  PetscBool moved = PETSC_FALSE, any = PETSC_FALSE;
+  PetscInt64 moved = 0, any = 0;
   for (PetscInt k = 0; k < p.n; ++k) {
     const PetscMPIInt r = grid_.ownerOf(p.x[2 * k], p.x[2 * k + 1]);
     p.rank[k] = r;
-    if (r != rank_) moved = PETSC_TRUE;
+    if (r != rank_) ++moved;
   }
   PetscCall(p.restore(sw_));
-  PetscCallMPI(MPI_Allreduce(&moved, &any, 1, MPIU_BOOL, MPI_LOR, comm_));
+  PetscCallMPI(MPI_Allreduce(&moved, &any, 1, MPI_INT64_T, MPI_SUM, comm_));
   if (any) PetscCall(DMSwarmMigrate(sw_, PETSC_TRUE));
+  migrated_ += any;
   return PETSC_SUCCESS;
 }
 

@@ -108,6 +108,7 @@ public:
   std::vector<ProbeState> probeIds_;
   double mmsLinf_ = 0, mmsRms_ = 0;
   PetscInt64 nParticles_ = 0;
+  PetscInt64 migrated_ = 0; // particles that changed rank, summed over the run
   std::unique_ptr<Output> out_;
   PetscLogStage stageP2G_ = 0, stageForces_ = 0, stageGrid_ = 0, stageG2P_ = 0, stageStress_ = 0,
                 stageOutput_ = 0;

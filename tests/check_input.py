@@ -1,0 +1,52 @@
+"""Bad input stops the run before step 1 with one line naming the option, the value and
+what is valid, and a non-zero exit code; nothing is written as if the run had happened."""
+import os
+import gimptest
+
+args = gimptest.parse_args()
+c = gimptest.Checks()
+cases = [
+    # (name, extra options, text the error line must contain)
+    ("unknown option", ["-gimp_dampnig", "10"], "-gimp_dampnig"),
+    ("misspelled PETSc option", ["-ts_max_step", "10"], "-ts_max_step"),
+    ("negative E", ["-gimp_E", "-1"], "-gimp_E -1"),
+    ("zero rho", ["-gimp_rho", "0"], "-gimp_rho 0"),
+    ("nu too large", ["-gimp_nu", "0.5"], "-gimp_nu 0.5"),
+    ("nu too small", ["-gimp_nu", "-1.2"], "-gimp_nu -1.2"),
+    ("zero dt", ["-ts_dt", "0"], "-ts_dt 0"),
+    ("negative dt", ["-ts_dt", "-1e-3"], "-ts_dt -0.001"),
+    ("unstable dt", ["-ts_dt", "1"], "stable limit"),
+    ("ppc not square", ["-gimp_body0_ppc", "3"], "-gimp_body0_ppc 3"),
+    ("empty body", ["-gimp_body0_holes", "0.5,0.2,5"], "holds no particle"),
+    ("body outside grid", ["-gimp_domain", "0.2,-0.2,2,0.6"], "-gimp_body0_box"),
+    ("domain not whole cells", ["-gimp_domain", "-0.2,-0.2,1.25,0.6"], "whole number of cells"),
+    ("bc off grid line", ["-gimp_bcs", "1", "-gimp_bc0_x", "0.03"], "-gimp_bc0_x 0.03"),
+    ("bad side", ["-gimp_traction0_side", "front"], "front"),
+    ("bad update", ["-gimp_update", "xyz"], "xyz"),
+    ("missing options file", ["-options_file", "does_not_exist.opts"], "does_not_exist.opts"),
+    ("traction on missing body", ["-gimp_traction0_body", "3"], "-gimp_traction0_body 3"),
+]
+for name, extra, needle in cases:
+    p = gimptest.run(args, "runs/patch.opts", extra + ["-ts_max_steps", "1"], expect_ok=False,
+                     outdir=os.path.join(args.work, "bad"))
+    lines = [l for l in p.stderr.splitlines() if l.strip()]
+    ok = p.returncode != 0 and len(lines) >= 1 and needle in lines[0] and \
+        lines[0].startswith(("gimp: error: option", "[0]PETSC ERROR"))
+    one_line = len([l for l in lines if "error" in l.lower()]) == 1
+    c.check(name, ok and one_line and lines[0].startswith("gimp: error:"),
+            "exit %d: %s" % (p.returncode, lines[0] if lines else "(no message)"))
+
+# A run that fails mid-way (a particle leaves the grid) stops, says where and when, exits
+# non-zero and keeps what it wrote.
+out = os.path.join(args.work, "leaves")
+p = gimptest.run(args, "runs/drift.opts", ["-ts_max_steps", "3000"], expect_ok=False, outdir=out)
+lines = [l for l in p.stderr.splitlines() if l.strip()]
+c.check("particle leaves grid", p.returncode == 3 and len(lines) == 1 and "step" in lines[0] and
+        "particle" in lines[0] and "left the grid" in lines[0],
+        "exit %d: %s" % (p.returncode, lines[0] if lines else "(no message)"))
+s = gimptest.summary(out)
+h = gimptest.history(out)
+c.check("outputs kept", s["status"] == "unstable" and len(h["time"]) > 10 and
+        os.path.exists(os.path.join(out, "fields.h5")),
+        "summary status %s, %d history rows" % (s["status"], len(h["time"])))
+c.done()

@@ -1,0 +1,73 @@
+"""Shared helpers for the verification scripts: run gimp, read its outputs, assert."""
+import argparse
+import csv
+import json
+import os
+import subprocess
+import sys
+
+
+def parse_args():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--gimp", required=True)
+    ap.add_argument("--root", required=True)
+    ap.add_argument("--work", required=True)
+    ap.add_argument("--mpiexec", default="mpiexec")
+    a = ap.parse_args()
+    a.gimp, a.root, a.work = (os.path.abspath(p) for p in (a.gimp, a.root, a.work))
+    os.makedirs(a.work, exist_ok=True)
+    return a
+
+
+def run(args, opts_file, extra=(), ranks=1, outdir=None, expect_ok=True):
+    """Run gimp on opts_file (relative to the repo root) with extra options; return the
+    output directory (or the completed process when expect_ok is False)."""
+    outdir = outdir or os.path.join(args.work, os.path.splitext(os.path.basename(opts_file))[0])
+    cmd = [args.gimp, "-options_file", os.path.join(args.root, opts_file),
+           "-gimp_output_dir", outdir] + list(extra)
+    if ranks > 1:
+        cmd = [args.mpiexec, "-n", str(ranks)] + cmd
+    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
+    p = subprocess.run(cmd, cwd=args.work, env=env, capture_output=True, text=True)
+    if not expect_ok:
+        return p
+    if p.returncode != 0:
+        sys.stdout.write(p.stdout)
+        sys.stderr.write(p.stderr)
+        raise SystemExit("gimp failed (exit %d): %s" % (p.returncode, " ".join(cmd)))
+    return outdir
+
+
+def summary(outdir):
+    with open(os.path.join(outdir, "summary.json")) as f:
+        return json.load(f)
+
+
+def history(outdir):
+    """history.csv as a dict of column name -> list of floats."""
+    with open(os.path.join(outdir, "history.csv")) as f:
+        rows = list(csv.DictReader(f))
+    return {k: [float(r[k]) for r in rows] for k in rows[0]}
+
+
+def read_csv(path):
+    with open(path) as f:
+        rows = list(csv.DictReader(f))
+    return {k: [float(r[k]) for r in rows] for k in rows[0]}
+
+
+class Checks:
+    """Collects named checks, prints each with its measured value, fails at the end."""
+
+    def __init__(self):
+        self.failed = []
+
+    def check(self, name, ok, detail):
+        print("%-4s %s: %s" % ("ok" if ok else "FAIL", name, detail))
+        if not ok:
+            self.failed.append(name)
+
+    def done(self):
+        if self.failed:
+            raise SystemExit("failed: " + ", ".join(self.failed))
+        print("all checks passed")

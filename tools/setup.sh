@@ -1,0 +1,20 @@
+#!/usr/bin/env bash
+# Install what gimp needs from Debian (when missing) and build it in ./build (Release).
+# Usage: tools/setup.sh            (from anywhere; builds <repo>/build)
+set -euo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+packages=(cmake g++ make pkg-config openmpi-bin petsc-dev slepc-dev libeigen3-dev
+          libhdf5-openmpi-dev libgtest-dev python3 python3-numpy python3-matplotlib python3-h5py)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "setup: installing ${missing[*]}"
+  sudo=""
+  [ "$(id -u)" -eq 0 ] || sudo="sudo"
+  $sudo apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq "${missing[@]}" >/dev/null
+fi
+cmake -S "$root" -B "$root/build" -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake --build "$root/build" -j"$(nproc)"
