@@ -355,9 +355,12 @@ PetscErrorCode Simulation::postStep(TS ts) {
     s->extWork_ += 0.5 * dt * (s->extPowerStart_ + fv);
   }
   if (sc.damping > 0) {
-    PetscScalar pv = 0;
+    // The damping force -d p^n acts over the step on the mean velocity (v^n + v^n+1) / 2,
+    // and p^n = p^n+1 - dt F: this makes the grid's discrete energy balance exact.
+    PetscScalar pv = 0, fv = 0;
     PetscCall(VecDot(s->P_, s->vel_, &pv));
-    s->dampWork_ += 0.5 * dt * (s->dampPowerStart_ + sc.damping * pv);
+    PetscCall(VecDot(s->force_, s->vel_, &fv));
+    s->dampWork_ += 0.5 * dt * (s->dampPowerStart_ + sc.damping * (pv - dt * fv));
   }
   PetscCall(PetscLogStagePop());
 
@@ -699,18 +702,19 @@ PetscErrorCode Simulation::gridToParticle(ParticleView &p, double dt) {
 
 PetscErrorCode Simulation::updateStress(ParticleView &p, Vec Vlocal, double dt) {
   const PetscScalar *vg = nullptr;
-  std::vector<double> L(4 * static_cast<size_t>(p.n));
+  L_.resize(4 * static_cast<size_t>(p.n));
+  double *L = L_.data();
   PetscCall(VecGetArrayRead(Vlocal, &vg));
   if (ns_ == 3)
     velocityGradient<3>(p.n, base_.data(), wx_.data(), wy_.data(), gx_.data(), gy_.data(),
-                        grid_.gxm, vg, L.data());
+                        grid_.gxm, vg, L);
   else
     velocityGradient<4>(p.n, base_.data(), wx_.data(), wy_.data(), gx_.data(), gy_.data(),
-                        grid_.gxm, vg, L.data());
+                        grid_.gxm, vg, L);
   PetscCall(VecRestoreArrayRead(Vlocal, &vg));
   const Material &mat = sc_.material;
   for (PetscInt k = 0; k < p.n; ++k) {
-    const double *Lk = &L[4 * k];
+    const double *Lk = L + 4 * k;
     double *F = &p.F[4 * k];
     const double f0 = F[0], f1 = F[1], f2 = F[2], f3 = F[3];
     F[0] = f0 + dt * (Lk[0] * f0 + Lk[1] * f2);

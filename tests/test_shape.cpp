@@ -1,5 +1,639 @@
+// Unit tests of the GIMP shape functions in include/gimp/shape.hpp: the nodal tent with
+// influence zone [L-, L+] (Eq. 14), the particle weight, i.e. the tent averaged over the
+// particle (Eq. 15), and its gradient (S(d + l) - S(d - l)) / (2 l). In 2D the node weight is
+// the product of the 1D weights and the gradient is (gx wy, wx gy).
+//
+// All random sampling uses a fixed-seed std::mt19937_64, so every run checks the same points.
+// Random checks keep the largest error and report where it occurred.
 #include "gimp/shape.hpp"
+
 #include <gtest/gtest.h>
-TEST(Shape, Placeholder) {
-  EXPECT_NEAR(gimp::shape::weight(0.0, 0.25, 1.0, 1.0), 1.0 - 0.25 / 2, 1e-15);
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <initializer_list>
+#include <random>
+#include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace {
+
+using gimp::shape::tent;
+using gimp::shape::tentIntegral;
+using gimp::shape::weight;
+using gimp::shape::weightAndGradient;
+using gimp::shape::weightGradient;
+
+/// A 1D set of nodes: positions and influence zones [L-, L+].
+struct Nodes {
+  std::vector<double> x, Lm, Lp;
+  int size() const { return static_cast<int>(x.size()); }
+  double lo() const { return x.front(); }
+  double hi() const { return x.back(); }
+};
+
+/// n nodes at i h with zones h, and a zero zone on the outer side of the two edge nodes (as on
+/// the simulation grid).
+Nodes uniformNodes(int n, double h) {
+  Nodes g;
+  for (int i = 0; i < n; ++i) {
+    g.x.push_back(i * h);
+    g.Lm.push_back(i > 0 ? h : 0.0);
+    g.Lp.push_back(i + 1 < n ? h : 0.0);
+  }
+  return g;
 }
+
+/// Nodes at increasing positions; each zone is the distance to the next node on that side
+/// (zero beyond the first and last nodes).
+Nodes nodesAt(const std::vector<double> &x) {
+  Nodes g;
+  g.x = x;
+  const int n = static_cast<int>(x.size());
+  for (int i = 0; i < n; ++i) {
+    g.Lm.push_back(i > 0 ? x[i] - x[i - 1] : 0.0);
+    g.Lp.push_back(i + 1 < n ? x[i + 1] - x[i] : 0.0);
+  }
+  return g;
+}
+
+/// A refined 1D mesh: two coarse cells of size r, four fine cells of size 1 and, if
+/// coarseAfter, two coarse cells again. For r = 2: nodes 0, 2, 4, 5, 6, 7, 8 (, 10, 12).
+Nodes refinedNodes(int r, bool coarseAfter) {
+  std::vector<double> x = {0.0, 1.0 * r, 2.0 * r};
+  for (int k = 1; k <= 4; ++k)
+    x.push_back(2.0 * r + k);
+  if (coarseAfter) {
+    x.push_back(3.0 * r + 4);
+    x.push_back(4.0 * r + 4);
+  }
+  return nodesAt(x);
+}
+
+/// Weights and gradients of a particle (centre xp, half-size l) at every node.
+void particleWeights(const Nodes &g, double xp, double l, std::vector<double> &w,
+                     std::vector<double> &dw) {
+  w.assign(g.size(), 0.0);
+  dw.assign(g.size(), 0.0);
+  for (int i = 0; i < g.size(); ++i) {
+    w[i] = weight(xp - g.x[i], l, g.Lm[i], g.Lp[i]);
+    dw[i] = weightGradient(xp - g.x[i], l, g.Lm[i], g.Lp[i]);
+  }
+}
+
+/// Indices of the nodes where a particle has a nonzero weight or gradient.
+std::vector<int> support(const std::vector<double> &w, const std::vector<double> &dw) {
+  std::vector<int> idx;
+  for (int i = 0; i < static_cast<int>(w.size()); ++i)
+    if (w[i] != 0.0 || dw[i] != 0.0) idx.push_back(i);
+  return idx;
+}
+
+/// "name=value ..." with full precision, to report a failing case.
+std::string at(std::initializer_list<std::pair<const char *, double>> values) {
+  std::ostringstream s;
+  s.precision(17);
+  for (const auto &[name, v] : values)
+    s << name << '=' << v << ' ';
+  return s.str();
+}
+
+/// The largest error seen so far (NaN sticks) and a description of where it occurred.
+struct Worst {
+  double err = 0.0;
+  std::string where = "(no sample)";
+  long count = 0;
+  template <class F> void update(double e, F &&describe) {
+    ++count;
+    if (std::isnan(err)) return;
+    if (!(e <= err)) {
+      err = e;
+      where = describe();
+    }
+  }
+};
+
+#define EXPECT_WORST_LE(worst, tol)                                                                \
+  do {                                                                                             \
+    EXPECT_GT((worst).count, 0);                                                                   \
+    EXPECT_LE((worst).err, (tol)) << #worst << " over " << (worst).count << " samples, worst at "  \
+                                  << (worst).where;                                                \
+  } while (0)
+
+/// Zone pairs [L-, L+] in units of h: equal zones, the transition-node zones of 2:1, 3:1 and
+/// 4:1 refinement on either side, and the edge nodes with a zero zone outside the domain.
+/// Smallest particle half-size (in units of h) of the random identity checks. The weights are
+/// computed from the particle's interval ends, so their round-off grows like eps h / l; much
+/// smaller particles are checked separately with a tolerance scaled by h / l.
+constexpr double kMinHalfSize = 1e-3;
+
+const std::vector<std::pair<double, double>> kZones = {{1, 1}, {2, 1}, {1, 2}, {1, 0.5}, {0.5, 1},
+                                                       {3, 1}, {1, 3}, {4, 1}, {1, 4},   {2, 0.5},
+                                                       {0, 1}, {1, 0}, {0, 2}, {0.5, 0}};
+
+// ---------------------------------------------------------------------------------------------
+// 1. Uniform 2D grid: partition of unity, linear reproduction and their derivatives.
+
+TEST(ShapeUniformGrid, ParticleWeightIdentities2D) {
+  const double h = 0.37;
+  const int n = 40;
+  const Nodes g = uniformNodes(n, h);
+  const double X = g.hi(); // the grid is [0, X] x [0, X]
+  std::mt19937_64 rng(0x5eed0001);
+  std::uniform_real_distribution<double> U(0.0, 1.0);
+  long nearLow = 0, nearHigh = 0;
+  // Half-size in (0, h]; the particle domain [x - l, x + l] lies inside [0, X). One particle
+  // in ten hugs each edge, so the edge nodes (zone 0 outside) are well exercised.
+  auto sample = [&](double &x, double &l) {
+    do {
+      l = h * (kMinHalfSize + (1.0 - kMinHalfSize) * (1.0 - U(rng)));
+      const double u = U(rng), v = U(rng);
+      if (u < 0.1)
+        x = l + (0.001 + v) * 0.01 * h;
+      else if (u < 0.2)
+        x = X - l - (0.001 + v) * 0.01 * h;
+      else
+        x = l + v * (X - 2.0 * l);
+    } while (!(x - l >= 0.0 && x + l < X));
+    if (x - l < 0.02 * h) ++nearLow;
+    if (x + l > X - 0.02 * h) ++nearHigh;
+  };
+
+  Worst unity, reproX, reproY, gradSum, gradReproX, gradReproY, gradCross, bounds;
+  std::vector<double> wx, gx, wy, gy;
+  const int np = 100000;
+  for (int p = 0; p < np; ++p) {
+    double xp, lx, yp, ly;
+    sample(xp, lx);
+    sample(yp, ly);
+    particleWeights(g, xp, lx, wx, gx);
+    particleWeights(g, yp, ly, wy, gy);
+    const std::vector<int> si = support(wx, gx), sj = support(wy, gy);
+    double sw = 0, swx = 0, swy = 0, sgx = 0, sgy = 0;
+    double sgxx = 0, sgxy = 0, sgyx = 0, sgyy = 0, wlo = 0, whi = 0;
+    for (int j : sj)
+      for (int i : si) {
+        const double w = wx[i] * wy[j], dx = gx[i] * wy[j], dy = wx[i] * gy[j];
+        sw += w;
+        swx += w * g.x[i];
+        swy += w * g.x[j];
+        sgx += dx;
+        sgy += dy;
+        // d/dx_p of sum_i w_i (x_i - x_p) = 0 with sum_i w_i = 1 gives sum_i g_i (x_i - x_p) =
+        // 1, the derivative of linear reproduction (node positions relative to the particle
+        // keep the round-off independent of where the particle sits on the grid).
+        sgxx += dx * (g.x[i] - xp);
+        sgxy += dx * (g.x[j] - yp);
+        sgyx += dy * (g.x[i] - xp);
+        sgyy += dy * (g.x[j] - yp);
+        wlo = std::min(wlo, w);
+        whi = std::max(whi, w);
+      }
+    auto where = [&] { return at({{"xp", xp}, {"lx", lx}, {"yp", yp}, {"ly", ly}}); };
+    unity.update(std::abs(sw - 1.0), where);
+    reproX.update(std::abs(swx - xp) / h, where);
+    reproY.update(std::abs(swy - yp) / h, where);
+    gradSum.update(std::max(std::abs(sgx), std::abs(sgy)) * h, where);
+    gradReproX.update(std::abs(sgxx - 1.0), where);
+    gradReproY.update(std::abs(sgyy - 1.0), where);
+    gradCross.update(std::max(std::abs(sgxy), std::abs(sgyx)), where);
+    bounds.update(std::max(-wlo, whi - 1.0), where);
+  }
+  EXPECT_WORST_LE(unity, 1e-12);
+  EXPECT_WORST_LE(reproX, 1e-12);
+  EXPECT_WORST_LE(reproY, 1e-12);
+  EXPECT_WORST_LE(gradSum, 1e-10);
+  EXPECT_WORST_LE(gradReproX, 1e-10);
+  EXPECT_WORST_LE(gradReproY, 1e-10);
+  EXPECT_WORST_LE(gradCross, 1e-10);
+  EXPECT_WORST_LE(bounds, 0.0); // 0 <= w_i <= 1
+  // The sampling really reached the edge nodes (zone 0 on the outside).
+  EXPECT_GT(nearLow, np / 10);
+  EXPECT_GT(nearHigh, np / 10);
+}
+
+// ---------------------------------------------------------------------------------------------
+// 2. Point shape functions (tent products) on the same grid.
+
+TEST(ShapeUniformGrid, PointShapeIdentities2D) {
+  const double h = 0.37;
+  const int n = 40;
+  const Nodes g = uniformNodes(n, h);
+  const double X = g.hi();
+  std::mt19937_64 rng(0x5eed0002);
+  std::uniform_real_distribution<double> U(0.0, 1.0);
+  std::uniform_int_distribution<int> node(0, n - 2);
+  // Points in [0, X): mostly uniform, some exactly on a grid line or at a cell centre.
+  auto sample = [&] {
+    const double u = U(rng);
+    double x;
+    if (u < 0.02)
+      x = g.x[node(rng)];
+    else if (u < 0.04)
+      x = (node(rng) + 0.5) * h;
+    else
+      do
+        x = U(rng) * X;
+      while (!(x < X));
+    return x;
+  };
+  Worst unity, reproX, reproY, bounds;
+  std::vector<double> sx(n), sy(n);
+  for (int p = 0; p < 100000; ++p) {
+    const double x = sample(), y = sample();
+    for (int i = 0; i < n; ++i) {
+      sx[i] = tent(x - g.x[i], g.Lm[i], g.Lp[i]);
+      sy[i] = tent(y - g.x[i], g.Lm[i], g.Lp[i]);
+    }
+    double s = 0, smx = 0, smy = 0, lo = 0, hi = 0;
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        const double w = sx[i] * sy[j];
+        s += w;
+        smx += w * g.x[i];
+        smy += w * g.x[j];
+        lo = std::min(lo, w);
+        hi = std::max(hi, w);
+      }
+    auto where = [&] { return at({{"x", x}, {"y", y}}); };
+    unity.update(std::abs(s - 1.0), where);
+    reproX.update(std::abs(smx - x) / h, where);
+    reproY.update(std::abs(smy - y) / h, where);
+    bounds.update(std::max(-lo, hi - 1.0), where);
+  }
+  EXPECT_WORST_LE(unity, 1e-12);
+  EXPECT_WORST_LE(reproX, 1e-12);
+  EXPECT_WORST_LE(reproY, 1e-12);
+  EXPECT_WORST_LE(bounds, 0.0);
+}
+
+// ---------------------------------------------------------------------------------------------
+// 3. The gradient is the derivative of the weight: central finite differences.
+
+TEST(ShapeWeight, GradientMatchesFiniteDifference) {
+  const double h = 0.37, e = 1e-7 * h;
+  std::mt19937_64 rng(0x5eed0003);
+  std::uniform_real_distribution<double> U(0.0, 1.0);
+  std::vector<std::pair<double, double>> zones = kZones;
+  for (int k = 0; k < 200; ++k) // random zones, ratios up to 16
+    zones.emplace_back(0.25 + 3.75 * U(rng), 0.25 + 3.75 * U(rng));
+  Worst fd;
+  long skipped = 0, nonzero = 0;
+  for (size_t z = 0; z < zones.size(); ++z) {
+    const double Lm = zones[z].first * h, Lp = zones[z].second * h;
+    const int ns = z < kZones.size() ? 20000 : 1000;
+    for (int s = 0; s < ns; ++s) {
+      // l in [0.01 h, h]: for smaller l the round-off of w / (2 e) alone approaches the
+      // tolerance. d covers the whole support and a margin outside it.
+      const double l = h * (0.01 + 0.99 * U(rng));
+      const double dlo = -Lm - l - 0.2 * h, dhi = Lp + l + 0.2 * h;
+      const double d = dlo + U(rng) * (dhi - dlo);
+      // The weight is a quadratic between the points where d +- l crosses a tent kink; a
+      // central difference straddling one of them is not exact, so skip those few samples
+      // (continuity there is test 4).
+      bool nearKink = false;
+      for (double k : {-Lm - l, -Lm + l, -l, l, Lp - l, Lp + l})
+        nearKink = nearKink || std::abs(d - k) < 10.0 * e;
+      if (nearKink) {
+        ++skipped;
+        continue;
+      }
+      const double g = weightGradient(d, l, Lm, Lp);
+      const double num = (weight(d + e, l, Lm, Lp) - weight(d - e, l, Lm, Lp)) / (2.0 * e);
+      if (g != 0.0) ++nonzero;
+      fd.update(std::abs(num - g) / std::max(std::abs(g), 1.0 / h), [&] {
+        return at({{"d", d}, {"l", l}, {"Lm", Lm}, {"Lp", Lp}, {"grad", g}, {"fd", num}});
+      });
+    }
+  }
+  EXPECT_WORST_LE(fd, 1e-6);
+  EXPECT_LT(skipped, fd.count / 1000);
+  EXPECT_GT(nonzero, fd.count / 2);
+}
+
+// ---------------------------------------------------------------------------------------------
+// 4. C1 continuity: the weight gradient has no jump where d +- l crosses a tent kink.
+
+TEST(ShapeWeight, GradientIsContinuousAtKinks) {
+  const double h = 0.37, delta = 1e-9 * h;
+  std::mt19937_64 rng(0x5eed0004);
+  std::uniform_real_distribution<double> U(0.0, 1.0);
+  std::vector<std::pair<double, double>> zones = kZones;
+  for (int k = 0; k < 200; ++k)
+    zones.emplace_back(0.25 + 3.75 * U(rng), 0.25 + 3.75 * U(rng));
+  Worst jump;
+  for (const auto &[zm, zp] : zones) {
+    const double Lm = zm * h, Lp = zp * h;
+    std::vector<double> ls = {0.25 * h, 0.5 * h, h,
+                              0.5 * std::min(zm > 0 ? Lm : h, zp > 0 ? Lp : h)};
+    for (int k = 0; k < 200; ++k)
+      ls.push_back(h * (0.05 + 0.95 * U(rng)));
+    for (double l : ls) {
+      // Kinks of the weight: a particle edge d +- l on -L-, 0 or L+. With a zero zone the tent
+      // itself jumps at 0 (the domain edge), so d = +-l is where the particle leaves the grid
+      // and the gradient does jump there (checked in DomainEdgeNode below).
+      std::vector<double> kinks;
+      if (Lm > 0 && Lp > 0) kinks = {-l, l};
+      if (Lm > 0) kinks.insert(kinks.end(), {-Lm - l, -Lm + l});
+      if (Lp > 0) kinks.insert(kinks.end(), {Lp - l, Lp + l});
+      for (double k : kinks) {
+        const double gl = weightGradient(k - delta, l, Lm, Lp);
+        const double gr = weightGradient(k + delta, l, Lm, Lp);
+        jump.update(std::abs(gr - gl) / std::max({std::abs(gl), std::abs(gr), 1.0 / h}), [&] {
+          return at({{"d", k}, {"l", l}, {"Lm", Lm}, {"Lp", Lp}, {"left", gl}, {"right", gr}});
+        });
+      }
+    }
+  }
+  EXPECT_WORST_LE(jump, 1e-6);
+
+  // The same sampling does see a C0 kink: the point tent's slope jumps by 2/h at the node.
+  const double slopeL = (tent(0.0, h, h) - tent(-delta, h, h)) / delta;
+  const double slopeR = (tent(delta, h, h) - tent(0.0, h, h)) / delta;
+  EXPECT_NEAR(slopeL - slopeR, 2.0 / h, 1e-5 / h);
+}
+
+// The gradient of an interpolated field sum_i v_i g_i(x_p) is continuous as the particle
+// crosses cell borders (x_p = x_k) and as its edges cross grid lines (x_p = x_k +- l), on a
+// uniform grid and on refined meshes with transition nodes.
+TEST(ShapeWeight, InterpolatedGradientIsContinuous) {
+  std::mt19937_64 rng(0x5eed0005);
+  std::uniform_real_distribution<double> U(0.0, 1.0);
+  std::vector<std::pair<Nodes, double>> meshes = {{uniformNodes(12, 0.37), 0.37}};
+  for (int r : {2, 3, 4})
+    meshes.emplace_back(refinedNodes(r, true), 1.0);
+  Worst jump, sumJump;
+  for (const auto &[g, h] : meshes) {
+    const double delta = 1e-9 * h;
+    std::vector<double> v(g.size());
+    for (double &vi : v)
+      vi = 2.0 * U(rng) - 1.0;
+    auto field = [&](double xp, double l, double &G, double &sumG) {
+      G = sumG = 0.0;
+      for (int i = 0; i < g.size(); ++i) {
+        const double gi = weightGradient(xp - g.x[i], l, g.Lm[i], g.Lp[i]);
+        G += v[i] * gi;
+        sumG += gi;
+      }
+    };
+    for (int s = 0; s < 300; ++s) {
+      const double l = h * (0.05 + 0.95 * U(rng));
+      for (int k = 0; k < g.size(); ++k)
+        for (double xp : {g.x[k], g.x[k] - l, g.x[k] + l}) {
+          if (!(xp - l - delta >= g.lo() && xp + l + delta < g.hi())) continue;
+          double Gl, Gr, sl, sr;
+          field(xp - delta, l, Gl, sl);
+          field(xp + delta, l, Gr, sr);
+          auto where = [&] { return at({{"xp", xp}, {"l", l}, {"left", Gl}, {"right", Gr}}); };
+          jump.update(std::abs(Gr - Gl) * h, where);
+          sumJump.update(std::max(std::abs(sl), std::abs(sr)) * h, where);
+        }
+    }
+  }
+  EXPECT_WORST_LE(jump, 1e-6);
+  EXPECT_WORST_LE(sumJump, 1e-10);
+}
+
+// ---------------------------------------------------------------------------------------------
+// 5. Exact values derived by hand from Eqs. 14 and 15.
+
+TEST(ShapeExact, TentValues) {
+  const double h = 0.37;
+  EXPECT_EQ(tent(0.0, h, h), 1.0);
+  EXPECT_NEAR(tent(-0.5 * h, h, h), 0.5, 1e-15);
+  EXPECT_NEAR(tent(0.25 * h, h, h), 0.75, 1e-15);
+  EXPECT_NEAR(tent(-h, 2 * h, h), 0.5, 1e-15); // transition node [2h, h]
+  EXPECT_NEAR(tent(h, 2 * h, h), 0.0, 1e-15);
+  EXPECT_NEAR(tent(h, h, 4 * h), 0.75, 1e-15);
+  EXPECT_EQ(tent(-1.5 * h, h, h), 0.0);
+  EXPECT_EQ(tent(2.0 * h, h, h), 0.0);
+  EXPECT_EQ(tent(-0.1 * h, 0.0, h), 0.0); // zone 0: nothing outside the domain
+  EXPECT_EQ(tent(0.1 * h, h, 0.0), 0.0);
+  EXPECT_NEAR(tentIntegral(-h, h, h, h), h, 1e-15);
+  EXPECT_NEAR(tentIntegral(-5 * h, 5 * h, 2 * h, 0.5 * h), 1.25 * h, 1e-15); // (L- + L+)/2
+  EXPECT_NEAR(tentIntegral(-5 * h, 5 * h, 0.0, h), 0.5 * h, 1e-15);
+  EXPECT_NEAR(tentIntegral(0.5 * h, 0.75 * h, h, h), 0.25 * h - 0.15625 * h, 1e-15);
+}
+
+TEST(ShapeExact, WeightValues) {
+  for (double h : {1.0, 0.37}) {
+    SCOPED_TRACE(at({{"h", h}}));
+    const double tol = 1e-14, gtol = 1e-14 / h;
+    struct Case {
+      double d, l, Lm, Lp, w, g; // in units of h (g in units of 1/h)
+    };
+    const Case cases[] = {
+        // Centred on the node, l = h/4: 1 - l/(2h) = 7/8, gradient 0.
+        {0, 0.25, 1, 1, 7.0 / 8, 0},
+        // l = h: [-h, h] holds the whole tent, h / 2h.
+        {0, 1, 1, 1, 0.5, 0},
+        // Interior: d in [l, h - l], w = 1 - d/h, g = -1/h.
+        {0.5, 0.25, 1, 1, 0.5, -1},
+        // Particle [-0.3h, 0.9h] (l = 0.6h > h/2) covers the node:
+        // (0.3 - 0.045 + 0.9 - 0.405) / 1.2 = 0.625, g = (0.1 - 0.7) / 1.2.
+        {0.3, 0.6, 1, 1, 0.625, -0.5},
+        // Particle [-h/4, 5h/4] (l = 3h/4) covers the node and the tent's end at h:
+        // (7/32 + 1/2) / (3/2) = 23/48, g = (0 - 3/4) / (3/2).
+        {0.5, 0.75, 1, 1, 23.0 / 48, -0.5},
+        // Particle [0, 2h]: (h/2) / 2h, g = (0 - 1) / 2h.
+        {1, 1, 1, 1, 0.25, -0.5},
+        // Standard GIMP tail (h + l - d)^2 / (4 h l) with d = 0.9h, l = 0.25h: 0.1225.
+        {0.9, 0.25, 1, 1, 0.1225, -0.35 / 0.5},
+        // Fully outside the support.
+        {1.5, 0.25, 1, 1, 0, 0},
+        // Transition node [2h, h], particle [-h/2, 3h/2]: (7/16 + 1/2) / 2 = 15/32,
+        // g = (S(3h/2) - S(-h/2)) / 2h = (0 - 3/4) / 2.
+        {0.5, 1, 2, 1, 15.0 / 32, -0.375},
+        // [h, 2h] with d = 0, l = h/2: (3/8 + 7/16) / 1 = 13/16, g = (3/4 - 1/2) / 1.
+        {0, 0.5, 1, 2, 13.0 / 16, 0.25},
+        // [h, 3h], particle [-3h/4, -h/4] on the left side only: 1 - |d|/L- = 1/2, g = 1/L-.
+        {-0.5, 0.25, 1, 3, 0.5, 1},
+        // [h, 3h], particle [h/2, 3h/2] on the right side: 1 - d/L+ = 2/3, g = -1/L+.
+        {1, 0.5, 1, 3, 2.0 / 3, -1.0 / 3},
+        // [h, h/2] (fine side), particle [-h/4, h/4]: (7/32 + 3/16) / (1/2) = 13/16,
+        // g = (S(h/4) - S(-h/4)) / (h/2) = (1/2 - 3/4) * 2.
+        {0, 0.25, 1, 0.5, 13.0 / 16, -0.5},
+        // Edge node, zone 0 on the left; particle [-h/4, h/4] half outside: the outside half
+        // adds nothing, (7/32) / (1/2) = 7/16, g = (3/4 - 0) / (1/2).
+        {0, 0.25, 0, 1, 7.0 / 16, 1.5},
+        // Same node, particle [0, h/2] touching the domain edge from inside:
+        // (3/8) / (1/2) = 3/4, g = (1/2 - 1) / (1/2).
+        {0.25, 0.25, 0, 1, 0.75, -1},
+        // Same node, particle [-3h/4, -h/4] entirely outside the domain.
+        {-0.5, 0.25, 0, 1, 0, 0},
+        // Edge node, zone 0 on the right; particle [-h/4, h/4] half outside.
+        {0, 0.25, 1, 0, 7.0 / 16, -1.5},
+        // Same node, particle [-3h/4, -h/4] inside: 1/2, g = 1/h.
+        {-0.5, 0.25, 1, 0, 0.5, 1},
+    };
+    for (const Case &c : cases) {
+      SCOPED_TRACE(at({{"d", c.d}, {"l", c.l}, {"Lm", c.Lm}, {"Lp", c.Lp}}));
+      const double d = c.d * h, l = c.l * h, Lm = c.Lm * h, Lp = c.Lp * h;
+      EXPECT_NEAR(weight(d, l, Lm, Lp), c.w, tol);
+      EXPECT_NEAR(weightGradient(d, l, Lm, Lp), c.g / h, gtol);
+      double w, g;
+      weightAndGradient(d, l, Lm, Lp, w, g);
+      EXPECT_EQ(w, weight(d, l, Lm, Lp));
+      EXPECT_EQ(g, weightGradient(d, l, Lm, Lp));
+      // Mirror image: node zones swapped, d -> -d: same weight, opposite gradient. (The
+      // mirror of a particle touching the low domain edge from inside is one touching the
+      // high edge, see ShapeDomainEdge.DISABLED_ParticleTouchingHighEdge.)
+      EXPECT_NEAR(weight(-d, l, Lp, Lm), c.w, tol);
+      if (!(c.Lm == 0 && c.d == c.l)) EXPECT_NEAR(weightGradient(-d, l, Lp, Lm), -c.g / h, gtol);
+    }
+  }
+}
+
+// Equal zones h and l <= h/2: the closed-form piecewise GIMP weight of Bardenhagen & Kober,
+//   |d| < l:          1 - (d^2 + l^2) / (2 h l)
+//   l <= |d| <= h - l: 1 - |d| / h
+//   h - l < |d| < h + l: (h + l - |d|)^2 / (4 h l)
+// and its derivative, at random (d, l).
+TEST(ShapeExact, StandardGimpClosedForm) {
+  const double h = 0.37;
+  std::mt19937_64 rng(0x5eed0006);
+  std::uniform_real_distribution<double> U(0.0, 1.0);
+  Worst ew, eg;
+  for (int s = 0; s < 100000; ++s) {
+    const double l = h * (0.01 + 0.49 * U(rng)), d = (2.0 * U(rng) - 1.0) * 1.2 * (h + l);
+    const double a = std::abs(d), sg = d < 0 ? -1.0 : 1.0;
+    double w, g;
+    if (a < l) {
+      w = 1.0 - (d * d + l * l) / (2.0 * h * l);
+      g = -d / (h * l);
+    } else if (a <= h - l) {
+      w = 1.0 - a / h;
+      g = -sg / h;
+    } else if (a < h + l) {
+      w = (h + l - a) * (h + l - a) / (4.0 * h * l);
+      g = -sg * (h + l - a) / (2.0 * h * l);
+    } else {
+      w = g = 0.0;
+    }
+    auto where = [&] { return at({{"d", d}, {"l", l}}); };
+    ew.update(std::abs(weight(d, l, h, h) - w), where);
+    eg.update(std::abs(weightGradient(d, l, h, h) - g) * h, where);
+  }
+  EXPECT_WORST_LE(ew, 1e-13);
+  EXPECT_WORST_LE(eg, 1e-13);
+}
+
+// Zone 0 on the outside of an edge node: the gradient jumps (by -S(0)/(2l) = -1/(2l)) exactly
+// when the particle's edge crosses the domain edge, and the weight of the part outside is 0.
+TEST(ShapeExact, DomainEdgeNode) {
+  const double h = 0.37, l = 0.3 * h, delta = 1e-9 * h;
+  // Left edge node [0, h]: the particle leaves the domain at d = l.
+  EXPECT_NEAR(weightGradient(l + delta, l, 0.0, h) - weightGradient(l - delta, l, 0.0, h),
+              -1.0 / (2.0 * l), 1e-6 / h);
+  // Weight of a particle straddling the edge = the integral over the inside part only.
+  for (double f : {0.1, 0.5, 0.9}) {
+    const double d = (2.0 * f - 1.0) * l; // fraction f of the particle inside [0, inf)
+    const double inside = 2.0 * f * l;
+    EXPECT_NEAR(weight(d, l, 0.0, h), (inside - inside * inside / (2.0 * h)) / (2.0 * l), 1e-14);
+    EXPECT_NEAR(weight(-d, l, h, 0.0), (inside - inside * inside / (2.0 * h)) / (2.0 * l), 1e-14);
+  }
+}
+
+// A particle whose domain ends exactly on a domain edge, inside the grid. At the low edge
+// (x_p - l = x_0) the gradients are consistent. At the high edge (x_p + l = x_N) the tent of
+// the edge node [h, 0] is evaluated at s = 0 and returns 0 instead of its value 1 from
+// inside the domain, so the edge node's gradient has the wrong sign and the gradients no
+// longer sum to zero; the point shape functions at x = x_N likewise sum to 0 instead of 1.
+// This happens for the last row/column of particles of a body whose box ends on the grid's
+// high edge (e.g. -gimp_pad 0). Disabled until the tent handles s = 0 with a zero zone above;
+// run with --gtest_also_run_disabled_tests.
+TEST(ShapeDomainEdge, DISABLED_ParticleTouchingHighEdge) {
+  const Nodes g = uniformNodes(9, 1.0); // nodes 0..8, h = 1
+  std::vector<double> w, dw;
+  // Low edge: particle [0, 0.5].
+  particleWeights(g, 0.25, 0.25, w, dw);
+  EXPECT_DOUBLE_EQ(dw[0], -1.0);
+  EXPECT_DOUBLE_EQ(dw[1], 1.0);
+  EXPECT_NEAR(dw[0] + dw[1], 0.0, 1e-12);
+  // High edge, the mirror image: particle [7.5, 8].
+  particleWeights(g, 7.75, 0.25, w, dw);
+  EXPECT_DOUBLE_EQ(w[8], 0.75);
+  EXPECT_DOUBLE_EQ(w[7], 0.25);
+  EXPECT_DOUBLE_EQ(dw[8], 1.0);  // (S(0-) - S(-0.5)) / 0.5 = (1 - 0.5) / 0.5
+  EXPECT_DOUBLE_EQ(dw[7], -1.0); // (S(1) - S(0.5)) / 0.5
+  EXPECT_NEAR(dw[7] + dw[8], 0.0, 1e-12);
+  // Point shape functions at the two edges.
+  EXPECT_EQ(tent(0.0, g.Lm[0], g.Lp[0]), 1.0);
+  EXPECT_EQ(tent(0.0, g.Lm[8], g.Lp[8]), 1.0);
+}
+
+// ---------------------------------------------------------------------------------------------
+// 6. Refined 1D meshes (coarse h = r next to fine h = 1, r = 2, 3, 4) with zones equal to the
+//    distance to the neighbouring node: the transition node has zones [r, 1] (or [1, r]).
+
+TEST(ShapeRefinedMesh, TransitionZones) {
+  const Nodes g = refinedNodes(2, false);
+  const std::vector<double> x = {0, 2, 4, 5, 6, 7, 8};
+  ASSERT_EQ(g.x, x);
+  EXPECT_EQ(g.Lm[2], 2.0);
+  EXPECT_EQ(g.Lp[2], 1.0);
+  EXPECT_EQ(g.Lm[0], 0.0);
+  EXPECT_EQ(g.Lp.back(), 0.0);
+  const Nodes g4 = refinedNodes(4, true);
+  EXPECT_EQ(g4.Lm[6], 1.0); // node 12: fine on the left, coarse on the right
+  EXPECT_EQ(g4.Lp[6], 4.0);
+}
+
+TEST(ShapeRefinedMesh, PartitionOfUnityAndReproduction) {
+  std::mt19937_64 rng(0x5eed0007);
+  std::uniform_real_distribution<double> U(0.0, 1.0);
+  for (int r : {2, 3, 4})
+    for (bool coarseAfter : {false, true}) {
+      const Nodes g = refinedNodes(r, coarseAfter);
+      SCOPED_TRACE(at({{"ratio", 1.0 * r}, {"coarseAfter", coarseAfter ? 1.0 : 0.0}}));
+      const double X = g.hi();
+      Worst unity, repro, gradSum, gradRepro, bounds, pointUnity, pointRepro;
+      std::vector<double> w, dw;
+      for (int p = 0; p < 100000; ++p) {
+        // Half-sizes up to a fine cell for most particles, up to a coarse cell for the rest.
+        const double lmax = p % 4 == 0 ? 1.0 * r : 1.0;
+        double l, xp;
+        do {
+          l = lmax * (kMinHalfSize + (1.0 - kMinHalfSize) * (1.0 - U(rng)));
+          xp = l + U(rng) * (X - 2.0 * l);
+        } while (!(xp - l >= 0.0 && xp + l < X));
+        particleWeights(g, xp, l, w, dw);
+        double sw = 0, swx = 0, sg = 0, sgx = 0, lo = 0, hi = 0;
+        for (int i = 0; i < g.size(); ++i) {
+          sw += w[i];
+          swx += w[i] * g.x[i];
+          sg += dw[i];
+          sgx += dw[i] * (g.x[i] - xp);
+          lo = std::min(lo, w[i]);
+          hi = std::max(hi, w[i]);
+        }
+        auto where = [&] { return at({{"xp", xp}, {"l", l}}); };
+        unity.update(std::abs(sw - 1.0), where);
+        repro.update(std::abs(swx - xp), where);
+        gradSum.update(std::abs(sg), where);
+        gradRepro.update(std::abs(sgx - 1.0), where);
+        bounds.update(std::max(-lo, hi - 1.0), where);
+        // Point shape functions at the same position.
+        double s = 0, sx = 0;
+        for (int i = 0; i < g.size(); ++i) {
+          const double t = tent(xp - g.x[i], g.Lm[i], g.Lp[i]);
+          s += t;
+          sx += t * g.x[i];
+        }
+        pointUnity.update(std::abs(s - 1.0), where);
+        pointRepro.update(std::abs(sx - xp), where);
+      }
+      EXPECT_WORST_LE(unity, 1e-12);
+      EXPECT_WORST_LE(repro, 1e-12);
+      EXPECT_WORST_LE(gradSum, 1e-10);
+      EXPECT_WORST_LE(gradRepro, 1e-10);
+      EXPECT_WORST_LE(bounds, 0.0);
+      EXPECT_WORST_LE(pointUnity, 1e-12);
+      EXPECT_WORST_LE(pointRepro, 1e-12);
+    }
+}
+
+} // namespace

@@ -70,6 +70,7 @@ public:
   PetscErrorCode particleCount(PetscInt64 &n);
   PetscErrorCode writeParticleDump(const std::string &file);
 
+private:
   MPI_Comm comm_;
   PetscMPIInt rank_ = 0, size_ = 1;
   Scene sc_;
@@ -98,6 +99,7 @@ public:
   int ns_ = 3; // nodes per direction in use this step
   std::vector<PetscInt> base_;
   std::vector<double> wx_, wy_, gx_, gy_;
+  std::vector<double> L_; // velocity gradient per particle (xx, xy, yx, yy)
 
   // Energy accounting.
   double extWork_ = 0, dampWork_ = 0;
