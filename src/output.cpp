@@ -5,6 +5,7 @@
 #include <petscviewerhdf5.h>
 
 #include <filesystem>
+#include <vector>
 
 namespace gimp {
 
@@ -102,10 +103,27 @@ PetscErrorCode Output::writeFields(PetscInt step, double t) {
   }
   PetscCall(PetscViewerHDF5WriteAttribute(v, nullptr, "time", PETSC_DOUBLE, &t));
   PetscCall(PetscViewerHDF5PopGroup(v));
-  PetscCall(PetscViewerHDF5PushGroup(v, ("/grid/" + g).c_str()));
-  PetscCall(VecView(sim_.mass_, v));
-  PetscCall(VecView(sim_.vel_, v));
-  PetscCall(PetscViewerHDF5PopGroup(v));
+  // Grid: each level's velocity and mass as (N, M[, 2]) datasets.
+  const Grid &grid = sim_.grid_;
+  const int K = static_cast<int>(grid.levels.size());
+  std::vector<Vec> vel(K), mass(K);
+  PetscCall(DMCompositeGetAccessArray(grid.dm, sim_.vel_, K, nullptr, vel.data()));
+  PetscCall(DMCompositeGetAccessArray(grid.dm, sim_.mass_, K, nullptr, mass.data()));
+  for (int k = 0; k < K; ++k) {
+    const Level &L = grid.levels[k];
+    Vec m1;
+    PetscCall(PetscViewerHDF5PushGroup(v, ("/grid/" + g + "/level_" + std::to_string(k)).c_str()));
+    PetscCall(PetscObjectSetName(reinterpret_cast<PetscObject>(vel[k]), "velocity"));
+    PetscCall(VecView(vel[k], v));
+    PetscCall(DMGetGlobalVector(L.da1, &m1));
+    PetscCall(VecStrideGather(mass[k], 0, m1, INSERT_VALUES));
+    PetscCall(PetscObjectSetName(reinterpret_cast<PetscObject>(m1), "mass"));
+    PetscCall(VecView(m1, v));
+    PetscCall(DMRestoreGlobalVector(L.da1, &m1));
+    PetscCall(PetscViewerHDF5PopGroup(v));
+  }
+  PetscCall(DMCompositeRestoreAccessArray(grid.dm, sim_.mass_, K, nullptr, mass.data()));
+  PetscCall(DMCompositeRestoreAccessArray(grid.dm, sim_.vel_, K, nullptr, vel.data()));
   PetscCall(PetscViewerDestroy(&v));
   PetscInt64 n = 0;
   PetscCall(sim_.particleCount(n));
@@ -147,24 +165,31 @@ PetscErrorCode Output::writeXdmf() const {
                    nc == 1 ? "" : (nc == 2 ? " 2" : " 4"), g.c_str(), kParticleFields[k]);
     }
     std::fprintf(fp, " </Grid>\n");
-    std::fprintf(
-        fg,
-        " <Grid Name=\"%s\" GridType=\"Uniform\">\n  <Time Value=\"%.12e\"/>\n"
-        "  <Topology TopologyType=\"2DCoRectMesh\" Dimensions=\"%lld %lld\"/>\n"
-        "  <Geometry GeometryType=\"ORIGIN_DXDY\">\n"
-        "   <DataItem Dimensions=\"2\" NumberType=\"Float\" Format=\"XML\">%.17g %.17g"
-        "</DataItem>\n"
-        "   <DataItem Dimensions=\"2\" NumberType=\"Float\" Format=\"XML\">%.17g %.17g"
-        "</DataItem>\n  </Geometry>\n"
-        "  <Attribute Name=\"mass\" AttributeType=\"Scalar\" Center=\"Node\"><DataItem "
-        "Dimensions=\"%lld %lld\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">"
-        "fields.h5:/grid/%s/mass</DataItem></Attribute>\n"
-        "  <Attribute Name=\"velocity\" AttributeType=\"Matrix\" Center=\"Node\"><DataItem "
-        "Dimensions=\"%lld %lld 2\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">"
-        "fields.h5:/grid/%s/velocity</DataItem></Attribute>\n </Grid>\n",
-        g.c_str(), fr.t, static_cast<long long>(grid.N), static_cast<long long>(grid.M), grid.y0,
-        grid.x0, grid.h, grid.h, static_cast<long long>(grid.N), static_cast<long long>(grid.M),
-        g.c_str(), static_cast<long long>(grid.N), static_cast<long long>(grid.M), g.c_str());
+    std::fprintf(fg,
+                 " <Grid Name=\"%s\" GridType=\"Collection\" CollectionType=\"Spatial\">\n"
+                 "  <Time Value=\"%.12e\"/>\n",
+                 g.c_str(), fr.t);
+    for (size_t k = 0; k < grid.levels.size(); ++k) {
+      const Level &L = grid.levels[k];
+      const long long N = L.N, M = L.M;
+      const std::string ref = "fields.h5:/grid/" + g + "/level_" + std::to_string(k);
+      std::fprintf(fg,
+                   "  <Grid Name=\"level_%zu\" GridType=\"Uniform\">\n"
+                   "   <Topology TopologyType=\"2DCoRectMesh\" Dimensions=\"%lld %lld\"/>\n"
+                   "   <Geometry GeometryType=\"ORIGIN_DXDY\">\n"
+                   "    <DataItem Dimensions=\"2\" NumberType=\"Float\" Format=\"XML\">%.17g %.17g"
+                   "</DataItem>\n"
+                   "    <DataItem Dimensions=\"2\" NumberType=\"Float\" Format=\"XML\">%.17g %.17g"
+                   "</DataItem>\n   </Geometry>\n"
+                   "   <Attribute Name=\"mass\" AttributeType=\"Scalar\" Center=\"Node\"><DataItem "
+                   "Dimensions=\"%lld %lld\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">"
+                   "%s/mass</DataItem></Attribute>\n"
+                   "   <Attribute Name=\"velocity\" AttributeType=\"Matrix\" Center=\"Node\">"
+                   "<DataItem Dimensions=\"%lld %lld 2\" NumberType=\"Float\" Precision=\"8\" "
+                   "Format=\"HDF\">%s/velocity</DataItem></Attribute>\n  </Grid>\n",
+                   k, N, M, L.box[1], L.box[0], L.h, L.h, N, M, ref.c_str(), N, M, ref.c_str());
+    }
+    std::fprintf(fg, " </Grid>\n");
   }
   const char *tail = "</Grid>\n</Domain>\n</Xdmf>\n";
   std::fputs(tail, fp);
@@ -194,11 +219,17 @@ PetscErrorCode Output::writeSummary(PetscInt steps, double t, double wall) {
                "  \"ranks\": %d,\n  \"steps\": %lld,\n  \"time\": %.12e,\n  \"dt\": %.12e,\n"
                "  \"wall_seconds\": %.6f,\n  \"particles\": %lld,\n",
                sim_.size_, static_cast<long long>(steps), t, dt, wall, static_cast<long long>(n));
-  std::fprintf(f,
-               "  \"levels\": [{\"h\": %.12e, \"box\": [%.12e, %.12e, %.12e, %.12e], "
-               "\"active_nodes\": %lld}],\n",
-               g.h, sc.domain[0], sc.domain[1], sc.domain[2], sc.domain[3],
-               static_cast<long long>(g.M) * g.N);
+  std::fprintf(f, "  \"levels\": [");
+  for (size_t k = 0; k < g.levels.size(); ++k) {
+    const Level &L = g.levels[k];
+    std::fprintf(f,
+                 "%s\n    {\"h\": %.12e, \"ratio\": %d, \"box\": [%.12e, %.12e, %.12e, %.12e], "
+                 "\"nodes\": [%lld, %lld], \"active_nodes\": %lld}",
+                 k ? "," : "", L.h, k ? sc.levels[k].ratio : 1, L.box[0], L.box[1], L.box[2],
+                 L.box[3], static_cast<long long>(L.M), static_cast<long long>(L.N),
+                 static_cast<long long>(g.activeNodes(static_cast<int>(k))));
+  }
+  std::fprintf(f, "],\n");
   std::fprintf(f,
                "  \"energy\": {\"kinetic\": %.12e, \"strain\": %.12e, \"external_work\": %.12e, "
                "\"damping\": %.12e},\n",

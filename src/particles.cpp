@@ -90,48 +90,65 @@ PetscErrorCode seedParticles(const Scene &sc, const Grid &g, DM sw) {
     int body;
   };
   std::vector<Seed> seeds;
-  const double h = g.h;
-  const PetscInt64 ncell = static_cast<PetscInt64>(g.M) * g.N;
-  // Owned cells: lower-left node owned, and not the last node line.
-  const PetscInt ie = std::min(g.xs + g.xm, g.M - 1), je = std::min(g.ys + g.ym, g.N - 1);
+  PetscMPIInt rank = 0;
+  PetscCallMPI(MPI_Comm_rank(PetscObjectComm(reinterpret_cast<PetscObject>(sw)), &rank));
+  const int K = static_cast<int>(g.levels.size());
+  PetscInt64 maxCells = 0;
+  for (const Level &L : g.levels)
+    maxCells = std::max<PetscInt64>(maxCells, static_cast<PetscInt64>(L.M) * L.N);
+  // Leaf cells of every level: a body's particles take the size of the finest cell there.
+  // The rank owning the level-0 cell of a leaf cell's centre seeds it.
   for (size_t b = 0; b < sc.bodies.size(); ++b) {
     const Body &body = sc.bodies[b];
-    const double band = body.holeBand > 0 ? body.holeBand : h;
-    for (PetscInt j = g.ys; j < je; ++j)
-      for (PetscInt i = g.xs; i < ie; ++i) {
-        const double cx0 = g.x0 + i * h, cy0 = g.y0 + j * h;
-        if (cx0 + h <= body.box[0] || cx0 >= body.box[2] || cy0 + h <= body.box[1] ||
-            cy0 >= body.box[3])
-          continue;
-        int ppc = body.ppc;
-        for (const Hole &c : body.holes) {
-          // Nearest and farthest points of the cell from the hole centre.
-          const double nx = std::clamp(c.cx, cx0, cx0 + h), ny = std::clamp(c.cy, cy0, cy0 + h);
-          const double dmin = std::hypot(nx - c.cx, ny - c.cy);
-          const double fx = std::max(std::fabs(cx0 - c.cx), std::fabs(cx0 + h - c.cx));
-          const double fy = std::max(std::fabs(cy0 - c.cy), std::fabs(cy0 + h - c.cy));
-          if (dmin <= c.r + band && std::hypot(fx, fy) >= c.r) ppc = body.holePpc;
-        }
-        const int n = static_cast<int>(std::lround(std::sqrt(static_cast<double>(ppc))));
-        const double d = h / n;
-        for (int b2 = 0; b2 < n; ++b2)
-          for (int a = 0; a < n; ++a) {
-            const double x = cx0 + (a + 0.5) * d, y = cy0 + (b2 + 0.5) * d;
-            if (!body.inside(x, y)) continue;
-            const PetscInt64 cell = static_cast<PetscInt64>(j) * g.M + i;
-            // 64 sub-cell slots per cell per direction at most (n <= 64).
-            const PetscInt64 id = ((static_cast<PetscInt64>(b) * ncell + cell) * 64 + b2) * 64 + a;
-            seeds.push_back({x, y, 0.5 * d, id, static_cast<int>(b)});
+    for (int q = 0; q < K; ++q) {
+      const Level &L = g.levels[q];
+      const double h = L.h;
+      const double band = body.holeBand > 0 ? body.holeBand : h;
+      const PetscInt i0 =
+          std::max<PetscInt>(0, static_cast<PetscInt>(std::floor((body.box[0] - L.box[0]) / h)));
+      const PetscInt j0 =
+          std::max<PetscInt>(0, static_cast<PetscInt>(std::floor((body.box[1] - L.box[1]) / h)));
+      const PetscInt i1 = std::min<PetscInt>(
+          L.M - 1, static_cast<PetscInt>(std::ceil((body.box[2] - L.box[0]) / h)));
+      const PetscInt j1 = std::min<PetscInt>(
+          L.N - 1, static_cast<PetscInt>(std::ceil((body.box[3] - L.box[1]) / h)));
+      for (PetscInt j = j0; j < j1; ++j)
+        for (PetscInt i = i0; i < i1; ++i) {
+          const double cx0 = L.box[0] + i * h, cy0 = L.box[1] + j * h;
+          if (g.leafLevelAt(cx0 + 0.5 * h, cy0 + 0.5 * h) != q) continue;
+          if (g.ownerOf(cx0 + 0.5 * h, cy0 + 0.5 * h) != rank) continue;
+          if (cx0 + h <= body.box[0] || cx0 >= body.box[2] || cy0 + h <= body.box[1] ||
+              cy0 >= body.box[3])
+            continue;
+          int ppc = body.ppc;
+          for (const Hole &c : body.holes) {
+            // Nearest and farthest points of the cell from the hole centre.
+            const double nx = std::clamp(c.cx, cx0, cx0 + h), ny = std::clamp(c.cy, cy0, cy0 + h);
+            const double dmin = std::hypot(nx - c.cx, ny - c.cy);
+            const double fx = std::max(std::fabs(cx0 - c.cx), std::fabs(cx0 + h - c.cx));
+            const double fy = std::max(std::fabs(cy0 - c.cy), std::fabs(cy0 + h - c.cy));
+            if (dmin <= c.r + band && std::hypot(fx, fy) >= c.r) ppc = body.holePpc;
           }
-      }
+          const int n = static_cast<int>(std::lround(std::sqrt(static_cast<double>(ppc))));
+          const double d = h / n;
+          const PetscInt64 cell = static_cast<PetscInt64>(j) * L.M + i;
+          for (int b2 = 0; b2 < n; ++b2)
+            for (int a = 0; a < n; ++a) {
+              const double x = cx0 + (a + 0.5) * d, y = cy0 + (b2 + 0.5) * d;
+              if (!body.inside(x, y)) continue;
+              // Unique and independent of the rank count: body, level, cell, sub-cell.
+              const PetscInt64 id =
+                  (((static_cast<PetscInt64>(b) * K + q) * maxCells + cell) * 64 + b2) * 64 + a;
+              seeds.push_back({x, y, 0.5 * d, id, static_cast<int>(b)});
+            }
+        }
+    }
   }
   PetscCall(DMSwarmSetLocalSizes(sw, static_cast<PetscInt>(seeds.size()), 16));
   ParticleView p;
   PetscCall(p.get(sw));
-  PetscMPIInt rank = 0;
-  PetscCallMPI(MPI_Comm_rank(PetscObjectComm(reinterpret_cast<PetscObject>(sw)), &rank));
   const Material &mat = sc.material;
-  const double tol = 1e-9 * h;
+  const double tol = 1e-9 * g.hMin();
   for (PetscInt k = 0; k < p.n; ++k) {
     const Seed &s = seeds[k];
     const Body &body = sc.bodies[s.body];

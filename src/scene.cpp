@@ -323,6 +323,44 @@ PetscErrorCode readLoads(MPI_Comm comm, Scene &sc) {
   return PETSC_SUCCESS;
 }
 
+PetscErrorCode readLevels(MPI_Comm comm, Scene &sc) {
+  PetscInt n = 1;
+  PetscOptionsBegin(comm, nullptr, "Grid levels", "gimp");
+  PetscCall(PetscOptionsInt("-gimp_levels",
+                            "Number of grid levels (1: uniform); level k > 0 is set by "
+                            "-gimp_levelK_box and -gimp_levelK_ratio",
+                            "docs/options.md", n, &n, nullptr));
+  PetscOptionsEnd();
+  if (!sc.help && (n < 1 || n > 8)) bad("gimp_levels", std::to_string(n), "must lie in 1..8");
+  sc.levels.assign(1, LevelSpec{sc.domain, 1});
+  for (PetscInt k = 1; k < (sc.help ? 2 : n); ++k) {
+    const std::string p = "-gimp_level" + std::to_string(k) + "_";
+    PetscReal box[4] = {0, 0, 0, 0}, ratio = 2;
+    PetscInt nbox = 4;
+    PetscBool setBox = PETSC_FALSE;
+    PetscOptionsBegin(comm, nullptr, "Grid level", "gimp");
+    PetscCall(PetscOptionsRealArray((p + "box").c_str(),
+                                    "Box x0,y0,x1,y1 of this level, corners on the parent "
+                                    "level's grid lines [m]",
+                                    "docs/options.md", box, &nbox, &setBox));
+    PetscCall(PetscOptionsReal((p + "ratio").c_str(),
+                               "Refinement ratio to the parent level (an integer >= 2)",
+                               "docs/options.md", ratio, &ratio, nullptr));
+    PetscOptionsEnd();
+    if (sc.help) continue;
+    const std::string q = p.substr(1);
+    if (!setBox) bad(q + "box", "(missing)", "each level > 0 needs its box x0,y0,x1,y1 [m]");
+    if (nbox != 4) bad(q + "box", fmtList(box, nbox), "needs 4 values x0,y0,x1,y1 [m]");
+    if (!(ratio >= 2 && ratio <= 16 && ratio == std::round(ratio)))
+      bad(q + "ratio", fmt(ratio), "must be an integer from 2 to 16");
+    LevelSpec L;
+    std::copy(box, box + 4, L.box.begin());
+    L.ratio = static_cast<int>(ratio);
+    sc.levels.push_back(L);
+  }
+  return PETSC_SUCCESS;
+}
+
 } // namespace
 
 PetscErrorCode readScene(MPI_Comm comm, Scene &sc) {
@@ -400,7 +438,7 @@ PetscErrorCode readScene(MPI_Comm comm, Scene &sc) {
   PetscCall(readMaterial(comm, sc));
   PetscCall(readBodies(comm, sc));
   PetscCall(readLoads(comm, sc));
-  if (sc.help) return PETSC_SUCCESS;
+  if (sc.help) return readLevels(comm, sc);
 
   if (!setH) bad("gimp_h", "(missing)", "the cell size is required, a value > 0 in m");
   if (!(sc.h > 0)) bad("gimp_h", fmt(sc.h), "must be > 0 [m]");
@@ -450,6 +488,7 @@ PetscErrorCode readScene(MPI_Comm comm, Scene &sc) {
       bad("gimp_domain", fmtList(dom, 4), "needs at least 2 cells of -gimp_h in each direction");
   }
   std::copy(dom, dom + 4, sc.domain.begin());
+  PetscCall(readLevels(comm, sc));
   for (size_t k = 0; k < sc.bodies.size(); ++k) {
     const Box &b = sc.bodies[k].box;
     if (b[0] < dom[0] || b[1] < dom[1] || b[2] > dom[2] || b[3] > dom[3])

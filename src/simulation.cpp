@@ -21,6 +21,14 @@ std::string fmt(double v) {
   return s.str();
 }
 
+/// Id slots per body: ids encode body, level, cell and sub-cell (see seedParticles).
+PetscInt64 bodySlots(const Grid &g) {
+  PetscInt64 cells = 0;
+  for (const Level &L : g.levels)
+    cells = std::max<PetscInt64>(cells, static_cast<PetscInt64>(L.M) * L.N);
+  return static_cast<PetscInt64>(g.levels.size()) * cells * 64 * 64;
+}
+
 std::string boxText(const Box &b) {
   return fmt(b[0]) + "," + fmt(b[1]) + "," + fmt(b[2]) + "," + fmt(b[3]);
 }
@@ -36,8 +44,8 @@ Simulation *fromTS(TS ts) {
 Simulation::Simulation(MPI_Comm comm) : comm_(comm) {}
 
 Simulation::~Simulation() {
-  Vec *vecs[] = {&P_,     &mass_,  &massL_, &vel_,  &velL_,   &acc_,  &accL_,
-                 &workL_, &force_, &fext_,  &extL_, &bcMask_, &mask_, &invMass_};
+  Vec *vecs[] = {&P_,    &mass_,    &vel_,   &acc_,  &force_, &fext_, &bcMask_,
+                 &mask_, &invMass_, &massW_, &sumW_, &velW_,  &accW_, &extW_};
   for (Vec *v : vecs)
     if (*v) (void)VecDestroy(v);
   if (ts_) (void)TSDestroy(&ts_);
@@ -79,7 +87,7 @@ PetscErrorCode Simulation::setup() {
     ParticleView p;
     PetscCall(p.get(sw_));
     // Count particles per body; an empty body is an input error.
-    const PetscInt64 slots = static_cast<PetscInt64>(grid_.M) * grid_.N * 64 * 64;
+    const PetscInt64 slots = bodySlots(grid_);
     std::vector<PetscInt64> count(sc_.bodies.size(), 0), total(sc_.bodies.size(), 0);
     double msum = 0;
     for (PetscInt k = 0; k < p.n; ++k) {
@@ -133,54 +141,21 @@ PetscErrorCode Simulation::setup() {
   }
 
   // Nodal vectors.
-  PetscCall(DMCreateGlobalVector(grid_.da, &P_));
+  PetscCall(DMCreateGlobalVector(grid_.dm, &P_));
   PetscCall(PetscObjectSetName(reinterpret_cast<PetscObject>(P_), "momentum"));
-  PetscCall(VecDuplicate(P_, &vel_));
-  PetscCall(PetscObjectSetName(reinterpret_cast<PetscObject>(vel_), "velocity"));
-  PetscCall(VecDuplicate(P_, &acc_));
-  PetscCall(VecDuplicate(P_, &force_));
-  PetscCall(VecDuplicate(P_, &bcMask_));
-  PetscCall(VecDuplicate(P_, &mask_));
-  PetscCall(VecDuplicate(P_, &invMass_));
-  PetscCall(DMCreateLocalVector(grid_.da, &velL_));
-  PetscCall(DMCreateLocalVector(grid_.da, &accL_));
-  PetscCall(DMCreateLocalVector(grid_.da, &workL_));
-  PetscCall(DMCreateGlobalVector(grid_.da1, &mass_));
-  PetscCall(PetscObjectSetName(reinterpret_cast<PetscObject>(mass_), "mass"));
-  PetscCall(DMCreateLocalVector(grid_.da1, &massL_));
+  Vec *globals[] = {&mass_, &vel_, &acc_, &force_, &bcMask_, &mask_, &invMass_};
+  for (Vec *v : globals)
+    PetscCall(VecDuplicate(P_, v));
+  Vec *windows[] = {&massW_, &sumW_, &velW_, &accW_};
+  for (Vec *v : windows)
+    PetscCall(grid_.createWindowVec(v));
   hasExternal_ =
       !sc_.tractions.empty() || sc_.gravity[0] != 0 || sc_.gravity[1] != 0 || sc_.mms != Mms::None;
   if (hasExternal_) {
     PetscCall(VecDuplicate(P_, &fext_));
-    PetscCall(DMCreateLocalVector(grid_.da, &extL_));
+    PetscCall(grid_.createWindowVec(&extW_));
   }
-
-  // Grid-node constraints.
-  PetscCall(VecSet(bcMask_, 1.0));
-  {
-    PetscScalar ***mk;
-    PetscCall(DMDAVecGetArrayDOF(grid_.da, bcMask_, &mk));
-    for (size_t k = 0; k < sc_.bcs.size(); ++k) {
-      const NodeBC &bc = sc_.bcs[k];
-      const PetscInt line = grid_.lineIndex(bc.axis, bc.coord);
-      if (line < 0) {
-        const double o = bc.axis == 0 ? grid_.x0 : grid_.y0;
-        throw InputError("option -gimp_bc" + std::to_string(k) + (bc.axis == 0 ? "_x " : "_y ") +
-                         fmt(bc.coord) + ": not on a grid line inside the domain (lines at " +
-                         fmt(o) + " + i * " + fmt(grid_.h) + ")");
-      }
-      for (PetscInt j = grid_.ys; j < grid_.ys + grid_.ym; ++j)
-        for (PetscInt i = grid_.xs; i < grid_.xs + grid_.xm; ++i) {
-          if ((bc.axis == 0 ? i : j) != line) continue;
-          const double along = bc.axis == 0 ? grid_.y0 + j * grid_.h : grid_.x0 + i * grid_.h;
-          const double tol = 1e-9 * grid_.h;
-          if (bc.hasRange && (along < bc.range[0] - tol || along > bc.range[1] + tol)) continue;
-          for (int c = 0; c < 2; ++c)
-            if (bc.fix[c]) mk[j][i][c] = 0.0;
-        }
-    }
-    PetscCall(DMDAVecRestoreArrayDOF(grid_.da, bcMask_, &mk));
-  }
+  PetscCall(setConstraints());
 
   // Probes: the particle nearest to each requested initial position (ties: smallest id).
   {
@@ -210,7 +185,7 @@ PetscErrorCode Simulation::setup() {
 
   // Time stepping: TS euler on the nodal momentum.
   PetscCall(TSCreate(comm_, &ts_));
-  PetscCall(TSSetDM(ts_, grid_.da));
+  PetscCall(TSSetDM(ts_, grid_.dm));
   PetscCall(TSSetType(ts_, TSEULER));
   PetscCall(TSSetProblemType(ts_, TS_NONLINEAR));
   PetscCall(TSSetApplicationContext(ts_, this));
@@ -218,7 +193,7 @@ PetscErrorCode Simulation::setup() {
   PetscCall(TSSetPreStep(ts_, &Simulation::preStep));
   PetscCall(TSSetPostStep(ts_, &Simulation::postStep));
   const double cp = sc_.material.waveSpeed();
-  const double dtStable = grid_.h / cp;
+  const double dtStable = grid_.hMin() / cp;
   PetscCall(TSSetTimeStep(ts_, sc_.cfl * dtStable));
   PetscCall(TSSetMaxSteps(ts_, 1000));
   PetscCall(TSSetMaxTime(ts_, 1e300));
@@ -229,8 +204,8 @@ PetscErrorCode Simulation::setup() {
   if (!(dt > 0)) throw InputError("option -ts_dt " + fmt(dt) + ": must be > 0 [s]");
   if (dt > dtStable)
     throw InputError("option -ts_dt " + fmt(dt) + ": exceeds the stable limit h / c_p = " +
-                     fmt(dtStable) + " s (h = " + fmt(grid_.h) + " m, c_p = " + fmt(cp) +
-                     " m/s); choose -ts_dt <= " + fmt(dtStable));
+                     fmt(dtStable) + " s (finest h = " + fmt(grid_.hMin()) +
+                     " m, c_p = " + fmt(cp) + " m/s); choose -ts_dt <= " + fmt(dtStable));
   PetscCall(TSSetSolution(ts_, P_));
 
   // Unknown or misspelled options stop the run here (options read at exit are allowed).
@@ -303,8 +278,8 @@ PetscErrorCode Simulation::preStep(TS ts) {
   PetscCall(PetscLogStagePop());
   if (s->sc_.update == Update::USF) {
     PetscCall(PetscLogStagePush(s->stageStress_));
-    PetscCall(DMGlobalToLocal(s->grid_.da, s->vel_, INSERT_VALUES, s->velL_));
-    PetscCall(s->updateStress(p, s->velL_, dt));
+    PetscCall(s->grid_.toWindow(s->vel_, s->velW_));
+    PetscCall(s->updateStress(p, s->velW_, dt));
     PetscCall(PetscLogStagePop());
   }
   PetscCall(p.restore(s->sw_));
@@ -347,8 +322,8 @@ PetscErrorCode Simulation::postStep(TS ts) {
   PetscCall(PetscLogStagePush(s->stageGrid_));
   PetscCall(VecPointwiseMult(s->vel_, s->P_, s->invMass_));
   PetscCall(VecPointwiseMult(s->acc_, s->force_, s->invMass_));
-  PetscCall(DMGlobalToLocal(s->grid_.da, s->vel_, INSERT_VALUES, s->velL_));
-  PetscCall(DMGlobalToLocal(s->grid_.da, s->acc_, INSERT_VALUES, s->accL_));
+  PetscCall(s->grid_.toWindow(s->vel_, s->velW_));
+  PetscCall(s->grid_.toWindow(s->acc_, s->accW_));
   if (s->hasExternal_) {
     PetscScalar fv = 0;
     PetscCall(VecDot(s->fext_, s->vel_, &fv));
@@ -372,12 +347,12 @@ PetscErrorCode Simulation::postStep(TS ts) {
     // Re-project the updated particle momentum; acc_ serves as the momentum work vector.
     PetscCall(s->particleToGrid(p, false, s->acc_));
     PetscCall(VecPointwiseMult(s->vel_, s->acc_, s->invMass_));
-    PetscCall(DMGlobalToLocal(s->grid_.da, s->vel_, INSERT_VALUES, s->velL_));
+    PetscCall(s->grid_.toWindow(s->vel_, s->velW_));
   }
   PetscCall(PetscLogStagePop());
   if (sc.update != Update::USF) {
     PetscCall(PetscLogStagePush(s->stageStress_));
-    PetscCall(s->updateStress(p, s->velL_, dt));
+    PetscCall(s->updateStress(p, s->velW_, dt));
     PetscCall(PetscLogStagePop());
   }
   PetscCall(s->checkParticles(p, step, t));
@@ -425,86 +400,85 @@ PetscErrorCode Simulation::migrate() {
 }
 
 PetscErrorCode Simulation::computeStencils(const ParticleView &p) {
-  const Grid &g = grid_;
-  const double h = g.h, ih = 1.0 / h;
-  double lmax = 0;
-  for (PetscInt k = 0; k < 2 * p.n; ++k)
-    lmax = std::max(lmax, p.l[k]);
-  ns_ = lmax <= 0.5 * h * (1 + 1e-12) ? 3 : kMaxStencil;
-  const size_t n = static_cast<size_t>(p.n);
-  base_.resize(n);
-  wx_.resize(n * kMaxStencil);
-  wy_.resize(n * kMaxStencil);
-  gx_.resize(n * kMaxStencil);
-  gy_.resize(n * kMaxStencil);
-  const PetscInt iend = std::min(g.gxs + g.gxm, g.M), jend = std::min(g.gys + g.gym, g.N);
+  grid_.buildStencils(p.n, p.x, p.l, st_);
+  return PETSC_SUCCESS;
+}
+
+PetscErrorCode Simulation::particleToGrid(const ParticleView &p, bool withMass, Vec P) {
+  PetscScalar *mom = nullptr, *mass = nullptr;
+  PetscCall(VecZeroEntries(sumW_));
+  PetscCall(VecGetArray(sumW_, &mom));
+  if (withMass) {
+    PetscCall(VecZeroEntries(massW_));
+    PetscCall(VecGetArray(massW_, &mass));
+  }
+  const PetscInt *start = st_.start.data(), *node = st_.node.data();
+  const double *wx = st_.wx.data(), *wy = st_.wy.data();
   for (PetscInt k = 0; k < p.n; ++k) {
-    const double xp = p.x[2 * k], yp = p.x[2 * k + 1], lx = p.l[2 * k], ly = p.l[2 * k + 1];
-    PetscInt i0 = static_cast<PetscInt>(std::floor((xp - lx - g.x0) * ih));
-    PetscInt j0 = static_cast<PetscInt>(std::floor((yp - ly - g.y0) * ih));
-    i0 = std::max(std::min(i0, iend - ns_), g.gxs);
-    j0 = std::max(std::min(j0, jend - ns_), g.gys);
-    base_[k] = (j0 - g.gys) * g.gxm + (i0 - g.gxs);
-    for (int a = 0; a < ns_; ++a) {
-      const PetscInt i = i0 + a, j = j0 + a;
-      shape::weightAndGradient(xp - (g.x0 + i * h), lx, g.Lxm[i], g.Lxp[i],
-                               wx_[k * kMaxStencil + a], gx_[k * kMaxStencil + a]);
-      shape::weightAndGradient(yp - (g.y0 + j * h), ly, g.Lym[j], g.Lyp[j],
-                               wy_[k * kMaxStencil + a], gy_[k * kMaxStencil + a]);
+    const double mp = p.m[k], px = mp * p.v[2 * k], py = mp * p.v[2 * k + 1];
+    for (PetscInt e = start[k]; e < start[k + 1]; ++e) {
+      const double w = wx[e] * wy[e];
+      const PetscInt n = node[e];
+      mom[2 * n] += w * px;
+      mom[2 * n + 1] += w * py;
+      if (mass) mass[2 * n] += w * mp;
     }
+  }
+  PetscCall(VecRestoreArray(sumW_, &mom));
+  PetscCall(VecZeroEntries(P));
+  PetscCall(grid_.addFromWindow(sumW_, P));
+  if (withMass) {
+    PetscCall(VecRestoreArray(massW_, &mass));
+    PetscCall(VecZeroEntries(mass_));
+    PetscCall(grid_.addFromWindow(massW_, mass_));
   }
   return PETSC_SUCCESS;
 }
 
-namespace {
-
-template <int NS>
-void scatterMomentum(PetscInt n, const PetscInt *base, const double *wx, const double *wy,
-                     PetscInt gxm, const double *m, const double *v, double *mass, double *mom) {
-  constexpr int S = 4;
-  for (PetscInt k = 0; k < n; ++k) {
-    const double mp = m[k], px = mp * v[2 * k], py = mp * v[2 * k + 1];
-    const double *ax = wx + k * S, *ay = wy + k * S;
-    for (int b = 0; b < NS; ++b) {
-      const PetscInt row = base[k] + b * gxm;
-      for (int a = 0; a < NS; ++a) {
-        const double w = ax[a] * ay[b];
-        const PetscInt node = row + a;
-        if (mass) mass[node] += w * mp;
-        mom[2 * node] += w * px;
-        mom[2 * node + 1] += w * py;
-      }
+PetscErrorCode Simulation::setConstraints() {
+  // Grid-node constraints on level-0 grid lines, applied to the active nodes of every level.
+  const int K = static_cast<int>(grid_.levels.size());
+  std::vector<Vec> sub(K);
+  PetscCall(VecSet(bcMask_, 1.0));
+  PetscCall(DMCompositeGetAccessArray(grid_.dm, bcMask_, K, nullptr, sub.data()));
+  for (size_t b = 0; b < sc_.bcs.size(); ++b) {
+    const NodeBC &bc = sc_.bcs[b];
+    const PetscInt line = grid_.lineIndex(bc.axis, bc.coord);
+    if (line < 0) {
+      const double o = bc.axis == 0 ? grid_.x0 : grid_.y0;
+      PetscCall(DMCompositeRestoreAccessArray(grid_.dm, bcMask_, K, nullptr, sub.data()));
+      throw InputError("option -gimp_bc" + std::to_string(b) + (bc.axis == 0 ? "_x " : "_y ") +
+                       fmt(bc.coord) + ": not on a level-0 grid line inside the domain (lines at " +
+                       fmt(o) + " + i * " + fmt(grid_.h0()) + ")");
+    }
+    const Level &L0 = grid_.levels[0];
+    const std::int64_t lineUnits = (bc.axis == 0 ? L0.u0 : L0.v0) + line * L0.step;
+    for (int k = 0; k < K; ++k) {
+      const Level &L = grid_.levels[k];
+      PetscInt xs, ys, xm, ym;
+      PetscScalar ***mk;
+      PetscCall(DMDAGetCorners(L.da, &xs, &ys, nullptr, &xm, &ym, nullptr));
+      PetscCall(DMDAVecGetArrayDOF(L.da, sub[k], &mk));
+      for (PetscInt j = ys; j < ys + ym; ++j)
+        for (PetscInt i = xs; i < xs + xm; ++i) {
+          const std::int64_t u = bc.axis == 0 ? L.u0 + i * L.step : L.v0 + j * L.step;
+          if (u != lineUnits || !grid_.nodeActive(k, i, j)) continue;
+          const double along = bc.axis == 0 ? grid_.y0 + (L.v0 + j * L.step) * grid_.unit
+                                            : grid_.x0 + (L.u0 + i * L.step) * grid_.unit;
+          const double tol = 1e-9 * L.h;
+          if (bc.hasRange && (along < bc.range[0] - tol || along > bc.range[1] + tol)) continue;
+          for (int c = 0; c < 2; ++c)
+            if (bc.fix[c]) mk[j][i][c] = 0.0;
+        }
+      PetscCall(DMDAVecRestoreArrayDOF(L.da, sub[k], &mk));
     }
   }
-}
-
-} // namespace
-
-PetscErrorCode Simulation::particleToGrid(const ParticleView &p, bool withMass, Vec P) {
-  PetscScalar *mom = nullptr, *mass = nullptr;
-  PetscCall(VecZeroEntries(workL_));
-  PetscCall(VecGetArray(workL_, &mom));
-  if (withMass) {
-    PetscCall(VecZeroEntries(massL_));
-    PetscCall(VecGetArray(massL_, &mass));
-  }
-  if (ns_ == 3)
-    scatterMomentum<3>(p.n, base_.data(), wx_.data(), wy_.data(), grid_.gxm, p.m, p.v, mass, mom);
-  else
-    scatterMomentum<4>(p.n, base_.data(), wx_.data(), wy_.data(), grid_.gxm, p.m, p.v, mass, mom);
-  PetscCall(VecRestoreArray(workL_, &mom));
-  PetscCall(VecZeroEntries(P));
-  PetscCall(DMLocalToGlobal(grid_.da, workL_, ADD_VALUES, P));
-  if (withMass) {
-    PetscCall(VecRestoreArray(massL_, &mass));
-    PetscCall(VecZeroEntries(mass_));
-    PetscCall(DMLocalToGlobal(grid_.da1, massL_, ADD_VALUES, mass_));
-  }
+  PetscCall(DMCompositeRestoreAccessArray(grid_.dm, bcMask_, K, nullptr, sub.data()));
   return PETSC_SUCCESS;
 }
 
 PetscErrorCode Simulation::applyConstraintMask() {
-  // mask = bcMask * (m > cutoff); invMass = mask / m.
+  // mask = bcMask * (m > cutoff); invMass = mask / m. The mass sits in component 0.
   const PetscScalar *m = nullptr, *bc = nullptr;
   PetscScalar *mk = nullptr, *im = nullptr;
   PetscInt nloc = 0;
@@ -514,62 +488,40 @@ PetscErrorCode Simulation::applyConstraintMask() {
   PetscCall(VecGetArray(mask_, &mk));
   PetscCall(VecGetArray(invMass_, &im));
   const double cut = sc_.massCutoff * meanParticleMass_;
-  for (PetscInt i = 0; i < nloc; ++i) {
+  for (PetscInt i = 0; i < nloc; i += 2) {
     const bool has = m[i] > cut;
     for (int c = 0; c < 2; ++c) {
-      mk[2 * i + c] = has ? bc[2 * i + c] : 0.0;
-      im[2 * i + c] = has ? 1.0 / m[i] : 0.0;
+      mk[i + c] = has ? bc[i + c] : 0.0;
+      im[i + c] = has && bc[i + c] != 0.0 ? 1.0 / m[i] : 0.0;
     }
   }
   PetscCall(VecRestoreArray(invMass_, &im));
   PetscCall(VecRestoreArray(mask_, &mk));
   PetscCall(VecRestoreArrayRead(bcMask_, &bc));
   PetscCall(VecRestoreArrayRead(mass_, &m));
-  // A constrained dof keeps zero velocity: zero its inverse mass too.
-  PetscCall(VecPointwiseMult(invMass_, invMass_, mask_));
   return PETSC_SUCCESS;
 }
 
-namespace {
-
-template <int NS>
-void scatterForces(PetscInt n, const PetscInt *base, const double *wx, const double *wy,
-                   const double *gx, const double *gy, PetscInt gxm, const double *V,
-                   const double *s, double *f) {
-  constexpr int S = 4;
-  for (PetscInt k = 0; k < n; ++k) {
-    const double sxx = -V[k] * s[4 * k], syy = -V[k] * s[4 * k + 1], sxy = -V[k] * s[4 * k + 2];
-    const double *ax = wx + k * S, *ay = wy + k * S, *dx = gx + k * S, *dy = gy + k * S;
-    for (int b = 0; b < NS; ++b) {
-      const PetscInt row = base[k] + b * gxm;
-      for (int a = 0; a < NS; ++a) {
-        const double Sx = dx[a] * ay[b], Sy = ax[a] * dy[b];
-        const PetscInt node = row + a;
-        f[2 * node] += sxx * Sx + sxy * Sy;
-        f[2 * node + 1] += sxy * Sx + syy * Sy;
-      }
-    }
-  }
-}
-
-} // namespace
-
 PetscErrorCode Simulation::internalAndExternalForces(const ParticleView &p, double t, Vec F) {
   PetscScalar *f = nullptr, *fe = nullptr;
-  PetscCall(VecZeroEntries(workL_));
-  PetscCall(VecGetArray(workL_, &f));
-  if (ns_ == 3)
-    scatterForces<3>(p.n, base_.data(), wx_.data(), wy_.data(), gx_.data(), gy_.data(), grid_.gxm,
-                     p.V, p.s, f);
-  else
-    scatterForces<4>(p.n, base_.data(), wx_.data(), wy_.data(), gx_.data(), gy_.data(), grid_.gxm,
-                     p.V, p.s, f);
+  PetscCall(VecZeroEntries(sumW_));
+  PetscCall(VecGetArray(sumW_, &f));
+  const PetscInt *start = st_.start.data(), *node = st_.node.data();
+  const double *wx = st_.wx.data(), *wy = st_.wy.data(), *gx = st_.gx.data(), *gy = st_.gy.data();
+  // Internal force, Eq. 8: f_i = -sum_p sigma_p . grad S_ip V_p.
+  for (PetscInt k = 0; k < p.n; ++k) {
+    const double V = p.V[k], sxx = -V * p.s[4 * k], syy = -V * p.s[4 * k + 1],
+                 sxy = -V * p.s[4 * k + 2];
+    for (PetscInt e = start[k]; e < start[k + 1]; ++e) {
+      const double Sx = gx[e] * wy[e], Sy = wx[e] * gy[e];
+      const PetscInt n = node[e];
+      f[2 * n] += sxx * Sx + sxy * Sy;
+      f[2 * n + 1] += sxy * Sx + syy * Sy;
+    }
+  }
   if (hasExternal_) {
-    PetscCall(VecZeroEntries(extL_));
-    PetscCall(VecGetArray(extL_, &fe));
-    const Grid &g = grid_;
-    const int ns = ns_;
-    constexpr int S = kMaxStencil;
+    PetscCall(VecZeroEntries(extW_));
+    PetscCall(VecGetArray(extW_, &fe));
     const double gxv = sc_.gravity[0], gyv = sc_.gravity[1];
     const bool gravity = gxv != 0 || gyv != 0;
     std::unique_ptr<mms::Skb1d> ex;
@@ -578,20 +530,18 @@ PetscErrorCode Simulation::internalAndExternalForces(const ParticleView &p, doub
     for (size_t q = 0; q < factor.size(); ++q)
       factor[q] = sc_.tractions[q].ramp.at(t);
     for (PetscInt k = 0; k < p.n; ++k) {
-      const double *ax = &wx_[k * S], *ay = &wy_[k * S];
-      double bx = gxv, by = gyv;
-      if (ex) bx += ex->bodyForce(p.X0[2 * k], t);
+      // Body force, Eq. 8: f_i = sum_p m_p b S_ip.
       if (gravity || ex) {
-        const double fx = p.m[k] * bx, fy = p.m[k] * by;
-        for (int b = 0; b < ns; ++b)
-          for (int a = 0; a < ns; ++a) {
-            const PetscInt node = base_[k] + b * g.gxm + a;
-            const double w = ax[a] * ay[b];
-            fe[2 * node] += w * fx;
-            fe[2 * node + 1] += w * fy;
-          }
+        const double bx = gxv + (ex ? ex->bodyForce(p.X0[2 * k], t) : 0.0);
+        const double fx = p.m[k] * bx, fy = p.m[k] * gyv;
+        for (PetscInt e = start[k]; e < start[k + 1]; ++e) {
+          const double w = wx[e] * wy[e];
+          fe[2 * node[e]] += w * fx;
+          fe[2 * node[e] + 1] += w * fy;
+        }
       }
-      // Tractions, Eq. 8: integrate tau S_i exactly along the particle's loaded edge. The
+      // Tractions, Eq. 8: tau S_i integrated exactly along the particle's loaded edge; the
+      // tent across the edge is taken at the edge, the weight along it is the 1D weight. The
       // load is dead: its resultant is the traction times the initial edge length.
       for (int axis = 0; axis < 2; ++axis) {
         const PetscInt q = p.trac[2 * k + axis];
@@ -601,128 +551,87 @@ PetscErrorCode Simulation::internalAndExternalForces(const ParticleView &p, doub
         const double edge = p.x[2 * k + axis] + (low ? -1.0 : 1.0) * p.l[2 * k + axis];
         const double len = 2.0 * p.l0[2 * k + 1 - axis] * sc_.material.thickness;
         const double tx = tr.value[0] * factor[q] * len, ty = tr.value[1] * factor[q] * len;
-        // Node base indices of this particle in global numbering.
-        const PetscInt bi = g.gxs + base_[k] % g.gxm, bj = g.gys + base_[k] / g.gxm;
-        for (int b = 0; b < ns; ++b)
-          for (int a = 0; a < ns; ++a) {
-            const PetscInt i = bi + a, j = bj + b;
-            double w;
-            if (axis == 0)
-              w = shape::tent(edge - (g.x0 + i * g.h), g.Lxm[i], g.Lxp[i]) * ay[b];
-            else
-              w = ax[a] * shape::tent(edge - (g.y0 + j * g.h), g.Lym[j], g.Lyp[j]);
-            const PetscInt node = base_[k] + b * g.gxm + a;
-            fe[2 * node] += w * tx;
-            fe[2 * node + 1] += w * ty;
-          }
+        for (PetscInt e = start[k]; e < start[k + 1]; ++e) {
+          const PetscInt n = node[e];
+          const double *z = &grid_.zone[4 * n];
+          const double w = axis == 0 ? shape::tent(edge - grid_.X[n], z[0], z[1]) * wy[e]
+                                     : wx[e] * shape::tent(edge - grid_.Y[n], z[2], z[3]);
+          fe[2 * n] += w * tx;
+          fe[2 * n + 1] += w * ty;
+        }
       }
     }
-    const PetscInt nloc = 2 * g.gxm * g.gym;
-    for (PetscInt i = 0; i < nloc; ++i)
+    for (PetscInt i = 0; i < 2 * grid_.nWindow; ++i)
       f[i] += fe[i];
-    PetscCall(VecRestoreArray(extL_, &fe));
+    PetscCall(VecRestoreArray(extW_, &fe));
     PetscCall(VecZeroEntries(fext_));
-    PetscCall(DMLocalToGlobal(grid_.da, extL_, ADD_VALUES, fext_));
+    PetscCall(grid_.addFromWindow(extW_, fext_));
   }
-  PetscCall(VecRestoreArray(workL_, &f));
+  PetscCall(VecRestoreArray(sumW_, &f));
   PetscCall(VecZeroEntries(F));
-  PetscCall(DMLocalToGlobal(grid_.da, workL_, ADD_VALUES, F));
+  PetscCall(grid_.addFromWindow(sumW_, F));
   return PETSC_SUCCESS;
 }
-
-namespace {
-
-template <int NS>
-void gatherG2P(PetscInt n, const PetscInt *base, const double *wx, const double *wy, PetscInt gxm,
-               const double *vg, const double *ag, double flip, double dt, double *x, double *v) {
-  constexpr int S = 4;
-  for (PetscInt k = 0; k < n; ++k) {
-    const double *ax = wx + k * S, *ay = wy + k * S;
-    double vx = 0, vy = 0, accx = 0, accy = 0;
-    for (int b = 0; b < NS; ++b) {
-      const PetscInt row = base[k] + b * gxm;
-      for (int a = 0; a < NS; ++a) {
-        const double w = ax[a] * ay[b];
-        const PetscInt node = row + a;
-        vx += w * vg[2 * node];
-        vy += w * vg[2 * node + 1];
-        accx += w * ag[2 * node];
-        accy += w * ag[2 * node + 1];
-      }
-    }
-    v[2 * k] = flip * (v[2 * k] + dt * accx) + (1.0 - flip) * vx;
-    v[2 * k + 1] = flip * (v[2 * k + 1] + dt * accy) + (1.0 - flip) * vy;
-    x[2 * k] += dt * vx;
-    x[2 * k + 1] += dt * vy;
-  }
-}
-
-template <int NS>
-void velocityGradient(PetscInt n, const PetscInt *base, const double *wx, const double *wy,
-                      const double *gx, const double *gy, PetscInt gxm, const double *vg,
-                      double *L) {
-  constexpr int S = 4;
-  for (PetscInt k = 0; k < n; ++k) {
-    const double *ax = wx + k * S, *ay = wy + k * S, *dx = gx + k * S, *dy = gy + k * S;
-    double lxx = 0, lxy = 0, lyx = 0, lyy = 0;
-    for (int b = 0; b < NS; ++b) {
-      const PetscInt row = base[k] + b * gxm;
-      for (int a = 0; a < NS; ++a) {
-        const double Sx = dx[a] * ay[b], Sy = ax[a] * dy[b];
-        const PetscInt node = row + a;
-        lxx += vg[2 * node] * Sx;
-        lxy += vg[2 * node] * Sy;
-        lyx += vg[2 * node + 1] * Sx;
-        lyy += vg[2 * node + 1] * Sy;
-      }
-    }
-    L[4 * k] = lxx;
-    L[4 * k + 1] = lxy;
-    L[4 * k + 2] = lyx;
-    L[4 * k + 3] = lyy;
-  }
-}
-
-} // namespace
 
 PetscErrorCode Simulation::gridToParticle(ParticleView &p, double dt) {
   const PetscScalar *vg = nullptr, *ag = nullptr;
-  PetscCall(VecGetArrayRead(velL_, &vg));
-  PetscCall(VecGetArrayRead(accL_, &ag));
-  if (ns_ == 3)
-    gatherG2P<3>(p.n, base_.data(), wx_.data(), wy_.data(), grid_.gxm, vg, ag, sc_.flip, dt, p.x,
-                 p.v);
-  else
-    gatherG2P<4>(p.n, base_.data(), wx_.data(), wy_.data(), grid_.gxm, vg, ag, sc_.flip, dt, p.x,
-                 p.v);
-  PetscCall(VecRestoreArrayRead(accL_, &ag));
-  PetscCall(VecRestoreArrayRead(velL_, &vg));
+  PetscCall(VecGetArrayRead(velW_, &vg));
+  PetscCall(VecGetArrayRead(accW_, &ag));
+  const PetscInt *start = st_.start.data(), *node = st_.node.data();
+  const double *wx = st_.wx.data(), *wy = st_.wy.data();
+  const double flip = sc_.flip;
+  for (PetscInt k = 0; k < p.n; ++k) {
+    double vx = 0, vy = 0, ax = 0, ay = 0;
+    for (PetscInt e = start[k]; e < start[k + 1]; ++e) {
+      const double w = wx[e] * wy[e];
+      const PetscInt n = node[e];
+      vx += w * vg[2 * n];
+      vy += w * vg[2 * n + 1];
+      ax += w * ag[2 * n];
+      ay += w * ag[2 * n + 1];
+    }
+    p.v[2 * k] = flip * (p.v[2 * k] + dt * ax) + (1.0 - flip) * vx;
+    p.v[2 * k + 1] = flip * (p.v[2 * k + 1] + dt * ay) + (1.0 - flip) * vy;
+    p.x[2 * k] += dt * vx;
+    p.x[2 * k + 1] += dt * vy;
+  }
+  PetscCall(VecRestoreArrayRead(accW_, &ag));
+  PetscCall(VecRestoreArrayRead(velW_, &vg));
   return PETSC_SUCCESS;
 }
 
-PetscErrorCode Simulation::updateStress(ParticleView &p, Vec Vlocal, double dt) {
+PetscErrorCode Simulation::updateStress(ParticleView &p, Vec Vwindow, double dt) {
   const PetscScalar *vg = nullptr;
   L_.resize(4 * static_cast<size_t>(p.n));
-  double *L = L_.data();
-  PetscCall(VecGetArrayRead(Vlocal, &vg));
-  if (ns_ == 3)
-    velocityGradient<3>(p.n, base_.data(), wx_.data(), wy_.data(), gx_.data(), gy_.data(),
-                        grid_.gxm, vg, L);
-  else
-    velocityGradient<4>(p.n, base_.data(), wx_.data(), wy_.data(), gx_.data(), gy_.data(),
-                        grid_.gxm, vg, L);
-  PetscCall(VecRestoreArrayRead(Vlocal, &vg));
+  PetscCall(VecGetArrayRead(Vwindow, &vg));
+  const PetscInt *start = st_.start.data(), *node = st_.node.data();
+  const double *wx = st_.wx.data(), *wy = st_.wy.data(), *gx = st_.gx.data(), *gy = st_.gy.data();
+  for (PetscInt k = 0; k < p.n; ++k) {
+    double lxx = 0, lxy = 0, lyx = 0, lyy = 0;
+    for (PetscInt e = start[k]; e < start[k + 1]; ++e) {
+      const double Sx = gx[e] * wy[e], Sy = wx[e] * gy[e];
+      const PetscInt n = node[e];
+      lxx += vg[2 * n] * Sx;
+      lxy += vg[2 * n] * Sy;
+      lyx += vg[2 * n + 1] * Sx;
+      lyy += vg[2 * n + 1] * Sy;
+    }
+    L_[4 * k] = lxx;
+    L_[4 * k + 1] = lxy;
+    L_[4 * k + 2] = lyx;
+    L_[4 * k + 3] = lyy;
+  }
+  PetscCall(VecRestoreArrayRead(Vwindow, &vg));
   const Material &mat = sc_.material;
   for (PetscInt k = 0; k < p.n; ++k) {
-    const double *Lk = L + 4 * k;
+    const double *Lk = &L_[4 * k];
     double *F = &p.F[4 * k];
     const double f0 = F[0], f1 = F[1], f2 = F[2], f3 = F[3];
     F[0] = f0 + dt * (Lk[0] * f0 + Lk[1] * f2);
     F[1] = f1 + dt * (Lk[0] * f1 + Lk[1] * f3);
     F[2] = f2 + dt * (Lk[2] * f0 + Lk[3] * f2);
     F[3] = f3 + dt * (Lk[2] * f1 + Lk[3] * f3);
-    const double J = F[0] * F[3] - F[1] * F[2];
-    p.V[k] = J * p.V0[k];
+    p.V[k] = (F[0] * F[3] - F[1] * F[2]) * p.V0[k];
     if (mat.model == MaterialModel::Linear)
       material::jaumannUpdate(mat, Lk, dt, &p.s[4 * k]);
     else
@@ -755,9 +664,9 @@ PetscErrorCode Simulation::checkParticles(const ParticleView &p, PetscInt step, 
       why = "its position or stress is not finite: the run went unstable (reduce -ts_dt)";
     else if (x - lx < d[0] || x + lx > d[2] || y - ly < d[1] || y + ly > d[3])
       why = "it left the grid domain (enlarge -gimp_domain or -gimp_pad)";
-    else if (!(lx > 0 && ly > 0) || lx > grid_.h || ly > grid_.h)
+    else if (!(lx > 0 && ly > 0) || lx > grid_.h0() || ly > grid_.h0())
       why = "its half-size (" + fmt(lx) + ", " + fmt(ly) +
-            ") is not in (0, h]: the particle is inverted or stretched beyond one cell";
+            ") is not in (0, h0]: the particle is inverted or stretched beyond one level-0 cell";
     if (why.empty()) continue;
     failed_ = true;
     PetscCall(PetscSynchronizedFPrintf(comm_, PETSC_STDERR,

@@ -39,8 +39,8 @@ try:
     x = f["particles/step_00000100/x"]
     c.check("hdf5 particles", x.shape == (160, 2) and f["particles/step_00000100/stress"].shape ==
             (160, 4), "x %s" % (x.shape,))
-    c.check("hdf5 grid", f["grid/step_00000100/velocity"].shape == (9, 15, 2),
-            "velocity %s" % (f["grid/step_00000100/velocity"].shape,))
+    c.check("hdf5 grid", f["grid/step_00000100/level_0/velocity"].shape == (9, 15, 2),
+            "velocity %s" % (f["grid/step_00000100/level_0/velocity"].shape,))
     bad = []
     for xmf in ("particles.xmf", "grid.xmf"):
         text = open(os.path.join(out, xmf)).read()

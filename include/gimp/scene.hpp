@@ -66,6 +66,13 @@ struct NodeBC {
   std::array<double, 2> range{};
 };
 
+/// A grid level: level 0 is the domain; level k > 0 is a box inside level k-1 with cell size
+/// h_{k-1} / ratio.
+struct LevelSpec {
+  Box box{};
+  int ratio = 1;
+};
+
 struct Probe {
   std::string name;
   Vec2 x{};
@@ -89,7 +96,8 @@ struct Scene {
   int historyInterval = 10;
   int monitorInterval = 0; // steps between monitor lines (0: off)
   Box domain{};
-  double h = 0;
+  double h = 0;                  // level-0 cell size
+  std::vector<LevelSpec> levels; // levels[0] is the domain
   std::vector<Body> bodies;
   Material material;
   Vec2 gravity{};

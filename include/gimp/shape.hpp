@@ -13,17 +13,30 @@ namespace gimp::shape {
 /// Nodal tent function S(s), s = x - x_i, Eq. 14.
 inline double tent(double s, double Lm, double Lp) {
   if (s < 0.0) return s > -Lm ? 1.0 + s / Lm : 0.0;
-  return s < Lp ? 1.0 - s / Lp : 0.0;
+  if (s > 0.0) return s < Lp ? 1.0 - s / Lp : 0.0;
+  return 1.0; // at the node, also for a node on the domain's high edge (Lp = 0)
 }
 
-/// Integral of the tent over [A, B] (A <= B); the numerator of Eq. 15 times 2l.
+/// Integral of the tent over [A, B] (A <= B); the numerator of Eq. 15 times 2l. Written in
+/// distances from the ends of the tent's support and as (p - q)(p + q), so a particle that
+/// barely overlaps a tent gets a small positive weight, not a cancelled difference.
 inline double tentIntegral(double A, double B, double Lm, double Lp) {
   double r = 0.0;
-  const double a1 = std::max(A, -Lm), b1 = std::min(B, 0.0); // left part
-  if (b1 > a1) r += (b1 - a1) + (b1 * b1 - a1 * a1) / (2.0 * Lm);
-  const double a2 = std::max(A, 0.0), b2 = std::min(B, Lp); // right part
-  if (b2 > a2) r += (b2 - a2) - (b2 * b2 - a2 * a2) / (2.0 * Lp);
+  if (Lm > 0.0) { // left part, u = s + Lm in [0, Lm]
+    const double p = std::min(B + Lm, Lm), q = std::max(A + Lm, 0.0);
+    if (p > q) r += (p - q) * (p + q) / (2.0 * Lm);
+  }
+  if (Lp > 0.0) { // right part, u = Lp - s in [0, Lp]
+    const double p = std::min(Lp - A, Lp), q = std::max(Lp - B, 0.0);
+    if (p > q) r += (p - q) * (p + q) / (2.0 * Lp);
+  }
   return r;
+}
+
+/// True when the particle [d - l, d + l] overlaps the open support (-Lm, Lp) of the tent: the
+/// node belongs to the particle's stencil (its weight may still round to zero).
+inline bool overlaps(double d, double l, double Lm, double Lp) {
+  return d + l > -Lm && d - l < Lp;
 }
 
 /// 1D GIMP weight, Eq. 15: d = x_p - x_i, l = particle half-size.

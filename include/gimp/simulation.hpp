@@ -61,6 +61,7 @@ private:
   PetscErrorCode updateStress(ParticleView &p, Vec Vlocal, double dt);
   PetscErrorCode checkParticles(const ParticleView &p, PetscInt step, double t);
   PetscErrorCode applyConstraintMask();
+  PetscErrorCode setConstraints();
 
 public:
   // Diagnostics used by monitors and output.
@@ -78,27 +79,19 @@ private:
   DM sw_ = nullptr;
   TS ts_ = nullptr;
 
-  // Nodal vectors (global unless named L).
-  Vec P_ = nullptr;     // momentum: the TS solution
-  Vec mass_ = nullptr;  // nodal mass (da1)
-  Vec massL_ = nullptr; // local nodal mass (da1)
-  Vec vel_ = nullptr;   // nodal velocity
-  Vec velL_ = nullptr;  // local nodal velocity
-  Vec acc_ = nullptr;   // nodal acceleration
-  Vec accL_ = nullptr;  // local nodal acceleration
-  Vec workL_ = nullptr; // local accumulator (dof 2)
-  Vec force_ = nullptr; // last RHS (total nodal force incl. damping)
-  Vec fext_ = nullptr;  // external nodal force (tractions + body force), if the scene has any
-  Vec extL_ = nullptr;
-  Vec bcMask_ = nullptr; // 1 free, 0 constrained, per dof
-  Vec mask_ = nullptr;   // bcMask_ times (node has mass)
-  Vec invMass_ = nullptr;
+  // Nodal vectors: global (composite of the levels, dof 2) and window (W) vectors.
+  Vec P_ = nullptr;       // momentum: the TS solution
+  Vec mass_ = nullptr;    // nodal mass, in both components
+  Vec vel_ = nullptr;     // nodal velocity
+  Vec acc_ = nullptr;     // nodal acceleration
+  Vec force_ = nullptr;   // last RHS (total nodal force incl. damping)
+  Vec fext_ = nullptr;    // external nodal force (tractions + body force), if the scene has any
+  Vec bcMask_ = nullptr;  // 1 free, 0 constrained, per dof
+  Vec mask_ = nullptr;    // bcMask_ times (node has mass)
+  Vec invMass_ = nullptr; // mask_ / mass
+  Vec massW_ = nullptr, sumW_ = nullptr, velW_ = nullptr, accW_ = nullptr, extW_ = nullptr;
 
-  // Per-particle stencil, rebuilt each step: base local node and 1D weights/gradients.
-  static constexpr int kMaxStencil = 4;
-  int ns_ = 3; // nodes per direction in use this step
-  std::vector<PetscInt> base_;
-  std::vector<double> wx_, wy_, gx_, gy_;
+  Stencils st_;           // particle -> node weights, rebuilt each step
   std::vector<double> L_; // velocity gradient per particle (xx, xy, yx, yy)
 
   // Energy accounting.
