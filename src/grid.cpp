@@ -320,17 +320,24 @@ PetscMPIInt Grid::ownerOf(double x, double y) const {
 
 void Grid::buildStencils(PetscInt n, const double *x, const double *l, Stencils &s) const {
   s.start.resize(static_cast<size_t>(n) + 1);
-  s.node.clear();
-  s.wx.clear();
-  s.wy.clear();
-  s.gx.clear();
-  s.gy.clear();
+  size_t m = 0;
+  auto reserve = [&s](size_t want) {
+    if (s.node.size() >= want) return;
+    const size_t cap = std::max(want, 2 * s.node.size());
+    s.node.resize(cap);
+    s.wx.resize(cap);
+    s.wy.resize(cap);
+    s.gx.resize(cap);
+    s.gy.resize(cap);
+  };
+  reserve(16 * static_cast<size_t>(n));
   const int K = static_cast<int>(levels.size());
   const double hmax = levels[0].h;
+  constexpr PetscInt kMaxRange = 64;
   // Regular 1D weights of one level's candidate columns and rows (zones equal to h there).
-  double rwx[64], rgx[64], rwy[64], rgy[64];
+  double rwx[kMaxRange], rgx[kMaxRange], rwy[kMaxRange], rgy[kMaxRange];
   for (PetscInt k = 0; k < n; ++k) {
-    s.start[k] = static_cast<PetscInt>(s.node.size());
+    s.start[k] = static_cast<PetscInt>(m);
     const double xp = x[2 * k], yp = x[2 * k + 1], lx = l[2 * k], ly = l[2 * k + 1];
     for (int q = 0; q < K; ++q) {
       const Level &L = levels[q];
@@ -345,20 +352,25 @@ void Grid::buildStencils(PetscInt n, const double *x, const double *l, Stencils 
         if (ax >= f[0] && bx <= f[2] && ay >= f[1] && by <= f[3]) continue;
       }
       const double ox = L.box[0], oy = L.box[1], ih = 1.0 / L.h;
-      PetscInt i0 = static_cast<PetscInt>(std::floor((ax - ox) * ih)) + 1;
-      PetscInt i1 = static_cast<PetscInt>(std::ceil((bx - ox) * ih)) - 1;
-      PetscInt j0 = static_cast<PetscInt>(std::floor((ay - oy) * ih)) + 1;
-      PetscInt j1 = static_cast<PetscInt>(std::ceil((by - oy) * ih)) - 1;
-      i0 = std::max(i0, L.wi0);
-      j0 = std::max(j0, L.wj0);
-      i1 = std::min(i1, L.wi1 - 1);
-      j1 = std::min(j1, L.wj1 - 1);
+      const PetscInt i0 = std::max(static_cast<PetscInt>(std::floor((ax - ox) * ih)) + 1, L.wi0);
+      const PetscInt i1 = std::min(static_cast<PetscInt>(std::ceil((bx - ox) * ih)) - 1, L.wi1 - 1);
+      const PetscInt j0 = std::max(static_cast<PetscInt>(std::floor((ay - oy) * ih)) + 1, L.wj0);
+      const PetscInt j1 = std::min(static_cast<PetscInt>(std::ceil((by - oy) * ih)) - 1, L.wj1 - 1);
       if (i1 < i0 || j1 < j0) continue;
-      if (i1 - i0 >= 64 || j1 - j0 >= 64) continue; // cannot happen for l <= h0 (checked)
+      // l <= h0 is checked every step, so a range never exceeds 2 (h0 + h0) / h + 1 nodes;
+      // 64 covers ratios up to 16 in total.
+      if (i1 - i0 >= kMaxRange || j1 - j0 >= kMaxRange) continue;
+      const double i2lx = 0.5 / lx, i2ly = 0.5 / ly;
       for (PetscInt i = i0; i <= i1; ++i)
-        shape::weightAndGradient(xp - (ox + i * L.h), lx, L.h, L.h, rwx[i - i0], rgx[i - i0]);
+        shape::weightAndGradientUniform(xp - (ox + i * L.h), lx, L.h, ih, i2lx, rwx[i - i0],
+                                        rgx[i - i0]);
       for (PetscInt j = j0; j <= j1; ++j)
-        shape::weightAndGradient(yp - (oy + j * L.h), ly, L.h, L.h, rwy[j - j0], rgy[j - j0]);
+        shape::weightAndGradientUniform(yp - (oy + j * L.h), ly, L.h, ih, i2ly, rwy[j - j0],
+                                        rgy[j - j0]);
+      reserve(m + static_cast<size_t>((i1 - i0 + 1) * (j1 - j0 + 1)) +
+              16 * static_cast<size_t>(n - k));
+      PetscInt *node = s.node.data();
+      double *wxs = s.wx.data(), *wys = s.wy.data(), *gxs = s.gx.data(), *gys = s.gy.data();
       for (PetscInt j = j0; j <= j1; ++j) {
         const PetscInt row = L.offset + (j - L.wj0) * L.wnx() - L.wi0;
         for (PetscInt i = i0; i <= i1; ++i) {
@@ -367,7 +379,10 @@ void Grid::buildStencils(PetscInt n, const double *x, const double *l, Stencils 
           double wx, gx, wy, gy;
           const double dx = xp - X[nd], dy = yp - Y[nd];
           if (regular[nd]) {
-            if (!shape::overlaps(dx, lx, L.h, L.h) || !shape::overlaps(dy, ly, L.h, L.h)) continue;
+            // Inside the box the candidate range is exactly the overlap range.
+            if (!inside &&
+                (!shape::overlaps(dx, lx, L.h, L.h) || !shape::overlaps(dy, ly, L.h, L.h)))
+              continue;
             wx = rwx[i - i0];
             gx = rgx[i - i0];
             wy = rwy[j - j0];
@@ -379,16 +394,17 @@ void Grid::buildStencils(PetscInt n, const double *x, const double *l, Stencils 
             shape::weightAndGradient(dx, lx, z[0], z[1], wx, gx);
             shape::weightAndGradient(dy, ly, z[2], z[3], wy, gy);
           }
-          s.node.push_back(nd);
-          s.wx.push_back(wx);
-          s.wy.push_back(wy);
-          s.gx.push_back(gx);
-          s.gy.push_back(gy);
+          node[m] = nd;
+          wxs[m] = wx;
+          wys[m] = wy;
+          gxs[m] = gx;
+          gys[m] = gy;
+          ++m;
         }
       }
     }
   }
-  s.start[n] = static_cast<PetscInt>(s.node.size());
+  s.start[n] = static_cast<PetscInt>(m);
 }
 
 PetscInt Grid::lineIndex(int axis, double c) const {

@@ -407,6 +407,12 @@ PetscErrorCode readScene(MPI_Comm comm, Scene &sc) {
   PetscCall(PetscOptionsReal("-gimp_flip",
                              "FLIP fraction of the particle velocity update (1: FLIP, 0: PIC)",
                              "docs/options.md", sc.flip, &sc.flip, nullptr));
+  PetscBool half = sc.halfStepStart ? PETSC_TRUE : PETSC_FALSE;
+  PetscCall(PetscOptionsBool("-gimp_half_step_start",
+                             "Start the leapfrog with a half kick (particle velocities at half "
+                             "steps; second order in time)",
+                             "docs/options.md", half, &half, nullptr));
+  sc.halfStepStart = half;
   PetscCall(PetscOptionsEList("-gimp_tracking",
                               "Particle size tracking: none, strain ((1+eps) l0), stretch (F l0)",
                               "docs/options.md", trackings, 3, trackings[2], &tracking, nullptr));

@@ -286,8 +286,13 @@ PetscErrorCode Simulation::preStep(TS ts) {
   return PETSC_SUCCESS;
 }
 
-PetscErrorCode Simulation::rhs(TS, PetscReal t, Vec X, Vec F, void *ctx) {
+PetscErrorCode Simulation::rhs(TS ts, PetscReal t, Vec X, Vec F, void *ctx) {
   Simulation *s = static_cast<Simulation *>(ctx);
+  PetscInt step = 0;
+  PetscCall(TSGetStepNumber(ts, &step));
+  // Leapfrog start: the first step kicks by half the force, so particle velocities stand at
+  // half steps and the update x += dt v, v += dt a is second order in time.
+  s->kick_ = step == 0 && s->sc_.halfStepStart ? 0.5 : 1.0;
   PetscCall(PetscLogStagePush(s->stageForces_));
   ParticleView p;
   PetscCall(p.get(s->sw_));
@@ -300,6 +305,7 @@ PetscErrorCode Simulation::rhs(TS, PetscReal t, Vec X, Vec F, void *ctx) {
     s->dampPowerStart_ = s->sc_.damping * pv;
   }
   PetscCall(VecPointwiseMult(F, F, s->mask_));
+  if (s->kick_ != 1.0) PetscCall(VecScale(F, s->kick_));
   PetscCall(VecCopy(F, s->force_));
   if (s->hasExternal_) {
     PetscScalar fv = 0;
@@ -327,7 +333,7 @@ PetscErrorCode Simulation::postStep(TS ts) {
   if (s->hasExternal_) {
     PetscScalar fv = 0;
     PetscCall(VecDot(s->fext_, s->vel_, &fv));
-    s->extWork_ += 0.5 * dt * (s->extPowerStart_ + fv);
+    s->extWork_ += 0.5 * s->kick_ * dt * (s->extPowerStart_ + fv);
   }
   if (sc.damping > 0) {
     // The damping force -d p^n acts over the step on the mean velocity (v^n + v^n+1) / 2,
@@ -335,7 +341,7 @@ PetscErrorCode Simulation::postStep(TS ts) {
     PetscScalar pv = 0, fv = 0;
     PetscCall(VecDot(s->P_, s->vel_, &pv));
     PetscCall(VecDot(s->force_, s->vel_, &fv));
-    s->dampWork_ += 0.5 * dt * (s->dampPowerStart_ + sc.damping * (pv - dt * fv));
+    s->dampWork_ += 0.5 * s->kick_ * dt * (s->dampPowerStart_ + sc.damping * (pv - dt * fv));
   }
   PetscCall(PetscLogStagePop());
 

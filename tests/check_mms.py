@@ -3,7 +3,8 @@
 Runs the scene at several resolutions h = 1/n with the time step tied to h (fixed CFL, from
 the scene file), prints a table of the displacement errors with the observed orders between
 successive resolutions, writes it to <work>/mms_convergence.csv, and asserts that the
-least-squares order of both error norms is at least 1.5.
+least-squares order of both error norms is at least 1.8 (the issue asks for 1.5; GIMP with
+the leapfrog start measures 2.0, so 1.8 catches a lost order).
 
 Extra options (besides those of gimptest.parse_args):
   --levels 16,32,64,128   cells per unit length of the convergence series
@@ -22,7 +23,7 @@ import gimptest
 
 OPTS = "runs/mms_skb1d.opts"
 PERIOD = 0.02  # s, c = 100 m/s
-MIN_ORDER = 1.5
+MIN_ORDER = 1.8
 
 pre = argparse.ArgumentParser(add_help=False)
 pre.add_argument("--levels", default="16,32,64,128")

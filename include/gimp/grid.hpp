@@ -37,7 +37,8 @@ struct Level {
 };
 
 /// Nodes and weights of every particle, in compressed rows: entries start[k]..start[k+1]-1 of
-/// particle k, each a window node and the 1D weights and gradients of Eq. 15 in x and y.
+/// particle k, each a window node and the 1D weights and gradients of Eq. 15 in x and y. The
+/// arrays keep their capacity between steps: only the first start[n] entries are valid.
 struct Stencils {
   std::vector<PetscInt> start;
   std::vector<PetscInt> node;

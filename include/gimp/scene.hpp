@@ -106,6 +106,7 @@ struct Scene {
   double damping = 0;
   Update update = Update::MUSL;
   double flip = 1.0;
+  bool halfStepStart = true; // leapfrog start: half kick on the first step
   Tracking tracking = Tracking::Stretch;
   double massCutoff = 1e-8; // relative to the mean particle mass
   double cfl = 0.3;

@@ -96,6 +96,7 @@ private:
 
   // Energy accounting.
   double extWork_ = 0, dampWork_ = 0;
+  double kick_ = 1.0; // fraction of the force applied this step (0.5 on a leapfrog start)
   double extPowerStart_ = 0, dampPowerStart_ = 0;
   double meanParticleMass_ = 0;
   bool hasExternal_ = false;
