@@ -330,19 +330,6 @@ PetscErrorCode Simulation::postStep(TS ts) {
   PetscCall(VecPointwiseMult(s->acc_, s->force_, s->invMass_));
   PetscCall(s->grid_.toWindow(s->vel_, s->velW_));
   PetscCall(s->grid_.toWindow(s->acc_, s->accW_));
-  if (s->hasExternal_) {
-    PetscScalar fv = 0;
-    PetscCall(VecDot(s->fext_, s->vel_, &fv));
-    s->extWork_ += 0.5 * s->kick_ * dt * (s->extPowerStart_ + fv);
-  }
-  if (sc.damping > 0) {
-    // The damping force -d p^n acts over the step on the mean velocity (v^n + v^n+1) / 2,
-    // and p^n = p^n+1 - dt F: this makes the grid's discrete energy balance exact.
-    PetscScalar pv = 0, fv = 0;
-    PetscCall(VecDot(s->P_, s->vel_, &pv));
-    PetscCall(VecDot(s->force_, s->vel_, &fv));
-    s->dampWork_ += 0.5 * s->kick_ * dt * (s->dampPowerStart_ + sc.damping * (pv - dt * fv));
-  }
   PetscCall(PetscLogStagePop());
 
   ParticleView p;
@@ -356,6 +343,21 @@ PetscErrorCode Simulation::postStep(TS ts) {
     PetscCall(s->grid_.toWindow(s->vel_, s->velW_));
   }
   PetscCall(PetscLogStagePop());
+  // Work of the external and damping forces over the step: force times the mean of the grid
+  // velocities at its start and end. With MUSL the end velocity is the re-projection of the
+  // particles' velocities, so nodal force residuals that move no particle do no work.
+  if (s->hasExternal_) {
+    PetscScalar fv = 0;
+    PetscCall(VecDot(s->fext_, s->vel_, &fv));
+    s->extWork_ += 0.5 * s->kick_ * dt * (s->extPowerStart_ + fv);
+  }
+  if (sc.damping > 0) {
+    // The damping force is -d p^n, and p^n = p^n+1 - dt F.
+    PetscScalar pv = 0, fv = 0;
+    PetscCall(VecDot(s->P_, s->vel_, &pv));
+    PetscCall(VecDot(s->force_, s->vel_, &fv));
+    s->dampWork_ += 0.5 * s->kick_ * dt * (s->dampPowerStart_ + sc.damping * (pv - dt * fv));
+  }
   if (sc.update != Update::USF) {
     PetscCall(PetscLogStagePush(s->stageStress_));
     PetscCall(s->updateStress(p, s->velW_, dt));
