@@ -25,12 +25,23 @@ std::string boxText(const Box &b) {
   return fmt(b[0]) + "," + fmt(b[1]) + "," + fmt(b[2]) + "," + fmt(b[3]);
 }
 
-/// c / d as an integer if it is one (relative tolerance 1e-9), else -1.
-std::int64_t wholeMultiple(double c, double d) {
+/// floor and ceil to an integer without a libm call (the hot loop of buildStencils).
+inline PetscInt ifloor(double v) {
+  const PetscInt i = static_cast<PetscInt>(v);
+  return i - (v < static_cast<double>(i));
+}
+inline PetscInt iceil(double v) {
+  const PetscInt i = static_cast<PetscInt>(v);
+  return i + (v > static_cast<double>(i));
+}
+
+/// Whether c / d is an integer (relative tolerance 1e-9); if so, m is set to it.
+bool wholeMultiple(double c, double d, std::int64_t &m) {
   const double q = c / d;
   const double r = std::round(q);
-  if (std::fabs(q - r) > 1e-9 * std::max(1.0, std::fabs(q))) return -1;
-  return static_cast<std::int64_t>(r);
+  if (std::fabs(q - r) > 1e-9 * std::max(1.0, std::fabs(q))) return false;
+  m = static_cast<std::int64_t>(r);
+  return true;
 }
 
 } // namespace
@@ -72,8 +83,8 @@ void Grid::setGeometry(const Scene &sc) {
       const double o = d % 2 == 0 ? x0 : y0;
       // Corners on the parent's grid lines (level 0: whole cells of h0 from the origin).
       const double parentH = k == 0 ? sc.h : levels[k - 1].h;
-      const std::int64_t m = wholeMultiple(L.box[d] - o, parentH);
-      if (m < 0)
+      std::int64_t m = 0;
+      if (!wholeMultiple(L.box[d] - o, parentH, m))
         throw InputError(opt + ": corner coordinate " + fmt(L.box[d]) +
                          " is not on a grid line of level " + std::to_string(k ? k - 1 : 0) +
                          " (lines at " + fmt(o) + " + i * " + fmt(parentH) + ")");
@@ -219,6 +230,7 @@ PetscErrorCode Grid::create(MPI_Comm comm, const Scene &sc) {
   // Node data of the window.
   active.assign(nWindow, 0);
   regular.assign(nWindow, 0);
+  flags_.assign(nWindow, 0);
   X.assign(nWindow, 0);
   Y.assign(nWindow, 0);
   zone.assign(4 * static_cast<size_t>(nWindow), 0);
@@ -234,6 +246,7 @@ PetscErrorCode Grid::create(MPI_Comm comm, const Scene &sc) {
         zonesOf(k, i, j, &zone[4 * n]);
         regular[n] = zone[4 * n] == L.h && zone[4 * n + 1] == L.h && zone[4 * n + 2] == L.h &&
                      zone[4 * n + 3] == L.h;
+        flags_[n] = static_cast<std::uint8_t>(kActive | (regular[n] ? kRegular : 0));
       }
   }
 
@@ -333,9 +346,11 @@ void Grid::buildStencils(PetscInt n, const double *x, const double *l, Stencils 
   reserve(16 * static_cast<size_t>(n));
   const int K = static_cast<int>(levels.size());
   const double hmax = levels[0].h;
-  constexpr PetscInt kMaxRange = 64;
-  // Regular 1D weights of one level's candidate columns and rows (zones equal to h there).
-  double rwx[kMaxRange], rgx[kMaxRange], rwy[kMaxRange], rgy[kMaxRange];
+  // A candidate range spans at most 2 (l + Z) / h + 1 nodes with l, Z <= h0 (l is checked
+  // every step): size the scratch for the finest level.
+  const PetscInt maxRange = static_cast<PetscInt>(4.0 * hmax / levels.back().h) + 4;
+  std::vector<double> scratch(4 * static_cast<size_t>(maxRange));
+  double *rwx = scratch.data(), *rgx = rwx + maxRange, *rwy = rgx + maxRange, *rgy = rwy + maxRange;
   for (PetscInt k = 0; k < n; ++k) {
     s.start[k] = static_cast<PetscInt>(m);
     const double xp = x[2 * k], yp = x[2 * k + 1], lx = l[2 * k], ly = l[2 * k + 1];
@@ -352,14 +367,14 @@ void Grid::buildStencils(PetscInt n, const double *x, const double *l, Stencils 
         if (ax >= f[0] && bx <= f[2] && ay >= f[1] && by <= f[3]) continue;
       }
       const double ox = L.box[0], oy = L.box[1], ih = 1.0 / L.h;
-      const PetscInt i0 = std::max(static_cast<PetscInt>(std::floor((ax - ox) * ih)) + 1, L.wi0);
-      const PetscInt i1 = std::min(static_cast<PetscInt>(std::ceil((bx - ox) * ih)) - 1, L.wi1 - 1);
-      const PetscInt j0 = std::max(static_cast<PetscInt>(std::floor((ay - oy) * ih)) + 1, L.wj0);
-      const PetscInt j1 = std::min(static_cast<PetscInt>(std::ceil((by - oy) * ih)) - 1, L.wj1 - 1);
+      const PetscInt i0 = std::max(ifloor((ax - ox) * ih) + 1, L.wi0);
+      const PetscInt i1 = std::min(iceil((bx - ox) * ih) - 1, L.wi1 - 1);
+      const PetscInt j0 = std::max(ifloor((ay - oy) * ih) + 1, L.wj0);
+      const PetscInt j1 = std::min(iceil((by - oy) * ih) - 1, L.wj1 - 1);
       if (i1 < i0 || j1 < j0) continue;
-      // l <= h0 is checked every step, so a range never exceeds 2 (h0 + h0) / h + 1 nodes;
-      // 64 covers ratios up to 16 in total.
-      if (i1 - i0 >= kMaxRange || j1 - j0 >= kMaxRange) continue;
+      if (i1 - i0 >= maxRange || j1 - j0 >= maxRange) // only for a particle larger than h0
+        throw InputError("particle at (" + fmt(xp) + ", " + fmt(yp) + ") with half-size (" +
+                         fmt(lx) + ", " + fmt(ly) + ") is larger than a level-0 cell");
       const double i2lx = 0.5 / lx, i2ly = 0.5 / ly;
       for (PetscInt i = i0; i <= i1; ++i)
         shape::weightAndGradientUniform(xp - (ox + i * L.h), lx, L.h, ih, i2lx, rwx[i - i0],
@@ -375,24 +390,30 @@ void Grid::buildStencils(PetscInt n, const double *x, const double *l, Stencils 
         const PetscInt row = L.offset + (j - L.wj0) * L.wnx() - L.wi0;
         for (PetscInt i = i0; i <= i1; ++i) {
           const PetscInt nd = row + i;
-          if (!active[nd]) continue;
+          const std::uint8_t f = flags_[nd];
           double wx, gx, wy, gy;
-          const double dx = xp - X[nd], dy = yp - Y[nd];
-          if (regular[nd]) {
+          if (f == (kActive | kRegular) && inside) {
             // Inside the box the candidate range is exactly the overlap range.
-            if (!inside &&
-                (!shape::overlaps(dx, lx, L.h, L.h) || !shape::overlaps(dy, ly, L.h, L.h)))
-              continue;
             wx = rwx[i - i0];
             gx = rgx[i - i0];
             wy = rwy[j - j0];
             gy = rgy[j - j0];
-          } else {
+          } else if (f & kActive) {
+            const double dx = xp - X[nd], dy = yp - Y[nd];
             const double *z = &zone[4 * nd];
             if (!shape::overlaps(dx, lx, z[0], z[1]) || !shape::overlaps(dy, ly, z[2], z[3]))
               continue;
-            shape::weightAndGradient(dx, lx, z[0], z[1], wx, gx);
-            shape::weightAndGradient(dy, ly, z[2], z[3], wy, gy);
+            if (f & kRegular) {
+              wx = rwx[i - i0];
+              gx = rgx[i - i0];
+              wy = rwy[j - j0];
+              gy = rgy[j - j0];
+            } else {
+              shape::weightAndGradient(dx, lx, z[0], z[1], wx, gx);
+              shape::weightAndGradient(dy, ly, z[2], z[3], wy, gy);
+            }
+          } else {
+            continue;
           }
           node[m] = nd;
           wxs[m] = wx;
@@ -411,8 +432,8 @@ PetscInt Grid::lineIndex(int axis, double c) const {
   const Level &L = levels[0];
   const double o = axis == 0 ? x0 : y0;
   const PetscInt n = axis == 0 ? L.M : L.N;
-  const std::int64_t i = wholeMultiple(c - o, L.h);
-  if (i < 0 || i >= n) return -1;
+  std::int64_t i = 0;
+  if (!wholeMultiple(c - o, L.h, i) || i < 0 || i >= n) return -1;
   return static_cast<PetscInt>(i);
 }
 

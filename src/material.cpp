@@ -7,7 +7,7 @@ namespace gimp::material {
 void jaumannUpdate(const Material &m, const double L[4], double dt, double s[4]) {
   const double dxx = L[0], dyy = L[3], dxy = 0.5 * (L[1] + L[2]);
   const double w = 0.5 * (L[1] - L[2]); // W_xy
-  const double lam = m.lambdaEff(), mu2 = 2.0 * m.mu;
+  const double lam = m.lambdaStar, mu2 = 2.0 * m.mu;
   const double tr = dxx + dyy;
   const double sxx = s[0], syy = s[1], sxy = s[2];
   s[0] = sxx + dt * (lam * tr + mu2 * dxx + 2.0 * w * sxy);

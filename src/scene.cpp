@@ -108,6 +108,7 @@ PetscErrorCode readMaterial(MPI_Comm comm, Scene &sc) {
   if (!(m.thickness > 0)) bad("gimp_thickness", fmt(m.thickness), "must be > 0 [m]");
   m.mu = m.E / (2.0 * (1.0 + m.nu));
   m.lambda = m.E * m.nu / ((1.0 + m.nu) * (1.0 - 2.0 * m.nu));
+  m.lambdaStar = m.lambdaEff();
   return PETSC_SUCCESS;
 }
 
@@ -121,8 +122,8 @@ PetscErrorCode readBodies(MPI_Comm comm, Scene &sc) {
   for (PetscInt k = 0; k < std::max<PetscInt>(nb, 1); ++k) {
     Body b;
     const std::string p = "-gimp_body" + std::to_string(k) + "_";
-    PetscReal box[4] = {0, 0, 0, 0}, holes[300], vel[2] = {0, 0};
-    PetscInt nbox = 4, nholes = 300, nvel = 2, ppc = 4, hppc = 0;
+    PetscReal box[4] = {0, 0, 0, 0}, holes[301] = {0}, vel[2] = {0, 0};
+    PetscInt nbox = 4, nholes = 301, nvel = 2, ppc = 4, hppc = 0;
     PetscBool setBox = PETSC_FALSE, setHoles = PETSC_FALSE;
     const char *profiles[] = {"uniform", "sine_x"};
     PetscInt profile = 0;
@@ -159,6 +160,8 @@ PetscErrorCode readBodies(MPI_Comm comm, Scene &sc) {
     if (nbox != 4) bad(q + "box", fmtList(box, nbox), "needs 4 values x0,y0,x1,y1 [m]");
     if (!(box[2] > box[0] && box[3] > box[1]))
       bad(q + "box", fmtList(box, 4), "needs x1 > x0 and y1 > y0 (an empty body)");
+    if (setHoles && nholes > 300)
+      bad(q + "holes", "(more than 100 holes)", "at most 100 holes (300 values cx,cy,r)");
     if (setHoles && nholes % 3 != 0)
       bad(q + "holes", fmtList(holes, nholes), "needs triples cx,cy,r");
     for (PetscInt i = 0; setHoles && i + 2 < nholes; i += 3) {
@@ -176,6 +179,8 @@ PetscErrorCode readBodies(MPI_Comm comm, Scene &sc) {
     b.holePpc = static_cast<int>(hppc ? hppc : ppc);
     b.holeBand = band;
     b.velocity = {vel[0], vel[1]};
+    if (profile == 1 && !(k0 != 0))
+      bad(q + "wavenumber", fmt(k0), "velocity_profile sine_x needs a non-zero wavenumber [1/m]");
     b.sineProfile = profile == 1;
     b.wavenumber = k0;
     sc.bodies.push_back(b);
@@ -184,8 +189,8 @@ PetscErrorCode readBodies(MPI_Comm comm, Scene &sc) {
 }
 
 PetscErrorCode readRamp(MPI_Comm comm, const std::string &opt, Ramp &r, bool help) {
-  PetscReal v[200];
-  PetscInt n = 200;
+  PetscReal v[201] = {0};
+  PetscInt n = 201;
   PetscBool set = PETSC_FALSE;
   PetscOptionsBegin(comm, nullptr, "Ramp", "gimp");
   PetscCall(PetscOptionsRealArray(opt.c_str(),
@@ -194,6 +199,7 @@ PetscErrorCode readRamp(MPI_Comm comm, const std::string &opt, Ramp &r, bool hel
                                   "docs/options.md", v, &n, &set));
   PetscOptionsEnd();
   if (!set || help) return PETSC_SUCCESS;
+  if (n > 200) bad(opt.substr(1), "(more than 100 pairs)", "at most 100 pairs t,f");
   if (n < 2 || n % 2) bad(opt.substr(1), fmtList(v, n), "needs pairs t,f (at least one)");
   for (PetscInt i = 0; i < n; i += 2) {
     if (i > 0 && !(v[i] > v[i - 2]))
@@ -208,9 +214,10 @@ PetscErrorCode readLoads(MPI_Comm comm, Scene &sc) {
   PetscInt nt = 0, nbc = 0, np = 0;
   PetscReal g[2] = {0, 0};
   PetscInt ng = 2;
+  PetscBool setG = PETSC_FALSE;
   PetscOptionsBegin(comm, nullptr, "Loads and constraints", "gimp");
   PetscCall(PetscOptionsRealArray("-gimp_gravity", "Body force per unit mass gx,gy [m/s^2]",
-                                  "docs/options.md", g, &ng, nullptr));
+                                  "docs/options.md", g, &ng, &setG));
   PetscCall(PetscOptionsInt("-gimp_tractions", "Number of traction loads -gimp_tractionK_*",
                             "docs/options.md", nt, &nt, nullptr));
   PetscCall(PetscOptionsInt("-gimp_bcs", "Number of grid-node constraints -gimp_bcK_*",
@@ -218,6 +225,8 @@ PetscErrorCode readLoads(MPI_Comm comm, Scene &sc) {
   PetscCall(PetscOptionsInt("-gimp_probes", "Number of probes -gimp_probeK_*", "docs/options.md",
                             np, &np, nullptr));
   PetscOptionsEnd();
+  if (!sc.help && setG && ng != 2)
+    bad("gimp_gravity", fmtList(g, ng), "needs 2 values gx,gy [m/s^2]");
   sc.gravity = {g[0], g[1]};
   if (!sc.help) {
     if (nt < 0) bad("gimp_tractions", std::to_string(nt), "must be >= 0");
@@ -317,6 +326,11 @@ PetscErrorCode readLoads(MPI_Comm comm, Scene &sc) {
     if (!setX || nx != 2)
       bad(p.substr(1) + "x", setX ? fmtList(x, nx) : "(missing)", "needs x,y [m]");
     pr.name = name;
+    if (pr.name.empty() || pr.name.find_first_of(",\" \t") != std::string::npos)
+      bad(p.substr(1) + "name", pr.name,
+          "a probe name is a non-empty word without commas, quotes or spaces");
+    for (const Probe &o : sc.probes)
+      if (o.name == pr.name) bad(p.substr(1) + "name", pr.name, "another probe has this name");
     pr.x = {x[0], x[1]};
     sc.probes.push_back(pr);
   }
@@ -495,6 +509,18 @@ PetscErrorCode readScene(MPI_Comm comm, Scene &sc) {
   }
   std::copy(dom, dom + 4, sc.domain.begin());
   PetscCall(readLevels(comm, sc));
+  for (size_t k = 0; k < sc.bodies.size(); ++k)
+    for (size_t q = 0; q < k; ++q) {
+      const Box &a = sc.bodies[q].box, &b = sc.bodies[k].box;
+      if (a[0] < b[2] && b[0] < a[2] && a[1] < b[3] && b[1] < a[3])
+        bad("gimp_body" + std::to_string(k) + "_box", fmtList(b.data(), 4),
+            "overlaps body " + std::to_string(q) + " (" + fmtList(a.data(), 4) +
+                "): bodies may touch but not overlap");
+    }
+  if (sc.mms == Mms::Skb1d &&
+      (sc.material.model != MaterialModel::NeoHookean || sc.material.nu != 0))
+    bad("gimp_mms", "skb1d",
+        "the 1D manufactured solution needs -gimp_material neohookean and -gimp_nu 0");
   for (size_t k = 0; k < sc.bodies.size(); ++k) {
     const Box &b = sc.bodies[k].box;
     if (b[0] < dom[0] || b[1] < dom[1] || b[2] > dom[2] || b[3] > dom[3])

@@ -6,6 +6,7 @@
 #include "gimp/shape.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdint>
 #include <sstream>
@@ -31,6 +32,36 @@ PetscInt64 bodySlots(const Grid &g) {
 
 std::string boxText(const Box &b) {
   return fmt(b[0]) + "," + fmt(b[1]) + "," + fmt(b[2]) + "," + fmt(b[3]);
+}
+
+/// While the scene is read, PETSc's own parsing errors (a number that is not one, an unknown
+/// logical value) are kept as one message instead of a trace.
+PetscErrorCode keepInputError(MPI_Comm, int, const char *, const char *, PetscErrorCode n,
+                              PetscErrorType p, const char *mess, void *ctx) {
+  if (p == PETSC_ERROR_INITIAL && mess) *static_cast<std::string *>(ctx) = mess;
+  return n;
+}
+
+/// The option whose value appears in PETSc's message ("Input string abc has ...",
+/// "Unknown logical value: maybe"), to name it in the one-line error.
+std::string optionWithValueIn(const std::string &message) {
+  char *all = nullptr;
+  if (PetscOptionsGetAll(nullptr, &all) || !all) return "";
+  std::istringstream in(all);
+  std::string tok, name, found;
+  while (in >> tok) {
+    if (tok.size() > 1 && tok[0] == '-' && !std::isdigit(static_cast<unsigned char>(tok[1])) &&
+        tok[1] != '.') {
+      name = tok;
+      continue;
+    }
+    const bool atEnd = message.size() >= tok.size() &&
+                       message.compare(message.size() - tok.size(), tok.size(), tok) == 0;
+    if (!name.empty() && (message.find(" " + tok + " ") != std::string::npos || atEnd))
+      found = name + " " + tok;
+  }
+  (void)PetscFree(all);
+  return found;
 }
 
 Simulation *fromTS(TS ts) {
@@ -63,7 +94,17 @@ PetscErrorCode Simulation::setup() {
   PetscCall(PetscLogStageRegister("Stress", &stageStress_));
   PetscCall(PetscLogStageRegister("Output", &stageOutput_));
 
-  PetscCall(readScene(comm_, sc_));
+  {
+    std::string petscMessage;
+    PetscCall(PetscPushErrorHandler(keepInputError, &petscMessage));
+    const PetscErrorCode ierr = readScene(comm_, sc_);
+    PetscCall(PetscPopErrorHandler());
+    if (ierr) {
+      const std::string opt = optionWithValueIn(petscMessage);
+      throw InputError((opt.empty() ? std::string("options: ") : "option " + opt + ": ") +
+                       petscMessage);
+    }
+  }
   if (sc_.help) {
     PetscCall(TSCreate(comm_, &ts_));
     PetscCall(TSSetFromOptions(ts_));
@@ -108,6 +149,26 @@ PetscErrorCode Simulation::setup() {
       nParticles_ += total[b];
     }
     meanParticleMass_ = mtot / static_cast<double>(nParticles_);
+
+    // A traction that reaches no particle edge would silently load nothing.
+    std::vector<PetscInt64> loaded(sc_.tractions.size(), 0), gLoaded(sc_.tractions.size(), 0);
+    for (PetscInt k = 0; k < p.n; ++k)
+      for (int a = 0; a < 2; ++a)
+        if (p.trac[2 * k + a] >= 0) ++loaded[p.trac[2 * k + a]];
+    if (!loaded.empty())
+      PetscCallMPI(MPI_Allreduce(loaded.data(), gLoaded.data(), static_cast<int>(loaded.size()),
+                                 MPI_INT64_T, MPI_SUM, comm_));
+    for (size_t q = 0; q < gLoaded.size(); ++q)
+      if (gLoaded[q] == 0) {
+        const Traction &tr = sc_.tractions[q];
+        const char *sides[] = {"left", "right", "bottom", "top"};
+        throw InputError(
+            "option -gimp_traction" + std::to_string(q) + "_side " +
+            sides[static_cast<int>(tr.side)] + ": no particle edge of body " +
+            std::to_string(tr.body) + " lies on that side" +
+            (tr.hasRange ? " within -gimp_traction" + std::to_string(q) + "_range" : "") +
+            " (particles fill whole sub-cells: put the body's edges on grid lines)");
+      }
 
     if (sc_.mms == Mms::Skb1d) {
       const mms::Skb1d ex(sc_);
@@ -198,7 +259,32 @@ PetscErrorCode Simulation::setup() {
   PetscCall(TSSetMaxSteps(ts_, 1000));
   PetscCall(TSSetMaxTime(ts_, 1e300));
   PetscCall(TSSetExactFinalTime(ts_, TS_EXACTFINALTIME_STEPOVER));
-  PetscCall(TSSetFromOptions(ts_));
+  {
+    std::string petscMessage;
+    PetscCall(PetscPushErrorHandler(keepInputError, &petscMessage));
+    const PetscErrorCode ierr = TSSetFromOptions(ts_);
+    PetscCall(PetscPopErrorHandler());
+    if (ierr) {
+      const std::string opt = optionWithValueIn(petscMessage);
+      throw InputError((opt.empty() ? std::string("options: ") : "option " + opt + ": ") +
+                       petscMessage);
+    }
+  }
+  {
+    TSType type;
+    TSAdapt adapt;
+    TSAdaptType atype;
+    PetscCall(TSGetType(ts_, &type));
+    PetscCall(TSGetAdapt(ts_, &adapt));
+    PetscCall(TSAdaptGetType(adapt, &atype));
+    if (std::string(type) != TSEULER)
+      throw InputError(
+          "option -ts_type " + std::string(type) +
+          ": gimp advances the nodal momentum with euler (Eq. 16); use -ts_type euler");
+    if (std::string(atype) != TSADAPTNONE)
+      throw InputError("option -ts_adapt_type " + std::string(atype) +
+                       ": the time step is fixed (-ts_dt); use -ts_adapt_type none");
+  }
   PetscReal dt = 0;
   PetscCall(TSGetTimeStep(ts_, &dt));
   if (!(dt > 0)) throw InputError("option -ts_dt " + fmt(dt) + ": must be > 0 [s]");
@@ -664,7 +750,21 @@ PetscErrorCode Simulation::updateStress(ParticleView &p, Vec Vwindow, double dt)
 
 PetscErrorCode Simulation::checkParticles(const ParticleView &p, PetscInt step, double t) {
   const double *d = sc_.domain.data();
-  for (PetscInt k = 0; k < p.n && !failed_; ++k) {
+  const double h0 = grid_.h0();
+  PetscInt bad = -1;
+  for (PetscInt k = 0; k < p.n; ++k) {
+    const double x = p.x[2 * k], y = p.x[2 * k + 1], lx = p.l[2 * k], ly = p.l[2 * k + 1];
+    const double s = p.s[4 * k] + p.s[4 * k + 1] + p.s[4 * k + 2];
+    // NaN fails every comparison: the test is written so that it lands in the bad branch.
+    const bool ok = std::isfinite(x + y + s) && x - lx >= d[0] && x + lx <= d[2] &&
+                    y - ly >= d[1] && y + ly <= d[3] && lx > 0 && ly > 0 && lx <= h0 && ly <= h0;
+    if (!ok) {
+      bad = k;
+      break;
+    }
+  }
+  if (bad >= 0) {
+    const PetscInt k = bad;
     const double x = p.x[2 * k], y = p.x[2 * k + 1], lx = p.l[2 * k], ly = p.l[2 * k + 1];
     std::string why;
     if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(p.s[4 * k]) ||
@@ -672,10 +772,9 @@ PetscErrorCode Simulation::checkParticles(const ParticleView &p, PetscInt step, 
       why = "its position or stress is not finite: the run went unstable (reduce -ts_dt)";
     else if (x - lx < d[0] || x + lx > d[2] || y - ly < d[1] || y + ly > d[3])
       why = "it left the grid domain (enlarge -gimp_domain or -gimp_pad)";
-    else if (!(lx > 0 && ly > 0) || lx > grid_.h0() || ly > grid_.h0())
+    else
       why = "its half-size (" + fmt(lx) + ", " + fmt(ly) +
             ") is not in (0, h0]: the particle is inverted or stretched beyond one level-0 cell";
-    if (why.empty()) continue;
     failed_ = true;
     PetscCall(PetscSynchronizedFPrintf(comm_, PETSC_STDERR,
                                        "gimp: error: step %" PetscInt_FMT

@@ -100,6 +100,8 @@ public:
   PetscInt lineIndex(int axis, double c) const;
 
 private:
+  static constexpr std::uint8_t kActive = 1, kRegular = 2;
+  std::vector<std::uint8_t> flags_;   // active and regular in one byte per window node
   std::vector<PetscInt> ownX_, ownY_; // level-0 node ownership: first node of each rank column
   VecScatter scatter_ = nullptr;
   Vec windowTemplate_ = nullptr;

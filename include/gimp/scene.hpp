@@ -85,6 +85,7 @@ struct Material {
   double thickness = 1.0; // [m]
   // derived
   double lambda = 0, mu = 0;
+  double lambdaStar = 0;    // lambdaEff(), stored for the stress update
   double lambdaEff() const; // lambda, or its plane-stress reduction
   double waveSpeed() const; // P-wave speed of the 2D model [m/s]
 };

@@ -45,9 +45,16 @@ inline double weight(double d, double l, double Lm, double Lp) {
   return tentIntegral(d - l, d + l, Lm, Lp) / (2.0 * l);
 }
 
-/// d/dx_p of the 1D weight: (S(d + l) - S(d - l)) / (2 l), exact.
+/// d/dx_p of the 1D weight: (S(d + l) - S(d - l)) / (2 l), exact. At a node on the domain
+/// edge (zone 0 on that side) a particle end that lies on the node up to round-off is put on
+/// it, so the value is the one from inside the domain (where particles are) and
+/// sum_i grad w_i = 0 holds for a particle whose edge lies on the domain edge.
 inline double weightGradient(double d, double l, double Lm, double Lp) {
-  return (tent(d + l, Lm, Lp) - tent(d - l, Lm, Lp)) / (2.0 * l);
+  const double eps = 1e-9 * l;
+  double A = d - l, B = d + l;
+  if (Lm == 0.0 && A < 0.0 && A > -eps) A = 0.0;
+  if (Lp == 0.0 && B > 0.0 && B < eps) B = 0.0;
+  return (tent(B, Lm, Lp) - tent(A, Lm, Lp)) / (2.0 * l);
 }
 
 /// Weight and gradient together (one call in the inner loops).

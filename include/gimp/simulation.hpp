@@ -81,7 +81,7 @@ private:
 
   // Nodal vectors: global (composite of the levels, dof 2) and window (W) vectors.
   Vec P_ = nullptr;       // momentum: the TS solution
-  Vec mass_ = nullptr;    // nodal mass, in both components
+  Vec mass_ = nullptr;    // nodal mass, in component 0 (dof layout of the momentum)
   Vec vel_ = nullptr;     // nodal velocity
   Vec acc_ = nullptr;     // nodal acceleration
   Vec force_ = nullptr;   // last RHS (total nodal force incl. damping)
