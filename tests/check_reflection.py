@@ -30,7 +30,7 @@ the default resolutions (W / 64), and that every run keeps its energy within 1 %
 of the traction.
 
 Extra options (besides those of gimptest.parse_args):
-  --levels 16,32,64   cells of h0 per pulse width W (the default takes about 15 s on one core)
+  --levels 16,32,64   cells of h0 per pulse width W (the default takes about 11 s on one core)
   --ratio 2           refinement ratio of level 1 (the time step follows the fine cell h0 / r)
 """
 import argparse
