@@ -6,6 +6,9 @@
 #   GIMP_BUILD_DIR    build directory (default: <repo>/build); built or brought up to date first
 #   GIMP_BENCH_RANKS  rank counts to run (default: "1 2")
 #   GIMP_BENCH_OUT    scratch directory for outputs and logs (default: <build>/bench-out)
+#   GIMP_BENCH_REPEAT runs per rank count; the one with the shortest stepping time is reported
+#                     (default: 1; use 3 or more on a machine shared with other work)
+#   GIMP_BENCH_MPIEXEC_ARGS  extra mpiexec arguments, e.g. "--bind-to none"
 #   GIMP_BENCH_NOBUILD=1  skip the cmake configure/build step
 #
 # For each rank count it runs the block with -log_view and prints
@@ -27,6 +30,8 @@ ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 BUILD="${GIMP_BUILD_DIR:-$ROOT/build}"
 OUT="${GIMP_BENCH_OUT:-$BUILD/bench-out}"
 RANKS="${GIMP_BENCH_RANKS:-1 2}"
+REPEAT="${GIMP_BENCH_REPEAT:-1}"
+read -r -a MPI_ARGS <<<"${GIMP_BENCH_MPIEXEC_ARGS:-}"
 OPTS="$ROOT/bench/block.opts"
 GIMP="$BUILD/gimp"
 MPIEXEC="$(command -v mpiexec || command -v mpirun)"
@@ -55,7 +60,7 @@ run() {
     wrap=(sh -c 'exec '"$TIME"' -f %M -o "$0.${OMPI_COMM_WORLD_RANK:-${PMI_RANK:-0}}" "$@"'
       "$dir/rss")
   fi
-  "$MPIEXEC" -n "$n" "${wrap[@]}" "$GIMP" -options_file "$OPTS" -gimp_output_dir "$dir" \
+  "$MPIEXEC" "${MPI_ARGS[@]}" -n "$n" "${wrap[@]}" "$GIMP" -options_file "$OPTS" -gimp_output_dir "$dir" \
     -log_view ":$dir/log_view.txt" "$@" >"$dir/stdout.txt" 2>&1 || {
     echo "run_bench.sh: gimp failed, see $dir/stdout.txt" >&2
     cat "$dir/stdout.txt" >&2
@@ -90,18 +95,27 @@ printf '%-6s %10s %7s %9s %11s %11s %12s %11s %12s %9s\n' ranks particles steps 
   step_s wall_s 'Mps/s' 'Mps/s/core' 'Mps/s(wall)' 'Mps/s/core' 'B/particle'
 declare -A STAGE_REPORT
 for n in $RANKS; do
-  run "block-n$n" "$n" "$@"
+  # Best of REPEAT runs: the shortest sum of the stepping stages.
+  best="" best_s=""
+  for r in $(seq "$REPEAT"); do
+    run "block-n$n-r$r" "$n" "$@"
+    s=$(stages "$OUT/block-n$n-r$r/log_view.txt" |
+      awk -F'\t' '$1 ~ /^(P2G|Forces|Grid update|G2P|Stress)$/ { s += $2 } END { print s }')
+    if [[ -z "$best" ]] || awk -v a="$s" -v b="$best_s" 'BEGIN { exit !(a < b) }'; then
+      best="block-n$n-r$r" best_s=$s
+    fi
+    [[ "$REPEAT" -gt 1 ]] && printf '  (%d rank(s), run %d: stepping stages %.3f s)\n' "$n" "$r" "$s" >&2
+  done
   run "base-n$n" "$n" "${BASE_OPTS[@]}"
-  sum="$OUT/block-n$n/summary.json"
+  sum="$OUT/$best/summary.json"
   np=$(json_num "$sum" particles)
   steps=$(json_num "$sum" steps)
   wall=$(json_num "$sum" wall_seconds)
   npb=$(json_num "$OUT/base-n$n/summary.json" particles)
-  st=$(stages "$OUT/block-n$n/log_view.txt")
+  st=$(stages "$OUT/$best/log_view.txt")
   STAGE_REPORT[$n]="$st"
-  step_s=$(awk -F'\t' '$1 ~ /^(P2G|Forces|Grid update|G2P|Stress)$/ { s += $2 } END { print s }' \
-    <<<"$st")
-  r1=$(rss_kb "block-n$n")
+  step_s=$best_s
+  r1=$(rss_kb "$best")
   r0=$(rss_kb "base-n$n")
   bpp=n/a
   if [[ -n "$r1" && -n "$r0" ]]; then

@@ -42,6 +42,8 @@ PetscErrorCode Output::open() {
     for (const Probe &p : sim_.sc_.probes)
       std::fprintf(history_, ",%s_ux,%s_uy,%s_sxx,%s_syy,%s_sxy,%s_szz", p.name.c_str(),
                    p.name.c_str(), p.name.c_str(), p.name.c_str(), p.name.c_str(), p.name.c_str());
+    for (size_t q = 0; q < sim_.sc_.dbcs.size(); ++q)
+      std::fprintf(history_, ",dbc%zu_fx,dbc%zu_fy,dbc%zu_gap", q, q, q);
     if (sim_.sc_.mms != Mms::None) std::fprintf(history_, ",mms_linf,mms_rms");
     std::fprintf(history_, "\n");
     std::fflush(history_);
@@ -65,6 +67,8 @@ PetscErrorCode Output::writeHistory(PetscInt step, double t) {
   PetscCall(sim_.energies(e));
   PetscCall(sim_.probes(probes));
   PetscCall(sim_.mmsErrors(t, linf, rms));
+  std::vector<double> reactions, gaps;
+  PetscCall(sim_.reactionForces(reactions, gaps));
   if (sim_.rank_ != 0) return PETSC_SUCCESS;
   std::fprintf(history_, "%lld,%.12e,%.12e,%.12e,%.12e,%.12e,%.12e,%.12e,%.12e",
                static_cast<long long>(step), t, e.kinetic, e.strain, e.externalWork, e.damping,
@@ -72,6 +76,8 @@ PetscErrorCode Output::writeHistory(PetscInt step, double t) {
   for (const ProbeState &p : probes)
     std::fprintf(history_, ",%.12e,%.12e,%.12e,%.12e,%.12e,%.12e", p.u[0], p.u[1], p.stress[0],
                  p.stress[1], p.stress[2], p.stress[3]);
+  for (size_t q = 0; q < gaps.size(); ++q)
+    std::fprintf(history_, ",%.12e,%.12e,%.12e", reactions[2 * q], reactions[2 * q + 1], gaps[q]);
   if (sim_.sc_.mms != Mms::None) std::fprintf(history_, ",%.12e,%.12e", linf, rms);
   std::fprintf(history_, "\n");
   std::fflush(history_);
@@ -208,6 +214,8 @@ PetscErrorCode Output::writeSummary(PetscInt steps, double t, double wall) {
   PetscCall(sim_.probes(probes));
   PetscCall(sim_.particleCount(n));
   PetscCall(TSGetTimeStep(sim_.ts_, &dt));
+  std::vector<double> reactions, gaps;
+  PetscCall(sim_.reactionForces(reactions, gaps));
   if (sim_.rank_ != 0) return PETSC_SUCCESS;
   const Scene &sc = sim_.sc_;
   const Grid &g = sim_.grid_;
@@ -235,6 +243,18 @@ PetscErrorCode Output::writeSummary(PetscInt steps, double t, double wall) {
                "\"damping\": %.12e},\n",
                e.kinetic, e.strain, e.externalWork, e.damping);
   std::fprintf(f, "  \"momentum\": [%.12e, %.12e],\n", e.momentum[0], e.momentum[1]);
+  std::fprintf(f, "  \"reactions\": {");
+  for (size_t q = 0; q < sc.dbcs.size(); ++q)
+    std::fprintf(f, "%s\"dbc%zu\": [%.12e, %.12e]", q ? ", " : "", q, reactions[2 * q],
+                 reactions[2 * q + 1]);
+  std::fprintf(f, "},\n");
+  if (!sc.dbcs.empty()) {
+    std::fprintf(f, "  \"penalty\": %.12e,\n  \"constraint_violation\": {", sim_.alpha_);
+    for (size_t q = 0; q < sc.dbcs.size(); ++q)
+      std::fprintf(f, "%s\"dbc%zu\": {\"final\": %.12e, \"max\": %.12e}", q ? ", " : "", q, gaps[q],
+                   sim_.maxGap_[q]);
+    std::fprintf(f, "},\n");
+  }
   std::fprintf(f, "  \"probes\": {");
   for (size_t q = 0; q < probes.size(); ++q) {
     const ProbeState &p = probes[q];

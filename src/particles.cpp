@@ -19,7 +19,7 @@ const FieldSpec kFields[] = {
     {"m", 1, PETSC_REAL},      {"V0", 1, PETSC_REAL},  {"V", 1, PETSC_REAL},
     {"l", 2, PETSC_REAL},      {"l0", 2, PETSC_REAL},  {"F", 4, PETSC_REAL},
     {"stress", 4, PETSC_REAL}, {"eps", 2, PETSC_REAL}, {"id", 1, PETSC_INT64},
-    {"trac", 2, PETSC_INT}};
+    {"trac", 2, PETSC_INT},    {"dbc", 2, PETSC_INT}};
 
 template <typename T> PetscErrorCode getField(DM sw, const char *name, T **p) {
   PetscCall(DMSwarmGetField(sw, name, nullptr, nullptr, reinterpret_cast<void **>(p)));
@@ -48,6 +48,7 @@ PetscErrorCode ParticleView::get(DM sw) {
   PetscCall(getField(sw, "eps", &eps));
   PetscCall(getField(sw, "id", &id));
   PetscCall(getField(sw, "trac", &trac));
+  PetscCall(getField(sw, "dbc", &dbc));
   PetscCall(getField(sw, DMSwarmField_rank, &rank));
   return PETSC_SUCCESS;
 }
@@ -66,6 +67,7 @@ PetscErrorCode ParticleView::restore(DM sw) {
   PetscCall(restoreField(sw, "eps", &eps));
   PetscCall(restoreField(sw, "id", &id));
   PetscCall(restoreField(sw, "trac", &trac));
+  PetscCall(restoreField(sw, "dbc", &dbc));
   PetscCall(restoreField(sw, DMSwarmField_rank, &rank));
   return PETSC_SUCCESS;
 }
@@ -81,6 +83,20 @@ PetscErrorCode createSwarm(MPI_Comm comm, DM *sw) {
     PetscCall(DMSwarmRegisterPetscDatatypeField(*sw, f.name, f.bs, f.type));
   PetscCall(DMSwarmFinalizeFieldRegister(*sw));
   return PETSC_SUCCESS;
+}
+
+/// Whether the square particle (x, y, half-size l) of body b has an edge on the segment.
+bool onSegment(const Scene &sc, const Segment &seg, int b, double x, double y, double l,
+               double tol) {
+  if (seg.body != b) return false;
+  const Box &box = sc.bodies[b].box;
+  const int a = seg.axis();
+  const double edge = (a == 0 ? x : y) + seg.normal() * l;
+  const double target = a == 0 ? (seg.side == Side::Left ? box[0] : box[2])
+                               : (seg.side == Side::Bottom ? box[1] : box[3]);
+  if (std::fabs(edge - target) > tol) return false;
+  const double along = a == 0 ? y : x;
+  return !seg.hasRange || (along >= seg.range[0] && along <= seg.range[1]);
 }
 
 PetscErrorCode seedParticles(const Scene &sc, const Grid &g, DM sw) {
@@ -173,21 +189,13 @@ PetscErrorCode seedParticles(const Scene &sc, const Grid &g, DM sw) {
     p.id[k] = s.id;
     p.rank[k] = rank;
     p.trac[2 * k] = p.trac[2 * k + 1] = -1;
-    for (size_t t = 0; t < sc.tractions.size(); ++t) {
-      const Traction &tr = sc.tractions[t];
-      if (tr.body != s.body) continue;
-      const int axis = (tr.side == Side::Left || tr.side == Side::Right) ? 0 : 1;
-      const double edge = axis == 0 ? (tr.side == Side::Left ? s.x - s.l : s.x + s.l)
-                                    : (tr.side == Side::Bottom ? s.y - s.l : s.y + s.l);
-      const double target = body.box[static_cast<int>(tr.side) == 0   ? 0
-                                     : static_cast<int>(tr.side) == 1 ? 2
-                                     : static_cast<int>(tr.side) == 2 ? 1
-                                                                      : 3];
-      if (std::fabs(edge - target) > tol) continue;
-      const double along = axis == 0 ? s.y : s.x;
-      if (tr.hasRange && (along < tr.range[0] || along > tr.range[1])) continue;
-      p.trac[2 * k + axis] = static_cast<PetscInt>(t);
-    }
+    p.dbc[2 * k] = p.dbc[2 * k + 1] = -1;
+    for (size_t t = 0; t < sc.tractions.size(); ++t)
+      if (onSegment(sc, sc.tractions[t], s.body, s.x, s.y, s.l, tol))
+        p.trac[2 * k + sc.tractions[t].axis()] = static_cast<PetscInt>(t);
+    for (size_t t = 0; t < sc.dbcs.size(); ++t)
+      if (onSegment(sc, sc.dbcs[t], s.body, s.x, s.y, s.l, tol))
+        p.dbc[2 * k + sc.dbcs[t].axis()] = static_cast<PetscInt>(t);
   }
   PetscCall(p.restore(sw));
   return PETSC_SUCCESS;

@@ -210,8 +210,38 @@ PetscErrorCode readRamp(MPI_Comm comm, const std::string &opt, Ramp &r, bool hel
   return PETSC_SUCCESS;
 }
 
+/// Body, side and range of a segment: -gimp_<kind>K_body, _side, _range.
+PetscErrorCode readSegment(MPI_Comm comm, const std::string &p, const char *what, Scene &sc,
+                           Segment &seg) {
+  PetscInt body = 0, side = 1, nr = 2;
+  PetscReal rng[2] = {0, 0};
+  PetscBool setR = PETSC_FALSE;
+  PetscCall(checkChoice(p + "side", kSides, 4));
+  PetscOptionsBegin(comm, nullptr, what, "gimp");
+  PetscCall(PetscOptionsInt((p + "body").c_str(), "Body it acts on", "docs/options.md", body, &body,
+                            nullptr));
+  PetscCall(PetscOptionsEList((p + "side").c_str(), "Side of the body's rectangle",
+                              "docs/options.md", kSides, 4, kSides[1], &side, nullptr));
+  PetscCall(PetscOptionsRealArray((p + "range").c_str(),
+                                  "Part of the side it acts on: from,to along it [m]",
+                                  "docs/options.md", rng, &nr, &setR));
+  PetscOptionsEnd();
+  if (sc.help) return PETSC_SUCCESS;
+  const std::string q = p.substr(1);
+  if (body < 0 || body >= static_cast<PetscInt>(sc.bodies.size()))
+    bad(q + "body", std::to_string(body),
+        "must name a body, 0 to " + std::to_string(sc.bodies.size() - 1));
+  if (setR && (nr != 2 || !(rng[1] > rng[0])))
+    bad(q + "range", fmtList(rng, nr), "needs from,to with to > from [m]");
+  seg.body = static_cast<int>(body);
+  seg.side = static_cast<Side>(side);
+  seg.hasRange = setR;
+  seg.range = {rng[0], rng[1]};
+  return PETSC_SUCCESS;
+}
+
 PetscErrorCode readLoads(MPI_Comm comm, Scene &sc) {
-  PetscInt nt = 0, nbc = 0, np = 0;
+  PetscInt nt = 0, nbc = 0, np = 0, ndbc = 0;
   PetscReal g[2] = {0, 0};
   PetscInt ng = 2;
   PetscBool setG = PETSC_FALSE;
@@ -222,8 +252,20 @@ PetscErrorCode readLoads(MPI_Comm comm, Scene &sc) {
                             "docs/options.md", nt, &nt, nullptr));
   PetscCall(PetscOptionsInt("-gimp_bcs", "Number of grid-node constraints -gimp_bcK_*",
                             "docs/options.md", nbc, &nbc, nullptr));
+  PetscCall(PetscOptionsInt("-gimp_dbcs",
+                            "Number of penalty displacement conditions (Eq. 9) -gimp_dbcK_*",
+                            "docs/options.md", ndbc, &ndbc, nullptr));
+  PetscCall(PetscOptionsReal("-gimp_penalty",
+                             "Penalty alpha of Eq. 9 [Pa/m] (0: 100 M / h_min, capped for "
+                             "stability at rho h_min / (2 dt^2); M the P-wave modulus)",
+                             "docs/options.md", sc.penalty, &sc.penalty, nullptr));
   PetscCall(PetscOptionsInt("-gimp_probes", "Number of probes -gimp_probeK_*", "docs/options.md",
                             np, &np, nullptr));
+  PetscBool ptrac = sc.penaltyTraction ? PETSC_TRUE : PETSC_FALSE;
+  PetscCall(PetscOptionsBool("-gimp_penalty_traction",
+                             "Include the traction term sigma_p n of Eq. 9 (false: pure penalty)",
+                             "docs/options.md", ptrac, &ptrac, nullptr));
+  sc.penaltyTraction = ptrac;
   PetscOptionsEnd();
   if (!sc.help && setG && ng != 2)
     bad("gimp_gravity", fmtList(g, ng), "needs 2 values gx,gy [m/s^2]");
@@ -232,42 +274,57 @@ PetscErrorCode readLoads(MPI_Comm comm, Scene &sc) {
     if (nt < 0) bad("gimp_tractions", std::to_string(nt), "must be >= 0");
     if (nbc < 0) bad("gimp_bcs", std::to_string(nbc), "must be >= 0");
     if (np < 0) bad("gimp_probes", std::to_string(np), "must be >= 0");
+    if (ndbc < 0) bad("gimp_dbcs", std::to_string(ndbc), "must be >= 0");
+    if (sc.penalty < 0) bad("gimp_penalty", fmt(sc.penalty), "must be >= 0 [Pa/m] (0: automatic)");
   }
   for (PetscInt k = 0; k < (sc.help ? 1 : nt); ++k) {
     Traction t;
     const std::string p = "-gimp_traction" + std::to_string(k) + "_";
-    PetscInt body = 0, side = 1, nv = 2, nr = 2;
-    PetscReal val[2] = {0, 0}, rng[2] = {0, 0};
-    PetscBool setV = PETSC_FALSE, setR = PETSC_FALSE;
-    PetscCall(checkChoice(p + "side", kSides, 4));
+    PetscInt nv = 2;
+    PetscReal val[2] = {0, 0};
+    PetscBool setV = PETSC_FALSE;
+    PetscCall(readSegment(comm, p, "Traction", sc, t));
     PetscOptionsBegin(comm, nullptr, "Traction", "gimp");
-    PetscCall(PetscOptionsInt((p + "body").c_str(), "Body the traction acts on", "docs/options.md",
-                              body, &body, nullptr));
-    PetscCall(PetscOptionsEList((p + "side").c_str(), "Side of the body's rectangle",
-                                "docs/options.md", kSides, 4, kSides[1], &side, nullptr));
     PetscCall(PetscOptionsRealArray((p + "value").c_str(),
                                     "Traction vector tx,ty at full load [Pa]", "docs/options.md",
                                     val, &nv, &setV));
-    PetscCall(PetscOptionsRealArray((p + "range").c_str(),
-                                    "Part of the side that is loaded: from,to along it [m]",
-                                    "docs/options.md", rng, &nr, &setR));
     PetscOptionsEnd();
     PetscCall(readRamp(comm, p + "ramp", t.ramp, sc.help));
     if (sc.help) continue;
-    const std::string q = p.substr(1);
-    if (body < 0 || body >= static_cast<PetscInt>(sc.bodies.size()))
-      bad(q + "body", std::to_string(body),
-          "must name a body, 0 to " + std::to_string(sc.bodies.size() - 1));
     if (!setV || nv != 2)
-      bad(q + "value", setV ? fmtList(val, nv) : "(missing)", "needs tx,ty [Pa]");
-    if (setR && (nr != 2 || !(rng[1] > rng[0])))
-      bad(q + "range", fmtList(rng, nr), "needs from,to with to > from [m]");
-    t.body = static_cast<int>(body);
-    t.side = static_cast<Side>(side);
+      bad(p.substr(1) + "value", setV ? fmtList(val, nv) : "(missing)", "needs tx,ty [Pa]");
     t.value = {val[0], val[1]};
-    t.hasRange = setR;
-    t.range = {rng[0], rng[1]};
     sc.tractions.push_back(t);
+  }
+  for (PetscInt k = 0; k < (sc.help ? 1 : ndbc); ++k) {
+    DisplacementBC d;
+    const std::string p = "-gimp_dbc" + std::to_string(k) + "_";
+    const char *comps[] = {"x", "y", "xy"};
+    PetscInt comp = 2;
+    PetscReal scale = 1.0;
+    PetscCall(readSegment(comm, p, "Penalty displacement condition", sc, d));
+    PetscCall(checkChoice(p + "components", comps, 3));
+    PetscOptionsBegin(comm, nullptr, "Penalty displacement condition", "gimp");
+    PetscCall(PetscOptionsEList((p + "components").c_str(),
+                                "Constrained displacement components: x, y or xy",
+                                "docs/options.md", comps, 3, comps[2], &comp, nullptr));
+    PetscCall(PetscOptionsReal((p + "penalty_scale").c_str(),
+                               "Factor on -gimp_penalty for this segment [-]", "docs/options.md",
+                               scale, &scale, nullptr));
+    PetscOptionsEnd();
+    PetscCall(readRamp(comm, p + "ux", d.u[0], sc.help));
+    PetscCall(readRamp(comm, p + "uy", d.u[1], sc.help));
+    if (sc.help) continue;
+    if (!(scale > 0)) bad(p.substr(1) + "penalty_scale", fmt(scale), "must be > 0");
+    d.fix[0] = comp != 1;
+    d.fix[1] = comp != 0;
+    for (int c = 0; c < 2; ++c)
+      if (!d.fix[c] && !d.u[c].t.empty())
+        bad(p.substr(1) + (c ? "uy" : "ux"), "(given)",
+            "this component is not constrained (-" + p.substr(1) + "components " + comps[comp] +
+                ")");
+    d.penaltyScale = scale;
+    sc.dbcs.push_back(d);
   }
   for (PetscInt k = 0; k < (sc.help ? 1 : nbc); ++k) {
     NodeBC b;

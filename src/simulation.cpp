@@ -150,24 +150,30 @@ PetscErrorCode Simulation::setup() {
     }
     meanParticleMass_ = mtot / static_cast<double>(nParticles_);
 
-    // A traction that reaches no particle edge would silently load nothing.
-    std::vector<PetscInt64> loaded(sc_.tractions.size(), 0), gLoaded(sc_.tractions.size(), 0);
+    // A traction or displacement condition that reaches no particle edge would act on nothing.
+    const size_t nt = sc_.tractions.size(), nd = sc_.dbcs.size();
+    std::vector<PetscInt64> hits(nt + nd, 0), gHits(nt + nd, 0);
     for (PetscInt k = 0; k < p.n; ++k)
-      for (int a = 0; a < 2; ++a)
-        if (p.trac[2 * k + a] >= 0) ++loaded[p.trac[2 * k + a]];
-    if (!loaded.empty())
-      PetscCallMPI(MPI_Allreduce(loaded.data(), gLoaded.data(), static_cast<int>(loaded.size()),
+      for (int a = 0; a < 2; ++a) {
+        if (p.trac[2 * k + a] >= 0) ++hits[p.trac[2 * k + a]];
+        if (p.dbc[2 * k + a] >= 0) ++hits[nt + p.dbc[2 * k + a]];
+      }
+    if (!hits.empty())
+      PetscCallMPI(MPI_Allreduce(hits.data(), gHits.data(), static_cast<int>(hits.size()),
                                  MPI_INT64_T, MPI_SUM, comm_));
-    for (size_t q = 0; q < gLoaded.size(); ++q)
-      if (gLoaded[q] == 0) {
-        const Traction &tr = sc_.tractions[q];
+    for (size_t q = 0; q < gHits.size(); ++q)
+      if (gHits[q] == 0) {
+        const bool isTraction = q < nt;
+        const Segment &seg = isTraction ? static_cast<const Segment &>(sc_.tractions[q])
+                                        : static_cast<const Segment &>(sc_.dbcs[q - nt]);
+        const std::string name =
+            (isTraction ? "gimp_traction" : "gimp_dbc") + std::to_string(isTraction ? q : q - nt);
         const char *sides[] = {"left", "right", "bottom", "top"};
-        throw InputError(
-            "option -gimp_traction" + std::to_string(q) + "_side " +
-            sides[static_cast<int>(tr.side)] + ": no particle edge of body " +
-            std::to_string(tr.body) + " lies on that side" +
-            (tr.hasRange ? " within -gimp_traction" + std::to_string(q) + "_range" : "") +
-            " (particles fill whole sub-cells: put the body's edges on grid lines)");
+        throw InputError("option -" + name + "_side " + sides[static_cast<int>(seg.side)] +
+                         ": no particle edge of body " + std::to_string(seg.body) +
+                         " lies on that side" +
+                         (seg.hasRange ? " within -" + name + "_range" : "") +
+                         " (particles fill whole sub-cells: put the body's edges on grid lines)");
       }
 
     if (sc_.mms == Mms::Skb1d) {
@@ -210,8 +216,8 @@ PetscErrorCode Simulation::setup() {
   Vec *windows[] = {&massW_, &sumW_, &velW_, &accW_};
   for (Vec *v : windows)
     PetscCall(grid_.createWindowVec(v));
-  hasExternal_ =
-      !sc_.tractions.empty() || sc_.gravity[0] != 0 || sc_.gravity[1] != 0 || sc_.mms != Mms::None;
+  hasExternal_ = !sc_.tractions.empty() || !sc_.dbcs.empty() || sc_.gravity[0] != 0 ||
+                 sc_.gravity[1] != 0 || sc_.mms != Mms::None;
   if (hasExternal_) {
     PetscCall(VecDuplicate(P_, &fext_));
     PetscCall(grid_.createWindowVec(&extW_));
@@ -293,6 +299,45 @@ PetscErrorCode Simulation::setup() {
                      fmt(dtStable) + " s (finest h = " + fmt(grid_.hMin()) +
                      " m, c_p = " + fmt(cp) + " m/s); choose -ts_dt <= " + fmt(dtStable));
   PetscCall(TSSetSolution(ts_, P_));
+
+  // Penalty of Eq. 9. Its spring on a boundary node (alpha h per unit thickness against a mass
+  // of about rho h^2 / 2) is stable for alpha < 2 rho h / dt^2.
+  if (!sc_.dbcs.empty()) {
+    const double M = sc_.material.lambdaStar + 2.0 * sc_.material.mu, h = grid_.hMin();
+    const double limit = 2.0 * sc_.material.rho * h / (dt * dt);
+    if (sc_.penalty == 0) {
+      alpha_ = std::min(100.0 * M / h, 0.25 * limit);
+    } else {
+      alpha_ = sc_.penalty;
+      double worst = 0;
+      for (const DisplacementBC &d : sc_.dbcs)
+        worst = std::max(worst, d.penaltyScale);
+      if (alpha_ * worst > limit)
+        throw InputError("option -gimp_penalty " + fmt(sc_.penalty) +
+                         ": with the largest segment scale " + fmt(worst) +
+                         " it exceeds the stable limit 2 rho h_min / dt^2 = " + fmt(limit) +
+                         " Pa/m for -ts_dt " + fmt(dt));
+    }
+    if (sc_.penaltyTraction) {
+      // Without its symmetric counterpart, the traction term of Eq. 9 needs a penalty that
+      // dominates it: measured unstable at 1 M / h_min and stable from 2 M / h_min on.
+      double weakest = 1e300;
+      for (const DisplacementBC &d : sc_.dbcs)
+        weakest = std::min(weakest, d.penaltyScale);
+      if (alpha_ * weakest < 4.0 * M / h)
+        throw InputError("option -gimp_penalty " + fmt(alpha_) +
+                         ": with the smallest segment "
+                         "scale " +
+                         fmt(weakest) + " it is below 4 M / h_min = " + fmt(4.0 * M / h) +
+                         " Pa/m, where the traction term of Eq. 9 goes "
+                         "unstable; raise it, or use -gimp_penalty_traction false");
+    }
+    reactions_.assign(2 * sc_.dbcs.size(), 0.0);
+    gaps_.assign(sc_.dbcs.size(), 0.0);
+    maxGap_.assign(sc_.dbcs.size(), 0.0);
+    PetscCall(PetscPrintf(comm_, "gimp: penalty alpha = %.6g Pa/m (%.3g M / h_min)\n", alpha_,
+                          alpha_ * h / M));
+  }
 
   // Unknown or misspelled options stop the run here (options read at exit are allowed).
   {
@@ -655,6 +700,7 @@ PetscErrorCode Simulation::internalAndExternalForces(const ParticleView &p, doub
         }
       }
     }
+    if (!sc_.dbcs.empty()) PetscCall(penaltyForces(p, t, fe));
     for (PetscInt i = 0; i < 2 * grid_.nWindow; ++i)
       f[i] += fe[i];
     PetscCall(VecRestoreArray(extW_, &fe));
@@ -664,6 +710,65 @@ PetscErrorCode Simulation::internalAndExternalForces(const ParticleView &p, doub
   PetscCall(VecRestoreArray(sumW_, &f));
   PetscCall(VecZeroEntries(F));
   PetscCall(grid_.addFromWindow(sumW_, F));
+  return PETSC_SUCCESS;
+}
+
+PetscErrorCode Simulation::penaltyForces(const ParticleView &p, double t, double *fe) {
+  // Eq. 9 on each particle edge that lies on a constrained segment: the traction sigma_p n and
+  // the penalty -alpha (u - u_bar), per constrained component, integrated along the edge with
+  // S_i (the tent across the edge at the edge, the 1D weight along it). u is the displacement
+  // of the edge, u_p + (F - I) n l0: exact for a uniformly strained particle.
+  const PetscInt *start = st_.start.data(), *node = st_.node.data();
+  const double *wx = st_.wx.data(), *wy = st_.wy.data();
+  std::vector<double> ubar(2 * sc_.dbcs.size());
+  for (size_t q = 0; q < sc_.dbcs.size(); ++q)
+    for (int c = 0; c < 2; ++c)
+      ubar[2 * q + c] = sc_.dbcs[q].u[c].valueOr0(t);
+  std::fill(reactions_.begin(), reactions_.end(), 0.0);
+  std::fill(gaps_.begin(), gaps_.end(), 0.0);
+  for (PetscInt k = 0; k < p.n; ++k)
+    for (int a = 0; a < 2; ++a) {
+      const PetscInt q = p.dbc[2 * k + a];
+      if (q < 0) continue;
+      const DisplacementBC &d = sc_.dbcs[q];
+      const double n = d.normal();
+      const double edge = p.x[2 * k + a] + n * p.l[2 * k + a];
+      const double len = 2.0 * p.l[2 * k + 1 - a] * sc_.material.thickness;
+      const double *F = &p.F[4 * k], *sg = &p.s[4 * k];
+      const double alpha = alpha_ * d.penaltyScale;
+      double force[2] = {0, 0};
+      for (int c = 0; c < 2; ++c) {
+        if (!d.fix[c]) continue;
+        const double u = p.x[2 * k + c] - p.X0[2 * k + c] +
+                         (F[2 * c + a] - (c == a ? 1.0 : 0.0)) * n * p.l0[2 * k + a];
+        const double sigmaCA = !sc_.penaltyTraction ? 0.0 : c == a ? sg[c] : sg[2];
+        force[c] = (sigmaCA * n - alpha * (u - ubar[2 * q + c])) * len;
+        gaps_[q] = std::max(gaps_[q], std::fabs(u - ubar[2 * q + c]));
+        reactions_[2 * q + c] += force[c];
+      }
+      for (PetscInt e = start[k]; e < start[k + 1]; ++e) {
+        const PetscInt nd = node[e];
+        const double *z = &grid_.zone[4 * nd];
+        const double w = a == 0 ? shape::tent(edge - grid_.X[nd], z[0], z[1]) * wy[e]
+                                : wx[e] * shape::tent(edge - grid_.Y[nd], z[2], z[3]);
+        fe[2 * nd] += w * force[0];
+        fe[2 * nd + 1] += w * force[1];
+      }
+    }
+  return PETSC_SUCCESS;
+}
+
+PetscErrorCode Simulation::reactionForces(std::vector<double> &out, std::vector<double> &gaps) {
+  out.assign(reactions_.size(), 0.0);
+  gaps.assign(gaps_.size(), 0.0);
+  if (!reactions_.empty()) {
+    PetscCallMPI(MPI_Allreduce(reactions_.data(), out.data(), static_cast<int>(out.size()),
+                               MPI_DOUBLE, MPI_SUM, comm_));
+    PetscCallMPI(MPI_Allreduce(gaps_.data(), gaps.data(), static_cast<int>(gaps.size()), MPI_DOUBLE,
+                               MPI_MAX, comm_));
+    for (size_t q = 0; q < gaps.size(); ++q)
+      maxGap_[q] = std::max(maxGap_[q], gaps[q]);
+  }
   return PETSC_SUCCESS;
 }
 

@@ -24,6 +24,7 @@ struct ParticleView {
   double *eps = nullptr; // accumulated small-strain increments (xx, yy) [2]
   PetscInt64 *id = nullptr;
   PetscInt *trac = nullptr; // traction index on its x side and y side, -1 if none [2]
+  PetscInt *dbc = nullptr;  // penalty displacement condition index, likewise [2]
   PetscInt *rank = nullptr; // owner rank (DMSwarm's migration field)
 
   PetscErrorCode get(DM sw);

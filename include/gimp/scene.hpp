@@ -30,6 +30,8 @@ using Box = std::array<double, 4>; // x0, y0, x1, y1
 struct Ramp {
   std::vector<double> t, f;
   double at(double time) const;
+  /// The table's value, or zero when it is empty (a displacement held at zero).
+  double valueOr0(double time) const { return t.empty() ? 0.0 : at(time); }
 };
 
 struct Hole {
@@ -48,13 +50,26 @@ struct Body {
   bool inside(double x, double y) const;
 };
 
-struct Traction {
+/// A part of one side of a body's rectangle: where tractions and displacement conditions act.
+struct Segment {
   int body = 0;
   Side side = Side::Right;
-  Vec2 value{}; // traction vector at full load [Pa]
   bool hasRange = false;
   std::array<double, 2> range{}; // along the side
+  int axis() const { return side == Side::Left || side == Side::Right ? 0 : 1; }
+  double normal() const { return side == Side::Left || side == Side::Bottom ? -1.0 : 1.0; }
+};
+
+struct Traction : Segment {
+  Vec2 value{}; // traction vector at full load [Pa]
   Ramp ramp;
+};
+
+/// Prescribed displacement on a segment by the penalty method (Eq. 9).
+struct DisplacementBC : Segment {
+  bool fix[2] = {true, true}; // constrained components
+  Ramp u[2];                  // prescribed displacement tables (empty: held at zero)
+  double penaltyScale = 1.0;  // multiplies -gimp_penalty for this segment
 };
 
 /// Grid-node constraint on a grid line x = c (axis 0) or y = c (axis 1).
@@ -103,6 +118,9 @@ struct Scene {
   Material material;
   Vec2 gravity{};
   std::vector<Traction> tractions;
+  std::vector<DisplacementBC> dbcs;
+  double penalty = 0;          // alpha of Eq. 9 [Pa/m]; 0: chosen from the material, grid and dt
+  bool penaltyTraction = true; // include the traction term sigma_p n of Eq. 9
   std::vector<NodeBC> bcs;
   double damping = 0;
   Update update = Update::MUSL;

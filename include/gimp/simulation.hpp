@@ -57,6 +57,7 @@ private:
   PetscErrorCode particleToGrid(const ParticleView &p, bool withMass, Vec P);
   PetscErrorCode nodalVelocity(Vec P, Vec Vout);
   PetscErrorCode internalAndExternalForces(const ParticleView &p, double t, Vec F);
+  PetscErrorCode penaltyForces(const ParticleView &p, double t, double *fe);
   PetscErrorCode gridToParticle(ParticleView &p, double dt);
   PetscErrorCode updateStress(ParticleView &p, Vec Vlocal, double dt);
   PetscErrorCode checkParticles(const ParticleView &p, PetscInt step, double t);
@@ -69,6 +70,9 @@ public:
   PetscErrorCode probes(std::vector<ProbeState> &out);
   PetscErrorCode mmsErrors(double t, double &linf, double &rms);
   PetscErrorCode particleCount(PetscInt64 &n);
+  /// Force of each penalty displacement condition on the body at the last RHS (fx, fy per
+  /// condition, summed over ranks) and its largest constraint violation |u - u_bar| there.
+  PetscErrorCode reactionForces(std::vector<double> &out, std::vector<double> &gaps);
   PetscErrorCode writeParticleDump(const std::string &file);
 
 private:
@@ -96,6 +100,10 @@ private:
 
   // Energy accounting.
   double extWork_ = 0, dampWork_ = 0;
+  double alpha_ = 0;              // penalty of Eq. 9 in use [Pa/m]
+  std::vector<double> reactions_; // this rank's part of each condition's force (fx, fy)
+  std::vector<double> gaps_;      // this rank's largest |u - u_bar| per condition
+  std::vector<double> maxGap_;    // largest violation per condition over the history rows
   double kick_ = 1.0; // fraction of the force applied this step (0.5 on a leapfrog start)
   double extPowerStart_ = 0, dampPowerStart_ = 0;
   double meanParticleMass_ = 0;
