@@ -4,6 +4,7 @@
 
 #include <petscviewerhdf5.h>
 
+#include <cmath>
 #include <filesystem>
 #include <vector>
 
@@ -38,7 +39,8 @@ PetscErrorCode Output::open() {
     if (!history_)
       throw InputError("option -gimp_output_dir " + dir_ + ": cannot write history.csv there");
     std::fprintf(history_,
-                 "step,time,kinetic,strain,external_work,damping,total,momentum_x,momentum_y");
+                 "step,time,kinetic,strain,external_work,damping,total,momentum_x,momentum_y,"
+                 "separation,strain_x");
     for (const Probe &p : sim_.sc_.probes)
       std::fprintf(history_, ",%s_ux,%s_uy,%s_sxx,%s_syy,%s_sxy,%s_szz", p.name.c_str(),
                    p.name.c_str(), p.name.c_str(), p.name.c_str(), p.name.c_str(), p.name.c_str());
@@ -69,10 +71,13 @@ PetscErrorCode Output::writeHistory(PetscInt step, double t) {
   PetscCall(sim_.mmsErrors(t, linf, rms));
   std::vector<double> reactions, gaps;
   PetscCall(sim_.reactionForces(reactions, gaps));
+  double gap = 0, strain = 0;
+  PetscCall(sim_.separation(t, step, gap, strain));
   if (sim_.rank_ != 0) return PETSC_SUCCESS;
   std::fprintf(history_, "%lld,%.12e,%.12e,%.12e,%.12e,%.12e,%.12e,%.12e,%.12e",
                static_cast<long long>(step), t, e.kinetic, e.strain, e.externalWork, e.damping,
                e.total(), e.momentum[0], e.momentum[1]);
+  std::fprintf(history_, ",%.12e,%.12e", gap, strain);
   for (const ProbeState &p : probes)
     std::fprintf(history_, ",%.12e,%.12e,%.12e,%.12e,%.12e,%.12e", p.u[0], p.u[1], p.stress[0],
                  p.stress[1], p.stress[2], p.stress[3]);
@@ -266,6 +271,12 @@ PetscErrorCode Output::writeSummary(PetscInt steps, double t, double wall) {
   }
   std::fprintf(f, "%s},\n  \"measures\": {", probes.empty() ? "" : "\n  ");
   std::fprintf(f, "\"particles_migrated\": %lld", static_cast<long long>(sim_.migrated_));
+  if (std::isnan(sim_.separationStrain_))
+    std::fprintf(f, ", \"separation_strain\": null");
+  else
+    std::fprintf(f, ", \"separation_strain\": %.12e", sim_.separationStrain_);
+  std::fprintf(f, ", \"max_strain\": %.12e, \"max_separation\": %.12e", sim_.maxStrain_,
+               sim_.maxSeparation_);
   if (sc.mms != Mms::None)
     std::fprintf(f, ", \"mms_linf\": %.12e, \"mms_rms\": %.12e", sim_.mmsLinf_, sim_.mmsRms_);
   std::fprintf(f, "}\n}\n");

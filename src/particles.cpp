@@ -34,6 +34,9 @@ template <typename T> PetscErrorCode restoreField(DM sw, const char *name, T **p
 } // namespace
 
 PetscErrorCode ParticleView::get(DM sw) {
+  PetscObject mark = nullptr;
+  PetscCall(PetscObjectQuery(reinterpret_cast<PetscObject>(sw), "gimp_corners", &mark));
+  hasCorners = mark != nullptr;
   PetscCall(DMSwarmGetLocalSize(sw, &n));
   PetscCall(getField(sw, "x", &x));
   PetscCall(getField(sw, "X0", &X0));
@@ -49,6 +52,7 @@ PetscErrorCode ParticleView::get(DM sw) {
   PetscCall(getField(sw, "id", &id));
   PetscCall(getField(sw, "trac", &trac));
   PetscCall(getField(sw, "dbc", &dbc));
+  if (hasCorners) PetscCall(getField(sw, "corners", &corners));
   PetscCall(getField(sw, DMSwarmField_rank, &rank));
   return PETSC_SUCCESS;
 }
@@ -68,11 +72,12 @@ PetscErrorCode ParticleView::restore(DM sw) {
   PetscCall(restoreField(sw, "id", &id));
   PetscCall(restoreField(sw, "trac", &trac));
   PetscCall(restoreField(sw, "dbc", &dbc));
+  if (hasCorners) PetscCall(restoreField(sw, "corners", &corners));
   PetscCall(restoreField(sw, DMSwarmField_rank, &rank));
   return PETSC_SUCCESS;
 }
 
-PetscErrorCode createSwarm(MPI_Comm comm, DM *sw) {
+PetscErrorCode createSwarm(MPI_Comm comm, bool corners, DM *sw) {
   PetscCall(DMCreate(comm, sw));
   PetscCall(DMSetType(*sw, DMSWARM));
   PetscCall(PetscObjectSetName(reinterpret_cast<PetscObject>(*sw), "particles"));
@@ -81,7 +86,16 @@ PetscErrorCode createSwarm(MPI_Comm comm, DM *sw) {
   PetscCall(DMSwarmInitializeFieldRegister(*sw));
   for (const FieldSpec &f : kFields)
     PetscCall(DMSwarmRegisterPetscDatatypeField(*sw, f.name, f.bs, f.type));
+  // Corner positions (x, y of the corners (-,-), (+,-), (+,+), (-,+)) only when tracked.
+  if (corners) PetscCall(DMSwarmRegisterPetscDatatypeField(*sw, "corners", 8, PETSC_REAL));
   PetscCall(DMSwarmFinalizeFieldRegister(*sw));
+  if (corners) { // mark the swarm, so that ParticleView::get knows the field is there
+    PetscContainer mark;
+    PetscCall(PetscContainerCreate(comm, &mark));
+    PetscCall(PetscObjectCompose(reinterpret_cast<PetscObject>(*sw), "gimp_corners",
+                                 reinterpret_cast<PetscObject>(mark)));
+    PetscCall(PetscContainerDestroy(&mark));
+  }
   return PETSC_SUCCESS;
 }
 
@@ -102,6 +116,7 @@ bool onSegment(const Scene &sc, const Segment &seg, int b, double x, double y, d
 PetscErrorCode seedParticles(const Scene &sc, const Grid &g, DM sw) {
   struct Seed {
     double x, y, l;
+    double cx0, cx1, cy0, cy1; // corners from the sub-cell lattice: neighbours share them exactly
     PetscInt64 id;
     int body;
   };
@@ -155,7 +170,11 @@ PetscErrorCode seedParticles(const Scene &sc, const Grid &g, DM sw) {
               // Unique and independent of the rank count: body, level, cell, sub-cell.
               const PetscInt64 id =
                   (((static_cast<PetscInt64>(b) * K + q) * maxCells + cell) * 64 + b2) * 64 + a;
-              seeds.push_back({x, y, 0.5 * d, id, static_cast<int>(b)});
+              const PetscInt64 nx = static_cast<PetscInt64>(i) * n + a,
+                               ny = static_cast<PetscInt64>(j) * n + b2;
+              seeds.push_back({x, y, 0.5 * d, L.box[0] + nx * d, L.box[0] + (nx + 1) * d,
+                               L.box[1] + ny * d, L.box[1] + (ny + 1) * d, id,
+                               static_cast<int>(b)});
             }
         }
     }
@@ -181,6 +200,10 @@ PetscErrorCode seedParticles(const Scene &sc, const Grid &g, DM sw) {
     p.V0[k] = p.V[k] = 4.0 * s.l * s.l * mat.thickness;
     p.m[k] = mat.rho * p.V0[k];
     p.l[2 * k] = p.l[2 * k + 1] = p.l0[2 * k] = p.l0[2 * k + 1] = s.l;
+    if (p.hasCorners) {
+      const double c[8] = {s.cx0, s.cy0, s.cx1, s.cy0, s.cx1, s.cy1, s.cx0, s.cy1};
+      std::copy(c, c + 8, &p.corners[8 * k]);
+    }
     p.F[4 * k] = p.F[4 * k + 3] = 1.0;
     p.F[4 * k + 1] = p.F[4 * k + 2] = 0.0;
     for (int c = 0; c < 4; ++c)

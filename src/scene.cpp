@@ -444,10 +444,10 @@ PetscErrorCode readScene(MPI_Comm comm, Scene &sc) {
   PetscInt ndom = 4, pad = 2, update = 2, tracking = 2, mms = 0;
   PetscBool setDom = PETSC_FALSE, setH = PETSC_FALSE;
   const char *updates[] = {"usf", "usl", "musl"};
-  const char *trackings[] = {"none", "strain", "stretch"};
+  const char *trackings[] = {"none", "strain", "stretch", "corners"};
   const char *mmss[] = {"none", "skb1d"};
   PetscCall(checkChoice("-gimp_update", updates, 3));
-  PetscCall(checkChoice("-gimp_tracking", trackings, 3));
+  PetscCall(checkChoice("-gimp_tracking", trackings, 4));
   PetscCall(checkChoice("-gimp_mms", mmss, 2));
   PetscOptionsBegin(comm, nullptr, "gimp scene", "gimp");
   PetscCall(PetscOptionsString("-gimp_scene", "Scene name (output/<name> by default)",
@@ -485,8 +485,17 @@ PetscErrorCode readScene(MPI_Comm comm, Scene &sc) {
                              "docs/options.md", half, &half, nullptr));
   sc.halfStepStart = half;
   PetscCall(PetscOptionsEList("-gimp_tracking",
-                              "Particle size tracking: none, strain ((1+eps) l0), stretch (F l0)",
-                              "docs/options.md", trackings, 3, trackings[2], &tracking, nullptr));
+                              "Particle domain tracking: none, strain ((1+eps) l0), stretch (F l0) "
+                              "or corners (the paper's corner tracking)",
+                              "docs/options.md", trackings, 4, trackings[2], &tracking, nullptr));
+  PetscCall(PetscOptionsReal("-gimp_corner_size",
+                             "Fictitious size of a tracked corner / initial particle size [-]",
+                             "docs/options.md", sc.cornerSize, &sc.cornerSize, nullptr));
+  PetscCall(PetscOptionsReal("-gimp_separation_threshold",
+                             "Gap between particles that started as neighbours, relative to their "
+                             "size, above which they count as separated [-]",
+                             "docs/options.md", sc.separationThreshold, &sc.separationThreshold,
+                             nullptr));
   PetscCall(PetscOptionsReal("-gimp_mass_cutoff",
                              "Nodes lighter than this fraction of the mean particle mass are "
                              "treated as empty [-]",
@@ -524,6 +533,11 @@ PetscErrorCode readScene(MPI_Comm comm, Scene &sc) {
   if (!(sc.massCutoff >= 0 && sc.massCutoff < 1))
     bad("gimp_mass_cutoff", fmt(sc.massCutoff), "must lie in [0, 1)");
   if (!(sc.cfl > 0 && sc.cfl <= 1)) bad("gimp_cfl", fmt(sc.cfl), "must lie in (0, 1]");
+  if (!(sc.cornerSize >= 0.1 && sc.cornerSize <= 0.8))
+    bad("gimp_corner_size", fmt(sc.cornerSize),
+        "must lie in [0.1, 0.8] (fraction of the particle size)");
+  if (!(sc.separationThreshold > 0))
+    bad("gimp_separation_threshold", fmt(sc.separationThreshold), "must be > 0");
   if (sc.outputInterval < 0)
     bad("gimp_output_interval", std::to_string(sc.outputInterval), "must be >= 0");
   if (sc.historyInterval < 1)

@@ -9,6 +9,7 @@
 #include <cctype>
 #include <cmath>
 #include <cstdint>
+#include <map>
 #include <sstream>
 
 namespace gimp {
@@ -122,7 +123,7 @@ PetscErrorCode Simulation::setup() {
   if (!sc_.gridDump.empty()) PetscCall(grid_.dump(comm_, sc_.gridDump));
 
   // Particles.
-  PetscCall(createSwarm(comm_, &sw_));
+  PetscCall(createSwarm(comm_, sc_.tracking == Tracking::Corners, &sw_));
   PetscCall(seedParticles(sc_, grid_, sw_));
   {
     ParticleView p;
@@ -186,6 +187,9 @@ PetscErrorCode Simulation::setup() {
         p.F[4 * k] = F;
         p.V[k] = F * p.V0[k];
         p.l[2 * k] = F * p.l0[2 * k];
+        if (p.hasCorners)
+          for (int q = 0; q < 4; ++q)
+            p.corners[8 * k + 2 * q] += ex.u(p.corners[8 * k + 2 * q], 0.0);
       }
     }
     if (sc_.material.model == MaterialModel::NeoHookean)
@@ -467,6 +471,7 @@ PetscErrorCode Simulation::postStep(TS ts) {
   PetscCall(p.get(s->sw_));
   PetscCall(PetscLogStagePush(s->stageG2P_));
   PetscCall(s->gridToParticle(p, dt));
+  if (sc.tracking == Tracking::Corners) PetscCall(s->moveCorners(p, dt));
   if (sc.update == Update::MUSL) {
     // Re-project the updated particle momentum; acc_ serves as the momentum work vector.
     PetscCall(s->particleToGrid(p, false, s->acc_));
@@ -772,6 +777,113 @@ PetscErrorCode Simulation::reactionForces(std::vector<double> &out, std::vector<
   return PETSC_SUCCESS;
 }
 
+PetscErrorCode Simulation::moveCorners(ParticleView &p, double dt) {
+  // Each corner moves with the grid velocity interpolated at it, as a particle of the
+  // fictitious size -gimp_corner_size times the particle's (the same velocity that moves the
+  // particle centres). Neighbours' shared corners get the same velocity and stay together.
+  const size_t n4 = 4 * static_cast<size_t>(p.n);
+  cornerSize_.resize(2 * n4);
+  for (PetscInt k = 0; k < p.n; ++k)
+    for (int q = 0; q < 4; ++q) {
+      cornerSize_[8 * k + 2 * q] = sc_.cornerSize * p.l0[2 * k];
+      cornerSize_[8 * k + 2 * q + 1] = sc_.cornerSize * p.l0[2 * k + 1];
+    }
+  grid_.buildStencils(static_cast<PetscInt>(n4), p.corners, cornerSize_.data(), cst_);
+  const PetscScalar *vg = nullptr;
+  PetscCall(VecGetArrayRead(velW_, &vg));
+  const PetscInt *start = cst_.start.data(), *node = cst_.node.data();
+  const double *wx = cst_.wx.data(), *wy = cst_.wy.data();
+  for (size_t c = 0; c < n4; ++c) {
+    double vx = 0, vy = 0;
+    for (PetscInt e = start[c]; e < start[c + 1]; ++e) {
+      const double w = wx[e] * wy[e];
+      vx += w * vg[2 * node[e]];
+      vy += w * vg[2 * node[e] + 1];
+    }
+    p.corners[2 * c] += dt * vx;
+    p.corners[2 * c + 1] += dt * vy;
+  }
+  PetscCall(VecRestoreArrayRead(velW_, &vg));
+  return PETSC_SUCCESS;
+}
+
+PetscErrorCode Simulation::separation(double t, PetscInt step, double &gap, double &strain) {
+  // Gap between particles that started as neighbours (same size, side by side), relative to
+  // their size, and the body's engineering strain along x (extent of all particles).
+  ParticleView p;
+  PetscCall(p.get(sw_));
+  constexpr int kCols = 9;
+  std::vector<double> loc(static_cast<size_t>(p.n) * kCols);
+  for (PetscInt k = 0; k < p.n; ++k) {
+    double *r = &loc[static_cast<size_t>(k) * kCols];
+    r[0] = static_cast<double>(p.id[k]);
+    for (int d = 0; d < 2; ++d) {
+      r[1 + d] = p.X0[2 * k + d];
+      r[3 + d] = p.x[2 * k + d];
+      r[5 + d] = p.l[2 * k + d];
+      r[7 + d] = p.l0[2 * k + d];
+    }
+  }
+  PetscCall(p.restore(sw_));
+  const int mine = static_cast<int>(loc.size());
+  std::vector<int> counts(size_), displs(size_, 0);
+  PetscCallMPI(MPI_Gather(&mine, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, comm_));
+  std::vector<double> all;
+  if (rank_ == 0) {
+    for (int r = 1; r < size_; ++r)
+      displs[r] = displs[r - 1] + counts[r - 1];
+    all.resize(static_cast<size_t>(displs.back() + counts.back()));
+  }
+  PetscCallMPI(MPI_Gatherv(loc.data(), mine, MPI_DOUBLE, all.data(), counts.data(), displs.data(),
+                           MPI_DOUBLE, 0, comm_));
+  double res[2] = {0, 0};
+  if (rank_ == 0) {
+    const size_t n = all.size() / kCols;
+    const double q = grid_.unit / 512.0; // initial positions lie on a lattice of this step
+    auto key = [q](double x, double y) {
+      return std::make_pair(std::llround(x / q), std::llround(y / q));
+    };
+    std::map<std::pair<long long, long long>, size_t> at;
+    double lo = 1e300, hi = -1e300, lo0 = 1e300, hi0 = -1e300;
+    for (size_t i = 0; i < n; ++i) {
+      const double *r = &all[i * kCols];
+      at[key(r[1], r[2])] = i;
+      lo = std::min(lo, r[3] - r[5]);
+      hi = std::max(hi, r[3] + r[5]);
+      lo0 = std::min(lo0, r[1] - r[7]);
+      hi0 = std::max(hi0, r[1] + r[7]);
+    }
+    double worst = 0;
+    for (size_t i = 0; i < n; ++i) {
+      const double *r = &all[i * kCols];
+      for (int d = 0; d < 2; ++d) {
+        const auto it = at.find(key(r[1] + (d == 0) * 2 * r[7], r[2] + (d == 1) * 2 * r[8]));
+        if (it == at.end()) continue;
+        const double *o = &all[it->second * kCols];
+        if (o[7 + d] != r[7 + d]) continue; // neighbours of another size (another level)
+        const double g = ((o[3 + d] - o[5 + d]) - (r[3 + d] + r[5 + d])) / (2.0 * r[7 + d]);
+        worst = std::max(worst, g);
+      }
+    }
+    res[0] = worst;
+    res[1] = (hi - lo) / (hi0 - lo0) - 1.0;
+  }
+  PetscCallMPI(MPI_Bcast(res, 2, MPI_DOUBLE, 0, comm_));
+  gap = res[0];
+  strain = res[1];
+  maxStrain_ = std::max(maxStrain_, strain);
+  maxSeparation_ = std::max(maxSeparation_, gap);
+  if (gap > sc_.separationThreshold && std::isnan(separationStrain_)) {
+    separationStrain_ = strain;
+    PetscCall(PetscPrintf(comm_,
+                          "gimp: warning: step %" PetscInt_FMT " t %.6g s: particles separated: "
+                          "a gap of %.3g particle sizes between former neighbours (threshold "
+                          "%.3g) at engineering strain %.4g\n",
+                          step, t, gap, sc_.separationThreshold, strain));
+  }
+  return PETSC_SUCCESS;
+}
+
 PetscErrorCode Simulation::gridToParticle(ParticleView &p, double dt) {
   const PetscScalar *vg = nullptr, *ag = nullptr;
   PetscCall(VecGetArrayRead(velW_, &vg));
@@ -848,6 +960,34 @@ PetscErrorCode Simulation::updateStress(ParticleView &p, Vec Vwindow, double dt)
       p.l[2 * k] = std::sqrt(F[0] * F[0] + F[2] * F[2]) * p.l0[2 * k];
       p.l[2 * k + 1] = std::sqrt(F[1] * F[1] + F[3] * F[3]) * p.l0[2 * k + 1];
       break;
+    case Tracking::Corners: {
+      p.eps[2 * k] += dt * Lk[0];
+      p.eps[2 * k + 1] += dt * Lk[3];
+      double *c = &p.corners[8 * k];
+      // Exterior corners of a particle on a loaded edge follow its strain (the paper, 4.2).
+      for (int a = 0; a < 2; ++a) {
+        if (p.trac[2 * k + a] < 0) continue;
+        const double n = sc_.tractions[p.trac[2 * k + a]].normal();
+        for (int q = 0; q < 4; ++q) {
+          const double sx = (q == 1 || q == 2) ? 1.0 : -1.0, sy = q >= 2 ? 1.0 : -1.0;
+          if ((a == 0 ? sx : sy) != n) continue;
+          c[2 * q] = p.x[2 * k] + sx * (1.0 + p.eps[2 * k]) * p.l0[2 * k];
+          c[2 * q + 1] = p.x[2 * k + 1] + sy * (1.0 + p.eps[2 * k + 1]) * p.l0[2 * k + 1];
+        }
+      }
+      // The particle is the axis-aligned rectangle spanned by its corners; its volume is the
+      // area of the quadrilateral they form.
+      const double xmin = std::min({c[0], c[2], c[4], c[6]}),
+                   xmax = std::max({c[0], c[2], c[4], c[6]});
+      const double ymin = std::min({c[1], c[3], c[5], c[7]}),
+                   ymax = std::max({c[1], c[3], c[5], c[7]});
+      p.l[2 * k] = 0.5 * (xmax - xmin);
+      p.l[2 * k + 1] = 0.5 * (ymax - ymin);
+      const double area = 0.5 * ((c[0] * c[3] - c[2] * c[1]) + (c[2] * c[5] - c[4] * c[3]) +
+                                 (c[4] * c[7] - c[6] * c[5]) + (c[6] * c[1] - c[0] * c[7]));
+      p.V[k] = area * sc_.material.thickness;
+      break;
+    }
     }
   }
   return PETSC_SUCCESS;

@@ -23,16 +23,18 @@ struct ParticleView {
   double *s = nullptr;   // Cauchy stress (xx, yy, xy, zz) [4]
   double *eps = nullptr; // accumulated small-strain increments (xx, yy) [2]
   PetscInt64 *id = nullptr;
-  PetscInt *trac = nullptr; // traction index on its x side and y side, -1 if none [2]
-  PetscInt *dbc = nullptr;  // penalty displacement condition index, likewise [2]
-  PetscInt *rank = nullptr; // owner rank (DMSwarm's migration field)
+  PetscInt *trac = nullptr;  // traction index on its x side and y side, -1 if none [2]
+  PetscInt *dbc = nullptr;   // penalty displacement condition index, likewise [2]
+  double *corners = nullptr; // tracked corners (-,-), (+,-), (+,+), (-,+) as x,y [8], if any
+  bool hasCorners = false;   // the swarm carries the corners field (found by get())
+  PetscInt *rank = nullptr;  // owner rank (DMSwarm's migration field)
 
   PetscErrorCode get(DM sw);
   PetscErrorCode restore(DM sw);
 };
 
 /// Create the swarm with gimp's fields (collective).
-PetscErrorCode createSwarm(MPI_Comm comm, DM *sw);
+PetscErrorCode createSwarm(MPI_Comm comm, bool corners, DM *sw);
 
 /// Fill each body with particles: each cell owned by this rank is cut into n x n squares and
 /// the squares whose centre lies in the body become particles. Ids do not depend on the

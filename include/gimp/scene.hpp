@@ -18,7 +18,7 @@ struct InputError : std::runtime_error {
 };
 
 enum class Update { USF, USL, MUSL };
-enum class Tracking { None, Strain, Stretch };
+enum class Tracking { None, Strain, Stretch, Corners };
 enum class MaterialModel { Linear, NeoHookean };
 enum class Side { Left = 0, Right = 1, Bottom = 2, Top = 3 };
 enum class Mms { None, Skb1d };
@@ -127,7 +127,9 @@ struct Scene {
   double flip = 1.0;
   bool halfStepStart = true; // leapfrog start: half kick on the first step
   Tracking tracking = Tracking::Stretch;
-  double massCutoff = 1e-8; // relative to the mean particle mass
+  double cornerSize = 0.5;           // fictitious corner size / initial particle size
+  double separationThreshold = 0.05; // gap between former neighbours / particle size
+  double massCutoff = 1e-8;          // relative to the mean particle mass
   double cfl = 0.3;
   std::vector<Probe> probes;
   Mms mms = Mms::None;

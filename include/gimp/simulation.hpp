@@ -11,6 +11,7 @@
 
 #include <petscts.h>
 
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -59,6 +60,7 @@ private:
   PetscErrorCode internalAndExternalForces(const ParticleView &p, double t, Vec F);
   PetscErrorCode penaltyForces(const ParticleView &p, double t, double *fe);
   PetscErrorCode gridToParticle(ParticleView &p, double dt);
+  PetscErrorCode moveCorners(ParticleView &p, double dt);
   PetscErrorCode updateStress(ParticleView &p, Vec Vlocal, double dt);
   PetscErrorCode checkParticles(const ParticleView &p, PetscInt step, double t);
   PetscErrorCode applyConstraintMask();
@@ -70,6 +72,9 @@ public:
   PetscErrorCode probes(std::vector<ProbeState> &out);
   PetscErrorCode mmsErrors(double t, double &linf, double &rms);
   PetscErrorCode particleCount(PetscInt64 &n);
+  /// Largest gap between former neighbours / particle size, and the engineering strain of the
+  /// particles' extent along x; warns once when the gap first exceeds the threshold.
+  PetscErrorCode separation(double t, PetscInt step, double &gap, double &strain);
   /// Force of each penalty displacement condition on the body at the last RHS (fx, fy per
   /// condition, summed over ranks) and its largest constraint violation |u - u_bar| there.
   PetscErrorCode reactionForces(std::vector<double> &out, std::vector<double> &gaps);
@@ -104,7 +109,12 @@ private:
   std::vector<double> reactions_; // this rank's part of each condition's force (fx, fy)
   std::vector<double> gaps_;      // this rank's largest |u - u_bar| per condition
   std::vector<double> maxGap_;    // largest violation per condition over the history rows
-  double kick_ = 1.0; // fraction of the force applied this step (0.5 on a leapfrog start)
+  double kick_ = 1.0;
+  Stencils cst_;                   // corner stencils (corner tracking)
+  std::vector<double> cornerSize_; // fictitious corner half-sizes
+  double separationStrain_ = std::numeric_limits<double>::quiet_NaN();
+  double maxStrain_ = 0,
+         maxSeparation_ = 0; // fraction of the force applied this step (0.5 on a leapfrog start)
   double extPowerStart_ = 0, dampPowerStart_ = 0;
   double meanParticleMass_ = 0;
   bool hasExternal_ = false;

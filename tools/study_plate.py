@@ -1,0 +1,107 @@
+#!/usr/bin/python3
+"""Plate with a hole (paper section 4.4): the static stress concentration at the top of the hole
+on the three-level grid and on uniform grids, and the paper's 4000-step dynamic run; the
+measurements of docs/validation.md, section "Plate with a hole".
+
+Usage: /usr/bin/python3 tools/study_plate.py --gimp build/gimp --root . --work WORK [--quick]
+
+Static runs (damped to rest: -gimp_damping 3e5 -ts_max_steps 20000, 200 us), into WORK/<name>:
+  static_3level     runs/plate.opts (1.0 / 0.5 / 0.25 mm)
+  static_h1.0 ...   runs/plate_uniform.opts with -gimp_h 1e-3, 0.5e-3, 0.25e-3
+Dynamic runs as in the paper (d = 1000 1/s, dt = 10 ns, 4000 steps = 40 us):
+  paper_3level, paper_h0.25
+Writes WORK/plate.csv and prints the markdown table. The probe "hole_top" follows the particle
+nearest to (0, a); its sxx / p is compared with Kirsch's infinite-plate solution at that
+particle's initial position (r, theta) and with the finite-width gross-section value of a long
+strip, Heywood (2 + (1 - d/W)^3) / (1 - d/W) = 3.014 for d/W = 1/15 (REFERENCE.md section 3).
+--quick runs 2000 static steps (a smoke test of the script, not the documented numbers).
+"""
+import argparse
+import csv
+import math
+import os
+import sys
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests"))
+import gimptest  # noqa: E402
+
+ap = argparse.ArgumentParser()
+ap.add_argument("--gimp", required=True)
+ap.add_argument("--root", required=True)
+ap.add_argument("--work", required=True)
+ap.add_argument("--quick", action="store_true")
+args = ap.parse_args()
+args.gimp, args.root, args.work = (os.path.abspath(p) for p in (args.gimp, args.root, args.work))
+args.mpiexec = "mpiexec"
+os.makedirs(args.work, exist_ok=True)
+
+P, A, D_OVER_W = 10e6, 2e-3, 4.0 / 60.0
+KT_HEYWOOD = (2 + (1 - D_OVER_W) ** 3) / (1 - D_OVER_W)
+STATIC = ["-gimp_damping", "3e5", "-ts_max_steps", "2000" if args.quick else "20000",
+          "-gimp_output_interval", "0", "-gimp_monitor_interval", "0",
+          "-gimp_history_interval", "100"]
+PAPER = ["-ts_max_steps", "4000", "-gimp_output_interval", "0", "-gimp_monitor_interval", "0"]
+RUNS = [
+    ("static_3level", "runs/plate.opts", STATIC, "3 levels 1.0 / 0.5 / 0.25 mm", "static"),
+    ("static_h1.0", "runs/plate_uniform.opts", STATIC + ["-gimp_h", "1e-3"], "uniform 1.0 mm",
+     "static"),
+    ("static_h0.5", "runs/plate_uniform.opts", STATIC + ["-gimp_h", "0.5e-3"], "uniform 0.5 mm",
+     "static"),
+    ("static_h0.25", "runs/plate_uniform.opts", STATIC + ["-gimp_h", "0.25e-3"],
+     "uniform 0.25 mm", "static"),
+    ("paper_3level", "runs/plate.opts", PAPER, "3 levels 1.0 / 0.5 / 0.25 mm", "paper"),
+    ("paper_h0.25", "runs/plate_uniform.opts", PAPER, "uniform 0.25 mm", "paper"),
+]
+
+
+def kirsch_sxx(x, y):
+    """sigma_xx / p of the infinite plate with a hole of radius A under remote sxx = p."""
+    r, th = math.hypot(x, y), math.atan2(y, x)
+    q = (A / r) ** 2
+    srr = 0.5 * (1 - q) + 0.5 * (1 - 4 * q + 3 * q * q) * math.cos(2 * th)
+    stt = 0.5 * (1 + q) - 0.5 * (1 + 3 * q * q) * math.cos(2 * th)
+    srt = -0.5 * (1 + 2 * q - 3 * q * q) * math.sin(2 * th)
+    c, s = math.cos(th), math.sin(th)
+    return srr * c * c + stt * s * s - 2 * srt * s * c
+
+
+rows = []
+for name, opts, extra, grid, kind in RUNS:
+    out = os.path.join(args.work, name)
+    gimptest.run(args, opts, extra, outdir=out)
+    s = gimptest.summary(out)
+    h = gimptest.history(out)
+    pr = s["probes"]["hole_top"]
+    x0, y0 = pr["x0"]
+    kt = pr["stress"][0] / P
+    # Change of the probe stress over the last quarter of the run (is it at rest?).
+    n = len(h["time"])
+    k3 = h["hole_top_sxx"][(3 * n) // 4] / P
+    kk = kirsch_sxx(x0, y0)
+    rows.append({
+        "name": name, "grid": grid, "kind": kind, "particles": s["particles"],
+        "steps": s["steps"], "time_us": 1e6 * s["time"], "wall": s["wall_seconds"],
+        "x0_mm": 1e3 * x0, "y0_mm": 1e3 * y0, "r_mm": 1e3 * math.hypot(x0, y0),
+        "kt": kt, "kirsch_r": kk, "kirsch_r_fw": kk * KT_HEYWOOD / 3.0,
+        "kt_change_last_quarter": kt - k3,
+        "ke_over_strain": s["energy"]["kinetic"] / s["energy"]["strain"],
+        "far_sxx": s["probes"]["far"]["stress"][0] / P,
+    })
+
+with open(os.path.join(args.work, "plate.csv"), "w", newline="") as f:
+    w = csv.DictWriter(f, fieldnames=list(rows[0]))
+    w.writeheader()
+    w.writerows(rows)
+
+print("Finite-width gross-section Kt (Heywood, long strip, d/W = 1/15): %.4f\n" % KT_HEYWOOD)
+print("| run | grid | particles | steps (time) | wall [s] | probe particle x0, y0 [mm] (r) | "
+      "σxx/p at the probe | Kirsch at the probe's r, θ | Kirsch × 3.014/3 | change over the "
+      "last quarter | kinetic / strain at the end |")
+print("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |")
+for r in rows:
+    print("| %s | %s | %d | %d (%.0f µs) | %.1f | %.3f, %.3f (%.4f) | %.4f | %.4f | %.4f | %+.1e | "
+          "%.1e |" % (r["kind"], r["grid"], r["particles"], r["steps"], r["time_us"], r["wall"],
+                      r["x0_mm"], r["y0_mm"], r["r_mm"], r["kt"], r["kirsch_r"], r["kirsch_r_fw"],
+                      r["kt_change_last_quarter"], r["ke_over_strain"]))
+print("\nfar probe (20, 20) mm, sxx / p: " +
+      ", ".join("%s %.4f" % (r["name"], r["far_sxx"]) for r in rows))
