@@ -10,6 +10,7 @@
 #                     (default: 1; use 3 or more on a machine shared with other work)
 #   GIMP_BENCH_MPIEXEC_ARGS  extra mpiexec arguments, e.g. "--bind-to none"
 #   GIMP_BENCH_NOBUILD=1  skip the cmake configure/build step
+#   GIMP_BENCH_OPTS   scene (default: bench/block.opts; bench/block3.opts is the 3-level grid)
 #
 # For each rank count it runs the block with -log_view and prints
 #   - particle-steps per second over the stepping stages (P2G + Forces + Grid update + G2P +
@@ -32,7 +33,7 @@ OUT="${GIMP_BENCH_OUT:-$BUILD/bench-out}"
 RANKS="${GIMP_BENCH_RANKS:-1 2}"
 REPEAT="${GIMP_BENCH_REPEAT:-1}"
 read -r -a MPI_ARGS <<<"${GIMP_BENCH_MPIEXEC_ARGS:-}"
-OPTS="$ROOT/bench/block.opts"
+OPTS="${GIMP_BENCH_OPTS:-$ROOT/bench/block.opts}"
 GIMP="$BUILD/gimp"
 MPIEXEC="$(command -v mpiexec || command -v mpirun)"
 TIME=/usr/bin/time
