@@ -221,6 +221,8 @@ PetscErrorCode Output::writeSummary(PetscInt steps, double t, double wall) {
   PetscCall(TSGetTimeStep(sim_.ts_, &dt));
   std::vector<double> reactions, gaps;
   PetscCall(sim_.reactionForces(reactions, gaps));
+  double kt = 0, ktEdge = 0;
+  if (sim_.sc_.holeMeasure) PetscCall(sim_.holeMeasure(dir_, kt, ktEdge));
   if (sim_.rank_ != 0) return PETSC_SUCCESS;
   const Scene &sc = sim_.sc_;
   const Grid &g = sim_.grid_;
@@ -277,6 +279,14 @@ PetscErrorCode Output::writeSummary(PetscInt steps, double t, double wall) {
     std::fprintf(f, ", \"separation_strain\": %.12e", sim_.separationStrain_);
   std::fprintf(f, ", \"max_strain\": %.12e, \"max_separation\": %.12e", sim_.maxStrain_,
                sim_.maxSeparation_);
+  auto num = [](double v) {
+    char b[64];
+    if (std::isnan(v)) return std::string("null");
+    std::snprintf(b, sizeof(b), "%.12e", v);
+    return std::string(b);
+  };
+  if (sc.holeMeasure)
+    std::fprintf(f, ", \"kt\": %s, \"kt_edge\": %s", num(kt).c_str(), num(ktEdge).c_str());
   if (sc.mms != Mms::None)
     std::fprintf(f, ", \"mms_linf\": %.12e, \"mms_rms\": %.12e", sim_.mmsLinf_, sim_.mmsRms_);
   std::fprintf(f, "}\n}\n");

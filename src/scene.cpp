@@ -446,6 +446,9 @@ PetscErrorCode readScene(MPI_Comm comm, Scene &sc) {
   const char *updates[] = {"usf", "usl", "musl"};
   const char *trackings[] = {"none", "strain", "stretch", "corners"};
   const char *mmss[] = {"none", "skb1d"};
+  PetscReal hm[3] = {0, 0, 0};
+  PetscInt nhm = 3;
+  PetscBool setHm = PETSC_FALSE;
   PetscCall(checkChoice("-gimp_update", updates, 3));
   PetscCall(checkChoice("-gimp_tracking", trackings, 4));
   PetscCall(checkChoice("-gimp_mms", mmss, 2));
@@ -506,6 +509,13 @@ PetscErrorCode readScene(MPI_Comm comm, Scene &sc) {
                               "docs/options.md", mmss, 2, mmss[0], &mms, nullptr));
   PetscCall(PetscOptionsReal("-gimp_mms_amplitude", "Amplitude A of the manufactured solution [m]",
                              "docs/options.md", sc.mmsAmplitude, &sc.mmsAmplitude, nullptr));
+  PetscCall(PetscOptionsRealArray("-gimp_hole_measure",
+                                  "Measure the hoop stress around the hole cx,cy,r [m]: "
+                                  "summary.json kt and hoop.csv",
+                                  "docs/options.md", hm, &nhm, &setHm));
+  PetscCall(PetscOptionsReal("-gimp_hole_measure_load",
+                             "Remote stress p that normalises the hoop stress (load along x) [Pa]",
+                             "docs/options.md", sc.holeLoad, &sc.holeLoad, nullptr));
   PetscCall(PetscOptionsString("-gimp_particle_dump",
                                "Write the final particles as CSV (sorted by id) to this file",
                                "docs/options.md", pdump, pdump, sizeof(pdump), nullptr));
@@ -516,6 +526,12 @@ PetscErrorCode readScene(MPI_Comm comm, Scene &sc) {
   sc.name = name;
   sc.outputDir = outdir[0] ? outdir : "output/" + sc.name;
   sc.particleDump = pdump;
+  sc.holeMeasure = setHm;
+  std::copy(hm, hm + 3, sc.hole);
+  if (!sc.help && setHm && (nhm != 3 || !(hm[2] > 0)))
+    bad("gimp_hole_measure", fmtList(hm, nhm), "needs cx,cy,r with r > 0 [m]");
+  if (!sc.help && setHm && sc.holeLoad == 0)
+    bad("gimp_hole_measure_load", "0", "the hole measure needs the remote stress p != 0 [Pa]");
   sc.gridDump = gdump;
   sc.update = static_cast<Update>(update);
   sc.tracking = static_cast<Tracking>(tracking);

@@ -1120,6 +1120,79 @@ PetscErrorCode Simulation::particleCount(PetscInt64 &n) {
   return PETSC_SUCCESS;
 }
 
+PetscErrorCode Simulation::holeMeasure(const std::string &dir, double &kt, double &ktEdge) {
+  const double cx = sc_.hole[0], cy = sc_.hole[1], r = sc_.hole[2], pload = sc_.holeLoad;
+  ParticleView p;
+  PetscCall(p.get(sw_));
+  std::vector<double> loc; // angle [deg], distance to the centre, hoop / p, particle half-size
+  for (PetscInt k = 0; k < p.n; ++k) {
+    const double dx = p.x[2 * k] - cx, dy = p.x[2 * k + 1] - cy, d = std::hypot(dx, dy);
+    const double l = std::max(p.l[2 * k], p.l[2 * k + 1]);
+    if (d - r > 3.0 * l) continue; // the first few layers of particles next to the hole
+    const double c = dx / d, s = dy / d;
+    const double *sg = &p.s[4 * k];
+    const double hoop = sg[0] * s * s - 2.0 * sg[2] * s * c + sg[1] * c * c;
+    loc.insert(loc.end(), {std::atan2(dy, dx) * 180.0 / M_PI, d, hoop / pload, l});
+  }
+  PetscCall(p.restore(sw_));
+  const int mine = static_cast<int>(loc.size());
+  std::vector<int> counts(size_), displs(size_, 0);
+  PetscCallMPI(MPI_Gather(&mine, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, comm_));
+  std::vector<double> all;
+  if (rank_ == 0) {
+    for (int q = 1; q < size_; ++q)
+      displs[q] = displs[q - 1] + counts[q - 1];
+    all.resize(static_cast<size_t>(displs.back() + counts.back()));
+  }
+  PetscCallMPI(MPI_Gatherv(loc.data(), mine, MPI_DOUBLE, all.data(), counts.data(), displs.data(),
+                           MPI_DOUBLE, 0, comm_));
+  double res[2] = {std::numeric_limits<double>::quiet_NaN(),
+                   std::numeric_limits<double>::quiet_NaN()};
+  if (rank_ == 0 && !all.empty()) {
+    const size_t n = all.size() / 4;
+    // First layer: particles within one particle size of the edge (their domains touch it).
+    std::vector<size_t> first, ray;
+    for (size_t i = 0; i < n; ++i) {
+      if (all[4 * i + 1] - r <= 1.5 * all[4 * i + 3]) first.push_back(i);
+      // On the 90-degree ray: distance to it within one particle half-size (and a half).
+      if (std::fabs(std::sin((all[4 * i] - 90.0) * M_PI / 180.0)) * all[4 * i + 1] <=
+          1.5 * all[4 * i + 3])
+        ray.push_back(i);
+    }
+    std::sort(first.begin(), first.end(),
+              [&](size_t a, size_t b) { return all[4 * a] < all[4 * b]; });
+    FILE *f = std::fopen((dir + "/hoop.csv").c_str(), "w");
+    if (f) {
+      std::fprintf(f, "angle_deg,r,hoop_over_p,kirsch\n");
+      for (size_t i : first) {
+        const double th = all[4 * i] * M_PI / 180.0, rr = all[4 * i + 1];
+        const double a2 = r * r / (rr * rr);
+        const double kirsch = 0.5 * (1 + a2) - 0.5 * (1 + 3 * a2 * a2) * std::cos(2 * th);
+        std::fprintf(f, "%.6f,%.9e,%.9e,%.9e\n", all[4 * i], rr, all[4 * i + 2], kirsch);
+      }
+      std::fclose(f);
+    }
+    // kt: the particle on the 90-degree ray nearest to the edge, and the linear extrapolation
+    // to the edge from the two nearest distinct radii on that ray.
+    std::sort(ray.begin(), ray.end(),
+              [&](size_t a, size_t b) { return all[4 * a + 1] < all[4 * b + 1]; });
+    if (!ray.empty()) {
+      res[0] = all[4 * ray[0] + 2];
+      for (size_t j = 1; j < ray.size(); ++j) {
+        const double r1 = all[4 * ray[0] + 1], r2 = all[4 * ray[j] + 1];
+        if (r2 - r1 < 0.5 * all[4 * ray[0] + 3]) continue;
+        const double s1 = res[0], s2 = all[4 * ray[j] + 2];
+        res[1] = s1 + (s1 - s2) * (r1 - r) / (r2 - r1);
+        break;
+      }
+    }
+  }
+  PetscCallMPI(MPI_Bcast(res, 2, MPI_DOUBLE, 0, comm_));
+  kt = res[0];
+  ktEdge = res[1];
+  return PETSC_SUCCESS;
+}
+
 PetscErrorCode Simulation::writeParticleDump(const std::string &file) {
   // Gather id and state on rank 0, sorted by id: rank-independent for comparisons.
   constexpr int kCols = 10;

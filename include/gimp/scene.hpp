@@ -134,6 +134,9 @@ struct Scene {
   std::vector<Probe> probes;
   Mms mms = Mms::None;
   double mmsAmplitude = 1e-4;
+  bool holeMeasure = false; // hoop stress around a hole: centre, radius, remote stress p
+  double hole[3] = {0, 0, 0};
+  double holeLoad = 0;
   std::string particleDump;
   std::string gridDump;
   bool help = false;

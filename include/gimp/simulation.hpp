@@ -79,6 +79,10 @@ public:
   /// condition, summed over ranks) and its largest constraint violation |u - u_bar| there.
   PetscErrorCode reactionForces(std::vector<double> &out, std::vector<double> &gaps);
   PetscErrorCode writeParticleDump(const std::string &file);
+  /// Hoop stress / p of the particles next to the hole (-gimp_hole_measure), by angle from
+  /// the load axis, written to hoop.csv; kt at 90 degrees: the nearest particle's value and
+  /// its linear extrapolation to the hole edge along the 90-degree ray.
+  PetscErrorCode holeMeasure(const std::string &dir, double &kt, double &ktEdge);
 
 private:
   MPI_Comm comm_;
