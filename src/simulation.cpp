@@ -544,7 +544,22 @@ PetscErrorCode Simulation::migrate() {
 }
 
 PetscErrorCode Simulation::computeStencils(const ParticleView &p) {
-  grid_.buildStencils(p.n, p.x, p.l, st_);
+  if (sc_.tracking != Tracking::Corners) {
+    grid_.buildStencils(p.n, p.x, p.l, st_);
+    return PETSC_SUCCESS;
+  }
+  // With corner tracking the particle's domain (chi_p of Eq. 10) is the rectangle its corners
+  // span: the weights integrate over that rectangle, whose centre may differ from the
+  // material point's position by a fraction of its size.
+  centre_.resize(2 * static_cast<size_t>(p.n));
+  for (PetscInt k = 0; k < p.n; ++k) {
+    const double *c = &p.corners[8 * k];
+    centre_[2 * k] =
+        0.5 * (std::min({c[0], c[2], c[4], c[6]}) + std::max({c[0], c[2], c[4], c[6]}));
+    centre_[2 * k + 1] =
+        0.5 * (std::min({c[1], c[3], c[5], c[7]}) + std::max({c[1], c[3], c[5], c[7]}));
+  }
+  grid_.buildStencils(p.n, centre_.data(), p.l, st_);
   return PETSC_SUCCESS;
 }
 
@@ -818,8 +833,14 @@ PetscErrorCode Simulation::separation(double t, PetscInt step, double &gap, doub
     double *r = &loc[static_cast<size_t>(k) * kCols];
     r[0] = static_cast<double>(p.id[k]);
     for (int d = 0; d < 2; ++d) {
+      // The particle's domain: centred on the material point, or the corners' rectangle.
+      double centre = p.x[2 * k + d];
+      if (p.hasCorners) {
+        const double *c = &p.corners[8 * k + d];
+        centre = 0.5 * (std::min({c[0], c[2], c[4], c[6]}) + std::max({c[0], c[2], c[4], c[6]}));
+      }
       r[1 + d] = p.X0[2 * k + d];
-      r[3 + d] = p.x[2 * k + d];
+      r[3 + d] = centre;
       r[5 + d] = p.l[2 * k + d];
       r[7 + d] = p.l0[2 * k + d];
     }
@@ -1195,7 +1216,7 @@ PetscErrorCode Simulation::holeMeasure(const std::string &dir, double &kt, doubl
 
 PetscErrorCode Simulation::writeParticleDump(const std::string &file) {
   // Gather id and state on rank 0, sorted by id: rank-independent for comparisons.
-  constexpr int kCols = 10;
+  constexpr int kCols = 12;
   ParticleView p;
   PetscCall(p.get(sw_));
   std::vector<double> loc(static_cast<size_t>(p.n) * kCols);
@@ -1209,6 +1230,8 @@ PetscErrorCode Simulation::writeParticleDump(const std::string &file) {
     for (int c = 0; c < 4; ++c)
       r[5 + c] = p.s[4 * k + c];
     r[9] = p.V[k];
+    r[10] = p.l[2 * k];
+    r[11] = p.l[2 * k + 1];
   }
   PetscCall(p.restore(sw_));
   const int mine = static_cast<int>(loc.size());
@@ -1231,7 +1254,7 @@ PetscErrorCode Simulation::writeParticleDump(const std::string &file) {
             [&](size_t a, size_t b) { return all[a * kCols] < all[b * kCols]; });
   FILE *f = std::fopen(file.c_str(), "w");
   if (!f) throw InputError("option -gimp_particle_dump " + file + ": cannot open for writing");
-  std::fprintf(f, "id,x,y,vx,vy,sxx,syy,sxy,szz,V\n");
+  std::fprintf(f, "id,x,y,vx,vy,sxx,syy,sxy,szz,V,lx,ly\n");
   for (size_t i : order) {
     const double *r = &all[i * kCols];
     std::fprintf(f, "%.0f", r[0]);

@@ -116,6 +116,7 @@ private:
   double kick_ = 1.0;
   Stencils cst_;                   // corner stencils (corner tracking)
   std::vector<double> cornerSize_; // fictitious corner half-sizes
+  std::vector<double> centre_;     // centres of the corner rectangles (particle domains)
   double separationStrain_ = std::numeric_limits<double>::quiet_NaN();
   double maxStrain_ = 0,
          maxSeparation_ = 0; // fraction of the force applied this step (0.5 on a leapfrog start)
