@@ -76,8 +76,8 @@ Simulation *fromTS(TS ts) {
 Simulation::Simulation(MPI_Comm comm) : comm_(comm) {}
 
 Simulation::~Simulation() {
-  Vec *vecs[] = {&P_,    &mass_,    &vel_,   &acc_,  &force_, &fext_, &bcMask_,
-                 &mask_, &invMass_, &massW_, &sumW_, &velW_,  &accW_, &extW_};
+  Vec *vecs[] = {&P_,       &mass_,  &vel_,  &acc_,  &force_, &fext_, &bcMask_, &mask_,
+                 &invMass_, &massW_, &sumW_, &velW_, &accW_,  &extW_, &massW2_};
   for (Vec *v : vecs)
     if (*v) (void)VecDestroy(v);
   if (ts_) (void)TSDestroy(&ts_);
@@ -471,12 +471,19 @@ PetscErrorCode Simulation::postStep(TS ts) {
   PetscCall(p.get(s->sw_));
   PetscCall(PetscLogStagePush(s->stageG2P_));
   PetscCall(s->gridToParticle(p, dt));
-  if (sc.tracking == Tracking::Corners) PetscCall(s->moveCorners(p, dt));
-  if (sc.update == Update::MUSL) {
-    // Re-project the updated particle momentum; acc_ serves as the momentum work vector.
+  if (sc.update == Update::MUSL || sc.tracking == Tracking::Corners) {
+    // Re-project the updated particle momentum (acc_ is free now): the velocity field of
+    // MUSL's stress update, and the one the corners follow. Unlike p^n+1 / m it is a weighted
+    // mean of particle velocities, so a node that a particle barely touches (tiny mass, huge
+    // F / m) cannot throw a corner away.
     PetscCall(s->particleToGrid(p, false, s->acc_));
-    PetscCall(VecPointwiseMult(s->vel_, s->acc_, s->invMass_));
-    PetscCall(s->grid_.toWindow(s->vel_, s->velW_));
+    PetscCall(VecPointwiseMult(s->acc_, s->acc_, s->invMass_));
+    PetscCall(s->grid_.toWindow(s->acc_, s->accW_));
+    if (sc.update == Update::MUSL) {
+      PetscCall(VecCopy(s->acc_, s->vel_));
+      PetscCall(VecCopy(s->accW_, s->velW_));
+    }
+    if (sc.tracking == Tracking::Corners) PetscCall(s->moveCorners(p, dt, s->accW_));
   }
   PetscCall(PetscLogStagePop());
   // Work of the external and damping forces over the step: force times the mean of the grid
@@ -792,10 +799,11 @@ PetscErrorCode Simulation::reactionForces(std::vector<double> &out, std::vector<
   return PETSC_SUCCESS;
 }
 
-PetscErrorCode Simulation::moveCorners(ParticleView &p, double dt) {
+PetscErrorCode Simulation::moveCorners(ParticleView &p, double dt, Vec velocity) {
   // Each corner moves with the grid velocity interpolated at it, as a particle of the
   // fictitious size -gimp_corner_size times the particle's (the same velocity that moves the
-  // particle centres). Neighbours' shared corners get the same velocity and stay together.
+  // particle centres, re-projected from the particles). Neighbours' shared corners get the
+  // same velocity and stay together.
   const size_t n4 = 4 * static_cast<size_t>(p.n);
   cornerSize_.resize(2 * n4);
   for (PetscInt k = 0; k < p.n; ++k)
@@ -804,21 +812,30 @@ PetscErrorCode Simulation::moveCorners(ParticleView &p, double dt) {
       cornerSize_[8 * k + 2 * q + 1] = sc_.cornerSize * p.l0[2 * k + 1];
     }
   grid_.buildStencils(static_cast<PetscInt>(n4), p.corners, cornerSize_.data(), cst_);
-  const PetscScalar *vg = nullptr;
-  PetscCall(VecGetArrayRead(velW_, &vg));
+  if (!massW2_) PetscCall(grid_.createWindowVec(&massW2_));
+  PetscCall(grid_.toWindow(mass_, massW2_));
+  const PetscScalar *vg = nullptr, *mg = nullptr;
+  PetscCall(VecGetArrayRead(velocity, &vg));
+  PetscCall(VecGetArrayRead(massW2_, &mg));
+  const double cut = sc_.massCutoff * meanParticleMass_;
   const PetscInt *start = cst_.start.data(), *node = cst_.node.data();
   const double *wx = cst_.wx.data(), *wy = cst_.wy.data();
   for (size_t c = 0; c < n4; ++c) {
-    double vx = 0, vy = 0;
+    double vx = 0, vy = 0, wsum = 0;
     for (PetscInt e = start[c]; e < start[c + 1]; ++e) {
+      if (!(mg[2 * node[e]] > cut)) continue;
       const double w = wx[e] * wy[e];
       vx += w * vg[2 * node[e]];
       vy += w * vg[2 * node[e] + 1];
+      wsum += w;
     }
-    p.corners[2 * c] += dt * vx;
-    p.corners[2 * c + 1] += dt * vy;
+    if (wsum > 0) {
+      p.corners[2 * c] += dt * vx / wsum;
+      p.corners[2 * c + 1] += dt * vy / wsum;
+    }
   }
-  PetscCall(VecRestoreArrayRead(velW_, &vg));
+  PetscCall(VecRestoreArrayRead(massW2_, &mg));
+  PetscCall(VecRestoreArrayRead(velocity, &vg));
   return PETSC_SUCCESS;
 }
 

@@ -1,6 +1,7 @@
 """Two ranks give the one-rank answer: positions, velocities and stresses of every particle
 agree to 1e-10 relative (to the largest value of each field) after runs in which particles
-migrate between ranks, on a uniform grid and on a three-level grid."""
+migrate between ranks, on a uniform grid and on a three-level grid (also with corner tracking,
+whose corners migrate with their particles)."""
 import os
 import gimptest
 
@@ -9,24 +10,27 @@ c = gimptest.Checks()
 cases = [("drift", "x", ["-da_processors_x", "2", "-da_processors_y", "1"]),
          ("drift", "y", ["-da_processors_x", "1", "-da_processors_y", "2"]),
          ("drift3", "x", ["-da_processors_x", "2", "-da_processors_y", "1"]),
-         ("drift3", "y", ["-da_processors_x", "1", "-da_processors_y", "2"])]
+         ("drift3", "y", ["-da_processors_x", "1", "-da_processors_y", "2"]),
+         ("drift3", "x-corners", ["-da_processors_x", "2", "-da_processors_y", "1"])]
 serial = {}
 for scene, tag, layout in cases:
     opts = "runs/%s.opts" % scene
-    if scene not in serial:
-        d1 = os.path.join(args.work, scene + "_np1.csv")
-        gimptest.run(args, opts, ["-gimp_particle_dump", d1],
+    extra = ["-gimp_tracking", "corners"] if tag.endswith("corners") else []
+    key = scene + " ".join(extra)
+    if key not in serial:
+        d1 = os.path.join(args.work, "%s_np1%s.csv" % (scene, "_corners" if extra else ""))
+        gimptest.run(args, opts, ["-gimp_particle_dump", d1] + extra,
                      outdir=os.path.join(args.work, scene + "_np1"))
-        serial[scene] = gimptest.read_csv(d1)
+        serial[key] = gimptest.read_csv(d1)
     d2 = os.path.join(args.work, "%s_np2_%s.csv" % (scene, tag))
-    o2 = gimptest.run(args, opts, ["-gimp_particle_dump", d2] + layout, ranks=2,
+    o2 = gimptest.run(args, opts, ["-gimp_particle_dump", d2] + layout + extra, ranks=2,
                       outdir=os.path.join(args.work, "%s_np2_%s" % (scene, tag)))
-    a, b = serial[scene], gimptest.read_csv(d2)
+    a, b = serial[key], gimptest.read_csv(d2)
     name = "%s %s-split" % (scene, tag)
     c.check(name + " ids", a["id"] == b["id"],
             "%d particles at 1 rank, %d at 2" % (len(a["id"]), len(b["id"])))
     worst, where = 0.0, ""
-    for col in ("x", "y", "vx", "vy", "sxx", "syy", "sxy", "szz"):
+    for col in ("x", "y", "vx", "vy", "sxx", "syy", "sxy", "szz", "lx", "ly"):
         scale = max(abs(v) for v in a[col])
         err = max(abs(u - v) for u, v in zip(a[col], b[col])) / scale
         if err >= worst:

@@ -60,7 +60,7 @@ private:
   PetscErrorCode internalAndExternalForces(const ParticleView &p, double t, Vec F);
   PetscErrorCode penaltyForces(const ParticleView &p, double t, double *fe);
   PetscErrorCode gridToParticle(ParticleView &p, double dt);
-  PetscErrorCode moveCorners(ParticleView &p, double dt);
+  PetscErrorCode moveCorners(ParticleView &p, double dt, Vec velocity);
   PetscErrorCode updateStress(ParticleView &p, Vec Vlocal, double dt);
   PetscErrorCode checkParticles(const ParticleView &p, PetscInt step, double t);
   PetscErrorCode applyConstraintMask();
@@ -103,6 +103,7 @@ private:
   Vec mask_ = nullptr;    // bcMask_ times (node has mass)
   Vec invMass_ = nullptr; // mask_ / mass
   Vec massW_ = nullptr, sumW_ = nullptr, velW_ = nullptr, accW_ = nullptr, extW_ = nullptr;
+  Vec massW2_ = nullptr; // nodal mass on the window (corner tracking)
 
   Stencils st_;           // particle -> node weights, rebuilt each step
   std::vector<double> L_; // velocity gradient per particle (xx, xy, yx, yy)
