@@ -12,8 +12,13 @@ namespace gimp {
 
 namespace {
 
-const char *const kParticleFields[] = {"x", "X0", "v", "stress", "l", "V", "m"};
-const int kParticleFieldSizes[] = {2, 2, 2, 4, 2, 1, 1};
+const char *const kParticleFields[] = {"x", "X0", "v", "stress", "l", "V", "m", "corners"};
+const int kParticleFieldSizes[] = {2, 2, 2, 4, 2, 1, 1, 8};
+constexpr size_t kAlwaysWritten = 7; // "corners" only with corner tracking
+
+size_t particleFieldCount(const Scene &sc) {
+  return sc.tracking == Tracking::Corners ? kAlwaysWritten + 1 : kAlwaysWritten;
+}
 
 std::string groupName(PetscInt step) {
   char buf[64];
@@ -98,7 +103,7 @@ PetscErrorCode Output::writeFields(PetscInt step, double t) {
   PetscCall(PetscViewerHDF5PushGroup(v, ("/particles/" + g).c_str()));
   PetscInt nloc = 0;
   PetscCall(DMSwarmGetLocalSize(sim_.sw_, &nloc));
-  for (size_t k = 0; k < sizeof(kParticleFields) / sizeof(kParticleFields[0]); ++k) {
+  for (size_t k = 0; k < particleFieldCount(sim_.sc_); ++k) {
     // A plain MPI Vec over the field array: written as an (N, components) dataset.
     const char *name = kParticleFields[k];
     const PetscInt bs = kParticleFieldSizes[k];
@@ -166,14 +171,18 @@ PetscErrorCode Output::writeXdmf() const {
                  "NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">fields.h5:/particles/%s/x"
                  "</DataItem></Geometry>\n",
                  g.c_str(), fr.t, fr.particles, fr.particles, g.c_str());
-    for (size_t k = 1; k < sizeof(kParticleFields) / sizeof(kParticleFields[0]); ++k) {
+    for (size_t k = 1; k < particleFieldCount(sim_.sc_); ++k) {
       const int nc = kParticleFieldSizes[k];
       std::fprintf(fp,
                    "  <Attribute Name=\"%s\" AttributeType=\"%s\" Center=\"Node\"><DataItem "
                    "Dimensions=\"%lld%s\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">"
                    "fields.h5:/particles/%s/%s</DataItem></Attribute>\n",
                    kParticleFields[k], nc == 1 ? "Scalar" : "Matrix", fr.particles,
-                   nc == 1 ? "" : (nc == 2 ? " 2" : " 4"), g.c_str(), kParticleFields[k]);
+                   nc == 1 ? ""
+                           : (nc == 2   ? " 2"
+                              : nc == 4 ? " 4"
+                                        : " 8"),
+                   g.c_str(), kParticleFields[k]);
     }
     std::fprintf(fp, " </Grid>\n");
     std::fprintf(fg,
