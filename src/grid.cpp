@@ -343,7 +343,7 @@ void Grid::buildStencils(PetscInt n, const double *x, const double *l, Stencils 
     s.gx.resize(cap);
     s.gy.resize(cap);
   };
-  reserve(16 * static_cast<size_t>(n));
+  reserve(10 * static_cast<size_t>(n)); // grows below if a step needs more
   const int K = static_cast<int>(levels.size());
   const double hmax = levels[0].h;
   // A candidate range spans at most 2 (l + Z) / h + 1 nodes with l, Z <= h0 (l is checked

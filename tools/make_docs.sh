@@ -1,0 +1,82 @@
+#!/usr/bin/env bash
+# Regenerate every figure and table of docs/validation.md.
+#
+#   tools/make_docs.sh [WORK]        (default WORK: /tmp/gimp-docs)
+#
+# Builds gimp (cmake, into build/), copies the binary to WORK/gimp (so that a rebuild of build/
+# during the run does not change it), then runs, one after the other, the verification scripts
+# with their study options and the study scripts, each into WORK/<name>/, and the plot scripts,
+# which write docs/img/*.png. The tables are printed by the scripts: each step's output is kept
+# in WORK/logs/<name>.log (the step names are the docs/validation.md sections). Set GIMP=path
+# to use an existing binary instead of building. Plots need Debian's /usr/bin/python3 with
+# matplotlib and numpy.
+#
+# Takes about 11 minutes on one core of the reference machine (two cores, nothing else
+# running); the plate study is half of it.
+set -euo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+work="${1:-/tmp/gimp-docs}"
+py=/usr/bin/python3
+mkdir -p "$work/logs"
+work="$(cd "$work" && pwd)"
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+
+if [ -z "${GIMP:-}" ]; then
+  cmake -S "$root" -B "$root/build" > "$work/logs/build.log"
+  cmake --build "$root/build" -j2 >> "$work/logs/build.log"
+  GIMP="$root/build/gimp"
+fi
+cp "$GIMP" "$work/gimp"
+gimp="$work/gimp"
+mpiexec="$(command -v mpiexec || command -v mpirun || echo mpiexec)"
+
+start_all=$SECONDS
+step() { # step NAME COMMAND...: run, log, report the time
+  local name=$1
+  shift
+  local t0=$SECONDS
+  if ! "$@" > "$work/logs/$name.log" 2>&1; then
+    echo "make_docs: step $name failed; see $work/logs/$name.log" >&2
+    tail -20 "$work/logs/$name.log" >&2
+    exit 1
+  fi
+  printf '%-22s %5d s   %s\n' "$name" $((SECONDS - t0)) "$work/logs/$name.log"
+}
+
+# Convergence: 1D manufactured solution (tables and docs/img/mms_convergence.png).
+step mms "$py" "$root/tests/check_mms.py" --gimp "$gimp" --root "$root" --work "$work/mms" \
+  --mpiexec "$mpiexec" --levels 16,32,64,128,256 --study
+step plot_mms "$py" "$root/tools/plot_mms.py" "$work/mms/mms_convergence.csv" \
+  "$work/mms/mms_study.csv"
+
+# Wave reflection at level interfaces (table, docs/img/reflection.png, ratio table).
+step reflection "$py" "$root/tests/check_reflection.py" --gimp "$gimp" --root "$root" \
+  --work "$work/reflection" --mpiexec "$mpiexec" --levels 8,16,32,64,128
+step plot_reflection "$py" "$root/tools/plot_reflection.py" "$work/reflection/reflection.csv"
+for r in 3 4; do
+  step "reflection_ratio$r" "$py" "$root/tests/check_reflection.py" --gimp "$gimp" \
+    --root "$root" --work "$work/reflection_ratio$r" --mpiexec "$mpiexec" --levels 16,32,64 \
+    --ratio "$r"
+done
+
+# Convergence on a refined grid (tables).
+step mms_refined "$py" "$root/tests/check_mms_refined.py" --gimp "$gimp" --root "$root" \
+  --work "$work/mms_refined" --mpiexec "$mpiexec" --study
+
+# Fixed-free bar (numbers and docs/img/bar.png).
+step bar "$py" "$root/tests/check_bar.py" --gimp "$gimp" --root "$root" --work "$work/bar" \
+  --mpiexec "$mpiexec"
+step plot_bar "$py" "$root/tools/plot_bar.py" "$work/bar/bar"
+
+# Patch tests (table).
+step patch "$py" "$root/tools/study_patch.py" --gimp "$gimp" --root "$root" --work "$work/patch"
+
+# Slab: penalty displacement conditions (tables and docs/img/slab.png).
+step slab "$py" "$root/tools/study_slab.py" --gimp "$gimp" --root "$root" --work "$work/slab"
+step plot_slab "$py" "$root/tools/plot_slab.py" "$work/slab"
+
+# Plate with a hole (table and docs/img/plate.png).
+step plate "$py" "$root/tools/study_plate.py" --gimp "$gimp" --root "$root" --work "$work/plate"
+step plot_plate "$py" "$root/tools/plot_plate.py" "$work/plate"
+
+echo "make_docs: all steps done in $((SECONDS - start_all)) s; tables in $work/logs/, figures in $root/docs/img/"
