@@ -382,8 +382,7 @@ void Grid::buildStencils(PetscInt n, const double *x, const double *l, Stencils 
       for (PetscInt j = j0; j <= j1; ++j)
         shape::weightAndGradientUniform(yp - (oy + j * L.h), ly, L.h, ih, i2ly, rwy[j - j0],
                                         rgy[j - j0]);
-      reserve(m + static_cast<size_t>((i1 - i0 + 1) * (j1 - j0 + 1)) +
-              16 * static_cast<size_t>(n - k));
+      reserve(m + static_cast<size_t>((i1 - i0 + 1) * (j1 - j0 + 1)));
       PetscInt *node = s.node.data();
       double *wxs = s.wx.data(), *wys = s.wy.data(), *gxs = s.gx.data(), *gys = s.gy.data();
       for (PetscInt j = j0; j <= j1; ++j) {
