@@ -14,15 +14,9 @@ namespace gimp {
 
 namespace {
 
-std::string fmt(double v) {
-  std::ostringstream s;
-  s.precision(12);
-  s << v;
-  return s.str();
-}
-
 std::string boxText(const Box &b) {
-  return fmt(b[0]) + "," + fmt(b[1]) + "," + fmt(b[2]) + "," + fmt(b[3]);
+  return formatNumber(b[0]) + "," + formatNumber(b[1]) + "," + formatNumber(b[2]) + "," +
+         formatNumber(b[3]);
 }
 
 /// floor and ceil to an integer without a libm call (the hot loop of buildStencils).
@@ -85,9 +79,9 @@ void Grid::setGeometry(const Scene &sc) {
       const double parentH = k == 0 ? sc.h : levels[k - 1].h;
       std::int64_t m = 0;
       if (!wholeMultiple(L.box[d] - o, parentH, m))
-        throw InputError(opt + ": corner coordinate " + fmt(L.box[d]) +
+        throw InputError(opt + ": corner coordinate " + formatNumber(L.box[d]) +
                          " is not on a grid line of level " + std::to_string(k ? k - 1 : 0) +
-                         " (lines at " + fmt(o) + " + i * " + fmt(parentH) + ")");
+                         " (lines at " + formatNumber(o) + " + i * " + formatNumber(parentH) + ")");
       c[d] = m * (k == 0 ? total : levels[k - 1].step);
     }
     L.u0 = c[0];
@@ -373,8 +367,9 @@ void Grid::buildStencils(PetscInt n, const double *x, const double *l, Stencils 
       const PetscInt j1 = std::min(iceil((by - oy) * ih) - 1, L.wj1 - 1);
       if (i1 < i0 || j1 < j0) continue;
       if (i1 - i0 >= maxRange || j1 - j0 >= maxRange) // only for a particle larger than h0
-        throw InputError("particle at (" + fmt(xp) + ", " + fmt(yp) + ") with half-size (" +
-                         fmt(lx) + ", " + fmt(ly) + ") is larger than a level-0 cell");
+        throw InputError("particle at (" + formatNumber(xp) + ", " + formatNumber(yp) +
+                         ") with half-size (" + formatNumber(lx) + ", " + formatNumber(ly) +
+                         ") is larger than a level-0 cell");
       const double i2lx = 0.5 / lx, i2ly = 0.5 / ly;
       for (PetscInt i = i0; i <= i1; ++i)
         shape::weightAndGradientUniform(xp - (ox + i * L.h), lx, L.h, ih, i2lx, rwx[i - i0],

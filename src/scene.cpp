@@ -7,17 +7,10 @@ namespace gimp {
 
 namespace {
 
-std::string fmt(double v) {
-  std::ostringstream s;
-  s.precision(12);
-  s << v;
-  return s.str();
-}
-
 std::string fmtList(const double *v, PetscInt n) {
   std::string r;
   for (PetscInt i = 0; i < n; ++i)
-    r += (i ? "," : "") + fmt(v[i]);
+    r += (i ? "," : "") + formatNumber(v[i]);
   return r;
 }
 
@@ -47,6 +40,13 @@ PetscErrorCode checkChoice(const std::string &opt, const char *const *list, int 
 }
 
 } // namespace
+
+std::string formatNumber(double v) {
+  std::ostringstream s;
+  s.precision(12);
+  s << v;
+  return s.str();
+}
 
 double Ramp::at(double time) const {
   if (t.empty()) return 1.0;
@@ -101,11 +101,11 @@ PetscErrorCode readMaterial(MPI_Comm comm, Scene &sc) {
   m.planeStrain = plane == 0;
   if (sc.help) return PETSC_SUCCESS;
   if (!setE) bad("gimp_E", "(missing)", "Young's modulus is required, a value > 0 in Pa");
-  if (!(m.E > 0)) bad("gimp_E", fmt(m.E), "must be > 0 [Pa]");
+  if (!(m.E > 0)) bad("gimp_E", formatNumber(m.E), "must be > 0 [Pa]");
   if (!setRho) bad("gimp_rho", "(missing)", "density is required, a value > 0 in kg/m^3");
-  if (!(m.rho > 0)) bad("gimp_rho", fmt(m.rho), "must be > 0 [kg/m^3]");
-  if (!(m.nu > -1.0 && m.nu < 0.5)) bad("gimp_nu", fmt(m.nu), "must lie in (-1, 0.5)");
-  if (!(m.thickness > 0)) bad("gimp_thickness", fmt(m.thickness), "must be > 0 [m]");
+  if (!(m.rho > 0)) bad("gimp_rho", formatNumber(m.rho), "must be > 0 [kg/m^3]");
+  if (!(m.nu > -1.0 && m.nu < 0.5)) bad("gimp_nu", formatNumber(m.nu), "must lie in (-1, 0.5)");
+  if (!(m.thickness > 0)) bad("gimp_thickness", formatNumber(m.thickness), "must be > 0 [m]");
   m.mu = m.E / (2.0 * (1.0 + m.nu));
   m.lambda = m.E * m.nu / ((1.0 + m.nu) * (1.0 - 2.0 * m.nu));
   m.lambdaStar = m.lambdaEff();
@@ -172,7 +172,7 @@ PetscErrorCode readBodies(MPI_Comm comm, Scene &sc) {
       bad(q + "ppc", std::to_string(ppc), "must be a perfect square (1, 4, 9, 16, 25, ...)");
     if (hppc != 0 && !isPerfectSquare(hppc))
       bad(q + "hole_ppc", std::to_string(hppc), "must be 0 or a perfect square (1, 4, 9, ...)");
-    if (band < 0) bad(q + "hole_band", fmt(band), "must be >= 0 [m]");
+    if (band < 0) bad(q + "hole_band", formatNumber(band), "must be >= 0 [m]");
     if (nvel != 2 && nvel != 0) bad(q + "velocity", fmtList(vel, nvel), "needs 2 values vx,vy");
     std::copy(box, box + 4, b.box.begin());
     b.ppc = static_cast<int>(ppc);
@@ -180,7 +180,8 @@ PetscErrorCode readBodies(MPI_Comm comm, Scene &sc) {
     b.holeBand = band;
     b.velocity = {vel[0], vel[1]};
     if (profile == 1 && !(k0 != 0))
-      bad(q + "wavenumber", fmt(k0), "velocity_profile sine_x needs a non-zero wavenumber [1/m]");
+      bad(q + "wavenumber", formatNumber(k0),
+          "velocity_profile sine_x needs a non-zero wavenumber [1/m]");
     b.sineProfile = profile == 1;
     b.wavenumber = k0;
     sc.bodies.push_back(b);
@@ -275,7 +276,8 @@ PetscErrorCode readLoads(MPI_Comm comm, Scene &sc) {
     if (nbc < 0) bad("gimp_bcs", std::to_string(nbc), "must be >= 0");
     if (np < 0) bad("gimp_probes", std::to_string(np), "must be >= 0");
     if (ndbc < 0) bad("gimp_dbcs", std::to_string(ndbc), "must be >= 0");
-    if (sc.penalty < 0) bad("gimp_penalty", fmt(sc.penalty), "must be >= 0 [Pa/m] (0: automatic)");
+    if (sc.penalty < 0)
+      bad("gimp_penalty", formatNumber(sc.penalty), "must be >= 0 [Pa/m] (0: automatic)");
   }
   for (PetscInt k = 0; k < (sc.help ? 1 : nt); ++k) {
     Traction t;
@@ -315,7 +317,7 @@ PetscErrorCode readLoads(MPI_Comm comm, Scene &sc) {
     PetscCall(readRamp(comm, p + "ux", d.u[0], sc.help));
     PetscCall(readRamp(comm, p + "uy", d.u[1], sc.help));
     if (sc.help) continue;
-    if (!(scale > 0)) bad(p.substr(1) + "penalty_scale", fmt(scale), "must be > 0");
+    if (!(scale > 0)) bad(p.substr(1) + "penalty_scale", formatNumber(scale), "must be > 0");
     d.fix[0] = comp != 1;
     d.fix[1] = comp != 0;
     for (int c = 0; c < 2; ++c)
@@ -423,7 +425,7 @@ PetscErrorCode readLevels(MPI_Comm comm, Scene &sc) {
     if (!setBox) bad(q + "box", "(missing)", "each level > 0 needs its box x0,y0,x1,y1 [m]");
     if (nbox != 4) bad(q + "box", fmtList(box, nbox), "needs 4 values x0,y0,x1,y1 [m]");
     if (!(ratio >= 2 && ratio <= 16 && ratio == std::round(ratio)))
-      bad(q + "ratio", fmt(ratio), "must be an integer from 2 to 16");
+      bad(q + "ratio", formatNumber(ratio), "must be an integer from 2 to 16");
     LevelSpec L;
     std::copy(box, box + 4, L.box.begin());
     L.ratio = static_cast<int>(ratio);
@@ -543,17 +545,18 @@ PetscErrorCode readScene(MPI_Comm comm, Scene &sc) {
   if (sc.help) return readLevels(comm, sc);
 
   if (!setH) bad("gimp_h", "(missing)", "the cell size is required, a value > 0 in m");
-  if (!(sc.h > 0)) bad("gimp_h", fmt(sc.h), "must be > 0 [m]");
-  if (sc.damping < 0) bad("gimp_damping", fmt(sc.damping), "must be >= 0 [1/s]");
-  if (!(sc.flip >= 0 && sc.flip <= 1)) bad("gimp_flip", fmt(sc.flip), "must lie in [0, 1]");
+  if (!(sc.h > 0)) bad("gimp_h", formatNumber(sc.h), "must be > 0 [m]");
+  if (sc.damping < 0) bad("gimp_damping", formatNumber(sc.damping), "must be >= 0 [1/s]");
+  if (!(sc.flip >= 0 && sc.flip <= 1))
+    bad("gimp_flip", formatNumber(sc.flip), "must lie in [0, 1]");
   if (!(sc.massCutoff >= 0 && sc.massCutoff < 1))
-    bad("gimp_mass_cutoff", fmt(sc.massCutoff), "must lie in [0, 1)");
-  if (!(sc.cfl > 0 && sc.cfl <= 1)) bad("gimp_cfl", fmt(sc.cfl), "must lie in (0, 1]");
+    bad("gimp_mass_cutoff", formatNumber(sc.massCutoff), "must lie in [0, 1)");
+  if (!(sc.cfl > 0 && sc.cfl <= 1)) bad("gimp_cfl", formatNumber(sc.cfl), "must lie in (0, 1]");
   if (!(sc.cornerSize >= 0.1 && sc.cornerSize <= 0.8))
-    bad("gimp_corner_size", fmt(sc.cornerSize),
+    bad("gimp_corner_size", formatNumber(sc.cornerSize),
         "must lie in [0.1, 0.8] (fraction of the particle size)");
   if (!(sc.separationThreshold > 0))
-    bad("gimp_separation_threshold", fmt(sc.separationThreshold), "must be > 0");
+    bad("gimp_separation_threshold", formatNumber(sc.separationThreshold), "must be > 0");
   if (sc.outputInterval < 0)
     bad("gimp_output_interval", std::to_string(sc.outputInterval), "must be >= 0");
   if (sc.historyInterval < 1)
@@ -562,7 +565,7 @@ PetscErrorCode readScene(MPI_Comm comm, Scene &sc) {
     bad("gimp_monitor_interval", std::to_string(sc.monitorInterval), "must be >= 0");
   if (pad < 0) bad("gimp_pad", std::to_string(pad), "must be >= 0");
   if (sc.mms != Mms::None && !(sc.mmsAmplitude > 0))
-    bad("gimp_mms_amplitude", fmt(sc.mmsAmplitude), "must be > 0 [m]");
+    bad("gimp_mms_amplitude", formatNumber(sc.mmsAmplitude), "must be > 0 [m]");
 
   if (setDom) {
     if (ndom != 4) bad("gimp_domain", fmtList(dom, ndom), "needs 4 values x0,y0,x1,y1 [m]");
@@ -589,8 +592,8 @@ PetscErrorCode readScene(MPI_Comm comm, Scene &sc) {
     const double n = (dom[d + 2] - dom[d]) / sc.h;
     if (std::fabs(n - std::round(n)) > 1e-6 * std::max(1.0, n))
       bad("gimp_domain", fmtList(dom, 4),
-          "its extent in " + std::string(d ? "y" : "x") + " (" + fmt(dom[d + 2] - dom[d]) +
-              " m) is not a whole number of cells of -gimp_h " + fmt(sc.h));
+          "its extent in " + std::string(d ? "y" : "x") + " (" + formatNumber(dom[d + 2] - dom[d]) +
+              " m) is not a whole number of cells of -gimp_h " + formatNumber(sc.h));
     if (std::round(n) < 2)
       bad("gimp_domain", fmtList(dom, 4), "needs at least 2 cells of -gimp_h in each direction");
   }

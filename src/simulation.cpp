@@ -16,13 +16,6 @@ namespace gimp {
 
 namespace {
 
-std::string fmt(double v) {
-  std::ostringstream s;
-  s.precision(10);
-  s << v;
-  return s.str();
-}
-
 /// Id slots per body: ids encode body, level, cell and sub-cell (see seedParticles).
 PetscInt64 bodySlots(const Grid &g) {
   PetscInt64 cells = 0;
@@ -32,7 +25,8 @@ PetscInt64 bodySlots(const Grid &g) {
 }
 
 std::string boxText(const Box &b) {
-  return fmt(b[0]) + "," + fmt(b[1]) + "," + fmt(b[2]) + "," + fmt(b[3]);
+  return formatNumber(b[0]) + "," + formatNumber(b[1]) + "," + formatNumber(b[2]) + "," +
+         formatNumber(b[3]);
 }
 
 /// While the scene is read, PETSc's own parsing errors (a number that is not one, an unknown
@@ -63,6 +57,12 @@ std::string optionWithValueIn(const std::string &message) {
   }
   (void)PetscFree(all);
   return found;
+}
+
+/// Centre along axis d of the rectangle spanned by a particle's four corners (x,y pairs).
+double cornerBoxCentre(const double *c, int d) {
+  return 0.5 * (std::min({c[d], c[d + 2], c[d + 4], c[d + 6]}) +
+                std::max({c[d], c[d + 2], c[d + 4], c[d + 6]}));
 }
 
 Simulation *fromTS(TS ts) {
@@ -204,9 +204,10 @@ PetscErrorCode Simulation::setup() {
     }
     PetscCallMPI(MPI_Allreduce(&outside, &gOutside, 1, MPI_INT64_T, MPI_MIN, comm_));
     if (gOutside != INT64_MAX)
-      throw InputError("option -gimp_domain " + fmt(sc_.domain[0]) + "," + fmt(sc_.domain[1]) +
-                       "," + fmt(sc_.domain[2]) + "," + fmt(sc_.domain[3]) + ": particle " +
-                       std::to_string(gOutside) + " of body " + std::to_string(gOutside / slots) +
+      throw InputError("option -gimp_domain " + formatNumber(sc_.domain[0]) + "," +
+                       formatNumber(sc_.domain[1]) + "," + formatNumber(sc_.domain[2]) + "," +
+                       formatNumber(sc_.domain[3]) + ": particle " + std::to_string(gOutside) +
+                       " of body " + std::to_string(gOutside / slots) +
                        " is not inside the grid; enlarge the domain or -gimp_pad");
     PetscCall(p.restore(sw_));
   }
@@ -297,11 +298,12 @@ PetscErrorCode Simulation::setup() {
   }
   PetscReal dt = 0;
   PetscCall(TSGetTimeStep(ts_, &dt));
-  if (!(dt > 0)) throw InputError("option -ts_dt " + fmt(dt) + ": must be > 0 [s]");
+  if (!(dt > 0)) throw InputError("option -ts_dt " + formatNumber(dt) + ": must be > 0 [s]");
   if (dt > dtStable)
-    throw InputError("option -ts_dt " + fmt(dt) + ": exceeds the stable limit h / c_p = " +
-                     fmt(dtStable) + " s (finest h = " + fmt(grid_.hMin()) +
-                     " m, c_p = " + fmt(cp) + " m/s); choose -ts_dt <= " + fmt(dtStable));
+    throw InputError("option -ts_dt " + formatNumber(dt) + ": exceeds the stable limit h / c_p = " +
+                     formatNumber(dtStable) + " s (finest h = " + formatNumber(grid_.hMin()) +
+                     " m, c_p = " + formatNumber(cp) +
+                     " m/s); choose -ts_dt <= " + formatNumber(dtStable));
   PetscCall(TSSetSolution(ts_, P_));
 
   // Penalty of Eq. 9. Its spring on a boundary node (alpha h per unit thickness against a mass
@@ -317,10 +319,10 @@ PetscErrorCode Simulation::setup() {
       for (const DisplacementBC &d : sc_.dbcs)
         worst = std::max(worst, d.penaltyScale);
       if (alpha_ * worst > limit)
-        throw InputError("option -gimp_penalty " + fmt(sc_.penalty) +
-                         ": with the largest segment scale " + fmt(worst) +
-                         " it exceeds the stable limit 2 rho h_min / dt^2 = " + fmt(limit) +
-                         " Pa/m for -ts_dt " + fmt(dt));
+        throw InputError("option -gimp_penalty " + formatNumber(sc_.penalty) +
+                         ": with the largest segment scale " + formatNumber(worst) +
+                         " it exceeds the stable limit 2 rho h_min / dt^2 = " +
+                         formatNumber(limit) + " Pa/m for -ts_dt " + formatNumber(dt));
     }
     if (sc_.penaltyTraction) {
       // Without its symmetric counterpart, the traction term of Eq. 9 needs a penalty that
@@ -329,10 +331,11 @@ PetscErrorCode Simulation::setup() {
       for (const DisplacementBC &d : sc_.dbcs)
         weakest = std::min(weakest, d.penaltyScale);
       if (alpha_ * weakest < 4.0 * M / h)
-        throw InputError("option -gimp_penalty " + fmt(alpha_) +
+        throw InputError("option -gimp_penalty " + formatNumber(alpha_) +
                          ": with the smallest segment "
                          "scale " +
-                         fmt(weakest) + " it is below 4 M / h_min = " + fmt(4.0 * M / h) +
+                         formatNumber(weakest) +
+                         " it is below 4 M / h_min = " + formatNumber(4.0 * M / h) +
                          " Pa/m, where the traction term of Eq. 9 goes "
                          "unstable; raise it, or use -gimp_penalty_traction false");
     }
@@ -561,10 +564,8 @@ PetscErrorCode Simulation::computeStencils(const ParticleView &p) {
   centre_.resize(2 * static_cast<size_t>(p.n));
   for (PetscInt k = 0; k < p.n; ++k) {
     const double *c = &p.corners[8 * k];
-    centre_[2 * k] =
-        0.5 * (std::min({c[0], c[2], c[4], c[6]}) + std::max({c[0], c[2], c[4], c[6]}));
-    centre_[2 * k + 1] =
-        0.5 * (std::min({c[1], c[3], c[5], c[7]}) + std::max({c[1], c[3], c[5], c[7]}));
+    centre_[2 * k] = cornerBoxCentre(c, 0);
+    centre_[2 * k + 1] = cornerBoxCentre(c, 1);
   }
   grid_.buildStencils(p.n, centre_.data(), p.l, st_);
   return PETSC_SUCCESS;
@@ -614,8 +615,9 @@ PetscErrorCode Simulation::setConstraints() {
       const double o = bc.axis == 0 ? grid_.x0 : grid_.y0;
       PetscCall(DMCompositeRestoreAccessArray(grid_.dm, bcMask_, K, nullptr, sub.data()));
       throw InputError("option -gimp_bc" + std::to_string(b) + (bc.axis == 0 ? "_x " : "_y ") +
-                       fmt(bc.coord) + ": not on a level-0 grid line inside the domain (lines at " +
-                       fmt(o) + " + i * " + fmt(grid_.h0()) + ")");
+                       formatNumber(bc.coord) +
+                       ": not on a level-0 grid line inside the domain (lines at " +
+                       formatNumber(o) + " + i * " + formatNumber(grid_.h0()) + ")");
     }
     const Level &L0 = grid_.levels[0];
     const std::int64_t lineUnits = (bc.axis == 0 ? L0.u0 : L0.v0) + line * L0.step;
@@ -852,10 +854,7 @@ PetscErrorCode Simulation::separation(double t, PetscInt step, double &gap, doub
     for (int d = 0; d < 2; ++d) {
       // The particle's domain: centred on the material point, or the corners' rectangle.
       double centre = p.x[2 * k + d];
-      if (p.hasCorners) {
-        const double *c = &p.corners[8 * k + d];
-        centre = 0.5 * (std::min({c[0], c[2], c[4], c[6]}) + std::max({c[0], c[2], c[4], c[6]}));
-      }
+      if (p.hasCorners) centre = cornerBoxCentre(&p.corners[8 * k], d);
       r[1 + d] = p.X0[2 * k + d];
       r[3 + d] = centre;
       r[5 + d] = p.l[2 * k + d];
@@ -863,17 +862,8 @@ PetscErrorCode Simulation::separation(double t, PetscInt step, double &gap, doub
     }
   }
   PetscCall(p.restore(sw_));
-  const int mine = static_cast<int>(loc.size());
-  std::vector<int> counts(size_), displs(size_, 0);
-  PetscCallMPI(MPI_Gather(&mine, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, comm_));
   std::vector<double> all;
-  if (rank_ == 0) {
-    for (int r = 1; r < size_; ++r)
-      displs[r] = displs[r - 1] + counts[r - 1];
-    all.resize(static_cast<size_t>(displs.back() + counts.back()));
-  }
-  PetscCallMPI(MPI_Gatherv(loc.data(), mine, MPI_DOUBLE, all.data(), counts.data(), displs.data(),
-                           MPI_DOUBLE, 0, comm_));
+  PetscCall(gatherToRoot(loc, all));
   double res[2] = {0, 0};
   if (rank_ == 0) {
     const size_t n = all.size() / kCols;
@@ -1056,7 +1046,7 @@ PetscErrorCode Simulation::checkParticles(const ParticleView &p, PetscInt step, 
     else if (x - lx < d[0] || x + lx > d[2] || y - ly < d[1] || y + ly > d[3])
       why = "it left the grid domain (enlarge -gimp_domain or -gimp_pad)";
     else
-      why = "its half-size (" + fmt(lx) + ", " + fmt(ly) +
+      why = "its half-size (" + formatNumber(lx) + ", " + formatNumber(ly) +
             ") is not in (0, h0]: the particle is inverted or stretched beyond one level-0 cell";
     failed_ = true;
     PetscCall(PetscSynchronizedFPrintf(comm_, PETSC_STDERR,
@@ -1150,6 +1140,23 @@ PetscErrorCode Simulation::mmsErrors(double t, double &linf, double &rms) {
   return PETSC_SUCCESS;
 }
 
+PetscErrorCode Simulation::gatherToRoot(const std::vector<double> &loc, std::vector<double> &all) {
+  // Every rank's rows, concatenated on rank 0 (empty elsewhere): for dumps and measures that
+  // need all particles at once.
+  const int mine = static_cast<int>(loc.size());
+  std::vector<int> counts(size_), displs(size_, 0);
+  PetscCallMPI(MPI_Gather(&mine, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, comm_));
+  all.clear();
+  if (rank_ == 0) {
+    for (int r = 1; r < size_; ++r)
+      displs[r] = displs[r - 1] + counts[r - 1];
+    all.resize(static_cast<size_t>(displs.back() + counts.back()));
+  }
+  PetscCallMPI(MPI_Gatherv(loc.data(), mine, MPI_DOUBLE, all.data(), counts.data(), displs.data(),
+                           MPI_DOUBLE, 0, comm_));
+  return PETSC_SUCCESS;
+}
+
 PetscErrorCode Simulation::particleCount(PetscInt64 &n) {
   PetscInt nl = 0;
   PetscCall(DMSwarmGetLocalSize(sw_, &nl));
@@ -1173,17 +1180,8 @@ PetscErrorCode Simulation::holeMeasure(const std::string &dir, double &kt, doubl
     loc.insert(loc.end(), {std::atan2(dy, dx) * 180.0 / M_PI, d, hoop / pload, l});
   }
   PetscCall(p.restore(sw_));
-  const int mine = static_cast<int>(loc.size());
-  std::vector<int> counts(size_), displs(size_, 0);
-  PetscCallMPI(MPI_Gather(&mine, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, comm_));
   std::vector<double> all;
-  if (rank_ == 0) {
-    for (int q = 1; q < size_; ++q)
-      displs[q] = displs[q - 1] + counts[q - 1];
-    all.resize(static_cast<size_t>(displs.back() + counts.back()));
-  }
-  PetscCallMPI(MPI_Gatherv(loc.data(), mine, MPI_DOUBLE, all.data(), counts.data(), displs.data(),
-                           MPI_DOUBLE, 0, comm_));
+  PetscCall(gatherToRoot(loc, all));
   double res[2] = {std::numeric_limits<double>::quiet_NaN(),
                    std::numeric_limits<double>::quiet_NaN()};
   if (rank_ == 0 && !all.empty()) {
@@ -1251,17 +1249,8 @@ PetscErrorCode Simulation::writeParticleDump(const std::string &file) {
     r[11] = p.l[2 * k + 1];
   }
   PetscCall(p.restore(sw_));
-  const int mine = static_cast<int>(loc.size());
-  std::vector<int> counts(size_), displs(size_, 0);
-  PetscCallMPI(MPI_Gather(&mine, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, comm_));
   std::vector<double> all;
-  if (rank_ == 0) {
-    for (int r = 1; r < size_; ++r)
-      displs[r] = displs[r - 1] + counts[r - 1];
-    all.resize(static_cast<size_t>(displs.back() + counts.back()));
-  }
-  PetscCallMPI(MPI_Gatherv(loc.data(), mine, MPI_DOUBLE, all.data(), counts.data(), displs.data(),
-                           MPI_DOUBLE, 0, comm_));
+  PetscCall(gatherToRoot(loc, all));
   if (rank_ != 0) return PETSC_SUCCESS;
   const size_t n = all.size() / kCols;
   std::vector<size_t> order(n);

@@ -142,6 +142,9 @@ struct Scene {
   bool help = false;
 };
 
+/// A number as written in error messages (12 significant digits).
+std::string formatNumber(double v);
+
 /// Read and validate the scene from the options database (collective).
 PetscErrorCode readScene(MPI_Comm comm, Scene &scene);
 

@@ -72,6 +72,8 @@ public:
   PetscErrorCode probes(std::vector<ProbeState> &out);
   PetscErrorCode mmsErrors(double t, double &linf, double &rms);
   PetscErrorCode particleCount(PetscInt64 &n);
+  /// Concatenate every rank's rows on rank 0.
+  PetscErrorCode gatherToRoot(const std::vector<double> &loc, std::vector<double> &all);
   /// Largest gap between former neighbours / particle size, and the engineering strain of the
   /// particles' extent along x; warns once when the gap first exceeds the threshold.
   PetscErrorCode separation(double t, PetscInt step, double &gap, double &strain);
