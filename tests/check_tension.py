@@ -50,10 +50,8 @@ for size in (0.1, 0.5, 0.8):
         c.check("stress = true traction", abs(sxx / true - 1) < 0.08,
                 "middle sxx %.4e Pa, applied true stress %.4e Pa (height %.4f of H0): %.2f %%" %
                 (sxx, true, H / H0, 100 * (sxx / true - 1)))
-# Measured: 10 % and 50 % agree to 3e-4, 80 % is 1.1 % longer (the brief asks for 1 %; the
-# bound here is 1.5 % so that a real sensitivity still fails it).
+# Measured: 0.3698, 0.3689, 0.3679 at 10 %, 50 %, 80 %: a spread of 0.53 %.
 spread = (max(elong.values()) - min(elong.values())) / elong[0.5]
-c.check("corner size", spread < 0.015 and abs(elong[0.1] / elong[0.5] - 1) < 0.005,
-        "elongation %s: spread %.2e" %
+c.check("corner size", spread < 0.01, "elongation %s: spread %.2e" %
         (", ".join("%.4f at %g" % (elong[k], k) for k in sorted(elong)), spread))
 c.done()
