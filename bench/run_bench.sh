@@ -86,9 +86,20 @@ stages() {
        on && /^-----/ { exit }' "$1"
 }
 
-# The same grid with a one-cell body: the memory that does not grow with the particle count.
-read -r -a BASE_OPTS <<<"-gimp_body0_box 0,0,0.0078125,0.0078125 \
-  -gimp_domain -0.015625,-0.015625,1.015625,1.015625 -ts_max_steps 10"
+# base_opts SUMMARY: options for the baseline run, the memory that does not grow with the
+# particle count: the scene's grid (its level-0 domain from summary.json, the levels from the
+# options file) with body 0 cut down to one level-0 cell at its lower-left corner.
+base_opts() {
+  local lv h0 dom b0
+  lv=$(grep -m 1 '"box": \[' "$1")
+  h0=$(sed -n 's/.*"h": *\([-0-9.eE+]*\).*/\1/p' <<<"$lv")
+  dom=$(sed -n 's/.*"box": *\[\([^]]*\)\].*/\1/p' <<<"$lv" | tr -d ' ')
+  b0=$(awk '$1 == "-gimp_body0_box" { print $2; exit }' "$OPTS")
+  awk -v b="$b0" -v h="$h0" -v d="$dom" 'BEGIN {
+    split(b, c, ",")
+    printf "-gimp_body0_box %.17g,%.17g,%.17g,%.17g -gimp_domain %s -ts_max_steps 10",
+      c[1], c[2], c[1] + h, c[2] + h, d }'
+}
 
 printf 'gimp benchmark: %s\n' "$OPTS"
 printf 'machine: %s, %s cores\n' "$(lscpu | sed -n 's/^Model name: *//p' | head -n 1)" "$(nproc)"
@@ -107,8 +118,9 @@ for n in $RANKS; do
     fi
     [[ "$REPEAT" -gt 1 ]] && printf '  (%d rank(s), run %d: stepping stages %.3f s)\n' "$n" "$r" "$s" >&2
   done
-  run "base-n$n" "$n" "${BASE_OPTS[@]}"
   sum="$OUT/$best/summary.json"
+  read -r -a BASE_OPTS <<<"$(base_opts "$sum")"
+  run "base-n$n" "$n" "${BASE_OPTS[@]}"
   np=$(json_num "$sum" particles)
   steps=$(json_num "$sum" steps)
   wall=$(json_num "$sum" wall_seconds)

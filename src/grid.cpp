@@ -325,6 +325,16 @@ PetscMPIInt Grid::ownerOf(double x, double y) const {
   return static_cast<PetscMPIInt>(ry * (static_cast<PetscInt>(ownX_.size()) - 1) + rx); // x fastest
 }
 
+void Grid::ownedBox(PetscMPIInt r, double box[4]) const {
+  const Level &L = levels[0];
+  const PetscInt nrx = static_cast<PetscInt>(ownX_.size()) - 1, rx = r % nrx, ry = r / nrx;
+  const double inf = std::numeric_limits<double>::infinity();
+  box[0] = ownX_[rx] == 0 ? -inf : x0 + ownX_[rx] * L.h;
+  box[1] = ownY_[ry] == 0 ? -inf : y0 + ownY_[ry] * L.h;
+  box[2] = ownX_[rx + 1] >= L.M ? inf : x0 + ownX_[rx + 1] * L.h;
+  box[3] = ownY_[ry + 1] >= L.N ? inf : y0 + ownY_[ry + 1] * L.h;
+}
+
 void Grid::buildStencils(PetscInt n, const double *x, const double *l, Stencils &s) const {
   s.start.resize(static_cast<size_t>(n) + 1);
   size_t m = 0;

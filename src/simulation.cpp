@@ -541,8 +541,12 @@ PetscErrorCode Simulation::migrate() {
   ParticleView p;
   PetscCall(p.get(sw_));
   PetscInt64 moved = 0, any = 0;
+  double box[4];
+  grid_.ownedBox(rank_, box);
   for (PetscInt k = 0; k < p.n; ++k) {
-    const PetscMPIInt r = grid_.ownerOf(p.x[2 * k], p.x[2 * k + 1]);
+    const double x = p.x[2 * k], y = p.x[2 * k + 1];
+    if (x >= box[0] && x < box[2] && y >= box[1] && y < box[3]) continue; // stays here
+    const PetscMPIInt r = grid_.ownerOf(x, y);
     p.rank[k] = r;
     if (r != rank_) ++moved;
   }

@@ -79,4 +79,11 @@ step plot_slab "$py" "$root/tools/plot_slab.py" "$work/slab"
 step plate "$py" "$root/tools/study_plate.py" --gimp "$gimp" --root "$root" --work "$work/plate"
 step plot_plate "$py" "$root/tools/plot_plate.py" "$work/plate"
 
+# Particle domain tracking: tension scene, its two figures, and the MMS with tracking modes.
+step tension "$py" "$root/tests/check_tension.py" --gimp "$gimp" --root "$root" \
+  --work "$work/tension" --mpiexec "$mpiexec"
+step plot_tension "$py" "$root/tools/plot_tension.py" --gimp "$gimp" --work "$work/tension_plot"
+step mms_tracking "$py" "$root/tools/study_mms_tracking.py" --gimp "$gimp" \
+  --work "$work/mms_tracking"
+
 echo "make_docs: all steps done in $((SECONDS - start_all)) s; tables in $work/logs/, figures in $root/docs/img/"

@@ -79,6 +79,8 @@ public:
 
   /// Rank owning the level-0 cell containing (x, y).
   PetscMPIInt ownerOf(double x, double y) const;
+  /// The region of rank r's level-0 cells [x0, y0, x1, y1] (unbounded at the domain edges).
+  void ownedBox(PetscMPIInt r, double box[4]) const;
 
   /// Active nodes, zones and the stencils of n particles (positions x, half-sizes l).
   void buildStencils(PetscInt n, const double *x, const double *l, Stencils &s) const;
