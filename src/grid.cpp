@@ -244,6 +244,21 @@ PetscErrorCode Grid::create(MPI_Comm comm, const Scene &sc) {
       }
   }
 
+  // block3_[n]: the 3 x 3 block of n's level starting at n (n and the two nodes after it in x
+  // and y) lies in the window and is regular: buildStencils takes its closed-form path there.
+  block3_.assign(nWindow, 0);
+  for (int k = 0; k < K; ++k) {
+    const Level &L = levels[k];
+    for (PetscInt j = L.wj0; j + 2 < L.wj1; ++j)
+      for (PetscInt i = L.wi0; i + 2 < L.wi1; ++i) {
+        bool ok = true;
+        for (PetscInt b = 0; b < 3; ++b)
+          for (PetscInt a = 0; a < 3; ++a)
+            ok = ok && regular[L.offset + (j + b - L.wj0) * L.wnx() + (i + a - L.wi0)];
+        block3_[L.offset + (j - L.wj0) * L.wnx() + (i - L.wi0)] = ok;
+      }
+  }
+
   // Scatter between the composite global Vec and the window: composite index of each window
   // node. A composite's local part is rank r's owned part of level 0, then of level 1, ...
   std::vector<std::vector<PetscInt>> levelStart(K); // level node ownership starts per rank
@@ -340,7 +355,7 @@ void Grid::buildStencils(PetscInt n, const double *x, const double *l, Stencils 
   size_t m = 0;
   auto reserve = [&s](size_t want) {
     if (s.node.size() >= want) return;
-    const size_t cap = std::max(want, 2 * s.node.size());
+    const size_t cap = std::max(want, s.node.size() + s.node.size() / 2);
     s.node.resize(cap);
     s.wx.resize(cap);
     s.wy.resize(cap);
@@ -371,11 +386,36 @@ void Grid::buildStencils(PetscInt n, const double *x, const double *l, Stencils 
         if (ax >= f[0] && bx <= f[2] && ay >= f[1] && by <= f[3]) continue;
       }
       const double ox = L.box[0], oy = L.box[1], ih = 1.0 / L.h;
-      const PetscInt i0 = std::max(ifloor((ax - ox) * ih) + 1, L.wi0);
+      const PetscInt ir = ifloor((ax - ox) * ih) + 1, jr = ifloor((ay - oy) * ih) + 1;
+      const PetscInt i0 = std::max(ir, L.wi0);
       const PetscInt i1 = std::min(iceil((bx - ox) * ih) - 1, L.wi1 - 1);
-      const PetscInt j0 = std::max(ifloor((ay - oy) * ih) + 1, L.wj0);
+      const PetscInt j0 = std::max(jr, L.wj0);
       const PetscInt j1 = std::min(iceil((by - oy) * ih) - 1, L.wj1 - 1);
       if (i1 < i0 || j1 < j0) continue;
+      if (inside && ir == i0 && jr == j0 && i1 - i0 <= 2 && j1 - j0 <= 2 && i0 + 2 < L.wi1 &&
+          j0 + 2 < L.wj1 && lx <= 0.5 * L.h && ly <= 0.5 * L.h &&
+          block3_[L.offset + (j0 - L.wj0) * L.wnx() + (i0 - L.wi0)]) {
+        // A regular 3 x 3 block of this level: closed-form weights, the same node set.
+        double fwx[3], fgx[3], fwy[3], fgy[3];
+        const double lamx = lx * ih, lamy = ly * ih, i2lx = 0.5 / lamx, i2ly = 0.5 / lamy;
+        shape::uniformWeights3((xp - (ox + i0 * L.h)) * ih, lamx, i2lx, i2lx * ih, fwx, fgx);
+        shape::uniformWeights3((yp - (oy + j0 * L.h)) * ih, lamy, i2ly, i2ly * ih, fwy, fgy);
+        reserve(m + 9);
+        PetscInt *node = s.node.data();
+        double *wxs = s.wx.data(), *wys = s.wy.data(), *gxs = s.gx.data(), *gys = s.gy.data();
+        for (PetscInt j = j0; j <= j1; ++j) {
+          const PetscInt row = L.offset + (j - L.wj0) * L.wnx() - L.wi0;
+          for (PetscInt i = i0; i <= i1; ++i) {
+            node[m] = row + i;
+            wxs[m] = fwx[i - i0];
+            gxs[m] = fgx[i - i0];
+            wys[m] = fwy[j - j0];
+            gys[m] = fgy[j - j0];
+            ++m;
+          }
+        }
+        continue;
+      }
       if (i1 - i0 >= maxRange || j1 - j0 >= maxRange) // only for a particle larger than h0
         throw InputError("particle at (" + formatNumber(xp) + ", " + formatNumber(yp) +
                          ") with half-size (" + formatNumber(lx) + ", " + formatNumber(ly) +

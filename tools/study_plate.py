@@ -119,10 +119,11 @@ print("| run | grid | particles | steps (time) | wall [s] | probe particle x0, y
 print("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |")
 for r in rows:
     print("| %s | %s | %d | %d (%.0f µs) | %.1f | %.4f, %.4f (%.4f) | %.4f | %.2f … %.2f | %.4f | "
-          "%.4f | %.4f | %+.1e | %.1e |" %
+          "%.4f | %s | %+.1e | %.1e |" %
           (r["kind"], r["grid"], r["particles"], r["steps"], r["time_us"], r["wall"], r["x0_mm"],
            r["y0_mm"], r["r_mm"], r["kt"], r["kt_min_2nd_half"], r["kt_max_2nd_half"],
-           r["kirsch_r"], r["kirsch_r_fw"], r["kt_edge"], r["kt_change_last_quarter"],
-           r["ke_over_strain"]))
+           r["kirsch_r"], r["kirsch_r_fw"],
+           "null" if math.isnan(r["kt_edge"]) else "%.4f" % r["kt_edge"],
+           r["kt_change_last_quarter"], r["ke_over_strain"]))
 print("\nfar probe (20, 20) mm, sxx / p: " +
       ", ".join("%s %.4f" % (r["name"], r["far_sxx"]) for r in rows))

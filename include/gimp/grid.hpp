@@ -104,6 +104,7 @@ public:
 private:
   static constexpr std::uint8_t kActive = 1, kRegular = 2;
   std::vector<std::uint8_t> flags_;   // active and regular in one byte per window node
+  std::vector<std::uint8_t> block3_;  // the 3 x 3 block of one level from this node is regular
   std::vector<PetscInt> ownX_, ownY_; // level-0 node ownership: first node of each rank column
   VecScatter scatter_ = nullptr;
   Vec windowTemplate_ = nullptr;
