@@ -505,6 +505,13 @@ PetscErrorCode readScene(MPI_Comm comm, Scene &sc) {
                              "Nodes lighter than this fraction of the mean particle mass are "
                              "treated as empty [-]",
                              "docs/options.md", sc.massCutoff, &sc.massCutoff, nullptr));
+  PetscCall(PetscOptionsReal("-gimp_static_tol",
+                             "Stop at rest: when the kinetic energy falls below this fraction of "
+                             "the strain energy at a history row (0: off) [-]",
+                             "docs/options.md", sc.staticTol, &sc.staticTol, nullptr));
+  PetscCall(PetscOptionsReal("-gimp_static_min_time",
+                             "Earliest time the rest criterion may stop the run [s]",
+                             "docs/options.md", sc.staticTime, &sc.staticTime, nullptr));
   PetscCall(PetscOptionsReal("-gimp_cfl", "Default time step as a fraction of h / c_p [-]",
                              "docs/options.md", sc.cfl, &sc.cfl, nullptr));
   PetscCall(PetscOptionsEList("-gimp_mms", "Manufactured solution: none or skb1d",
@@ -552,6 +559,10 @@ PetscErrorCode readScene(MPI_Comm comm, Scene &sc) {
   if (!(sc.massCutoff >= 0 && sc.massCutoff < 1))
     bad("gimp_mass_cutoff", formatNumber(sc.massCutoff), "must lie in [0, 1)");
   if (!(sc.cfl > 0 && sc.cfl <= 1)) bad("gimp_cfl", formatNumber(sc.cfl), "must lie in (0, 1]");
+  if (!(sc.staticTol >= 0 && sc.staticTol < 1))
+    bad("gimp_static_tol", formatNumber(sc.staticTol), "must lie in [0, 1) (0: off)");
+  if (!(sc.staticTime >= 0))
+    bad("gimp_static_min_time", formatNumber(sc.staticTime), "must be >= 0 [s]");
   if (!(sc.cornerSize >= 0.1 && sc.cornerSize <= 0.8))
     bad("gimp_corner_size", formatNumber(sc.cornerSize),
         "must lie in [0.1, 0.8] (fraction of the particle size)");

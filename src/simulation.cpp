@@ -521,6 +521,19 @@ PetscErrorCode Simulation::postStep(TS ts) {
 
   PetscCall(PetscLogStagePush(s->stageOutput_));
   if (step % sc.historyInterval == 0) PetscCall(s->out_->writeHistory(step, t));
+  if (sc.staticTol > 0 && step % sc.historyInterval == 0 && t >= sc.staticTime) {
+    // Energy-based rest criterion for runs damped to a static state.
+    Energies e;
+    PetscCall(s->energies(e));
+    if (e.strain > 0 && e.kinetic < sc.staticTol * e.strain) {
+      s->atRest_ = true;
+      PetscCall(PetscPrintf(s->comm_,
+                            "gimp: at rest at step %" PetscInt_FMT " t %.6g s: kinetic / strain "
+                            "energy %.3g < %.3g\n",
+                            step, (double)t, e.kinetic / e.strain, sc.staticTol));
+      PetscCall(TSSetConvergedReason(ts, TS_CONVERGED_USER));
+    }
+  }
   if (sc.outputInterval > 0 && step % sc.outputInterval == 0)
     PetscCall(s->out_->writeFields(step, t));
   if (sc.monitorInterval > 0 && step % sc.monitorInterval == 0) {

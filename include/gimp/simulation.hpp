@@ -136,6 +136,7 @@ private:
                 stageOutput_ = 0;
   PetscLogDouble wall0_ = 0;
   bool failed_ = false;
+  bool atRest_ = false; // stopped by the rest criterion (-gimp_static_tol)
   friend class Output;
 };
 
