@@ -19,16 +19,17 @@ def parse_args():
     return a
 
 
-def run(args, opts_file, extra=(), ranks=1, outdir=None, expect_ok=True):
+def run(args, opts_file, extra=(), ranks=1, outdir=None, expect_ok=True, cwd=None):
     """Run gimp on opts_file (relative to the repo root) with extra options; return the
-    output directory (or the completed process when expect_ok is False)."""
+    output directory (or the completed process when expect_ok is False). cwd defaults to the
+    work directory; a scene that includes another options file runs from runs/."""
     outdir = outdir or os.path.join(args.work, os.path.splitext(os.path.basename(opts_file))[0])
     cmd = [args.gimp, "-options_file", os.path.join(args.root, opts_file),
            "-gimp_output_dir", outdir] + list(extra)
     if ranks > 1:
         cmd = [args.mpiexec, "-n", str(ranks)] + cmd
     env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
-    p = subprocess.run(cmd, cwd=args.work, env=env, capture_output=True, text=True)
+    p = subprocess.run(cmd, cwd=cwd or args.work, env=env, capture_output=True, text=True)
     if not expect_ok:
         return p
     if p.returncode != 0:
