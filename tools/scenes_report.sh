@@ -36,12 +36,15 @@ if [[ -z "${NORUN:-}" ]]; then
   g ind_d -options_file "$opts/indentation_d.opts"
   g ind_cx50 -options_file "$opts/indentation_c.opts" \
     -gimp_level1_box -4e-6,12e-6,24e-6,40e-6 -gimp_level2_box -2e-6,20e-6,20e-6,40e-6
-  # Plate with a hole, static state by heavy damping.
-  S="-gimp_damping 3e5 -ts_max_steps 20000 -gimp_output_interval 0 -gimp_monitor_interval 0"
+  # Plate with a hole, damped to rest (the rest criterion of the static scenes).
+  S="-gimp_damping 3e5 -ts_max_steps 60000 -gimp_static_tol 1e-6 -gimp_static_min_time 50e-6
+     -gimp_history_interval 100 -gimp_output_interval 0 -gimp_monitor_interval 0"
   g plate_u1 -options_file "$opts/plate_uniform.opts" $S -gimp_h 1e-3
   g plate_u05 -options_file "$opts/plate_uniform.opts" $S -gimp_h 0.5e-3
   g plate_u025 -options_file "$opts/plate_uniform.opts" $S -gimp_h 0.25e-3
+  g plate_u0125 -options_file "$opts/plate_uniform.opts" $S -gimp_h 0.125e-3
   g plate_ml -options_file "$opts/plate.opts" $S
+  g plate_ml0125 -options_file "$opts/plate.opts" $S -gimp_h 0.5e-3
   # Slab, dt proportional to h, same end time 30 us; a fixed grid with room for the stretch.
   D="-gimp_domain -2e-3,-2e-3,12e-3,5e-3"
   g slab_h1 -options_file "$opts/slab.opts" $D -gimp_h 1e-3 -ts_dt 10e-9 -ts_max_steps 3000
