@@ -44,6 +44,8 @@ if [[ -z "${NORUN:-}" ]]; then
   g plate_u025 -options_file "$opts/plate_uniform.opts" $S -gimp_h 0.25e-3
   g plate_u0125 -options_file "$opts/plate_uniform.opts" $S -gimp_h 0.125e-3
   g plate_ml -options_file "$opts/plate.opts" $S
+  g plate_2l -options_file "$opts/plate_uniform.opts" $S -gimp_h 0.5e-3 -gimp_levels 2 \
+    -gimp_level1_box -0.5e-3,-0.5e-3,5e-3,5e-3 -gimp_level1_ratio 2
   g plate_ml0125 -options_file "$opts/plate.opts" $S -gimp_h 0.5e-3
   # Slab, dt proportional to h, same end time 30 us; a fixed grid with room for the stretch.
   D="-gimp_domain -2e-3,-2e-3,12e-3,5e-3"
