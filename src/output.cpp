@@ -239,7 +239,9 @@ PetscErrorCode Output::writeSummary(PetscInt steps, double t, double wall) {
   if (!f) throw InputError("option -gimp_output_dir " + dir_ + ": cannot write summary.json");
   std::fprintf(f, "{\n  \"scene\": \"%s\",\n  \"version\": \"%s\",\n  \"status\": \"%s\",\n",
                sc.name.c_str(), GIMP_VERSION,
-               sim_.failed_ ? "unstable" : sim_.atRest_ ? "at_rest" : "completed");
+               sim_.failed_   ? "unstable"
+               : sim_.atRest_ ? "at_rest"
+                              : "completed");
   std::fprintf(f,
                "  \"ranks\": %d,\n  \"steps\": %lld,\n  \"time\": %.12e,\n  \"dt\": %.12e,\n"
                "  \"wall_seconds\": %.6f,\n  \"particles\": %lld,\n",

@@ -129,7 +129,7 @@ PetscErrorCode readBodies(MPI_Comm comm, Scene &sc) {
     PetscInt profile = 0;
     PetscReal band = 0, k0 = 0;
     PetscCall(checkChoice(p + "velocity_profile", profiles, 2));
-    PetscOptionsBegin(comm, nullptr, "Body", "gimp");
+    PetscOptionsBegin(comm, nullptr, ("Body " + p + "*").c_str(), "gimp");
     PetscCall(PetscOptionsRealArray((p + "box").c_str(), "Body rectangle x0,y0,x1,y1 [m]",
                                     "docs/options.md", box, &nbox, &setBox));
     PetscCall(PetscOptionsRealArray((p + "holes").c_str(),
@@ -193,7 +193,7 @@ PetscErrorCode readRamp(MPI_Comm comm, const std::string &opt, Ramp &r, bool hel
   PetscReal v[201] = {0};
   PetscInt n = 201;
   PetscBool set = PETSC_FALSE;
-  PetscOptionsBegin(comm, nullptr, "Ramp", "gimp");
+  PetscOptionsBegin(comm, nullptr, ("Table " + opt).c_str(), "gimp");
   PetscCall(PetscOptionsRealArray(opt.c_str(),
                                   "Load factor table t0,f0,t1,f1,... [s,-], linear in between, "
                                   "held after the last entry (default: constant 1)",
@@ -218,7 +218,7 @@ PetscErrorCode readSegment(MPI_Comm comm, const std::string &p, const char *what
   PetscReal rng[2] = {0, 0};
   PetscBool setR = PETSC_FALSE;
   PetscCall(checkChoice(p + "side", kSides, 4));
-  PetscOptionsBegin(comm, nullptr, what, "gimp");
+  PetscOptionsBegin(comm, nullptr, (std::string(what) + " segment " + p + "*").c_str(), "gimp");
   PetscCall(PetscOptionsInt((p + "body").c_str(), "Body it acts on", "docs/options.md", body, &body,
                             nullptr));
   PetscCall(PetscOptionsEList((p + "side").c_str(), "Side of the body's rectangle",
@@ -286,7 +286,7 @@ PetscErrorCode readLoads(MPI_Comm comm, Scene &sc) {
     PetscReal val[2] = {0, 0};
     PetscBool setV = PETSC_FALSE;
     PetscCall(readSegment(comm, p, "Traction", sc, t));
-    PetscOptionsBegin(comm, nullptr, "Traction", "gimp");
+    PetscOptionsBegin(comm, nullptr, ("Traction " + p + "*").c_str(), "gimp");
     PetscCall(PetscOptionsRealArray((p + "value").c_str(),
                                     "Traction vector tx,ty at full load [Pa]", "docs/options.md",
                                     val, &nv, &setV));
@@ -306,7 +306,7 @@ PetscErrorCode readLoads(MPI_Comm comm, Scene &sc) {
     PetscReal scale = 1.0;
     PetscCall(readSegment(comm, p, "Penalty displacement condition", sc, d));
     PetscCall(checkChoice(p + "components", comps, 3));
-    PetscOptionsBegin(comm, nullptr, "Penalty displacement condition", "gimp");
+    PetscOptionsBegin(comm, nullptr, ("Penalty displacement condition " + p + "*").c_str(), "gimp");
     PetscCall(PetscOptionsEList((p + "components").c_str(),
                                 "Constrained displacement components: x, y or xy",
                                 "docs/options.md", comps, 3, comps[2], &comp, nullptr));
@@ -336,7 +336,7 @@ PetscErrorCode readLoads(MPI_Comm comm, Scene &sc) {
     PetscInt nr = 2, type = 0;
     const char *types[] = {"fixed", "roller"};
     PetscCall(checkChoice(p + "type", types, 2));
-    PetscOptionsBegin(comm, nullptr, "Grid-node constraint", "gimp");
+    PetscOptionsBegin(comm, nullptr, ("Grid-node constraint " + p + "*").c_str(), "gimp");
     PetscCall(PetscOptionsReal((p + "x").c_str(),
                                "Constrain the grid nodes on the line x = value [m]",
                                "docs/options.md", x, &x, &setX));
@@ -373,7 +373,7 @@ PetscErrorCode readLoads(MPI_Comm comm, Scene &sc) {
     PetscInt nx = 2;
     PetscBool setX = PETSC_FALSE;
     pr.name = "probe" + std::to_string(k);
-    PetscOptionsBegin(comm, nullptr, "Probe", "gimp");
+    PetscOptionsBegin(comm, nullptr, ("Probe " + p + "*").c_str(), "gimp");
     PetscCall(PetscOptionsString((p + "name").c_str(), "Probe name in history.csv and summary.json",
                                  "docs/options.md", pr.name.c_str(), name, sizeof(name), nullptr));
     PetscCall(PetscOptionsRealArray((p + "x").c_str(),
@@ -411,7 +411,7 @@ PetscErrorCode readLevels(MPI_Comm comm, Scene &sc) {
     PetscReal box[4] = {0, 0, 0, 0}, ratio = 2;
     PetscInt nbox = 4;
     PetscBool setBox = PETSC_FALSE;
-    PetscOptionsBegin(comm, nullptr, "Grid level", "gimp");
+    PetscOptionsBegin(comm, nullptr, ("Grid level " + p + "*").c_str(), "gimp");
     PetscCall(PetscOptionsRealArray((p + "box").c_str(),
                                     "Box x0,y0,x1,y1 of this level, corners on the parent "
                                     "level's grid lines [m]",

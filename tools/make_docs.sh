@@ -11,8 +11,8 @@
 # to use an existing binary instead of building. Plots need Debian's /usr/bin/python3 with
 # matplotlib and numpy.
 #
-# Takes about 11 minutes on one core of the reference machine (two cores, nothing else
-# running); the plate study is half of it.
+# Took 543 s (9 minutes) on the two-core development machine with other work running; the
+# plate study (181 s) and the wave-reflection studies (160 s) are most of it.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 work="${1:-/tmp/gimp-docs}"

@@ -41,7 +41,7 @@ for name, style, label in (("paper_3level", "C0-", "3 levels 1.0 / 0.5 / 0.25 mm
     t, k = load(name)
     ax1.plot(t, k, style, lw=1.2, label=label)
 ax1.axvline(40, color="0.5", lw=0.8)
-ax1.set_title("(a) the paper's run: d = 1000 1/s, dt = 10 ns, 4000 steps", fontsize=9)
+ax1.set_title("(a) the paper's run: d = 1000 1/s, dt = 10 ns, 4000 steps (scene FLIP 0.99)", fontsize=9)
 for name, style, label in (("static_flip1_3level", "C0-", "3 levels, FLIP 1"),
                            ("static_flip1_h0.25", "C1-", "uniform 0.25 mm, FLIP 1"),
                            ("static_pic_3level", "C2-", "3 levels, PIC (FLIP 0)"),

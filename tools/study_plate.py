@@ -16,7 +16,7 @@ and two static PIC runs with finer levels at the top of the hole (static_pic_4le
 static_pic_5level: + 0.0625 mm). Writes WORK/plate.csv and prints the markdown table. The probe "hole_top" follows the particle
 nearest to (0, a); its sxx / p is compared with Kirsch's infinite-plate solution at that
 particle's initial position (r, theta) and with the finite-width gross-section value of a long
-strip, Heywood (2 + (1 - d/W)^3) / (1 - d/W) = 3.014 for d/W = 1/15 (REFERENCE.md section 3).
+strip, (2 + (1 - d/W)^3) / (1 - d/W) = 3.014 for d/W = 1/15 (REFERENCE.md section 3).
 --no-run tabulates the outputs already in WORK. --quick runs 2000 static steps (a smoke test of the script, not the documented numbers).
 """
 import argparse
@@ -40,7 +40,7 @@ args.mpiexec = "mpiexec"
 os.makedirs(args.work, exist_ok=True)
 
 P, A, D_OVER_W = 10e6, 2e-3, 4.0 / 60.0
-KT_HEYWOOD = (2 + (1 - D_OVER_W) ** 3) / (1 - D_OVER_W)
+KT_WIDTH = (2 + (1 - D_OVER_W) ** 3) / (1 - D_OVER_W)
 STATIC = ["-gimp_damping", "3e5", "-ts_max_steps", "2000" if args.quick else "20000",
           "-gimp_output_interval", "0", "-gimp_monitor_interval", "0",
           "-gimp_history_interval", "100"]
@@ -96,7 +96,7 @@ for name, opts, extra, grid, kind in RUNS:
         "name": name, "grid": grid, "kind": kind, "particles": s["particles"],
         "steps": s["steps"], "time_us": 1e6 * s["time"], "wall": s["wall_seconds"],
         "x0_mm": 1e3 * x0, "y0_mm": 1e3 * y0, "r_mm": 1e3 * math.hypot(x0, y0),
-        "kt": kt, "kirsch_r": kk, "kirsch_r_fw": kk * KT_HEYWOOD / 3.0,
+        "kt": kt, "kirsch_r": kk, "kirsch_r_fw": kk * KT_WIDTH / 3.0,
         "kt_change_last_quarter": kt - k3,
         "kt_min_2nd_half": min(half), "kt_max_2nd_half": max(half),
         "ke_over_strain": s["energy"]["kinetic"] / s["energy"]["strain"],
@@ -110,7 +110,7 @@ with open(os.path.join(args.work, "plate.csv"), "w", newline="") as f:
     w.writeheader()
     w.writerows(rows)
 
-print("Finite-width gross-section Kt (Heywood, long strip, d/W = 1/15): %.4f\n" % KT_HEYWOOD)
+print("Finite-width gross-section Kt (long strip, d/W = 1/15): %.4f\n" % KT_WIDTH)
 print("kt_edge: summary.json measures.kt_edge (-gimp_hole_measure), the linear extrapolation of "
       "the hoop stress to the edge on the 90-degree ray\n")
 print("| run | grid | particles | steps (time) | wall [s] | probe particle x0, y0 [mm] (r) | "
