@@ -297,8 +297,11 @@ PetscErrorCode Output::writeSummary(PetscInt steps, double t, double wall) {
     std::snprintf(b, sizeof(b), "%.12e", v);
     return std::string(b);
   };
-  if (sc.holeMeasure)
+  if (sc.holeMeasure) {
     std::fprintf(f, ", \"kt\": %s, \"kt_edge\": %s", num(kt).c_str(), num(ktEdge).c_str());
+    for (size_t a = 0; a < sim_.hoopByAngle_.size(); ++a)
+      std::fprintf(f, ", \"hoop_%zu\": %s", 15 * a, num(sim_.hoopByAngle_[a]).c_str());
+  }
   if (sc.mms != Mms::None)
     std::fprintf(f, ", \"mms_linf\": %.12e, \"mms_rms\": %.12e", sim_.mmsLinf_, sim_.mmsRms_);
   std::fprintf(f, "}\n}\n");

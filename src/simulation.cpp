@@ -1241,9 +1241,29 @@ PetscErrorCode Simulation::holeMeasure(const std::string &dir, double &kt, doubl
       }
     }
   }
+  // The hoop stress by angle: the first-layer particle nearest to 0, 15, ..., 90 degrees.
+  double hoop[kHoopAngles];
+  for (int a = 0; a < kHoopAngles; ++a)
+    hoop[a] = std::numeric_limits<double>::quiet_NaN();
+  if (rank_ == 0 && !all.empty()) {
+    const size_t n = all.size() / 4;
+    for (int a = 0; a < kHoopAngles; ++a) {
+      double best = 1e300;
+      for (size_t i = 0; i < n; ++i) {
+        if (all[4 * i + 1] - r > 1.5 * all[4 * i + 3]) continue; // first layer only
+        const double d = std::fabs(all[4 * i] - 15.0 * a);
+        if (d < best) {
+          best = d;
+          hoop[a] = all[4 * i + 2];
+        }
+      }
+    }
+  }
   PetscCallMPI(MPI_Bcast(res, 2, MPI_DOUBLE, 0, comm_));
+  PetscCallMPI(MPI_Bcast(hoop, kHoopAngles, MPI_DOUBLE, 0, comm_));
   kt = res[0];
   ktEdge = res[1];
+  hoopByAngle_.assign(hoop, hoop + kHoopAngles);
   return PETSC_SUCCESS;
 }
 

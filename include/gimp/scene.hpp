@@ -131,8 +131,8 @@ struct Scene {
   double separationThreshold = 0.05; // gap between former neighbours / particle size
   double massCutoff = 1e-8;          // relative to the mean particle mass
   double cfl = 0.3;
-  double staticTol = 0;   // stop when kinetic < staticTol * strain energy (0: never)
-  double staticTime = 0;  // ... but not before this time [s]
+  double staticTol = 0;  // stop when kinetic < staticTol * strain energy (0: never)
+  double staticTime = 0; // ... but not before this time [s]
   std::vector<Probe> probes;
   Mms mms = Mms::None;
   double mmsAmplitude = 1e-4;

@@ -136,7 +136,9 @@ private:
                 stageOutput_ = 0;
   PetscLogDouble wall0_ = 0;
   bool failed_ = false;
-  bool atRest_ = false; // stopped by the rest criterion (-gimp_static_tol)
+  bool atRest_ = false;                 // stopped by the rest criterion (-gimp_static_tol)
+  static constexpr int kHoopAngles = 7; // hoop stress samples at 0, 15, ..., 90 degrees
+  std::vector<double> hoopByAngle_;
   friend class Output;
 };
 
