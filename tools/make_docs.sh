@@ -86,4 +86,12 @@ step plot_tension "$py" "$root/tools/plot_tension.py" --gimp "$gimp" --work "$wo
 step mms_tracking "$py" "$root/tools/study_mms_tracking.py" --gimp "$gimp" \
   --work "$work/mms_tracking"
 
+# Scenes report (docs/scenes.md: indentation, plate and slab studies), the plate maps, the
+# speed-against-error figure and table (docs/performance.md) and the throughput benchmark.
+step scenes "$root/tools/scenes_report.sh" "$work/scenes"
+step plate_maps sh -c "cd '$root/runs' && '$gimp' -options_file plate_static.opts \
+  -gimp_output_dir '$work/plate_static' >/dev/null && '$py' '$root/tools/plot_plate_maps.py' '$work/plate_static'"
+step speed_error "$py" "$root/tools/speed_error.py" --gimp "$gimp" --work "$work/speed_error"
+step bench env GIMP_BUILD_DIR="$(dirname "$gimp")" GIMP_BENCH_NOBUILD=1 "$root/bench/run_bench.sh"
+
 echo "make_docs: all steps done in $((SECONDS - start_all)) s; tables in $work/logs/, figures in $root/docs/img/"
