@@ -60,19 +60,12 @@ def run(n, tag, extra=()):
     }
 
 
+
 def orders(rows, key):
-    """Observed order between successive rows, and the least-squares slope over all rows."""
-    pair = [None] + [math.log(a[key] / b[key]) / math.log(a["h"] / b["h"])
-                     for a, b in zip(rows, rows[1:])]
-    x = [math.log(r["h"]) for r in rows]
-    y = [math.log(r[key]) for r in rows]
-    mx, my = sum(x) / len(x), sum(y) / len(y)
-    fit = sum((a - mx) * (b - my) for a, b in zip(x, y)) / sum((a - mx) ** 2 for a in x)
-    return pair, fit
+    return gimptest.orders(rows, key, "h")
 
 
-def fmt_order(p):
-    return "     -" if p is None else "%6.2f" % p
+fmt_order = gimptest.fmt_order
 
 
 def table(title, rows):

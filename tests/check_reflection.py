@@ -153,18 +153,14 @@ def run(n):
     return res
 
 
+
 def orders(rows, key):
-    pair = [None] + [math.log(a[key] / b[key]) / math.log(a["h0"] / b["h0"])
-                     for a, b in zip(rows, rows[1:])]
-    x = [math.log(r["h0"]) for r in rows]
-    y = [math.log(r[key]) for r in rows]
-    mx, my = sum(x) / len(x), sum(y) / len(y)
-    fit = sum((a - mx) * (b - my) for a, b in zip(x, y)) / sum((a - mx) ** 2 for a in x)
-    return pair, fit
+    return gimptest.orders(rows, key, "h0")
+
 
 
 def fo(p):
-    return "    -" if p is None else "%5.2f" % p
+    return gimptest.fmt_order(p, 5)
 
 
 t_start = time.time()

@@ -1,6 +1,7 @@
 """Shared helpers for the verification scripts: run gimp, read its outputs, assert."""
 import argparse
 import csv
+import math
 import json
 import os
 import subprocess
@@ -72,3 +73,19 @@ class Checks:
         if self.failed:
             raise SystemExit("failed: " + ", ".join(self.failed))
         print("all checks passed")
+
+
+def orders(rows, key, hkey="h"):
+    """Observed order of rows[key] against rows[hkey] between successive rows (None first), and
+    the least-squares slope over all rows."""
+    pair = [None] + [math.log(a[key] / b[key]) / math.log(a[hkey] / b[hkey])
+                     for a, b in zip(rows, rows[1:])]
+    x = [math.log(r[hkey]) for r in rows]
+    y = [math.log(r[key]) for r in rows]
+    mx, my = sum(x) / len(x), sum(y) / len(y)
+    fit = sum((a - mx) * (b - my) for a, b in zip(x, y)) / sum((a - mx) ** 2 for a in x)
+    return pair, fit
+
+
+def fmt_order(p, width=6):
+    return "-".rjust(width) if p is None else "%*.2f" % (width, p)

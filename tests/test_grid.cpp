@@ -20,6 +20,8 @@
 #include "gimp/grid.hpp"
 #include "gimp/shape.hpp"
 
+#include "test_util.hpp"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -39,6 +41,9 @@
 
 namespace {
 
+using gimp::test::at;
+using gimp::test::Worst;
+
 using gimp::Box;
 using gimp::Grid;
 using gimp::InputError;
@@ -47,40 +52,6 @@ using gimp::LevelSpec;
 using gimp::Scene;
 using gimp::Stencils;
 using gimp::shape::tent;
-
-/// "name=value ..." with full precision, to report a failing case.
-std::string at(std::initializer_list<std::pair<const char *, double>> values) {
-  std::ostringstream s;
-  s.precision(17);
-  for (const auto &[name, v] : values)
-    s << name << '=' << v << ' ';
-  return s.str();
-}
-
-/// The largest error seen so far (NaN sticks) and a description of where it occurred.
-struct Worst {
-  double err = 0.0;
-  std::string where = "(no sample)";
-  long count = 0;
-  template <class F> void update(double e, F &&describe) {
-    ++count;
-    if (std::isnan(err)) return;
-    if (!(e <= err)) {
-      err = e;
-      where = describe();
-    }
-  }
-};
-
-// Checks the largest error and prints it with the sample count (kept in the ctest log).
-#define EXPECT_WORST_LE(worst, tol)                                                                \
-  do {                                                                                             \
-    std::printf("  %-11s max %9.3g  tol %7.1g  samples %ld\n", #worst, (worst).err, (tol),         \
-                (worst).count);                                                                    \
-    EXPECT_GT((worst).count, 0);                                                                   \
-    EXPECT_LE((worst).err, (tol)) << #worst << " over " << (worst).count << " samples, worst at "  \
-                                  << (worst).where;                                                \
-  } while (0)
 
 // ---------------------------------------------------------------------------------------------
 // Layouts.

@@ -73,9 +73,9 @@ struct CellBox {
 
 struct PatchLayout {
   std::string name;
-  int nx, ny;                               // level-0 cells of the domain
+  int nx, ny;                                // level-0 cells of the domain
   std::vector<std::pair<CellBox, int>> fine; // level boxes and their ratios
-  CellBox block;                            // the tiled block, on level-0 grid lines
+  CellBox block;                             // the tiled block, on level-0 grid lines
 };
 
 Box toBox(const CellBox &b) {
@@ -103,23 +103,23 @@ std::vector<PatchLayout> layouts() {
     // Level 2 inside the block, level 1 cut by the block's right and top edges.
     v.push_back({"middle" + s, 14, 12, {{L1, r1}, {{6 + f, 4, 8, 7 - f}, r2}}, {1, 1, 9, 8}});
     // The block's right edge cuts level 2: boundary nodes and small particles on all levels.
-    v.push_back({"edge in level 2" + s, 14, 12, {{L1, r1}, {{6 + f, 4, 8, 7 - f}, r2}},
-                 {1, 1, 7, 8}});
+    v.push_back(
+        {"edge in level 2" + s, 14, 12, {{L1, r1}, {{6 + f, 4, 8, 7 - f}, r2}}, {1, 1, 7, 8}});
     // Level 2 on level 1's left and bottom edges (its corner is level 1's corner).
     v.push_back({"parent corner" + s, 14, 12, {{L1, r1}, {{4, 3, 7 + f, 6}, r2}}, {1, 1, 9, 8}});
     // Level 2 on level 1's top edge; the block's top edge runs along both.
     v.push_back({"parent edge" + s, 14, 12, {{L1, r1}, {{6, 6, 8 + f, 9}, r2}}, {1, 1, 10, 9}});
     // All three levels share the domain corner; so does the block.
-    v.push_back({"domain corner" + s, 14, 12, {{{0, 0, 7, 6}, r1}, {{0, 0, 3, 3 - f}, r2}},
-                 {0, 0, 9, 8}});
+    v.push_back(
+        {"domain corner" + s, 14, 12, {{{0, 0, 7, 6}, r1}, {{0, 0, 3, 3 - f}, r2}}, {0, 0, 9, 8}});
     // A one-cell strip of level 2 across level 1 from its bottom to its top edge.
     v.push_back({"strip" + s, 14, 12, {{L1, r1}, {{7, 3, 7 + f, 9}, r2}}, {1, 2, 10, 8}});
     // Level 2 coincides with level 1: level-2 cells next to level-0 cells.
-    v.push_back({"coincident" + s, 14, 12, {{{5, 4, 10, 8}, r1}, {{5, 4, 10, 8}, r2}},
-                 {1, 1, 8, 7}});
+    v.push_back(
+        {"coincident" + s, 14, 12, {{{5, 4, 10, 8}, r1}, {{5, 4, 10, 8}, r2}}, {1, 1, 8, 7}});
     // The block's left and bottom edges run along level 1's boundary.
-    v.push_back({"block on interface" + s, 14, 12, {{L1, r1}, {{6, 4 + f, 9, 7}, r2}},
-                 {4, 3, 11, 11}});
+    v.push_back(
+        {"block on interface" + s, 14, 12, {{L1, r1}, {{6, 4 + f, 9, 7}, r2}}, {4, 3, 11, 11}});
   }
   return v;
 }
@@ -316,8 +316,8 @@ CaseResult runCase(const Grid &g, const PatchLayout &lay, int n, bool shifted) {
           r.side = err;
           std::ostringstream w;
           w.precision(12);
-          w << kSide[e] << " edge, component " << c << " (stress " << st[0] << ", " << st[1]
-            << ", " << st[2] << "): sum " << tot[c] << ", traction resultant " << resultant(e, c);
+          w << kSide[e] << " edge, component " << c << " (stress " << st[0] << ", " << st[1] << ", "
+            << st[2] << "): sum " << tot[c] << ", traction resultant " << resultant(e, c);
           r.sideWhere = w.str();
         }
       }

@@ -7,6 +7,8 @@
 // Random checks keep the largest error and report where it occurred.
 #include "gimp/shape.hpp"
 
+#include "test_util.hpp"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -20,6 +22,9 @@
 #include <vector>
 
 namespace {
+
+using gimp::test::at;
+using gimp::test::Worst;
 
 using gimp::shape::tent;
 using gimp::shape::tentIntegral;
@@ -91,40 +96,6 @@ std::vector<int> support(const std::vector<double> &w, const std::vector<double>
     if (w[i] != 0.0 || dw[i] != 0.0) idx.push_back(i);
   return idx;
 }
-
-/// "name=value ..." with full precision, to report a failing case.
-std::string at(std::initializer_list<std::pair<const char *, double>> values) {
-  std::ostringstream s;
-  s.precision(17);
-  for (const auto &[name, v] : values)
-    s << name << '=' << v << ' ';
-  return s.str();
-}
-
-/// The largest error seen so far (NaN sticks) and a description of where it occurred.
-struct Worst {
-  double err = 0.0;
-  std::string where = "(no sample)";
-  long count = 0;
-  template <class F> void update(double e, F &&describe) {
-    ++count;
-    if (std::isnan(err)) return;
-    if (!(e <= err)) {
-      err = e;
-      where = describe();
-    }
-  }
-};
-
-// Checks the largest error and prints it with the sample count (kept in the ctest log).
-#define EXPECT_WORST_LE(worst, tol)                                                                \
-  do {                                                                                             \
-    std::printf("  %-11s max %9.3g  tol %7.1g  samples %ld\n", #worst, (worst).err, (tol),         \
-                (worst).count);                                                                    \
-    EXPECT_GT((worst).count, 0);                                                                   \
-    EXPECT_LE((worst).err, (tol)) << #worst << " over " << (worst).count << " samples, worst at "  \
-                                  << (worst).where;                                                \
-  } while (0)
 
 /// Smallest particle half-size (in units of h) of the random identity checks. The weights are
 /// computed from the particle's interval ends, so their round-off grows like eps h / l; much
