@@ -8,7 +8,7 @@
 
 static const char help[] =
     "gimp: explicit Generalized Interpolation Material Point solver.\n"
-    "Usage: gimp -options_file runs/plate.opts [-ts_max_steps N] [-log_view]\n"
+    "Usage: gimp -options_file options/plate.opts [-ts_max_steps N] [-log_view]\n"
     "Options are listed below and in docs/options.md (SI units).\n";
 
 namespace {

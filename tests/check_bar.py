@@ -4,7 +4,7 @@ import math
 import gimptest
 
 args = gimptest.parse_args()
-out = gimptest.run(args, "runs/bar.opts", ["-gimp_history_interval", "2"])
+out = gimptest.run(args, "options/bar.opts", ["-gimp_history_interval", "2"])
 h = gimptest.history(out)
 t, u = h["time"], h["tip_ux"]
 # Upward zero crossings of the tip displacement (u = A sin(omega t)).

@@ -1,4 +1,4 @@
-"""Energy conservation of an elastic block drifting across grid levels (runs/drift_energy.opts).
+"""Energy conservation of an elastic block drifting across grid levels (options/drift_energy.opts).
 
 An undamped, vibrating neo-Hookean block (192 particles) drifts from level 0 through levels 1
 and 2 to level 0 on the other side and back again under a uniform body force along x: every
@@ -26,7 +26,7 @@ import time
 
 import gimptest
 
-OPTS = "runs/drift_energy.opts"
+OPTS = "options/drift_energy.opts"
 TOL = 0.01               # relative deviation of the total energy
 N_PARTICLES = 192        # 0.4 x 0.3 m block, 12 level-0 cells x 16 particles
 LEVEL_X = (0.8, 1.2, 1.6, 2.0)  # level boundaries crossed along x

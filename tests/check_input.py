@@ -41,7 +41,7 @@ cases = [
      "-gimp_body1_box"),
 ]
 for name, extra, needle in cases:
-    p = gimptest.run(args, "runs/patch.opts", extra + ["-ts_max_steps", "1"], expect_ok=False,
+    p = gimptest.run(args, "options/patch.opts", extra + ["-ts_max_steps", "1"], expect_ok=False,
                      outdir=os.path.join(args.work, "bad"))
     lines = [l for l in p.stderr.splitlines() if l.strip()]
     ok = p.returncode != 0 and len(lines) >= 1 and needle in lines[0] and \
@@ -53,7 +53,7 @@ for name, extra, needle in cases:
 # A run that fails mid-way (a particle leaves the grid) stops, says where and when, exits
 # non-zero and keeps what it wrote.
 out = os.path.join(args.work, "leaves")
-p = gimptest.run(args, "runs/drift.opts", ["-ts_max_steps", "3000"], expect_ok=False, outdir=out)
+p = gimptest.run(args, "options/drift.opts", ["-ts_max_steps", "3000"], expect_ok=False, outdir=out)
 lines = [l for l in p.stderr.splitlines() if l.strip()]
 c.check("particle leaves grid", p.returncode == 3 and len(lines) == 1 and "step" in lines[0] and
         "particle" in lines[0] and "left the grid" in lines[0],

@@ -1,4 +1,4 @@
-"""Convergence of the 1D manufactured solution (REFERENCE.md section 2, runs/mms_skb1d.opts).
+"""Convergence of the 1D manufactured solution (REFERENCE.md section 2, options/mms_skb1d.opts).
 
 Runs the scene at several resolutions h = 1/n with the time step tied to h (fixed CFL, from
 the scene file), prints a table of the displacement errors with the observed orders between
@@ -21,7 +21,7 @@ import time
 
 import gimptest
 
-OPTS = "runs/mms_skb1d.opts"
+OPTS = "options/mms_skb1d.opts"
 PERIOD = 0.02  # s, c = 100 m/s
 MIN_ORDER = 1.8
 

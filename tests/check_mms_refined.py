@@ -1,4 +1,4 @@
-"""Convergence of the 1D manufactured solution on a refined grid (runs/mms_skb1d.opts).
+"""Convergence of the 1D manufactured solution on a refined grid (options/mms_skb1d.opts).
 
 The scene of tests/check_mms.py on a 2-level grid: level 1 (ratio 2) covers the middle half of
 the bar, x in [0.25, 0.75], over the strip's height [0, h0]. Its corners lie on level-0 grid
@@ -30,7 +30,7 @@ import time
 
 import gimptest
 
-OPTS = "runs/mms_skb1d.opts"
+OPTS = "options/mms_skb1d.opts"
 PERIOD = 0.02  # s
 MIN_ORDER = 1.5
 FINE_BOX = (0.25, 0.75)

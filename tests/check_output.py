@@ -6,7 +6,7 @@ import re
 import gimptest
 
 args = gimptest.parse_args()
-out = gimptest.run(args, "runs/patch.opts", ["-ts_max_steps", "100", "-gimp_output_interval", "40"])
+out = gimptest.run(args, "options/patch.opts", ["-ts_max_steps", "100", "-gimp_output_interval", "40"])
 c = gimptest.Checks()
 s = gimptest.summary(out)
 keys = ["scene", "version", "ranks", "steps", "time", "dt", "wall_seconds", "particles", "levels",

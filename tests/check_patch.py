@@ -1,7 +1,7 @@
 """Patch tests: a free block under constant tractions, damped to rest, is uniformly stressed:
 sxx = p within 0.5 % at every particle, syy and sxy below 0.5 % of p, plane strain szz = nu p.
-On a uniform grid (runs/patch.opts) and on a grid refined twice inside the block
-(runs/patch3.opts, particles of three sizes)."""
+On a uniform grid (options/patch.opts) and on a grid refined twice inside the block
+(options/patch3.opts, particles of three sizes)."""
 import os
 import gimptest
 

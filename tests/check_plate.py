@@ -1,5 +1,5 @@
 """Plate with a hole (paper section 4.4) run to rest on the paper's three levels
-(runs/plate_static.opts): the stress concentration at the top of the hole lies in a band
+(options/plate_static.opts): the stress concentration at the top of the hole lies in a band
 around the finite-width value, agrees with the uniform grid of the finest cell size within
 1 %, and the hoop stress around the hole goes from about -p at the load axis to its maximum
 at 90 degrees, as Kirsch's solution does."""
@@ -9,10 +9,10 @@ import gimptest
 
 args = gimptest.parse_args()
 c = gimptest.Checks()
-runs = os.path.join(args.root, "runs")  # the static scenes include plate*.opts from there
-out3 = gimptest.run(args, "runs/plate_static.opts", outdir=os.path.join(args.work, "levels3"),
+runs = os.path.join(args.root, "options")  # the static scenes include plate*.opts from there
+out3 = gimptest.run(args, "options/plate_static.opts", outdir=os.path.join(args.work, "levels3"),
                     cwd=runs)
-outu = gimptest.run(args, "runs/plate_uniform_static.opts",
+outu = gimptest.run(args, "options/plate_uniform_static.opts",
                     outdir=os.path.join(args.work, "uniform"), cwd=runs)
 s3, su = gimptest.summary(out3), gimptest.summary(outu)
 kt3, ktu = s3["measures"]["kt"], su["measures"]["kt"]

@@ -7,10 +7,10 @@ import gimptest
 
 args = gimptest.parse_args()
 c = gimptest.Checks()
-runs = os.path.join(args.root, "runs")
-o3 = gimptest.run(args, "runs/plate_static.opts", ["-gimp_h", "0.5e-3"],
+runs = os.path.join(args.root, "options")
+o3 = gimptest.run(args, "options/plate_static.opts", ["-gimp_h", "0.5e-3"],
                   outdir=os.path.join(args.work, "levels3"), cwd=runs)
-ou = gimptest.run(args, "runs/plate_uniform_static.opts", ["-gimp_h", "0.125e-3"],
+ou = gimptest.run(args, "options/plate_uniform_static.opts", ["-gimp_h", "0.125e-3"],
                   outdir=os.path.join(args.work, "uniform"), cwd=runs)
 s3, su = gimptest.summary(o3), gimptest.summary(ou)
 kt3, ktu = s3["measures"]["kt"], su["measures"]["kt"]

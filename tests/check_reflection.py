@@ -1,5 +1,5 @@
 """Wave reflection at the coarse-to-fine and fine-to-coarse interfaces of a refined grid
-(runs/wave_interface.opts, docs/validation.md "Wave reflection at level interfaces").
+(options/wave_interface.opts, docs/validation.md "Wave reflection at level interfaces").
 
 A traction on the left end of a strip launches one right-going raised-cosine pulse of width
 W = 1 m (wavenumber k = 2 pi / W) through level 1 (ratio 2 unless --ratio) on 4.5 <= x <= 7.
@@ -42,7 +42,7 @@ import time
 
 import gimptest
 
-OPTS = "runs/wave_interface.opts"
+OPTS = "options/wave_interface.opts"
 E, RHO = 1e4, 1.0
 C = math.sqrt(E / RHO)  # nu = 0: uniaxial strain, c = 100 m/s
 W = 1.0                 # pulse width c * Tp [m]

@@ -1,5 +1,5 @@
 """Penalty displacement conditions (Eq. 9) on the displacement-controlled slab (paper section
-4.3, runs/slab.opts): the damped run converges to u_x = delta x / L at the probe within 0.1 %
+4.3, options/slab.opts): the damped run converges to u_x = delta x / L at the probe within 0.1 %
 (the paper reports 0.46 %), the two ends carry equal and opposite reactions equal to the
 stress times the current cross-section, and the pure penalty's constraint violation falls as
 1 / alpha. Also: traction forces on a three-level grid sum to the applied force."""
@@ -10,7 +10,7 @@ args = gimptest.parse_args()
 c = gimptest.Checks()
 E, nu, L, H, delta = 175.8e9, 0.28, 10e-3, 3e-3, 0.5e-3
 
-out = gimptest.run(args, "runs/slab.opts")
+out = gimptest.run(args, "options/slab.opts")
 s = gimptest.summary(out)
 pr = s["probes"]["probe"]
 exact = delta * pr["x0"][0] / L
@@ -30,7 +30,7 @@ c.check("constraint violation", gap < 1e-8, "final |u - u_bar| at the right end 
 # Pure penalty: the violation scales as 1 / alpha.
 gaps = []
 for alpha in (2.7e15, 2.7e16):
-    o = gimptest.run(args, "runs/slab.opts", ["-gimp_penalty", str(alpha), "-gimp_penalty_traction",
+    o = gimptest.run(args, "options/slab.opts", ["-gimp_penalty", str(alpha), "-gimp_penalty_traction",
                                              "false", "-ts_max_steps", "4000"],
                      outdir=os.path.join(args.work, "penalty_%g" % alpha))
     gaps.append(gimptest.summary(o)["constraint_violation"]["dbc1"]["final"])
@@ -40,7 +40,7 @@ c.check("violation ~ 1/alpha", 7 < ratio < 13, "violation %.3e m at alpha 2.7e15
 
 # Traction forces on a refined grid: after the first (half) step the total momentum is
 # dt/2 times the applied force, whatever levels the loaded edge crosses.
-o = gimptest.run(args, "runs/patch3.opts", ["-gimp_traction1_value", "0,0", "-ts_max_steps", "1",
+o = gimptest.run(args, "options/patch3.opts", ["-gimp_traction1_value", "0,0", "-ts_max_steps", "1",
                                             "-gimp_history_interval", "1", "-gimp_level1_box",
                                             "0.2,0,1.1,0.4", "-gimp_level2_box", "0.8,0.1,1.0,0.3"],
                  outdir=os.path.join(args.work, "traction_sum"))

@@ -1,4 +1,4 @@
-"""Particle domain tracking on the uniaxial tension block (paper section 4.1, runs/tension.opts):
+"""Particle domain tracking on the uniaxial tension block (paper section 4.1, options/tension.opts):
 with strain-based sizes the particles separate (the paper: near 25 % strain); with corner
 tracking they never separate up to 50 % strain. Under the held load (damped to rest) the stress
 in the middle of the bar equals the applied traction as a true stress within 8 % (the paper's
@@ -13,7 +13,7 @@ for mode in ("strain", "corners"):
     # With strain tracking the torn-off end flies out of the grid, which stops the run
     # (exit 3): what it wrote up to then is what this check reads.
     out = os.path.join(args.work, mode)
-    proc = gimptest.run(args, "runs/tension.opts", ["-gimp_tracking", mode], outdir=out,
+    proc = gimptest.run(args, "options/tension.opts", ["-gimp_tracking", mode], outdir=out,
                         expect_ok=False)
     if proc.returncode not in (0, 3):
         raise SystemExit("gimp failed (exit %d): %s" % (proc.returncode, proc.stderr))
@@ -33,7 +33,7 @@ p, H0 = 55e9, 10e-6
 elong = {}
 for size in (0.1, 0.5, 0.8):
     dump = os.path.join(args.work, "rest_%g.csv" % size)
-    out = gimptest.run(args, "runs/tension.opts", ["-gimp_damping", "2e8", "-ts_max_steps", "2500",
+    out = gimptest.run(args, "options/tension.opts", ["-gimp_damping", "2e8", "-ts_max_steps", "2500",
                                                   "-gimp_corner_size", str(size),
                                                   "-gimp_particle_dump", dump],
                        outdir=os.path.join(args.work, "rest_%g" % size))

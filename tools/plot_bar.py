@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Fixed-free bar, axial mode 1 (runs/bar.opts, tests/check_bar.py): tip displacement against the
+"""Fixed-free bar, axial mode 1 (options/bar.opts, tests/check_bar.py): tip displacement against the
 exact solution, and the total energy against time.
 
 Usage: /usr/bin/python3 tools/plot_bar.py WORK/bar [-o docs/img/bar.png]

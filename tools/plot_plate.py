@@ -5,7 +5,7 @@ to rest (d = 3e5 1/s) with FLIP 1 and PIC.
 
 Usage: /usr/bin/python3 tools/plot_plate.py WORK [-o docs/img/plate.png]
 
-WORK is the directory tools/study_plate.py wrote.
+WORK is the directory runs/study_plate.py wrote.
 """
 import argparse
 import csv

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The plate at rest (runs/plate_static.opts): sigma_xx map with every particle drawn as its
+"""The plate at rest (options/plate_static.opts): sigma_xx map with every particle drawn as its
 rectangle (the paper's Fig. 14, whole quarter and the corner at the hole), and the hoop
 stress around the hole against Kirsch (Fig. 15), from an output directory of that scene.
 

@@ -1,10 +1,10 @@
 #!/usr/bin/python3
-"""Displacement-controlled slab (paper section 4.3, runs/slab.opts): displacement and stress at
+"""Displacement-controlled slab (paper section 4.3, options/slab.opts): displacement and stress at
 the probe particle against time, damped and undamped, as the paper's Fig. 12 (a) and (b).
 
 Usage: /usr/bin/python3 tools/plot_slab.py WORK [-o docs/img/slab.png]
 
-WORK is the directory tools/study_slab.py wrote (WORK/damped and WORK/undamped). The exact
+WORK is the directory runs/study_slab.py wrote (WORK/damped and WORK/undamped). The exact
 static values: u_x = delta x0 / L at the probe's initial x0; sigma_xx = E' delta / L in small
 strain and E' ln(1 + delta / L) for the rate-form (logarithmic-strain) model of the code.
 """

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Plots of particle domain tracking on the uniaxial tension block (runs/tension.opts, the
+"""Plots of particle domain tracking on the uniaxial tension block (options/tension.opts, the
 paper's section 4.1).
 
 Usage: /usr/bin/python3 tools/plot_tension.py --gimp build/gimp [--work /tmp/tension_plot]
@@ -130,7 +130,7 @@ for i, (label, at) in enumerate(rows):
             ax.set_xlabel("x [µm]")
 fig.colorbar(matplotlib.cm.ScalarMappable(norm=norm, cmap=cmap), ax=axes, shrink=0.8,
              aspect=30, label="σxx [GPa]")
-fig.suptitle("Uniaxial tension, 55 GPa ramped over 10 ns then held (runs/tension.opts): "
+fig.suptitle("Uniaxial tension, 55 GPa ramped over 10 ns then held (options/tension.opts): "
              "particles as their tracked rectangles")
 out = os.path.join(a.outdir, "tension_particles.png")
 fig.savefig(out, dpi=110)

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Install, build and run the main job: the plate with a hole (runs/plate.opts), 4000 steps.
+# Install, build and run the main job: the plate with a hole (options/plate.opts), 4000 steps.
 # Extra arguments go to gimp (e.g. -log_view). Output: build/output/plate/.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"

@@ -2,14 +2,14 @@
 # Runs the scenes of docs/scenes.md (indentation a-d, plate speed vs error, slab speed vs error)
 # one process at a time, then writes the tables (Markdown, on stdout and in RUNDIR/tables.md)
 # and the figures (docs/img/).
-#   tools/scenes_report.sh [RUNDIR]          run everything, then report (about 10 min on 1 core)
-#   NORUN=1 tools/scenes_report.sh [RUNDIR]  report only, from the outputs already in RUNDIR
+#   runs/scenes_report.sh [RUNDIR]          run everything, then report (about 10 min on 1 core)
+#   NORUN=1 runs/scenes_report.sh [RUNDIR]  report only, from the outputs already in RUNDIR
 # GIMP=path/to/gimp selects the executable (default build/gimp). RUNDIR defaults to build/scenes.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 run="${1:-$root/build/scenes}"
 gimp="${GIMP:-$root/build/gimp}"
-opts="$root/runs"
+opts="$root/options"
 mkdir -p "$run"
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 
@@ -54,4 +54,4 @@ if [[ -z "${NORUN:-}" ]]; then
   g slab_h025 -options_file "$opts/slab.opts" $D -gimp_h 0.25e-3 -ts_dt 2.5e-9 -ts_max_steps 12000
 fi
 
-/usr/bin/python3 "$root/tools/scenes_report.py" "$run" "$root/docs/img" | tee "$run/tables.md"
+/usr/bin/python3 "$root/runs/scenes_report.py" "$run" "$root/docs/img" | tee "$run/tables.md"

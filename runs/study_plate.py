@@ -3,11 +3,11 @@
 on the three-level grid and on uniform grids, and the paper's 4000-step dynamic run; the
 measurements of docs/validation.md, section "Plate with a hole".
 
-Usage: /usr/bin/python3 tools/study_plate.py --gimp build/gimp --root . --work WORK [--quick]
+Usage: /usr/bin/python3 runs/study_plate.py --gimp build/gimp --root . --work WORK [--quick]
 
 Static runs (damped: -gimp_damping 3e5 -ts_max_steps 20000, 200 us), into WORK/<name>, on
-  3level      runs/plate.opts (1.0 / 0.5 / 0.25 mm)
-  h1.0 ...    runs/plate_uniform.opts with -gimp_h 1e-3, 0.5e-3, (0.25e-3, the scene's)
+  3level      options/plate.opts (1.0 / 0.5 / 0.25 mm)
+  h1.0 ...    options/plate_uniform.opts with -gimp_h 1e-3, 0.5e-3, (0.25e-3, the scene's)
 each with -gimp_flip 0 (static_pic_<grid>: PIC, comes to rest) and -gimp_flip 1
 (static_flip1_<grid>: the default FLIP, which keeps a slow oscillation that the grid damping
 does not remove). Dynamic runs as in the paper (d = 1000 1/s, dt = 10 ns, 4000 steps = 40 us):
@@ -45,10 +45,10 @@ STATIC = ["-gimp_damping", "3e5", "-ts_max_steps", "2000" if args.quick else "20
           "-gimp_output_interval", "0", "-gimp_monitor_interval", "0",
           "-gimp_history_interval", "100"]
 PAPER = ["-ts_max_steps", "4000", "-gimp_output_interval", "0", "-gimp_monitor_interval", "0"]
-GRIDS = [("3level", "runs/plate.opts", [], "3 levels 1.0 / 0.5 / 0.25 mm"),
-         ("h1.0", "runs/plate_uniform.opts", ["-gimp_h", "1e-3"], "uniform 1.0 mm"),
-         ("h0.5", "runs/plate_uniform.opts", ["-gimp_h", "0.5e-3"], "uniform 0.5 mm"),
-         ("h0.25", "runs/plate_uniform.opts", [], "uniform 0.25 mm")]
+GRIDS = [("3level", "options/plate.opts", [], "3 levels 1.0 / 0.5 / 0.25 mm"),
+         ("h1.0", "options/plate_uniform.opts", ["-gimp_h", "1e-3"], "uniform 1.0 mm"),
+         ("h0.5", "options/plate_uniform.opts", ["-gimp_h", "0.5e-3"], "uniform 0.5 mm"),
+         ("h0.25", "options/plate_uniform.opts", [], "uniform 0.25 mm")]
 RUNS = []
 for flip, tag in (("0", "pic"), ("1", "flip1")):
     for g, opts, extra, label in GRIDS:
@@ -58,9 +58,9 @@ for flip, tag in (("0", "pic"), ("1", "flip1")):
 L3 = ["-gimp_levels", "4", "-gimp_level3_box", "-0.5e-3,-0.5e-3,3e-3,3e-3", "-gimp_level3_ratio", "2"]
 L4 = ["-gimp_levels", "5", "-gimp_level3_box", "-0.5e-3,-0.5e-3,3e-3,3e-3", "-gimp_level3_ratio", "2",
       "-gimp_level4_box", "-0.25e-3,1.5e-3,1e-3,2.75e-3", "-gimp_level4_ratio", "2"]
-RUNS.append(("static_pic_4level", "runs/plate.opts", STATIC + L3 + ["-gimp_flip", "0"],
+RUNS.append(("static_pic_4level", "options/plate.opts", STATIC + L3 + ["-gimp_flip", "0"],
              "4 levels, + 0.125 mm on [-0.5, 3]² mm", "static, FLIP 0"))
-RUNS.append(("static_pic_5level", "runs/plate.opts", STATIC + L4 + ["-gimp_flip", "0"],
+RUNS.append(("static_pic_5level", "options/plate.opts", STATIC + L4 + ["-gimp_flip", "0"],
              "5 levels, + 0.0625 mm on [-0.25, 1] × [1.5, 2.75] mm", "static, FLIP 0"))
 for g, opts, extra, label in (GRIDS[0], GRIDS[3]):
     RUNS.append(("paper_%s" % g, opts, PAPER + extra, label, "paper (dynamic)"))

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Tables and figures of docs/scenes.md from the runs made by tools/scenes_report.sh.
+"""Tables and figures of docs/scenes.md from the runs made by runs/scenes_report.sh.
 
 Usage: scenes_report.py RUNDIR IMGDIR
 RUNDIR holds one output directory per run (ind_a, ind_b, ind_c at 20 ns; ind_a50, ind_b50,

@@ -1,11 +1,11 @@
 #!/usr/bin/env python3
 """Speed against error on the plate with a hole at rest (paper section 4.4): uniform grids and
-two- and three-level refined grids, each run to rest by runs/plate*_static.opts. The error of
+two- and three-level refined grids, each run to rest by options/plate*_static.opts. The error of
 kt (hoop stress / p of the particle next to the top of the hole) is taken against Kirsch's
 solution at that particle's radius times the finite-width factor of a strip (Heywood,
 d/W = 1/15: 1.0047). Writes a Markdown table to stdout and docs/img/speed_error.png.
 
-Usage: /usr/bin/python3 tools/speed_error.py [--gimp build/gimp] [--work DIR] [--no-run]
+Usage: /usr/bin/python3 runs/speed_error.py [--gimp build/gimp] [--work DIR] [--no-run]
 """
 import argparse
 import json
@@ -44,9 +44,9 @@ def main():
     for i, (name, scene, extra, kind) in enumerate(RUNS):
         out = os.path.join(a.work, "run%d" % i)
         if not a.no_run:
-            # The static scenes include plate*.opts: run from runs/.
+            # The static scenes include plate*.opts: run from options/.
             subprocess.run([a.gimp, "-options_file", scene, "-gimp_output_dir", out] + extra,
-                           cwd=os.path.join(ROOT, "runs"), env=env, check=True,
+                           cwd=os.path.join(ROOT, "options"), env=env, check=True,
                            stdout=subprocess.DEVNULL)
         with open(os.path.join(out, "summary.json")) as f:
             s = json.load(f)

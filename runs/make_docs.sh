@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Regenerate every figure and table of docs/validation.md.
 #
-#   tools/make_docs.sh [WORK]        (default WORK: /tmp/gimp-docs)
+#   runs/make_docs.sh [WORK]        (default WORK: /tmp/gimp-docs)
 #
 # Builds gimp (cmake, into build/), copies the binary to WORK/gimp (so that a rebuild of build/
 # during the run does not change it), then runs, one after the other, the verification scripts
@@ -69,29 +69,29 @@ step bar "$py" "$root/tests/check_bar.py" --gimp "$gimp" --root "$root" --work "
 step plot_bar "$py" "$root/tools/plot_bar.py" "$work/bar/bar"
 
 # Patch tests (table).
-step patch "$py" "$root/tools/study_patch.py" --gimp "$gimp" --root "$root" --work "$work/patch"
+step patch "$py" "$root/runs/study_patch.py" --gimp "$gimp" --root "$root" --work "$work/patch"
 
 # Slab: penalty displacement conditions (tables and docs/img/slab.png).
-step slab "$py" "$root/tools/study_slab.py" --gimp "$gimp" --root "$root" --work "$work/slab"
+step slab "$py" "$root/runs/study_slab.py" --gimp "$gimp" --root "$root" --work "$work/slab"
 step plot_slab "$py" "$root/tools/plot_slab.py" "$work/slab"
 
 # Plate with a hole (table and docs/img/plate.png).
-step plate "$py" "$root/tools/study_plate.py" --gimp "$gimp" --root "$root" --work "$work/plate"
+step plate "$py" "$root/runs/study_plate.py" --gimp "$gimp" --root "$root" --work "$work/plate"
 step plot_plate "$py" "$root/tools/plot_plate.py" "$work/plate"
 
 # Particle domain tracking: tension scene, its two figures, and the MMS with tracking modes.
 step tension "$py" "$root/tests/check_tension.py" --gimp "$gimp" --root "$root" \
   --work "$work/tension" --mpiexec "$mpiexec"
 step plot_tension "$py" "$root/tools/plot_tension.py" --gimp "$gimp" --work "$work/tension_plot"
-step mms_tracking "$py" "$root/tools/study_mms_tracking.py" --gimp "$gimp" \
+step mms_tracking "$py" "$root/runs/study_mms_tracking.py" --gimp "$gimp" \
   --work "$work/mms_tracking"
 
 # Scenes report (docs/scenes.md: indentation, plate and slab studies), the plate maps, the
 # speed-against-error figure and table (docs/performance.md) and the throughput benchmark.
-step scenes "$root/tools/scenes_report.sh" "$work/scenes"
+step scenes "$root/runs/scenes_report.sh" "$work/scenes"
 step plate_maps sh -c "cd '$root/runs' && '$gimp' -options_file plate_static.opts \
   -gimp_output_dir '$work/plate_static' >/dev/null && '$py' '$root/tools/plot_plate_maps.py' '$work/plate_static'"
-step speed_error "$py" "$root/tools/speed_error.py" --gimp "$gimp" --work "$work/speed_error"
+step speed_error "$py" "$root/runs/speed_error.py" --gimp "$gimp" --work "$work/speed_error"
 step bench env GIMP_BUILD_DIR="$(dirname "$gimp")" GIMP_BENCH_NOBUILD=1 "$root/bench/run_bench.sh"
 
 echo "make_docs: all steps done in $((SECONDS - start_all)) s; tables in $work/logs/, figures in $root/docs/img/"

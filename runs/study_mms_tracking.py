@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Particle domain tracking on the 1D manufactured solution (runs/mms_skb1d.opts).
+"""Particle domain tracking on the 1D manufactured solution (options/mms_skb1d.opts).
 
 Runs the scene for -gimp_tracking none, stretch and corners at A = 1e-4 and A = 0.05
 (-gimp_mms_amplitude) on h = 1/n (overriding -gimp_h, -gimp_body0_box and -gimp_bc3_y as
@@ -7,7 +7,7 @@ tests/check_mms.py does), prints a markdown table of the measured errors (summar
 measures mms_linf and mms_rms, maxima over one period) with the observed orders between
 successive resolutions, and writes them to <work>/mms_tracking.csv.
 
-Usage: /usr/bin/python3 tools/study_mms_tracking.py --gimp build/gimp --work /tmp/mms_tracking
+Usage: /usr/bin/python3 runs/study_mms_tracking.py --gimp build/gimp --work /tmp/mms_tracking
                                                     [--levels 32,64,128]
 """
 import argparse

@@ -1,8 +1,8 @@
 #!/usr/bin/python3
-"""Patch tests on a uniform grid (runs/patch.opts) and across three levels (runs/patch3.opts):
+"""Patch tests on a uniform grid (options/patch.opts) and across three levels (options/patch3.opts):
 the measurements of docs/validation.md, section "Patch tests".
 
-Usage: /usr/bin/python3 tools/study_patch.py --gimp build/gimp --root . --work WORK
+Usage: /usr/bin/python3 runs/study_patch.py --gimp build/gimp --root . --work WORK
 
 Runs both scenes as they are, with a particle dump, into WORK/patch and WORK/patch3, writes
 WORK/patch.csv and prints the markdown table of the docs. A free block pulled by equal and

@@ -1,8 +1,8 @@
 #!/usr/bin/python3
-"""Displacement-controlled slab (paper section 4.3, runs/slab.opts): the measurements of
+"""Displacement-controlled slab (paper section 4.3, options/slab.opts): the measurements of
 docs/validation.md, section "Penalty displacement conditions: the slab".
 
-Usage: /usr/bin/python3 tools/study_slab.py --gimp build/gimp --root . --work WORK
+Usage: /usr/bin/python3 runs/study_slab.py --gimp build/gimp --root . --work WORK
 
 Runs, each into WORK/<name>/:
   damped      the scene as it is (d = 1e6 1/s, automatic penalty, traction term on), with a
@@ -32,7 +32,7 @@ a = ap.parse_args()
 a.gimp, a.root, a.work = (os.path.abspath(p) for p in (a.gimp, a.root, a.work))
 os.makedirs(a.work, exist_ok=True)
 
-OPTS = "runs/slab.opts"
+OPTS = "options/slab.opts"
 E, NU, RHO, L, H, DELTA = 175.8e9, 0.28, 2710.0, 10e-3, 3e-3, 0.5e-3
 LAM = E * NU / ((1 + NU) * (1 - 2 * NU))
 MU = E / (2 * (1 + NU))
