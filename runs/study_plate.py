@@ -16,7 +16,7 @@ and two static PIC runs with finer levels at the top of the hole (static_pic_4le
 static_pic_5level: + 0.0625 mm). Writes WORK/plate.csv and prints the markdown table. The probe "hole_top" follows the particle
 nearest to (0, a); its sxx / p is compared with Kirsch's infinite-plate solution at that
 particle's initial position (r, theta) and with the finite-width gross-section value of a long
-strip, (2 + (1 - d/W)^3) / (1 - d/W) = 3.014 for d/W = 1/15 (REFERENCE.md section 3).
+strip, (2 + (1 - d/W)^3) / (1 - d/W) = 3.014 for d/W = 1/15 (docs/reference.md, section 3.2).
 --no-run tabulates the outputs already in WORK. --quick runs 2000 static steps (a smoke test of the script, not the documented numbers).
 """
 import argparse

@@ -1,4 +1,4 @@
-"""Fixed-free elastic bar, axial mode 1 (REFERENCE.md section 1), GIMP with MUSL, no damping:
+"""Fixed-free elastic bar, axial mode 1 (docs/reference.md, section 1), GIMP with MUSL, no damping:
 the period is within 1 % of T = 10 s and the total energy within 1 % over 5 periods."""
 import math
 import gimptest

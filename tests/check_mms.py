@@ -1,4 +1,5 @@
-"""Convergence of the 1D manufactured solution (REFERENCE.md section 2, options/mms_skb1d.opts).
+"""Convergence of the 1D manufactured solution (docs/reference.md, section 2.1;
+options/mms_skb1d.opts).
 
 Runs the scene at several resolutions h = 1/n with the time step tied to h (fixed CFL, from
 the scene file), prints a table of the displacement errors with the observed orders between

@@ -1,4 +1,4 @@
-"""Output contract (DESIGN.md): summary.json keys, history.csv columns, HDF5 particle and
+"""Output contract (docs/output.md): summary.json keys, history.csv columns, HDF5 particle and
 grid fields at the output interval, and XDMF files whose every HDF5 reference exists with
 the stated dimensions."""
 import os

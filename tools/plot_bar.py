@@ -5,7 +5,7 @@ exact solution, and the total energy against time.
 Usage: /usr/bin/python3 tools/plot_bar.py WORK/bar [-o docs/img/bar.png]
 
 WORK/bar is the output directory tests/check_bar.py writes (history.csv and summary.json of the
-run with -gimp_history_interval 2). Exact (REFERENCE.md section 1): u(x, t) = (v0 / omega)
+run with -gimp_history_interval 2). Exact (docs/reference.md, section 1): u(x, t) = (v0 / omega)
 sin(omega t) sin(beta x), beta = pi / 2L, omega = beta sqrt(E / rho), at the probe particle's
 initial x. Also prints the per-period mean and range of (kinetic + strain) / E0 - 1.
 """
