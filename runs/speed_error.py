@@ -44,7 +44,7 @@ def main():
     for i, (name, scene, extra, kind) in enumerate(RUNS):
         out = os.path.join(a.work, "run%d" % i)
         if not a.no_run:
-            # The static scenes include plate*.opts: run from options/.
+            # The static scenes include plate*.opts, which lie next to them in options/.
             subprocess.run([a.gimp, "-options_file", scene, "-gimp_output_dir", out] + extra,
                            cwd=os.path.join(ROOT, "options"), env=env, check=True,
                            stdout=subprocess.DEVNULL)

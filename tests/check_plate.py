@@ -9,7 +9,7 @@ import gimptest
 
 args = gimptest.parse_args()
 c = gimptest.Checks()
-runs = os.path.join(args.root, "options")  # the static scenes include plate*.opts from there
+runs = os.path.join(args.root, "options")  # the static scenes include plate*.opts (next to them)
 out3 = gimptest.run(args, "options/plate_static.opts", outdir=os.path.join(args.work, "levels3"),
                     cwd=runs)
 outu = gimptest.run(args, "options/plate_uniform_static.opts",

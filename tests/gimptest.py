@@ -23,7 +23,7 @@ def parse_args():
 def run(args, opts_file, extra=(), ranks=1, outdir=None, expect_ok=True, cwd=None):
     """Run gimp on opts_file (relative to the repo root) with extra options; return the
     output directory (or the completed process when expect_ok is False). cwd defaults to the
-    work directory; a scene that includes another options file runs from runs/."""
+    work directory; a nested -options_file is resolved relative to the including file."""
     outdir = outdir or os.path.join(args.work, os.path.splitext(os.path.basename(opts_file))[0])
     cmd = [args.gimp, "-options_file", os.path.join(args.root, opts_file),
            "-gimp_output_dir", outdir] + list(extra)
