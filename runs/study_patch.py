@@ -32,7 +32,7 @@ for scene in ("patch", "patch3"):
     out = os.path.join(args.work, scene)
     os.makedirs(out, exist_ok=True)
     dump = os.path.join(out, "particles.csv")
-    gimptest.run(args, "runs/%s.opts" % scene, ["-gimp_particle_dump", dump], outdir=out)
+    gimptest.run(args, "options/%s.opts" % scene, ["-gimp_particle_dump", dump], outdir=out)
     d = gimptest.read_csv(dump)
     s = gimptest.summary(out)
     h = gimptest.history(out)
@@ -61,7 +61,7 @@ with open(os.path.join(args.work, "patch.csv"), "w", newline="") as f:
     w.writeheader()
     w.writerows(rows)
 
-print("| measure | " + " | ".join("`runs/%s.opts` (%d level%s, %d particles)" %
+print("| measure | " + " | ".join("`options/%s.opts` (%d level%s, %d particles)" %
                                    (r["scene"], r["levels"], "s" if r["levels"] > 1 else "",
                                     r["particles"]) for r in rows) + " |")
 print("| --- | --- | --- |")

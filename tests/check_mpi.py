@@ -14,7 +14,7 @@ cases = [("drift", "x", ["-da_processors_x", "2", "-da_processors_y", "1"]),
          ("drift3", "x-corners", ["-da_processors_x", "2", "-da_processors_y", "1"])]
 serial = {}
 for scene, tag, layout in cases:
-    opts = "runs/%s.opts" % scene
+    opts = "options/%s.opts" % scene
     extra = ["-gimp_tracking", "corners"] if tag.endswith("corners") else []
     key = scene + " ".join(extra)
     if key not in serial:

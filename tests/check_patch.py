@@ -10,7 +10,7 @@ p, nu, E = 1e4, 0.3, 1e7
 c = gimptest.Checks()
 for scene in ("patch", "patch3"):
     dump = os.path.join(args.work, scene + "_particles.csv")
-    out = gimptest.run(args, "runs/%s.opts" % scene, ["-gimp_particle_dump", dump])
+    out = gimptest.run(args, "options/%s.opts" % scene, ["-gimp_particle_dump", dump])
     d = gimptest.read_csv(dump)
     n = len(d["sxx"])
     err_xx = max(abs(s / p - 1) for s in d["sxx"])
