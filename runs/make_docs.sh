@@ -89,7 +89,7 @@ step mms_tracking "$py" "$root/runs/study_mms_tracking.py" --gimp "$gimp" \
 # Scenes report (docs/scenes.md: indentation, plate and slab studies), the plate maps, the
 # speed-against-error figure and table (docs/performance.md) and the throughput benchmark.
 step scenes "$root/runs/scenes_report.sh" "$work/scenes"
-step plate_maps sh -c "cd '$root/runs' && '$gimp' -options_file plate_static.opts \
+step plate_maps sh -c "cd '$root/options' && '$gimp' -options_file plate_static.opts \
   -gimp_output_dir '$work/plate_static' >/dev/null && '$py' '$root/tools/plot_plate_maps.py' '$work/plate_static'"
 step speed_error "$py" "$root/runs/speed_error.py" --gimp "$gimp" --work "$work/speed_error"
 step bench env GIMP_BUILD_DIR="$(dirname "$gimp")" GIMP_BENCH_NOBUILD=1 "$root/bench/run_bench.sh"
