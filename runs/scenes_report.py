@@ -84,7 +84,7 @@ def indentation():
             if i is not None and np.max(np.abs(r1["X0"][i] - x)) < 1e-9:
                 ia.append(i)
                 ib.append(j)
-        d = r2["stress"][ib, 1] - r1["stress"][ia, 1]
+        d = r2["stress"][ib, 3] - r1["stress"][ia, 3]  # syy: stress is row-major xx, xy, yx, yy
         mx, rms = np.max(np.abs(d)), math.sqrt(np.mean(d * d))
         print(f"| {label} | {len(ia)} | {mx/1e9:.3f} | {mx/60e9:.4f} | {rms/1e9:.3f} | {rms/60e9:.4f} |")
 
@@ -134,7 +134,7 @@ def indentation():
         vmin, vmax = -40, 10
         for ax, n, t in zip(axs[0], runs, titles):
             fr = last_frame(n)
-            pc = PolyCollection(polys(fr), array=fr["stress"][:, 1] / 1e9, cmap="jet",
+            pc = PolyCollection(polys(fr), array=fr["stress"][:, 3] / 1e9, cmap="jet",
                                 edgecolors="k", linewidths=0.1)
             pc.set_clim(vmin, vmax)
             ax.add_collection(pc)

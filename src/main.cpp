@@ -1,5 +1,5 @@
 // gimp: explicit GIMP solid dynamics on a structured grid. See README.md and docs/.
-#include "gimp/simulation.hpp"
+#include "gimp/solver/solver.hpp"
 
 #include <petscsys.h>
 
@@ -37,7 +37,7 @@ int main(int argc, char **argv) {
   try {
     PetscErrorCode ierr;
     {
-      gimp::Simulation sim(PETSC_COMM_WORLD);
+      gimp::Solver sim(PETSC_COMM_WORLD);
       ierr = sim.setup();
       if (!ierr) ierr = sim.run();
       // An unstable run stopped early with its outputs written: exit non-zero.

@@ -17,8 +17,8 @@
 //
 // All random sampling uses a fixed-seed std::mt19937_64, so every run checks the same points.
 // Random checks keep the largest error and report where (layout and particle) it occurred.
-#include "gimp/grid.hpp"
-#include "gimp/shape.hpp"
+#include "gimp/grid/grid.hpp"
+#include "gimp/grid/shape.hpp"
 
 #include "test_util.hpp"
 
@@ -50,7 +50,7 @@ using gimp::InputError;
 using gimp::Level;
 using gimp::LevelSpec;
 using gimp::Scene;
-using gimp::Stencils;
+using Stencils = gimp::Stencils<gimp::kDim>;
 using gimp::shape::tent;
 
 // ---------------------------------------------------------------------------------------------
@@ -482,7 +482,8 @@ void checkLayout(const Layout &lay, long np, std::uint64_t seed, Identities &id,
         continue;
       }
       seen[n] = p;
-      const double w = s.wx[e] * s.wy[e], dx = s.gx[e] * s.wy[e], dy = s.wx[e] * s.gy[e];
+      const double w = s.w[0][e] * s.w[1][e], dx = s.g[0][e] * s.w[1][e],
+                   dy = s.w[0][e] * s.g[1][e];
       const double rx = g.X[n] - xp, ry = g.Y[n] - yp;
       sw += w;
       // Linear reproduction sum_i w_i x_i = x_p as sum_i w_i (x_i - x_p) = 0 (the same given
@@ -619,7 +620,8 @@ TEST(GridStencils, ParticleTouchingDomainEdge) {
           double sw = 0, swx = 0, swy = 0, sgx = 0, sgy = 0, mxx = 0, mxy = 0, myx = 0, myy = 0;
           for (PetscInt e = s.start[p]; e < s.start[p + 1]; ++e) {
             const PetscInt n = s.node[e];
-            const double w = s.wx[e] * s.wy[e], dx = s.gx[e] * s.wy[e], dy = s.wx[e] * s.gy[e];
+            const double w = s.w[0][e] * s.w[1][e], dx = s.g[0][e] * s.w[1][e],
+                         dy = s.w[0][e] * s.g[1][e];
             const double rx = g.X[n] - xp, ry = g.Y[n] - yp;
             sw += w;
             swx += w * rx;
@@ -734,9 +736,9 @@ struct NodeValues {
     clear();
     for (PetscInt e = s.start[p]; e < s.start[p + 1]; ++e) {
       const PetscInt n = s.node[e];
-      w[n] = s.wx[e] * s.wy[e];
-      gx[n] = s.gx[e] * s.wy[e];
-      gy[n] = s.wx[e] * s.gy[e];
+      w[n] = s.w[0][e] * s.w[1][e];
+      gx[n] = s.g[0][e] * s.w[1][e];
+      gy[n] = s.w[0][e] * s.g[1][e];
       touched.push_back(n);
     }
   }

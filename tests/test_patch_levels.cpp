@@ -6,10 +6,11 @@
 //
 //     f_i = - sum_p V_p sigma . grad w_ip,
 //
-// with the particles' GIMP stencils from Grid::buildStencils (node weight wx wy, gradient
-// (gx wy, wx gy)). Since the GIMP weight is the average of the node's point shape function S_i
-// (a product of tents with the node's influence zones) over the particle, V_p grad w_ip is the
-// integral of grad S_i over the particle, and for particles that tile B
+// with the particles' GIMP stencils from Grid::buildStencils and the solver's internal-force
+// kernel physics::internalForce (node weight w_x w_y, gradient (g_x w_y, w_x g_y)). Since the GIMP
+// weight is the average of the node's point shape function S_i (a product of tents with the node's
+// influence zones) over the particle, V_p grad w_ip is the integral of grad S_i over the particle,
+// and for particles that tile B
 //
 //     f_i = - integral_B sigma . grad S_i = - boundary integral of S_i sigma . n.
 //
@@ -34,8 +35,9 @@
 // and with the same particles translated by a fraction of a level-0 cell in x and y, so that
 // particles straddle level boundaries and level-0 particles lie inside fine levels (as when a
 // body drifts across the grid; the identities above hold for any tiling).
-#include "gimp/grid.hpp"
-#include "gimp/shape.hpp"
+#include "gimp/grid/grid.hpp"
+#include "gimp/grid/shape.hpp"
+#include "gimp/physics/internal_force.hpp"
 
 #include <gtest/gtest.h>
 
@@ -57,7 +59,7 @@ using gimp::Grid;
 using gimp::Level;
 using gimp::LevelSpec;
 using gimp::Scene;
-using gimp::Stencils;
+using Stencils = gimp::Stencils<gimp::kDim>;
 using gimp::shape::tent;
 using gimp::shape::tentIntegral;
 
@@ -160,16 +162,21 @@ Particles tile(const Grid &g, const CellBox &blk, int n, double sx, double sy) {
   return p;
 }
 
-/// f_i = - sum_p V_p sigma . grad w_ip for sigma = (sxx, syy, sxy), 2 per window node.
+/// f_i = - sum_p V_p sigma . grad w_ip for sigma = (sxx, syy, sxy), 2 per window node: the
+/// solver's own internal-force kernel (physics::internalForce) on these particles.
 std::vector<double> internalForces(const Grid &g, const Particles &p, const Stencils &s,
                                    const std::array<double, 3> &sig) {
   std::vector<double> f(2 * static_cast<size_t>(g.nWindow), 0.0);
-  for (PetscInt k = 0; k < p.size(); ++k)
-    for (PetscInt e = s.start[k]; e < s.start[k + 1]; ++e) {
-      const double gx = s.gx[e] * s.wy[e], gy = s.wx[e] * s.gy[e];
-      f[2 * s.node[e]] -= p.V[k] * (sig[0] * gx + sig[2] * gy);
-      f[2 * s.node[e] + 1] -= p.V[k] * (sig[2] * gx + sig[1] * gy);
+  const std::vector<double> stress = [&] {
+    std::vector<double> t(4 * static_cast<size_t>(p.size()));
+    for (PetscInt k = 0; k < p.size(); ++k) {
+      t[4 * k] = sig[0];
+      t[4 * k + 1] = t[4 * k + 2] = sig[2];
+      t[4 * k + 3] = sig[1];
     }
+    return t;
+  }();
+  gimp::physics::internalForce<gimp::kDim>(s, p.size(), p.V.data(), stress.data(), f.data());
   return f;
 }
 

@@ -5,7 +5,7 @@
 //
 // All random sampling uses a fixed-seed std::mt19937_64, so every run checks the same points.
 // Random checks keep the largest error and report where it occurred.
-#include "gimp/shape.hpp"
+#include "gimp/grid/shape.hpp"
 
 #include "test_util.hpp"
 

@@ -1,4 +1,4 @@
-#include "gimp/mms.hpp"
+#include "gimp/physics/mms.hpp"
 
 #include <cmath>
 

@@ -1,4 +1,5 @@
-#include "gimp/particles.hpp"
+// Seeding: each body's cells filled with particles at the body's density.
+#include "gimp/particles/seed.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -7,97 +8,6 @@
 namespace gimp {
 
 namespace {
-
-struct FieldSpec {
-  const char *name;
-  PetscInt bs;
-  PetscDataType type;
-};
-
-const FieldSpec kFields[] = {
-    {"x", 2, PETSC_REAL},      {"X0", 2, PETSC_REAL},  {"v", 2, PETSC_REAL},
-    {"m", 1, PETSC_REAL},      {"V0", 1, PETSC_REAL},  {"V", 1, PETSC_REAL},
-    {"l", 2, PETSC_REAL},      {"l0", 2, PETSC_REAL},  {"F", 4, PETSC_REAL},
-    {"stress", 4, PETSC_REAL}, {"eps", 2, PETSC_REAL}, {"id", 1, PETSC_INT64},
-    {"trac", 2, PETSC_INT},    {"dbc", 2, PETSC_INT}};
-
-template <typename T> PetscErrorCode getField(DM sw, const char *name, T **p) {
-  PetscCall(DMSwarmGetField(sw, name, nullptr, nullptr, reinterpret_cast<void **>(p)));
-  return PETSC_SUCCESS;
-}
-
-template <typename T> PetscErrorCode restoreField(DM sw, const char *name, T **p) {
-  PetscCall(DMSwarmRestoreField(sw, name, nullptr, nullptr, reinterpret_cast<void **>(p)));
-  return PETSC_SUCCESS;
-}
-
-} // namespace
-
-PetscErrorCode ParticleView::get(DM sw) {
-  PetscObject mark = nullptr;
-  PetscCall(PetscObjectQuery(reinterpret_cast<PetscObject>(sw), "gimp_corners", &mark));
-  hasCorners = mark != nullptr;
-  PetscCall(DMSwarmGetLocalSize(sw, &n));
-  PetscCall(getField(sw, "x", &x));
-  PetscCall(getField(sw, "X0", &X0));
-  PetscCall(getField(sw, "v", &v));
-  PetscCall(getField(sw, "m", &m));
-  PetscCall(getField(sw, "V0", &V0));
-  PetscCall(getField(sw, "V", &V));
-  PetscCall(getField(sw, "l", &l));
-  PetscCall(getField(sw, "l0", &l0));
-  PetscCall(getField(sw, "F", &F));
-  PetscCall(getField(sw, "stress", &s));
-  PetscCall(getField(sw, "eps", &eps));
-  PetscCall(getField(sw, "id", &id));
-  PetscCall(getField(sw, "trac", &trac));
-  PetscCall(getField(sw, "dbc", &dbc));
-  if (hasCorners) PetscCall(getField(sw, "corners", &corners));
-  PetscCall(getField(sw, DMSwarmField_rank, &rank));
-  return PETSC_SUCCESS;
-}
-
-PetscErrorCode ParticleView::restore(DM sw) {
-  PetscCall(restoreField(sw, "x", &x));
-  PetscCall(restoreField(sw, "X0", &X0));
-  PetscCall(restoreField(sw, "v", &v));
-  PetscCall(restoreField(sw, "m", &m));
-  PetscCall(restoreField(sw, "V0", &V0));
-  PetscCall(restoreField(sw, "V", &V));
-  PetscCall(restoreField(sw, "l", &l));
-  PetscCall(restoreField(sw, "l0", &l0));
-  PetscCall(restoreField(sw, "F", &F));
-  PetscCall(restoreField(sw, "stress", &s));
-  PetscCall(restoreField(sw, "eps", &eps));
-  PetscCall(restoreField(sw, "id", &id));
-  PetscCall(restoreField(sw, "trac", &trac));
-  PetscCall(restoreField(sw, "dbc", &dbc));
-  if (hasCorners) PetscCall(restoreField(sw, "corners", &corners));
-  PetscCall(restoreField(sw, DMSwarmField_rank, &rank));
-  return PETSC_SUCCESS;
-}
-
-PetscErrorCode createSwarm(MPI_Comm comm, bool corners, DM *sw) {
-  PetscCall(DMCreate(comm, sw));
-  PetscCall(DMSetType(*sw, DMSWARM));
-  PetscCall(PetscObjectSetName(reinterpret_cast<PetscObject>(*sw), "particles"));
-  PetscCall(DMSetDimension(*sw, 2));
-  PetscCall(DMSwarmSetType(*sw, DMSWARM_BASIC));
-  PetscCall(DMSwarmInitializeFieldRegister(*sw));
-  for (const FieldSpec &f : kFields)
-    PetscCall(DMSwarmRegisterPetscDatatypeField(*sw, f.name, f.bs, f.type));
-  // Corner positions (x, y of the corners (-,-), (+,-), (+,+), (-,+)) only when tracked.
-  if (corners) PetscCall(DMSwarmRegisterPetscDatatypeField(*sw, "corners", 8, PETSC_REAL));
-  PetscCall(DMSwarmFinalizeFieldRegister(*sw));
-  if (corners) { // mark the swarm, so that ParticleView::get knows the field is there
-    PetscContainer mark;
-    PetscCall(PetscContainerCreate(comm, &mark));
-    PetscCall(PetscObjectCompose(reinterpret_cast<PetscObject>(*sw), "gimp_corners",
-                                 reinterpret_cast<PetscObject>(mark)));
-    PetscCall(PetscContainerDestroy(&mark));
-  }
-  return PETSC_SUCCESS;
-}
 
 /// Whether the square particle (x, y, half-size l) of body b has an edge on the segment.
 bool onSegment(const Scene &sc, const Segment &seg, int b, double x, double y, double l,
@@ -113,16 +23,17 @@ bool onSegment(const Scene &sc, const Segment &seg, int b, double x, double y, d
   return !seg.hasRange || (along >= seg.range[0] && along <= seg.range[1]);
 }
 
-PetscErrorCode seedParticles(const Scene &sc, const Grid &g, DM sw) {
-  struct Seed {
-    double x, y, l;
-    double cx0, cx1, cy0, cy1; // corners from the sub-cell lattice: neighbours share them exactly
-    PetscInt64 id;
-    int body;
-  };
+struct Seed {
+  double x, y, l;
+  double cx0, cx1, cy0, cy1; // corners from the sub-cell lattice: neighbours share them exactly
+  PetscInt64 id;
+  int body;
+};
+
+/// The particles this rank seeds: the leaf cells of every level whose centre lies in its
+/// level-0 cells, cut into n x n squares whose centres lie in a body.
+std::vector<Seed> collectSeeds(const Scene &sc, const Grid &g, PetscMPIInt rank) {
   std::vector<Seed> seeds;
-  PetscMPIInt rank = 0;
-  PetscCallMPI(MPI_Comm_rank(PetscObjectComm(reinterpret_cast<PetscObject>(sw)), &rank));
   const int K = static_cast<int>(g.levels.size());
   PetscInt64 maxCells = 0;
   for (const Level &L : g.levels)
@@ -179,6 +90,22 @@ PetscErrorCode seedParticles(const Scene &sc, const Grid &g, DM sw) {
         }
     }
   }
+  return seeds;
+}
+
+} // namespace
+
+PetscInt64 bodyIdSlots(const Lattice &g) {
+  PetscInt64 cells = 0;
+  for (const Level &L : g.levels)
+    cells = std::max<PetscInt64>(cells, static_cast<PetscInt64>(L.M) * L.N);
+  return static_cast<PetscInt64>(g.levels.size()) * cells * 64 * 64;
+}
+
+PetscErrorCode seedParticles(const Scene &sc, const Grid &g, DM sw) {
+  PetscMPIInt rank = 0;
+  PetscCallMPI(MPI_Comm_rank(PetscObjectComm(reinterpret_cast<PetscObject>(sw)), &rank));
+  const std::vector<Seed> seeds = collectSeeds(sc, g, rank);
   PetscCall(DMSwarmSetLocalSizes(sw, static_cast<PetscInt>(seeds.size()), 16));
   ParticleView p;
   PetscCall(p.get(sw));
@@ -208,6 +135,7 @@ PetscErrorCode seedParticles(const Scene &sc, const Grid &g, DM sw) {
     p.F[4 * k + 1] = p.F[4 * k + 2] = 0.0;
     for (int c = 0; c < 4; ++c)
       p.s[4 * k + c] = 0.0;
+    p.szz[k] = 0.0;
     p.eps[2 * k] = p.eps[2 * k + 1] = 0.0;
     p.id[k] = s.id;
     p.rank[k] = rank;

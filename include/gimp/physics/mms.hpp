@@ -2,7 +2,7 @@
 // skb1d: u = A sin(2 pi X) cos(c pi t) along x, 1D neo-Hookean with nu = 0, on X in [0, 1].
 #pragma once
 
-#include "gimp/scene.hpp"
+#include "gimp/input/scene.hpp"
 
 namespace gimp::mms {
 

@@ -3,7 +3,7 @@
 // the value and what would be valid.
 #pragma once
 
-#include "gimp/petsc_compat.hpp"
+#include "gimp/core/errors.hpp"
 
 #include <array>
 #include <stdexcept>
@@ -11,11 +11,6 @@
 #include <vector>
 
 namespace gimp {
-
-/// One-line user error (bad option value, inconsistent scene). main() prints it and exits.
-struct InputError : std::runtime_error {
-  using std::runtime_error::runtime_error;
-};
 
 enum class Update { USF, USL, MUSL };
 enum class Tracking { None, Strain, Stretch, Corners };
@@ -143,9 +138,6 @@ struct Scene {
   std::string gridDump;
   bool help = false;
 };
-
-/// A number as written in error messages (12 significant digits).
-std::string formatNumber(double v);
 
 /// Read and validate the scene from the options database (collective).
 PetscErrorCode readScene(MPI_Comm comm, Scene &scene);

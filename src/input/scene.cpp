@@ -1,4 +1,4 @@
-#include "gimp/scene.hpp"
+#include "gimp/input/scene.hpp"
 
 #include <cmath>
 #include <sstream>
@@ -40,13 +40,6 @@ PetscErrorCode checkChoice(const std::string &opt, const char *const *list, int 
 }
 
 } // namespace
-
-std::string formatNumber(double v) {
-  std::ostringstream s;
-  s.precision(12);
-  s << v;
-  return s.str();
-}
 
 double Ramp::at(double time) const {
   if (t.empty()) return 1.0;

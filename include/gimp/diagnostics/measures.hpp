@@ -1,0 +1,56 @@
+// What a run measures besides energies: probes, the manufactured solution's error, the
+// separation of former neighbours, and the hoop stress around a hole. Each is a collective
+// function of the particles; the results go into the io reports.
+#pragma once
+
+#include "gimp/grid/lattice.hpp"
+
+#include <petscdm.h>
+
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace gimp {
+
+struct ProbeState {
+  PetscInt64 id = -1;
+  double X0[2] = {0, 0}, u[2] = {0, 0};
+  double stress[4] = {0, 0, 0, 0}; // sxx, syy, sxy, szz
+};
+
+/// Measures kept over the whole run.
+struct RunMeasures {
+  double separationStrain = std::numeric_limits<double>::quiet_NaN(); // strain at first warning
+  double maxStrain = 0, maxSeparation = 0;
+  double mmsLinf = 0, mmsRms = 0; // largest errors over the history rows
+  PetscInt64 migrated = 0;        // particles that changed rank, summed over the run
+};
+
+/// The hole measure (-gimp_hole_measure): hoop stress / p of the first layer of particles next
+/// to the hole by angle from the load axis (rows: angle [deg], r, hoop / p, Kirsch's value at r;
+/// on rank 0), kt at 90 degrees (the nearest particle, and its linear extrapolation to the edge
+/// along the 90-degree ray), and the hoop stress at 0, 15, ..., 90 degrees.
+struct HoleMeasure {
+  static constexpr int kAngles = 7;
+  double kt = std::numeric_limits<double>::quiet_NaN();
+  double ktEdge = std::numeric_limits<double>::quiet_NaN();
+  std::vector<double> hoopByAngle;
+  std::vector<std::vector<double>> rows;
+};
+
+/// Ids of the particles nearest to each probe's initial position (ties: smallest id).
+PetscErrorCode findProbes(MPI_Comm comm, const Scene &sc, DM sw, std::vector<PetscInt64> &ids);
+/// Displacement and stress of the probe particles.
+PetscErrorCode probeStates(MPI_Comm comm, DM sw, const std::vector<PetscInt64> &ids,
+                           std::vector<ProbeState> &out);
+/// Largest and volume-weighted RMS displacement error against the manufactured solution at t.
+PetscErrorCode mmsErrors(MPI_Comm comm, const Scene &sc, DM sw, double t, double &linf,
+                         double &rms);
+/// Largest gap between particles that started as neighbours, relative to their size, and the
+/// engineering strain of the particles' extent along x.
+PetscErrorCode separation(MPI_Comm comm, const Lattice &grid, DM sw, double &gap, double &strain);
+/// The hole measure.
+PetscErrorCode holeMeasure(MPI_Comm comm, const Scene &sc, DM sw, HoleMeasure &out);
+
+} // namespace gimp

@@ -1,0 +1,72 @@
+// The composite grid in PETSc: one DMDA per level (dof = dimension), composed (DMComposite) into
+// the global Vec that TS advances, and this rank's window of every level.
+//
+// Each rank works on a window: the nodes within two level-0 cells of the level-0 cells it owns
+// (particles are owned by the rank owning their level-0 cell). A VecScatter moves values between
+// the global Vec and the window (insert forward, add in reverse), so P2G and G2P run on plain
+// arrays and finer levels need no decomposition matching level 0.
+#pragma once
+
+#include "gimp/grid/lattice.hpp"
+#include "gimp/grid/stencils.hpp"
+
+#include <petscdmcomposite.h>
+#include <petscdmda.h>
+
+#include <cstdint>
+#include <vector>
+
+namespace gimp {
+
+class Grid : public Lattice {
+public:
+  Grid() = default;
+  Grid(const Grid &) = delete;
+  Grid &operator=(const Grid &) = delete;
+  ~Grid();
+
+  /// Build the levels from the scene, the composite DM, this rank's window and its scatter
+  /// (collective).
+  PetscErrorCode create(MPI_Comm comm, const Scene &sc);
+
+  DM dm = nullptr;         // DMComposite of the level DMDAs
+  std::vector<DM> da, da1; // per level: the DMDA (dof 2) and its dof-1 twin (scalar output)
+
+  // Window node data (all levels concatenated).
+  PetscInt nWindow = 0;
+  std::vector<std::uint8_t> active, regular;
+  std::vector<double> X, Y;
+  std::vector<double> zone; // 4 per node: Lx-, Lx+, Ly-, Ly+
+
+  /// Vectors on the window (sequential, dof 2) and moves between them and a global Vec.
+  PetscErrorCode createWindowVec(Vec *v) const;
+  PetscErrorCode toWindow(Vec global, Vec window) const;      // insert
+  PetscErrorCode addFromWindow(Vec window, Vec global) const; // add (caller zeroes global)
+
+  /// Rank owning the level-0 cell containing (x, y).
+  PetscMPIInt ownerOf(double x, double y) const;
+  /// The region of rank r's level-0 cells [x0, y0, x1, y1] (unbounded at the domain edges).
+  void ownedBox(PetscMPIInt r, double box[4]) const;
+
+  /// Stencils of n particles (positions x, half-sizes l; D values each). Returns false, with s
+  /// unchanged past the particles done, when a particle is larger than a level-0 cell (the
+  /// caller reports it collectively).
+  bool buildStencils(PetscInt n, const double *x, const double *l, Stencils<kDim> &s) const;
+
+private:
+  /// Level-0 ownership and this rank's window of every level.
+  PetscErrorCode setWindow();
+  /// Positions, activity, zones and regularity of the window's nodes.
+  void fillWindowNodes();
+  /// The scatter between the composite global Vec and the window.
+  PetscErrorCode createScatter(MPI_Comm comm);
+
+  static constexpr std::uint8_t kActive = 1, kRegular = 2;
+  std::vector<std::uint8_t> flags_;   // active and regular in one byte per window node
+  std::vector<std::uint8_t> block3_;  // the 3 x 3 block of one level from this node is regular
+  std::vector<PetscInt> ownX_, ownY_; // level-0 node ownership: first node of each rank column
+  VecScatter scatter_ = nullptr;
+  Vec windowTemplate_ = nullptr;
+};
+
+} // namespace gimp

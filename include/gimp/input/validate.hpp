@@ -1,0 +1,31 @@
+// Validation of what the options describe, before step 1. Each check ends the run on every rank
+// with one line naming the option, the value and what is valid (InputError, thrown by all ranks
+// alike: the checks use only data every rank has, or reduce what one rank found).
+#pragma once
+
+#include "gimp/grid/grid.hpp"
+#include "gimp/particles/swarm.hpp"
+
+#include <petscts.h>
+
+namespace gimp {
+
+/// readScene, with PETSc's own parse errors (a number that is not one) as one line.
+PetscErrorCode readSceneOneLine(MPI_Comm comm, Scene &sc);
+
+/// Combinations readScene cannot judge alone: the model and plane, particle density limits.
+void checkSceneCombinations(const Scene &sc);
+
+/// The seeded particles: every body holds some, every traction and penalty condition reaches a
+/// particle edge, every particle lies inside the grid. Returns the count and mean mass.
+PetscErrorCode checkSeeding(MPI_Comm comm, const Scene &sc, const Grid &grid, const ParticleView &p,
+                            PetscInt64 &count, double &meanMass);
+
+/// TSSetFromOptions with parse errors as one line, then the time stepper's type, adaptivity and
+/// step checked (explicit euler, fixed dt below the stable h_min / c_p).
+PetscErrorCode timeStepFromOptions(TS ts, const Scene &sc, const Lattice &grid);
+
+/// Unknown or misspelled options stop the run (options PETSc reads at exit are allowed).
+PetscErrorCode rejectUnusedOptions();
+
+} // namespace gimp

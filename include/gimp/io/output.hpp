@@ -1,0 +1,55 @@
+// Run output in the scene's output directory (the contract is docs/output.md): HDF5 particle and
+// grid fields with XDMF for ParaView, history.csv (time series), summary.json and hoop.csv.
+// Every method is collective; files are written by rank 0 and a failure to write ends every
+// rank with one InputError line.
+#pragma once
+
+#include "gimp/grid/grid.hpp"
+#include "gimp/io/report.hpp"
+
+#include <cstdio>
+#include <string>
+#include <vector>
+
+namespace gimp {
+
+class Output {
+public:
+  Output(MPI_Comm comm, const Scene &sc, const Grid &grid) : comm_(comm), sc_(sc), grid_(grid) {}
+  ~Output();
+  Output(const Output &) = delete;
+  Output &operator=(const Output &) = delete;
+
+  /// Create the directory, start history.csv, remove fields of an earlier run.
+  PetscErrorCode open();
+  PetscErrorCode writeHistory(const HistoryRow &row);
+  /// Particle fields of the swarm and each level's nodal velocity and mass (global Vecs).
+  PetscErrorCode writeFields(PetscInt step, double t, DM sw, Vec velocity, Vec mass);
+  PetscErrorCode writeSummary(const SummaryReport &r);
+  PetscErrorCode writeHoop(const HoleMeasure &h);
+
+private:
+  PetscErrorCode writeXdmf() const;
+  PetscErrorCode writeParticleXdmf(FILE *fp) const;
+  PetscErrorCode writeGridXdmf(FILE *fg) const;
+  /// Opens dir/name for writing on rank 0; every rank learns of a failure (collective).
+  PetscErrorCode openOnRoot(const std::string &name, FILE **f) const;
+
+  MPI_Comm comm_;
+  const Scene &sc_;
+  const Grid &grid_;
+  PetscMPIInt rank_ = 0;
+  std::string dir_;
+  FILE *history_ = nullptr;
+  struct Frame {
+    PetscInt step;
+    double t;
+    long long particles;
+  };
+  std::vector<Frame> frames_;
+};
+
+/// The particles sorted by id as CSV id,x,y,vx,vy,sxx,syy,sxy,szz,V,lx,ly (collective).
+PetscErrorCode writeParticleDump(MPI_Comm comm, DM sw, const std::string &file);
+
+} // namespace gimp

@@ -1,0 +1,37 @@
+// Plain reports that the solver hands to the writers: everything a history row and the summary
+// hold, already reduced over ranks. The writers know nothing of the solver.
+#pragma once
+
+#include "gimp/diagnostics/energies.hpp"
+#include "gimp/diagnostics/measures.hpp"
+
+#include <string>
+#include <vector>
+
+namespace gimp {
+
+struct HistoryRow {
+  PetscInt step = 0;
+  double t = 0;
+  Energies energy;
+  double separation = 0, strainX = 0;
+  std::vector<ProbeState> probes;
+  std::vector<double> reactions, gaps; // per penalty condition: (fx, fy) and |u - u_bar|
+  double mmsLinf = 0, mmsRms = 0;
+};
+
+struct SummaryReport {
+  std::string status; // completed, at_rest or unstable
+  int ranks = 1;
+  PetscInt steps = 0;
+  double t = 0, dt = 0, wallSeconds = 0;
+  PetscInt64 particles = 0;
+  Energies energy;
+  std::vector<ProbeState> probes;
+  std::vector<double> reactions, gaps, maxGaps;
+  double penalty = 0;
+  RunMeasures measures;
+  const HoleMeasure *hole = nullptr; // with -gimp_hole_measure
+};
+
+} // namespace gimp

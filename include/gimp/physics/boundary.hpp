@@ -1,0 +1,69 @@
+// External forces of Eq. 8 and the penalty displacement conditions of Eq. 9.
+//
+// Body force: f_i = sum_p m_p b S_ip. Tractions and penalty conditions act on particle edges
+// that lie on a loaded or constrained segment of a body's side; both are integrated exactly
+// along the edge by one helper, edgeShape(): the node's tent across the edge, taken at the edge,
+// times the 1D weight along it. The penalty of Eq. 9 adds, per constrained component, the
+// traction sigma_p n (optional) and -alpha (u - u_bar) with u the edge's displacement.
+#pragma once
+
+#include "gimp/grid/grid.hpp"
+#include "gimp/grid/shape.hpp"
+#include "gimp/particles/swarm.hpp"
+
+#include <vector>
+
+namespace gimp::physics {
+
+/// S_i of stencil entry e integrated along particle edge normal to axis a, lying at coordinate
+/// `edge`, per unit edge length.
+inline double edgeShape(const Grid &g, const Stencils<2> &st, PetscInt e, int a, double edge) {
+  const PetscInt nd = st.node[e];
+  const double *z = &g.zone[4 * nd];
+  return a == 0 ? shape::tent(edge - g.X[nd], z[0], z[1]) * st.w[1][e]
+                : st.w[0][e] * shape::tent(edge - g.Y[nd], z[2], z[3]);
+}
+
+/// Spread a force (fx, fy) acting on particle k's edge normal to axis a at `edge` onto fe.
+inline void spreadEdgeForce(const Grid &g, const Stencils<2> &st, PetscInt k, int a, double edge,
+                            const double force[2], double *fe) {
+  for (PetscInt e = st.start[k]; e < st.start[k + 1]; ++e) {
+    const double w = edgeShape(g, st, e, a, edge);
+    fe[2 * st.node[e]] += w * force[0];
+    fe[2 * st.node[e] + 1] += w * force[1];
+  }
+}
+
+class Boundary {
+public:
+  /// The penalty alpha of Eq. 9 from -gimp_penalty or chosen from the material, grid and dt,
+  /// checked against its stability bounds (the same on every rank). Prints it.
+  PetscErrorCode setup(MPI_Comm comm, const Scene &sc, const Lattice &grid, double dt);
+
+  /// Whether the scene has external nodal forces (body force, tractions, penalty terms).
+  bool active() const { return active_; }
+
+  /// External nodal forces at time t accumulated into the window array fe; records each penalty
+  /// condition's force on the body and its largest violation on this rank.
+  void externalForces(const Scene &sc, const Grid &g, const Stencils<2> &st, const ParticleView &p,
+                      double t, double *fe);
+
+  /// Each penalty condition's force (fx, fy) summed over ranks and its largest violation
+  /// |u - u_bar| at the last force evaluation; keeps the largest violation seen (collective).
+  PetscErrorCode reactions(MPI_Comm comm, std::vector<double> &force, std::vector<double> &gap);
+
+  double alpha() const { return alpha_; }
+  const std::vector<double> &maxGap() const { return maxGap_; }
+
+private:
+  void penaltyForces(const Scene &sc, const Grid &g, const Stencils<2> &st, const ParticleView &p,
+                     double t, double *fe);
+
+  bool active_ = false;
+  double alpha_ = 0;              // penalty of Eq. 9 in use [Pa/m]
+  std::vector<double> reactions_; // this rank's part of each condition's force (fx, fy)
+  std::vector<double> gaps_;      // this rank's largest |u - u_bar| per condition
+  std::vector<double> maxGap_;    // largest violation per condition over the reports
+};
+
+} // namespace gimp::physics

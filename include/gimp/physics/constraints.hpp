@@ -1,0 +1,17 @@
+// Grid-node constraints and the mask of nodes that take part in the grid update.
+#pragma once
+
+#include "gimp/grid/grid.hpp"
+
+namespace gimp::physics {
+
+/// bcMask (global, dof layout of the momentum): 1 for a free dof, 0 for a dof fixed by a
+/// grid-node constraint (-gimp_bcK_*) on a level-0 grid line, applied to the active nodes of
+/// every level. A constraint off the level-0 lines is an input error (on every rank alike).
+PetscErrorCode nodeConstraints(const Scene &sc, const Grid &grid, Vec bcMask);
+
+/// mask = bcMask where the node's mass exceeds `cut`, else 0; invMass = mask / m. The mass sits
+/// in component 0 of each node.
+PetscErrorCode massMask(Vec mass, Vec bcMask, double cut, Vec mask, Vec invMass);
+
+} // namespace gimp::physics

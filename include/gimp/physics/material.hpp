@@ -1,0 +1,29 @@
+// Constitutive updates for one particle, on the tensor types of core/tensor.hpp (row-major
+// D x D; the out-of-plane stress szz of the 2D models is a separate scalar).
+#pragma once
+
+#include "gimp/core/tensor.hpp"
+#include "gimp/input/scene.hpp"
+
+namespace gimp::material {
+
+using Tensor2 = Tensor<2>;
+
+/// Hypoelastic linear isotropic update with the Jaumann (co-rotational) rate over dt:
+/// sigma += dt (lambda* tr(D) I + 2 mu D + W sigma - sigma W), D and W the symmetric and skew
+/// parts of L. Plane strain carries szz += dt lambda tr(D); plane stress keeps szz = 0 with the
+/// reduced lambda*.
+void jaumannUpdate(const Material &m, const Tensor2 &L, double dt, Eigen::Ref<Tensor2> s,
+                   double &szz);
+
+/// Compressible neo-Hookean Cauchy stress from F (plane strain, Fzz = 1):
+/// sigma = (lambda ln J I + mu (F F^T - I)) / J, szz = lambda ln J / J.
+void neoHookeanStress(const Material &m, const Tensor2 &F, Eigen::Ref<Tensor2> s, double &szz);
+
+/// Stored elastic energy of a particle of reference volume V0 and current volume V.
+/// Linear: the complementary energy sigma : C^-1 : sigma / 2 (frame independent);
+/// neo-Hookean: the strain energy function.
+double strainEnergy(const Material &m, const Tensor2 &s, double szz, const Tensor2 &F, double V0,
+                    double V);
+
+} // namespace gimp::material

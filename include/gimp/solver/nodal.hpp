@@ -1,0 +1,32 @@
+// The nodal vectors of the composite grid. Global Vecs (DMComposite of the level DMDAs, dof 2)
+// live on the owning ranks; window Vecs hold this rank's window of every level, where the
+// particle kernels add and read (Grid::toWindow / addFromWindow move between them).
+#pragma once
+
+#include "gimp/grid/grid.hpp"
+
+namespace gimp {
+
+struct Nodal {
+  // Global.
+  Vec P = nullptr;       // momentum: the TS solution
+  Vec mass = nullptr;    // nodal mass, in component 0 (dof layout of the momentum)
+  Vec vel = nullptr;     // nodal velocity
+  Vec acc = nullptr;     // nodal acceleration; the re-projected velocity after G2P
+  Vec f = nullptr;       // internal + external force of this step (before damping and masks)
+  Vec rhs = nullptr;     // the last RHS: total nodal force incl. damping, masked
+  Vec fext = nullptr;    // external force (tractions, body force, penalty), if the scene has any
+  Vec bcMask = nullptr;  // 1 free, 0 constrained, per dof
+  Vec mask = nullptr;    // bcMask times (node has mass)
+  Vec invMass = nullptr; // mask / mass
+  // Window.
+  Vec sumW = nullptr, massW = nullptr, velW = nullptr, accW = nullptr, extW = nullptr;
+
+  Nodal() = default;
+  Nodal(const Nodal &) = delete;
+  Nodal &operator=(const Nodal &) = delete;
+  ~Nodal();
+  PetscErrorCode create(const Grid &grid, bool external);
+};
+
+} // namespace gimp

@@ -1,0 +1,111 @@
+// One explicit GIMP run: the scene, the grid, the particles and PETSc's TS, and the time step as
+// a short list of named phases (solver/step.cpp):
+//
+//   migrate -> stencils -> P2G -> [stress, USF] -> forces -> grid update (TSStep) -> G2P
+//   (+ re-projection, corners) -> work -> [stress, USL/MUSL] -> checks -> report
+//
+// Nodal momentum is the TS solution (a DMComposite global Vec). TS type euler advances it with
+// RHS = kick * mask * (f_int + f_ext - d p) (Eq. 8 and Eq. 16); the forces are computed by the
+// forces phase before TSStep, so the RHS callback does no particle work and throws nothing.
+// State that one phase hands to a later one is passed as a value (StepClock, StartPower).
+#pragma once
+
+#include "gimp/diagnostics/energies.hpp"
+#include "gimp/diagnostics/measures.hpp"
+#include "gimp/grid/grid.hpp"
+#include "gimp/io/output.hpp"
+#include "gimp/particles/swarm.hpp"
+#include "gimp/physics/boundary.hpp"
+#include "gimp/physics/tracking.hpp"
+#include "gimp/solver/nodal.hpp"
+#include "gimp/solver/scheme.hpp"
+
+#include <petscts.h>
+
+#include <memory>
+#include <vector>
+
+namespace gimp {
+
+/// Where a step stands: its index and time at the start, the time step, and the fraction of
+/// the force it applies (0.5 on a leapfrog start, else 1).
+struct StepClock {
+  PetscInt step = 0;
+  double t = 0, dt = 0, kick = 1;
+};
+
+/// Power of the external and damping forces at the start of a step, for the step's work.
+struct StartPower {
+  double external = 0, damping = 0;
+};
+
+class Solver {
+public:
+  explicit Solver(MPI_Comm comm);
+  ~Solver();
+  Solver(const Solver &) = delete;
+  Solver &operator=(const Solver &) = delete;
+
+  /// Read the scene, build grid, particles and TS; validate everything (collective).
+  PetscErrorCode setup();
+  /// Step until TS's step or time limit, the rest criterion or a failure; final outputs.
+  PetscErrorCode run();
+
+  const Scene &scene() const { return sc_; }
+  /// True when the run stopped early because it went unstable.
+  bool failed() const { return failed_; }
+
+private:
+  // setup (solver/setup.cpp)
+  PetscErrorCode createParticles();
+  PetscErrorCode createTimeStepper();
+  static PetscErrorCode rhs(TS ts, PetscReal t, Vec X, Vec F, void *ctx);
+
+  // the step and its phases (solver/step.cpp)
+  static PetscErrorCode clockOf(TS ts, const Scene &sc, StepClock &c);
+  PetscErrorCode step();
+  PetscErrorCode migrate();
+  PetscErrorCode buildStencils(const ParticleView &p);
+  PetscErrorCode particlesToGrid(const ParticleView &p);
+  PetscErrorCode forces(const ParticleView &p, const StepClock &c, StartPower &power);
+  PetscErrorCode gridUpdate();
+  PetscErrorCode gridToParticles(ParticleView &p, const StepClock &c);
+  PetscErrorCode work(const StepClock &c, const StartPower &power);
+  PetscErrorCode stress(ParticleView &p, Vec velocityWindow, double dt);
+  PetscErrorCode checks(const ParticleView &p, PetscInt step, double t);
+  PetscErrorCode report(PetscInt step, double t);
+
+  // reports (solver/report.cpp)
+  PetscErrorCode historyRow(PetscInt step, double t, HistoryRow &row);
+  PetscErrorCode finish(PetscInt steps, double t);
+  PetscErrorCode restCriterion(PetscInt step, double t);
+  PetscErrorCode monitorLine(PetscInt step, double t);
+
+  MPI_Comm comm_;
+  PetscMPIInt rank_ = 0, size_ = 1;
+  Scene sc_;
+  Scheme scheme_{};
+  Grid grid_;
+  DM sw_ = nullptr;
+  TS ts_ = nullptr;
+  Nodal nodal_;
+  Stencils<kDim> st_;              // particle -> node weights, rebuilt each step
+  std::vector<double> L_;          // velocity gradient per particle (row-major 2 x 2)
+  std::vector<double> centres_;    // weight centres with corner tracking
+  physics::Boundary boundary_;     // external forces and penalty conditions
+  tracking::CornerMotion corners_; // corner tracking's motion of the corners
+  WorkLedger work_;
+  RunMeasures measures_;
+  std::vector<PetscInt64> probeIds_;
+  PetscInt64 nParticles_ = 0;
+  double meanParticleMass_ = 0;
+  std::unique_ptr<Output> out_;
+  struct Stages {
+    PetscLogStage p2g = 0, forces = 0, grid = 0, g2p = 0, stress = 0, output = 0;
+  } stages_;
+  PetscLogDouble wall0_ = 0;
+  bool failed_ = false;
+  bool atRest_ = false; // stopped by the rest criterion (-gimp_static_tol)
+};
+
+} // namespace gimp

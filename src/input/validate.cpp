@@ -1,0 +1,204 @@
+#include "gimp/input/validate.hpp"
+
+#include "gimp/particles/seed.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <climits>
+#include <sstream>
+#include <vector>
+
+namespace gimp {
+
+namespace {
+
+std::string boxText(const Box &b) {
+  return formatNumber(b[0]) + "," + formatNumber(b[1]) + "," + formatNumber(b[2]) + "," +
+         formatNumber(b[3]);
+}
+
+/// While options are read, PETSc's own parsing errors are kept as one message.
+PetscErrorCode keepInputError(MPI_Comm, int, const char *, const char *, PetscErrorCode n,
+                              PetscErrorType p, const char *mess, void *ctx) {
+  if (p == PETSC_ERROR_INITIAL && mess) *static_cast<std::string *>(ctx) = mess;
+  return n;
+}
+
+/// The option whose value appears in PETSc's message ("Input string abc has ...",
+/// "Unknown logical value: maybe"), to name it in the one-line error.
+std::string optionWithValueIn(const std::string &message) {
+  char *all = nullptr;
+  if (PetscOptionsGetAll(nullptr, &all) || !all) return "";
+  std::istringstream in(all);
+  std::string tok, name, found;
+  while (in >> tok) {
+    if (tok.size() > 1 && tok[0] == '-' && !std::isdigit(static_cast<unsigned char>(tok[1])) &&
+        tok[1] != '.') {
+      name = tok;
+      continue;
+    }
+    const bool atEnd = message.size() >= tok.size() &&
+                       message.compare(message.size() - tok.size(), tok.size(), tok) == 0;
+    if (!name.empty() && (message.find(" " + tok + " ") != std::string::npos || atEnd))
+      found = name + " " + tok;
+  }
+  (void)PetscFree(all);
+  return found;
+}
+
+/// Run `read` with PETSc's error handler replaced; a PETSc error becomes one InputError line.
+template <class Read> PetscErrorCode readOneLine(Read read) {
+  std::string petscMessage;
+  PetscCall(PetscPushErrorHandler(keepInputError, &petscMessage));
+  PetscErrorCode ierr = PETSC_SUCCESS;
+  try {
+    ierr = read();
+  } catch (...) {
+    PetscCall(PetscPopErrorHandler());
+    throw;
+  }
+  PetscCall(PetscPopErrorHandler());
+  if (ierr) {
+    const std::string opt = optionWithValueIn(petscMessage);
+    throw InputError((opt.empty() ? std::string("options: ") : "option " + opt + ": ") +
+                     petscMessage);
+  }
+  return PETSC_SUCCESS;
+}
+
+} // namespace
+
+PetscErrorCode readSceneOneLine(MPI_Comm comm, Scene &sc) {
+  return readOneLine([&] { return readScene(comm, sc); });
+}
+
+void checkSceneCombinations(const Scene &sc) {
+  if (sc.material.model == MaterialModel::NeoHookean && !sc.material.planeStrain)
+    throw InputError("option -gimp_material neohookean: needs -gimp_plane strain (the plane-stress "
+                     "neo-Hookean model is not implemented)");
+  for (size_t b = 0; b < sc.bodies.size(); ++b)
+    if (std::max(sc.bodies[b].ppc, sc.bodies[b].holePpc) > 64 * 64)
+      throw InputError("option -gimp_body" + std::to_string(b) +
+                       "_ppc: at most 4096 particles per cell (64 x 64)");
+}
+
+namespace {
+
+/// Every traction and penalty condition reaches some particle edge (collective).
+PetscErrorCode checkSegmentsReached(MPI_Comm comm, const Scene &sc, const ParticleView &p) {
+  const size_t nt = sc.tractions.size(), nd = sc.dbcs.size();
+  std::vector<PetscInt64> hits(nt + nd, 0), gHits(nt + nd, 0);
+  for (PetscInt k = 0; k < p.n; ++k)
+    for (int a = 0; a < 2; ++a) {
+      if (p.trac[2 * k + a] >= 0) ++hits[p.trac[2 * k + a]];
+      if (p.dbc[2 * k + a] >= 0) ++hits[nt + p.dbc[2 * k + a]];
+    }
+  if (!hits.empty())
+    PetscCallMPI(MPI_Allreduce(hits.data(), gHits.data(), static_cast<int>(hits.size()),
+                               MPI_INT64_T, MPI_SUM, comm));
+  for (size_t q = 0; q < gHits.size(); ++q) {
+    if (gHits[q] != 0) continue;
+    const bool isTraction = q < nt;
+    const Segment &seg = isTraction ? static_cast<const Segment &>(sc.tractions[q])
+                                    : static_cast<const Segment &>(sc.dbcs[q - nt]);
+    const std::string name =
+        (isTraction ? "gimp_traction" : "gimp_dbc") + std::to_string(isTraction ? q : q - nt);
+    const char *sides[] = {"left", "right", "bottom", "top"};
+    throw InputError("option -" + name + "_side " + sides[static_cast<int>(seg.side)] +
+                     ": no particle edge of body " + std::to_string(seg.body) +
+                     " lies on that side" + (seg.hasRange ? " within -" + name + "_range" : "") +
+                     " (particles fill whole sub-cells: put the body's edges on grid lines)");
+  }
+  return PETSC_SUCCESS;
+}
+
+} // namespace
+
+PetscErrorCode checkSeeding(MPI_Comm comm, const Scene &sc, const Grid &grid, const ParticleView &p,
+                            PetscInt64 &count, double &meanMass) {
+  const PetscInt64 slots = bodyIdSlots(grid);
+  std::vector<PetscInt64> mine(sc.bodies.size(), 0), total(sc.bodies.size(), 0);
+  double msum = 0, mtot = 0;
+  for (PetscInt k = 0; k < p.n; ++k) {
+    ++mine[p.id[k] / slots];
+    msum += p.m[k];
+  }
+  PetscCallMPI(MPI_Allreduce(mine.data(), total.data(), static_cast<int>(mine.size()), MPI_INT64_T,
+                             MPI_SUM, comm));
+  PetscCallMPI(MPI_Allreduce(&msum, &mtot, 1, MPI_DOUBLE, MPI_SUM, comm));
+  count = 0;
+  for (size_t b = 0; b < total.size(); ++b) {
+    if (total[b] == 0)
+      throw InputError("option -gimp_body" + std::to_string(b) + "_box " +
+                       boxText(sc.bodies[b].box) +
+                       ": the body holds no particle (its cells are all removed by holes "
+                       "or it is thinner than a particle); enlarge it or refine -gimp_h");
+    count += total[b];
+  }
+  meanMass = mtot / static_cast<double>(count);
+  PetscCall(checkSegmentsReached(comm, sc, p));
+  PetscInt64 outside = INT64_MAX, gOutside = INT64_MAX;
+  for (PetscInt k = 0; k < p.n; ++k) {
+    const double x = p.x[2 * k], y = p.x[2 * k + 1];
+    if (x - p.l[2 * k] < sc.domain[0] || x + p.l[2 * k] > sc.domain[2] ||
+        y - p.l[2 * k + 1] < sc.domain[1] || y + p.l[2 * k + 1] > sc.domain[3])
+      outside = std::min(outside, p.id[k]);
+  }
+  PetscCallMPI(MPI_Allreduce(&outside, &gOutside, 1, MPI_INT64_T, MPI_MIN, comm));
+  if (gOutside != INT64_MAX)
+    throw InputError("option -gimp_domain " + boxText(sc.domain) + ": particle " +
+                     std::to_string(gOutside) + " of body " + std::to_string(gOutside / slots) +
+                     " is not inside the grid; enlarge the domain or -gimp_pad");
+  return PETSC_SUCCESS;
+}
+
+PetscErrorCode timeStepFromOptions(TS ts, const Scene &sc, const Lattice &grid) {
+  PetscCall(readOneLine([&] { return TSSetFromOptions(ts); }));
+  TSType type;
+  TSAdapt adapt;
+  TSAdaptType atype;
+  PetscCall(TSGetType(ts, &type));
+  PetscCall(TSGetAdapt(ts, &adapt));
+  PetscCall(TSAdaptGetType(adapt, &atype));
+  if (std::string(type) != TSEULER)
+    throw InputError("option -ts_type " + std::string(type) +
+                     ": gimp advances the nodal momentum with euler (Eq. 16); use -ts_type euler");
+  if (std::string(atype) != TSADAPTNONE)
+    throw InputError("option -ts_adapt_type " + std::string(atype) +
+                     ": the time step is fixed (-ts_dt); use -ts_adapt_type none");
+  PetscReal dt = 0;
+  PetscCall(TSGetTimeStep(ts, &dt));
+  const double cp = sc.material.waveSpeed(), dtStable = grid.hMin() / cp;
+  if (!(dt > 0)) throw InputError("option -ts_dt " + formatNumber(dt) + ": must be > 0 [s]");
+  if (dt > dtStable)
+    throw InputError("option -ts_dt " + formatNumber(dt) + ": exceeds the stable limit h / c_p = " +
+                     formatNumber(dtStable) + " s (finest h = " + formatNumber(grid.hMin()) +
+                     " m, c_p = " + formatNumber(cp) +
+                     " m/s); choose -ts_dt <= " + formatNumber(dtStable));
+  return PETSC_SUCCESS;
+}
+
+PetscErrorCode rejectUnusedOptions() {
+  PetscInt nleft = 0;
+  char **names = nullptr, **values = nullptr;
+  PetscCall(PetscOptionsLeftGet(nullptr, &nleft, &names, &values));
+  std::string unknown;
+  const char *lateOptions[] = {
+      "log_view",        "log_all",     "log_trace",   "options_left", "options_view",
+      "malloc_dump",     "malloc_view", "memory_view", "objects_dump", "check_pointer_intensity",
+      "log_view_memory", "info",        "ts_view"};
+  for (PetscInt i = 0; i < nleft && unknown.empty(); ++i) {
+    bool late = false;
+    for (const char *o : lateOptions)
+      if (std::string(names[i]).rfind(o, 0) == 0) late = true;
+    if (!late) unknown = std::string(names[i]) + (values[i] ? std::string(" ") + values[i] : "");
+  }
+  PetscCall(PetscOptionsLeftRestore(nullptr, &nleft, &names, &values));
+  if (!unknown.empty())
+    throw InputError("option -" + unknown +
+                     ": unknown option (misspelled, or not used by this scene); see -help and "
+                     "docs/options.md");
+  return PETSC_SUCCESS;
+}
+
+} // namespace gimp

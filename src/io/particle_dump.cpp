@@ -1,0 +1,59 @@
+#include "gimp/diagnostics/gather.hpp"
+#include "gimp/io/output.hpp"
+#include "gimp/particles/swarm.hpp"
+
+#include <algorithm>
+
+namespace gimp {
+
+PetscErrorCode writeParticleDump(MPI_Comm comm, DM sw, const std::string &file) {
+  // Gather id and state on rank 0, sorted by id: rank-independent for comparisons.
+  constexpr int kCols = 12;
+  ParticleView p;
+  PetscCall(p.get(sw));
+  std::vector<double> loc(static_cast<size_t>(p.n) * kCols);
+  for (PetscInt k = 0; k < p.n; ++k) {
+    const auto s = tensorAt<2>(p.s, k);
+    const double row[kCols] = {static_cast<double>(p.id[k]),
+                               p.x[2 * k],
+                               p.x[2 * k + 1],
+                               p.v[2 * k],
+                               p.v[2 * k + 1],
+                               s(0, 0),
+                               s(1, 1),
+                               s(0, 1),
+                               p.szz[k],
+                               p.V[k],
+                               p.l[2 * k],
+                               p.l[2 * k + 1]};
+    std::copy(row, row + kCols, &loc[static_cast<size_t>(k) * kCols]);
+  }
+  PetscCall(p.restore(sw));
+  std::vector<double> all;
+  PetscCall(gatherToRoot(comm, loc, all));
+  PetscMPIInt rank = 0;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  FILE *f = rank == 0 ? std::fopen(file.c_str(), "w") : nullptr;
+  PetscCall(agree(comm, rank == 0 && !f ? "option -gimp_particle_dump " + file +
+                                              ": cannot open the file for writing"
+                                        : std::string()));
+  if (rank != 0) return PETSC_SUCCESS;
+  const size_t n = all.size() / kCols;
+  std::vector<size_t> order(n);
+  for (size_t i = 0; i < n; ++i)
+    order[i] = i;
+  std::sort(order.begin(), order.end(),
+            [&](size_t a, size_t b) { return all[a * kCols] < all[b * kCols]; });
+  std::fprintf(f, "id,x,y,vx,vy,sxx,syy,sxy,szz,V,lx,ly\n");
+  for (size_t i : order) {
+    const double *r = &all[i * kCols];
+    std::fprintf(f, "%.0f", r[0]);
+    for (int c = 1; c < kCols; ++c)
+      std::fprintf(f, ",%.17g", r[c]);
+    std::fprintf(f, "\n");
+  }
+  std::fclose(f);
+  return PETSC_SUCCESS;
+}
+
+} // namespace gimp

@@ -1,0 +1,136 @@
+#include "gimp/physics/boundary.hpp"
+
+#include "gimp/physics/mms.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+
+namespace gimp::physics {
+
+PetscErrorCode Boundary::setup(MPI_Comm comm, const Scene &sc, const Lattice &grid, double dt) {
+  active_ = !sc.tractions.empty() || !sc.dbcs.empty() || sc.gravity[0] != 0 || sc.gravity[1] != 0 ||
+            sc.mms != Mms::None;
+  if (sc.dbcs.empty()) return PETSC_SUCCESS;
+  // The penalty spring on a boundary node (alpha h per unit thickness against a mass of about
+  // rho h^2 / 2) is stable for alpha < 2 rho h / dt^2.
+  const double M = sc.material.lambdaStar + 2.0 * sc.material.mu, h = grid.hMin();
+  // Measured on the slab: stable at 0.83 of 2 rho h / dt^2, unstable at 0.92 of it.
+  const double limit = 1.6 * sc.material.rho * h / (dt * dt);
+  double worst = 0, weakest = 1e300;
+  for (const DisplacementBC &d : sc.dbcs) {
+    worst = std::max(worst, d.penaltyScale);
+    weakest = std::min(weakest, d.penaltyScale);
+  }
+  if (sc.penalty == 0) {
+    alpha_ = std::min(100.0 * M / h, 0.5 * sc.material.rho * h / (dt * dt));
+  } else {
+    alpha_ = sc.penalty;
+    if (alpha_ * worst > limit)
+      throw InputError("option -gimp_penalty " + formatNumber(sc.penalty) +
+                       ": with the largest segment scale " + formatNumber(worst) +
+                       " it exceeds the stable limit 1.6 rho h_min / dt^2 = " +
+                       formatNumber(limit) + " Pa/m for -ts_dt " + formatNumber(dt));
+  }
+  // Without its symmetric counterpart, the traction term of Eq. 9 needs a penalty that
+  // dominates it: measured unstable at 1 M / h_min and stable from 2 M / h_min on.
+  if (sc.penaltyTraction && alpha_ * weakest < 4.0 * M / h)
+    throw InputError("option -gimp_penalty " + formatNumber(alpha_) +
+                     ": with the smallest segment scale " + formatNumber(weakest) +
+                     " it is below 4 M / h_min = " + formatNumber(4.0 * M / h) +
+                     " Pa/m, where the traction term of Eq. 9 goes unstable; raise it, or use "
+                     "-gimp_penalty_traction false");
+  reactions_.assign(2 * sc.dbcs.size(), 0.0);
+  gaps_.assign(sc.dbcs.size(), 0.0);
+  maxGap_.assign(sc.dbcs.size(), 0.0);
+  PetscCall(PetscPrintf(comm, "gimp: penalty alpha = %.6g Pa/m (%.3g M / h_min)\n", alpha_,
+                        alpha_ * h / M));
+  return PETSC_SUCCESS;
+}
+
+void Boundary::externalForces(const Scene &sc, const Grid &g, const Stencils<2> &st,
+                              const ParticleView &p, double t, double *fe) {
+  const PetscInt *start = st.start.data(), *node = st.node.data();
+  const double gxv = sc.gravity[0], gyv = sc.gravity[1];
+  const bool gravity = gxv != 0 || gyv != 0;
+  std::unique_ptr<mms::Skb1d> ex;
+  if (sc.mms == Mms::Skb1d) ex = std::make_unique<mms::Skb1d>(sc);
+  std::vector<double> factor(sc.tractions.size());
+  for (size_t q = 0; q < factor.size(); ++q)
+    factor[q] = sc.tractions[q].ramp.at(t);
+  for (PetscInt k = 0; k < p.n; ++k) {
+    // Body force, Eq. 8: f_i = sum_p m_p b S_ip.
+    if (gravity || ex) {
+      const double bx = gxv + (ex ? ex->bodyForce(p.X0[2 * k], t) : 0.0);
+      const double fx = p.m[k] * bx, fy = p.m[k] * gyv;
+      for (PetscInt e = start[k]; e < start[k + 1]; ++e) {
+        const double w = st.weight(e);
+        fe[2 * node[e]] += w * fx;
+        fe[2 * node[e] + 1] += w * fy;
+      }
+    }
+    // Tractions, Eq. 8: a dead load, whose resultant is the traction times the initial edge
+    // length.
+    for (int a = 0; a < 2; ++a) {
+      const PetscInt q = p.trac[2 * k + a];
+      if (q < 0) continue;
+      const Traction &tr = sc.tractions[q];
+      const double edge = p.x[2 * k + a] + tr.normal() * p.l[2 * k + a];
+      const double len = 2.0 * p.l0[2 * k + 1 - a] * sc.material.thickness;
+      const double force[2] = {tr.value[0] * factor[q] * len, tr.value[1] * factor[q] * len};
+      spreadEdgeForce(g, st, k, a, edge, force, fe);
+    }
+  }
+  if (!sc.dbcs.empty()) penaltyForces(sc, g, st, p, t, fe);
+}
+
+void Boundary::penaltyForces(const Scene &sc, const Grid &g, const Stencils<2> &st,
+                             const ParticleView &p, double t, double *fe) {
+  // Eq. 9 on each particle edge that lies on a constrained segment, per constrained component.
+  // u is the displacement of the edge, u_p + (F - I) n l0: exact for a uniformly strained
+  // particle.
+  std::vector<double> ubar(2 * sc.dbcs.size());
+  for (size_t q = 0; q < sc.dbcs.size(); ++q)
+    for (int c = 0; c < 2; ++c)
+      ubar[2 * q + c] = sc.dbcs[q].u[c].valueOr0(t);
+  std::fill(reactions_.begin(), reactions_.end(), 0.0);
+  std::fill(gaps_.begin(), gaps_.end(), 0.0);
+  for (PetscInt k = 0; k < p.n; ++k)
+    for (int a = 0; a < 2; ++a) {
+      const PetscInt q = p.dbc[2 * k + a];
+      if (q < 0) continue;
+      const DisplacementBC &d = sc.dbcs[q];
+      const double n = d.normal();
+      const double edge = p.x[2 * k + a] + n * p.l[2 * k + a];
+      const double len = 2.0 * p.l[2 * k + 1 - a] * sc.material.thickness;
+      const auto F = tensorAt<2>(p.F, k), sg = tensorAt<2>(p.s, k);
+      const double alpha = alpha_ * d.penaltyScale;
+      double force[2] = {0, 0};
+      for (int c = 0; c < 2; ++c) {
+        if (!d.fix[c]) continue;
+        const double u = p.x[2 * k + c] - p.X0[2 * k + c] +
+                         (F(c, a) - (c == a ? 1.0 : 0.0)) * n * p.l0[2 * k + a];
+        const double sigmaCA = sc.penaltyTraction ? sg(c, a) : 0.0;
+        force[c] = (sigmaCA * n - alpha * (u - ubar[2 * q + c])) * len;
+        gaps_[q] = std::max(gaps_[q], std::fabs(u - ubar[2 * q + c]));
+        reactions_[2 * q + c] += force[c];
+      }
+      spreadEdgeForce(g, st, k, a, edge, force, fe);
+    }
+}
+
+PetscErrorCode Boundary::reactions(MPI_Comm comm, std::vector<double> &force,
+                                   std::vector<double> &gap) {
+  force.assign(reactions_.size(), 0.0);
+  gap.assign(gaps_.size(), 0.0);
+  if (reactions_.empty()) return PETSC_SUCCESS;
+  PetscCallMPI(MPI_Allreduce(reactions_.data(), force.data(), static_cast<int>(force.size()),
+                             MPI_DOUBLE, MPI_SUM, comm));
+  PetscCallMPI(MPI_Allreduce(gaps_.data(), gap.data(), static_cast<int>(gap.size()), MPI_DOUBLE,
+                             MPI_MAX, comm));
+  for (size_t q = 0; q < gap.size(); ++q)
+    maxGap_[q] = std::max(maxGap_[q], gap[q]);
+  return PETSC_SUCCESS;
+}
+
+} // namespace gimp::physics

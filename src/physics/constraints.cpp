@@ -1,0 +1,83 @@
+#include "gimp/physics/constraints.hpp"
+
+#include <vector>
+
+namespace gimp::physics {
+
+namespace {
+
+/// Level-0 grid line of constraint b, as finest-lattice units; throws when it is off the lines.
+std::int64_t constraintLine(const Scene &sc, const Grid &grid, size_t b) {
+  const NodeBC &bc = sc.bcs[b];
+  const PetscInt line = grid.lineIndex(bc.axis, bc.coord);
+  if (line < 0) {
+    const double o = bc.axis == 0 ? grid.x0 : grid.y0;
+    throw InputError("option -gimp_bc" + std::to_string(b) + (bc.axis == 0 ? "_x " : "_y ") +
+                     formatNumber(bc.coord) +
+                     ": not on a level-0 grid line inside the domain (lines at " + formatNumber(o) +
+                     " + i * " + formatNumber(grid.h0()) + ")");
+  }
+  const Level &L0 = grid.levels[0];
+  return (bc.axis == 0 ? L0.u0 : L0.v0) + line * L0.step;
+}
+
+} // namespace
+
+PetscErrorCode nodeConstraints(const Scene &sc, const Grid &grid, Vec bcMask) {
+  std::vector<std::int64_t> lines;
+  for (size_t b = 0; b < sc.bcs.size(); ++b)
+    lines.push_back(constraintLine(sc, grid, b));
+  const int K = static_cast<int>(grid.levels.size());
+  std::vector<Vec> sub(K);
+  PetscCall(VecSet(bcMask, 1.0));
+  PetscCall(DMCompositeGetAccessArray(grid.dm, bcMask, K, nullptr, sub.data()));
+  for (int k = 0; k < K; ++k) {
+    const Level &L = grid.levels[k];
+    PetscInt xs, ys, xm, ym;
+    PetscScalar ***mk;
+    PetscCall(DMDAGetCorners(grid.da[k], &xs, &ys, nullptr, &xm, &ym, nullptr));
+    PetscCall(DMDAVecGetArrayDOF(grid.da[k], sub[k], &mk));
+    for (size_t b = 0; b < sc.bcs.size(); ++b) {
+      const NodeBC &bc = sc.bcs[b];
+      for (PetscInt j = ys; j < ys + ym; ++j)
+        for (PetscInt i = xs; i < xs + xm; ++i) {
+          const std::int64_t u = bc.axis == 0 ? L.u0 + i * L.step : L.v0 + j * L.step;
+          if (u != lines[b] || !grid.nodeActive(k, i, j)) continue;
+          const double along = bc.axis == 0 ? grid.y0 + (L.v0 + j * L.step) * grid.unit
+                                            : grid.x0 + (L.u0 + i * L.step) * grid.unit;
+          const double tol = 1e-9 * L.h;
+          if (bc.hasRange && (along < bc.range[0] - tol || along > bc.range[1] + tol)) continue;
+          for (int c = 0; c < 2; ++c)
+            if (bc.fix[c]) mk[j][i][c] = 0.0;
+        }
+    }
+    PetscCall(DMDAVecRestoreArrayDOF(grid.da[k], sub[k], &mk));
+  }
+  PetscCall(DMCompositeRestoreAccessArray(grid.dm, bcMask, K, nullptr, sub.data()));
+  return PETSC_SUCCESS;
+}
+
+PetscErrorCode massMask(Vec mass, Vec bcMask, double cut, Vec mask, Vec invMass) {
+  const PetscScalar *m = nullptr, *bc = nullptr;
+  PetscScalar *mk = nullptr, *im = nullptr;
+  PetscInt nloc = 0;
+  PetscCall(VecGetLocalSize(mass, &nloc));
+  PetscCall(VecGetArrayRead(mass, &m));
+  PetscCall(VecGetArrayRead(bcMask, &bc));
+  PetscCall(VecGetArray(mask, &mk));
+  PetscCall(VecGetArray(invMass, &im));
+  for (PetscInt i = 0; i < nloc; i += 2) {
+    const bool has = m[i] > cut;
+    for (int c = 0; c < 2; ++c) {
+      mk[i + c] = has ? bc[i + c] : 0.0;
+      im[i + c] = has && bc[i + c] != 0.0 ? 1.0 / m[i] : 0.0;
+    }
+  }
+  PetscCall(VecRestoreArray(invMass, &im));
+  PetscCall(VecRestoreArray(mask, &mk));
+  PetscCall(VecRestoreArrayRead(bcMask, &bc));
+  PetscCall(VecRestoreArrayRead(mass, &m));
+  return PETSC_SUCCESS;
+}
+
+} // namespace gimp::physics

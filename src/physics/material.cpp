@@ -1,0 +1,44 @@
+#include "gimp/physics/material.hpp"
+
+#include <cmath>
+
+namespace gimp::material {
+
+void jaumannUpdate(const Material &m, const Tensor2 &L, double dt, Eigen::Ref<Tensor2> s,
+                   double &szz) {
+  const Tensor2 Dr = 0.5 * (L + L.transpose());
+  const double w = 0.5 * (L(0, 1) - L(1, 0)); // W_xy
+  const double tr = Dr.trace();
+  // W sigma - sigma W for a symmetric sigma in 2D, in closed form.
+  Tensor2 spin;
+  spin << 2.0 * w * s(0, 1), w * (s(1, 1) - s(0, 0)), w * (s(1, 1) - s(0, 0)), -2.0 * w * s(0, 1);
+  s += dt * ((m.lambdaStar * tr) * Tensor2::Identity() + (2.0 * m.mu) * Dr + spin);
+  if (m.planeStrain) szz += dt * m.lambda * tr;
+}
+
+void neoHookeanStress(const Material &m, const Tensor2 &F, Eigen::Ref<Tensor2> s, double &szz) {
+  const double J = determinant2(F);
+  const double lnJ = std::log(J);
+  const Tensor2 b = product<2>(F, F.transpose());
+  s = ((m.lambda * lnJ) * Tensor2::Identity() + m.mu * (b - Tensor2::Identity())) / J;
+  szz = m.lambda * lnJ / J;
+}
+
+double strainEnergy(const Material &m, const Tensor2 &s, double szz, const Tensor2 &F, double V0,
+                    double V) {
+  if (m.model == MaterialModel::NeoHookean) {
+    const double J = determinant2(F);
+    const double lnJ = std::log(J);
+    const double I1 =
+        F(0, 0) * F(0, 0) + F(0, 1) * F(0, 1) + F(1, 0) * F(1, 0) + F(1, 1) * F(1, 1) + 1.0;
+    return V0 * (0.5 * m.mu * (I1 - 3.0) - m.mu * lnJ + 0.5 * m.lambda * lnJ * lnJ);
+  }
+  const double sxx = s(0, 0), syy = s(1, 1), sxy = s(0, 1);
+  const double w =
+      ((sxx * sxx + syy * syy + szz * szz) - 2.0 * m.nu * (sxx * syy + syy * szz + szz * sxx)) /
+          (2.0 * m.E) +
+      (1.0 + m.nu) / m.E * sxy * sxy;
+  return w * V;
+}
+
+} // namespace gimp::material

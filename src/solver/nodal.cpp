@@ -1,0 +1,25 @@
+#include "gimp/solver/nodal.hpp"
+
+namespace gimp {
+
+Nodal::~Nodal() {
+  for (Vec *v : {&P, &mass, &vel, &acc, &f, &rhs, &fext, &bcMask, &mask, &invMass, &sumW, &massW,
+                 &velW, &accW, &extW})
+    if (*v) (void)VecDestroy(v);
+}
+
+PetscErrorCode Nodal::create(const Grid &grid, bool external) {
+  PetscCall(DMCreateGlobalVector(grid.dm, &P));
+  PetscCall(PetscObjectSetName(reinterpret_cast<PetscObject>(P), "momentum"));
+  for (Vec *v : {&mass, &vel, &acc, &f, &rhs, &bcMask, &mask, &invMass})
+    PetscCall(VecDuplicate(P, v));
+  for (Vec *v : {&sumW, &massW, &velW, &accW})
+    PetscCall(grid.createWindowVec(v));
+  if (external) {
+    PetscCall(VecDuplicate(P, &fext));
+    PetscCall(grid.createWindowVec(&extW));
+  }
+  return PETSC_SUCCESS;
+}
+
+} // namespace gimp

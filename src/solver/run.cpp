@@ -1,0 +1,182 @@
+// The run loop, the checks after each step and the reports (history, rest criterion, fields,
+// monitor lines, summary).
+#include "gimp/solver/solver.hpp"
+
+#include <cmath>
+
+namespace gimp {
+
+PetscErrorCode Solver::run() {
+  if (sc_.help) return PETSC_SUCCESS;
+  PetscCall(PetscLogStagePush(stages_.output));
+  PetscCall(out_->writeFields(0, 0.0, sw_, nodal_.vel, nodal_.mass));
+  HistoryRow row;
+  PetscCall(historyRow(0, 0.0, row));
+  PetscCall(out_->writeHistory(row));
+  PetscCall(PetscLogStagePop());
+  PetscInt steps = 0, maxSteps = 0;
+  PetscReal t = 0, maxTime = 0;
+  PetscCall(TSGetMaxSteps(ts_, &maxSteps));
+  PetscCall(TSGetMaxTime(ts_, &maxTime));
+  PetscCall(TSMonitor(ts_, 0, 0.0, nodal_.P));
+  while (steps < maxSteps && t < maxTime && !failed_ && !atRest_) {
+    PetscCall(step());
+    PetscCall(TSGetStepNumber(ts_, &steps));
+    PetscCall(TSGetTime(ts_, &t));
+  }
+  PetscCall(TSViewFromOptions(ts_, nullptr, "-ts_view"));
+  PetscCall(finish(steps, t));
+  return PETSC_SUCCESS;
+}
+
+PetscErrorCode Solver::checks(const ParticleView &p, PetscInt step, double t) {
+  // A particle that is not finite, left the grid, or is inverted or larger than a level-0 cell
+  // stops the run on every rank; the first such particle of each rank is named.
+  const double *d = sc_.domain.data();
+  const double h0 = grid_.h0();
+  PetscInt bad = -1;
+  for (PetscInt k = 0; k < p.n && bad < 0; ++k) {
+    const double x = p.x[2 * k], y = p.x[2 * k + 1], lx = p.l[2 * k], ly = p.l[2 * k + 1];
+    const double s = p.s[4 * k] + p.s[4 * k + 3] + p.s[4 * k + 1];
+    // NaN fails every comparison: the test is written so that it lands in the bad branch.
+    const bool ok = std::isfinite(x + y + s) && x - lx >= d[0] && x + lx <= d[2] &&
+                    y - ly >= d[1] && y + ly <= d[3] && lx > 0 && ly > 0 && lx <= h0 && ly <= h0;
+    if (!ok) bad = k;
+  }
+  if (bad >= 0) {
+    const PetscInt k = bad;
+    const double x = p.x[2 * k], y = p.x[2 * k + 1], lx = p.l[2 * k], ly = p.l[2 * k + 1];
+    std::string why;
+    if (!std::isfinite(x) || !std::isfinite(y) || !tensorAt<2>(p.s, k).allFinite())
+      why = "its position or stress is not finite: the run went unstable (reduce -ts_dt)";
+    else if (x - lx < d[0] || x + lx > d[2] || y - ly < d[1] || y + ly > d[3])
+      why = "it left the grid domain (enlarge -gimp_domain or -gimp_pad)";
+    else
+      why = "its half-size (" + formatNumber(lx) + ", " + formatNumber(ly) +
+            ") is not in (0, h0]: the particle is inverted or stretched beyond one level-0 cell";
+    failed_ = true;
+    PetscCall(PetscSynchronizedFPrintf(comm_, PETSC_STDERR,
+                                       "gimp: error: step %" PetscInt_FMT
+                                       " t %.9g s: particle %" PetscInt64_FMT
+                                       " at (%.9g, %.9g): %s\n",
+                                       step, t, p.id[k], x, y, why.c_str()));
+  }
+  PetscCall(PetscSynchronizedFlush(comm_, PETSC_STDERR));
+  PetscBool any = PETSC_FALSE, mine = failed_ ? PETSC_TRUE : PETSC_FALSE;
+  PetscCallMPI(MPI_Allreduce(&mine, &any, 1, MPIU_BOOL, MPI_LOR, comm_));
+  failed_ = any;
+  return PETSC_SUCCESS;
+}
+
+PetscErrorCode Solver::report(PetscInt step, double t) {
+  if (failed_) return PETSC_SUCCESS;
+  PetscCall(PetscLogStagePush(stages_.output));
+  if (step % sc_.historyInterval == 0) {
+    HistoryRow row;
+    PetscCall(historyRow(step, t, row));
+    PetscCall(out_->writeHistory(row));
+    if (sc_.staticTol > 0 && t >= sc_.staticTime) PetscCall(restCriterion(step, t));
+  }
+  if (sc_.outputInterval > 0 && step % sc_.outputInterval == 0)
+    PetscCall(out_->writeFields(step, t, sw_, nodal_.vel, nodal_.mass));
+  if (sc_.monitorInterval > 0 && step % sc_.monitorInterval == 0) PetscCall(monitorLine(step, t));
+  PetscCall(TSMonitor(ts_, step, t, nodal_.P));
+  PetscCall(PetscLogStagePop());
+  return PETSC_SUCCESS;
+}
+
+PetscErrorCode Solver::historyRow(PetscInt step, double t, HistoryRow &row) {
+  row.step = step;
+  row.t = t;
+  PetscCall(particleEnergies(comm_, sc_, sw_, work_, row.energy));
+  PetscCall(probeStates(comm_, sw_, probeIds_, row.probes));
+  PetscCall(mmsErrors(comm_, sc_, sw_, t, row.mmsLinf, row.mmsRms));
+  measures_.mmsLinf = std::max(measures_.mmsLinf, row.mmsLinf);
+  measures_.mmsRms = std::max(measures_.mmsRms, row.mmsRms);
+  PetscCall(boundary_.reactions(comm_, row.reactions, row.gaps));
+  PetscCall(separation(comm_, grid_, sw_, row.separation, row.strainX));
+  measures_.maxStrain = std::max(measures_.maxStrain, row.strainX);
+  measures_.maxSeparation = std::max(measures_.maxSeparation, row.separation);
+  if (row.separation > sc_.separationThreshold && std::isnan(measures_.separationStrain)) {
+    measures_.separationStrain = row.strainX;
+    PetscCall(PetscPrintf(comm_,
+                          "gimp: warning: step %" PetscInt_FMT " t %.6g s: particles separated: "
+                          "a gap of %.3g particle sizes between former neighbours (threshold "
+                          "%.3g) at engineering strain %.4g\n",
+                          step, t, row.separation, sc_.separationThreshold, row.strainX));
+  }
+  return PETSC_SUCCESS;
+}
+
+PetscErrorCode Solver::restCriterion(PetscInt step, double t) {
+  // Energy-based rest criterion for runs damped to a static state.
+  Energies e;
+  PetscCall(particleEnergies(comm_, sc_, sw_, work_, e));
+  if (e.strain > 0 && e.kinetic < sc_.staticTol * e.strain) {
+    atRest_ = true;
+    PetscCall(PetscPrintf(comm_,
+                          "gimp: at rest at step %" PetscInt_FMT " t %.6g s: kinetic / strain "
+                          "energy %.3g < %.3g\n",
+                          step, t, e.kinetic / e.strain, sc_.staticTol));
+  }
+  return PETSC_SUCCESS;
+}
+
+PetscErrorCode Solver::monitorLine(PetscInt step, double t) {
+  Energies e;
+  PetscCall(particleEnergies(comm_, sc_, sw_, work_, e));
+  PetscCall(PetscPrintf(comm_,
+                        "%6" PetscInt_FMT " t %.6e  KE %.6e  SE %.6e  Wext %.6e  Wdamp %.6e  "
+                        "E %.6e  p (%.6e, %.6e)\n",
+                        step, t, e.kinetic, e.strain, e.externalWork, e.damping, e.total(),
+                        e.momentum[0], e.momentum[1]));
+  return PETSC_SUCCESS;
+}
+
+PetscErrorCode Solver::finish(PetscInt steps, double t) {
+  // The last frame and history row (if the intervals did not just write them), the particle
+  // dump and the summary. An unstable run keeps what it had written.
+  PetscCall(PetscLogStagePush(stages_.output));
+  if (!failed_) {
+    if (sc_.outputInterval == 0 || steps % sc_.outputInterval != 0)
+      PetscCall(out_->writeFields(steps, t, sw_, nodal_.vel, nodal_.mass));
+    if (steps % sc_.historyInterval != 0) {
+      HistoryRow row;
+      PetscCall(historyRow(steps, t, row));
+      PetscCall(out_->writeHistory(row));
+    }
+  }
+  if (!sc_.particleDump.empty()) PetscCall(writeParticleDump(comm_, sw_, sc_.particleDump));
+  SummaryReport r;
+  HoleMeasure hole;
+  if (sc_.holeMeasure) {
+    PetscCall(holeMeasure(comm_, sc_, sw_, hole));
+    PetscCall(out_->writeHoop(hole));
+    r.hole = &hole;
+  }
+  r.status = failed_ ? "unstable" : atRest_ ? "at_rest" : "completed";
+  r.ranks = size_;
+  r.steps = steps;
+  r.t = t;
+  PetscReal dt = 0;
+  PetscCall(TSGetTimeStep(ts_, &dt));
+  r.dt = dt;
+  PetscCall(particleEnergies(comm_, sc_, sw_, work_, r.energy));
+  PetscCall(probeStates(comm_, sw_, probeIds_, r.probes));
+  PetscInt nloc = 0;
+  PetscCall(DMSwarmGetLocalSize(sw_, &nloc));
+  PetscInt64 mine = nloc;
+  PetscCallMPI(MPI_Allreduce(&mine, &r.particles, 1, MPI_INT64_T, MPI_SUM, comm_));
+  PetscCall(boundary_.reactions(comm_, r.reactions, r.gaps));
+  r.maxGaps = boundary_.maxGap();
+  r.penalty = boundary_.alpha();
+  r.measures = measures_;
+  PetscLogDouble wall1 = 0;
+  PetscCall(PetscTime(&wall1));
+  r.wallSeconds = wall1 - wall0_;
+  PetscCall(out_->writeSummary(r));
+  PetscCall(PetscLogStagePop());
+  return PETSC_SUCCESS;
+}
+
+} // namespace gimp

@@ -1,0 +1,222 @@
+// One time step as named phases. Each phase is a call into the room of its concept: grid
+// (stencils), transfer (P2G, G2P), physics (forces, deformation, tracking), TS (grid update),
+// diagnostics and io (report). Values one phase hands to a later one are passed explicitly.
+#include "gimp/physics/constraints.hpp"
+#include "gimp/physics/deformation.hpp"
+#include "gimp/physics/internal_force.hpp"
+#include "gimp/solver/solver.hpp"
+#include "gimp/transfer/transfer.hpp"
+
+namespace gimp {
+
+PetscErrorCode Solver::clockOf(TS ts, const Scene &sc, StepClock &c) {
+  PetscReal t = 0, dt = 0;
+  PetscCall(TSGetStepNumber(ts, &c.step));
+  PetscCall(TSGetTime(ts, &t));
+  PetscCall(TSGetTimeStep(ts, &dt));
+  c.t = t;
+  c.dt = dt;
+  // Leapfrog start: the first step kicks by half the force, so particle velocities stand at
+  // half steps and the update x += dt v, v += dt a is second order in time.
+  c.kick = c.step == 0 && sc.halfStepStart ? 0.5 : 1.0;
+  return PETSC_SUCCESS;
+}
+
+PetscErrorCode Solver::step() {
+  StepClock c;
+  PetscCall(clockOf(ts_, sc_, c));
+  ParticleView p;
+  PetscCall(PetscLogStagePush(stages_.p2g));
+  PetscCall(migrate());
+  PetscCall(p.get(sw_));
+  PetscCall(buildStencils(p));
+  PetscCall(particlesToGrid(p));
+  PetscCall(PetscLogStagePop());
+  if (scheme_.stressBeforeGridUpdate) PetscCall(stress(p, nodal_.velW, c.dt));
+  StartPower power;
+  PetscCall(forces(p, c, power));
+  PetscCall(gridUpdate());
+  PetscCall(gridToParticles(p, c));
+  PetscCall(work(c, power));
+  if (!scheme_.stressBeforeGridUpdate) PetscCall(stress(p, nodal_.velW, c.dt));
+  PetscCall(checks(p, c.step + 1, c.t + c.dt));
+  PetscCall(p.restore(sw_));
+  PetscCall(report(c.step + 1, c.t + c.dt));
+  return PETSC_SUCCESS;
+}
+
+PetscErrorCode Solver::migrate() {
+  // Particles go to the rank owning their level-0 cell.
+  if (size_ == 1) return PETSC_SUCCESS;
+  ParticleView p;
+  PetscCall(p.get(sw_));
+  PetscInt64 moved = 0, any = 0;
+  double box[4];
+  grid_.ownedBox(rank_, box);
+  for (PetscInt k = 0; k < p.n; ++k) {
+    const double x = p.x[2 * k], y = p.x[2 * k + 1];
+    if (x >= box[0] && x < box[2] && y >= box[1] && y < box[3]) continue; // stays here
+    const PetscMPIInt r = grid_.ownerOf(x, y);
+    p.rank[k] = r;
+    if (r != rank_) ++moved;
+  }
+  PetscCall(p.restore(sw_));
+  PetscCallMPI(MPI_Allreduce(&moved, &any, 1, MPI_INT64_T, MPI_SUM, comm_));
+  if (any) PetscCall(DMSwarmMigrate(sw_, PETSC_TRUE));
+  measures_.migrated += any;
+  return PETSC_SUCCESS;
+}
+
+PetscErrorCode Solver::buildStencils(const ParticleView &p) {
+  // The checks of the previous step keep every particle within one level-0 cell, so a stencil
+  // failure means a particle grew past that in this step's setup: report it on every rank.
+  const bool ok = grid_.buildStencils(p.n, tracking::domainCentres(p, centres_), p.l, st_);
+  PetscCall(agree(comm_, ok ? std::string()
+                            : "a particle is larger than a level-0 cell (its half-size exceeds "
+                              "-gimp_h); refine the particles or enlarge -gimp_h"));
+  return PETSC_SUCCESS;
+}
+
+PetscErrorCode Solver::particlesToGrid(const ParticleView &p) {
+  // Mass and momentum to the nodes, masked (constraints, empty nodes); the nodal velocity.
+  PetscScalar *mom = nullptr, *mass = nullptr;
+  PetscCall(VecZeroEntries(nodal_.sumW));
+  PetscCall(VecZeroEntries(nodal_.massW));
+  PetscCall(VecGetArray(nodal_.sumW, &mom));
+  PetscCall(VecGetArray(nodal_.massW, &mass));
+  transfer::particlesToGrid<kDim>(st_, p.n, p.m, p.v, mom, mass);
+  PetscCall(VecRestoreArray(nodal_.massW, &mass));
+  PetscCall(VecRestoreArray(nodal_.sumW, &mom));
+  PetscCall(VecZeroEntries(nodal_.P));
+  PetscCall(grid_.addFromWindow(nodal_.sumW, nodal_.P));
+  PetscCall(VecZeroEntries(nodal_.mass));
+  PetscCall(grid_.addFromWindow(nodal_.massW, nodal_.mass));
+  PetscCall(physics::massMask(nodal_.mass, nodal_.bcMask, sc_.massCutoff * meanParticleMass_,
+                              nodal_.mask, nodal_.invMass));
+  PetscCall(VecPointwiseMult(nodal_.P, nodal_.P, nodal_.mask));
+  PetscCall(VecPointwiseMult(nodal_.vel, nodal_.P, nodal_.invMass));
+  if (scheme_.stressBeforeGridUpdate) PetscCall(grid_.toWindow(nodal_.vel, nodal_.velW));
+  return PETSC_SUCCESS;
+}
+
+PetscErrorCode Solver::forces(const ParticleView &p, const StepClock &c, StartPower &power) {
+  // f = f_int + f_ext (Eq. 8, 9) into nodal_.f; the RHS adds damping and masks it.
+  PetscCall(PetscLogStagePush(stages_.forces));
+  PetscScalar *f = nullptr;
+  PetscCall(VecZeroEntries(nodal_.sumW));
+  PetscCall(VecGetArray(nodal_.sumW, &f));
+  physics::internalForce<kDim>(st_, p.n, p.V, p.s, f);
+  if (boundary_.active()) {
+    PetscScalar *fe = nullptr;
+    PetscCall(VecZeroEntries(nodal_.extW));
+    PetscCall(VecGetArray(nodal_.extW, &fe));
+    boundary_.externalForces(sc_, grid_, st_, p, c.t, fe);
+    for (PetscInt i = 0; i < 2 * grid_.nWindow; ++i)
+      f[i] += fe[i];
+    PetscCall(VecRestoreArray(nodal_.extW, &fe));
+    PetscCall(VecZeroEntries(nodal_.fext));
+    PetscCall(grid_.addFromWindow(nodal_.extW, nodal_.fext));
+  }
+  PetscCall(VecRestoreArray(nodal_.sumW, &f));
+  PetscCall(VecZeroEntries(nodal_.f));
+  PetscCall(grid_.addFromWindow(nodal_.sumW, nodal_.f));
+  if (sc_.damping > 0) {
+    PetscScalar pv = 0;
+    PetscCall(VecDot(nodal_.P, nodal_.vel, &pv));
+    power.damping = sc_.damping * pv;
+  }
+  if (boundary_.active()) PetscCall(VecDot(nodal_.fext, nodal_.vel, &power.external));
+  PetscCall(PetscLogStagePop());
+  return PETSC_SUCCESS;
+}
+
+PetscErrorCode Solver::gridUpdate() {
+  // TS euler: p <- p + dt * rhs (Solver::rhs); then the nodal velocity and acceleration.
+  PetscCall(PetscLogStagePush(stages_.grid));
+  PetscCall(TSStep(ts_));
+  PetscCall(VecPointwiseMult(nodal_.vel, nodal_.P, nodal_.invMass));
+  PetscCall(VecPointwiseMult(nodal_.acc, nodal_.rhs, nodal_.invMass));
+  PetscCall(grid_.toWindow(nodal_.vel, nodal_.velW));
+  PetscCall(grid_.toWindow(nodal_.acc, nodal_.accW));
+  PetscCall(PetscLogStagePop());
+  return PETSC_SUCCESS;
+}
+
+PetscErrorCode Solver::gridToParticles(ParticleView &p, const StepClock &c) {
+  PetscCall(PetscLogStagePush(stages_.g2p));
+  const PetscScalar *vg = nullptr, *ag = nullptr;
+  PetscCall(VecGetArrayRead(nodal_.velW, &vg));
+  PetscCall(VecGetArrayRead(nodal_.accW, &ag));
+  transfer::gridToParticles<kDim>(st_, p.n, vg, ag, c.dt, sc_.flip, p.v, p.x);
+  PetscCall(VecRestoreArrayRead(nodal_.accW, &ag));
+  PetscCall(VecRestoreArrayRead(nodal_.velW, &vg));
+  const bool corners = sc_.tracking == Tracking::Corners;
+  if (scheme_.stressFromReprojection || corners) {
+    // Re-project the updated particle momentum (acc is free now): the velocity field of MUSL's
+    // stress update, and the one the corners follow. Unlike p^n+1 / m it is a weighted mean of
+    // particle velocities, so a node that a particle barely touches (tiny mass, huge F / m)
+    // cannot throw a corner away.
+    PetscScalar *mom = nullptr;
+    PetscCall(VecZeroEntries(nodal_.sumW));
+    PetscCall(VecGetArray(nodal_.sumW, &mom));
+    transfer::particlesToGrid<kDim>(st_, p.n, p.m, p.v, mom, nullptr);
+    PetscCall(VecRestoreArray(nodal_.sumW, &mom));
+    PetscCall(VecZeroEntries(nodal_.acc));
+    PetscCall(grid_.addFromWindow(nodal_.sumW, nodal_.acc));
+    PetscCall(VecPointwiseMult(nodal_.acc, nodal_.acc, nodal_.invMass));
+    PetscCall(grid_.toWindow(nodal_.acc, nodal_.accW));
+    if (scheme_.stressFromReprojection) {
+      PetscCall(VecCopy(nodal_.acc, nodal_.vel));
+      PetscCall(VecCopy(nodal_.accW, nodal_.velW));
+    }
+    if (corners) {
+      PetscCall(grid_.toWindow(nodal_.mass, nodal_.massW)); // the summed mass on the window
+      const PetscScalar *va = nullptr, *mw = nullptr;
+      PetscCall(VecGetArrayRead(nodal_.accW, &va));
+      PetscCall(VecGetArrayRead(nodal_.massW, &mw));
+      const bool ok =
+          corners_.move(grid_, sc_.cornerSize, sc_.massCutoff * meanParticleMass_, c.dt, va, mw, p);
+      PetscCall(VecRestoreArrayRead(nodal_.massW, &mw));
+      PetscCall(VecRestoreArrayRead(nodal_.accW, &va));
+      PetscCall(agree(comm_, ok ? std::string()
+                                : "a tracked corner's particle is larger than a "
+                                  "level-0 cell; reduce -gimp_corner_size"));
+    }
+  }
+  PetscCall(PetscLogStagePop());
+  return PETSC_SUCCESS;
+}
+
+PetscErrorCode Solver::work(const StepClock &c, const StartPower &power) {
+  // Work of the external and damping forces over the step: force times the mean of the grid
+  // velocities at its start and end. With MUSL the end velocity is the re-projection of the
+  // particles' velocities, so nodal force residuals that move no particle do no work.
+  if (boundary_.active()) {
+    PetscScalar fv = 0;
+    PetscCall(VecDot(nodal_.fext, nodal_.vel, &fv));
+    work_.external += 0.5 * c.kick * c.dt * (power.external + fv);
+  }
+  if (sc_.damping > 0) {
+    // The damping force is -d p^n, and p^n = p^n+1 - dt F.
+    PetscScalar pv = 0, fv = 0;
+    PetscCall(VecDot(nodal_.P, nodal_.vel, &pv));
+    PetscCall(VecDot(nodal_.rhs, nodal_.vel, &fv));
+    work_.damping += 0.5 * c.kick * c.dt * (power.damping + sc_.damping * (pv - c.dt * fv));
+  }
+  return PETSC_SUCCESS;
+}
+
+PetscErrorCode Solver::stress(ParticleView &p, Vec velocityWindow, double dt) {
+  // Velocity gradient from the scheme's velocity field, then F, volume, stress and domain.
+  PetscCall(PetscLogStagePush(stages_.stress));
+  L_.resize(4 * static_cast<size_t>(p.n));
+  const PetscScalar *vg = nullptr;
+  PetscCall(VecGetArrayRead(velocityWindow, &vg));
+  transfer::velocityGradient<kDim>(st_, p.n, vg, L_.data());
+  PetscCall(VecRestoreArrayRead(velocityWindow, &vg));
+  physics::updateDeformation(sc_, p, L_.data(), dt);
+  PetscCall(PetscLogStagePop());
+  return PETSC_SUCCESS;
+}
+
+} // namespace gimp
