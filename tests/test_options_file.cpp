@@ -200,7 +200,7 @@ TEST_F(OptionsFile, IncludesItselfThroughACycle) {
 }
 
 TEST_F(OptionsFile, MissingName) {
-  const std::string expected = "option -options_file: missing the file name after -options_file";
+  const std::string expected = "option -options_file: missing the file name";
   EXPECT_EQ(error({"-a", "1", "-options_file"}), expected);
   EXPECT_EQ(error({"-options_file", "-a", "1"}), expected);
   const std::string f = write("noname.opts", "-a 1\n-options_file\n");

@@ -108,7 +108,7 @@ public:
         ++i; // PETSc skips a word where an option is expected
       } else if (is(a, "-options_file")) {
         if (!hasNext || args[i + 1].empty() || args[i + 1][0] == '-')
-          fail("", "missing the file name after -options_file", "");
+          fail("", "missing the file name", "");
         include(args[i + 1], "", "");
         i += 2;
       } else {
@@ -187,8 +187,7 @@ private:
       } else if (is(first, "-options_file")) {
         const int line = packed.lineAt(tokens.start());
         const std::string here = " (included from " + path + " line " + std::to_string(line) + ")";
-        if (!tokens.next(second) || second.empty())
-          fail("", "missing the file name after -options_file", here);
+        if (!tokens.next(second) || second.empty()) fail("", "missing the file name", here);
         include(second, base, here);
         more = tokens.next(first);
       } else if (is(first, "-prefix_push") || is(first, "-options_file_yaml") ||
