@@ -1,6 +1,7 @@
 // gimp: explicit GIMP solid dynamics on a structured grid. See README.md and docs/.
-#include "gimp/input/options_file.hpp"
 #include "gimp/simulation.hpp"
+
+#include "gimp/input/options_file.hpp"
 
 #include <petscsys.h>
 
