@@ -1,37 +1,36 @@
 // gimp: explicit GIMP solid dynamics on a structured grid. See README.md and docs/.
 #include "gimp/solver/solver.hpp"
 
+#include "gimp/input/options_file.hpp"
+
 #include <petscsys.h>
 
 #include <cstdio>
-#include <cstring>
+#include <string>
+#include <vector>
 
 static const char help[] =
     "gimp: explicit Generalized Interpolation Material Point solver.\n"
     "Usage: gimp -options_file options/plate.opts [-ts_max_steps N] [-log_view]\n"
     "Options are listed below and in docs/options.md (SI units).\n";
 
-namespace {
-
-/// PETSc reports a missing -options_file with a long trace; say it in one line instead.
-bool optionsFilesExist(int argc, char **argv) {
-  for (int i = 1; i + 1 < argc; ++i) {
-    if (std::strcmp(argv[i], "-options_file") != 0) continue;
-    std::FILE *f = std::fopen(argv[i + 1], "r");
-    if (!f) {
-      std::fprintf(stderr, "gimp: error: option -options_file %s: cannot open the file\n",
-                   argv[i + 1]);
-      return false;
-    }
-    std::fclose(f);
-  }
-  return true;
-}
-
-} // namespace
-
 int main(int argc, char **argv) {
-  if (!optionsFilesExist(argc, argv)) return 2;
+  // -options_file names are read here, nested ones relative to the file that names them.
+  // An error is found alike on every rank; MPI has not started: print it from rank 0.
+  std::vector<std::string> args{argv[0]};
+  try {
+    const std::vector<std::string> expanded = gimp::expandOptionsFiles({argv + 1, argv + argc});
+    args.insert(args.end(), expanded.begin(), expanded.end());
+  } catch (const gimp::InputError &e) {
+    if (gimp::launcherRank() <= 0) std::fprintf(stderr, "gimp: error: %s\n", e.what());
+    return 2;
+  }
+  std::vector<char *> cargs;
+  for (std::string &a : args)
+    cargs.push_back(a.data());
+  cargs.push_back(nullptr);
+  argc = static_cast<int>(args.size());
+  argv = cargs.data();
   PetscCall(PetscInitialize(&argc, &argv, nullptr, help));
   int code = 0;
   try {

@@ -1,6 +1,7 @@
 """Bad input stops the run before step 1 with one line naming the option, the value and
 what is valid, and a non-zero exit code; nothing is written as if the run had happened."""
 import os
+import subprocess
 import gimptest
 
 args = gimptest.parse_args()
@@ -49,6 +50,53 @@ for name, extra, needle in cases:
     one_line = len([l for l in lines if "error" in l.lower()]) == 1
     c.check(name, ok and one_line and lines[0].startswith("gimp: error:"),
             "exit %d: %s" % (p.returncode, lines[0] if lines else "(no message)"))
+
+# -options_file errors are found before PETSc starts: one line, exit 2, no PETSc trace; under
+# mpiexec every rank finds the same error and only rank 0 prints it.
+opts = os.path.join(args.work, "opts")
+os.makedirs(os.path.join(opts, "dir.opts"), exist_ok=True)
+with open(os.path.join(opts, "self.opts"), "w") as f:
+    f.write("-gimp_damping 10\n-options_file self.opts\n")
+file_cases = [
+    # (name, options after patch.opts, text the error line must contain)
+    ("options file missing", ["-options_file", "does_not_exist.opts"],
+     "option -options_file does_not_exist.opts: cannot open the file"),
+    ("options file is a directory", ["-options_file", os.path.join(opts, "dir.opts")],
+     "is a directory"),
+    ("options file includes itself", ["-options_file", os.path.join(opts, "self.opts")],
+     "includes itself: %s -> %s" % ((os.path.join(opts, "self.opts"),) * 2)),
+    ("options file without a name", ["-ts_max_steps", "1", "-options_file"],
+     "option -options_file: missing the file name"),
+]
+for name, extra, needle in file_cases:
+    for ranks in (1, 2):
+        p = gimptest.run(args, "options/patch.opts", extra, ranks=ranks, expect_ok=False,
+                         outdir=os.path.join(args.work, "bad"))
+        lines = [l for l in p.stderr.splitlines() if l.startswith("gimp:") or "PETSC" in l or
+                 "MPI_ABORT" in l]
+        c.check("%s (%d rank%s)" % (name, ranks, "s" if ranks > 1 else ""),
+                p.returncode != 0 and len(lines) == 1 and lines[0].startswith("gimp: error:") and
+                needle in lines[0],
+                "exit %d: %s" % (p.returncode, " | ".join(lines) if lines else "(no message)"))
+
+# A scene that includes another (plate_static.opts includes plate.opts) runs from any working
+# directory: here the work directory, the scene named by an absolute and a relative path.
+out = os.path.join(args.work, "plate_static_abs")
+s = gimptest.summary(gimptest.run(args, "options/plate_static.opts", ["-ts_max_steps", "1"],
+                                  outdir=out))
+c.check("nested options file, absolute name", s["scene"] == "plate_static" and s["steps"] == 1,
+        "scene %s, %d steps" % (s["scene"], s["steps"]))
+rel = os.path.relpath(os.path.join(args.root, "options", "plate_static.opts"), args.work)
+out = os.path.join(args.work, "plate_static_rel")
+p = subprocess.run([args.mpiexec, "-n", "2", args.gimp, "-options_file", rel, "-ts_max_steps",
+                    "1", "-gimp_output_dir", out], cwd=args.work, capture_output=True, text=True,
+                   env=dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1",
+                            OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1"))
+s = gimptest.summary(out) if p.returncode == 0 else {"scene": p.stderr.strip()[-200:], "steps": 0}
+c.check("nested options file, relative name, 2 ranks",
+        p.returncode == 0 and s["scene"] == "plate_static" and s["steps"] == 1,
+        "%s from %s: exit %d, scene %s, %d steps" % (rel, args.work, p.returncode, s["scene"],
+                                                     s["steps"]))
 
 # A run that fails mid-way (a particle leaves the grid) stops, says where and when, exits
 # non-zero and keeps what it wrote.

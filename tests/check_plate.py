@@ -9,11 +9,9 @@ import gimptest
 
 args = gimptest.parse_args()
 c = gimptest.Checks()
-runs = os.path.join(args.root, "options")  # the static scenes include plate*.opts (next to them)
-out3 = gimptest.run(args, "options/plate_static.opts", outdir=os.path.join(args.work, "levels3"),
-                    cwd=runs)
+out3 = gimptest.run(args, "options/plate_static.opts", outdir=os.path.join(args.work, "levels3"))
 outu = gimptest.run(args, "options/plate_uniform_static.opts",
-                    outdir=os.path.join(args.work, "uniform"), cwd=runs)
+                    outdir=os.path.join(args.work, "uniform"))
 s3, su = gimptest.summary(out3), gimptest.summary(outu)
 kt3, ktu = s3["measures"]["kt"], su["measures"]["kt"]
 c.check("at rest", s3["status"] == "at_rest" and su["status"] == "at_rest",

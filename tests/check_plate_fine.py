@@ -7,11 +7,10 @@ import gimptest
 
 args = gimptest.parse_args()
 c = gimptest.Checks()
-runs = os.path.join(args.root, "options")
 o3 = gimptest.run(args, "options/plate_static.opts", ["-gimp_h", "0.5e-3"],
-                  outdir=os.path.join(args.work, "levels3"), cwd=runs)
+                  outdir=os.path.join(args.work, "levels3"))
 ou = gimptest.run(args, "options/plate_uniform_static.opts", ["-gimp_h", "0.125e-3"],
-                  outdir=os.path.join(args.work, "uniform"), cwd=runs)
+                  outdir=os.path.join(args.work, "uniform"))
 s3, su = gimptest.summary(o3), gimptest.summary(ou)
 kt3, ktu = s3["measures"]["kt"], su["measures"]["kt"]
 c.check("levels = uniform fine", abs(kt3 / ktu - 1) < 0.005,
