@@ -19,7 +19,7 @@
 // is nested.
 #pragma once
 
-#include "gimp/scene.hpp" // InputError
+#include "gimp/core/errors.hpp" // InputError
 
 #include <string>
 #include <vector>
