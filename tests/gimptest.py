@@ -4,6 +4,7 @@ import csv
 import math
 import json
 import os
+import shlex
 import subprocess
 import sys
 
@@ -14,6 +15,9 @@ def parse_args():
     ap.add_argument("--root", required=True)
     ap.add_argument("--work", required=True)
     ap.add_argument("--mpiexec", default="mpiexec")
+    ap.add_argument("--extra", default="",
+                    help="gimp options appended to every run (to see a check fail on a wrong "
+                         "input, e.g. --extra '-gimp_nu 0.29')")
     a = ap.parse_args()
     a.gimp, a.root, a.work = (os.path.abspath(p) for p in (a.gimp, a.root, a.work))
     os.makedirs(a.work, exist_ok=True)
@@ -26,7 +30,7 @@ def run(args, opts_file, extra=(), ranks=1, outdir=None, expect_ok=True, cwd=Non
     work directory; a nested -options_file is resolved relative to the including file."""
     outdir = outdir or os.path.join(args.work, os.path.splitext(os.path.basename(opts_file))[0])
     cmd = [args.gimp, "-options_file", os.path.join(args.root, opts_file),
-           "-gimp_output_dir", outdir] + list(extra)
+           "-gimp_output_dir", outdir] + list(extra) + shlex.split(getattr(args, "extra", ""))
     if ranks > 1:
         cmd = [args.mpiexec, "-n", str(ranks)] + cmd
     env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
