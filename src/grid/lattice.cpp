@@ -60,6 +60,10 @@ void Lattice::setGeometry(const Scene &sc) {
                          " (lines at " + formatNumber(o) + " + i * " + formatNumber(parentH) + ")");
       c[d] = m * (k == 0 ? total : levels[k - 1].step);
     }
+    // The box as the lattice has it: a corner accepted within the 1e-9 tolerance above would
+    // otherwise put the level's cells (and the weights computed from its corner) off its nodes.
+    for (int d = 0; d < 4; ++d)
+      L.box[d] = (d % 2 == 0 ? x0 : y0) + static_cast<double>(c[d]) * unit;
     L.u0 = c[0];
     L.v0 = c[1];
     L.u1 = c[2];
