@@ -1,11 +1,13 @@
+// The scene's types and readScene: run options, the domain, and the parts (scene_parts.cpp).
 #include "gimp/input/scene.hpp"
 
+#include "scene_options.hpp"
+
 #include <cmath>
-#include <sstream>
 
 namespace gimp {
 
-namespace {
+namespace input {
 
 std::string fmtList(const double *v, PetscInt n) {
   std::string r;
@@ -23,8 +25,6 @@ bool isPerfectSquare(int n) {
   return n > 0 && r * r == n;
 }
 
-const char *const kSides[] = {"left", "right", "bottom", "top"};
-
 /// PETSc's EList stops with a trace on an unknown value; check it first and say it in one line.
 PetscErrorCode checkChoice(const std::string &opt, const char *const *list, int n) {
   char buf[256];
@@ -39,7 +39,15 @@ PetscErrorCode checkChoice(const std::string &opt, const char *const *list, int 
   bad(opt.substr(1), buf, "must be one of " + valid);
 }
 
-} // namespace
+} // namespace input
+
+using input::bad;
+using input::checkChoice;
+using input::fmtList;
+using input::readBodies;
+using input::readLevels;
+using input::readLoads;
+using input::readMaterial;
 
 double Ramp::at(double time) const {
   if (t.empty()) return 1.0;
@@ -66,392 +74,32 @@ double Material::waveSpeed() const {
 
 namespace {
 
-PetscErrorCode readMaterial(MPI_Comm comm, Scene &sc) {
-  Material &m = sc.material;
-  const char *models[] = {"linear", "neohookean"};
-  const char *planes[] = {"strain", "stress"};
-  PetscInt model = 0, plane = 0;
-  PetscBool setE = PETSC_FALSE, setRho = PETSC_FALSE;
-  PetscCall(checkChoice("-gimp_material", models, 2));
-  PetscCall(checkChoice("-gimp_plane", planes, 2));
-  PetscOptionsBegin(comm, nullptr, "Material", "gimp");
-  PetscCall(PetscOptionsEList("-gimp_material",
-                              "Constitutive model: linear (hypoelastic, Jaumann rate) or "
-                              "neohookean (compressible)",
-                              "docs/options.md", models, 2, models[0], &model, nullptr));
-  PetscCall(
-      PetscOptionsReal("-gimp_E", "Young's modulus [Pa]", "docs/options.md", m.E, &m.E, &setE));
-  PetscCall(
-      PetscOptionsReal("-gimp_nu", "Poisson's ratio [-]", "docs/options.md", m.nu, &m.nu, nullptr));
-  PetscCall(PetscOptionsReal("-gimp_rho", "Mass density [kg/m^3]", "docs/options.md", m.rho, &m.rho,
-                             &setRho));
-  PetscCall(PetscOptionsEList("-gimp_plane", "Two-dimensional model: plane strain or plane stress",
-                              "docs/options.md", planes, 2, planes[0], &plane, nullptr));
-  PetscCall(PetscOptionsReal("-gimp_thickness", "Out-of-plane thickness [m]", "docs/options.md",
-                             m.thickness, &m.thickness, nullptr));
-  PetscOptionsEnd();
-  m.model = model == 0 ? MaterialModel::Linear : MaterialModel::NeoHookean;
-  m.planeStrain = plane == 0;
-  if (sc.help) return PETSC_SUCCESS;
-  if (!setE) bad("gimp_E", "(missing)", "Young's modulus is required, a value > 0 in Pa");
-  if (!(m.E > 0)) bad("gimp_E", formatNumber(m.E), "must be > 0 [Pa]");
-  if (!setRho) bad("gimp_rho", "(missing)", "density is required, a value > 0 in kg/m^3");
-  if (!(m.rho > 0)) bad("gimp_rho", formatNumber(m.rho), "must be > 0 [kg/m^3]");
-  if (!(m.nu > -1.0 && m.nu < 0.5)) bad("gimp_nu", formatNumber(m.nu), "must lie in (-1, 0.5)");
-  if (!(m.thickness > 0)) bad("gimp_thickness", formatNumber(m.thickness), "must be > 0 [m]");
-  m.mu = m.E / (2.0 * (1.0 + m.nu));
-  m.lambda = m.E * m.nu / ((1.0 + m.nu) * (1.0 - 2.0 * m.nu));
-  m.lambdaStar = m.lambdaEff();
-  return PETSC_SUCCESS;
-}
-
-PetscErrorCode readBodies(MPI_Comm comm, Scene &sc) {
-  PetscInt nb = 1;
-  PetscOptionsBegin(comm, nullptr, "Bodies", "gimp");
-  PetscCall(PetscOptionsInt("-gimp_bodies", "Number of bodies (each -gimp_bodyK_* with K = 0..N-1)",
-                            "docs/options.md", nb, &nb, nullptr));
-  PetscOptionsEnd();
-  if (!sc.help && nb < 1) bad("gimp_bodies", std::to_string(nb), "must be >= 1");
-  for (PetscInt k = 0; k < std::max<PetscInt>(nb, 1); ++k) {
-    Body b;
-    const std::string p = "-gimp_body" + std::to_string(k) + "_";
-    PetscReal box[4] = {0, 0, 0, 0}, holes[301] = {0}, vel[2] = {0, 0};
-    PetscInt nbox = 4, nholes = 301, nvel = 2, ppc = 4, hppc = 0;
-    PetscBool setBox = PETSC_FALSE, setHoles = PETSC_FALSE;
-    const char *profiles[] = {"uniform", "sine_x"};
-    PetscInt profile = 0;
-    PetscReal band = 0, k0 = 0;
-    PetscCall(checkChoice(p + "velocity_profile", profiles, 2));
-    PetscOptionsBegin(comm, nullptr, ("Body " + p + "*").c_str(), "gimp");
-    PetscCall(PetscOptionsRealArray((p + "box").c_str(), "Body rectangle x0,y0,x1,y1 [m]",
-                                    "docs/options.md", box, &nbox, &setBox));
-    PetscCall(PetscOptionsRealArray((p + "holes").c_str(),
-                                    "Circular holes removed from the body: cx,cy,r,... [m]",
-                                    "docs/options.md", holes, &nholes, &setHoles));
-    PetscCall(PetscOptionsInt((p + "ppc").c_str(),
-                              "Particles per cell (1, 4, 9, 16, 25, ...: n x n per cell)",
-                              "docs/options.md", ppc, &ppc, nullptr));
-    PetscCall(PetscOptionsInt((p + "hole_ppc").c_str(),
-                              "Particles per cell in cells next to a hole (0: same as ppc)",
-                              "docs/options.md", hppc, &hppc, nullptr));
-    PetscCall(PetscOptionsReal((p + "hole_band").c_str(),
-                               "Width of the band around each hole that gets hole_ppc "
-                               "(0: one cell) [m]",
-                               "docs/options.md", band, &band, nullptr));
-    PetscCall(PetscOptionsRealArray((p + "velocity").c_str(), "Initial velocity vx,vy [m/s]",
-                                    "docs/options.md", vel, &nvel, nullptr));
-    PetscCall(PetscOptionsEList((p + "velocity_profile").c_str(),
-                                "Initial velocity profile: uniform, or sine_x: "
-                                "v = velocity sin(k (X - x0))",
-                                "docs/options.md", profiles, 2, profiles[0], &profile, nullptr));
-    PetscCall(PetscOptionsReal((p + "wavenumber").c_str(), "Wavenumber k of sine_x [1/m]",
-                               "docs/options.md", k0, &k0, nullptr));
-    PetscOptionsEnd();
-    if (sc.help) continue;
-    const std::string q = p.substr(1);
-    if (!setBox) bad(q + "box", "(missing)", "each body needs its rectangle x0,y0,x1,y1 [m]");
-    if (nbox != 4) bad(q + "box", fmtList(box, nbox), "needs 4 values x0,y0,x1,y1 [m]");
-    if (!(box[2] > box[0] && box[3] > box[1]))
-      bad(q + "box", fmtList(box, 4), "needs x1 > x0 and y1 > y0 (an empty body)");
-    if (setHoles && nholes > 300)
-      bad(q + "holes", "(more than 100 holes)", "at most 100 holes (300 values cx,cy,r)");
-    if (setHoles && nholes % 3 != 0)
-      bad(q + "holes", fmtList(holes, nholes), "needs triples cx,cy,r");
-    for (PetscInt i = 0; setHoles && i + 2 < nholes; i += 3) {
-      if (!(holes[i + 2] > 0)) bad(q + "holes", fmtList(holes, nholes), "radii must be > 0");
-      b.holes.push_back({holes[i], holes[i + 1], holes[i + 2]});
-    }
-    if (!isPerfectSquare(ppc))
-      bad(q + "ppc", std::to_string(ppc), "must be a perfect square (1, 4, 9, 16, 25, ...)");
-    if (hppc != 0 && !isPerfectSquare(hppc))
-      bad(q + "hole_ppc", std::to_string(hppc), "must be 0 or a perfect square (1, 4, 9, ...)");
-    if (band < 0) bad(q + "hole_band", formatNumber(band), "must be >= 0 [m]");
-    if (nvel != 2 && nvel != 0) bad(q + "velocity", fmtList(vel, nvel), "needs 2 values vx,vy");
-    std::copy(box, box + 4, b.box.begin());
-    b.ppc = static_cast<int>(ppc);
-    b.holePpc = static_cast<int>(hppc ? hppc : ppc);
-    b.holeBand = band;
-    b.velocity = {vel[0], vel[1]};
-    if (profile == 1 && !(k0 != 0))
-      bad(q + "wavenumber", formatNumber(k0),
-          "velocity_profile sine_x needs a non-zero wavenumber [1/m]");
-    b.sineProfile = profile == 1;
-    b.wavenumber = k0;
-    sc.bodies.push_back(b);
-  }
-  return PETSC_SUCCESS;
-}
-
-PetscErrorCode readRamp(MPI_Comm comm, const std::string &opt, Ramp &r, bool help) {
-  PetscReal v[201] = {0};
-  PetscInt n = 201;
-  PetscBool set = PETSC_FALSE;
-  PetscOptionsBegin(comm, nullptr, ("Table " + opt).c_str(), "gimp");
-  PetscCall(PetscOptionsRealArray(opt.c_str(),
-                                  "Load factor table t0,f0,t1,f1,... [s,-], linear in between, "
-                                  "held after the last entry (default: constant 1)",
-                                  "docs/options.md", v, &n, &set));
-  PetscOptionsEnd();
-  if (!set || help) return PETSC_SUCCESS;
-  if (n > 200) bad(opt.substr(1), "(more than 100 pairs)", "at most 100 pairs t,f");
-  if (n < 2 || n % 2) bad(opt.substr(1), fmtList(v, n), "needs pairs t,f (at least one)");
-  for (PetscInt i = 0; i < n; i += 2) {
-    if (i > 0 && !(v[i] > v[i - 2]))
-      bad(opt.substr(1), fmtList(v, n), "times must increase strictly");
-    r.t.push_back(v[i]);
-    r.f.push_back(v[i + 1]);
-  }
-  return PETSC_SUCCESS;
-}
-
-/// Body, side and range of a segment: -gimp_<kind>K_body, _side, _range.
-PetscErrorCode readSegment(MPI_Comm comm, const std::string &p, const char *what, Scene &sc,
-                           Segment &seg) {
-  PetscInt body = 0, side = 1, nr = 2;
-  PetscReal rng[2] = {0, 0};
-  PetscBool setR = PETSC_FALSE;
-  PetscCall(checkChoice(p + "side", kSides, 4));
-  PetscOptionsBegin(comm, nullptr, (std::string(what) + " segment " + p + "*").c_str(), "gimp");
-  PetscCall(PetscOptionsInt((p + "body").c_str(), "Body it acts on", "docs/options.md", body, &body,
-                            nullptr));
-  PetscCall(PetscOptionsEList((p + "side").c_str(), "Side of the body's rectangle",
-                              "docs/options.md", kSides, 4, kSides[1], &side, nullptr));
-  PetscCall(PetscOptionsRealArray((p + "range").c_str(),
-                                  "Part of the side it acts on: from,to along it [m]",
-                                  "docs/options.md", rng, &nr, &setR));
-  PetscOptionsEnd();
-  if (sc.help) return PETSC_SUCCESS;
-  const std::string q = p.substr(1);
-  if (body < 0 || body >= static_cast<PetscInt>(sc.bodies.size()))
-    bad(q + "body", std::to_string(body),
-        "must name a body, 0 to " + std::to_string(sc.bodies.size() - 1));
-  if (setR && (nr != 2 || !(rng[1] > rng[0])))
-    bad(q + "range", fmtList(rng, nr), "needs from,to with to > from [m]");
-  seg.body = static_cast<int>(body);
-  seg.side = static_cast<Side>(side);
-  seg.hasRange = setR;
-  seg.range = {rng[0], rng[1]};
-  return PETSC_SUCCESS;
-}
-
-PetscErrorCode readLoads(MPI_Comm comm, Scene &sc) {
-  PetscInt nt = 0, nbc = 0, np = 0, ndbc = 0;
-  PetscReal g[2] = {0, 0};
-  PetscInt ng = 2;
-  PetscBool setG = PETSC_FALSE;
-  PetscOptionsBegin(comm, nullptr, "Loads and constraints", "gimp");
-  PetscCall(PetscOptionsRealArray("-gimp_gravity", "Body force per unit mass gx,gy [m/s^2]",
-                                  "docs/options.md", g, &ng, &setG));
-  PetscCall(PetscOptionsInt("-gimp_tractions", "Number of traction loads -gimp_tractionK_*",
-                            "docs/options.md", nt, &nt, nullptr));
-  PetscCall(PetscOptionsInt("-gimp_bcs", "Number of grid-node constraints -gimp_bcK_*",
-                            "docs/options.md", nbc, &nbc, nullptr));
-  PetscCall(PetscOptionsInt("-gimp_dbcs",
-                            "Number of penalty displacement conditions (Eq. 9) -gimp_dbcK_*",
-                            "docs/options.md", ndbc, &ndbc, nullptr));
-  PetscCall(PetscOptionsReal("-gimp_penalty",
-                             "Penalty alpha of Eq. 9 [Pa/m] (0: 100 M / h_min, capped for "
-                             "stability at rho h_min / (2 dt^2); M the P-wave modulus)",
-                             "docs/options.md", sc.penalty, &sc.penalty, nullptr));
-  PetscCall(PetscOptionsInt("-gimp_probes", "Number of probes -gimp_probeK_*", "docs/options.md",
-                            np, &np, nullptr));
-  PetscBool ptrac = sc.penaltyTraction ? PETSC_TRUE : PETSC_FALSE;
-  PetscCall(PetscOptionsBool("-gimp_penalty_traction",
-                             "Include the traction term sigma_p n of Eq. 9 (false: pure penalty)",
-                             "docs/options.md", ptrac, &ptrac, nullptr));
-  sc.penaltyTraction = ptrac;
-  PetscOptionsEnd();
-  if (!sc.help && setG && ng != 2)
-    bad("gimp_gravity", fmtList(g, ng), "needs 2 values gx,gy [m/s^2]");
-  sc.gravity = {g[0], g[1]};
-  if (!sc.help) {
-    if (nt < 0) bad("gimp_tractions", std::to_string(nt), "must be >= 0");
-    if (nbc < 0) bad("gimp_bcs", std::to_string(nbc), "must be >= 0");
-    if (np < 0) bad("gimp_probes", std::to_string(np), "must be >= 0");
-    if (ndbc < 0) bad("gimp_dbcs", std::to_string(ndbc), "must be >= 0");
-    if (sc.penalty < 0)
-      bad("gimp_penalty", formatNumber(sc.penalty), "must be >= 0 [Pa/m] (0: automatic)");
-  }
-  for (PetscInt k = 0; k < (sc.help ? 1 : nt); ++k) {
-    Traction t;
-    const std::string p = "-gimp_traction" + std::to_string(k) + "_";
-    PetscInt nv = 2;
-    PetscReal val[2] = {0, 0};
-    PetscBool setV = PETSC_FALSE;
-    PetscCall(readSegment(comm, p, "Traction", sc, t));
-    PetscOptionsBegin(comm, nullptr, ("Traction " + p + "*").c_str(), "gimp");
-    PetscCall(PetscOptionsRealArray((p + "value").c_str(),
-                                    "Traction vector tx,ty at full load [Pa]", "docs/options.md",
-                                    val, &nv, &setV));
-    PetscOptionsEnd();
-    PetscCall(readRamp(comm, p + "ramp", t.ramp, sc.help));
-    if (sc.help) continue;
-    if (!setV || nv != 2)
-      bad(p.substr(1) + "value", setV ? fmtList(val, nv) : "(missing)", "needs tx,ty [Pa]");
-    t.value = {val[0], val[1]};
-    sc.tractions.push_back(t);
-  }
-  for (PetscInt k = 0; k < (sc.help ? 1 : ndbc); ++k) {
-    DisplacementBC d;
-    const std::string p = "-gimp_dbc" + std::to_string(k) + "_";
-    const char *comps[] = {"x", "y", "xy"};
-    PetscInt comp = 2;
-    PetscReal scale = 1.0;
-    PetscCall(readSegment(comm, p, "Penalty displacement condition", sc, d));
-    PetscCall(checkChoice(p + "components", comps, 3));
-    PetscOptionsBegin(comm, nullptr, ("Penalty displacement condition " + p + "*").c_str(), "gimp");
-    PetscCall(PetscOptionsEList((p + "components").c_str(),
-                                "Constrained displacement components: x, y or xy",
-                                "docs/options.md", comps, 3, comps[2], &comp, nullptr));
-    PetscCall(PetscOptionsReal((p + "penalty_scale").c_str(),
-                               "Factor on -gimp_penalty for this segment [-]", "docs/options.md",
-                               scale, &scale, nullptr));
-    PetscOptionsEnd();
-    PetscCall(readRamp(comm, p + "ux", d.u[0], sc.help));
-    PetscCall(readRamp(comm, p + "uy", d.u[1], sc.help));
-    if (sc.help) continue;
-    if (!(scale > 0)) bad(p.substr(1) + "penalty_scale", formatNumber(scale), "must be > 0");
-    d.fix[0] = comp != 1;
-    d.fix[1] = comp != 0;
-    for (int c = 0; c < 2; ++c)
-      if (!d.fix[c] && !d.u[c].t.empty())
-        bad(p.substr(1) + (c ? "uy" : "ux"), "(given)",
-            "this component is not constrained (-" + p.substr(1) + "components " + comps[comp] +
-                ")");
-    d.penaltyScale = scale;
-    sc.dbcs.push_back(d);
-  }
-  for (PetscInt k = 0; k < (sc.help ? 1 : nbc); ++k) {
-    NodeBC b;
-    const std::string p = "-gimp_bc" + std::to_string(k) + "_";
-    PetscReal x = 0, y = 0, rng[2] = {0, 0};
-    PetscBool setX = PETSC_FALSE, setY = PETSC_FALSE, setR = PETSC_FALSE;
-    PetscInt nr = 2, type = 0;
-    const char *types[] = {"fixed", "roller"};
-    PetscCall(checkChoice(p + "type", types, 2));
-    PetscOptionsBegin(comm, nullptr, ("Grid-node constraint " + p + "*").c_str(), "gimp");
-    PetscCall(PetscOptionsReal((p + "x").c_str(),
-                               "Constrain the grid nodes on the line x = value [m]",
-                               "docs/options.md", x, &x, &setX));
-    PetscCall(PetscOptionsReal((p + "y").c_str(),
-                               "Constrain the grid nodes on the line y = value [m]",
-                               "docs/options.md", y, &y, &setY));
-    PetscCall(PetscOptionsEList((p + "type").c_str(),
-                                "fixed (both components) or roller (normal component only)",
-                                "docs/options.md", types, 2, types[0], &type, nullptr));
-    PetscCall(PetscOptionsRealArray((p + "range").c_str(),
-                                    "Part of the line that is constrained: from,to [m]",
-                                    "docs/options.md", rng, &nr, &setR));
-    PetscOptionsEnd();
-    if (sc.help) continue;
-    const std::string q = p.substr(1);
-    if (setX == setY)
-      bad(q + "x", setX ? "and -" + q + "y both given" : "(missing)",
-          "give exactly one of -" + q + "x or -" + q + "y");
-    if (setR && (nr != 2 || !(rng[1] > rng[0])))
-      bad(q + "range", fmtList(rng, nr), "needs from,to with to > from [m]");
-    b.axis = setX ? 0 : 1;
-    b.coord = setX ? x : y;
-    b.fix[0] = type == 0 || b.axis == 0;
-    b.fix[1] = type == 0 || b.axis == 1;
-    b.hasRange = setR;
-    b.range = {rng[0], rng[1]};
-    sc.bcs.push_back(b);
-  }
-  for (PetscInt k = 0; k < (sc.help ? 1 : np); ++k) {
-    Probe pr;
-    const std::string p = "-gimp_probe" + std::to_string(k) + "_";
-    char name[256] = "";
-    PetscReal x[2] = {0, 0};
-    PetscInt nx = 2;
-    PetscBool setX = PETSC_FALSE;
-    pr.name = "probe" + std::to_string(k);
-    PetscOptionsBegin(comm, nullptr, ("Probe " + p + "*").c_str(), "gimp");
-    PetscCall(PetscOptionsString((p + "name").c_str(), "Probe name in history.csv and summary.json",
-                                 "docs/options.md", pr.name.c_str(), name, sizeof(name), nullptr));
-    PetscCall(PetscOptionsRealArray((p + "x").c_str(),
-                                    "Initial position x,y; the probe follows the particle nearest "
-                                    "to it [m]",
-                                    "docs/options.md", x, &nx, &setX));
-    PetscOptionsEnd();
-    if (sc.help) continue;
-    if (!setX || nx != 2)
-      bad(p.substr(1) + "x", setX ? fmtList(x, nx) : "(missing)", "needs x,y [m]");
-    pr.name = name;
-    if (pr.name.empty() || pr.name.find_first_of(",\" \t") != std::string::npos)
-      bad(p.substr(1) + "name", pr.name,
-          "a probe name is a non-empty word without commas, quotes or spaces");
-    for (const Probe &o : sc.probes)
-      if (o.name == pr.name) bad(p.substr(1) + "name", pr.name, "another probe has this name");
-    pr.x = {x[0], x[1]};
-    sc.probes.push_back(pr);
-  }
-  return PETSC_SUCCESS;
-}
-
-PetscErrorCode readLevels(MPI_Comm comm, Scene &sc) {
-  PetscInt n = 1;
-  PetscOptionsBegin(comm, nullptr, "Grid levels", "gimp");
-  PetscCall(PetscOptionsInt("-gimp_levels",
-                            "Number of grid levels (1: uniform); level k > 0 is set by "
-                            "-gimp_levelK_box and -gimp_levelK_ratio",
-                            "docs/options.md", n, &n, nullptr));
-  PetscOptionsEnd();
-  if (!sc.help && (n < 1 || n > 8)) bad("gimp_levels", std::to_string(n), "must lie in 1..8");
-  sc.levels.assign(1, LevelSpec{sc.domain, 1});
-  for (PetscInt k = 1; k < (sc.help ? 2 : n); ++k) {
-    const std::string p = "-gimp_level" + std::to_string(k) + "_";
-    PetscReal box[4] = {0, 0, 0, 0}, ratio = 2;
-    PetscInt nbox = 4;
-    PetscBool setBox = PETSC_FALSE;
-    PetscOptionsBegin(comm, nullptr, ("Grid level " + p + "*").c_str(), "gimp");
-    PetscCall(PetscOptionsRealArray((p + "box").c_str(),
-                                    "Box x0,y0,x1,y1 of this level, corners on the parent "
-                                    "level's grid lines [m]",
-                                    "docs/options.md", box, &nbox, &setBox));
-    PetscCall(PetscOptionsReal((p + "ratio").c_str(),
-                               "Refinement ratio to the parent level (an integer >= 2)",
-                               "docs/options.md", ratio, &ratio, nullptr));
-    PetscOptionsEnd();
-    if (sc.help) continue;
-    const std::string q = p.substr(1);
-    if (!setBox) bad(q + "box", "(missing)", "each level > 0 needs its box x0,y0,x1,y1 [m]");
-    if (nbox != 4) bad(q + "box", fmtList(box, nbox), "needs 4 values x0,y0,x1,y1 [m]");
-    if (!(ratio >= 2 && ratio <= 16 && ratio == std::round(ratio)))
-      bad(q + "ratio", formatNumber(ratio), "must be an integer from 2 to 16");
-    LevelSpec L;
-    std::copy(box, box + 4, L.box.begin());
-    L.ratio = static_cast<int>(ratio);
-    sc.levels.push_back(L);
-  }
-  return PETSC_SUCCESS;
-}
-
-} // namespace
-
-PetscErrorCode readScene(MPI_Comm comm, Scene &sc) {
-  PetscBool help = PETSC_FALSE;
-  PetscCall(PetscOptionsHasHelp(nullptr, &help));
-  sc.help = help;
+/// Options read by readScene itself, before they are checked.
+struct RunOptions {
   char name[256] = "scene", outdir[PETSC_MAX_PATH_LEN] = "", pdump[PETSC_MAX_PATH_LEN] = "",
        gdump[PETSC_MAX_PATH_LEN] = "";
-  PetscReal dom[4] = {0, 0, 0, 0};
-  PetscInt ndom = 4, pad = 2, update = 2, tracking = 2, mms = 0;
-  PetscBool setDom = PETSC_FALSE, setH = PETSC_FALSE;
-  const char *updates[] = {"usf", "usl", "musl"};
-  const char *trackings[] = {"none", "strain", "stretch", "corners"};
-  const char *mmss[] = {"none", "skb1d"};
-  PetscReal hm[3] = {0, 0, 0};
-  PetscInt nhm = 3;
-  PetscBool setHm = PETSC_FALSE;
-  PetscCall(checkChoice("-gimp_update", updates, 3));
-  PetscCall(checkChoice("-gimp_tracking", trackings, 4));
-  PetscCall(checkChoice("-gimp_mms", mmss, 2));
-  PetscOptionsBegin(comm, nullptr, "gimp scene", "gimp");
+  PetscReal dom[4] = {0, 0, 0, 0}, hm[3] = {0, 0, 0};
+  PetscInt ndom = 4, nhm = 3, pad = 2, update = 2, tracking = 2, mms = 0;
+  PetscBool setDom = PETSC_FALSE, setH = PETSC_FALSE, setHm = PETSC_FALSE;
+};
+
+const char *const kUpdates[] = {"usf", "usl", "musl"};
+const char *const kTrackings[] = {"none", "strain", "stretch", "corners"};
+const char *const kMms[] = {"none", "skb1d"};
+
+/// Outputs, monitors and measures.
+PetscErrorCode readOutputOptions(MPI_Comm comm, Scene &sc, RunOptions &o) {
+  char *name = o.name, *outdir = o.outdir, *pdump = o.pdump, *gdump = o.gdump;
+  PetscReal *hm = o.hm;
+  PetscInt &nhm = o.nhm, &mms = o.mms;
+  PetscBool &setHm = o.setHm;
+  const char *const *mmss = kMms;
+  PetscCall(checkChoice("-gimp_mms", kMms, 2));
+  PetscOptionsBegin(comm, nullptr, "gimp scene: outputs and measures", "gimp");
   PetscCall(PetscOptionsString("-gimp_scene", "Scene name (output/<name> by default)",
-                               "docs/options.md", name, name, sizeof(name), nullptr));
+                               "docs/options.md", name, name, sizeof(o.name), nullptr));
   PetscCall(PetscOptionsString("-gimp_output_dir", "Output directory (default output/<scene>)",
-                               "docs/options.md", outdir, outdir, sizeof(outdir), nullptr));
+                               "docs/options.md", outdir, outdir, sizeof(o.outdir), nullptr));
   PetscCall(PetscOptionsInt("-gimp_output_interval",
                             "Steps between HDF5 field outputs (0: initial and final only)",
                             "docs/options.md", sc.outputInterval, &sc.outputInterval, nullptr));
@@ -460,6 +108,36 @@ PetscErrorCode readScene(MPI_Comm comm, Scene &sc) {
   PetscCall(PetscOptionsInt("-gimp_monitor_interval",
                             "Steps between energy/momentum monitor lines (0: off)",
                             "docs/options.md", sc.monitorInterval, &sc.monitorInterval, nullptr));
+  PetscCall(PetscOptionsEList("-gimp_mms", "Manufactured solution: none or skb1d",
+                              "docs/options.md", mmss, 2, mmss[0], &mms, nullptr));
+  PetscCall(PetscOptionsReal("-gimp_mms_amplitude", "Amplitude A of the manufactured solution [m]",
+                             "docs/options.md", sc.mmsAmplitude, &sc.mmsAmplitude, nullptr));
+  PetscCall(PetscOptionsRealArray("-gimp_hole_measure",
+                                  "Measure the hoop stress around the hole cx,cy,r [m]: "
+                                  "summary.json kt and hoop.csv",
+                                  "docs/options.md", hm, &nhm, &setHm));
+  PetscCall(PetscOptionsReal("-gimp_hole_measure_load",
+                             "Remote stress p that normalises the hoop stress (load along x) [Pa]",
+                             "docs/options.md", sc.holeLoad, &sc.holeLoad, nullptr));
+  PetscCall(PetscOptionsString("-gimp_particle_dump",
+                               "Write the final particles as CSV (sorted by id) to this file",
+                               "docs/options.md", pdump, pdump, sizeof(o.pdump), nullptr));
+  PetscCall(PetscOptionsString("-gimp_grid_dump",
+                               "Write the active grid nodes as CSV level,x,y,Lxm,Lxp,Lym,Lyp",
+                               "docs/options.md", gdump, gdump, sizeof(o.gdump), nullptr));
+  PetscOptionsEnd();
+  return PETSC_SUCCESS;
+}
+
+/// The grid's cell size and domain, the update scheme and its parameters.
+PetscErrorCode readMethodOptions(MPI_Comm comm, Scene &sc, RunOptions &o) {
+  PetscReal *dom = o.dom;
+  PetscInt &ndom = o.ndom, &pad = o.pad, &update = o.update, &tracking = o.tracking;
+  PetscBool &setDom = o.setDom, &setH = o.setH;
+  const char *const *updates = kUpdates, *const *trackings = kTrackings;
+  PetscCall(checkChoice("-gimp_update", kUpdates, 3));
+  PetscCall(checkChoice("-gimp_tracking", kTrackings, 4));
+  PetscOptionsBegin(comm, nullptr, "gimp scene: grid and method", "gimp");
   PetscCall(PetscOptionsReal("-gimp_h", "Cell size of the background grid [m]", "docs/options.md",
                              sc.h, &sc.h, &setH));
   PetscCall(PetscOptionsRealArray("-gimp_domain",
@@ -507,44 +185,13 @@ PetscErrorCode readScene(MPI_Comm comm, Scene &sc) {
                              "docs/options.md", sc.staticTime, &sc.staticTime, nullptr));
   PetscCall(PetscOptionsReal("-gimp_cfl", "Default time step as a fraction of h / c_p [-]",
                              "docs/options.md", sc.cfl, &sc.cfl, nullptr));
-  PetscCall(PetscOptionsEList("-gimp_mms", "Manufactured solution: none or skb1d",
-                              "docs/options.md", mmss, 2, mmss[0], &mms, nullptr));
-  PetscCall(PetscOptionsReal("-gimp_mms_amplitude", "Amplitude A of the manufactured solution [m]",
-                             "docs/options.md", sc.mmsAmplitude, &sc.mmsAmplitude, nullptr));
-  PetscCall(PetscOptionsRealArray("-gimp_hole_measure",
-                                  "Measure the hoop stress around the hole cx,cy,r [m]: "
-                                  "summary.json kt and hoop.csv",
-                                  "docs/options.md", hm, &nhm, &setHm));
-  PetscCall(PetscOptionsReal("-gimp_hole_measure_load",
-                             "Remote stress p that normalises the hoop stress (load along x) [Pa]",
-                             "docs/options.md", sc.holeLoad, &sc.holeLoad, nullptr));
-  PetscCall(PetscOptionsString("-gimp_particle_dump",
-                               "Write the final particles as CSV (sorted by id) to this file",
-                               "docs/options.md", pdump, pdump, sizeof(pdump), nullptr));
-  PetscCall(PetscOptionsString("-gimp_grid_dump",
-                               "Write the active grid nodes as CSV level,x,y,Lxm,Lxp,Lym,Lyp",
-                               "docs/options.md", gdump, gdump, sizeof(gdump), nullptr));
   PetscOptionsEnd();
-  sc.name = name;
-  sc.outputDir = outdir[0] ? outdir : "output/" + sc.name;
-  sc.particleDump = pdump;
-  sc.holeMeasure = setHm;
-  std::copy(hm, hm + 3, sc.hole);
-  if (!sc.help && setHm && (nhm != 3 || !(hm[2] > 0)))
-    bad("gimp_hole_measure", fmtList(hm, nhm), "needs cx,cy,r with r > 0 [m]");
-  if (!sc.help && setHm && sc.holeLoad == 0)
-    bad("gimp_hole_measure_load", "0", "the hole measure needs the remote stress p != 0 [Pa]");
-  sc.gridDump = gdump;
-  sc.update = static_cast<Update>(update);
-  sc.tracking = static_cast<Tracking>(tracking);
-  sc.mms = static_cast<Mms>(mms);
+  return PETSC_SUCCESS;
+}
 
-  PetscCall(readMaterial(comm, sc));
-  PetscCall(readBodies(comm, sc));
-  PetscCall(readLoads(comm, sc));
-  if (sc.help) return readLevels(comm, sc);
-
-  if (!setH) bad("gimp_h", "(missing)", "the cell size is required, a value > 0 in m");
+/// The ranges of the options readMethodOptions and readOutputOptions read.
+void checkRunOptions(const Scene &sc, const RunOptions &o) {
+  if (!o.setH) bad("gimp_h", "(missing)", "the cell size is required, a value > 0 in m");
   if (!(sc.h > 0)) bad("gimp_h", formatNumber(sc.h), "must be > 0 [m]");
   if (sc.damping < 0) bad("gimp_damping", formatNumber(sc.damping), "must be >= 0 [1/s]");
   if (!(sc.flip >= 0 && sc.flip <= 1))
@@ -567,10 +214,16 @@ PetscErrorCode readScene(MPI_Comm comm, Scene &sc) {
     bad("gimp_history_interval", std::to_string(sc.historyInterval), "must be >= 1");
   if (sc.monitorInterval < 0)
     bad("gimp_monitor_interval", std::to_string(sc.monitorInterval), "must be >= 0");
-  if (pad < 0) bad("gimp_pad", std::to_string(pad), "must be >= 0");
+  if (o.pad < 0) bad("gimp_pad", std::to_string(o.pad), "must be >= 0");
   if (sc.mms != Mms::None && !(sc.mmsAmplitude > 0))
     bad("gimp_mms_amplitude", formatNumber(sc.mmsAmplitude), "must be > 0 [m]");
+}
 
+/// The grid domain: as given, or the bodies' bounding box padded by -gimp_pad cells.
+void setDomain(Scene &sc, RunOptions &o) {
+  PetscReal *dom = o.dom;
+  const PetscInt ndom = o.ndom, pad = o.pad;
+  const PetscBool setDom = o.setDom;
   if (setDom) {
     if (ndom != 4) bad("gimp_domain", fmtList(dom, ndom), "needs 4 values x0,y0,x1,y1 [m]");
     if (!(dom[2] > dom[0] && dom[3] > dom[1]))
@@ -602,7 +255,10 @@ PetscErrorCode readScene(MPI_Comm comm, Scene &sc) {
       bad("gimp_domain", fmtList(dom, 4), "needs at least 2 cells of -gimp_h in each direction");
   }
   std::copy(dom, dom + 4, sc.domain.begin());
-  PetscCall(readLevels(comm, sc));
+}
+
+/// Bodies do not overlap and lie in the domain; the manufactured solution fits the material.
+void checkBodies(const Scene &sc) {
   for (size_t k = 0; k < sc.bodies.size(); ++k)
     for (size_t q = 0; q < k; ++q) {
       const Box &a = sc.bodies[q].box, &b = sc.bodies[k].box;
@@ -617,10 +273,42 @@ PetscErrorCode readScene(MPI_Comm comm, Scene &sc) {
         "the 1D manufactured solution needs -gimp_material neohookean and -gimp_nu 0");
   for (size_t k = 0; k < sc.bodies.size(); ++k) {
     const Box &b = sc.bodies[k].box;
-    if (b[0] < dom[0] || b[1] < dom[1] || b[2] > dom[2] || b[3] > dom[3])
+    if (b[0] < sc.domain[0] || b[1] < sc.domain[1] || b[2] > sc.domain[2] || b[3] > sc.domain[3])
       bad("gimp_body" + std::to_string(k) + "_box", fmtList(b.data(), 4),
-          "lies outside the grid domain " + fmtList(dom, 4));
+          "lies outside the grid domain " + fmtList(sc.domain.data(), 4));
   }
+}
+
+} // namespace
+
+PetscErrorCode readScene(MPI_Comm comm, Scene &sc) {
+  PetscBool help = PETSC_FALSE;
+  PetscCall(PetscOptionsHasHelp(nullptr, &help));
+  sc.help = help;
+  RunOptions o;
+  PetscCall(readOutputOptions(comm, sc, o));
+  PetscCall(readMethodOptions(comm, sc, o));
+  sc.name = o.name;
+  sc.outputDir = o.outdir[0] ? o.outdir : "output/" + sc.name;
+  sc.particleDump = o.pdump;
+  sc.gridDump = o.gdump;
+  sc.holeMeasure = o.setHm;
+  std::copy(o.hm, o.hm + 3, sc.hole);
+  if (!sc.help && o.setHm && (o.nhm != 3 || !(o.hm[2] > 0)))
+    bad("gimp_hole_measure", fmtList(o.hm, o.nhm), "needs cx,cy,r with r > 0 [m]");
+  if (!sc.help && o.setHm && sc.holeLoad == 0)
+    bad("gimp_hole_measure_load", "0", "the hole measure needs the remote stress p != 0 [Pa]");
+  sc.update = static_cast<Update>(o.update);
+  sc.tracking = static_cast<Tracking>(o.tracking);
+  sc.mms = static_cast<Mms>(o.mms);
+  PetscCall(readMaterial(comm, sc));
+  PetscCall(readBodies(comm, sc));
+  PetscCall(readLoads(comm, sc));
+  if (sc.help) return readLevels(comm, sc);
+  checkRunOptions(sc, o);
+  setDomain(sc, o);
+  PetscCall(readLevels(comm, sc));
+  checkBodies(sc);
   return PETSC_SUCCESS;
 }
 

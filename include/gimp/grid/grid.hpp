@@ -61,6 +61,19 @@ private:
   /// The scatter between the composite global Vec and the window.
   PetscErrorCode createScatter(MPI_Comm comm);
 
+  /// The candidate nodes of one level for one particle: [i0, i1] x [j0, j1] of the window,
+  /// whether the particle's centre is inside the level's box, and whether they form a regular
+  /// 3 x 3 block with closed-form weights.
+  struct Reach {
+    PetscInt i0 = 0, i1 = -1, j0 = 0, j1 = -1;
+    bool inside = false, block3 = false;
+  };
+  bool levelReach(int q, double xp, double yp, double lx, double ly, Reach &r) const;
+  void appendBlock3(const Level &L, const Reach &r, double xp, double yp, double lx, double ly,
+                    Stencils<kDim> &s, size_t &m) const;
+  void appendNodes(const Level &L, const Reach &r, double xp, double yp, double lx, double ly,
+                   double *scratch, PetscInt maxRange, Stencils<kDim> &s, size_t &m) const;
+
   static constexpr std::uint8_t kActive = 1, kRegular = 2;
   std::vector<std::uint8_t> flags_;   // active and regular in one byte per window node
   std::vector<std::uint8_t> block3_;  // the 3 x 3 block of one level from this node is regular

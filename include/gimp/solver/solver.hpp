@@ -75,7 +75,7 @@ private:
   PetscErrorCode checks(const ParticleView &p, PetscInt step, double t);
   PetscErrorCode report(PetscInt step, double t);
 
-  // reports (solver/report.cpp)
+  // the run loop, checks and reports (solver/run.cpp)
   PetscErrorCode historyRow(PetscInt step, double t, HistoryRow &row);
   PetscErrorCode finish(PetscInt steps, double t);
   PetscErrorCode restCriterion(PetscInt step, double t);

@@ -1,0 +1,27 @@
+// Helpers shared by the readers of the scene's options (src/input only).
+#pragma once
+
+#include "gimp/input/scene.hpp"
+
+#include <string>
+
+namespace gimp::input {
+
+/// "v0,v1,..." as written in error messages.
+std::string fmtList(const double *v, PetscInt n);
+
+/// Throw the one-line error for option -opt with the given value and what would be valid.
+[[noreturn]] void bad(const std::string &opt, const std::string &value, const std::string &valid);
+
+bool isPerfectSquare(int n);
+
+/// PETSc's EList stops with a trace on an unknown value; check it first and say it in one line.
+PetscErrorCode checkChoice(const std::string &opt, const char *const *list, int n);
+
+// The parts of the scene, each from its options (collective; sc.help lists them only).
+PetscErrorCode readMaterial(MPI_Comm comm, Scene &sc);
+PetscErrorCode readBodies(MPI_Comm comm, Scene &sc);
+PetscErrorCode readLoads(MPI_Comm comm, Scene &sc);
+PetscErrorCode readLevels(MPI_Comm comm, Scene &sc);
+
+} // namespace gimp::input
