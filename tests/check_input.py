@@ -79,6 +79,40 @@ for name, extra, needle in file_cases:
                 needle in lines[0],
                 "exit %d: %s" % (p.returncode, " | ".join(lines) if lines else "(no message)"))
 
+# Failures found on one rank (rank 0 creates the output directory and writes the files) end
+# every rank with the same one line: no rank waits forever in a collective call.
+blocker = os.path.join(args.work, "a_file")
+with open(blocker, "w") as f:
+    f.write("not a directory\n")
+rank0_cases = [
+    ("output directory under a file", ["-gimp_output_dir", os.path.join(blocker, "out")],
+     "option -gimp_output_dir %s: cannot create it" % os.path.join(blocker, "out")),
+    ("particle dump under a file", ["-gimp_particle_dump", os.path.join(blocker, "p.csv")],
+     "option -gimp_particle_dump %s: cannot open the file" % os.path.join(blocker, "p.csv")),
+    ("grid dump under a file", ["-gimp_grid_dump", os.path.join(blocker, "g.csv")],
+     "option -gimp_grid_dump %s: cannot open the file" % os.path.join(blocker, "g.csv")),
+]
+env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
+for name, extra, needle in rank0_cases:
+    for ranks in (1, 2):
+        cmd = [args.gimp, "-options_file", os.path.join(args.root, "options", "patch.opts"),
+               "-ts_max_steps", "2"]
+        if "-gimp_output_dir" not in extra:
+            cmd += ["-gimp_output_dir", os.path.join(args.work, "rank0_ok")]
+        cmd += extra
+        if ranks > 1:
+            cmd = [args.mpiexec, "-n", str(ranks)] + cmd
+        try:
+            p = subprocess.run(cmd, cwd=args.work, capture_output=True, text=True, env=env,
+                               timeout=120)
+            rc, err = p.returncode, p.stderr
+        except subprocess.TimeoutExpired:
+            rc, err = None, "(hung: killed after 120 s)"
+        lines = [l for l in err.splitlines() if l.startswith("gimp:") or "PETSC" in l]
+        c.check("%s (%d rank%s)" % (name, ranks, "s" if ranks > 1 else ""),
+                rc == 2 and len(lines) == 1 and needle in lines[0],
+                "exit %s: %s" % (rc, " | ".join(lines) if lines else err.strip()[-200:]))
+
 # A scene that includes another (plate_static.opts includes plate.opts) runs from any working
 # directory: here the work directory, the scene named by an absolute and a relative path.
 out = os.path.join(args.work, "plate_static_abs")

@@ -1,4 +1,4 @@
-// Manufactured solutions (REFERENCE.md section 2) used for convergence studies.
+// Manufactured solutions used for convergence studies (docs/reference.md, section 2).
 // skb1d: u = A sin(2 pi X) cos(c pi t) along x, 1D neo-Hookean with nu = 0, on X in [0, 1].
 #pragma once
 
