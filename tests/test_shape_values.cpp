@@ -1,12 +1,21 @@
-// Unit tests of the GIMP shape functions in include/gimp/shape.hpp: the nodal tent with
-// influence zone [L-, L+] (Eq. 14), the particle weight, i.e. the tent averaged over the
-// particle (Eq. 15), and its gradient (S(d + l) - S(d - l)) / (2 l). In 2D the node weight is
-// the product of the 1D weights and the gradient is (gx wy, wx gy).
+// Unit tests of the values of the GIMP shape functions in include/gimp/grid/shape.hpp: the nodal
+// tent with influence zone [L-, L+] (Eq. 14) and the particle weight, i.e. the tent averaged over
+// the particle (Eq. 15), with its gradient (S(d + l) - S(d - l)) / (2 l) where identities and exact
+// values involve it. In 2D the node weight is the product of the 1D weights and the gradient is
+// (gx wy, wx gy). (The gradient as the weight's derivative, and its continuity:
+// test_shape_gradients.cpp.)
+//
+//   1. Uniform 2D grid: partition of unity, linear reproduction and their derivatives, also for
+//      particles much smaller than a cell.
+//   2. Point shape functions (tent products) on the same grid.
+//   3. Exact values derived by hand, the standard GIMP closed form, domain-edge nodes.
+//   4. Refined 1D meshes with transition nodes: the same identities.
 //
 // All random sampling uses a fixed-seed std::mt19937_64, so every run checks the same points.
 // Random checks keep the largest error and report where it occurred.
 #include "gimp/grid/shape.hpp"
 
+#include "shape_nodes.hpp"
 #include "test_util.hpp"
 
 #include <gtest/gtest.h>
@@ -14,9 +23,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <initializer_list>
 #include <random>
-#include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -26,87 +33,18 @@ namespace {
 using gimp::test::at;
 using gimp::test::Worst;
 
+using gimp::test::kMinHalfSize;
+using gimp::test::Nodes;
+using gimp::test::particleWeights;
+using gimp::test::refinedNodes;
+using gimp::test::support;
+using gimp::test::uniformNodes;
+
 using gimp::shape::tent;
 using gimp::shape::tentIntegral;
 using gimp::shape::weight;
 using gimp::shape::weightAndGradient;
 using gimp::shape::weightGradient;
-
-/// A 1D set of nodes: positions and influence zones [L-, L+].
-struct Nodes {
-  std::vector<double> x, Lm, Lp;
-  int size() const { return static_cast<int>(x.size()); }
-  double lo() const { return x.front(); }
-  double hi() const { return x.back(); }
-};
-
-/// n nodes at i h with zones h, and a zero zone on the outer side of the two edge nodes (as on
-/// the simulation grid).
-Nodes uniformNodes(int n, double h) {
-  Nodes g;
-  for (int i = 0; i < n; ++i) {
-    g.x.push_back(i * h);
-    g.Lm.push_back(i > 0 ? h : 0.0);
-    g.Lp.push_back(i + 1 < n ? h : 0.0);
-  }
-  return g;
-}
-
-/// Nodes at increasing positions; each zone is the distance to the next node on that side
-/// (zero beyond the first and last nodes).
-Nodes nodesAt(const std::vector<double> &x) {
-  Nodes g;
-  g.x = x;
-  const int n = static_cast<int>(x.size());
-  for (int i = 0; i < n; ++i) {
-    g.Lm.push_back(i > 0 ? x[i] - x[i - 1] : 0.0);
-    g.Lp.push_back(i + 1 < n ? x[i + 1] - x[i] : 0.0);
-  }
-  return g;
-}
-
-/// A refined 1D mesh: two coarse cells of size r, four fine cells of size 1 and, if
-/// coarseAfter, two coarse cells again. For r = 2: nodes 0, 2, 4, 5, 6, 7, 8 (, 10, 12).
-Nodes refinedNodes(int r, bool coarseAfter) {
-  std::vector<double> x = {0.0, 1.0 * r, 2.0 * r};
-  for (int k = 1; k <= 4; ++k)
-    x.push_back(2.0 * r + k);
-  if (coarseAfter) {
-    x.push_back(3.0 * r + 4);
-    x.push_back(4.0 * r + 4);
-  }
-  return nodesAt(x);
-}
-
-/// Weights and gradients of a particle (centre xp, half-size l) at every node.
-void particleWeights(const Nodes &g, double xp, double l, std::vector<double> &w,
-                     std::vector<double> &dw) {
-  w.assign(g.size(), 0.0);
-  dw.assign(g.size(), 0.0);
-  for (int i = 0; i < g.size(); ++i) {
-    w[i] = weight(xp - g.x[i], l, g.Lm[i], g.Lp[i]);
-    dw[i] = weightGradient(xp - g.x[i], l, g.Lm[i], g.Lp[i]);
-  }
-}
-
-/// Indices of the nodes where a particle has a nonzero weight or gradient.
-std::vector<int> support(const std::vector<double> &w, const std::vector<double> &dw) {
-  std::vector<int> idx;
-  for (int i = 0; i < static_cast<int>(w.size()); ++i)
-    if (w[i] != 0.0 || dw[i] != 0.0) idx.push_back(i);
-  return idx;
-}
-
-/// Smallest particle half-size (in units of h) of the random identity checks. The weights are
-/// computed from the particle's interval ends, so their round-off grows like eps h / l; much
-/// smaller particles are checked separately with a tolerance scaled by h / l.
-constexpr double kMinHalfSize = 1e-3;
-
-/// Zone pairs [L-, L+] in units of h: equal zones, the transition-node zones of 2:1, 3:1 and
-/// 4:1 refinement on either side, and the edge nodes with a zero zone outside the domain.
-const std::vector<std::pair<double, double>> kZones = {{1, 1}, {2, 1}, {1, 2}, {1, 0.5}, {0.5, 1},
-                                                       {3, 1}, {1, 3}, {4, 1}, {1, 4},   {2, 0.5},
-                                                       {0, 1}, {1, 0}, {0, 2}, {0.5, 0}};
 
 // ---------------------------------------------------------------------------------------------
 // 1. Uniform 2D grid: partition of unity, linear reproduction and their derivatives.
@@ -292,138 +230,7 @@ TEST(ShapeUniformGrid, PointShapeIdentities2D) {
 }
 
 // ---------------------------------------------------------------------------------------------
-// 3. The gradient is the derivative of the weight: central finite differences.
-
-TEST(ShapeWeight, GradientMatchesFiniteDifference) {
-  const double h = 0.37, e = 1e-7 * h;
-  std::mt19937_64 rng(0x5eed0003);
-  std::uniform_real_distribution<double> U(0.0, 1.0);
-  std::vector<std::pair<double, double>> zones = kZones;
-  for (int k = 0; k < 200; ++k) // random zones, ratios up to 16
-    zones.emplace_back(0.25 + 3.75 * U(rng), 0.25 + 3.75 * U(rng));
-  Worst fd;
-  long skipped = 0, nonzero = 0;
-  for (size_t z = 0; z < zones.size(); ++z) {
-    const double Lm = zones[z].first * h, Lp = zones[z].second * h;
-    const int ns = z < kZones.size() ? 20000 : 1000;
-    for (int s = 0; s < ns; ++s) {
-      // l in [0.01 h, h]: for smaller l the round-off of w / (2 e) alone approaches the
-      // tolerance. d covers the whole support and a margin outside it.
-      const double l = h * (0.01 + 0.99 * U(rng));
-      const double dlo = -Lm - l - 0.2 * h, dhi = Lp + l + 0.2 * h;
-      const double d = dlo + U(rng) * (dhi - dlo);
-      // The weight is a quadratic between the points where d +- l crosses a tent kink; a
-      // central difference straddling one of them is not exact, so skip those few samples
-      // (continuity there is test 4).
-      bool nearKink = false;
-      for (double k : {-Lm - l, -Lm + l, -l, l, Lp - l, Lp + l})
-        nearKink = nearKink || std::abs(d - k) < 10.0 * e;
-      if (nearKink) {
-        ++skipped;
-        continue;
-      }
-      const double g = weightGradient(d, l, Lm, Lp);
-      const double num = (weight(d + e, l, Lm, Lp) - weight(d - e, l, Lm, Lp)) / (2.0 * e);
-      if (g != 0.0) ++nonzero;
-      fd.update(std::abs(num - g) / std::max(std::abs(g), 1.0 / h), [&] {
-        return at({{"d", d}, {"l", l}, {"Lm", Lm}, {"Lp", Lp}, {"grad", g}, {"fd", num}});
-      });
-    }
-  }
-  EXPECT_WORST_LE(fd, 1e-6);
-  EXPECT_LT(skipped, fd.count / 1000);
-  EXPECT_GT(nonzero, fd.count / 2);
-}
-
-// ---------------------------------------------------------------------------------------------
-// 4. C1 continuity: the weight gradient has no jump where d +- l crosses a tent kink.
-
-TEST(ShapeWeight, GradientIsContinuousAtKinks) {
-  const double h = 0.37, delta = 1e-9 * h;
-  std::mt19937_64 rng(0x5eed0004);
-  std::uniform_real_distribution<double> U(0.0, 1.0);
-  std::vector<std::pair<double, double>> zones = kZones;
-  for (int k = 0; k < 200; ++k)
-    zones.emplace_back(0.25 + 3.75 * U(rng), 0.25 + 3.75 * U(rng));
-  Worst jump;
-  for (const auto &[zm, zp] : zones) {
-    const double Lm = zm * h, Lp = zp * h;
-    std::vector<double> ls = {0.25 * h, 0.5 * h, h,
-                              0.5 * std::min(zm > 0 ? Lm : h, zp > 0 ? Lp : h)};
-    for (int k = 0; k < 200; ++k)
-      ls.push_back(h * (0.05 + 0.95 * U(rng)));
-    for (double l : ls) {
-      // Kinks of the weight: a particle edge d +- l on -L-, 0 or L+. With a zero zone the tent
-      // itself jumps at 0 (the domain edge), so d = +-l is where the particle leaves the grid
-      // and the gradient does jump there (checked in DomainEdgeNode below).
-      std::vector<double> kinks;
-      if (Lm > 0 && Lp > 0) kinks = {-l, l};
-      if (Lm > 0) kinks.insert(kinks.end(), {-Lm - l, -Lm + l});
-      if (Lp > 0) kinks.insert(kinks.end(), {Lp - l, Lp + l});
-      if (Lm == 0 || Lp == 0) // drop kinks that coincide with the jump at the domain edge
-        kinks.erase(std::remove_if(kinks.begin(), kinks.end(),
-                                   [&](double k) { return std::abs(std::abs(k) - l) < 1e-12 * h; }),
-                    kinks.end());
-      for (double k : kinks) {
-        const double gl = weightGradient(k - delta, l, Lm, Lp);
-        const double gr = weightGradient(k + delta, l, Lm, Lp);
-        jump.update(std::abs(gr - gl) / std::max({std::abs(gl), std::abs(gr), 1.0 / h}), [&] {
-          return at({{"d", k}, {"l", l}, {"Lm", Lm}, {"Lp", Lp}, {"left", gl}, {"right", gr}});
-        });
-      }
-    }
-  }
-  EXPECT_WORST_LE(jump, 1e-6);
-
-  // The same sampling does see a C0 kink: the point tent's slope jumps by 2/h at the node.
-  const double slopeL = (tent(0.0, h, h) - tent(-delta, h, h)) / delta;
-  const double slopeR = (tent(delta, h, h) - tent(0.0, h, h)) / delta;
-  EXPECT_NEAR(slopeL - slopeR, 2.0 / h, 1e-5 / h);
-}
-
-// The gradient of an interpolated field sum_i v_i g_i(x_p) is continuous as the particle
-// crosses cell borders (x_p = x_k) and as its edges cross grid lines (x_p = x_k +- l), on a
-// uniform grid and on refined meshes with transition nodes.
-TEST(ShapeWeight, InterpolatedGradientIsContinuous) {
-  std::mt19937_64 rng(0x5eed0005);
-  std::uniform_real_distribution<double> U(0.0, 1.0);
-  std::vector<std::pair<Nodes, double>> meshes = {{uniformNodes(12, 0.37), 0.37}};
-  for (int r : {2, 3, 4})
-    meshes.emplace_back(refinedNodes(r, true), 1.0);
-  Worst jump, sumJump;
-  for (const auto &[g, h] : meshes) {
-    const double delta = 1e-9 * h;
-    std::vector<double> v(g.size());
-    for (double &vi : v)
-      vi = 2.0 * U(rng) - 1.0;
-    auto field = [&](double xp, double l, double &G, double &sumG) {
-      G = sumG = 0.0;
-      for (int i = 0; i < g.size(); ++i) {
-        const double gi = weightGradient(xp - g.x[i], l, g.Lm[i], g.Lp[i]);
-        G += v[i] * gi;
-        sumG += gi;
-      }
-    };
-    for (int s = 0; s < 300; ++s) {
-      const double l = h * (0.05 + 0.95 * U(rng));
-      for (int k = 0; k < g.size(); ++k)
-        for (double xp : {g.x[k], g.x[k] - l, g.x[k] + l}) {
-          if (!(xp - l - delta >= g.lo() && xp + l + delta < g.hi())) continue;
-          double Gl, Gr, sl, sr;
-          field(xp - delta, l, Gl, sl);
-          field(xp + delta, l, Gr, sr);
-          auto where = [&] { return at({{"xp", xp}, {"l", l}, {"left", Gl}, {"right", Gr}}); };
-          jump.update(std::abs(Gr - Gl) * h, where);
-          sumJump.update(std::max(std::abs(sl), std::abs(sr)) * h, where);
-        }
-    }
-  }
-  EXPECT_WORST_LE(jump, 1e-6);
-  EXPECT_WORST_LE(sumJump, 1e-10);
-}
-
-// ---------------------------------------------------------------------------------------------
-// 5. Exact values derived by hand from Eqs. 14 and 15.
+// 3. Exact values derived by hand from Eqs. 14 and 15.
 
 TEST(ShapeExact, TentValues) {
   const double h = 0.37;
@@ -593,7 +400,7 @@ TEST(ShapeDomainEdge, ParticleTouchingHighEdge) {
 }
 
 // ---------------------------------------------------------------------------------------------
-// 6. Refined 1D meshes (coarse h = r next to fine h = 1, r = 2, 3, 4) with zones equal to the
+// 4. Refined 1D meshes (coarse h = r next to fine h = 1, r = 2, 3, 4) with zones equal to the
 //    distance to the neighbouring node: the transition node has zones [r, 1] (or [1, r]).
 
 TEST(ShapeRefinedMesh, TransitionZones) {

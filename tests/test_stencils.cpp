@@ -1,0 +1,456 @@
+// Unit tests of the GIMP stencils of particles on the composite grid in include/gimp/grid/grid.hpp
+// (paper section 3): the weights and gradients buildStencils gives and the point shape
+// functions, on the refined layouts of grid_layouts.hpp. (The lattice itself: test_lattice.cpp;
+// derivatives and continuity of the weights: test_stencil_smoothness.cpp.)
+//
+//   1. Particle weights on 2- and 3-level grids with ratios 2, 3 and 4 (boxes in the middle,
+//      on the domain edge, on the parent's edge, sharing corners, coinciding): partition of
+//      unity, linear reproduction and their derivatives. 1a: deeper refinement (up to 8
+//      levels, total ratio up to 128, particles up to a whole level-0 cell): the valid layouts
+//      are accepted and give the same identities, the invalid ones are rejected for the
+//      documented reason. 1b: particles whose edge lies exactly on the domain edge.
+//   2. The point shape functions (tent products with each node's zones) on the same grids.
+//
+// All random sampling uses a fixed-seed std::mt19937_64, so every run checks the same points.
+// Random checks keep the largest error and report where (layout and particle) it occurred.
+#include "gimp/grid/grid.hpp"
+#include "gimp/grid/shape.hpp"
+
+#include "grid_layouts.hpp"
+#include "test_util.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+namespace {
+
+using gimp::test::at;
+using gimp::test::Worst;
+
+using gimp::test::BoxSpec;
+using gimp::test::kEmpty;
+using gimp::test::kH0;
+using gimp::test::kNotInside;
+using gimp::test::kOffLines;
+using gimp::test::Layout;
+using gimp::test::makeGrid;
+using gimp::test::Sampler;
+using gimp::test::sceneOf;
+using gimp::test::threeLevelLayouts;
+using gimp::test::twoLevelLayouts;
+
+using gimp::Box;
+using gimp::Grid;
+using gimp::InputError;
+using gimp::Level;
+using Stencils = gimp::Stencils<gimp::kDim>;
+using gimp::shape::tent;
+
+// ---------------------------------------------------------------------------------------------
+// ---------------------------------------------------------------------------------------------
+// 1. Particle weights on the composite grid.
+
+struct Identities {
+  Worst unity, reproX, reproY, gradSum, gradRepro, bounds, nodes;
+  long particles = 0, straddle = 0, corner = 0, bigInFine = 0;
+
+  void report(long total) {
+    EXPECT_WORST_LE(unity, 1e-12);
+    EXPECT_WORST_LE(reproX, 1e-12);
+    EXPECT_WORST_LE(reproY, 1e-12);
+    EXPECT_WORST_LE(gradSum, 1e-10);
+    EXPECT_WORST_LE(gradRepro, 1e-10);
+    EXPECT_WORST_LE(bounds, 0.0);
+    EXPECT_WORST_LE(nodes, 0.0);
+    std::printf("  particles %ld: straddling two levels %ld, covering a box corner %ld, "
+                "half-size >= h0/4 in a fine level %ld\n",
+                particles, straddle, corner, bigInFine);
+    EXPECT_EQ(particles, total);
+    EXPECT_GT(straddle, particles / 4);
+    EXPECT_GT(corner, particles / 10);
+    EXPECT_GT(bigInFine, particles / 20);
+  }
+};
+
+void checkLayout(const Layout &lay, long np, std::uint64_t seed, Identities &id,
+                 double lmax = 0.0) {
+  const auto gp = makeGrid(sceneOf(lay));
+  const Grid &g = *gp;
+  const double h0 = g.h0();
+  Sampler sample(g, seed);
+  std::vector<double> x(2 * np), l(2 * np);
+  for (long p = 0; p < np; ++p) {
+    sample.draw(x[2 * p], x[2 * p + 1], l[2 * p], l[2 * p + 1], true, lmax);
+    const double xp = x[2 * p], yp = x[2 * p + 1], lx = l[2 * p], ly = l[2 * p + 1];
+    id.straddle += sample.straddles(xp, yp, lx, ly);
+    id.corner += sample.coversCorner(xp, yp, lx, ly);
+    id.bigInFine += std::max(lx, ly) >= 0.25 * h0 && g.leafLevelAt(xp, yp) > 0;
+  }
+  id.particles += np;
+  Stencils s;
+  g.buildStencils(static_cast<PetscInt>(np), x.data(), l.data(), s);
+  ASSERT_EQ(s.start.size(), static_cast<size_t>(np) + 1);
+  std::vector<long> seen(g.nWindow, -1);
+  for (long p = 0; p < np; ++p) {
+    const double xp = x[2 * p], yp = x[2 * p + 1];
+    double sw = 0, swx = 0, swy = 0, sgx = 0, sgy = 0;
+    double mxx = 0, mxy = 0, myx = 0, myy = 0, lo = 0, hi = 0;
+    int badNode = 0;
+    for (PetscInt e = s.start[p]; e < s.start[p + 1]; ++e) {
+      const PetscInt n = s.node[e];
+      if (n < 0 || n >= g.nWindow || !g.active[n] || seen[n] == p) {
+        badNode = 1; // outside the window, inactive or listed twice
+        continue;
+      }
+      seen[n] = p;
+      const double w = s.w[0][e] * s.w[1][e], dx = s.g[0][e] * s.w[1][e],
+                   dy = s.w[0][e] * s.g[1][e];
+      const double rx = g.X[n] - xp, ry = g.Y[n] - yp;
+      sw += w;
+      // Linear reproduction sum_i w_i x_i = x_p as sum_i w_i (x_i - x_p) = 0 (the same given
+      // the partition of unity), free of the cancellation of large coordinates.
+      swx += w * rx;
+      swy += w * ry;
+      sgx += dx;
+      sgy += dy;
+      // Its derivative: sum_i grad w_i (x_i - x_p)^T = identity.
+      mxx += dx * rx;
+      mxy += dx * ry;
+      myx += dy * rx;
+      myy += dy * ry;
+      lo = std::min(lo, w);
+      hi = std::max(hi, w);
+    }
+    auto where = [&] {
+      return lay.name + ": " +
+             at({{"xp", xp}, {"yp", yp}, {"lx", l[2 * p]}, {"ly", l[2 * p + 1]}, {"sum", sw}});
+    };
+    id.unity.update(std::abs(sw - 1.0), where);
+    id.reproX.update(std::abs(swx) / h0, where);
+    id.reproY.update(std::abs(swy) / h0, where);
+    id.gradSum.update(std::max(std::abs(sgx), std::abs(sgy)) * h0, where);
+    id.gradRepro.update(
+        std::max({std::abs(mxx - 1.0), std::abs(myy - 1.0), std::abs(mxy), std::abs(myx)}), where);
+    id.bounds.update(std::max(-lo, hi - 1.0), where);
+    id.nodes.update(badNode, where);
+  }
+}
+
+// 1e5 particles over the 15 two-level layouts.
+TEST(GridStencils, TwoLevelIdentities) {
+  const std::vector<Layout> layouts = twoLevelLayouts();
+  const long total = 100000, per = total / static_cast<long>(layouts.size());
+  Identities id;
+  std::uint64_t seed = 0x6a1d0001;
+  for (size_t k = 0; k < layouts.size(); ++k)
+    checkLayout(layouts[k], k + 1 < layouts.size() ? per : total - per * (layouts.size() - 1),
+                seed++, id);
+  id.report(total);
+}
+
+// 1e5 particles over the 36 three-level layouts.
+TEST(GridStencils, ThreeLevelIdentities) {
+  const std::vector<Layout> layouts = threeLevelLayouts();
+  const long total = 100000, per = total / static_cast<long>(layouts.size());
+  Identities id;
+  std::uint64_t seed = 0x6a1d1001;
+  for (size_t k = 0; k < layouts.size(); ++k)
+    checkLayout(layouts[k], k + 1 < layouts.size() ? per : total - per * (layouts.size() - 1),
+                seed++, id);
+  id.report(total);
+}
+
+// 1a. Deeper refinement: up to the scene's 8 levels, ratios up to its maximum 16, total ratios
+// up to 128, and particles up to a whole level-0 cell (half-size h0, the largest a run allows).
+// Every layout is classified in advance. A layout whose corners lie on its parent's grid lines
+// (to the relative tolerance 1e-9 of setGeometry, docs/options.md), with a non-empty box inside
+// its parent, is valid (docs/method.md, "Levels"): it must be accepted and give the identities
+// of test 1 with the same tolerances and sampling coverage. Any other layout must be rejected
+// with a one-line InputError that names the offending level's option and gives the documented
+// reason. (The ratio range 2..16 and the level count 1..8 are the scene parser's checks, not
+// setGeometry's.) An earlier version skipped every rejected layout, so a setGeometry that
+// rejected everything passed.
+
+struct DeepCase {
+  Layout lay;
+  const char *option; // nullptr: valid; otherwise the option the message must name
+  const char *reason; // the documented reason the message must give
+  const char *why;    // why the layout is valid or must be rejected
+};
+
+std::vector<DeepCase> deepCases() {
+  // 8 levels of ratio 2 (total 128), boxes nested down to a quarter of a level-0 cell.
+  const std::vector<BoxSpec> eight = {{1, 1, 9, 7, 2},
+                                      {2, 2, 8, 6, 2},
+                                      {3, 2, 7, 6, 2},
+                                      {4, 3, 6, 5, 2},
+                                      {4.5, 3.5, 5.5, 4.5, 2},
+                                      {4.75, 3.75, 5.25, 4.25, 2},
+                                      {4.875, 3.875, 5.125, 4.125, 2}};
+  std::vector<BoxSpec> eightEmpty = eight;
+  eightEmpty.back() = {4.875, 3.875, 4.875, 4.125, 2};
+  return {
+      // Valid.
+      {{"r=16", 10, 8, {{3, 2, 7, 6, 16}}}, nullptr, nullptr, "the largest ratio"},
+      {{"r=4,4", 10, 8, {{2, 2, 8, 6, 4}, {4, 3, 6, 5, 4}}}, nullptr, nullptr, "total ratio 16"},
+      {{"r=2,16", 10, 8, {{2, 2, 8, 6, 2}, {4, 3, 6, 5, 16}}},
+       nullptr,
+       nullptr,
+       "total ratio 32, ratio 16 inside ratio 2"},
+      {{"r=4,8", 10, 8, {{2, 2, 8, 6, 4}, {4, 3, 6, 5, 8}}}, nullptr, nullptr, "total ratio 32"},
+      {{"r=5,5", 10, 8, {{2, 2, 8, 6, 5}, {4, 3, 6, 5, 5}}},
+       nullptr,
+       nullptr,
+       "lattice unit h0/25, not a binary fraction"},
+      {{"r=2,2,2,4", 10, 8, {{1, 1, 9, 7, 2}, {2, 2, 8, 6, 2}, {3, 2, 7, 6, 2}, {4, 3, 6, 5, 4}}},
+       nullptr,
+       nullptr,
+       "5 levels, level 3 on level 2's bottom and top edges"},
+      {{"8 levels r=2", 10, 8, eight}, nullptr, nullptr, "the scene's 8 levels, total ratio 128"},
+      // A corner off its line by round-off (1e-15 cells, 8 ulp of the coordinate, as a decimal
+      // option may carry), and one 1e-12 cells off, accepted within the 1e-9 tolerance: the
+      // level's box is put on the lattice, so its weights keep the partition of unity to 1e-12
+      // (with the box used as given they missed it by 3e-11).
+      {{"r=4,8 corner 1e-15 off", 10, 8, {{2, 2, 8, 6, 4}, {4 + 1e-15, 3, 6, 5, 8}}},
+       nullptr,
+       nullptr,
+       "corner off a level-1 line by round-off, well within the 1e-9 tolerance"},
+      {{"r=4,8 corner 1e-12 off", 10, 8, {{2, 2, 8, 6, 4}, {4 + 1e-12, 3, 6, 5, 8}}},
+       nullptr,
+       nullptr,
+       "corner 1e-12 cells off a level-1 line, within the 1e-9 tolerance"},
+      // Rejected.
+      {{"r=16 corner on its own lines", 10, 8, {{3.0625, 2, 7, 6, 16}}},
+       "-gimp_level1_box",
+       kOffLines,
+       "x0 = 3 + 1/16 cells: on a level-1 line, not on a level-0 line"},
+      {{"r=4,8 corner on its own lines", 10, 8, {{2, 2, 8, 6, 4}, {4.125, 3, 6, 5, 8}}},
+       "-gimp_level2_box",
+       kOffLines,
+       "x0 = 4 + 1/8 cells: on a level-2 line, not on a level-1 one"},
+      {{"r=5,5 corner 1e-6 off", 10, 8, {{2, 2, 8, 6, 5}, {4 + 1e-6, 3, 6, 5, 5}}},
+       "-gimp_level2_box",
+       kOffLines,
+       "x0 5e-6 level-1 cells off a line, beyond the 1e-9 tolerance"},
+      {{"r=2,2,2,4 level 4 beyond level 3",
+        10,
+        8,
+        {{1, 1, 9, 7, 2}, {2, 2, 8, 6, 2}, {3, 2, 7, 6, 2}, {2, 3, 6, 5, 4}}},
+       "-gimp_level4_box",
+       kNotInside,
+       "level 4 starts at x = 2, level 3 at x = 3"},
+      {{"r=4,4 level 2 across level 1's corner", 10, 8, {{2, 2, 8, 6, 4}, {7, 5, 9, 7, 4}}},
+       "-gimp_level2_box",
+       kNotInside,
+       "level 2 reaches (9, 7), level 1 ends at (8, 6)"},
+      {{"8 levels, empty level 7", 10, 8, eightEmpty},
+       "-gimp_level7_box",
+       kEmpty,
+       "level 7 has zero width"},
+  };
+}
+
+TEST(GridStencils, DeepRefinementLayouts) {
+  const std::vector<DeepCase> cases = deepCases();
+  int validExpected = 0, accepted = 0, rejected = 0;
+  std::uint64_t seed = 0x6a1d5001;
+  for (const DeepCase &c : cases) {
+    SCOPED_TRACE(c.lay.name + " (" + c.why + ")");
+    const bool valid = c.reason == nullptr;
+    validExpected += valid;
+    std::string msg;
+    bool threw = false;
+    {
+      Grid probe;
+      try {
+        probe.setGeometry(sceneOf(c.lay));
+      } catch (const InputError &e) {
+        threw = true;
+        msg = e.what();
+      }
+    }
+    if (!valid) {
+      EXPECT_TRUE(threw) << c.lay.name << ": accepted, must be rejected: " << c.why;
+      if (!threw) continue;
+      ++rejected;
+      std::printf("  %-38s rejected: %s\n", c.lay.name.c_str(), msg.c_str());
+      EXPECT_NE(msg.find("option " + std::string(c.option) + " "), std::string::npos)
+          << "message does not name " << c.option;
+      EXPECT_NE(msg.find(c.reason), std::string::npos) << "message does not say " << c.reason;
+      EXPECT_EQ(msg.find('\n'), std::string::npos) << "not one line";
+      continue;
+    }
+    EXPECT_FALSE(threw) << c.lay.name << ": rejected, must be accepted (" << c.why << "): " << msg;
+    if (threw) continue;
+    ++accepted;
+    std::printf("  %-38s accepted, %zu levels\n", c.lay.name.c_str(), c.lay.boxes.size() + 1);
+    Identities id;
+    const long np = 4000;
+    checkLayout(c.lay, np, seed++, id, kH0);
+    id.report(np);
+  }
+  // 8 valid and 6 invalid layouts: the counts also guard the list (turning a case from valid to
+  // rejected, or back, must be a deliberate edit of these numbers).
+  EXPECT_EQ(validExpected, 9);
+  EXPECT_EQ(static_cast<int>(cases.size()) - validExpected, 6);
+  EXPECT_EQ(accepted, validExpected);
+  EXPECT_EQ(rejected, static_cast<int>(cases.size()) - validExpected);
+}
+
+// 1b. Particles whose edge lies on the domain edge, as seeding makes them for a body that ends on
+// the domain edge (a body box may equal the domain): n x n particles in every leaf cell along the
+// domain edge, positions as the seeding computes them. The weights sum to 1 and the gradients to
+// 0 as inside; the edge node's tent must be read as 1 where the particle's edge meets the domain
+// edge, even when x_p - l - x_0 rounds to a negative ~1e-17.
+TEST(GridStencils, ParticleTouchingDomainEdge) {
+  Worst unity, repro, gradSum, gradRepro;
+  long offGrad = 0, total = 0;
+  for (double x0 : {0.1, 0.7, -1.3})
+    for (double h0 : {0.1, 0.3, 0.37})
+      for (const Layout &lay :
+           {Layout{"uniform", 6, 5, {}}, Layout{"domain edge r=2", 6, 5, {{0, 2, 3, 5, 2}}}}) {
+        const auto gp = makeGrid(sceneOf(lay, x0, x0, h0));
+        const Grid &g = *gp;
+        const Box &D = g.levels[0].box;
+        std::vector<double> x, l;
+        for (int n : {1, 2, 3})
+          for (size_t q = 0; q < g.levels.size(); ++q) {
+            const Level &L = g.levels[q];
+            const double d = L.h / n;
+            for (PetscInt j = 0; j + 1 < L.N; ++j)
+              for (PetscInt i = 0; i + 1 < L.M; ++i) {
+                const double cx0 = L.box[0] + i * L.h, cy0 = L.box[1] + j * L.h;
+                if (g.leafLevelAt(cx0 + 0.5 * L.h, cy0 + 0.5 * L.h) != static_cast<int>(q))
+                  continue;
+                for (int b = 0; b < n; ++b)
+                  for (int a = 0; a < n; ++a) {
+                    const bool edge = (i == 0 && a == 0 && cx0 == D[0]) ||
+                                      (j == 0 && b == 0 && cy0 == D[1]) ||
+                                      (i + 2 == L.M && a + 1 == n && L.box[2] == D[2]) ||
+                                      (j + 2 == L.N && b + 1 == n && L.box[3] == D[3]);
+                    if (!edge) continue;
+                    x.push_back(cx0 + (a + 0.5) * d);
+                    x.push_back(cy0 + (b + 0.5) * d);
+                    l.push_back(0.5 * d);
+                    l.push_back(0.5 * d);
+                  }
+              }
+          }
+        const auto np = static_cast<PetscInt>(l.size() / 2);
+        Stencils s;
+        g.buildStencils(np, x.data(), l.data(), s);
+        for (PetscInt p = 0; p < np; ++p) {
+          const double xp = x[2 * p], yp = x[2 * p + 1];
+          double sw = 0, swx = 0, swy = 0, sgx = 0, sgy = 0, mxx = 0, mxy = 0, myx = 0, myy = 0;
+          for (PetscInt e = s.start[p]; e < s.start[p + 1]; ++e) {
+            const PetscInt n = s.node[e];
+            const double w = s.w[0][e] * s.w[1][e], dx = s.g[0][e] * s.w[1][e],
+                         dy = s.w[0][e] * s.g[1][e];
+            const double rx = g.X[n] - xp, ry = g.Y[n] - yp;
+            sw += w;
+            swx += w * rx;
+            swy += w * ry;
+            sgx += dx;
+            sgy += dy;
+            mxx += dx * rx;
+            mxy += dx * ry;
+            myx += dy * rx;
+            myy += dy * ry;
+          }
+          auto where = [&] {
+            return lay.name + ": " +
+                   at({{"x0 = y0", x0},
+                       {"h0", h0},
+                       {"xp", xp},
+                       {"yp", yp},
+                       {"l", l[2 * p]},
+                       {"xp - l - x0", xp - l[2 * p] - D[0]},
+                       {"yp - l - y0", yp - l[2 * p + 1] - D[1]},
+                       {"sum gx", sgx},
+                       {"sum gy", sgy}});
+          };
+          ++total;
+          offGrad += std::max(std::abs(sgx), std::abs(sgy)) * h0 > 1e-10;
+          unity.update(std::abs(sw - 1.0), where);
+          repro.update(std::max(std::abs(swx), std::abs(swy)) / h0, where);
+          gradSum.update(std::max(std::abs(sgx), std::abs(sgy)) * h0, where);
+          gradRepro.update(
+              std::max({std::abs(mxx - 1.0), std::abs(myy - 1.0), std::abs(mxy), std::abs(myx)}),
+              where);
+        }
+      }
+  EXPECT_WORST_LE(unity, 1e-12);
+  EXPECT_WORST_LE(repro, 1e-12);
+  EXPECT_WORST_LE(gradSum, 1e-10);
+  EXPECT_WORST_LE(gradRepro, 1e-10);
+  std::printf("  gradients not summing to 0: %ld of %ld edge particles\n", offGrad, total);
+}
+
+// ---------------------------------------------------------------------------------------------
+// 2. Point shape functions: S_i(x, y) = tent(x - X_i; Lx-, Lx+) tent(y - Y_i; Ly-, Ly+) summed
+// over all active nodes of the composite grid.
+
+TEST(GridPointShape, PartitionOfUnityAndLinearReproduction) {
+  std::vector<Layout> layouts = twoLevelLayouts();
+  for (const Layout &l : threeLevelLayouts())
+    layouts.push_back(l);
+  layouts.push_back({"fig2", 4, 3, {{1, 1, 3, 3, 2}}});
+  Worst unity, reproX, reproY, bounds;
+  std::uint64_t seed = 0x6a1d2001;
+  for (const Layout &lay : layouts) {
+    const auto gp = makeGrid(sceneOf(lay));
+    const Grid &g = *gp;
+    const double h0 = g.h0();
+    const Box &D = g.levels[0].box;
+    Sampler sample(g, seed++);
+    std::vector<PetscInt> act;
+    for (PetscInt n = 0; n < g.nWindow; ++n)
+      if (g.active[n]) act.push_back(n);
+    for (int p = 0; p < 3000; ++p) {
+      // Points: near the particle centres of the sampler (box edges, corners, transition
+      // nodes), some exactly on a node's grid line or at a node, all in the closed domain.
+      double x, y, lx, ly;
+      sample.draw(x, y, lx, ly, false);
+      const double u = sample.U();
+      if (u < 0.1) {
+        x = g.X[sample.pick(act)];
+      } else if (u < 0.2) {
+        y = g.Y[sample.pick(act)];
+      } else if (u < 0.25) {
+        const PetscInt n = sample.pick(act);
+        x = g.X[n];
+        y = g.Y[n];
+      }
+      x = std::clamp(x, D[0], D[2]);
+      y = std::clamp(y, D[1], D[3]);
+      double s = 0, sx = 0, sy = 0, lo = 0, hi = 0;
+      for (PetscInt n : act) {
+        if (std::abs(g.X[n] - x) > h0 || std::abs(g.Y[n] - y) > h0) continue;
+        const double *z = &g.zone[4 * n];
+        const double w = tent(x - g.X[n], z[0], z[1]) * tent(y - g.Y[n], z[2], z[3]);
+        s += w;
+        sx += w * (g.X[n] - x);
+        sy += w * (g.Y[n] - y);
+        lo = std::min(lo, w);
+        hi = std::max(hi, w);
+      }
+      auto where = [&] { return lay.name + ": " + at({{"x", x}, {"y", y}, {"sum", s}}); };
+      unity.update(std::abs(s - 1.0), where);
+      reproX.update(std::abs(sx) / h0, where);
+      reproY.update(std::abs(sy) / h0, where);
+      bounds.update(std::max(-lo, hi - 1.0), where);
+    }
+  }
+  EXPECT_WORST_LE(unity, 1e-12);
+  EXPECT_WORST_LE(reproX, 1e-12);
+  EXPECT_WORST_LE(reproY, 1e-12);
+  EXPECT_WORST_LE(bounds, 0.0);
+}
+
+} // namespace
