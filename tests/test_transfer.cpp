@@ -1,0 +1,303 @@
+// Unit tests of the particle <-> grid transfers in include/gimp/transfer/transfer.hpp on a
+// three-level composite grid (ratios 2 and 4), with random particles that straddle level
+// borders and reach transition nodes.
+//
+//   1. P2G conserves mass and momentum: sum_i m_i = sum_p m_p, sum_i p_i = sum_p m_p v_p
+//      (partition of unity of the GIMP weights).
+//   2. G2P of the nodal velocity p_i / m_i of particles that all move with one velocity u gives
+//      back u (flip = 0), and moves them by dt u.
+//   3. G2P with flip = 1 and a uniform nodal acceleration a gives v + dt a.
+//   4. A linear nodal velocity field v_i = A x_i + b gives velocityGradient = A at every
+//      particle and G2P moves each particle by dt (A x_p + b) (linear reproduction of the
+//      weights and of their gradients).
+//   5. PIC (flip = 0) conserves the total momentum through P2G -> p_i / m_i -> G2P.
+//
+// Tolerances are round-off: each particle's weights add up to 1 within a few ulp over its
+// 4-25 nodes, and the sums over particles add ~1e-16 relative per term.
+#include "gimp/grid/grid.hpp"
+#include "gimp/transfer/transfer.hpp"
+
+#include "test_util.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <random>
+#include <vector>
+
+namespace {
+
+using gimp::Grid;
+using gimp::LevelSpec;
+using gimp::Scene;
+using gimp::test::at;
+using gimp::test::Worst;
+using Stencils = gimp::Stencils<gimp::kDim>;
+
+// Domain origin and level-0 cell size that are not binary fractions (as in test_grid).
+constexpr double kX0 = -1.3, kY0 = 0.7, kH0 = 0.37;
+
+/// 14 x 12 level-0 cells; level 1 (ratio 2) over cells [4, 12] x [3, 9]; level 2 (ratio 4)
+/// over [6.5, 8.5] x [4, 7.5], its left and right edges on level-1 lines between level-0 lines.
+Scene scene() {
+  Scene sc;
+  sc.h = kH0;
+  sc.domain = {kX0, kY0, kX0 + 14 * kH0, kY0 + 12 * kH0};
+  sc.levels.assign(1, LevelSpec{sc.domain, 1});
+  sc.levels.push_back(LevelSpec{{kX0 + 4 * kH0, kY0 + 3 * kH0, kX0 + 12 * kH0, kY0 + 9 * kH0}, 2});
+  sc.levels.push_back(
+      LevelSpec{{kX0 + 6.5 * kH0, kY0 + 4 * kH0, kX0 + 8.5 * kH0, kY0 + 7.5 * kH0}, 4});
+  return sc;
+}
+
+struct Particles {
+  PetscInt n = 0;
+  std::vector<double> x, l, m, v;
+};
+
+/// n random particles over cells [2, 12] x [1.5, 10.5] (all three levels and their borders):
+/// half-sizes between 0.05 and 0.5 of their leaf cell, masses in [0.5, 2], velocities in [-3, 3].
+Particles randomParticles(const Grid &g, PetscInt n, unsigned seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> X(kX0 + 2 * kH0, kX0 + 12 * kH0),
+      Y(kY0 + 1.5 * kH0, kY0 + 10.5 * kH0), frac(0.05, 0.5), mass(0.5, 2.0), vel(-3.0, 3.0);
+  Particles p;
+  p.n = n;
+  for (PetscInt k = 0; k < n; ++k) {
+    const double x = X(rng), y = Y(rng);
+    const double h = g.levels[g.leafLevelAt(x, y)].h;
+    p.x.insert(p.x.end(), {x, y});
+    p.l.insert(p.l.end(), {frac(rng) * h, frac(rng) * h});
+    p.m.push_back(mass(rng));
+    p.v.insert(p.v.end(), {vel(rng), vel(rng)});
+  }
+  return p;
+}
+
+struct Fixture {
+  Grid g;
+  Particles p;
+  Stencils st;
+  long straddling = 0, transitionEntries = 0;
+
+  explicit Fixture(unsigned seed) {
+    EXPECT_EQ(static_cast<int>(g.create(PETSC_COMM_SELF, scene())), 0);
+    EXPECT_EQ(g.levels.size(), 3u);
+    p = randomParticles(g, 3000, seed);
+    EXPECT_TRUE(g.buildStencils(p.n, p.x.data(), p.l.data(), st));
+    // The sample is not vacuous: particles cross level borders and reach transition nodes.
+    for (PetscInt k = 0; k < p.n; ++k) {
+      const double x = p.x[2 * k], y = p.x[2 * k + 1], lx = p.l[2 * k], ly = p.l[2 * k + 1];
+      const int q = g.leafLevelAt(x, y);
+      if (g.leafLevelAt(x - lx * 0.999, y - ly * 0.999) != q ||
+          g.leafLevelAt(x + lx * 0.999, y + ly * 0.999) != q ||
+          g.leafLevelAt(x - lx * 0.999, y + ly * 0.999) != q ||
+          g.leafLevelAt(x + lx * 0.999, y - ly * 0.999) != q)
+        ++straddling;
+      for (PetscInt e = st.start[k]; e < st.start[k + 1]; ++e)
+        transitionEntries += !g.regular[st.node[e]];
+    }
+    EXPECT_GT(straddling, 20);
+    EXPECT_GT(transitionEntries, 100);
+  }
+  std::vector<double> nodal() const { return std::vector<double>(2 * g.nWindow, 0.0); }
+};
+
+constexpr double kEps = 2.220446049250313e-16;
+
+/// What x_p + dt v_p - x_p may differ from dt v_p by: the rounding of the new position (half
+/// an ulp of |x|, twice for safety) and 1e-13 of the step (the interpolated velocity).
+double positionRoundOff(const std::vector<double> &x0, PetscInt k, double step) {
+  return 2.0 * kEps * std::max(std::abs(x0[2 * k]), std::abs(x0[2 * k + 1])) + 1e-13 * step;
+}
+
+/// Nodal velocity p_i / m_i (zero where no mass).
+std::vector<double> nodalVelocity(const std::vector<double> &mom, const std::vector<double> &mass) {
+  std::vector<double> v(mom.size(), 0.0);
+  for (size_t i = 0; i < mass.size() / 2; ++i)
+    if (mass[2 * i] > 0) {
+      v[2 * i] = mom[2 * i] / mass[2 * i];
+      v[2 * i + 1] = mom[2 * i + 1] / mass[2 * i];
+    }
+  return v;
+}
+
+TEST(Transfer, P2GConservesMassAndMomentum) {
+  Fixture f(1);
+  std::printf("  %ld particles, %ld straddle a level border, %ld stencil entries at transition "
+              "nodes\n",
+              static_cast<long>(f.p.n), f.straddling, f.transitionEntries);
+  std::vector<double> mom = f.nodal(), mass = f.nodal();
+  gimp::transfer::particlesToGrid<2>(f.st, f.p.n, f.p.m.data(), f.p.v.data(), mom.data(),
+                                     mass.data());
+  double M = 0, P[2] = {0, 0}, Pabs = 0, Mg = 0, Pg[2] = {0, 0};
+  for (PetscInt k = 0; k < f.p.n; ++k) {
+    M += f.p.m[k];
+    P[0] += f.p.m[k] * f.p.v[2 * k];
+    P[1] += f.p.m[k] * f.p.v[2 * k + 1];
+    Pabs += f.p.m[k] * std::hypot(f.p.v[2 * k], f.p.v[2 * k + 1]);
+  }
+  long massNodes = 0;
+  for (PetscInt i = 0; i < f.g.nWindow; ++i) {
+    Mg += mass[2 * i];
+    Pg[0] += mom[2 * i];
+    Pg[1] += mom[2 * i + 1];
+    EXPECT_EQ(mass[2 * i + 1], 0.0); // mass lives in component 0 only
+    if (mass[2 * i] > 0) {
+      ++massNodes;
+      EXPECT_TRUE(f.g.active[i]) << "mass on an inactive node " << i;
+    }
+  }
+  const double eMass = std::abs(Mg - M) / M;
+  // Momentum relative to sum m |v| (the total itself may nearly cancel).
+  const double eMom = std::hypot(Pg[0] - P[0], Pg[1] - P[1]) / Pabs;
+  std::printf("  mass: relative error %.2e over %ld nodes; momentum: %.2e\n", eMass, massNodes,
+              eMom);
+  EXPECT_LE(eMass, 1e-14);
+  EXPECT_LE(eMom, 1e-14);
+}
+
+TEST(Transfer, UniformVelocityIsReproduced) {
+  Fixture f(2);
+  const double u[2] = {1.7, -0.45}, dt = 1.0e-3;
+  for (PetscInt k = 0; k < f.p.n; ++k) {
+    f.p.v[2 * k] = u[0];
+    f.p.v[2 * k + 1] = u[1];
+  }
+  std::vector<double> mom = f.nodal(), mass = f.nodal();
+  gimp::transfer::particlesToGrid<2>(f.st, f.p.n, f.p.m.data(), f.p.v.data(), mom.data(),
+                                     mass.data());
+  const std::vector<double> vg = nodalVelocity(mom, mass), ag = f.nodal();
+  const std::vector<double> x0 = f.p.x;
+  std::vector<double> v(2 * f.p.n, 99.0); // overwritten by flip = 0
+  gimp::transfer::gridToParticles<2>(f.st, f.p.n, vg.data(), ag.data(), dt, 0.0, v.data(),
+                                     f.p.x.data());
+  Worst wv, wx;
+  const double un = std::hypot(u[0], u[1]);
+  for (PetscInt k = 0; k < f.p.n; ++k) {
+    wv.update(std::hypot(v[2 * k] - u[0], v[2 * k + 1] - u[1]) / un, [&] {
+      return at({{"particle", double(k)}});
+    });
+    wx.update(std::hypot(f.p.x[2 * k] - x0[2 * k] - dt * u[0],
+                         f.p.x[2 * k + 1] - x0[2 * k + 1] - dt * u[1]) /
+                  positionRoundOff(x0, k, dt * un),
+              [&] {
+                return at({{"particle", double(k)}});
+              });
+  }
+  // p_i / m_i = u within an ulp; one particle's weights add up to 1 within ~2e-14 (measured
+  // over 21000 particles; each weight is a quotient like (ua - ub)(ua + ub) / (2 lambda) of
+  // differences of numbers near 1, good to ~eps / lambda <= 20 eps, over 4-25 nodes). The
+  // sums of test 1 average these errors out; a single particle does not.
+  EXPECT_WORST_LE(wv, 1e-13);
+  EXPECT_WORST_LE(wx, 1.0); // in units of the rounding of x + dt v
+}
+
+TEST(Transfer, FlipAddsTheAcceleration) {
+  Fixture f(3);
+  const double a[2] = {-9.81, 4.2}, dt = 2.0e-3;
+  std::vector<double> vg = f.nodal(), ag = f.nodal();
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> U(-1, 1);
+  for (PetscInt i = 0; i < f.g.nWindow; ++i) {
+    vg[2 * i] = U(rng); // does not enter the FLIP velocity
+    vg[2 * i + 1] = U(rng);
+    ag[2 * i] = a[0];
+    ag[2 * i + 1] = a[1];
+  }
+  const std::vector<double> v0 = f.p.v;
+  gimp::transfer::gridToParticles<2>(f.st, f.p.n, vg.data(), ag.data(), dt, 1.0, f.p.v.data(),
+                                     f.p.x.data());
+  Worst w;
+  for (PetscInt k = 0; k < f.p.n; ++k) {
+    const double ex = v0[2 * k] + dt * a[0], ey = v0[2 * k + 1] + dt * a[1];
+    w.update(std::hypot(f.p.v[2 * k] - ex, f.p.v[2 * k + 1] - ey) /
+                 (std::hypot(v0[2 * k], v0[2 * k + 1]) + dt * std::hypot(a[0], a[1])),
+             [&] {
+               return at({{"particle", double(k)}});
+             });
+  }
+  EXPECT_WORST_LE(w, 1e-14);
+}
+
+TEST(Transfer, LinearFieldGivesItsGradientAndMotion) {
+  Fixture f(4);
+  const double A[2][2] = {{0.8, -1.3}, {0.45, -0.2}}, b[2] = {0.3, -0.7}, dt = 1.0e-3;
+  std::vector<double> vg = f.nodal(), ag = f.nodal();
+  for (PetscInt i = 0; i < f.g.nWindow; ++i) {
+    vg[2 * i] = A[0][0] * f.g.X[i] + A[0][1] * f.g.Y[i] + b[0];
+    vg[2 * i + 1] = A[1][0] * f.g.X[i] + A[1][1] * f.g.Y[i] + b[1];
+  }
+  std::vector<double> L(4 * f.p.n);
+  gimp::transfer::velocityGradient<2>(f.st, f.p.n, vg.data(), L.data());
+  const std::vector<double> x0 = f.p.x;
+  gimp::transfer::gridToParticles<2>(f.st, f.p.n, vg.data(), ag.data(), dt, 0.0, f.p.v.data(),
+                                     f.p.x.data());
+  Worst wL, wLabs, wv, wx;
+  for (PetscInt k = 0; k < f.p.n; ++k) {
+    double eL = 0, vmax = 0;
+    for (int c = 0; c < 2; ++c)
+      for (int d = 0; d < 2; ++d) // row-major: L(c, d) = d v_c / d x_d
+        eL = std::max(eL, std::abs(L[4 * k + 2 * c + d] - A[c][d]));
+    for (PetscInt e = f.st.start[k]; e < f.st.start[k + 1]; ++e)
+      vmax = std::max(vmax, std::hypot(vg[2 * f.st.node[e]], vg[2 * f.st.node[e] + 1]));
+    // Round-off of the gradient: the tent's argument x_p - x_i carries eps |x|, and a weight's
+    // gradient (S(d + l) - S(d - l)) / (2 l) changes by 1 / (h l) per unit of it, so each
+    // node's term v_i grad w_i is good to ~eps |v_i| (|x_p| + h) / (h l) (4e-11 for the
+    // smallest particles, l = 0.05 h_min, at |x| = 3.5; 4e-14 for l = h / 2 near the origin).
+    const double h = f.g.levels[f.g.leafLevelAt(x0[2 * k], x0[2 * k + 1])].h;
+    const double lmin = std::min(f.p.l[2 * k], f.p.l[2 * k + 1]);
+    const double scaleL = kEps * vmax * (std::hypot(x0[2 * k], x0[2 * k + 1]) + h) / (h * lmin);
+    wL.update(eL / scaleL, [&] { return at({{"particle", double(k)}, {"err", eL}}); });
+    wLabs.update(eL, [&] { return at({{"particle", double(k)}}); });
+    const double vx = A[0][0] * x0[2 * k] + A[0][1] * x0[2 * k + 1] + b[0];
+    const double vy = A[1][0] * x0[2 * k] + A[1][1] * x0[2 * k + 1] + b[1];
+    wv.update(std::hypot(f.p.v[2 * k] - vx, f.p.v[2 * k + 1] - vy) / vmax, [&] {
+      return at({{"particle", double(k)}});
+    });
+    wx.update(
+        std::hypot(f.p.x[2 * k] - x0[2 * k] - dt * vx, f.p.x[2 * k + 1] - x0[2 * k + 1] - dt * vy) /
+            positionRoundOff(x0, k, dt * std::hypot(vx, vy)),
+        [&] {
+          return at({{"particle", double(k)}});
+        });
+  }
+  EXPECT_WORST_LE(wL, 4.0);      // in units of the round-off estimate above
+  EXPECT_WORST_LE(wLabs, 1e-10); // absolute, |A| ~ 1 (for the record)
+  EXPECT_WORST_LE(wv, 1e-13);    // relative to the largest nodal |v|, as test 2
+  EXPECT_WORST_LE(wx, 1.0);      // in units of the rounding of x + dt v
+}
+
+TEST(Transfer, PicConservesMomentum) {
+  Fixture f(5);
+  std::vector<double> mom = f.nodal(), mass = f.nodal();
+  gimp::transfer::particlesToGrid<2>(f.st, f.p.n, f.p.m.data(), f.p.v.data(), mom.data(),
+                                     mass.data());
+  const std::vector<double> vg = nodalVelocity(mom, mass), ag = f.nodal();
+  double P0[2] = {0, 0}, Pabs = 0;
+  for (PetscInt k = 0; k < f.p.n; ++k) {
+    P0[0] += f.p.m[k] * f.p.v[2 * k];
+    P0[1] += f.p.m[k] * f.p.v[2 * k + 1];
+    Pabs += f.p.m[k] * std::hypot(f.p.v[2 * k], f.p.v[2 * k + 1]);
+  }
+  const std::vector<double> v0 = f.p.v;
+  gimp::transfer::gridToParticles<2>(f.st, f.p.n, vg.data(), ag.data(), 1e-3, 0.0, f.p.v.data(),
+                                     f.p.x.data());
+  double P1[2] = {0, 0}, change = 0;
+  for (PetscInt k = 0; k < f.p.n; ++k) {
+    P1[0] += f.p.m[k] * f.p.v[2 * k];
+    P1[1] += f.p.m[k] * f.p.v[2 * k + 1];
+    change =
+        std::max(change, std::hypot(f.p.v[2 * k] - v0[2 * k], f.p.v[2 * k + 1] - v0[2 * k + 1]));
+  }
+  // sum_p m_p sum_i w_ip v_i = sum_i m_i v_i = sum_i p_i = sum_p m_p v_p: round-off only,
+  // relative to sum_p m_p |v_p|. The velocities themselves change (PIC smooths them).
+  const double e = std::hypot(P1[0] - P0[0], P1[1] - P0[1]) / Pabs;
+  std::printf("  PIC momentum: relative change %.2e; largest velocity change %.2f\n", e, change);
+  EXPECT_LE(e, 1e-13);
+  EXPECT_GT(change, 0.1);
+}
+
+} // namespace
