@@ -93,8 +93,9 @@ void Boundary::penaltyForces(const Scene &sc, const Grid &g, const Stencils<2> &
   for (size_t q = 0; q < sc.dbcs.size(); ++q)
     for (int c = 0; c < 2; ++c)
       ubar[2 * q + c] = sc.dbcs[q].u[c].valueOr0(t);
-  std::fill(reactions_.begin(), reactions_.end(), 0.0);
-  std::fill(gaps_.begin(), gaps_.end(), 0.0);
+  reactions_.assign(2 * sc.dbcs.size(), 0.0);
+  gaps_.assign(sc.dbcs.size(), 0.0);
+  maxGap_.resize(sc.dbcs.size(), 0.0);
   for (PetscInt k = 0; k < p.n; ++k)
     for (int a = 0; a < 2; ++a) {
       const PetscInt q = p.dbc[2 * k + a];
