@@ -45,6 +45,7 @@ void Lattice::setGeometry(const Scene &sc) {
       h /= sc.levels[k].ratio;
     }
     L.h = h;
+    L.ih = 1.0 / h;
     L.step = step;
     L.box = k == 0 ? sc.domain : sc.levels[k].box;
     const std::string opt = "option -gimp_level" + std::to_string(k) + "_box " + boxText(L.box);

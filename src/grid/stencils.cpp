@@ -35,7 +35,7 @@ bool Grid::levelReach(int q, double xp, double yp, double lx, double ly, Reach &
     const Box &f = levels[q + 1].box;
     if (ax >= f[0] && bx <= f[2] && ay >= f[1] && by <= f[3]) return false;
   }
-  const double ox = L.box[0], oy = L.box[1], ih = 1.0 / L.h;
+  const double ox = L.box[0], oy = L.box[1], ih = L.ih;
   const PetscInt ir = ifloor((ax - ox) * ih) + 1, jr = ifloor((ay - oy) * ih) + 1;
   r.i0 = std::max(ir, L.wi0);
   r.i1 = std::min(iceil((bx - ox) * ih) - 1, L.wi1 - 1);
@@ -51,7 +51,7 @@ bool Grid::levelReach(int q, double xp, double yp, double lx, double ly, Reach &
 void Grid::appendBlock3(const Level &L, const Reach &r, double xp, double yp, double lx, double ly,
                         Stencils<kDim> &s, size_t &m) const {
   // A regular 3 x 3 block of this level: closed-form weights, the same node set.
-  const double ih = 1.0 / L.h, ox = L.box[0], oy = L.box[1];
+  const double ih = L.ih, ox = L.box[0], oy = L.box[1];
   double fwx[3], fgx[3], fwy[3], fgy[3];
   const double lamx = lx * ih, lamy = ly * ih, i2lx = 0.5 / lamx, i2ly = 0.5 / lamy;
   shape::uniformWeights3((xp - (ox + r.i0 * L.h)) * ih, lamx, i2lx, i2lx * ih, fwx, fgx);
@@ -77,7 +77,7 @@ void Grid::appendNodes(const Level &L, const Reach &r, double xp, double yp, dou
   // Any range of nodes: 1D weights of a regular stretch for every candidate, replaced by the
   // node's own zones where it is irregular; nodes whose support misses the particle are left out.
   double *rwx = scratch, *rgx = rwx + maxRange, *rwy = rgx + maxRange, *rgy = rwy + maxRange;
-  const double ox = L.box[0], oy = L.box[1], ih = 1.0 / L.h;
+  const double ox = L.box[0], oy = L.box[1], ih = L.ih;
   const double i2lx = 0.5 / lx, i2ly = 0.5 / ly;
   for (PetscInt i = r.i0; i <= r.i1; ++i)
     shape::weightAndGradientUniform(xp - (ox + i * L.h), lx, L.h, ih, i2lx, rwx[i - r.i0],

@@ -75,7 +75,7 @@ PetscErrorCode Solver::report(PetscInt step, double t) {
     HistoryRow row;
     PetscCall(historyRow(step, t, row));
     PetscCall(out_->writeHistory(row));
-    if (sc_.staticTol > 0 && t >= sc_.staticTime) PetscCall(restCriterion(step, t));
+    if (sc_.staticTol > 0 && t >= sc_.staticTime) PetscCall(restCriterion(step, t, row.energy));
   }
   if (sc_.outputInterval > 0 && step % sc_.outputInterval == 0)
     PetscCall(out_->writeFields(step, t, sw_, nodal_.vel, nodal_.mass));
@@ -108,10 +108,8 @@ PetscErrorCode Solver::historyRow(PetscInt step, double t, HistoryRow &row) {
   return PETSC_SUCCESS;
 }
 
-PetscErrorCode Solver::restCriterion(PetscInt step, double t) {
-  // Energy-based rest criterion for runs damped to a static state.
-  Energies e;
-  PetscCall(particleEnergies(comm_, sc_, sw_, work_, e));
+PetscErrorCode Solver::restCriterion(PetscInt step, double t, const Energies &e) {
+  // Energy-based rest criterion for runs damped to a static state, on the history row's energies.
   if (e.strain > 0 && e.kinetic < sc_.staticTol * e.strain) {
     atRest_ = true;
     PetscCall(PetscPrintf(comm_,

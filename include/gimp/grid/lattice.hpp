@@ -18,7 +18,7 @@
 namespace gimp {
 
 struct Level {
-  double h = 0;
+  double h = 0, ih = 0;        // cell size [m] and its reciprocal
   Box box{};                   // [m]
   std::int64_t u0 = 0, v0 = 0; // lower-left corner in finest-lattice units
   std::int64_t u1 = 0, v1 = 0; // upper-right corner

@@ -78,7 +78,7 @@ private:
   // the run loop, checks and reports (solver/run.cpp)
   PetscErrorCode historyRow(PetscInt step, double t, HistoryRow &row);
   PetscErrorCode finish(PetscInt steps, double t);
-  PetscErrorCode restCriterion(PetscInt step, double t);
+  PetscErrorCode restCriterion(PetscInt step, double t, const Energies &e);
   PetscErrorCode monitorLine(PetscInt step, double t);
 
   MPI_Comm comm_;
