@@ -61,6 +61,13 @@ PetscErrorCode Solver::checks(const ParticleView &p, PetscInt step, double t) {
                                        " at (%.9g, %.9g): %s\n",
                                        step, t, p.id[k], x, y, why.c_str()));
   }
+  if (!localFailure_.empty()) {
+    failed_ = true;
+    PetscCall(PetscSynchronizedFPrintf(comm_, PETSC_STDERR,
+                                       "gimp: error: step %" PetscInt_FMT " t %.9g s: %s\n", step,
+                                       t, localFailure_.c_str()));
+    localFailure_.clear();
+  }
   PetscCall(PetscSynchronizedFlush(comm_, PETSC_STDERR));
   PetscBool any = PETSC_FALSE, mine = failed_ ? PETSC_TRUE : PETSC_FALSE;
   PetscCallMPI(MPI_Allreduce(&mine, &any, 1, MPIU_BOOL, MPI_LOR, comm_));

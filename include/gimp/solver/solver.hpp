@@ -23,6 +23,7 @@
 #include <petscts.h>
 
 #include <memory>
+#include <string>
 #include <vector>
 
 namespace gimp {
@@ -105,7 +106,8 @@ private:
   } stages_;
   PetscLogDouble wall0_ = 0;
   bool failed_ = false;
-  bool atRest_ = false; // stopped by the rest criterion (-gimp_static_tol)
+  std::string localFailure_; // a failure found on this rank inside the step, reported by checks()
+  bool atRest_ = false;      // stopped by the rest criterion (-gimp_static_tol)
 };
 
 } // namespace gimp
