@@ -40,6 +40,38 @@ cases = [
                               "-gimp_level2_box", "0,0,0.4,0.2"], "-gimp_level2_box"),
     ("overlapping bodies", ["-gimp_bodies", "2", "-gimp_body1_box", "0.5,0.2,0.9,0.6"],
      "-gimp_body1_box"),
+    # Cracks (the body is 0,0,1,0.4 with h = 0.1).
+    ("negative crack count", ["-gimp_cracks", "-1"], "-gimp_cracks -1: must be >= 0"),
+    ("crack without points", ["-gimp_cracks", "1"], "-gimp_crack0_points (missing)"),
+    ("crack of one point", ["-gimp_cracks", "1", "-gimp_crack0_points", "0.5,0.2"],
+     "-gimp_crack0_points 0.5,0.2: needs pairs x,y of at least two points"),
+    ("crack odd value count", ["-gimp_cracks", "1", "-gimp_crack0_points", "0.5,0.2,0.6"],
+     "-gimp_crack0_points 0.5,0.2,0.6: needs pairs x,y"),
+    ("crack too many points", ["-gimp_cracks", "1", "-gimp_crack0_points",
+                               ",".join("%g,0.2" % (0.001 * i) for i in range(101))],
+     "-gimp_crack0_points (more than 100 points)"),
+    ("crack NaN", ["-gimp_cracks", "1", "-gimp_crack0_points", "0.5,0.2,nan,0.3"],
+     "-gimp_crack0_points 0.5,0.2,nan,0.3: the coordinates must be finite"),
+    ("crack inf", ["-gimp_cracks", "1", "-gimp_crack0_points", "0.5,0.2,0.6,inf"],
+     "-gimp_crack0_points 0.5,0.2,0.6,inf: the coordinates must be finite"),
+    ("crack zero-length segment",
+     ["-gimp_cracks", "1", "-gimp_crack0_points", "-0.1,0.2,0.5,0.2,0.5,0.2"],
+     "points 1 and 2 coincide"),
+    ("crack crosses itself",
+     ["-gimp_cracks", "1", "-gimp_crack0_points", "0.1,0.1,0.5,0.3,0.5,0.1,0.1,0.3"],
+     "segments 0 and 2 intersect"),
+    ("crack folds back", ["-gimp_cracks", "1", "-gimp_crack0_points", "0.2,0.2,0.6,0.2,0.4,0.2"],
+     "segments 0 and 1 fold back"),
+    ("crack outside the bodies", ["-gimp_cracks", "1", "-gimp_crack0_points", "1.05,0.1,1.15,0.3"],
+     "no point of the crack lies inside a body"),
+    ("crack along a body's edge", ["-gimp_cracks", "1", "-gimp_crack0_points", "0.2,0.4,0.7,0.4"],
+     "-gimp_crack0_points 0.2,0.4,0.7,0.4: no point of the crack lies inside a body"),
+    ("crack tip near another crack",
+     ["-gimp_cracks", "2", "-gimp_crack0_points", "-0.1,0.2,0.5,0.2", "-gimp_crack1_points",
+      "0.55,0.1,0.55,0.3"],
+     "-gimp_crack0_points -0.1,0.2,0.5,0.2: its tip 0.5,0.2 is 0.05 m from crack 1"),
+    ("crack beyond the count", ["-gimp_crack0_points", "-0.1,0.2,0.5,0.2"],
+     "-gimp_crack0_points"),
 ]
 for name, extra, needle in cases:
     p = gimptest.run(args, "options/patch.opts", extra + ["-ts_max_steps", "1"], expect_ok=False,
@@ -50,6 +82,15 @@ for name, extra, needle in cases:
     one_line = len([l for l in lines if "error" in l.lower()]) == 1
     c.check(name, ok and one_line and lines[0].startswith("gimp: error:"),
             "exit %d: %s" % (p.returncode, lines[0] if lines else "(no message)"))
+
+# Valid cracks (a mouth outside the body, kinked; one wholly inside) are read and their options
+# used: the run goes on.
+p = gimptest.run(args, "options/patch.opts",
+                 ["-ts_max_steps", "1", "-gimp_cracks", "2", "-gimp_crack0_points",
+                  "-0.1,0.2,0.3,0.2,0.45,0.25", "-gimp_crack1_points", "0.8,0.1,0.8,0.3"],
+                 expect_ok=False, outdir=os.path.join(args.work, "cracks_ok"))
+c.check("valid cracks accepted", p.returncode == 0,
+        "exit %d: %s" % (p.returncode, p.stderr.strip()[-200:]))
 
 # -options_file errors are found before PETSc starts: one line, exit 2, no PETSc trace; under
 # mpiexec every rank finds the same error and only rank 0 prints it.

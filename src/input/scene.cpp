@@ -45,6 +45,7 @@ using input::bad;
 using input::checkChoice;
 using input::fmtList;
 using input::readBodies;
+using input::readCracks;
 using input::readLevels;
 using input::readLoads;
 using input::readMaterial;
@@ -304,12 +305,15 @@ PetscErrorCode readScene(MPI_Comm comm, Scene &sc) {
   PetscCall(readMaterial(comm, sc));
   PetscCall(readBodies(comm, sc));
   PetscCall(readLoads(comm, sc));
-  if (sc.help) return readLevels(comm, sc);
+  if (sc.help) {
+    PetscCall(readLevels(comm, sc));
+    return readCracks(comm, sc);
+  }
   checkRunOptions(sc, o);
   setDomain(sc, o);
   PetscCall(readLevels(comm, sc));
   checkBodies(sc);
-  return PETSC_SUCCESS;
+  return readCracks(comm, sc);
 }
 
 } // namespace gimp

@@ -23,5 +23,8 @@ PetscErrorCode readMaterial(MPI_Comm comm, Scene &sc);
 PetscErrorCode readBodies(MPI_Comm comm, Scene &sc);
 PetscErrorCode readLoads(MPI_Comm comm, Scene &sc);
 PetscErrorCode readLevels(MPI_Comm comm, Scene &sc);
+/// After the levels and bodies (scene_cracks.cpp): -gimp_cracks and each -gimp_crackK_points,
+/// checked; each end classified as a tip (strictly inside a body) or a mouth.
+PetscErrorCode readCracks(MPI_Comm comm, Scene &sc);
 
 } // namespace gimp::input

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "gimp/core/errors.hpp"
+#include "gimp/cracks/geometry.hpp"
 
 #include <array>
 #include <stdexcept>
@@ -129,6 +130,7 @@ struct Scene {
   double staticTol = 0;  // stop when kinetic < staticTol * strain energy (0: never)
   double staticTime = 0; // ... but not before this time [s]
   std::vector<Probe> probes;
+  std::vector<Crack> cracks; // explicit cracks, ends classified as tips or mouths
   Mms mms = Mms::None;
   double mmsAmplitude = 1e-4;
   bool holeMeasure = false; // hoop stress around a hole: centre, radius, remote stress p

@@ -1,0 +1,87 @@
+// The cracks of a scene as readScene makes them (src/input/scene_cracks.cpp): the points in
+// order, each end a tip (strictly inside a body) or a mouth (on or outside the body's edge,
+// including a hole's circle, within 1e-9 of the cell size), and the one-cell distance between
+// a tip and another crack measured with the finest cell at the tip. The error lines
+// themselves are checked by tests/check_input.py.
+#include "gimp/input/scene.hpp"
+
+#include <gtest/gtest.h>
+
+#include <string>
+
+namespace {
+
+const char *const kBase = "-gimp_E 1e7 -gimp_rho 1000 -gimp_h 0.1 -gimp_body0_box 0,0,1,0.4 "
+                          "-gimp_body0_holes 0.8,0.2,0.05 ";
+
+/// readScene on the base scene plus `extra`; the InputError's text, or "" when it succeeds.
+std::string read(const std::string &extra, gimp::Scene &sc) {
+  if (PetscOptionsClear(nullptr)) return "PetscOptionsClear failed";
+  if (PetscOptionsInsertString(nullptr, (kBase + extra).c_str())) return "bad options string";
+  try {
+    if (gimp::readScene(PETSC_COMM_WORLD, sc)) return "PETSc error";
+  } catch (const gimp::InputError &e) {
+    return e.what();
+  }
+  return "";
+}
+
+/// The tip flags of crack 0 with the given points.
+std::pair<bool, bool> tips(const std::string &points) {
+  gimp::Scene sc;
+  const std::string err = read("-gimp_cracks 1 -gimp_crack0_points " + points, sc);
+  EXPECT_EQ(err, "") << points;
+  if (!err.empty() || sc.cracks.size() != 1) return {false, false};
+  return {sc.cracks[0].tip[0], sc.cracks[0].tip[1]};
+}
+
+TEST(CrackScene, PointsInOrder) {
+  gimp::Scene sc;
+  ASSERT_EQ(read("-gimp_cracks 2 -gimp_crack0_points -0.1,0.2,0.3,0.2,0.4,0.25 "
+                 "-gimp_crack1_points 0.6,0.05,0.6,0.35",
+                 sc),
+            "");
+  ASSERT_EQ(sc.cracks.size(), 2u);
+  ASSERT_EQ(sc.cracks[0].points.size(), 3u);
+  EXPECT_EQ(sc.cracks[0].points[1][0], 0.3);
+  EXPECT_EQ(sc.cracks[0].points[2][1], 0.25);
+  EXPECT_EQ(sc.cracks[1].points.size(), 2u);
+  gimp::Scene none;
+  ASSERT_EQ(read("", none), "");
+  EXPECT_TRUE(none.cracks.empty()); // -gimp_cracks defaults to 0
+}
+
+TEST(CrackScene, TipsAndMouths) {
+  using P = std::pair<bool, bool>;
+  EXPECT_EQ(tips("-0.1,0.2,0.5,0.2"), P(false, true));        // outside -> inside
+  EXPECT_EQ(tips("0.5,0.2,0.2,0.2"), P(true, true));          // wholly inside
+  EXPECT_EQ(tips("0,0.2,0.5,0.2"), P(false, true));           // on the left edge
+  EXPECT_EQ(tips("1e-12,0.2,0.5,0.2"), P(false, true));       // within 1e-9 h of the edge
+  EXPECT_EQ(tips("1e-6,0.2,0.5,0.2"), P(true, true));         // inside by more
+  EXPECT_EQ(tips("0.3,0.4,0.3,0.1"), P(false, true));         // on the top edge
+  EXPECT_EQ(tips("0,0.2,1,0.2"), P(false, false));            // through the body
+  EXPECT_EQ(tips("0.5,0.2,0.75,0.2"), P(true, false));        // on the hole's circle
+  EXPECT_EQ(tips("0.5,0.2,0.8,0.2"), P(true, false));         // into the hole
+  EXPECT_EQ(tips("0.5,0.2,0.749999,0.2"), P(true, true));     // just short of the hole
+  EXPECT_EQ(tips("0.5,0.2,0.5,0.3,0.6,0.5"), P(true, false)); // kinked, out through the top
+}
+
+TEST(CrackScene, TipDistanceUsesTheFinestCellThere) {
+  // Tip (0.5, 0.2), the other crack 0.07 away: under one cell of h = 0.1, over one of 0.05.
+  const std::string two = "-gimp_cracks 2 -gimp_crack0_points -0.1,0.2,0.5,0.2 "
+                          "-gimp_crack1_points 0.57,-0.1,0.57,0.5 ";
+  gimp::Scene coarse, fine, elsewhere;
+  EXPECT_NE(read(two, coarse).find("less than one cell (0.1 m)"), std::string::npos);
+  EXPECT_EQ(read(two + "-gimp_levels 2 -gimp_level1_box 0.4,0.1,0.7,0.3", fine), "");
+  EXPECT_NE(read(two + "-gimp_levels 2 -gimp_level1_box 0.7,0.1,0.9,0.3", elsewhere)
+                .find("-gimp_crack0_points"),
+            std::string::npos);
+  // A mouth may come close to another crack: crack 1 starts 0.01 from crack 0, outside.
+  gimp::Scene mouth;
+  EXPECT_EQ(read("-gimp_cracks 2 -gimp_crack0_points -0.1,0.2,0.5,0.2 "
+                 "-gimp_crack1_points -0.1,0.21,0.3,0.35",
+                 mouth),
+            "");
+}
+
+} // namespace
