@@ -13,6 +13,7 @@ Grid::~Grid() {
     if (d) (void)DMDestroy(&d);
   for (DM &d : da1)
     if (d) (void)DMDestroy(&d);
+  if (crackDm) (void)DMDestroy(&crackDm);
   if (dm) (void)DMDestroy(&dm);
   if (scatter_) (void)VecScatterDestroy(&scatter_);
   if (windowTemplate_) (void)VecDestroy(&windowTemplate_);
@@ -40,10 +41,10 @@ PetscErrorCode Grid::create(MPI_Comm comm, const Scene &sc) {
     PetscCall(DMDACreateCompatibleDMDA(da[k], 1, &da1[k]));
     PetscCall(DMCompositeAddDM(dm, da[k]));
   }
-  PetscCall(DMSetUp(dm));
-
   PetscCall(setWindow());
   fillWindowNodes();
+  PetscCall(addCrackFields(comm, sc));
+  PetscCall(DMSetUp(dm));
   PetscCall(createScatter(comm));
   return PETSC_SUCCESS;
 }
@@ -152,13 +153,18 @@ PetscErrorCode Grid::createScatter(MPI_Comm comm) {
       v /= 2;
     PetscCall(DMRestoreGlobalVector(da[k], &g));
   }
+  std::vector<PetscInt> levelsOwned(size, 0);
   for (int r = 0; r < size; ++r) {
-    PetscInt s = 0;
     for (int k = 0; k < K; ++k)
-      s += levelStart[k][r + 1] - levelStart[k][r];
-    compStart[r + 1] = compStart[r] + s;
+      levelsOwned[r] += levelStart[k][r + 1] - levelStart[k][r];
+    compStart[r + 1] = compStart[r] + levelsOwned[r] + (crackDm ? crackCount_[r] : 0);
   }
-  std::vector<PetscInt> blocks(nWindow);
+  std::vector<PetscInt> blocks(nSlots);
+  // A composite's rank-r part ends with its cracked nodes' second fields, in cracked_ order.
+  for (PetscInt s = nWindow; s < nSlots; ++s) {
+    const CrackedNode &c = cracked_[crackedOfSlot_[s - nWindow]];
+    blocks[s] = compStart[c.owner] + levelsOwned[c.owner] + c.ownerPos;
+  }
   for (int k = 0; k < K; ++k) {
     const Level &L = levels[k];
     const PetscInt n = (L.wi1 - L.wi0) * (L.wj1 - L.wj0);
@@ -181,8 +187,8 @@ PetscErrorCode Grid::createScatter(MPI_Comm comm) {
   }
   IS is;
   Vec g;
-  PetscCall(ISCreateBlock(comm, 2, nWindow, blocks.data(), PETSC_COPY_VALUES, &is));
-  PetscCall(VecCreateSeq(PETSC_COMM_SELF, 2 * nWindow, &windowTemplate_));
+  PetscCall(ISCreateBlock(comm, 2, nSlots, blocks.data(), PETSC_COPY_VALUES, &is));
+  PetscCall(VecCreateSeq(PETSC_COMM_SELF, 2 * nSlots, &windowTemplate_));
   PetscCall(VecSetBlockSize(windowTemplate_, 2));
   PetscCall(DMGetGlobalVector(dm, &g));
   PetscCall(VecScatterCreate(g, is, windowTemplate_, nullptr, &scatter_));
@@ -205,6 +211,18 @@ PetscErrorCode Grid::toWindow(Vec global, Vec window) const {
 PetscErrorCode Grid::addFromWindow(Vec window, Vec global) const {
   PetscCall(VecScatterBegin(scatter_, window, global, ADD_VALUES, SCATTER_REVERSE));
   PetscCall(VecScatterEnd(scatter_, window, global, ADD_VALUES, SCATTER_REVERSE));
+  return PETSC_SUCCESS;
+}
+
+PetscErrorCode Grid::insertFromWindow(Vec window, Vec global) const {
+  PetscCall(VecScatterBegin(scatter_, window, global, INSERT_VALUES, SCATTER_REVERSE));
+  PetscCall(VecScatterEnd(scatter_, window, global, INSERT_VALUES, SCATTER_REVERSE));
+  return PETSC_SUCCESS;
+}
+
+PetscErrorCode Grid::maxFromWindow(Vec window, Vec global) const {
+  PetscCall(VecScatterBegin(scatter_, window, global, MAX_VALUES, SCATTER_REVERSE));
+  PetscCall(VecScatterEnd(scatter_, window, global, MAX_VALUES, SCATTER_REVERSE));
   return PETSC_SUCCESS;
 }
 

@@ -23,37 +23,60 @@ std::int64_t constraintLine(const Scene &sc, const Grid &grid, size_t b) {
 
 } // namespace
 
+namespace {
+
+/// Whether constraint b fixes level k's node (i, j), on its line `line` [lattice units].
+bool constrains(const Scene &sc, const Grid &grid, size_t b, std::int64_t line, int k, PetscInt i,
+                PetscInt j) {
+  const NodeBC &bc = sc.bcs[b];
+  const Level &L = grid.levels[k];
+  const std::int64_t u = bc.axis == 0 ? L.u0 + i * L.step : L.v0 + j * L.step;
+  if (u != line || !grid.nodeActive(k, i, j)) return false;
+  const double along = bc.axis == 0 ? grid.y0 + (L.v0 + j * L.step) * grid.unit
+                                    : grid.x0 + (L.u0 + i * L.step) * grid.unit;
+  const double tol = 1e-9 * L.h;
+  return !bc.hasRange || (along >= bc.range[0] - tol && along <= bc.range[1] + tol);
+}
+
+} // namespace
+
 PetscErrorCode nodeConstraints(const Scene &sc, const Grid &grid, Vec bcMask) {
   std::vector<std::int64_t> lines;
   for (size_t b = 0; b < sc.bcs.size(); ++b)
     lines.push_back(constraintLine(sc, grid, b));
   const int K = static_cast<int>(grid.levels.size());
-  std::vector<Vec> sub(K);
+  const int parts = K + (grid.crackDm ? 1 : 0);
+  std::vector<Vec> sub(parts);
   PetscCall(VecSet(bcMask, 1.0));
-  PetscCall(DMCompositeGetAccessArray(grid.dm, bcMask, K, nullptr, sub.data()));
+  PetscCall(DMCompositeGetAccessArray(grid.dm, bcMask, parts, nullptr, sub.data()));
   for (int k = 0; k < K; ++k) {
-    const Level &L = grid.levels[k];
     PetscInt xs, ys, xm, ym;
     PetscScalar ***mk;
     PetscCall(DMDAGetCorners(grid.da[k], &xs, &ys, nullptr, &xm, &ym, nullptr));
     PetscCall(DMDAVecGetArrayDOF(grid.da[k], sub[k], &mk));
-    for (size_t b = 0; b < sc.bcs.size(); ++b) {
-      const NodeBC &bc = sc.bcs[b];
+    for (size_t b = 0; b < sc.bcs.size(); ++b)
       for (PetscInt j = ys; j < ys + ym; ++j)
-        for (PetscInt i = xs; i < xs + xm; ++i) {
-          const std::int64_t u = bc.axis == 0 ? L.u0 + i * L.step : L.v0 + j * L.step;
-          if (u != lines[b] || !grid.nodeActive(k, i, j)) continue;
-          const double along = bc.axis == 0 ? grid.y0 + (L.v0 + j * L.step) * grid.unit
-                                            : grid.x0 + (L.u0 + i * L.step) * grid.unit;
-          const double tol = 1e-9 * L.h;
-          if (bc.hasRange && (along < bc.range[0] - tol || along > bc.range[1] + tol)) continue;
-          for (int c = 0; c < 2; ++c)
-            if (bc.fix[c]) mk[j][i][c] = 0.0;
-        }
-    }
+        for (PetscInt i = xs; i < xs + xm; ++i)
+          if (constrains(sc, grid, b, lines[b], k, i, j))
+            for (int c = 0; c < 2; ++c)
+              if (sc.bcs[b].fix[c]) mk[j][i][c] = 0.0;
     PetscCall(DMDAVecRestoreArrayDOF(grid.da[k], sub[k], &mk));
   }
-  PetscCall(DMCompositeRestoreAccessArray(grid.dm, bcMask, K, nullptr, sub.data()));
+  if (grid.crackDm) { // a cracked node's second field is fixed like its first
+    PetscMPIInt rank = 0;
+    PetscCallMPI(MPI_Comm_rank(PetscObjectComm(reinterpret_cast<PetscObject>(bcMask)), &rank));
+    PetscScalar *mk = nullptr;
+    PetscCall(VecGetArray(sub[K], &mk));
+    for (const Grid::CrackedNode &cn : grid.crackedNodes()) {
+      if (cn.owner != rank) continue;
+      for (size_t b = 0; b < sc.bcs.size(); ++b)
+        if (constrains(sc, grid, b, lines[b], cn.k, cn.i, cn.j))
+          for (int c = 0; c < 2; ++c)
+            if (sc.bcs[b].fix[c]) mk[2 * cn.ownerPos + c] = 0.0;
+    }
+    PetscCall(VecRestoreArray(sub[K], &mk));
+  }
+  PetscCall(DMCompositeRestoreAccessArray(grid.dm, bcMask, parts, nullptr, sub.data()));
   return PETSC_SUCCESS;
 }
 

@@ -1,5 +1,7 @@
 #include "gimp/physics/tracking.hpp"
 
+#include "gimp/cracks/fields.hpp"
+
 namespace gimp::tracking {
 
 const double *domainCentres(const ParticleView &p, std::vector<double> &centre) {
@@ -15,8 +17,9 @@ const double *domainCentres(const ParticleView &p, std::vector<double> &centre) 
   return centre.data();
 }
 
-bool CornerMotion::move(const Grid &g, double cornerSize, double cut, double dt, const double *vg,
-                        const double *mg, ParticleView &p) {
+bool CornerMotion::move(const Grid &g, const std::vector<Crack> &cracks, double cornerSize,
+                        double cut, double dt, const double *vg, const double *mg,
+                        ParticleView &p) {
   const size_t n4 = 4 * static_cast<size_t>(p.n);
   size_.resize(2 * n4);
   for (PetscInt k = 0; k < p.n; ++k)
@@ -25,6 +28,7 @@ bool CornerMotion::move(const Grid &g, double cornerSize, double cut, double dt,
       size_[8 * k + 2 * q + 1] = cornerSize * p.l0[2 * k + 1];
     }
   if (!g.buildStencils(static_cast<PetscInt>(n4), p.corners, size_.data(), st_)) return false;
+  cracks::assignFields(g, cracks, static_cast<PetscInt>(n4), p.corners, st_);
   const PetscInt *start = st_.start.data(), *node = st_.node.data();
   for (size_t c = 0; c < n4; ++c) {
     double vx = 0, vy = 0, wsum = 0;

@@ -3,18 +3,22 @@
 namespace gimp {
 
 Nodal::~Nodal() {
-  for (Vec *v : {&P, &mass, &vel, &acc, &f, &rhs, &fext, &bcMask, &mask, &invMass, &sumW, &massW,
-                 &velW, &accW, &extW})
+  for (Vec *v : {&P, &mass, &vel, &acc, &f, &rhs, &fext, &bcMask, &mask, &invMass, &face, &sumW,
+                 &massW, &velW, &accW, &extW, &faceW})
     if (*v) (void)VecDestroy(v);
 }
 
-PetscErrorCode Nodal::create(const Grid &grid, bool external) {
+PetscErrorCode Nodal::create(const Grid &grid, bool external, bool cracks) {
   PetscCall(DMCreateGlobalVector(grid.dm, &P));
   PetscCall(PetscObjectSetName(reinterpret_cast<PetscObject>(P), "momentum"));
   for (Vec *v : {&mass, &vel, &acc, &f, &rhs, &bcMask, &mask, &invMass})
     PetscCall(VecDuplicate(P, v));
   for (Vec *v : {&sumW, &massW, &velW, &accW})
     PetscCall(grid.createWindowVec(v));
+  if (cracks) {
+    PetscCall(VecDuplicate(P, &face));
+    PetscCall(grid.createWindowVec(&faceW));
+  }
   if (external) {
     PetscCall(VecDuplicate(P, &fext));
     PetscCall(grid.createWindowVec(&extW));

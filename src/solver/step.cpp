@@ -1,6 +1,7 @@
 // One time step as named phases. Each phase is a call into the room of its concept: grid
 // (stencils), transfer (P2G, G2P), physics (forces, deformation, tracking), TS (grid update),
 // diagnostics and io (report). Values one phase hands to a later one are passed explicitly.
+#include "gimp/cracks/fields.hpp"
 #include "gimp/physics/constraints.hpp"
 #include "gimp/physics/deformation.hpp"
 #include "gimp/physics/internal_force.hpp"
@@ -36,6 +37,7 @@ PetscErrorCode Solver::step() {
   StartPower power;
   PetscCall(forces(p, c, power));
   PetscCall(gridUpdate());
+  if (!sc_.cracks.empty()) PetscCall(crackContact(p, c));
   PetscCall(gridToParticles(p, c));
   PetscCall(work(c, power));
   if (!scheme_.stressBeforeGridUpdate) PetscCall(stress(p, nodal_.velW, c.dt));
@@ -70,8 +72,10 @@ PetscErrorCode Solver::migrate() {
 PetscErrorCode Solver::buildStencils(const ParticleView &p) {
   // The checks after every step keep each particle within one level-0 cell, so this cannot
   // fail; if it does, the failure joins those checks (no extra collective in the step).
-  if (!grid_.buildStencils(p.n, tracking::domainCentres(p, centres_), p.l, st_))
+  const double *centres = tracking::domainCentres(p, centres_);
+  if (!grid_.buildStencils(p.n, centres, p.l, st_))
     localFailure_ = "a particle is larger than a level-0 cell (its half-size exceeds -gimp_h)";
+  cracks::assignFields(grid_, sc_.cracks, p.n, centres, st_);
   return PETSC_SUCCESS;
 }
 
@@ -109,7 +113,7 @@ PetscErrorCode Solver::forces(const ParticleView &p, const StepClock &c, StartPo
     PetscCall(VecZeroEntries(nodal_.extW));
     PetscCall(VecGetArray(nodal_.extW, &fe));
     boundary_.externalForces(sc_, grid_, st_, p, c.t, fe);
-    for (PetscInt i = 0; i < 2 * grid_.nWindow; ++i)
+    for (PetscInt i = 0; i < 2 * grid_.nSlots; ++i)
       f[i] += fe[i];
     PetscCall(VecRestoreArray(nodal_.extW, &fe));
     PetscCall(VecZeroEntries(nodal_.fext));
@@ -136,6 +140,46 @@ PetscErrorCode Solver::gridUpdate() {
   PetscCall(VecPointwiseMult(nodal_.acc, nodal_.rhs, nodal_.invMass));
   PetscCall(grid_.toWindow(nodal_.vel, nodal_.velW));
   PetscCall(grid_.toWindow(nodal_.acc, nodal_.accW));
+  PetscCall(PetscLogStagePop());
+  return PETSC_SUCCESS;
+}
+
+PetscErrorCode Solver::crackContact(const ParticleView &p, const StepClock &c) {
+  // Frictionless contact of the two fields at cracked nodes, on the window (every rank that
+  // holds a node computes the same result), then back to the global velocity and acceleration.
+  PetscCall(PetscLogStagePush(stages_.grid));
+  PetscScalar *f = nullptr;
+  PetscCall(VecGetArray(nodal_.faceW, &f));
+  contact_.faces(grid_, st_, p.n, tracking::domainCentres(p, centres_), p.l, f);
+  PetscCall(VecRestoreArray(nodal_.faceW, &f));
+  PetscCall(VecSet(nodal_.face, -1e300));
+  PetscCall(grid_.maxFromWindow(nodal_.faceW, nodal_.face));
+  PetscCall(grid_.toWindow(nodal_.face, nodal_.faceW));
+  PetscCall(grid_.toWindow(nodal_.mass, nodal_.massW));
+  PetscCall(grid_.toWindow(nodal_.mask, nodal_.sumW));
+  const PetscScalar *m = nullptr, *mask = nullptr, *face = nullptr;
+  PetscScalar *v = nullptr, *a = nullptr;
+  PetscCall(VecGetArrayRead(nodal_.massW, &m));
+  PetscCall(VecGetArrayRead(nodal_.sumW, &mask));
+  PetscCall(VecGetArrayRead(nodal_.faceW, &face));
+  PetscCall(VecGetArray(nodal_.velW, &v));
+  PetscCall(VecGetArray(nodal_.accW, &a));
+  const PetscInt touching =
+      contact_.apply(grid_, sc_.massCutoff * meanParticleMass_, c.dt, m, face, v, a);
+  for (PetscInt i = 0; i < 2 * grid_.nSlots; ++i) { // constrained dofs stay fixed
+    v[i] *= mask[i];
+    a[i] *= mask[i];
+  }
+  PetscCall(VecRestoreArray(nodal_.accW, &a));
+  PetscCall(VecRestoreArray(nodal_.velW, &v));
+  PetscCall(VecRestoreArrayRead(nodal_.faceW, &face));
+  PetscCall(VecRestoreArrayRead(nodal_.sumW, &mask));
+  PetscCall(VecRestoreArrayRead(nodal_.massW, &m));
+  PetscCall(PetscInfo(nullptr,
+                      "step %" PetscInt_FMT ": %" PetscInt_FMT " cracked nodes in contact\n",
+                      c.step, touching));
+  PetscCall(grid_.insertFromWindow(nodal_.velW, nodal_.vel));
+  PetscCall(grid_.insertFromWindow(nodal_.accW, nodal_.acc));
   PetscCall(PetscLogStagePop());
   return PETSC_SUCCESS;
 }
@@ -172,8 +216,8 @@ PetscErrorCode Solver::gridToParticles(ParticleView &p, const StepClock &c) {
       const PetscScalar *va = nullptr, *mw = nullptr;
       PetscCall(VecGetArrayRead(nodal_.accW, &va));
       PetscCall(VecGetArrayRead(nodal_.massW, &mw));
-      const bool ok =
-          corners_.move(grid_, sc_.cornerSize, sc_.massCutoff * meanParticleMass_, c.dt, va, mw, p);
+      const bool ok = corners_.move(grid_, sc_.cracks, sc_.cornerSize,
+                                    sc_.massCutoff * meanParticleMass_, c.dt, va, mw, p);
       PetscCall(VecRestoreArrayRead(nodal_.massW, &mw));
       PetscCall(VecRestoreArrayRead(nodal_.accW, &va));
       if (!ok) localFailure_ = "a tracked corner's particle is larger than a level-0 cell";

@@ -20,6 +20,14 @@ namespace gimp {
 
 class Grid : public Lattice {
 public:
+  /// A node whose support (widened by a particle's reach) a crack cuts.
+  struct CrackedNode {
+    int k;
+    PetscInt i, j;
+    PetscMPIInt owner; // the rank owning the node's level-0 cell
+    PetscInt ownerPos; // its index among the cracked nodes of that owner
+  };
+
   Grid() = default;
   Grid(const Grid &) = delete;
   Grid &operator=(const Grid &) = delete;
@@ -29,11 +37,17 @@ public:
   /// (collective).
   PetscErrorCode create(MPI_Comm comm, const Scene &sc);
 
-  DM dm = nullptr;         // DMComposite of the level DMDAs
+  DM dm = nullptr;         // DMComposite of the level DMDAs (and crackDm, with cracks)
+  DM crackDm = nullptr;    // DMShell of the cracked nodes' second fields (dof 2), or null
   std::vector<DM> da, da1; // per level: the DMDA (dof 2) and its dof-1 twin (scalar output)
 
   // Window node data (all levels concatenated).
   PetscInt nWindow = 0;
+  // Slots of the window arrays (D values each): the nWindow nodes, then one second velocity
+  // field per cracked window node (docs/architecture.md). slotNode[s] is the window node of slot
+  // s; crackSlot[n] the second slot of window node n, or -1.
+  PetscInt nSlots = 0;
+  std::vector<PetscInt> slotNode, crackSlot;
   std::vector<std::uint8_t> active, regular;
   std::vector<double> X, Y;
   std::vector<double> zone; // 4 per node: Lx-, Lx+, Ly-, Ly+
@@ -42,6 +56,12 @@ public:
   PetscErrorCode createWindowVec(Vec *v) const;
   PetscErrorCode toWindow(Vec global, Vec window) const;      // insert
   PetscErrorCode addFromWindow(Vec window, Vec global) const; // add (caller zeroes global)
+  /// Window values back into the global Vec where every rank holding a slot has the same value.
+  PetscErrorCode insertFromWindow(Vec window, Vec global) const;
+  /// The largest of every rank's window values into the global Vec (caller sets it to -inf).
+  PetscErrorCode maxFromWindow(Vec window, Vec global) const;
+  /// Every cracked node, in the order of the composite's crack part (see crack_fields.cpp).
+  const std::vector<CrackedNode> &crackedNodes() const { return cracked_; }
 
   /// Rank owning the level-0 cell containing (x, y).
   PetscMPIInt ownerOf(double x, double y) const;
@@ -56,6 +76,10 @@ public:
 private:
   /// Level-0 ownership and this rank's window of every level.
   PetscErrorCode setWindow();
+  /// Every cracked node of the grid, in an order every rank agrees on (collective-free).
+  std::vector<CrackedNode> findCrackedNodes(const Scene &sc) const;
+  /// The DMShell of the second fields, its window slots and their composite indices.
+  PetscErrorCode addCrackFields(MPI_Comm comm, const Scene &sc);
   /// Positions, activity, zones and regularity of the window's nodes.
   void fillWindowNodes();
   /// The scatter between the composite global Vec and the window.
@@ -75,9 +99,12 @@ private:
                    double *scratch, PetscInt maxRange, Stencils<kDim> &s, size_t &m) const;
 
   static constexpr std::uint8_t kActive = 1, kRegular = 2;
-  std::vector<std::uint8_t> flags_;   // active and regular in one byte per window node
-  std::vector<std::uint8_t> block3_;  // the 3 x 3 block of one level from this node is regular
-  std::vector<PetscInt> ownX_, ownY_; // level-0 node ownership: first node of each rank column
+  std::vector<std::uint8_t> flags_;     // active and regular in one byte per window node
+  std::vector<std::uint8_t> block3_;    // the 3 x 3 block of one level from this node is regular
+  std::vector<PetscInt> ownX_, ownY_;   // level-0 node ownership: first node of each rank column
+  std::vector<CrackedNode> cracked_;    // every cracked node (empty without cracks)
+  std::vector<PetscInt> crackedOfSlot_; // index into cracked_ of each second-field slot
+  std::vector<PetscInt> crackCount_;    // cracked nodes owned by each rank
   VecScatter scatter_ = nullptr;
   Vec windowTemplate_ = nullptr;
 };

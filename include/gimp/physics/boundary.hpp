@@ -18,7 +18,7 @@ namespace gimp::physics {
 /// S_i of stencil entry e integrated along particle edge normal to axis a, lying at coordinate
 /// `edge`, per unit edge length.
 inline double edgeShape(const Grid &g, const Stencils<2> &st, PetscInt e, int a, double edge) {
-  const PetscInt nd = st.node[e];
+  const PetscInt nd = g.slotNode[st.node[e]];
   const double *z = &g.zone[4 * nd];
   return a == 0 ? shape::tent(edge - g.X[nd], z[0], z[1]) * st.w[1][e]
                 : st.w[0][e] * shape::tent(edge - g.Y[nd], z[2], z[3]);

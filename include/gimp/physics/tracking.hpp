@@ -4,6 +4,7 @@
 // paper's tracked corners, the domain being the axis-aligned rectangle they span.
 #pragma once
 
+#include "gimp/cracks/geometry.hpp"
 #include "gimp/grid/grid.hpp"
 #include "gimp/particles/swarm.hpp"
 
@@ -77,8 +78,8 @@ class CornerMotion {
 public:
   /// vWindow: nodal velocity on the window; mWindow: nodal mass there (component 0). False when
   /// a corner's stencil cannot be built (a particle larger than a level-0 cell).
-  bool move(const Grid &g, double cornerSize, double cut, double dt, const double *vWindow,
-            const double *mWindow, ParticleView &p);
+  bool move(const Grid &g, const std::vector<Crack> &cracks, double cornerSize, double cut,
+            double dt, const double *vWindow, const double *mWindow, ParticleView &p);
 
 private:
   Stencils<2> st_;

@@ -19,14 +19,16 @@ struct Nodal {
   Vec bcMask = nullptr;  // 1 free, 0 constrained, per dof
   Vec mask = nullptr;    // bcMask times (node has mass)
   Vec invMass = nullptr; // mask / mass
+  Vec face = nullptr;    // with cracks: where each field's material ends toward the other
   // Window.
   Vec sumW = nullptr, massW = nullptr, velW = nullptr, accW = nullptr, extW = nullptr;
+  Vec faceW = nullptr;
 
   Nodal() = default;
   Nodal(const Nodal &) = delete;
   Nodal &operator=(const Nodal &) = delete;
   ~Nodal();
-  PetscErrorCode create(const Grid &grid, bool external);
+  PetscErrorCode create(const Grid &grid, bool external, bool cracks);
 };
 
 } // namespace gimp

@@ -1,8 +1,9 @@
 // One explicit GIMP run: the scene, the grid, the particles and PETSc's TS, and the time step as
 // a short list of named phases (solver/step.cpp):
 //
-//   migrate -> stencils -> P2G -> [stress, USF] -> forces -> grid update (TSStep) -> G2P
-//   (+ re-projection, corners) -> work -> [stress, USL/MUSL] -> checks -> report
+//   migrate -> stencils -> P2G -> [stress, USF] -> forces -> grid update (TSStep) ->
+//   [crack contact] -> G2P (+ re-projection, corners) -> work -> [stress, USL/MUSL] -> checks
+//   -> report
 //
 // Nodal momentum is the TS solution (a DMComposite global Vec). TS type euler advances it with
 // RHS = kick * mask * (f_int + f_ext - d p) (Eq. 8 and Eq. 16); the forces are computed by the
@@ -10,6 +11,7 @@
 // State that one phase hands to a later one is passed as a value (StepClock, StartPower).
 #pragma once
 
+#include "gimp/cracks/fields.hpp"
 #include "gimp/diagnostics/energies.hpp"
 #include "gimp/diagnostics/measures.hpp"
 #include "gimp/grid/grid.hpp"
@@ -70,6 +72,7 @@ private:
   PetscErrorCode particlesToGrid(const ParticleView &p);
   PetscErrorCode forces(const ParticleView &p, const StepClock &c, StartPower &power);
   PetscErrorCode gridUpdate();
+  PetscErrorCode crackContact(const ParticleView &p, const StepClock &c);
   PetscErrorCode gridToParticles(ParticleView &p, const StepClock &c);
   PetscErrorCode work(const StepClock &c, const StartPower &power);
   PetscErrorCode stress(ParticleView &p, Vec velocityWindow, double dt);
@@ -95,6 +98,7 @@ private:
   std::vector<double> centres_;    // weight centres with corner tracking
   physics::Boundary boundary_;     // external forces and penalty conditions
   tracking::CornerMotion corners_; // corner tracking's motion of the corners
+  cracks::Contact contact_;        // contact between the two fields at cracked nodes
   WorkLedger work_;
   RunMeasures measures_;
   std::vector<PetscInt64> probeIds_;

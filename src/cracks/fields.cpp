@@ -1,0 +1,96 @@
+#include "gimp/cracks/fields.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace gimp::cracks {
+
+void assignFields(const Grid &g, const std::vector<Crack> &cracks, PetscInt n, const double *x,
+                  Stencils<kDim> &st) {
+  if (g.nSlots == g.nWindow) return; // no cracked node in this window
+  PetscInt *node = st.node.data();
+  for (PetscInt k = 0; k < n; ++k)
+    for (PetscInt e = st.start[k]; e < st.start[k + 1]; ++e) {
+      const PetscInt second = g.crackSlot[node[e]];
+      if (second < 0) continue;
+      for (const Crack &c : cracks)
+        if (crossing(c, x[2 * k], x[2 * k + 1], g.X[node[e]], g.Y[node[e]]) != 0) {
+          node[e] = second;
+          break;
+        }
+    }
+}
+
+void Contact::setup(const Grid &g, const std::vector<Crack> &cracks) {
+  dir_.assign(2 * static_cast<size_t>(g.nSlots - g.nWindow), 0.0);
+  for (PetscInt s = g.nWindow; s < g.nSlots; ++s) {
+    const PetscInt n = g.slotNode[s];
+    const double X = g.X[n], Y = g.Y[n];
+    size_t best = 0;
+    double dist = 1e300;
+    for (size_t q = 0; q < cracks.size(); ++q) {
+      const double r = distance(cracks[q], X, Y);
+      if (r < dist) {
+        dist = r;
+        best = q;
+      }
+    }
+    double nrm[2];
+    const int seg = normalAt(cracks[best], X, Y, nrm);
+    const auto &p = cracks[best].points[seg];
+    // A node on the crack line counts as on its left, as in crossing().
+    const double side = (X - p[0]) * nrm[0] + (Y - p[1]) * nrm[1] >= 0 ? 1.0 : -1.0;
+    dir_[2 * (s - g.nWindow)] = -side * nrm[0];
+    dir_[2 * (s - g.nWindow) + 1] = -side * nrm[1];
+  }
+}
+
+void Contact::faces(const Grid &g, const Stencils<kDim> &st, PetscInt n, const double *x,
+                    const double *l, double *face) const {
+  for (PetscInt s = 0; s < g.nSlots; ++s)
+    face[2 * s] = -1e300;
+  if (g.nSlots == g.nWindow) return;
+  const PetscInt *node = st.node.data();
+  for (PetscInt k = 0; k < n; ++k)
+    for (PetscInt e = st.start[k]; e < st.start[k + 1]; ++e) {
+      const PetscInt s = node[e];
+      const bool second = s >= g.nWindow;
+      const PetscInt c = second ? s : g.crackSlot[s];
+      if (c < 0) continue;
+      const double *d = &dir_[2 * (c - g.nWindow)];
+      const double along = x[2 * k] * d[0] + x[2 * k + 1] * d[1];
+      const double extent = l[2 * k] * std::fabs(d[0]) + l[2 * k + 1] * std::fabs(d[1]);
+      const double v = second ? -(along - extent) : along + extent;
+      face[2 * s] = std::max(face[2 * s], v);
+    }
+}
+
+PetscInt Contact::apply(const Grid &g, double cut, double dt, const double *mass,
+                        const double *face, double *vel, double *acc) const {
+  PetscInt touching = 0;
+  for (PetscInt s = g.nWindow; s < g.nSlots; ++s) {
+    const PetscInt n = g.slotNode[s];
+    const double m1 = mass[2 * n], m2 = mass[2 * s];
+    if (!(m1 > cut && m2 > cut)) continue;
+    const double gap = -face[2 * s] - face[2 * n];
+    if (gap > 1e-3 * g.zone[4 * n + 1] + 1e-3 * g.zone[4 * n + 3]) continue; // faces apart
+    const double *d = &dir_[2 * (s - g.nWindow)];
+    double *v1 = &vel[2 * n], *v2 = &vel[2 * s];
+    const double approach = (v1[0] - v2[0]) * d[0] + (v1[1] - v2[1]) * d[1];
+    if (!(approach > 0)) continue; // separating or sliding: the fields stay free
+    ++touching;
+    const double vn =
+        (m1 * (v1[0] * d[0] + v1[1] * d[1]) + m2 * (v2[0] * d[0] + v2[1] * d[1])) / (m1 + m2);
+    const double dv1 = vn - (v1[0] * d[0] + v1[1] * d[1]);
+    const double dv2 = vn - (v2[0] * d[0] + v2[1] * d[1]);
+    for (int c = 0; c < 2; ++c) {
+      vel[2 * n + c] += dv1 * d[c];
+      vel[2 * s + c] += dv2 * d[c];
+      acc[2 * n + c] += dv1 * d[c] / dt;
+      acc[2 * s + c] += dv2 * d[c] / dt;
+    }
+  }
+  return touching;
+}
+
+} // namespace gimp::cracks
