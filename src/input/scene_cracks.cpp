@@ -109,12 +109,21 @@ void checkTips(const Scene &sc) {
 
 PetscErrorCode readCracks(MPI_Comm comm, Scene &sc) {
   PetscInt nc = 0;
+  PetscBool setR = PETSC_FALSE;
   PetscOptionsBegin(comm, nullptr, "Cracks", "gimp");
   PetscCall(PetscOptionsInt("-gimp_cracks",
                             "Number of cracks, each given by -gimp_crackK_points, K = 0..N-1",
                             "docs/options.md", nc, &nc, nullptr));
+  PetscCall(PetscOptionsReal("-gimp_crack_j_radius",
+                             "Radius of the J-integral's domain around each tip [m] (default: 5 "
+                             "finest cells)",
+                             "docs/options.md", sc.crackJRadius, &sc.crackJRadius, &setR));
   PetscOptionsEnd();
   if (!sc.help && nc < 0) bad("gimp_cracks", std::to_string(nc), "must be >= 0");
+  if (!sc.help && setR && !(sc.crackJRadius > 0 && std::isfinite(sc.crackJRadius)))
+    bad("gimp_crack_j_radius", formatNumber(sc.crackJRadius), "must be a finite length > 0 [m]");
+  if (!sc.help && setR && nc == 0)
+    bad("gimp_crack_j_radius", formatNumber(sc.crackJRadius), "needs cracks (-gimp_cracks)");
   for (PetscInt k = 0; k < (sc.help ? 1 : nc); ++k) {
     const std::string p = "-gimp_crack" + std::to_string(k) + "_points";
     PetscReal v[201] = {0};

@@ -70,6 +70,9 @@ PetscErrorCode Output::open() {
     for (size_t q = 0; q < sc_.dbcs.size(); ++q)
       std::fprintf(history_, ",dbc%zu_fx,dbc%zu_fy,dbc%zu_gap", q, q, q);
     if (sc_.mms != Mms::None) std::fprintf(history_, ",mms_linf,mms_rms");
+    for (const cracks::TipMeasure &m : cracks::tipsOf(sc_))
+      for (const char *c : {"G_vcct", "GII_vcct", "G_J", "KI_vcct", "KII_vcct", "KI_J"})
+        std::fprintf(history_, ",crack%d_tip%d_%s", m.crack, m.end, c);
     std::fprintf(history_, "\n");
     std::fflush(history_);
     // Remove fields of an earlier run in the same directory.
@@ -95,6 +98,9 @@ PetscErrorCode Output::writeHistory(const HistoryRow &r) {
     std::fprintf(history_, ",%.12e,%.12e,%.12e", r.reactions[2 * q], r.reactions[2 * q + 1],
                  r.gaps[q]);
   if (sc_.mms != Mms::None) std::fprintf(history_, ",%.12e,%.12e", r.mmsLinf, r.mmsRms);
+  for (const cracks::TipMeasure &m : r.tips)
+    std::fprintf(history_, ",%.12e,%.12e,%.12e,%.12e,%.12e,%.12e", m.G_vcct, m.GII_vcct, m.G_J,
+                 m.KI_vcct, m.KII_vcct, m.KI_J);
   std::fprintf(history_, "\n");
   std::fflush(history_);
   return PETSC_SUCCESS;
@@ -302,7 +308,22 @@ PetscErrorCode Output::writeSummary(const SummaryReport &r) {
   }
   if (sc_.mms != Mms::None)
     std::fprintf(f, ", \"mms_linf\": %.12e, \"mms_rms\": %.12e", m.mmsLinf, m.mmsRms);
-  std::fprintf(f, "}\n}\n");
+  std::fprintf(f, "}");
+  if (!r.tips.empty()) {
+    std::fprintf(f, ",\n  \"cracks\": [");
+    for (size_t q = 0; q < r.tips.size(); ++q) {
+      const cracks::TipMeasure &m = r.tips[q];
+      std::fprintf(
+          f,
+          "%s\n    {\"crack\": %d, \"end\": %d, \"tip\": [%s, %s], \"G_vcct\": %s, "
+          "\"GII_vcct\": %s, \"G_J\": %s, \"KI_vcct\": %s, \"KII_vcct\": %s, \"KI_J\": %s}",
+          q ? "," : "", m.crack, m.end, num(m.tip[0]).c_str(), num(m.tip[1]).c_str(),
+          num(m.G_vcct).c_str(), num(m.GII_vcct).c_str(), num(m.G_J).c_str(),
+          num(m.KI_vcct).c_str(), num(m.KII_vcct).c_str(), num(m.KI_J).c_str());
+    }
+    std::fprintf(f, "]");
+  }
+  std::fprintf(f, "\n}\n");
   std::fclose(f);
   return PETSC_SUCCESS;
 }

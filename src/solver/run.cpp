@@ -102,6 +102,7 @@ PetscErrorCode Solver::historyRow(PetscInt step, double t, HistoryRow &row) {
   measures_.mmsRms = std::max(measures_.mmsRms, row.mmsRms);
   PetscCall(boundary_.reactions(comm_, row.reactions, row.gaps));
   PetscCall(separation(comm_, grid_, sw_, row.separation, row.strainX));
+  PetscCall(crackTips(row.tips));
   measures_.maxStrain = std::max(measures_.maxStrain, row.strainX);
   measures_.maxSeparation = std::max(measures_.maxSeparation, row.separation);
   if (row.separation > sc_.separationThreshold && std::isnan(measures_.separationStrain)) {
@@ -112,6 +113,17 @@ PetscErrorCode Solver::historyRow(PetscInt step, double t, HistoryRow &row) {
                           "%.3g) at engineering strain %.4g\n",
                           step, t, row.separation, sc_.separationThreshold, row.strainX));
   }
+  return PETSC_SUCCESS;
+}
+
+PetscErrorCode Solver::crackTips(std::vector<cracks::TipMeasure> &tips) {
+  tips.clear();
+  if (sc_.cracks.empty()) return PETSC_SUCCESS;
+  ParticleView p;
+  PetscCall(p.get(sw_));
+  const double radius = sc_.crackJRadius > 0 ? sc_.crackJRadius : 5.0 * grid_.hMin();
+  PetscCall(cracks::measureTips(comm_, sc_, grid_, st_, p, radius, tips));
+  PetscCall(p.restore(sw_));
   return PETSC_SUCCESS;
 }
 
@@ -176,6 +188,7 @@ PetscErrorCode Solver::finish(PetscInt steps, double t) {
   r.maxGaps = boundary_.maxGap();
   r.penalty = boundary_.alpha();
   r.measures = measures_;
+  PetscCall(crackTips(r.tips));
   PetscLogDouble wall1 = 0;
   PetscCall(PetscTime(&wall1));
   r.wallSeconds = wall1 - wall0_;

@@ -131,6 +131,7 @@ struct Scene {
   double staticTime = 0; // ... but not before this time [s]
   std::vector<Probe> probes;
   std::vector<Crack> cracks; // explicit cracks, ends classified as tips or mouths
+  double crackJRadius = 0;   // J-integral domain radius [m] (0: 5 finest cells)
   Mms mms = Mms::None;
   double mmsAmplitude = 1e-4;
   bool holeMeasure = false; // hoop stress around a hole: centre, radius, remote stress p

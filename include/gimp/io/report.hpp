@@ -2,6 +2,7 @@
 // hold, already reduced over ranks. The writers know nothing of the solver.
 #pragma once
 
+#include "gimp/cracks/tips.hpp"
 #include "gimp/diagnostics/energies.hpp"
 #include "gimp/diagnostics/measures.hpp"
 
@@ -18,6 +19,7 @@ struct HistoryRow {
   std::vector<ProbeState> probes;
   std::vector<double> reactions, gaps; // per penalty condition: (fx, fy) and |u - u_bar|
   double mmsLinf = 0, mmsRms = 0;
+  std::vector<cracks::TipMeasure> tips; // per crack tip: G and K by VCCT and by J
 };
 
 struct SummaryReport {
@@ -32,6 +34,7 @@ struct SummaryReport {
   double penalty = 0;
   RunMeasures measures;
   const HoleMeasure *hole = nullptr; // with -gimp_hole_measure
+  std::vector<cracks::TipMeasure> tips;
 };
 
 } // namespace gimp

@@ -84,6 +84,7 @@ private:
   PetscErrorCode finish(PetscInt steps, double t);
   PetscErrorCode restCriterion(PetscInt step, double t, const Energies &e);
   PetscErrorCode monitorLine(PetscInt step, double t);
+  PetscErrorCode crackTips(std::vector<cracks::TipMeasure> &tips);
 
   MPI_Comm comm_;
   PetscMPIInt rank_ = 0, size_ = 1;

@@ -1,0 +1,166 @@
+#include "gimp/cracks/tips.hpp"
+
+#include "gimp/physics/material.hpp"
+
+#include <cmath>
+#include <limits>
+
+namespace gimp::cracks {
+
+std::vector<TipMeasure> tipsOf(const Scene &sc) {
+  std::vector<TipMeasure> out;
+  for (size_t k = 0; k < sc.cracks.size(); ++k)
+    for (int e = 0; e < 2; ++e)
+      if (sc.cracks[k].tip[e]) {
+        TipMeasure m;
+        m.crack = static_cast<int>(k);
+        m.end = e;
+        const auto &pt = e == 0 ? sc.cracks[k].points.front() : sc.cracks[k].points.back();
+        m.tip[0] = pt[0];
+        m.tip[1] = pt[1];
+        out.push_back(m);
+      }
+  return out;
+}
+
+namespace {
+
+/// The tip frame: t toward the tip along the last segment, n = its left normal (as the segment
+/// runs toward the tip).
+void tipFrame(const Crack &c, int end, double t[2], double n[2]) {
+  const size_t m = c.points.size();
+  const auto &a = end == 0 ? c.points[1] : c.points[m - 2];
+  const auto &b = end == 0 ? c.points[0] : c.points[m - 1];
+  const double dx = b[0] - a[0], dy = b[1] - a[1], len = std::hypot(dx, dy);
+  t[0] = dx / len;
+  t[1] = dy / len;
+  n[0] = -t[1];
+  n[1] = t[0];
+}
+
+/// What one rank contributes to a tip's measures, summed over ranks afterwards.
+struct TipSums {
+  double force[2] = {0, 0}; // one side's internal force on the tip node
+  double J = 0;
+  double best[2] = {std::numeric_limits<double>::infinity(),
+                    std::numeric_limits<double>::infinity()}; // squared distances, particles 1, 2
+};
+
+double modulus(const Material &m) {
+  return m.planeStrain ? m.E / (1.0 - m.nu * m.nu) : m.E;
+}
+
+} // namespace
+
+PetscErrorCode measureTips(MPI_Comm comm, const Scene &sc, const Grid &g, const Stencils<kDim> &st,
+                           const ParticleView &p, double jRadius, std::vector<TipMeasure> &tips) {
+  tips = tipsOf(sc);
+  const size_t T = tips.size();
+  if (T == 0) return PETSC_SUCCESS;
+  // Particles 1 and 2: smallest squared distance of X0 to their targets (min over ranks), then
+  // their displacement and current position from the rank that has them.
+  std::vector<double> dist(2 * T, std::numeric_limits<double>::infinity()), gdist(2 * T);
+  std::vector<double> local(12 * T, 0.0), global(12 * T);
+  for (size_t q = 0; q < T; ++q) {
+    const TipMeasure &m = tips[q];
+    double t[2], n[2];
+    tipFrame(sc.cracks[m.crack], m.end, t, n);
+    // The tip node: the window node nearest to the tip (the tip lies on a node in the scenes).
+    // A rank whose window does not hold it finds none (its particles do not reach it).
+    PetscInt tipNode = -1;
+    for (PetscInt nd = 0; nd < g.nWindow; ++nd)
+      if (g.active[nd] && std::hypot(g.X[nd] - m.tip[0], g.Y[nd] - m.tip[1]) <= 1e-9 * g.h0())
+        tipNode = nd;
+    const bool stencils = st.start.size() == static_cast<size_t>(p.n) + 1;
+    double *r = &local[12 * q];
+    for (PetscInt k = 0; k < p.n; ++k) {
+      const double rx = p.x[2 * k] - m.tip[0], ry = p.x[2 * k + 1] - m.tip[1];
+      const double along = rx * t[0] + ry * t[1], across = rx * n[0] + ry * n[1];
+      const auto s = tensorAt<2>(p.s, k);
+      // One side's internal force on the tip node (the n side of the crack line).
+      if (across > 0 && tipNode >= 0 && stencils)
+        for (PetscInt e = st.start[k]; e < st.start[k + 1]; ++e) {
+          if (g.slotNode[st.node[e]] != tipNode) continue;
+          const Vector<2> grad = st.gradient(e);
+          for (int c = 0; c < 2; ++c)
+            r[c] -= p.V[k] * (s(c, 0) * grad[0] + s(c, 1) * grad[1]);
+        }
+      // Particles 1 and 2 by initial position.
+      const double l0 = p.l0[2 * k];
+      for (int side = 0; side < 2; ++side) {
+        const double sgn = side == 0 ? 1.0 : -1.0;
+        const double tx = m.tip[0] - l0 * t[0] + sgn * l0 * n[0],
+                     ty = m.tip[1] - l0 * t[1] + sgn * l0 * n[1];
+        const double d2 = (p.X0[2 * k] - tx) * (p.X0[2 * k] - tx) +
+                          (p.X0[2 * k + 1] - ty) * (p.X0[2 * k + 1] - ty);
+        if (d2 < dist[2 * q + side]) {
+          dist[2 * q + side] = d2;
+          double *o = &r[4 + 4 * side]; // ux, uy, distance behind the tip along t, id
+          o[0] = p.x[2 * k] - p.X0[2 * k];
+          o[1] = p.x[2 * k + 1] - p.X0[2 * k + 1];
+          o[2] = -along;
+          o[3] = static_cast<double>(p.id[k]);
+        }
+      }
+      // J: domain integral with q = 1 - r / R.
+      const double rr = std::hypot(rx, ry);
+      if (rr < jRadius && rr > 0) {
+        const auto F = tensorAt<2>(p.F, k);
+        const double H[2][2] = {{F(0, 0) - 1.0, F(0, 1)}, {F(1, 0), F(1, 1) - 1.0}};
+        const double R[2][2] = {{t[0], t[1]}, {n[0], n[1]}};
+        double sp[2][2] = {}, hp[2][2] = {}; // sigma and grad u in the tip frame
+        for (int a = 0; a < 2; ++a)
+          for (int b = 0; b < 2; ++b)
+            for (int c = 0; c < 2; ++c)
+              for (int d = 0; d < 2; ++d) {
+                sp[a][b] += R[a][c] * s(c, d) * R[b][d];
+                hp[a][b] += R[a][c] * H[c][d] * R[b][d];
+              }
+        const double W =
+            material::strainEnergy(sc.material, s, p.szz[k], F, p.V0[k], p.V[k]) / p.V[k];
+        const double dq[2] = {-along / (rr * jRadius), -across / (rr * jRadius)};
+        double integrand = 0;
+        for (int j = 0; j < 2; ++j) {
+          double term = -(j == 0 ? W : 0.0);
+          for (int i = 0; i < 2; ++i)
+            term += sp[i][j] * hp[i][0];
+          integrand += term * dq[j];
+        }
+        r[2] += p.V[k] * integrand;
+      }
+    }
+  }
+  PetscCallMPI(MPI_Allreduce(dist.data(), gdist.data(), static_cast<int>(dist.size()), MPI_DOUBLE,
+                             MPI_MIN, comm));
+  // Keep particle data only on the rank that holds the nearest particle (ties: it is the same
+  // particle, held once), so that the sum below picks it.
+  for (size_t q = 0; q < T; ++q)
+    for (int side = 0; side < 2; ++side)
+      if (dist[2 * q + side] != gdist[2 * q + side])
+        for (int c = 0; c < 4; ++c)
+          local[12 * q + 4 + 4 * side + c] = 0.0;
+  PetscCallMPI(MPI_Allreduce(local.data(), global.data(), static_cast<int>(local.size()),
+                             MPI_DOUBLE, MPI_SUM, comm));
+  const double Ep = modulus(sc.material), th = sc.material.thickness;
+  for (size_t q = 0; q < T; ++q) {
+    TipMeasure &m = tips[q];
+    double t[2], n[2];
+    tipFrame(sc.cracks[m.crack], m.end, t, n);
+    const double *r = &global[12 * q];
+    const double du[2] = {r[4] - r[8], r[5] - r[9]};
+    const double da = r[6];
+    const double dun = du[0] * n[0] + du[1] * n[1], dut = du[0] * t[0] + du[1] * t[1];
+    const double Fn = r[0] * n[0] + r[1] * n[1], Ft = r[0] * t[0] + r[1] * t[1];
+    // The n side's material pulls the tip node toward itself while the crack opens: the force
+    // that closes the crack is the opposite of that pull along n.
+    m.G_vcct = Fn * dun / (2.0 * th * da);
+    m.GII_vcct = Ft * dut / (2.0 * th * da);
+    m.G_J = r[2] / th;
+    m.KI_vcct = std::copysign(std::sqrt(std::fabs(m.G_vcct) * Ep), m.G_vcct);
+    m.KII_vcct = std::copysign(std::sqrt(std::fabs(m.GII_vcct) * Ep), dut);
+    m.KI_J = std::copysign(std::sqrt(std::fabs(m.G_J) * Ep), m.G_J);
+  }
+  return PETSC_SUCCESS;
+}
+
+} // namespace gimp::cracks
