@@ -59,8 +59,10 @@ PetscErrorCode measureTips(MPI_Comm comm, const Scene &sc, const Grid &g, const 
   if (T == 0) return PETSC_SUCCESS;
   // Particles 1 and 2: smallest squared distance of X0 to their targets (min over ranks), then
   // their displacement and current position from the rank that has them.
-  std::vector<double> dist(2 * T, std::numeric_limits<double>::infinity()), gdist(2 * T);
-  std::vector<double> local(12 * T, 0.0), global(12 * T);
+  constexpr int kRow = 16, kPairs = 2;
+  std::vector<double> dist(2 * kPairs * T, std::numeric_limits<double>::infinity()),
+      gdist(2 * kPairs * T);
+  std::vector<double> local(kRow * T, 0.0), global(kRow * T);
   for (size_t q = 0; q < T; ++q) {
     const TipMeasure &m = tips[q];
     double t[2], n[2];
@@ -72,7 +74,13 @@ PetscErrorCode measureTips(MPI_Comm comm, const Scene &sc, const Grid &g, const 
       if (g.active[nd] && std::hypot(g.X[nd] - m.tip[0], g.Y[nd] - m.tip[1]) <= 1e-9 * g.h0())
         tipNode = nd;
     const bool stencils = st.start.size() == static_cast<size_t>(p.n) + 1;
-    double *r = &local[12 * q];
+    double *r = &local[kRow * q];
+    // The cell behind the tip: the tip node's zone on the side the crack comes from.
+    if (tipNode >= 0) {
+      const double *z = &g.zone[4 * tipNode];
+      r[3] =
+          std::fabs(t[0]) >= std::fabs(t[1]) ? (t[0] > 0 ? z[0] : z[1]) : (t[1] > 0 ? z[2] : z[3]);
+    }
     for (PetscInt k = 0; k < p.n; ++k) {
       const double rx = p.x[2 * k] - m.tip[0], ry = p.x[2 * k + 1] - m.tip[1];
       const double along = rx * t[0] + ry * t[1], across = rx * n[0] + ry * n[1];
@@ -85,23 +93,26 @@ PetscErrorCode measureTips(MPI_Comm comm, const Scene &sc, const Grid &g, const 
           for (int c = 0; c < 2; ++c)
             r[c] -= p.V[k] * (s(c, 0) * grad[0] + s(c, 1) * grad[1]);
         }
-      // Particles 1 and 2 by initial position.
+      // The particle pairs whose centres started nearest to h - l0 and h + l0 behind the tip,
+      // l0 from either side of the crack line (h: the cell behind the tip, from the reduction
+      // below; here the particle's own l0 scales the targets: 3 l0 and 5 l0 for h = 4 l0).
       const double l0 = p.l0[2 * k];
-      for (int side = 0; side < 2; ++side) {
-        const double sgn = side == 0 ? 1.0 : -1.0;
-        const double tx = m.tip[0] - l0 * t[0] + sgn * l0 * n[0],
-                     ty = m.tip[1] - l0 * t[1] + sgn * l0 * n[1];
-        const double d2 = (p.X0[2 * k] - tx) * (p.X0[2 * k] - tx) +
-                          (p.X0[2 * k + 1] - ty) * (p.X0[2 * k + 1] - ty);
-        if (d2 < dist[2 * q + side]) {
-          dist[2 * q + side] = d2;
-          double *o = &r[4 + 4 * side]; // ux, uy, distance behind the tip along t, id
-          o[0] = p.x[2 * k] - p.X0[2 * k];
-          o[1] = p.x[2 * k + 1] - p.X0[2 * k + 1];
-          o[2] = -along;
-          o[3] = static_cast<double>(p.id[k]);
+      for (int pair = 0; pair < kPairs; ++pair)
+        for (int side = 0; side < 2; ++side) {
+          const double sgn = side == 0 ? 1.0 : -1.0, back = (pair == 0 ? 3.0 : 5.0) * l0;
+          const double tx = m.tip[0] - back * t[0] + sgn * l0 * n[0],
+                       ty = m.tip[1] - back * t[1] + sgn * l0 * n[1];
+          const double d2 = (p.X0[2 * k] - tx) * (p.X0[2 * k] - tx) +
+                            (p.X0[2 * k + 1] - ty) * (p.X0[2 * k + 1] - ty);
+          const int j = 2 * pair + side;
+          if (d2 < dist[2 * kPairs * q + j]) {
+            dist[2 * kPairs * q + j] = d2;
+            double *o = &r[4 + 3 * j]; // ux, uy, distance behind the tip along t
+            o[0] = p.x[2 * k] - p.X0[2 * k];
+            o[1] = p.x[2 * k + 1] - p.X0[2 * k + 1];
+            o[2] = -along;
+          }
         }
-      }
       // J: domain integral with q = 1 - r / R.
       const double rr = std::hypot(rx, ry);
       if (rr < jRadius && rr > 0) {
@@ -132,13 +143,21 @@ PetscErrorCode measureTips(MPI_Comm comm, const Scene &sc, const Grid &g, const 
   }
   PetscCallMPI(MPI_Allreduce(dist.data(), gdist.data(), static_cast<int>(dist.size()), MPI_DOUBLE,
                              MPI_MIN, comm));
+  // The cell behind the tip comes from the ranks that hold the tip node (the same value).
+  std::vector<double> hloc(T), hmax(T);
+  for (size_t q = 0; q < T; ++q) {
+    hloc[q] = local[kRow * q + 3];
+    local[kRow * q + 3] = 0.0;
+  }
+  PetscCallMPI(
+      MPI_Allreduce(hloc.data(), hmax.data(), static_cast<int>(T), MPI_DOUBLE, MPI_MAX, comm));
   // Keep particle data only on the rank that holds the nearest particle (ties: it is the same
   // particle, held once), so that the sum below picks it.
   for (size_t q = 0; q < T; ++q)
-    for (int side = 0; side < 2; ++side)
-      if (dist[2 * q + side] != gdist[2 * q + side])
-        for (int c = 0; c < 4; ++c)
-          local[12 * q + 4 + 4 * side + c] = 0.0;
+    for (int j = 0; j < 2 * kPairs; ++j)
+      if (dist[2 * kPairs * q + j] != gdist[2 * kPairs * q + j])
+        for (int c = 0; c < 3; ++c)
+          local[kRow * q + 4 + 3 * j + c] = 0.0;
   PetscCallMPI(MPI_Allreduce(local.data(), global.data(), static_cast<int>(local.size()),
                              MPI_DOUBLE, MPI_SUM, comm));
   const double Ep = modulus(sc.material), th = sc.material.thickness;
@@ -146,15 +165,24 @@ PetscErrorCode measureTips(MPI_Comm comm, const Scene &sc, const Grid &g, const 
     TipMeasure &m = tips[q];
     double t[2], n[2];
     tipFrame(sc.cracks[m.crack], m.end, t, n);
-    const double *r = &global[12 * q];
-    const double du[2] = {r[4] - r[8], r[5] - r[9]};
-    const double da = r[6];
-    const double dun = du[0] * n[0] + du[1] * n[1], dut = du[0] * t[0] + du[1] * t[1];
+    const double *r = &global[kRow * q];
+    // Opening of each pair (n-side particle minus the other) and its distance behind the tip;
+    // the opening at one cell h behind the tip, interpolated between the two pairs.
+    double du[kPairs][2], behind[kPairs];
+    for (int pair = 0; pair < kPairs; ++pair) {
+      const double *a = &r[4 + 3 * (2 * pair)], *b = &r[4 + 3 * (2 * pair + 1)];
+      du[pair][0] = a[0] - b[0];
+      du[pair][1] = a[1] - b[1];
+      behind[pair] = 0.5 * (a[2] + b[2]);
+    }
+    const double h = hmax[q], w = (h - behind[0]) / (behind[1] - behind[0]);
+    const double dux = du[0][0] + w * (du[1][0] - du[0][0]),
+                 duy = du[0][1] + w * (du[1][1] - du[0][1]);
+    const double dun = dux * n[0] + duy * n[1], dut = dux * t[0] + duy * t[1];
     const double Fn = r[0] * n[0] + r[1] * n[1], Ft = r[0] * t[0] + r[1] * t[1];
-    // The n side's material pulls the tip node toward itself while the crack opens: the force
-    // that closes the crack is the opposite of that pull along n.
-    m.G_vcct = Fn * dun / (2.0 * th * da);
-    m.GII_vcct = Ft * dut / (2.0 * th * da);
+    // Crack closure over one cell: the tip node's force times the opening one cell behind.
+    m.G_vcct = Fn * dun / (2.0 * th * h);
+    m.GII_vcct = Ft * dut / (2.0 * th * h);
     m.G_J = r[2] / th;
     m.KI_vcct = std::copysign(std::sqrt(std::fabs(m.G_vcct) * Ep), m.G_vcct);
     m.KII_vcct = std::copysign(std::sqrt(std::fabs(m.GII_vcct) * Ep), dut);

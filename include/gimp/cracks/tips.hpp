@@ -21,14 +21,16 @@ struct TipMeasure {
 /// The tips of all cracks, in order (crack, then end).
 std::vector<TipMeasure> tipsOf(const Scene &sc);
 
-/// VCCT at every tip (on a grid node; VCCT is 0 elsewhere): G_I = F_n du_n / (2 t da), G_II = F_t
-/// du_t / (2 t da), with F the internal force that the particles on the tip frame's n side put on
-/// the node nearest the tip (one side's grip on the tip), du the displacement of particle 1 (behind
-/// the tip, n side) minus particle 2 (behind the tip, other side), the particles chosen by their
-/// initial position nearest to the tip - l0 t +- l0 n, and da the distance from particle 1 to the
-/// tip along t. J by the domain integral over the particles within jRadius of the tip: J = sum_p
-/// V_p (sigma_ij du_i/dx_1 - W delta_1j) dq/dx_j in the tip frame, q = 1 - r / jRadius. K = sqrt(G
-/// E') with E' = E (plane stress) or E / (1 - nu^2) (plane strain). Collective.
+/// VCCT at every tip (on a grid node; VCCT is 0 elsewhere), crack closure over one cell h
+/// (the tip node's zone on the side the crack comes from): G_I = F_n du_n / (2 t h),
+/// G_II = F_t du_t / (2 t h), with F the internal force that the particles on the tip frame's n
+/// side put on the tip node (one side's grip on the tip) and du the opening one cell behind the
+/// tip: the displacement of the n-side particle minus the other side's, for the two pairs whose
+/// centres started nearest to 3 l0 and 5 l0 behind the tip (h = 4 l0 with 2 x 2 particles per
+/// cell), interpolated linearly to h. J by the domain integral over the particles within jRadius
+/// of the tip: J = sum_p V_p (sigma_ij du_i/dx_1 - W delta_1j) dq/dx_j in the tip frame,
+/// q = 1 - r / jRadius. K = sqrt(G E') with E' = E (plane stress) or E / (1 - nu^2) (plane
+/// strain). Collective.
 PetscErrorCode measureTips(MPI_Comm comm, const Scene &sc, const Grid &g, const Stencils<kDim> &st,
                            const ParticleView &p, double jRadius, std::vector<TipMeasure> &tips);
 
