@@ -10,7 +10,8 @@ options/crack_closure.opts is a block cut through by a crack (two halves meeting
 2. Opening: pulled apart without damping, nothing holds the halves together (no sticking, no
    contact across the open gap): each half's momentum is the impulse of its own traction,
    p * width * thickness * (steps - 1/2) dt, within 1e-7 (measured 4e-9), and the gap opens.
-3. MPI: 2 ranks (the crack crosses the rank border) give the 1-rank particles to 1e-10.
+3. MPI: 2 ranks (the crack crosses the rank border) give the 1-rank particles to 1e-10, and on
+   the DCB (options/dcb.opts, whose tip lies at the rank border) the same crack-tip measures.
 """
 import csv
 import os
@@ -90,4 +91,16 @@ for pid, r in dumps[0].items():
         diff = max(diff, abs(r[k] - o[k]) / scale)
 c.check("2 ranks equal 1 rank", len(dumps[0]) == len(dumps[1]) and diff < 1e-10,
         "worst relative difference %.3g" % diff)
+tips = []
+for ranks in (1, 2):
+    out = os.path.join(args.work, "dcb%d" % ranks)
+    tips.append(gimptest.summary(gimptest.run(args, "options/dcb.opts",
+                                              ["-ts_max_steps", "1000", "-gimp_history_interval",
+                                               "500"], ranks=ranks, outdir=out))["cracks"])
+keys = ("G_vcct", "G_J", "KI_vcct", "KI_J")
+ok = len(tips[0]) == len(tips[1]) == 1 and tips[0][0]["tip"] == [0.05, 0.012] and all(
+    abs(tips[0][0][k] - tips[1][0][k]) <= 1e-10 * abs(tips[0][0][k]) and tips[0][0][k] > 0
+    for k in keys)
+c.check("DCB tip measures: 2 ranks equal 1 rank", ok,
+        "; ".join("%s %.12g / %.12g" % (k, tips[0][0][k], tips[1][0][k]) for k in keys))
 c.done()
