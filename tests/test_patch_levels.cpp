@@ -222,6 +222,10 @@ int levelOf(const Grid &g, PetscInt n) {
   return k;
 }
 
+/// The five identities of the file comment on one tiling of one layout, with the worst error of
+/// each. One function on purpose (longer than 80 lines): the identities share the forces, the
+/// node classification and the exact edge integrals computed once at its start, and read best
+/// in the order the file comment lists them.
 CaseResult runCase(const Grid &g, const PatchLayout &lay, int n, bool shifted) {
   CaseResult r;
   const double sx = shifted ? 0.4137 * kH0 : 0.0, sy = shifted ? 0.2719 * kH0 : 0.0;

@@ -38,16 +38,65 @@ void tipFrame(const Crack &c, int end, double t[2], double n[2]) {
   n[1] = t[0];
 }
 
-/// What one rank contributes to a tip's measures, summed over ranks afterwards.
-struct TipSums {
-  double force[2] = {0, 0}; // one side's internal force on the tip node
-  double J = 0;
-  double best[2] = {std::numeric_limits<double>::infinity(),
-                    std::numeric_limits<double>::infinity()}; // squared distances, particles 1, 2
-};
-
 double modulus(const Material &m) {
   return m.planeStrain ? m.E / (1.0 - m.nu * m.nu) : m.E;
+}
+
+/// Particle k's term of the J domain integral, V_p (sigma_ij du_i/dx_1 - W delta_1j) dq/dx_j
+/// in the tip frame (t, n), at tip-frame position (along, across), distance rr < R.
+double jIntegrand(const Scene &sc, const ParticleView &p, PetscInt k, const double t[2],
+                  const double n[2], double along, double across, double rr, double R) {
+  const auto s = tensorAt<2>(p.s, k);
+  const auto F = tensorAt<2>(p.F, k);
+  const double H[2][2] = {{F(0, 0) - 1.0, F(0, 1)}, {F(1, 0), F(1, 1) - 1.0}};
+  const double Q[2][2] = {{t[0], t[1]}, {n[0], n[1]}};
+  double sp[2][2] = {}, hp[2][2] = {}; // sigma and grad u in the tip frame
+  for (int a = 0; a < 2; ++a)
+    for (int b = 0; b < 2; ++b)
+      for (int c = 0; c < 2; ++c)
+        for (int d = 0; d < 2; ++d) {
+          sp[a][b] += Q[a][c] * s(c, d) * Q[b][d];
+          hp[a][b] += Q[a][c] * H[c][d] * Q[b][d];
+        }
+  const double W = material::strainEnergy(sc.material, s, p.szz[k], F, p.V0[k], p.V[k]) / p.V[k];
+  const double dq[2] = {-along / (rr * R), -across / (rr * R)};
+  double integrand = 0;
+  for (int j = 0; j < 2; ++j) {
+    double term = -(j == 0 ? W : 0.0);
+    for (int i = 0; i < 2; ++i)
+      term += sp[i][j] * hp[i][0];
+    integrand += term * dq[j];
+  }
+  return p.V[k] * integrand;
+}
+
+/// G and K of one tip from its reduced row: r[0..1] the n side's force on the tip node, r[2] J
+/// times thickness, then the two particle pairs (ux, uy, distance behind the tip) from r[4] on;
+/// h the cell behind the tip. Crack closure over one cell: the tip node's force times the
+/// opening one cell behind the tip, interpolated between the two pairs.
+void finishTip(const Scene &sc, const double *r, double h, TipMeasure &m) {
+  constexpr int kPairs = 2;
+  double t[2], n[2];
+  tipFrame(sc.cracks[m.crack], m.end, t, n);
+  const double Ep = modulus(sc.material), th = sc.material.thickness;
+  double du[kPairs][2], behind[kPairs];
+  for (int pair = 0; pair < kPairs; ++pair) {
+    const double *a = &r[4 + 3 * (2 * pair)], *b = &r[4 + 3 * (2 * pair + 1)];
+    du[pair][0] = a[0] - b[0];
+    du[pair][1] = a[1] - b[1];
+    behind[pair] = 0.5 * (a[2] + b[2]);
+  }
+  const double w = (h - behind[0]) / (behind[1] - behind[0]);
+  const double dux = du[0][0] + w * (du[1][0] - du[0][0]),
+               duy = du[0][1] + w * (du[1][1] - du[0][1]);
+  const double dun = dux * n[0] + duy * n[1], dut = dux * t[0] + duy * t[1];
+  const double Fn = r[0] * n[0] + r[1] * n[1], Ft = r[0] * t[0] + r[1] * t[1];
+  m.G_vcct = Fn * dun / (2.0 * th * h);
+  m.GII_vcct = Ft * dut / (2.0 * th * h);
+  m.G_J = r[2] / th;
+  m.KI_vcct = std::copysign(std::sqrt(std::fabs(m.G_vcct) * Ep), m.G_vcct);
+  m.KII_vcct = std::copysign(std::sqrt(std::fabs(m.GII_vcct) * Ep), dut);
+  m.KI_J = std::copysign(std::sqrt(std::fabs(m.G_J) * Ep), m.G_J);
 }
 
 } // namespace
@@ -115,30 +164,7 @@ PetscErrorCode measureTips(MPI_Comm comm, const Scene &sc, const Grid &g, const 
         }
       // J: domain integral with q = 1 - r / R.
       const double rr = std::hypot(rx, ry);
-      if (rr < jRadius && rr > 0) {
-        const auto F = tensorAt<2>(p.F, k);
-        const double H[2][2] = {{F(0, 0) - 1.0, F(0, 1)}, {F(1, 0), F(1, 1) - 1.0}};
-        const double R[2][2] = {{t[0], t[1]}, {n[0], n[1]}};
-        double sp[2][2] = {}, hp[2][2] = {}; // sigma and grad u in the tip frame
-        for (int a = 0; a < 2; ++a)
-          for (int b = 0; b < 2; ++b)
-            for (int c = 0; c < 2; ++c)
-              for (int d = 0; d < 2; ++d) {
-                sp[a][b] += R[a][c] * s(c, d) * R[b][d];
-                hp[a][b] += R[a][c] * H[c][d] * R[b][d];
-              }
-        const double W =
-            material::strainEnergy(sc.material, s, p.szz[k], F, p.V0[k], p.V[k]) / p.V[k];
-        const double dq[2] = {-along / (rr * jRadius), -across / (rr * jRadius)};
-        double integrand = 0;
-        for (int j = 0; j < 2; ++j) {
-          double term = -(j == 0 ? W : 0.0);
-          for (int i = 0; i < 2; ++i)
-            term += sp[i][j] * hp[i][0];
-          integrand += term * dq[j];
-        }
-        r[2] += p.V[k] * integrand;
-      }
+      if (rr < jRadius && rr > 0) r[2] += jIntegrand(sc, p, k, t, n, along, across, rr, jRadius);
     }
   }
   PetscCallMPI(MPI_Allreduce(dist.data(), gdist.data(), static_cast<int>(dist.size()), MPI_DOUBLE,
@@ -160,33 +186,8 @@ PetscErrorCode measureTips(MPI_Comm comm, const Scene &sc, const Grid &g, const 
           local[kRow * q + 4 + 3 * j + c] = 0.0;
   PetscCallMPI(MPI_Allreduce(local.data(), global.data(), static_cast<int>(local.size()),
                              MPI_DOUBLE, MPI_SUM, comm));
-  const double Ep = modulus(sc.material), th = sc.material.thickness;
   for (size_t q = 0; q < T; ++q) {
-    TipMeasure &m = tips[q];
-    double t[2], n[2];
-    tipFrame(sc.cracks[m.crack], m.end, t, n);
-    const double *r = &global[kRow * q];
-    // Opening of each pair (n-side particle minus the other) and its distance behind the tip;
-    // the opening at one cell h behind the tip, interpolated between the two pairs.
-    double du[kPairs][2], behind[kPairs];
-    for (int pair = 0; pair < kPairs; ++pair) {
-      const double *a = &r[4 + 3 * (2 * pair)], *b = &r[4 + 3 * (2 * pair + 1)];
-      du[pair][0] = a[0] - b[0];
-      du[pair][1] = a[1] - b[1];
-      behind[pair] = 0.5 * (a[2] + b[2]);
-    }
-    const double h = hmax[q], w = (h - behind[0]) / (behind[1] - behind[0]);
-    const double dux = du[0][0] + w * (du[1][0] - du[0][0]),
-                 duy = du[0][1] + w * (du[1][1] - du[0][1]);
-    const double dun = dux * n[0] + duy * n[1], dut = dux * t[0] + duy * t[1];
-    const double Fn = r[0] * n[0] + r[1] * n[1], Ft = r[0] * t[0] + r[1] * t[1];
-    // Crack closure over one cell: the tip node's force times the opening one cell behind.
-    m.G_vcct = Fn * dun / (2.0 * th * h);
-    m.GII_vcct = Ft * dut / (2.0 * th * h);
-    m.G_J = r[2] / th;
-    m.KI_vcct = std::copysign(std::sqrt(std::fabs(m.G_vcct) * Ep), m.G_vcct);
-    m.KII_vcct = std::copysign(std::sqrt(std::fabs(m.GII_vcct) * Ep), dut);
-    m.KI_J = std::copysign(std::sqrt(std::fabs(m.G_J) * Ep), m.G_J);
+    finishTip(sc, &global[kRow * q], hmax[q], tips[q]);
   }
   return PETSC_SUCCESS;
 }

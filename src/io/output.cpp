@@ -249,6 +249,15 @@ PetscErrorCode Output::writeSummary(const SummaryReport &r) {
   FILE *f = nullptr;
   PetscCall(openOnRoot("summary.json", &f));
   if (rank_ != 0) return PETSC_SUCCESS;
+  summaryRun(f, r);
+  summaryState(f, r);
+  summaryMeasures(f, r);
+  std::fprintf(f, "\n}\n");
+  std::fclose(f);
+  return PETSC_SUCCESS;
+}
+
+void Output::summaryRun(FILE *f, const SummaryReport &r) const {
   std::fprintf(f, "{\n  \"scene\": \"%s\",\n  \"version\": \"%s\",\n  \"status\": \"%s\",\n",
                sc_.name.c_str(), GIMP_VERSION, r.status.c_str());
   std::fprintf(f,
@@ -267,6 +276,9 @@ PetscErrorCode Output::writeSummary(const SummaryReport &r) {
                  static_cast<long long>(grid_.activeNodes(static_cast<int>(k))));
   }
   std::fprintf(f, "],\n");
+}
+
+void Output::summaryState(FILE *f, const SummaryReport &r) const {
   const Energies &e = r.energy;
   std::fprintf(f,
                "  \"energy\": {\"kinetic\": %.12e, \"strain\": %.12e, \"external_work\": %.12e, "
@@ -294,6 +306,9 @@ PetscErrorCode Output::writeSummary(const SummaryReport &r) {
                  q ? "," : "", sc_.probes[q].name.c_str(), static_cast<long long>(p.id), p.X0[0],
                  p.X0[1], p.u[0], p.u[1], p.stress[0], p.stress[1], p.stress[2], p.stress[3]);
   }
+}
+
+void Output::summaryMeasures(FILE *f, const SummaryReport &r) const {
   const RunMeasures &m = r.measures;
   std::fprintf(f, "%s},\n  \"measures\": {", r.probes.empty() ? "" : "\n  ");
   std::fprintf(f, "\"particles_migrated\": %lld", static_cast<long long>(m.migrated));
@@ -323,9 +338,6 @@ PetscErrorCode Output::writeSummary(const SummaryReport &r) {
     }
     std::fprintf(f, "]");
   }
-  std::fprintf(f, "\n}\n");
-  std::fclose(f);
-  return PETSC_SUCCESS;
 }
 
 } // namespace gimp

@@ -30,6 +30,11 @@ public:
 
 private:
   PetscErrorCode writeXdmf() const;
+  // summary.json in three parts (rank 0): the run and its grid; energies, reactions and probes;
+  // measures and crack tips.
+  void summaryRun(FILE *f, const SummaryReport &r) const;
+  void summaryState(FILE *f, const SummaryReport &r) const;
+  void summaryMeasures(FILE *f, const SummaryReport &r) const;
   PetscErrorCode writeParticleXdmf(FILE *fp) const;
   PetscErrorCode writeGridXdmf(FILE *fg) const;
   /// Opens dir/name for writing on rank 0; every rank learns of a failure (collective).
