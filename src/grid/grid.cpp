@@ -202,27 +202,15 @@ PetscErrorCode Grid::createWindowVec(Vec *v) const {
   return PETSC_SUCCESS;
 }
 
+PetscErrorCode Grid::fromWindow(Vec window, Vec global, InsertMode mode) const {
+  PetscCall(VecScatterBegin(scatter_, window, global, mode, SCATTER_REVERSE));
+  PetscCall(VecScatterEnd(scatter_, window, global, mode, SCATTER_REVERSE));
+  return PETSC_SUCCESS;
+}
+
 PetscErrorCode Grid::toWindow(Vec global, Vec window) const {
   PetscCall(VecScatterBegin(scatter_, global, window, INSERT_VALUES, SCATTER_FORWARD));
   PetscCall(VecScatterEnd(scatter_, global, window, INSERT_VALUES, SCATTER_FORWARD));
-  return PETSC_SUCCESS;
-}
-
-PetscErrorCode Grid::addFromWindow(Vec window, Vec global) const {
-  PetscCall(VecScatterBegin(scatter_, window, global, ADD_VALUES, SCATTER_REVERSE));
-  PetscCall(VecScatterEnd(scatter_, window, global, ADD_VALUES, SCATTER_REVERSE));
-  return PETSC_SUCCESS;
-}
-
-PetscErrorCode Grid::insertFromWindow(Vec window, Vec global) const {
-  PetscCall(VecScatterBegin(scatter_, window, global, INSERT_VALUES, SCATTER_REVERSE));
-  PetscCall(VecScatterEnd(scatter_, window, global, INSERT_VALUES, SCATTER_REVERSE));
-  return PETSC_SUCCESS;
-}
-
-PetscErrorCode Grid::maxFromWindow(Vec window, Vec global) const {
-  PetscCall(VecScatterBegin(scatter_, window, global, MAX_VALUES, SCATTER_REVERSE));
-  PetscCall(VecScatterEnd(scatter_, window, global, MAX_VALUES, SCATTER_REVERSE));
   return PETSC_SUCCESS;
 }
 

@@ -153,7 +153,7 @@ PetscErrorCode Solver::crackContact(const ParticleView &p, const StepClock &c) {
   contact_.faces(grid_, st_, p.n, tracking::domainCentres(p, centres_), p.l, f);
   PetscCall(VecRestoreArray(nodal_.faceW, &f));
   PetscCall(VecSet(nodal_.face, -1e300));
-  PetscCall(grid_.maxFromWindow(nodal_.faceW, nodal_.face));
+  PetscCall(grid_.fromWindow(nodal_.faceW, nodal_.face, MAX_VALUES));
   PetscCall(grid_.toWindow(nodal_.face, nodal_.faceW));
   PetscCall(grid_.toWindow(nodal_.mass, nodal_.massW));
   PetscCall(grid_.toWindow(nodal_.mask, nodal_.sumW));
@@ -178,8 +178,8 @@ PetscErrorCode Solver::crackContact(const ParticleView &p, const StepClock &c) {
   PetscCall(PetscInfo(nullptr,
                       "step %" PetscInt_FMT ": %" PetscInt_FMT " cracked nodes in contact\n",
                       c.step, touching));
-  PetscCall(grid_.insertFromWindow(nodal_.velW, nodal_.vel));
-  PetscCall(grid_.insertFromWindow(nodal_.accW, nodal_.acc));
+  PetscCall(grid_.fromWindow(nodal_.velW, nodal_.vel, INSERT_VALUES));
+  PetscCall(grid_.fromWindow(nodal_.accW, nodal_.acc, INSERT_VALUES));
   PetscCall(PetscLogStagePop());
   return PETSC_SUCCESS;
 }

@@ -54,12 +54,14 @@ public:
 
   /// Vectors on the window (sequential, dof 2) and moves between them and a global Vec.
   PetscErrorCode createWindowVec(Vec *v) const;
-  PetscErrorCode toWindow(Vec global, Vec window) const;      // insert
-  PetscErrorCode addFromWindow(Vec window, Vec global) const; // add (caller zeroes global)
-  /// Window values back into the global Vec where every rank holding a slot has the same value.
-  PetscErrorCode insertFromWindow(Vec window, Vec global) const;
-  /// The largest of every rank's window values into the global Vec (caller sets it to -inf).
-  PetscErrorCode maxFromWindow(Vec window, Vec global) const;
+  PetscErrorCode toWindow(Vec global, Vec window) const; // insert
+  /// Window values into the global Vec, combined by `mode`: ADD_VALUES sums every rank's window
+  /// (the caller zeroes global first), INSERT_VALUES where every rank holding a slot has the
+  /// same value, MAX_VALUES the largest (the caller sets global to -inf first).
+  PetscErrorCode fromWindow(Vec window, Vec global, InsertMode mode) const;
+  PetscErrorCode addFromWindow(Vec window, Vec global) const {
+    return fromWindow(window, global, ADD_VALUES);
+  }
   /// Every cracked node, in the order of the composite's crack part (see crack_fields.cpp).
   const std::vector<CrackedNode> &crackedNodes() const { return cracked_; }
 
