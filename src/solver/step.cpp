@@ -30,14 +30,17 @@ PetscErrorCode Solver::step() {
   PetscCall(PetscLogStagePush(stages_.p2g));
   PetscCall(migrate());
   PetscCall(p.get(sw_));
-  PetscCall(buildStencils(p));
+  // Where each particle's weights are centred (the corner box with corner tracking), for the
+  // stencils and the crack faces of this step.
+  const double *centres = tracking::domainCentres(p, centres_);
+  PetscCall(buildStencils(p, centres));
   PetscCall(particlesToGrid(p));
   PetscCall(PetscLogStagePop());
   if (scheme_.stressBeforeGridUpdate) PetscCall(stress(p, nodal_.velW, c.dt));
   StartPower power;
   PetscCall(forces(p, c, power));
   PetscCall(gridUpdate());
-  if (!sc_.cracks.empty()) PetscCall(crackContact(p, c));
+  if (!sc_.cracks.empty()) PetscCall(crackContact(p, centres, c));
   PetscCall(gridToParticles(p, c));
   PetscCall(work(c, power));
   if (!scheme_.stressBeforeGridUpdate) PetscCall(stress(p, nodal_.velW, c.dt));
@@ -69,10 +72,9 @@ PetscErrorCode Solver::migrate() {
   return PETSC_SUCCESS;
 }
 
-PetscErrorCode Solver::buildStencils(const ParticleView &p) {
+PetscErrorCode Solver::buildStencils(const ParticleView &p, const double *centres) {
   // The checks after every step keep each particle within one level-0 cell, so this cannot
   // fail; if it does, the failure joins those checks (no extra collective in the step).
-  const double *centres = tracking::domainCentres(p, centres_);
   if (!grid_.buildStencils(p.n, centres, p.l, st_))
     localFailure_ = "a particle is larger than a level-0 cell (its half-size exceeds -gimp_h)";
   cracks::assignFields(grid_, sc_.cracks, p.n, centres, st_);
@@ -144,13 +146,14 @@ PetscErrorCode Solver::gridUpdate() {
   return PETSC_SUCCESS;
 }
 
-PetscErrorCode Solver::crackContact(const ParticleView &p, const StepClock &c) {
+PetscErrorCode Solver::crackContact(const ParticleView &p, const double *centres,
+                                    const StepClock &c) {
   // Frictionless contact of the two fields at cracked nodes, on the window (every rank that
   // holds a node computes the same result), then back to the global velocity and acceleration.
   PetscCall(PetscLogStagePush(stages_.grid));
   PetscScalar *f = nullptr;
   PetscCall(VecGetArray(nodal_.faceW, &f));
-  contact_.faces(grid_, st_, p.n, tracking::domainCentres(p, centres_), p.l, f);
+  contact_.faces(grid_, st_, p.n, centres, p.l, f);
   PetscCall(VecRestoreArray(nodal_.faceW, &f));
   PetscCall(VecSet(nodal_.face, -1e300));
   PetscCall(grid_.fromWindow(nodal_.faceW, nodal_.face, MAX_VALUES));

@@ -68,11 +68,11 @@ private:
   static PetscErrorCode clockOf(TS ts, const Scene &sc, StepClock &c);
   PetscErrorCode step();
   PetscErrorCode migrate();
-  PetscErrorCode buildStencils(const ParticleView &p);
+  PetscErrorCode buildStencils(const ParticleView &p, const double *centres);
   PetscErrorCode particlesToGrid(const ParticleView &p);
   PetscErrorCode forces(const ParticleView &p, const StepClock &c, StartPower &power);
   PetscErrorCode gridUpdate();
-  PetscErrorCode crackContact(const ParticleView &p, const StepClock &c);
+  PetscErrorCode crackContact(const ParticleView &p, const double *centres, const StepClock &c);
   PetscErrorCode gridToParticles(ParticleView &p, const StepClock &c);
   PetscErrorCode work(const StepClock &c, const StartPower &power);
   PetscErrorCode stress(ParticleView &p, Vec velocityWindow, double dt);
