@@ -343,6 +343,38 @@ TEST(Geometry, DistanceAndNormal) {
   EXPECT_DOUBLE_EQ(gimp::cracks::distance(c, 2, 0), 1.0);
 }
 
+// A grid node computed on the crack line with rounding error (a refined level's coordinates)
+// must be on the side crossing() gives it, or the contact normal of its two fields points the
+// wrong way and the faces of an open crack are pressed together.
+TEST(Geometry, SideOfANodeOnTheLineAgreesWithCrossing) {
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (int k = 0; k < 2000; ++k) {
+    const Point p{u(rng), u(rng)}, q{u(rng), u(rng)};
+    const Crack c{{p, q}, {false, false}};
+    const double s = 0.1 + 0.8 * u(rng);
+    double x = p[0] + s * (q[0] - p[0]), y = p[1] + s * (q[1] - p[1]);
+    for (int ulp = -3; ulp <= 3; ++ulp) { // the node a few roundings off the line
+      const double yn = ulp < 0 ? std::nextafter(y, -1.0) : ulp > 0 ? std::nextafter(y, 2.0) : y;
+      double n[2];
+      gimp::cracks::normalAt(c, x, yn, n);
+      const double h = 0.01; // particles well off the line on either side
+      const int side = gimp::cracks::sideOf(c, 0, x, yn);
+      for (const double sgn : {1.0, -1.0}) {
+        const double px = x + sgn * h * n[0], py = yn + sgn * h * n[1];
+        // The particle's field at the node is the node's own (no crossing) exactly when they
+        // are on the same side.
+        EXPECT_EQ(gimp::cracks::crossing(c, px, py, x, yn) == 0, (sgn > 0) == (side > 0));
+      }
+      y = yn;
+    }
+  }
+  // The node y = 0.08 of a level at 0.079999999999999988 is on the line, hence on the left.
+  const Crack c{{{0.07, 0.08}, {0.09, 0.08}}, {true, true}};
+  EXPECT_EQ(gimp::cracks::sideOf(c, 0, 0.08, std::nextafter(0.08, 0.0)), 1);
+  EXPECT_EQ(gimp::cracks::sideOf(c, 0, 0.08, 0.08 - 1e-6), -1);
+}
+
 TEST(Geometry, NearCrack) {
   std::mt19937_64 rng(13);
   std::uniform_real_distribution<double> u(-0.5, 1.5), w(0.0, 0.2);

@@ -37,9 +37,8 @@ void Contact::setup(const Grid &g, const std::vector<Crack> &cracks) {
     }
     double nrm[2];
     const int seg = normalAt(cracks[best], X, Y, nrm);
-    const auto &p = cracks[best].points[seg];
     // A node on the crack line counts as on its left, as in crossing().
-    const double side = (X - p[0]) * nrm[0] + (Y - p[1]) * nrm[1] >= 0 ? 1.0 : -1.0;
+    const double side = sideOf(cracks[best], seg, X, Y);
     dir_[2 * (s - g.nWindow)] = -side * nrm[0];
     dir_[2 * (s - g.nWindow) + 1] = -side * nrm[1];
   }

@@ -118,6 +118,13 @@ int normalAt(const Crack &c, double x, double y, double n[2]) {
   return nearest;
 }
 
+int sideOf(const Crack &c, int seg, double x, double y) {
+  const Point &p = c.points[seg], &r = c.points[seg + 1];
+  const double tx = r[0] - p[0], ty = r[1] - p[1];
+  const double delta = kCrackTol * (std::fabs(tx) + std::fabs(ty));
+  return cross(tx, ty, x - p[0], y - p[1]) >= -delta * std::sqrt(tx * tx + ty * ty) ? 1 : -1;
+}
+
 double segmentDistance(const Point &p0, const Point &p1, const Point &q0, const Point &q1) {
   const double ux = p1[0] - p0[0], uy = p1[1] - p0[1], vx = q1[0] - q0[0], vy = q1[1] - q0[1];
   const double a = cross(ux, uy, q0[0] - p0[0], q0[1] - p0[1]);

@@ -1,5 +1,6 @@
 #include "gimp/cracks/tips.hpp"
 
+#include "gimp/grid/shape.hpp"
 #include "gimp/physics/material.hpp"
 
 #include <cmath>
@@ -70,125 +71,111 @@ double jIntegrand(const Scene &sc, const ParticleView &p, PetscInt k, const doub
   return p.V[k] * integrand;
 }
 
-/// G and K of one tip from its reduced row: r[0..1] the n side's force on the tip node, r[2] J
-/// times thickness, then the two particle pairs (ux, uy, distance behind the tip) from r[4] on;
-/// h the cell behind the tip. Crack closure over one cell: the tip node's force times the
-/// opening one cell behind the tip, interpolated between the two pairs.
+/// The cell size of the finest level whose box holds (x, y).
+double cellAt(const Grid &g, double x, double y) {
+  for (size_t k = g.levels.size(); k-- > 0;) {
+    const auto &b = g.levels[k].box;
+    if (x >= b[0] && x <= b[2] && y >= b[1] && y <= b[3]) return g.levels[k].h;
+  }
+  return g.h0();
+}
+
+/// GIMP weight and gradient (d/dx_p) of a regular node of cell h at (X, Y) for particle k: the
+/// grid's own kernel (Eq. 15) moved to a point that need not be a grid node.
+double pointKernel(const ParticleView &p, PetscInt k, double X, double Y, double h,
+                   double grad[2]) {
+  double wx, gx, wy, gy;
+  shape::weightAndGradient(p.x[2 * k] - X, p.l[2 * k], h, h, wx, gx);
+  shape::weightAndGradient(p.x[2 * k + 1] - Y, p.l[2 * k + 1], h, h, wy, gy);
+  grad[0] = gx * wy;
+  grad[1] = wx * gy;
+  return wx * wy;
+}
+
+// The reduced row of one tip: the n side's force on the tip point (2), J times thickness (1),
+// then sum m w u and sum m w of each side at the point one cell behind the tip (3 + 3).
+constexpr int kForce = 0, kJ = 2, kPlus = 3, kMinus = 6, kRow = 9;
+
+/// G and K of one tip from its reduced row r; h the cell at the tip.
 void finishTip(const Scene &sc, const double *r, double h, TipMeasure &m) {
-  constexpr int kPairs = 2;
   double t[2], n[2];
   tipFrame(sc.cracks[m.crack], m.end, t, n);
   const double Ep = modulus(sc.material), th = sc.material.thickness;
-  double du[kPairs][2], behind[kPairs];
-  for (int pair = 0; pair < kPairs; ++pair) {
-    const double *a = &r[4 + 3 * (2 * pair)], *b = &r[4 + 3 * (2 * pair + 1)];
-    du[pair][0] = a[0] - b[0];
-    du[pair][1] = a[1] - b[1];
-    behind[pair] = 0.5 * (a[2] + b[2]);
+  const double *up = &r[kPlus], *dn = &r[kMinus];
+  double dux = 0, duy = 0;
+  if (up[2] > 0 && dn[2] > 0) {
+    dux = up[0] / up[2] - dn[0] / dn[2];
+    duy = up[1] / up[2] - dn[1] / dn[2];
   }
-  const double w = (h - behind[0]) / (behind[1] - behind[0]);
-  const double dux = du[0][0] + w * (du[1][0] - du[0][0]),
-               duy = du[0][1] + w * (du[1][1] - du[0][1]);
   const double dun = dux * n[0] + duy * n[1], dut = dux * t[0] + duy * t[1];
-  const double Fn = r[0] * n[0] + r[1] * n[1], Ft = r[0] * t[0] + r[1] * t[1];
+  const double Fn = r[kForce] * n[0] + r[kForce + 1] * n[1],
+               Ft = r[kForce] * t[0] + r[kForce + 1] * t[1];
+  m.h = h;
+  m.opening[0] = dun;
+  m.opening[1] = dut;
   m.G_vcct = Fn * dun / (2.0 * th * h);
   m.GII_vcct = Ft * dut / (2.0 * th * h);
-  m.G_J = r[2] / th;
+  m.G_J = r[kJ] / th;
   m.KI_vcct = std::copysign(std::sqrt(std::fabs(m.G_vcct) * Ep), m.G_vcct);
   m.KII_vcct = std::copysign(std::sqrt(std::fabs(m.GII_vcct) * Ep), dut);
-  m.KI_J = std::copysign(std::sqrt(std::fabs(m.G_J) * Ep), m.G_J);
+  // J is the total G; the opening's ratio near the tip splits it (K_II / K_I = du_t / du_n).
+  const double ratio2 = dun != 0 ? (dut * dut) / (dun * dun) : 0.0;
+  const double GI = m.G_J / (1.0 + ratio2);
+  m.KI_J = std::copysign(std::sqrt(std::fabs(GI) * Ep), m.G_J);
+  m.KII_J = dun != 0 ? m.KI_J * dut / dun : 0.0;
 }
 
 } // namespace
 
-PetscErrorCode measureTips(MPI_Comm comm, const Scene &sc, const Grid &g, const Stencils<kDim> &st,
-                           const ParticleView &p, double jRadius, std::vector<TipMeasure> &tips) {
+PetscErrorCode measureTips(MPI_Comm comm, const Scene &sc, const Grid &g, const ParticleView &p,
+                           double jRadius, std::vector<TipMeasure> &tips) {
   tips = tipsOf(sc);
   const size_t T = tips.size();
   if (T == 0) return PETSC_SUCCESS;
-  // Particles 1 and 2: smallest squared distance of X0 to their targets (min over ranks), then
-  // their displacement and current position from the rank that has them.
-  constexpr int kRow = 16, kPairs = 2;
-  std::vector<double> dist(2 * kPairs * T, std::numeric_limits<double>::infinity()),
-      gdist(2 * kPairs * T);
   std::vector<double> local(kRow * T, 0.0), global(kRow * T);
+  std::vector<double> cell(T);
   for (size_t q = 0; q < T; ++q) {
     const TipMeasure &m = tips[q];
+    const Crack &crack = sc.cracks[m.crack];
     double t[2], n[2];
-    tipFrame(sc.cracks[m.crack], m.end, t, n);
-    // The tip node: the window node nearest to the tip (the tip lies on a node in the scenes).
-    // A rank whose window does not hold it finds none (its particles do not reach it).
-    PetscInt tipNode = -1;
-    for (PetscInt nd = 0; nd < g.nWindow; ++nd)
-      if (g.active[nd] && std::hypot(g.X[nd] - m.tip[0], g.Y[nd] - m.tip[1]) <= 1e-9 * g.h0())
-        tipNode = nd;
-    const bool stencils = st.start.size() == static_cast<size_t>(p.n) + 1;
+    tipFrame(crack, m.end, t, n);
+    const double h = cell[q] = cellAt(g, m.tip[0], m.tip[1]);
+    const double R = jRadius > 0 ? jRadius : kJCells * h;
+    // The point one cell behind the tip, on the crack line; a particle is on the side of the
+    // crack's left normal there unless the segment to the point crosses the crack.
+    const double bx = m.tip[0] - h * t[0], by = m.tip[1] - h * t[1];
+    double nl[2];
+    normalAt(crack, bx, by, nl);
+    const bool plusIsLeft = nl[0] * n[0] + nl[1] * n[1] > 0;
     double *r = &local[kRow * q];
-    // The cell behind the tip: the tip node's zone on the side the crack comes from.
-    if (tipNode >= 0) {
-      const double *z = &g.zone[4 * tipNode];
-      r[3] =
-          std::fabs(t[0]) >= std::fabs(t[1]) ? (t[0] > 0 ? z[0] : z[1]) : (t[1] > 0 ? z[2] : z[3]);
-    }
     for (PetscInt k = 0; k < p.n; ++k) {
       const double rx = p.x[2 * k] - m.tip[0], ry = p.x[2 * k + 1] - m.tip[1];
       const double along = rx * t[0] + ry * t[1], across = rx * n[0] + ry * n[1];
-      const auto s = tensorAt<2>(p.s, k);
-      // One side's internal force on the tip node (the n side of the crack line).
-      if (across > 0 && tipNode >= 0 && stencils)
-        for (PetscInt e = st.start[k]; e < st.start[k + 1]; ++e) {
-          if (g.slotNode[st.node[e]] != tipNode) continue;
-          const Vector<2> grad = st.gradient(e);
-          for (int c = 0; c < 2; ++c)
-            r[c] -= p.V[k] * (s(c, 0) * grad[0] + s(c, 1) * grad[1]);
-        }
-      // The particle pairs whose centres started nearest to h - l0 and h + l0 behind the tip,
-      // l0 from either side of the crack line (h: the cell behind the tip, from the reduction
-      // below; here the particle's own l0 scales the targets: 3 l0 and 5 l0 for h = 4 l0).
-      const double l0 = p.l0[2 * k];
-      for (int pair = 0; pair < kPairs; ++pair)
-        for (int side = 0; side < 2; ++side) {
-          const double sgn = side == 0 ? 1.0 : -1.0, back = (pair == 0 ? 3.0 : 5.0) * l0;
-          const double tx = m.tip[0] - back * t[0] + sgn * l0 * n[0],
-                       ty = m.tip[1] - back * t[1] + sgn * l0 * n[1];
-          const double d2 = (p.X0[2 * k] - tx) * (p.X0[2 * k] - tx) +
-                            (p.X0[2 * k + 1] - ty) * (p.X0[2 * k + 1] - ty);
-          const int j = 2 * pair + side;
-          if (d2 < dist[2 * kPairs * q + j]) {
-            dist[2 * kPairs * q + j] = d2;
-            double *o = &r[4 + 3 * j]; // ux, uy, distance behind the tip along t
-            o[0] = p.x[2 * k] - p.X0[2 * k];
-            o[1] = p.x[2 * k + 1] - p.X0[2 * k + 1];
-            o[2] = -along;
-          }
-        }
+      double grad[2];
+      // One side's grip on the tip: the n-side particles' internal force on a node at the tip.
+      if (across > 0 && pointKernel(p, k, m.tip[0], m.tip[1], h, grad) > 0) {
+        const auto s = tensorAt<2>(p.s, k);
+        for (int c = 0; c < 2; ++c)
+          r[kForce + c] -= p.V[k] * (s(c, 0) * grad[0] + s(c, 1) * grad[1]);
+      }
+      // Each side's displacement at the point one cell behind the tip (mass projection).
+      const double w = pointKernel(p, k, bx, by, h, grad);
+      if (w > 0) {
+        const bool left = crossing(crack, p.x[2 * k], p.x[2 * k + 1], bx, by) == 0;
+        double *o = &r[left == plusIsLeft ? kPlus : kMinus];
+        o[0] += p.m[k] * w * (p.x[2 * k] - p.X0[2 * k]);
+        o[1] += p.m[k] * w * (p.x[2 * k + 1] - p.X0[2 * k + 1]);
+        o[2] += p.m[k] * w;
+      }
       // J: domain integral with q = 1 - r / R.
       const double rr = std::hypot(rx, ry);
-      if (rr < jRadius && rr > 0) r[2] += jIntegrand(sc, p, k, t, n, along, across, rr, jRadius);
+      if (rr < R && rr > 0) r[kJ] += jIntegrand(sc, p, k, t, n, along, across, rr, R);
     }
   }
-  PetscCallMPI(MPI_Allreduce(dist.data(), gdist.data(), static_cast<int>(dist.size()), MPI_DOUBLE,
-                             MPI_MIN, comm));
-  // The cell behind the tip comes from the ranks that hold the tip node (the same value).
-  std::vector<double> hloc(T), hmax(T);
-  for (size_t q = 0; q < T; ++q) {
-    hloc[q] = local[kRow * q + 3];
-    local[kRow * q + 3] = 0.0;
-  }
-  PetscCallMPI(
-      MPI_Allreduce(hloc.data(), hmax.data(), static_cast<int>(T), MPI_DOUBLE, MPI_MAX, comm));
-  // Keep particle data only on the rank that holds the nearest particle (ties: it is the same
-  // particle, held once), so that the sum below picks it.
-  for (size_t q = 0; q < T; ++q)
-    for (int j = 0; j < 2 * kPairs; ++j)
-      if (dist[2 * kPairs * q + j] != gdist[2 * kPairs * q + j])
-        for (int c = 0; c < 3; ++c)
-          local[kRow * q + 4 + 3 * j + c] = 0.0;
   PetscCallMPI(MPI_Allreduce(local.data(), global.data(), static_cast<int>(local.size()),
                              MPI_DOUBLE, MPI_SUM, comm));
-  for (size_t q = 0; q < T; ++q) {
-    finishTip(sc, &global[kRow * q], hmax[q], tips[q]);
-  }
+  for (size_t q = 0; q < T; ++q)
+    finishTip(sc, &global[kRow * q], cell[q], tips[q]);
   return PETSC_SUCCESS;
 }
 

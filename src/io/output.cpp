@@ -71,7 +71,8 @@ PetscErrorCode Output::open() {
       std::fprintf(history_, ",dbc%zu_fx,dbc%zu_fy,dbc%zu_gap", q, q, q);
     if (sc_.mms != Mms::None) std::fprintf(history_, ",mms_linf,mms_rms");
     for (const cracks::TipMeasure &m : cracks::tipsOf(sc_))
-      for (const char *c : {"G_vcct", "GII_vcct", "G_J", "KI_vcct", "KII_vcct", "KI_J"})
+      for (const char *c : {"G_vcct", "GII_vcct", "G_J", "KI_vcct", "KII_vcct", "KI_J", "KII_J",
+                            "opening_n", "opening_t"})
         std::fprintf(history_, ",crack%d_tip%d_%s", m.crack, m.end, c);
     std::fprintf(history_, "\n");
     std::fflush(history_);
@@ -99,8 +100,9 @@ PetscErrorCode Output::writeHistory(const HistoryRow &r) {
                  r.gaps[q]);
   if (sc_.mms != Mms::None) std::fprintf(history_, ",%.12e,%.12e", r.mmsLinf, r.mmsRms);
   for (const cracks::TipMeasure &m : r.tips)
-    std::fprintf(history_, ",%.12e,%.12e,%.12e,%.12e,%.12e,%.12e", m.G_vcct, m.GII_vcct, m.G_J,
-                 m.KI_vcct, m.KII_vcct, m.KI_J);
+    std::fprintf(history_, ",%.12e,%.12e,%.12e,%.12e,%.12e,%.12e,%.12e,%.12e,%.12e", m.G_vcct,
+                 m.GII_vcct, m.G_J, m.KI_vcct, m.KII_vcct, m.KI_J, m.KII_J, m.opening[0],
+                 m.opening[1]);
   std::fprintf(history_, "\n");
   std::fflush(history_);
   return PETSC_SUCCESS;
@@ -331,10 +333,13 @@ void Output::summaryMeasures(FILE *f, const SummaryReport &r) const {
       std::fprintf(
           f,
           "%s\n    {\"crack\": %d, \"end\": %d, \"tip\": [%s, %s], \"G_vcct\": %s, "
-          "\"GII_vcct\": %s, \"G_J\": %s, \"KI_vcct\": %s, \"KII_vcct\": %s, \"KI_J\": %s}",
+          "\"GII_vcct\": %s, \"G_J\": %s, \"KI_vcct\": %s, \"KII_vcct\": %s, \"KI_J\": %s, "
+          "\"KII_J\": %s, \"h\": %s, \"opening\": [%s, %s]}",
           q ? "," : "", m.crack, m.end, num(m.tip[0]).c_str(), num(m.tip[1]).c_str(),
           num(m.G_vcct).c_str(), num(m.GII_vcct).c_str(), num(m.G_J).c_str(),
-          num(m.KI_vcct).c_str(), num(m.KII_vcct).c_str(), num(m.KI_J).c_str());
+          num(m.KI_vcct).c_str(), num(m.KII_vcct).c_str(), num(m.KI_J).c_str(),
+          num(m.KII_J).c_str(), num(m.h).c_str(), num(m.opening[0]).c_str(),
+          num(m.opening[1]).c_str());
     }
     std::fprintf(f, "]");
   }

@@ -121,8 +121,7 @@ PetscErrorCode Solver::crackTips(std::vector<cracks::TipMeasure> &tips) {
   if (sc_.cracks.empty()) return PETSC_SUCCESS;
   ParticleView p;
   PetscCall(p.get(sw_));
-  const double radius = sc_.crackJRadius > 0 ? sc_.crackJRadius : 5.0 * grid_.hMin();
-  PetscCall(cracks::measureTips(comm_, sc_, grid_, st_, p, radius, tips));
+  PetscCall(cracks::measureTips(comm_, sc_, grid_, p, sc_.crackJRadius, tips));
   PetscCall(p.restore(sw_));
   return PETSC_SUCCESS;
 }

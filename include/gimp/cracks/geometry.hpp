@@ -61,6 +61,11 @@ double distance(const Crack &c, double x, double y);
 /// segment's index (ties: the lowest index), or -1 and n = 0 for fewer than two points.
 int normalAt(const Crack &c, double x, double y, double n[2]);
 
+/// The side of (x, y) relative to the line of crack segment `seg` as crossing() sees a grid
+/// node: +1 left or on the line (within kCrackTol |pq|), -1 right. A node computed on the line
+/// with rounding error (a refined level's coordinates) must fall on the side crossing() gives it.
+int sideOf(const Crack &c, int seg, double x, double y);
+
 /// Whether the polyline comes within `reach` (>= 0) of the box x0, y0, x1, y1 (the box's
 /// interior counts: a crack inside the box is at distance 0).
 bool nearCrack(const Crack &c, const double box[4], double reach);

@@ -14,24 +14,31 @@ namespace gimp::cracks {
 struct TipMeasure {
   int crack = 0, end = 0; // which crack, and which end of its polyline (0 first, 1 last)
   double tip[2] = {0, 0};
+  double h = 0;               // the cell at the tip (finest level holding it) [m]
+  double opening[2] = {0, 0}; // opening (n) and sliding (t) one cell behind the tip [m]
   double G_vcct = 0, GII_vcct = 0, G_J = 0;
-  double KI_vcct = 0, KII_vcct = 0, KI_J = 0;
+  double KI_vcct = 0, KII_vcct = 0, KI_J = 0, KII_J = 0;
 };
 
 /// The tips of all cracks, in order (crack, then end).
 std::vector<TipMeasure> tipsOf(const Scene &sc);
 
-/// VCCT at every tip (on a grid node; VCCT is 0 elsewhere), crack closure over one cell h
-/// (the tip node's zone on the side the crack comes from): G_I = F_n du_n / (2 t h),
-/// G_II = F_t du_t / (2 t h), with F the internal force that the particles on the tip frame's n
-/// side put on the tip node (one side's grip on the tip) and du the opening one cell behind the
-/// tip: the displacement of the n-side particle minus the other side's, for the two pairs whose
-/// centres started nearest to 3 l0 and 5 l0 behind the tip (h = 4 l0 with 2 x 2 particles per
-/// cell), interpolated linearly to h. J by the domain integral over the particles within jRadius
-/// of the tip: J = sum_p V_p (sigma_ij du_i/dx_1 - W delta_1j) dq/dx_j in the tip frame,
-/// q = 1 - r / jRadius. K = sqrt(G E') with E' = E (plane stress) or E / (1 - nu^2) (plane
-/// strain). Collective.
-PetscErrorCode measureTips(MPI_Comm comm, const Scene &sc, const Grid &g, const Stencils<kDim> &st,
-                           const ParticleView &p, double jRadius, std::vector<TipMeasure> &tips);
+/// J's default domain radius in cells at the tip.
+constexpr double kJCells = 5.0;
+
+/// VCCT and J at every tip (anywhere, any direction), with h the cell of the finest level
+/// holding the tip. VCCT is crack closure over one cell: G_I = F_n du_n / (2 t h),
+/// G_II = F_t du_t / (2 t h). F is the internal force that the particles on the tip frame's n
+/// side put on a node at the tip (the grid's regular GIMP kernel of cell h centred on the tip:
+/// one side's grip on the tip). du is the opening at the point one cell behind the tip: the
+/// mass projection of each side's particle displacement with the same kernel, n side minus the
+/// other (a particle's side is the one crossing() gives it against that point, as for the two
+/// fields of a grid node). J by the domain integral over the particles within jRadius of the
+/// tip (0: kJCells cells), J = sum_p V_p (sigma_ij du_i/dx_1 - W delta_1j) dq/dx_j in the tip
+/// frame, q = 1 - r / R; J is the total G, split into modes by the opening's ratio
+/// (K_II / K_I = du_t / du_n). K = sqrt(G E') with E' = E (plane stress) or E / (1 - nu^2)
+/// (plane strain), signed by G_I and du_t. Collective.
+PetscErrorCode measureTips(MPI_Comm comm, const Scene &sc, const Grid &g, const ParticleView &p,
+                           double jRadius, std::vector<TipMeasure> &tips);
 
 } // namespace gimp::cracks
