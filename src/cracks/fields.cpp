@@ -85,6 +85,7 @@ PetscInt Contact::apply(const Grid &g, double cut, double dt, const double *mass
     for (int c = 0; c < 2; ++c) {
       vel[2 * n + c] += dv1 * d[c];
       vel[2 * s + c] += dv2 * d[c];
+      if (!acc) continue;
       acc[2 * n + c] += dv1 * d[c] / dt;
       acc[2 * s + c] += dv2 * d[c] / dt;
     }

@@ -127,14 +127,27 @@ PetscErrorCode Solver::crackTips(std::vector<cracks::TipMeasure> &tips) {
 }
 
 PetscErrorCode Solver::restCriterion(PetscInt step, double t, const Energies &e) {
-  // Energy-based rest criterion for runs damped to a static state, on the history row's energies.
-  if (e.strain > 0 && e.kinetic < sc_.staticTol * e.strain) {
-    atRest_ = true;
-    PetscCall(PetscPrintf(comm_,
-                          "gimp: at rest at step %" PetscInt_FMT " t %.6g s: kinetic / strain "
-                          "energy %.3g < %.3g\n",
-                          step, t, e.kinetic / e.strain, sc_.staticTol));
+  // Energy-based rest criterion for runs damped to a static state, on the history rows'
+  // energies. One row is not enough: the kinetic energy of a vibration passes through zero twice
+  // a period. The body is at rest when kRestRows consecutive rows have kinetic / strain energy
+  // below the tolerance and the strain energy changed by less than 10 tolerance of itself
+  // over them (a body creeping to rest with little kinetic energy is not yet there).
+  constexpr int kRestRows = 3;
+  if (!(e.strain > 0 && e.kinetic < sc_.staticTol * e.strain)) {
+    restRows_ = 0;
+    return PETSC_SUCCESS;
   }
+  if (restRows_++ == 0) restStrain_ = e.strain;
+  if (std::fabs(e.strain - restStrain_) >= 10.0 * sc_.staticTol * e.strain) {
+    restRows_ = 1; // still creeping: count again from this row
+    restStrain_ = e.strain;
+  }
+  if (restRows_ < kRestRows) return PETSC_SUCCESS;
+  atRest_ = true;
+  PetscCall(PetscPrintf(comm_,
+                        "gimp: at rest at step %" PetscInt_FMT " t %.6g s: kinetic / strain "
+                        "energy %.3g < %.3g on %d history rows\n",
+                        step, t, e.kinetic / e.strain, sc_.staticTol, kRestRows));
   return PETSC_SUCCESS;
 }
 

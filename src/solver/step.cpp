@@ -36,11 +36,16 @@ PetscErrorCode Solver::step() {
   PetscCall(buildStencils(p, centres));
   PetscCall(particlesToGrid(p));
   PetscCall(PetscLogStagePop());
+  if (!sc_.cracks.empty()) {
+    PetscCall(crackFaces(p, centres));
+    PetscCall(contactOnMomentum(c));
+  }
   if (scheme_.stressBeforeGridUpdate) PetscCall(stress(p, nodal_.velW, c.dt));
   StartPower power;
   PetscCall(forces(p, c, power));
   PetscCall(gridUpdate());
-  if (!sc_.cracks.empty()) PetscCall(crackContact(p, centres, c));
+  if (!sc_.cracks.empty())
+    PetscCall(crackContact(c, nodal_.velW, nodal_.vel, nodal_.accW, nodal_.acc));
   PetscCall(gridToParticles(p, c));
   PetscCall(work(c, power));
   if (!scheme_.stressBeforeGridUpdate) PetscCall(stress(p, nodal_.velW, c.dt));
@@ -146,11 +151,9 @@ PetscErrorCode Solver::gridUpdate() {
   return PETSC_SUCCESS;
 }
 
-PetscErrorCode Solver::crackContact(const ParticleView &p, const double *centres,
-                                    const StepClock &c) {
-  // Frictionless contact of the two fields at cracked nodes, on the window (every rank that
-  // holds a node computes the same result), then back to the global velocity and acceleration.
-  PetscCall(PetscLogStagePush(stages_.grid));
+PetscErrorCode Solver::crackFaces(const ParticleView &p, const double *centres) {
+  // Each field's extent along its contact normal at every cracked node: on the window, the
+  // largest over the ranks that hold the node, back to every window.
   PetscScalar *f = nullptr;
   PetscCall(VecGetArray(nodal_.faceW, &f));
   contact_.faces(grid_, st_, p.n, centres, p.l, f);
@@ -158,6 +161,37 @@ PetscErrorCode Solver::crackContact(const ParticleView &p, const double *centres
   PetscCall(VecSet(nodal_.face, -1e300));
   PetscCall(grid_.fromWindow(nodal_.faceW, nodal_.face, MAX_VALUES));
   PetscCall(grid_.toWindow(nodal_.face, nodal_.faceW));
+  return PETSC_SUCCESS;
+}
+
+PetscErrorCode Solver::contactOnMomentum(const StepClock &c) {
+  // Contact on the projected momentum (before the forces): the fields' velocities and P, so the
+  // step starts from fields that do not approach each other.
+  PetscCall(grid_.toWindow(nodal_.vel, nodal_.velW));
+  PetscCall(VecCopy(nodal_.velW, nodal_.accW));
+  PetscCall(crackContact(c, nodal_.velW, nodal_.vel, nullptr, nullptr));
+  PetscCall(grid_.toWindow(nodal_.P, nodal_.sumW));
+  const PetscScalar *v = nullptr, *m = nullptr;
+  PetscScalar *old = nullptr, *P = nullptr;
+  PetscCall(VecGetArrayRead(nodal_.velW, &v));
+  PetscCall(VecGetArrayRead(nodal_.massW, &m));
+  PetscCall(VecGetArray(nodal_.accW, &old));
+  PetscCall(VecGetArray(nodal_.sumW, &P));
+  for (PetscInt s = 0; s < grid_.nSlots; ++s)
+    for (int d = 0; d < 2; ++d)
+      P[2 * s + d] += m[2 * s] * (v[2 * s + d] - old[2 * s + d]);
+  PetscCall(VecRestoreArray(nodal_.sumW, &P));
+  PetscCall(VecRestoreArray(nodal_.accW, &old));
+  PetscCall(VecRestoreArrayRead(nodal_.massW, &m));
+  PetscCall(VecRestoreArrayRead(nodal_.velW, &v));
+  PetscCall(grid_.fromWindow(nodal_.sumW, nodal_.P, INSERT_VALUES));
+  return PETSC_SUCCESS;
+}
+
+PetscErrorCode Solver::crackContact(const StepClock &c, Vec velW, Vec vel, Vec accW, Vec acc) {
+  // Frictionless contact of the two fields at cracked nodes, on the window (every rank that
+  // holds a node computes the same result), then back to the global vectors.
+  PetscCall(PetscLogStagePush(stages_.grid));
   PetscCall(grid_.toWindow(nodal_.mass, nodal_.massW));
   PetscCall(grid_.toWindow(nodal_.mask, nodal_.sumW));
   const PetscScalar *m = nullptr, *mask = nullptr, *face = nullptr;
@@ -165,24 +199,24 @@ PetscErrorCode Solver::crackContact(const ParticleView &p, const double *centres
   PetscCall(VecGetArrayRead(nodal_.massW, &m));
   PetscCall(VecGetArrayRead(nodal_.sumW, &mask));
   PetscCall(VecGetArrayRead(nodal_.faceW, &face));
-  PetscCall(VecGetArray(nodal_.velW, &v));
-  PetscCall(VecGetArray(nodal_.accW, &a));
+  PetscCall(VecGetArray(velW, &v));
+  if (accW) PetscCall(VecGetArray(accW, &a));
   const PetscInt touching =
       contact_.apply(grid_, sc_.massCutoff * meanParticleMass_, c.dt, m, face, v, a);
   for (PetscInt i = 0; i < 2 * grid_.nSlots; ++i) { // constrained dofs stay fixed
     v[i] *= mask[i];
-    a[i] *= mask[i];
+    if (a) a[i] *= mask[i];
   }
-  PetscCall(VecRestoreArray(nodal_.accW, &a));
-  PetscCall(VecRestoreArray(nodal_.velW, &v));
+  if (accW) PetscCall(VecRestoreArray(accW, &a));
+  PetscCall(VecRestoreArray(velW, &v));
   PetscCall(VecRestoreArrayRead(nodal_.faceW, &face));
   PetscCall(VecRestoreArrayRead(nodal_.sumW, &mask));
   PetscCall(VecRestoreArrayRead(nodal_.massW, &m));
   PetscCall(PetscInfo(nullptr,
                       "step %" PetscInt_FMT ": %" PetscInt_FMT " cracked nodes in contact\n",
                       c.step, touching));
-  PetscCall(grid_.fromWindow(nodal_.velW, nodal_.vel, INSERT_VALUES));
-  PetscCall(grid_.fromWindow(nodal_.accW, nodal_.acc, INSERT_VALUES));
+  PetscCall(grid_.fromWindow(velW, vel, INSERT_VALUES));
+  if (accW) PetscCall(grid_.fromWindow(accW, acc, INSERT_VALUES));
   PetscCall(PetscLogStagePop());
   return PETSC_SUCCESS;
 }
@@ -210,6 +244,9 @@ PetscErrorCode Solver::gridToParticles(ParticleView &p, const StepClock &c) {
     PetscCall(grid_.addFromWindow(nodal_.sumW, nodal_.acc));
     PetscCall(VecPointwiseMult(nodal_.acc, nodal_.acc, nodal_.invMass));
     PetscCall(grid_.toWindow(nodal_.acc, nodal_.accW));
+    // The re-projected fields of a cracked node may approach each other again: the same contact
+    // (faces of this step), or MUSL's strain would see the faces interpenetrate.
+    if (!sc_.cracks.empty()) PetscCall(crackContact(c, nodal_.accW, nodal_.acc, nullptr, nullptr));
     if (scheme_.stressFromReprojection) {
       PetscCall(VecCopy(nodal_.acc, nodal_.vel));
       PetscCall(VecCopy(nodal_.accW, nodal_.velW));

@@ -33,7 +33,8 @@ public:
   /// below 1e-3 of the cell): when the fields approach each other along d, both take the normal
   /// velocity of their common centre of mass (momentum is kept); fields that separate stay
   /// free. Window arrays, mass in component 0; the accelerations get the same change / dt so a
-  /// FLIP update sees it. Returns the number of nodes in contact.
+  /// FLIP update sees it (acc may be null: a velocity field alone, as MUSL's re-projection).
+  /// Returns the number of nodes in contact.
   PetscInt apply(const Grid &g, double cut, double dt, const double *mass, const double *face,
                  double *vel, double *acc) const;
 

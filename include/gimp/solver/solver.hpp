@@ -72,7 +72,12 @@ private:
   PetscErrorCode particlesToGrid(const ParticleView &p);
   PetscErrorCode forces(const ParticleView &p, const StepClock &c, StartPower &power);
   PetscErrorCode gridUpdate();
-  PetscErrorCode crackContact(const ParticleView &p, const double *centres, const StepClock &c);
+  /// The crack faces' extents at the cracked nodes (into nodal_.faceW), once per step.
+  PetscErrorCode crackFaces(const ParticleView &p, const double *centres);
+  PetscErrorCode contactOnMomentum(const StepClock &c);
+  /// Contact on a grid velocity (window velW, global vel) and, when accW is given, the same
+  /// change / dt on the acceleration (window accW, global acc).
+  PetscErrorCode crackContact(const StepClock &c, Vec velW, Vec vel, Vec accW, Vec acc);
   PetscErrorCode gridToParticles(ParticleView &p, const StepClock &c);
   PetscErrorCode work(const StepClock &c, const StartPower &power);
   PetscErrorCode stress(ParticleView &p, Vec velocityWindow, double dt);
@@ -113,6 +118,8 @@ private:
   bool failed_ = false;
   std::string localFailure_; // a failure found on this rank inside the step, reported by checks()
   bool atRest_ = false;      // stopped by the rest criterion (-gimp_static_tol)
+  int restRows_ = 0;         // consecutive history rows that meet it
+  double restStrain_ = 0;    // strain energy at the first of them
 };
 
 } // namespace gimp
