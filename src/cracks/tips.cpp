@@ -4,7 +4,6 @@
 #include "gimp/physics/material.hpp"
 
 #include <cmath>
-#include <limits>
 
 namespace gimp::cracks {
 
@@ -71,15 +70,6 @@ double jIntegrand(const Scene &sc, const ParticleView &p, PetscInt k, const doub
   return p.V[k] * integrand;
 }
 
-/// The cell size of the finest level whose box holds (x, y).
-double cellAt(const Grid &g, double x, double y) {
-  for (size_t k = g.levels.size(); k-- > 0;) {
-    const auto &b = g.levels[k].box;
-    if (x >= b[0] && x <= b[2] && y >= b[1] && y <= b[3]) return g.levels[k].h;
-  }
-  return g.h0();
-}
-
 /// GIMP weight and gradient (d/dx_p) of a regular node of cell h at (X, Y) for particle k: the
 /// grid's own kernel (Eq. 15) moved to a point that need not be a grid node.
 double pointKernel(const ParticleView &p, PetscInt k, double X, double Y, double h,
@@ -139,7 +129,7 @@ PetscErrorCode measureTips(MPI_Comm comm, const Scene &sc, const Grid &g, const 
     const Crack &crack = sc.cracks[m.crack];
     double t[2], n[2];
     tipFrame(crack, m.end, t, n);
-    const double h = cell[q] = cellAt(g, m.tip[0], m.tip[1]);
+    const double h = cell[q] = g.levels[g.leafLevelAt(m.tip[0], m.tip[1])].h;
     const double R = jRadius > 0 ? jRadius : kJCells * h;
     // The point one cell behind the tip, on the crack line; a particle is on the side of the
     // crack's left normal there unless the segment to the point crosses the crack.

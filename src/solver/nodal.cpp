@@ -4,7 +4,7 @@ namespace gimp {
 
 Nodal::~Nodal() {
   for (Vec *v : {&P, &mass, &vel, &acc, &f, &rhs, &fext, &bcMask, &mask, &invMass, &face, &sumW,
-                 &massW, &velW, &accW, &extW, &faceW})
+                 &massW, &velW, &accW, &extW, &faceW, &maskW})
     if (*v) (void)VecDestroy(v);
 }
 
@@ -18,6 +18,7 @@ PetscErrorCode Nodal::create(const Grid &grid, bool external, bool cracks) {
   if (cracks) {
     PetscCall(VecDuplicate(P, &face));
     PetscCall(grid.createWindowVec(&faceW));
+    PetscCall(grid.createWindowVec(&maskW));
   }
   if (external) {
     PetscCall(VecDuplicate(P, &fext));

@@ -153,7 +153,10 @@ PetscErrorCode Solver::gridUpdate() {
 
 PetscErrorCode Solver::crackFaces(const ParticleView &p, const double *centres) {
   // Each field's extent along its contact normal at every cracked node: on the window, the
-  // largest over the ranks that hold the node, back to every window.
+  // largest over the ranks that hold the node, back to every window. With them the summed mass
+  // and the mask on the window, which the step's contact passes read.
+  PetscCall(grid_.toWindow(nodal_.mass, nodal_.massW));
+  PetscCall(grid_.toWindow(nodal_.mask, nodal_.maskW));
   PetscScalar *f = nullptr;
   PetscCall(VecGetArray(nodal_.faceW, &f));
   contact_.faces(grid_, st_, p.n, centres, p.l, f);
@@ -192,12 +195,10 @@ PetscErrorCode Solver::crackContact(const StepClock &c, Vec velW, Vec vel, Vec a
   // Frictionless contact of the two fields at cracked nodes, on the window (every rank that
   // holds a node computes the same result), then back to the global vectors.
   PetscCall(PetscLogStagePush(stages_.grid));
-  PetscCall(grid_.toWindow(nodal_.mass, nodal_.massW));
-  PetscCall(grid_.toWindow(nodal_.mask, nodal_.sumW));
   const PetscScalar *m = nullptr, *mask = nullptr, *face = nullptr;
   PetscScalar *v = nullptr, *a = nullptr;
   PetscCall(VecGetArrayRead(nodal_.massW, &m));
-  PetscCall(VecGetArrayRead(nodal_.sumW, &mask));
+  PetscCall(VecGetArrayRead(nodal_.maskW, &mask));
   PetscCall(VecGetArrayRead(nodal_.faceW, &face));
   PetscCall(VecGetArray(velW, &v));
   if (accW) PetscCall(VecGetArray(accW, &a));
@@ -210,7 +211,7 @@ PetscErrorCode Solver::crackContact(const StepClock &c, Vec velW, Vec vel, Vec a
   if (accW) PetscCall(VecRestoreArray(accW, &a));
   PetscCall(VecRestoreArray(velW, &v));
   PetscCall(VecRestoreArrayRead(nodal_.faceW, &face));
-  PetscCall(VecRestoreArrayRead(nodal_.sumW, &mask));
+  PetscCall(VecRestoreArrayRead(nodal_.maskW, &mask));
   PetscCall(VecRestoreArrayRead(nodal_.massW, &m));
   PetscCall(PetscInfo(nullptr,
                       "step %" PetscInt_FMT ": %" PetscInt_FMT " cracked nodes in contact\n",

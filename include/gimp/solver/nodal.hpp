@@ -22,7 +22,7 @@ struct Nodal {
   Vec face = nullptr;    // with cracks: where each field's material ends toward the other
   // Window.
   Vec sumW = nullptr, massW = nullptr, velW = nullptr, accW = nullptr, extW = nullptr;
-  Vec faceW = nullptr;
+  Vec faceW = nullptr, maskW = nullptr; // with cracks: faces; mask on the window
 
   Nodal() = default;
   Nodal(const Nodal &) = delete;
