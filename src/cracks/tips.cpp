@@ -1,5 +1,6 @@
 #include "gimp/cracks/tips.hpp"
 
+#include "gimp/cracks/williams.hpp"
 #include "gimp/grid/shape.hpp"
 #include "gimp/physics/material.hpp"
 
@@ -42,10 +43,14 @@ double modulus(const Material &m) {
   return m.planeStrain ? m.E / (1.0 - m.nu * m.nu) : m.E;
 }
 
-/// Particle k's term of the J domain integral, V_p (sigma_ij du_i/dx_1 - W delta_1j) dq/dx_j
-/// in the tip frame (t, n), at tip-frame position (along, across), distance rr < R.
-double jIntegrand(const Scene &sc, const ParticleView &p, PetscInt k, const double t[2],
-                  const double n[2], double along, double across, double rr, double R) {
+/// Particle k's terms of the domain integrals at tip-frame position (along, across), distance
+/// rr < R, with q = 1 - r / R, added to out: J = sum_p V_p (sigma_ij du_i/dx_1 - W delta_1j)
+/// dq/dx_j, and the interaction integrals with the unit mode I and mode II tip fields,
+/// I_m = sum_p V_p (sigma_ij du^m_i/dx_1 + sigma^m_ij du_i/dx_1 - sigma^m_ij eps_ij delta_1j)
+/// dq/dx_j, all in the tip frame (t, n).
+void domainTerms(const Material &mat, const TipElastic &el, const ParticleView &p, PetscInt k,
+                 const double t[2], const double n[2], double along, double across, double rr,
+                 double R, double out[3]) {
   const auto s = tensorAt<2>(p.s, k);
   const auto F = tensorAt<2>(p.F, k);
   const double H[2][2] = {{F(0, 0) - 1.0, F(0, 1)}, {F(1, 0), F(1, 1) - 1.0}};
@@ -58,16 +63,29 @@ double jIntegrand(const Scene &sc, const ParticleView &p, PetscInt k, const doub
           sp[a][b] += Q[a][c] * s(c, d) * Q[b][d];
           hp[a][b] += Q[a][c] * H[c][d] * Q[b][d];
         }
-  const double W = material::strainEnergy(sc.material, s, p.szz[k], F, p.V0[k], p.V[k]) / p.V[k];
-  const double dq[2] = {-along / (rr * R), -across / (rr * R)};
-  double integrand = 0;
-  for (int j = 0; j < 2; ++j) {
-    double term = -(j == 0 ? W : 0.0);
-    for (int i = 0; i < 2; ++i)
-      term += sp[i][j] * hp[i][0];
-    integrand += term * dq[j];
+  const double W = material::strainEnergy(mat, s, p.szz[k], F, p.V0[k], p.V[k]) / p.V[k];
+  // q = (1 - r^2 / R^2)^2: its gradient vanishes at the tip and at R, so the particle sum of
+  // the integrand (bounded, continuous) has no O(h / R) quadrature error from either end.
+  const double fall = -4.0 / (R * R) * (1.0 - rr * rr / (R * R));
+  const double dq[2] = {fall * along, fall * across};
+  double j = 0;
+  for (int b = 0; b < 2; ++b)
+    j += (sp[0][b] * hp[0][0] + sp[1][b] * hp[1][0] - (b == 0 ? W : 0.0)) * dq[b];
+  out[0] += p.V[k] * j;
+  const double theta = std::atan2(across, along);
+  const double eps[3] = {hp[0][0], hp[1][1], 0.5 * (hp[0][1] + hp[1][0])};
+  for (int mode = 1; mode <= 2; ++mode) {
+    double sa[3], ua[2];
+    williamsField(mode, rr, theta, el, sa, ua);
+    const double S[2][2] = {{sa[0], sa[2]}, {sa[2], sa[1]}};
+    const double Wint = sa[0] * eps[0] + sa[1] * eps[1] + 2.0 * sa[2] * eps[2];
+    double m = 0;
+    for (int b = 0; b < 2; ++b)
+      m += (sp[0][b] * ua[0] + sp[1][b] * ua[1] + S[0][b] * hp[0][0] + S[1][b] * hp[1][0] -
+            (b == 0 ? Wint : 0.0)) *
+           dq[b];
+    out[mode] += p.V[k] * m;
   }
-  return p.V[k] * integrand;
 }
 
 /// GIMP weight and gradient (d/dx_p) of a regular node of cell h at (X, Y) for particle k: the
@@ -82,9 +100,10 @@ double pointKernel(const ParticleView &p, PetscInt k, double X, double Y, double
   return wx * wy;
 }
 
-// The reduced row of one tip: the n side's force on the tip point (2), J times thickness (1),
-// then sum m w u and sum m w of each side at the point one cell behind the tip (3 + 3).
-constexpr int kForce = 0, kJ = 2, kPlus = 3, kMinus = 6, kRow = 9;
+// The reduced row of one tip: the n side's force on the tip point (2); J and the mode I and II
+// interaction integrals, times thickness (3); then sum m w u and sum m w of each side at the
+// point one cell behind the tip (3 + 3).
+constexpr int kForce = 0, kJ = 2, kPlus = 5, kMinus = 8, kRow = 11;
 
 /// G and K of one tip from its reduced row r; h the cell at the tip.
 void finishTip(const Scene &sc, const double *r, double h, TipMeasure &m) {
@@ -108,14 +127,31 @@ void finishTip(const Scene &sc, const double *r, double h, TipMeasure &m) {
   m.G_J = r[kJ] / th;
   m.KI_vcct = std::copysign(std::sqrt(std::fabs(m.G_vcct) * Ep), m.G_vcct);
   m.KII_vcct = std::copysign(std::sqrt(std::fabs(m.GII_vcct) * Ep), dut);
-  // J is the total G; the opening's ratio near the tip splits it (K_II / K_I = du_t / du_n).
-  const double ratio2 = dun != 0 ? (dut * dut) / (dun * dun) : 0.0;
-  const double GI = m.G_J / (1.0 + ratio2);
-  m.KI_J = std::copysign(std::sqrt(std::fabs(GI) * Ep), m.G_J);
-  m.KII_J = dun != 0 ? m.KI_J * dut / dun : 0.0;
+  // The interaction integrals with the unit tip fields: I_m = 2 K_m / E'.
+  m.KI_J = 0.5 * Ep * r[kJ + 1] / th;
+  m.KII_J = 0.5 * Ep * r[kJ + 2] / th;
 }
 
 } // namespace
+
+TipElastic tipElastic(const Material &m) {
+  TipElastic e;
+  e.mu = m.E / (2.0 * (1.0 + m.nu));
+  e.kappa = m.planeStrain ? 3.0 - 4.0 * m.nu : (3.0 - m.nu) / (1.0 + m.nu);
+  return e;
+}
+
+void addDomainIntegrals(const Material &mat, const ParticleView &p, const double tip[2],
+                        const double t[2], double R, double out[3]) {
+  const TipElastic el = tipElastic(mat);
+  const double n[2] = {-t[1], t[0]};
+  for (PetscInt k = 0; k < p.n; ++k) {
+    const double rx = p.x[2 * k] - tip[0], ry = p.x[2 * k + 1] - tip[1];
+    const double rr = std::hypot(rx, ry);
+    if (rr < R && rr > 0)
+      domainTerms(mat, el, p, k, t, n, rx * t[0] + ry * t[1], rx * n[0] + ry * n[1], rr, R, out);
+  }
+}
 
 PetscErrorCode measureTips(MPI_Comm comm, const Scene &sc, const Grid &g, const ParticleView &p,
                            double jRadius, std::vector<TipMeasure> &tips) {
@@ -140,7 +176,7 @@ PetscErrorCode measureTips(MPI_Comm comm, const Scene &sc, const Grid &g, const 
     double *r = &local[kRow * q];
     for (PetscInt k = 0; k < p.n; ++k) {
       const double rx = p.x[2 * k] - m.tip[0], ry = p.x[2 * k + 1] - m.tip[1];
-      const double along = rx * t[0] + ry * t[1], across = rx * n[0] + ry * n[1];
+      const double across = rx * n[0] + ry * n[1];
       double grad[2];
       // One side's grip on the tip: the n-side particles' internal force on a node at the tip.
       if (across > 0 && pointKernel(p, k, m.tip[0], m.tip[1], h, grad) > 0) {
@@ -157,10 +193,8 @@ PetscErrorCode measureTips(MPI_Comm comm, const Scene &sc, const Grid &g, const 
         o[1] += p.m[k] * w * (p.x[2 * k + 1] - p.X0[2 * k + 1]);
         o[2] += p.m[k] * w;
       }
-      // J: domain integral with q = 1 - r / R.
-      const double rr = std::hypot(rx, ry);
-      if (rr < R && rr > 0) r[kJ] += jIntegrand(sc, p, k, t, n, along, across, rr, R);
     }
+    addDomainIntegrals(sc.material, p, m.tip, t, R, &r[kJ]);
   }
   PetscCallMPI(MPI_Allreduce(local.data(), global.data(), static_cast<int>(local.size()),
                              MPI_DOUBLE, MPI_SUM, comm));

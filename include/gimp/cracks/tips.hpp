@@ -2,6 +2,7 @@
 // the J-integral in its domain form, and the stress intensity factors from them.
 #pragma once
 
+#include "gimp/cracks/williams.hpp"
 #include "gimp/grid/grid.hpp"
 #include "gimp/particles/swarm.hpp"
 
@@ -23,6 +24,18 @@ struct TipMeasure {
 /// The tips of all cracks, in order (crack, then end).
 std::vector<TipMeasure> tipsOf(const Scene &sc);
 
+/// The tip fields' constants of a material.
+TipElastic tipElastic(const Material &m);
+
+/// Adds the domain integrals of the tip at `tip` (crack direction t toward the tip) over this
+/// rank's particles within R of it, q = 1 - r / R, in the tip frame (t, n = left normal of t):
+/// out[0] += sum_p V_p (sigma_ij du_i/dx_1 - W delta_1j) dq/dx_j (J times thickness) and
+/// out[m] += sum_p V_p (sigma_ij du^m_i/dx_1 + sigma^m_ij du_i/dx_1 - sigma^m_ij eps_ij delta_1j)
+/// dq/dx_j for the unit mode m = 1, 2 tip fields (williamsField): the interaction integrals,
+/// 2 K_m / E' times thickness. Stress from p.s, displacement gradient from p.F - I.
+void addDomainIntegrals(const Material &mat, const ParticleView &p, const double tip[2],
+                        const double t[2], double R, double out[3]);
+
 /// J's default domain radius in cells at the tip.
 constexpr double kJCells = 5.0;
 
@@ -35,9 +48,9 @@ constexpr double kJCells = 5.0;
 /// other (a particle's side is the one crossing() gives it against that point, as for the two
 /// fields of a grid node). J by the domain integral over the particles within jRadius of the
 /// tip (0: kJCells cells), J = sum_p V_p (sigma_ij du_i/dx_1 - W delta_1j) dq/dx_j in the tip
-/// frame, q = 1 - r / R; J is the total G, split into modes by the opening's ratio
-/// (K_II / K_I = du_t / du_n). K = sqrt(G E') with E' = E (plane stress) or E / (1 - nu^2)
-/// (plane strain), signed by G_I and du_t. Collective.
+/// frame, q = 1 - r / R; K_I and K_II "by J" from the interaction integrals over the same
+/// domain (addDomainIntegrals), K_m = E' I_m / 2. VCCT's K = sqrt(G E'), signed by G_I and du_t;
+/// E' = E (plane stress) or E / (1 - nu^2) (plane strain). Collective.
 PetscErrorCode measureTips(MPI_Comm comm, const Scene &sc, const Grid &g, const ParticleView &p,
                            double jRadius, std::vector<TipMeasure> &tips);
 
