@@ -11,7 +11,8 @@ options/crack_closure.opts is a block cut through by a crack (two halves meeting
    than 1e-6 of a particle size.
 2. Opening: pulled apart without damping, nothing holds the halves together (no sticking, no
    contact across the open gap): each half's momentum is the impulse of its own traction,
-   p * width * thickness * (steps - 1/2) dt, within 1e-7 (measured 4e-9), and the gap opens.
+   p * width * thickness * (steps - 1/2) dt, within 1e-7 (measured 4e-9), and the gap opens;
+   with corner tracking the faces' corners open the same gap (each follows its own half).
 3. MPI: 2 ranks (the crack crosses the rank border) give the 1-rank particles to 1e-10, and on
    the DCB (options/dcb.opts, whose tip lies at the rank border) the same crack-tip measures.
 """
@@ -87,6 +88,28 @@ c.check("open crack: each half takes its traction's impulse", err < 1e-7,
         "momenta %.6g, %.6g kg m/s against -+%.6g (relative error %.3g)" %
         (mom[0], mom[1], impulse, err))
 c.check("open crack: the gap opens", gap > 0.0, "gap %.3g m after %.3g s" % (gap, t))
+
+# The same opening with corner tracking: every face corner follows its own half (a corner on the
+# crack line once took the upper field whichever particle it belonged to, and the lower face's
+# corners rose into the upper half).
+out = os.path.join(args.work, "opening_corners")
+gimptest.run(args, SCENE, ["-gimp_traction0_value", "0,1e4", "-gimp_traction1_value", "0,-1e4",
+                           "-gimp_damping", "0", "-ts_max_steps", str(steps),
+                           "-gimp_tracking", "corners"], outdir=out)
+try:
+    import h5py
+    with h5py.File(os.path.join(out, "fields.h5"), "r") as f:
+        g = f["particles"][sorted(f["particles"])[-1]]
+        y0 = list(g["X0"][:, 1])
+        cy = [[float(v) for v in row[1::2]] for row in g["corners"][:]]
+    top_of_lower = max(max(cy[i]) for i in range(len(y0)) if y0[i] < Y0)
+    bottom_of_upper = min(min(cy[i]) for i in range(len(y0)) if y0[i] >= Y0)
+    cgap = bottom_of_upper - top_of_lower
+    c.check("open crack with corners: each half's corners follow it", cgap > 0.5 * gap,
+            "gap between the halves' corners %.3g m (material points' boxes: %.3g m)" %
+            (cgap, gap))
+except ImportError:
+    c.check("h5py", False, "python3-h5py is not installed (tools/setup.sh installs it)")
 
 # 3. MPI: the crack crosses the rank border.
 dumps = []

@@ -44,7 +44,7 @@ double modulus(const Material &m) {
 }
 
 /// Particle k's terms of the domain integrals at tip-frame position (along, across), distance
-/// rr < R, with q = 1 - r / R, added to out: J = sum_p V_p (sigma_ij du_i/dx_1 - W delta_1j)
+/// rr < R, with q = (1 - r^2 / R^2)^2, added to out: J = sum_p V_p (sigma_ij du_i/dx_1 - W delta_1j)
 /// dq/dx_j, and the interaction integrals with the unit mode I and mode II tip fields,
 /// I_m = sum_p V_p (sigma_ij du^m_i/dx_1 + sigma^m_ij du_i/dx_1 - sigma^m_ij eps_ij delta_1j)
 /// dq/dx_j, all in the tip frame (t, n).

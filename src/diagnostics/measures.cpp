@@ -1,4 +1,5 @@
 #include "gimp/diagnostics/measures.hpp"
+#include "gimp/cracks/geometry.hpp"
 
 #include "gimp/diagnostics/gather.hpp"
 #include "gimp/particles/swarm.hpp"
@@ -99,7 +100,8 @@ PetscErrorCode mmsErrors(MPI_Comm comm, const Scene &sc, DM sw, double t, double
 namespace {
 
 /// On rank 0: the separation measure over all particles' rows (id, X0, centre, l, l0).
-void separationOfRows(const std::vector<double> &all, int kCols, double q, double res[2]) {
+void separationOfRows(const std::vector<double> &all, int kCols, double q,
+                      const std::vector<Crack> &cracks, double res[2]) {
   const size_t n = all.size() / kCols;
   auto key = [q](double x, double y) {
     return std::make_pair(std::llround(x / q), std::llround(y / q));
@@ -122,6 +124,10 @@ void separationOfRows(const std::vector<double> &all, int kCols, double q, doubl
       if (it == at.end()) continue;
       const double *o = &all[it->second * kCols];
       if (o[7 + d] != r[7 + d]) continue; // neighbours of another size (another level)
+      if (std::any_of(cracks.begin(), cracks.end(), [&](const Crack &c) {
+            return cracks::crossing(c, r[1], r[2], o[1], o[2]) != 0;
+          }))
+        continue; // a crack between them
       const double g = ((o[3 + d] - o[5 + d]) - (r[3 + d] + r[5 + d])) / (2.0 * r[7 + d]);
       worst = std::max(worst, g);
     }
@@ -132,7 +138,8 @@ void separationOfRows(const std::vector<double> &all, int kCols, double q, doubl
 
 } // namespace
 
-PetscErrorCode separation(MPI_Comm comm, const Lattice &grid, DM sw, double &gap, double &strain) {
+PetscErrorCode separation(MPI_Comm comm, const Lattice &grid, DM sw,
+                          const std::vector<Crack> &cracks, double &gap, double &strain) {
   ParticleView p;
   PetscCall(p.get(sw));
   constexpr int kCols = 9;
@@ -155,7 +162,7 @@ PetscErrorCode separation(MPI_Comm comm, const Lattice &grid, DM sw, double &gap
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   double res[2] = {0, 0};
   // Initial positions lie on a lattice of step unit / 512.
-  if (rank == 0) separationOfRows(all, kCols, grid.unit / 512.0, res);
+  if (rank == 0) separationOfRows(all, kCols, grid.unit / 512.0, cracks, res);
   PetscCallMPI(MPI_Bcast(res, 2, MPI_DOUBLE, 0, comm));
   gap = res[0];
   strain = res[1];

@@ -28,7 +28,15 @@ bool CornerMotion::move(const Grid &g, const std::vector<Crack> &cracks, double 
       size_[8 * k + 2 * q + 1] = cornerSize * p.l0[2 * k + 1];
     }
   if (!g.buildStencils(static_cast<PetscInt>(n4), p.corners, size_.data(), st_)) return false;
-  cracks::assignFields(g, cracks, static_cast<PetscInt>(n4), p.corners, st_);
+  if (!cracks.empty()) {
+    owner_.resize(2 * n4);
+    for (PetscInt k = 0; k < p.n; ++k)
+      for (int q = 0; q < 4; ++q) {
+        owner_[8 * k + 2 * q] = p.x[2 * k];
+        owner_[8 * k + 2 * q + 1] = p.x[2 * k + 1];
+      }
+    cracks::assignFields(g, cracks, static_cast<PetscInt>(n4), owner_.data(), st_);
+  }
   const PetscInt *start = st_.start.data(), *node = st_.node.data();
   for (size_t c = 0; c < n4; ++c) {
     double vx = 0, vy = 0, wsum = 0;

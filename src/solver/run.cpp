@@ -101,7 +101,7 @@ PetscErrorCode Solver::historyRow(PetscInt step, double t, HistoryRow &row) {
   measures_.mmsLinf = std::max(measures_.mmsLinf, row.mmsLinf);
   measures_.mmsRms = std::max(measures_.mmsRms, row.mmsRms);
   PetscCall(boundary_.reactions(comm_, row.reactions, row.gaps));
-  PetscCall(separation(comm_, grid_, sw_, row.separation, row.strainX));
+  PetscCall(separation(comm_, grid_, sw_, sc_.cracks, row.separation, row.strainX));
   PetscCall(crackTips(row.tips));
   measures_.maxStrain = std::max(measures_.maxStrain, row.strainX);
   measures_.maxSeparation = std::max(measures_.maxSeparation, row.separation);

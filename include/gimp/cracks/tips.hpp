@@ -28,7 +28,7 @@ std::vector<TipMeasure> tipsOf(const Scene &sc);
 TipElastic tipElastic(const Material &m);
 
 /// Adds the domain integrals of the tip at `tip` (crack direction t toward the tip) over this
-/// rank's particles within R of it, q = 1 - r / R, in the tip frame (t, n = left normal of t):
+/// rank's particles within R of it, q = (1 - r^2 / R^2)^2, in the tip frame (t, n = left normal of t):
 /// out[0] += sum_p V_p (sigma_ij du_i/dx_1 - W delta_1j) dq/dx_j (J times thickness) and
 /// out[m] += sum_p V_p (sigma_ij du^m_i/dx_1 + sigma^m_ij du_i/dx_1 - sigma^m_ij eps_ij delta_1j)
 /// dq/dx_j for the unit mode m = 1, 2 tip fields (williamsField): the interaction integrals,
@@ -48,7 +48,7 @@ constexpr double kJCells = 5.0;
 /// other (a particle's side is the one crossing() gives it against that point, as for the two
 /// fields of a grid node). J by the domain integral over the particles within jRadius of the
 /// tip (0: kJCells cells), J = sum_p V_p (sigma_ij du_i/dx_1 - W delta_1j) dq/dx_j in the tip
-/// frame, q = 1 - r / R; K_I and K_II "by J" from the interaction integrals over the same
+/// frame, q = (1 - r^2 / R^2)^2; K_I and K_II "by J" from the interaction integrals over the same
 /// domain (addDomainIntegrals), K_m = E' I_m / 2. VCCT's K = sqrt(G E'), signed by G_I and du_t;
 /// E' = E (plane stress) or E / (1 - nu^2) (plane strain). Collective.
 PetscErrorCode measureTips(MPI_Comm comm, const Scene &sc, const Grid &g, const ParticleView &p,

@@ -48,8 +48,11 @@ PetscErrorCode probeStates(MPI_Comm comm, DM sw, const std::vector<PetscInt64> &
 PetscErrorCode mmsErrors(MPI_Comm comm, const Scene &sc, DM sw, double t, double &linf,
                          double &rms);
 /// Largest gap between particles that started as neighbours, relative to their size, and the
-/// engineering strain of the particles' extent along x.
-PetscErrorCode separation(MPI_Comm comm, const Lattice &grid, DM sw, double &gap, double &strain);
+/// engineering strain of the particles' extent along x. Neighbours that a crack separates (the
+/// segment between their initial positions crosses one of `cracks`) are not compared: their
+/// gap is the crack opening.
+PetscErrorCode separation(MPI_Comm comm, const Lattice &grid, DM sw,
+                          const std::vector<Crack> &cracks, double &gap, double &strain);
 /// The hole measure.
 PetscErrorCode holeMeasure(MPI_Comm comm, const Scene &sc, DM sw, HoleMeasure &out);
 

@@ -73,7 +73,11 @@ const double *domainCentres(const ParticleView &p, std::vector<double> &centre);
 
 /// Moves the tracked corners with the grid velocity interpolated at each corner, as a particle
 /// of the fictitious size -gimp_corner_size times the particle's, renormalised over the nodes
-/// that carry mass. Neighbours' shared corners get the same velocity and stay together.
+/// that carry mass. Neighbours' shared corners get the same velocity and stay together. At a
+/// cracked node a corner takes the field of its particle's side (the side of the segment from
+/// the material point to the node): a face's corners lie on the crack line, where the corner's
+/// own position would give both faces' corners one side, and the lower face's corners would
+/// follow the upper face.
 class CornerMotion {
 public:
   /// vWindow: nodal velocity on the window; mWindow: nodal mass there (component 0). False when
@@ -84,6 +88,7 @@ public:
 private:
   Stencils<2> st_;
   std::vector<double> size_;
+  std::vector<double> owner_; // each corner's material point, for the crack fields
 };
 
 } // namespace gimp::tracking
