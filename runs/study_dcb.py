@@ -5,7 +5,9 @@ J-integral, against wall time. The converged value is the Richardson extrapolati
 uniform 2, 1 and 0.5 mm VCCT values (observed order from the three); the beam-on-elastic-
 foundation value 2 sqrt(3) F (a + 0.64 h) / (B h^(3/2)) and the paper's Eq. 17,
 2 sqrt(3) F (a + 3 H / 2) / H^(3/2) with H the arm height, are printed beside it. Writes a
-Markdown table to stdout, WORK/dcb_study.csv and docs/img/dcb_speed_error.png.
+Markdown table to stdout, WORK/dcb_study.csv and docs/img/dcb_speed_error.png. Cost is the
+run's CPU time (summary.json cpu_seconds; on one rank the wall time of an idle machine): the
+study takes about half an hour, and other work sharing the machine would skew wall times.
 
 Usage: /usr/bin/python3 runs/study_dcb.py [--gimp build/gimp] [--work DIR] [--no-run]
 """
@@ -23,11 +25,12 @@ RUNS = [  # name, scene, extra options, kind
     ("uniform 4 mm", UNIFORM, ["-gimp_h", "4e-3"], "uniform"),
     ("uniform 2 mm", UNIFORM, ["-gimp_h", "2e-3"], "uniform"),
     ("uniform 1 mm", UNIFORM, ["-gimp_h", "1e-3"], "uniform"),
-    ("uniform 0.5 mm", UNIFORM, ["-gimp_h", "0.5e-3"], "uniform"),
     ("2 levels 2/1 mm", SCENE, [], "refined"),
     ("3 levels 2/1/0.5 mm", SCENE, ["-gimp_levels", "3", "-gimp_level2_box", "0.045,0.007,0.055,0.017",
                              "-gimp_level2_ratio", "2"], "refined"),
+    ("uniform 0.5 mm", UNIFORM, ["-gimp_h", "0.5e-3"], "uniform"),
 ]
+U4, U2, U1, L2, L3, U05 = range(6)
 # Every grid runs the same physical time at the same dt (0.1 us, the paper's), long enough that
 # the slowest grid is at rest (kinetic / strain energy below 1e-6 from the previous history row
 # on): the wall times then compare equal work, not the rest criterion's luck of the draw.
@@ -83,9 +86,9 @@ def main():
         c = s["cracks"][0]
         ke_u, drift = settled(os.path.join(out, "history.csv"))
         rows.append(dict(name=name, kind=kind, particles=s["particles"], steps=s["steps"],
-                         wall=s["wall_seconds"], status=s["status"], KI_vcct=c["KI_vcct"],
+                         wall=s["wall_seconds"], cpu=s["cpu_seconds"], status=s["status"], KI_vcct=c["KI_vcct"],
                          KI_J=c["KI_J"], ke_u=ke_u, drift=drift))
-    k0, order = richardson(rows[1]["KI_vcct"], rows[2]["KI_vcct"], rows[3]["KI_vcct"])
+    k0, order = richardson(rows[U2]["KI_vcct"], rows[U1]["KI_vcct"], rows[U05]["KI_vcct"])
     for r in rows:
         r["err_vcct"] = r["KI_vcct"] / k0 - 1
         r["err_J"] = r["KI_J"] / k0 - 1
@@ -95,19 +98,20 @@ def main():
     print("Beam on elastic foundation: %.4f Pa m^0.5 (%+.2f %% from the converged value); "
           "the paper's Eq. 17 (a + 3H/2): %.4f (%+.2f %%)\n" %
           (beam(), 100 * (beam() / k0 - 1), eq17(), 100 * (eq17() / k0 - 1)))
-    print("| grid | particles | steps | wall [s] | KE / U at end | K change, last 2 ms | "
+    print("| grid | particles | steps | wall [s] | CPU [s] | KE / U at end | K change, last 2 ms | "
           "K_I VCCT | K_I J | VCCT error | J error | VCCT / J - 1 |")
-    print("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |")
+    print("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |")
     for r in rows:
-        print("| %s | %d | %d | %.1f | %.1e | %+.1e | %.4f | %.4f | %+.2f %% | %+.2f %% | "
-              "%+.2f %% |" % (r["name"], r["particles"], r["steps"], r["wall"], r["ke_u"],
+        print("| %s | %d | %d | %.1f | %.1f | %.1e | %+.1e | %.4f | %.4f | %+.2f %% | %+.2f %% | "
+              "%+.2f %% |" % (r["name"], r["particles"], r["steps"], r["wall"], r["cpu"], r["ke_u"],
                               r["drift"], r["KI_vcct"], r["KI_J"], 100 * r["err_vcct"],
                               100 * r["err_J"], 100 * r["vcct_J"]))
-    u1 = rows[2]
-    l2 = rows[4]
-    print("\n2 levels 2/1 mm against uniform 1 mm: K_I VCCT %+.3f %%, J %+.3f %%, wall time "
-          "%.2f times less" % (100 * (l2["KI_vcct"] / u1["KI_vcct"] - 1),
-                               100 * (l2["KI_J"] / u1["KI_J"] - 1), u1["wall"] / l2["wall"]))
+    u1 = rows[U1]
+    for lv in (rows[L2], rows[L3]):
+        print("\n%s against uniform 1 mm: K_I VCCT %+.3f %%, J %+.3f %%, CPU time %.2f times "
+              "less (wall %.2f)" % (lv["name"], 100 * (lv["KI_vcct"] / u1["KI_vcct"] - 1),
+                                    100 * (lv["KI_J"] / u1["KI_J"] - 1), u1["cpu"] / lv["cpu"],
+                                    u1["wall"] / lv["wall"]))
     os.makedirs(a.work, exist_ok=True)
     with open(os.path.join(a.work, "dcb_study.csv"), "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
@@ -122,14 +126,14 @@ def main():
     fig, ax = plt.subplots(figsize=(6, 4.2))
     for kind, mark in (("uniform", "o-"), ("refined", "s")):
         pts = [r for r in rows if r["kind"] == kind]
-        ax.loglog([r["wall"] for r in pts], [abs(r["err_vcct"]) for r in pts], mark,
+        ax.loglog([r["cpu"] for r in pts], [abs(r["err_vcct"]) for r in pts], mark,
                   label=kind + " (VCCT)")
-        ax.loglog([r["wall"] for r in pts], [abs(r["err_J"]) for r in pts], mark[0],
+        ax.loglog([r["cpu"] for r in pts], [abs(r["err_J"]) for r in pts], mark[0],
                   mfc="none", label=kind + " (J)")
         for r in pts:
-            ax.annotate(r["name"], (r["wall"], abs(r["err_vcct"])), fontsize=7, xytext=(4, 4),
+            ax.annotate(r["name"], (r["cpu"], abs(r["err_vcct"])), fontsize=7, xytext=(4, 4),
                         textcoords="offset points")
-    ax.set_xlabel("wall time [s] (1 rank, %g ms at dt 0.1 us)" % (1e3 * T_END))
+    ax.set_xlabel("CPU time [s] (1 rank, %g ms at dt 0.1 us)" % (1e3 * T_END))
     ax.set_ylabel("|K_I / converged - 1|")
     ax.set_title("DCB at rest: K_I error against wall time")
     ax.grid(True, which="both", alpha=0.3)

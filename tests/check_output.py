@@ -9,7 +9,8 @@ args = gimptest.parse_args()
 out = gimptest.run(args, "options/patch.opts", ["-ts_max_steps", "100", "-gimp_output_interval", "40"])
 c = gimptest.Checks()
 s = gimptest.summary(out)
-keys = ["scene", "version", "ranks", "steps", "time", "dt", "wall_seconds", "particles", "levels",
+keys = ["scene", "version", "ranks", "steps", "time", "dt", "wall_seconds", "cpu_seconds",
+        "particles", "levels",
         "energy", "probes", "measures"]
 c.check("summary keys", all(k in s for k in keys), "missing: %s" % [k for k in keys if k not in s])
 c.check("summary values", s["steps"] == 100 and s["ranks"] == 1 and s["particles"] == 160 and

@@ -264,8 +264,8 @@ void Output::summaryRun(FILE *f, const SummaryReport &r) const {
                sc_.name.c_str(), GIMP_VERSION, r.status.c_str());
   std::fprintf(f,
                "  \"ranks\": %d,\n  \"steps\": %lld,\n  \"time\": %.12e,\n  \"dt\": %.12e,\n"
-               "  \"wall_seconds\": %.6f,\n  \"particles\": %lld,\n",
-               r.ranks, static_cast<long long>(r.steps), r.t, r.dt, r.wallSeconds,
+               "  \"wall_seconds\": %.6f,\n  \"cpu_seconds\": %.6f,\n  \"particles\": %lld,\n",
+               r.ranks, static_cast<long long>(r.steps), r.t, r.dt, r.wallSeconds, r.cpuSeconds,
                static_cast<long long>(r.particles));
   std::fprintf(f, "  \"levels\": [");
   for (size_t k = 0; k < grid_.levels.size(); ++k) {

@@ -204,6 +204,12 @@ PetscErrorCode Solver::finish(PetscInt steps, double t) {
   PetscLogDouble wall1 = 0;
   PetscCall(PetscTime(&wall1));
   r.wallSeconds = wall1 - wall0_;
+  // CPU time of the process (all ranks summed): unlike the wall time, it does not grow when
+  // other work shares the machine.
+  PetscLogDouble cpu = 0;
+  PetscCall(PetscGetCPUTime(&cpu));
+  double mineCpu = cpu;
+  PetscCallMPI(MPI_Allreduce(&mineCpu, &r.cpuSeconds, 1, MPI_DOUBLE, MPI_SUM, comm_));
   PetscCall(out_->writeSummary(r));
   PetscCall(PetscLogStagePop());
   return PETSC_SUCCESS;

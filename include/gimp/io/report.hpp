@@ -27,6 +27,7 @@ struct SummaryReport {
   int ranks = 1;
   PetscInt steps = 0;
   double t = 0, dt = 0, wallSeconds = 0;
+  double cpuSeconds = 0; // process CPU time, summed over ranks
   PetscInt64 particles = 0;
   Energies energy;
   std::vector<ProbeState> probes;
