@@ -11,8 +11,8 @@
 # to use an existing binary instead of building. Plots need Debian's /usr/bin/python3 with
 # matplotlib and numpy.
 #
-# Took 543 s (9 minutes) on the two-core development machine with other work running; the
-# plate study (181 s) and the wave-reflection studies (160 s) are most of it.
+# Took 543 s (9 minutes) on the two-core development machine with other work running before the
+# crack steps; the DCB study adds about 30 minutes and the large-load DCB about 7.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 work="${1:-/tmp/gimp-docs}"
@@ -85,6 +85,12 @@ step tension "$py" "$root/tests/check_tension.py" --gimp "$gimp" --root "$root" 
 step plot_tension "$py" "$root/tools/plot_tension.py" --gimp "$gimp" --work "$work/tension_plot"
 step mms_tracking "$py" "$root/runs/study_mms_tracking.py" --gimp "$gimp" \
   --work "$work/mms_tracking"
+
+# Cracks: the DCB grid study at rest (table, docs/img/dcb_speed_error.png; about 30 minutes of
+# CPU, most of it the uniform 0.5 mm reference) and the large-load DCB (docs/img/dcb_large.png).
+step dcb_study "$py" "$root/runs/study_dcb.py" --gimp "$gimp" --work "$work/dcb_study"
+step dcb_large sh -c "cd '$root/options' && '$gimp' -options_file dcb_large.opts \
+  -gimp_output_dir '$work/dcb_large' >/dev/null && '$py' '$root/tools/plot_dcb_large.py' '$work/dcb_large'"
 
 # Scenes report (docs/scenes.md: indentation, plate and slab studies), the plate maps, the
 # speed-against-error figure and table (docs/performance.md) and the throughput benchmark.
