@@ -1,14 +1,14 @@
 """Explicit cracks: two velocity fields at cracked nodes, frictionless contact.
 
 options/crack_closure.opts is a block cut through by a crack (two halves meeting along it).
-1. Closure: pushed together by p on top and bottom and damped to rest, the crack carries the
-   load as an intact block does: the volume-weighted mean sigma_yy is the exact -p W0 / W of the
-   dead load (W the current width) within 1e-4 p (measured 1.7e-5), every particle more than
-   three cells from the free edges within 5e-3 p of the uniform state (measured 3.0e-3; the
-   intact patch test locks in 2.5e-3 on the explicit way to rest), every particle within 2.5e-2 p
-   (measured 1.9e-2, at the faces next to the free edges, where the contact of the projected
-   momentum meets nodes of partial mass), and the halves' facing particle edges overlap by less
-   than 1e-6 of a particle size.
+1. Closure: pushed together by p on top and bottom (raised over 0.1 s) and damped to rest, the
+   crack carries the load as an intact block does: the volume-weighted mean sigma_yy is the
+   exact -p W0 / W of the dead load (W the current width) within 1e-5 p (measured 1.8e-8), every
+   particle within 1e-3 p of the uniform state (measured 4.9e-4) and within 1.25 times the worst
+   particle of the same block without the crack (4.4e-4: the free edges' own error), and the
+   halves' facing particle edges overlap by less than 1e-6 of a particle size. (Loaded
+   suddenly, the damped waves lock 2.5e-3 p into the intact block and 1.9e-2 p into the cracked
+   one next to the free edges.)
 2. Opening: pulled apart without damping, nothing holds the halves together (no sticking, no
    contact across the open gap): each half's momentum is the impulse of its own traction,
    p * width * thickness * (steps - 1/2) dt, within 1e-7 (measured 4e-9), and the gap opens;
@@ -45,7 +45,7 @@ rows = particles(dump)
 width = max(r["x"] + r["lx"] for r in rows) - min(r["x"] - r["lx"] for r in rows)
 mean = sum(r["syy"] * r["V"] for r in rows) / sum(r["V"] for r in rows)
 exact = -P * W / width
-c.check("closed crack: mean stress of the dead load", abs(mean - exact) < 1e-4 * P,
+c.check("closed crack: mean stress of the dead load", abs(mean - exact) < 1e-5 * P,
         "mean syy %.9g Pa, exact -p W0 / W = %.9g Pa" % (mean, exact))
 
 
@@ -54,13 +54,19 @@ def deviation(r):
 
 
 worst = max(deviation(r) for r in rows)
-inner = [r for r in rows if 0.15 < r["x"] < W - 0.15]
-worst_in = max(deviation(r) for r in inner)
-c.check("closed crack carries the load at every particle", worst < 2.5e-2,
-        "%d particles, max |sigma - (-p e_y e_y)| / p = %.3g" % (len(rows), worst))
-c.check("closed crack carries the load away from the free edges", worst_in < 5e-3,
-        "%d particles over 3 cells from the edges, max deviation / p = %.3g" %
-        (len(inner), worst_in))
+# The same block without the crack.
+intact_opts = os.path.join(args.work, "intact.opts")
+os.makedirs(args.work, exist_ok=True)
+with open(os.path.join(args.root, SCENE)) as f, open(intact_opts, "w") as g:
+    g.writelines(line for line in f if "crack" not in line)
+out_i = os.path.join(args.work, "intact")
+dump_i = os.path.join(out_i, "particles.csv")
+os.makedirs(out_i, exist_ok=True)
+gimptest.run(args, intact_opts, ["-gimp_particle_dump", dump_i], outdir=out_i)
+worst_i = max(deviation(r) for r in particles(dump_i))
+c.check("closed crack carries the load at every particle", worst < 1e-3 and worst < 1.25 * worst_i,
+        "%d particles, max |sigma - (-p e_y e_y)| / p = %.3g (the block without the crack: %.3g)"
+        % (len(rows), worst, worst_i))
 below, above = halves(rows)
 overlap = max(r["y"] + r["ly"] for r in below) - min(r["y"] - r["ly"] for r in above)
 c.check("no interpenetration",
@@ -73,6 +79,7 @@ out = os.path.join(args.work, "opening")
 dump = os.path.join(out, "particles.csv")
 steps, dt = 100, 2.5e-4
 gimptest.run(args, SCENE, ["-gimp_traction0_value", "0,1e4", "-gimp_traction1_value", "0,-1e4",
+                           "-gimp_traction0_ramp", "0,1", "-gimp_traction1_ramp", "0,1",
                            "-gimp_damping", "0", "-ts_max_steps", str(steps), "-gimp_flip", "1",
                            "-gimp_particle_dump", dump], outdir=out)
 rows = particles(dump)
@@ -94,6 +101,7 @@ c.check("open crack: the gap opens", gap > 0.0, "gap %.3g m after %.3g s" % (gap
 # corners rose into the upper half).
 out = os.path.join(args.work, "opening_corners")
 gimptest.run(args, SCENE, ["-gimp_traction0_value", "0,1e4", "-gimp_traction1_value", "0,-1e4",
+                           "-gimp_traction0_ramp", "0,1", "-gimp_traction1_ramp", "0,1",
                            "-gimp_damping", "0", "-ts_max_steps", str(steps),
                            "-gimp_tracking", "corners"], outdir=out)
 try:
