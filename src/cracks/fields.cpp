@@ -45,38 +45,42 @@ void Contact::setup(const Grid &g, const std::vector<Crack> &cracks) {
 }
 
 void Contact::faces(const Grid &g, const Stencils<kDim> &st, PetscInt n, const double *x,
-                    const double *l, double *face) const {
+                    const double *X0, const double *m, double *face) {
+  fresh_ = true;
   for (PetscInt s = 0; s < g.nSlots; ++s)
-    face[2 * s] = -1e300;
+    face[2 * s] = 0.0;
   if (g.nSlots == g.nWindow) return;
   const PetscInt *node = st.node.data();
   for (PetscInt k = 0; k < n; ++k)
     for (PetscInt e = st.start[k]; e < st.start[k + 1]; ++e) {
       const PetscInt s = node[e];
-      const bool second = s >= g.nWindow;
-      const PetscInt c = second ? s : g.crackSlot[s];
+      const PetscInt c = s >= g.nWindow ? s : g.crackSlot[s];
       if (c < 0) continue;
       const double *d = &dir_[2 * (c - g.nWindow)];
-      const double along = x[2 * k] * d[0] + x[2 * k + 1] * d[1];
-      const double extent = l[2 * k] * std::fabs(d[0]) + l[2 * k + 1] * std::fabs(d[1]);
-      const double v = second ? -(along - extent) : along + extent;
-      face[2 * s] = std::max(face[2 * s], v);
+      const double u = (x[2 * k] - X0[2 * k]) * d[0] + (x[2 * k + 1] - X0[2 * k + 1]) * d[1];
+      face[2 * s] += m[k] * st.weight(e) * u;
     }
 }
 
 PetscInt Contact::apply(const Grid &g, double cut, double dt, const double *mass,
-                        const double *face, double *vel, double *acc) const {
+                        const double *face, double *vel, double *acc) {
   PetscInt touching = 0;
+  if (fresh_) touch_.assign(static_cast<size_t>(g.nSlots - g.nWindow), 0);
   for (PetscInt s = g.nWindow; s < g.nSlots; ++s) {
     const PetscInt n = g.slotNode[s];
     const double m1 = mass[2 * n], m2 = mass[2 * s];
     if (!(m1 > cut && m2 > cut)) continue;
-    const double gap = -face[2 * s] - face[2 * n];
-    if (gap > 1e-3 * g.zone[4 * n + 1] + 1e-3 * g.zone[4 * n + 3]) continue; // faces apart
+    // The opening: field 2's displacement along d minus field 1's, each the mass-weighted mean
+    // of its particles' (the fields' nodal displacements). It starts at zero (the faces are
+    // together) and, unlike particle extents, does not move when particles change size.
+    const double gap = face[2 * s] / m2 - face[2 * n] / m1;
     const double *d = &dir_[2 * (s - g.nWindow)];
     double *v1 = &vel[2 * n], *v2 = &vel[2 * s];
     const double approach = (v1[0] - v2[0]) * d[0] + (v1[1] - v2[1]) * d[1];
-    if (!(approach > 0)) continue; // separating or sliding: the fields stay free
+    char &touch = touch_[static_cast<size_t>(s - g.nWindow)];
+    if (fresh_)
+      touch = gap <= std::fabs(approach) * dt + 1e-12 * (g.zone[4 * n + 1] + g.zone[4 * n + 3]);
+    if (!touch || !(approach > 0)) continue; // apart, or separating or sliding: free
     ++touching;
     const double vn =
         (m1 * (v1[0] * d[0] + v1[1] * d[1]) + m2 * (v2[0] * d[0] + v2[1] * d[1])) / (m1 + m2);
@@ -90,6 +94,7 @@ PetscInt Contact::apply(const Grid &g, double cut, double dt, const double *mass
       acc[2 * s + c] += dv2 * d[c] / dt;
     }
   }
+  fresh_ = false;
   return touching;
 }
 

@@ -37,7 +37,7 @@ PetscErrorCode Solver::step() {
   PetscCall(particlesToGrid(p));
   PetscCall(PetscLogStagePop());
   if (!sc_.cracks.empty()) {
-    PetscCall(crackFaces(p, centres));
+    PetscCall(crackFaces(p));
     PetscCall(contactOnMomentum(c));
   }
   if (scheme_.stressBeforeGridUpdate) PetscCall(stress(p, nodal_.velW, c.dt));
@@ -151,18 +151,18 @@ PetscErrorCode Solver::gridUpdate() {
   return PETSC_SUCCESS;
 }
 
-PetscErrorCode Solver::crackFaces(const ParticleView &p, const double *centres) {
-  // Each field's extent along its contact normal at every cracked node: on the window, the
-  // largest over the ranks that hold the node, back to every window. With them the summed mass
+PetscErrorCode Solver::crackFaces(const ParticleView &p) {
+  // Each field's mass-weighted displacement along its contact normal at every cracked node:
+  // summed over the ranks that hold the node, back to every window. With them the summed mass
   // and the mask on the window, which the step's contact passes read.
   PetscCall(grid_.toWindow(nodal_.mass, nodal_.massW));
   PetscCall(grid_.toWindow(nodal_.mask, nodal_.maskW));
   PetscScalar *f = nullptr;
   PetscCall(VecGetArray(nodal_.faceW, &f));
-  contact_.faces(grid_, st_, p.n, centres, p.l, f);
+  contact_.faces(grid_, st_, p.n, p.x, p.X0, p.m, f);
   PetscCall(VecRestoreArray(nodal_.faceW, &f));
-  PetscCall(VecSet(nodal_.face, -1e300));
-  PetscCall(grid_.fromWindow(nodal_.faceW, nodal_.face, MAX_VALUES));
+  PetscCall(VecSet(nodal_.face, 0.0));
+  PetscCall(grid_.fromWindow(nodal_.faceW, nodal_.face, ADD_VALUES));
   PetscCall(grid_.toWindow(nodal_.face, nodal_.faceW));
   return PETSC_SUCCESS;
 }

@@ -72,8 +72,9 @@ private:
   PetscErrorCode particlesToGrid(const ParticleView &p);
   PetscErrorCode forces(const ParticleView &p, const StepClock &c, StartPower &power);
   PetscErrorCode gridUpdate();
-  /// The crack faces' extents at the cracked nodes (into nodal_.faceW), once per step.
-  PetscErrorCode crackFaces(const ParticleView &p, const double *centres);
+  /// Each crack field's nodal displacement along the contact normal at the cracked nodes (into
+  /// nodal_.faceW), once per step.
+  PetscErrorCode crackFaces(const ParticleView &p);
   PetscErrorCode contactOnMomentum(const StepClock &c);
   /// Contact on a grid velocity (window velW, global vel) and, when accW is given, the same
   /// change / dt on the acceleration (window accW, global acc).
