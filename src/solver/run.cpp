@@ -209,9 +209,10 @@ PetscErrorCode Solver::finish(PetscInt steps, double t) {
   // other work shares the machine.
   // (PetscGetCPUTime reads a clock that does not count this process's time on every system.)
   rusage use{};
-  getrusage(RUSAGE_SELF, &use);
-  double mineCpu = static_cast<double>(use.ru_utime.tv_sec + use.ru_stime.tv_sec) +
-                   1e-6 * static_cast<double>(use.ru_utime.tv_usec + use.ru_stime.tv_usec);
+  double mineCpu = 0; // 0 where the system cannot tell
+  if (getrusage(RUSAGE_SELF, &use) == 0)
+    mineCpu = static_cast<double>(use.ru_utime.tv_sec + use.ru_stime.tv_sec) +
+              1e-6 * static_cast<double>(use.ru_utime.tv_usec + use.ru_stime.tv_usec);
   PetscCallMPI(MPI_Allreduce(&mineCpu, &r.cpuSeconds, 1, MPI_DOUBLE, MPI_SUM, comm_));
   PetscCall(out_->writeSummary(r));
   PetscCall(PetscLogStagePop());
