@@ -7,13 +7,12 @@ d/W = 1/15: 1.0047). Writes a Markdown table to stdout and docs/img/speed_error.
 
 Usage: /usr/bin/python3 runs/speed_error.py [--gimp build/gimp] [--work DIR] [--no-run]
 """
-import argparse
-import json
 import math
 import os
-import subprocess
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+import series
+
+ROOT = series.ROOT
 RUNS = [  # name, scene, extra options, kind
     ("uniform 1.0 mm", "plate_uniform_static.opts", ["-gimp_h", "1e-3"], "uniform"),
     ("uniform 0.5 mm", "plate_uniform_static.opts", ["-gimp_h", "0.5e-3"], "uniform"),
@@ -34,22 +33,10 @@ def kirsch_90(r):
 
 
 def main():
-    ap = argparse.ArgumentParser()
-    ap.add_argument("--gimp", default=os.path.join(ROOT, "build", "gimp"))
-    ap.add_argument("--work", default=os.path.join(ROOT, "build", "speed_error"))
-    ap.add_argument("--no-run", action="store_true")
-    a = ap.parse_args()
-    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
+    a = series.parse_args("speed_error")
     rows = []
-    for i, (name, scene, extra, kind) in enumerate(RUNS):
-        out = os.path.join(a.work, "run%d" % i)
-        if not a.no_run:
-            # The static scenes include plate*.opts, which lie next to them in options/.
-            subprocess.run([a.gimp, "-options_file", scene, "-gimp_output_dir", out] + extra,
-                           cwd=os.path.join(ROOT, "options"), env=env, check=True,
-                           stdout=subprocess.DEVNULL)
-        with open(os.path.join(out, "summary.json")) as f:
-            s = json.load(f)
+    # The static scenes include plate*.opts, which lie next to them in options/.
+    for name, kind, _, s in series.run_series(a, RUNS, cwd=os.path.join(ROOT, "options")):
         pr = s["probes"]["hole_top"]
         r = math.hypot(pr["x0"][0] + pr["u"][0], pr["x0"][1] + pr["u"][1])
         ref = kirsch_90(r) * WIDTH_FACTOR

@@ -11,14 +11,13 @@ study takes about half an hour, and other work sharing the machine would skew wa
 
 Usage: /usr/bin/python3 runs/study_dcb.py [--gimp build/gimp] [--work DIR] [--no-run]
 """
-import argparse
 import csv
-import json
 import math
 import os
-import subprocess
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+import series
+
+ROOT = series.ROOT
 SCENE = os.path.join(ROOT, "options", "dcb.opts")
 UNIFORM = os.path.join(ROOT, "options", "dcb_uniform.opts")
 RUNS = [  # name, scene, extra options, kind
@@ -69,25 +68,14 @@ def settled(path):
 
 
 def main():
-    ap = argparse.ArgumentParser()
-    ap.add_argument("--gimp", default=os.path.join(ROOT, "build", "gimp"))
-    ap.add_argument("--work", default=os.path.join(ROOT, "build", "dcb_study"))
-    ap.add_argument("--no-run", action="store_true")
-    a = ap.parse_args()
-    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
+    a = series.parse_args("dcb_study")
     rows = []
-    for i, (name, scene, extra, kind) in enumerate(RUNS):
-        out = os.path.join(a.work, "run%d" % i)
-        if not a.no_run:
-            subprocess.run([a.gimp, "-options_file", scene, "-gimp_output_dir", out] + COMMON + extra,
-                           env=env, check=True, stdout=subprocess.DEVNULL)
-        with open(os.path.join(out, "summary.json")) as f:
-            s = json.load(f)
+    for name, kind, out, s in series.run_series(a, RUNS, COMMON):
         c = s["cracks"][0]
         ke_u, drift = settled(os.path.join(out, "history.csv"))
         rows.append(dict(name=name, kind=kind, particles=s["particles"], steps=s["steps"],
-                         wall=s["wall_seconds"], cpu=s["cpu_seconds"], status=s["status"], KI_vcct=c["KI_vcct"],
-                         KI_J=c["KI_J"], ke_u=ke_u, drift=drift))
+                         wall=s["wall_seconds"], cpu=s["cpu_seconds"], status=s["status"],
+                         KI_vcct=c["KI_vcct"], KI_J=c["KI_J"], ke_u=ke_u, drift=drift))
     k0, order = richardson(rows[U2]["KI_vcct"], rows[U1]["KI_vcct"], rows[U05]["KI_vcct"])
     for r in rows:
         r["err_vcct"] = r["KI_vcct"] / k0 - 1

@@ -51,15 +51,16 @@ void Contact::faces(const Grid &g, const Stencils<kDim> &st, PetscInt n, const d
     face[2 * s] = 0.0;
   if (g.nSlots == g.nWindow) return;
   const PetscInt *node = st.node.data();
-  for (PetscInt k = 0; k < n; ++k)
+  for (PetscInt k = 0; k < n; ++k) {
+    const double ux = m[k] * (x[2 * k] - X0[2 * k]), uy = m[k] * (x[2 * k + 1] - X0[2 * k + 1]);
     for (PetscInt e = st.start[k]; e < st.start[k + 1]; ++e) {
       const PetscInt s = node[e];
       const PetscInt c = s >= g.nWindow ? s : g.crackSlot[s];
       if (c < 0) continue;
       const double *d = &dir_[2 * (c - g.nWindow)];
-      const double u = (x[2 * k] - X0[2 * k]) * d[0] + (x[2 * k + 1] - X0[2 * k + 1]) * d[1];
-      face[2 * s] += m[k] * st.weight(e) * u;
+      face[2 * s] += st.weight(e) * (ux * d[0] + uy * d[1]);
     }
+  }
 }
 
 PetscInt Contact::apply(const Grid &g, double cut, double dt, const double *mass,
