@@ -3,6 +3,8 @@
 
 #include "scene_options.hpp"
 
+#include <algorithm>
+#include <climits>
 #include <cmath>
 
 namespace gimp {
@@ -80,7 +82,7 @@ struct RunOptions {
   char name[256] = "scene", outdir[PETSC_MAX_PATH_LEN] = "", pdump[PETSC_MAX_PATH_LEN] = "",
        gdump[PETSC_MAX_PATH_LEN] = "";
   PetscReal dom[4] = {0, 0, 0, 0}, hm[3] = {0, 0, 0};
-  PetscInt ndom = 4, nhm = 3, pad = 2, update = 2, tracking = 2, mms = 0;
+  PetscInt ndom = 4, nhm = 3, pad = 2, update = 2, tracking = 2, mms = 0, stabilityInterval = 0;
   PetscBool setDom = PETSC_FALSE, setH = PETSC_FALSE, setHm = PETSC_FALSE;
 };
 
@@ -184,8 +186,23 @@ PetscErrorCode readMethodOptions(MPI_Comm comm, Scene &sc, RunOptions &o) {
   PetscCall(PetscOptionsReal("-gimp_static_min_time",
                              "Earliest time the rest criterion may stop the run [s]",
                              "docs/options.md", sc.staticTime, &sc.staticTime, nullptr));
-  PetscCall(PetscOptionsReal("-gimp_cfl", "Default time step as a fraction of h / c_p [-]",
+  PetscCall(PetscOptionsReal("-gimp_cfl",
+                             "Default time step as a fraction of h / c_p, or of the critical "
+                             "step with -gimp_stability_check [-]",
                              "docs/options.md", sc.cfl, &sc.cfl, nullptr));
+  PetscBool check = sc.stabilityCheck ? PETSC_TRUE : PETSC_FALSE;
+  PetscCall(PetscOptionsBool("-gimp_stability_check",
+                             "Critical time step from the largest eigenvalue of M^-1 K (SLEPc)",
+                             "docs/options.md", check, &check, nullptr));
+  sc.stabilityCheck = check;
+  PetscBool allow = sc.allowUnstableDt ? PETSC_TRUE : PETSC_FALSE;
+  PetscCall(PetscOptionsBool("-gimp_allow_unstable_dt",
+                             "Accept a -ts_dt above the critical step (for stability studies)",
+                             "docs/options.md", allow, &allow, nullptr));
+  sc.allowUnstableDt = allow;
+  PetscCall(PetscOptionsInt("-gimp_stability_interval",
+                            "Steps between re-checks of the critical step (0: at the start only)",
+                            "docs/options.md", o.stabilityInterval, &o.stabilityInterval, nullptr));
   PetscOptionsEnd();
   return PETSC_SUCCESS;
 }
@@ -200,6 +217,19 @@ void checkRunOptions(const Scene &sc, const RunOptions &o) {
   if (!(sc.massCutoff >= 0 && sc.massCutoff < 1))
     bad("gimp_mass_cutoff", formatNumber(sc.massCutoff), "must lie in [0, 1)");
   if (!(sc.cfl > 0 && sc.cfl <= 1)) bad("gimp_cfl", formatNumber(sc.cfl), "must lie in (0, 1]");
+#ifndef GIMP_HAVE_SLEPC
+  if (sc.stabilityCheck)
+    bad("gimp_stability_check", "true",
+        "needs gimp built with SLEPc (install SLEPc and reconfigure); use false");
+#endif
+  if (o.stabilityInterval < 0 || o.stabilityInterval > INT_MAX)
+    bad("gimp_stability_interval", std::to_string(o.stabilityInterval),
+        "must be >= 0 steps (0: at the start only)");
+  if (o.stabilityInterval > 0 && !sc.stabilityCheck)
+    bad("gimp_stability_interval", std::to_string(o.stabilityInterval),
+        "needs -gimp_stability_check");
+  if (sc.allowUnstableDt && !sc.stabilityCheck)
+    bad("gimp_allow_unstable_dt", "true", "needs -gimp_stability_check");
   if (!(sc.staticTol >= 0 && sc.staticTol < 1))
     bad("gimp_static_tol", formatNumber(sc.staticTol), "must lie in [0, 1) (0: off)");
   if (!(sc.staticTime >= 0))
@@ -302,6 +332,7 @@ PetscErrorCode readScene(MPI_Comm comm, Scene &sc) {
   sc.update = static_cast<Update>(o.update);
   sc.tracking = static_cast<Tracking>(o.tracking);
   sc.mms = static_cast<Mms>(o.mms);
+  sc.stabilityInterval = static_cast<int>(std::min<PetscInt>(o.stabilityInterval, INT_MAX));
   PetscCall(readMaterial(comm, sc));
   PetscCall(readBodies(comm, sc));
   PetscCall(readLoads(comm, sc));

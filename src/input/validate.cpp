@@ -170,7 +170,7 @@ PetscErrorCode timeStepFromOptions(TS ts, const Scene &sc, const Lattice &grid) 
   PetscCall(TSGetTimeStep(ts, &dt));
   const double cp = sc.material.waveSpeed(), dtStable = grid.hMin() / cp;
   if (!(dt > 0)) throw InputError("option -ts_dt " + formatNumber(dt) + ": must be > 0 [s]");
-  if (dt > dtStable)
+  if (dt > dtStable && !sc.stabilityCheck)
     throw InputError("option -ts_dt " + formatNumber(dt) + ": exceeds the stable limit h / c_p = " +
                      formatNumber(dtStable) + " s (finest h = " + formatNumber(grid.hMin()) +
                      " m, c_p = " + formatNumber(cp) +

@@ -267,6 +267,10 @@ void Output::summaryRun(FILE *f, const SummaryReport &r) const {
                "  \"wall_seconds\": %.6f,\n  \"cpu_seconds\": %.6f,\n  \"particles\": %lld,\n",
                r.ranks, static_cast<long long>(r.steps), r.t, r.dt, r.wallSeconds, r.cpuSeconds,
                static_cast<long long>(r.particles));
+  if (std::isfinite(r.dtCritical))
+    std::fprintf(f, "  \"dt_critical\": %.12e,\n", r.dtCritical);
+  else
+    std::fprintf(f, "  \"dt_critical\": null,\n");
   std::fprintf(f, "  \"levels\": [");
   for (size_t k = 0; k < grid_.levels.size(); ++k) {
     const Level &L = grid_.levels[k];

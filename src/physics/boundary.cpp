@@ -8,7 +8,8 @@
 
 namespace gimp::physics {
 
-PetscErrorCode Boundary::setup(MPI_Comm comm, const Scene &sc, const Lattice &grid, double dt) {
+PetscErrorCode Boundary::setup(MPI_Comm comm, const Scene &sc, const Lattice &grid, double dt,
+                               bool constantBounds) {
   active_ = !sc.tractions.empty() || !sc.dbcs.empty() || sc.gravity[0] != 0 || sc.gravity[1] != 0 ||
             sc.mms != Mms::None;
   if (sc.dbcs.empty()) return PETSC_SUCCESS;
@@ -26,7 +27,7 @@ PetscErrorCode Boundary::setup(MPI_Comm comm, const Scene &sc, const Lattice &gr
     alpha_ = std::min(100.0 * M / h, 0.5 * sc.material.rho * h / (dt * dt));
   } else {
     alpha_ = sc.penalty;
-    if (alpha_ * worst > limit)
+    if (constantBounds && alpha_ * worst > limit)
       throw InputError("option -gimp_penalty " + formatNumber(sc.penalty) +
                        ": with the largest segment scale " + formatNumber(worst) +
                        " it exceeds the stable limit 1.6 rho h_min / dt^2 = " +
@@ -34,7 +35,7 @@ PetscErrorCode Boundary::setup(MPI_Comm comm, const Scene &sc, const Lattice &gr
   }
   // Without its symmetric counterpart, the traction term of Eq. 9 needs a penalty that
   // dominates it: measured unstable at 1 M / h_min and stable from 2 M / h_min on.
-  if (sc.penaltyTraction && alpha_ * weakest < 4.0 * M / h)
+  if (constantBounds && sc.penaltyTraction && alpha_ * weakest < 4.0 * M / h)
     throw InputError("option -gimp_penalty " + formatNumber(alpha_) +
                      ": with the smallest segment scale " + formatNumber(weakest) +
                      " it is below 4 M / h_min = " + formatNumber(4.0 * M / h) +
@@ -115,6 +116,36 @@ void Boundary::penaltyForces(const Scene &sc, const Grid &g, const Stencils<2> &
         force[c] = (sigmaCA * n - alpha * (u - ubar[2 * q + c])) * len;
         gaps_[q] = std::max(gaps_[q], std::fabs(u - ubar[2 * q + c]));
         reactions_[2 * q + c] += force[c];
+      }
+      spreadEdgeForce(g, st, k, a, edge, force, fe);
+    }
+}
+
+void Boundary::penaltyIncrement(const Scene &sc, const Grid &g, const Stencils<2> &st,
+                                const ParticleView &p, const double *du, const double *L,
+                                const double *ds, bool springs, double *fe) const {
+  // The linearisation of penaltyForces: the same edges, lengths and edge shapes.
+  for (PetscInt k = 0; k < p.n; ++k)
+    for (int a = 0; a < 2; ++a) {
+      const PetscInt q = p.dbc[2 * k + a];
+      if (q < 0) continue;
+      const DisplacementBC &d = sc.dbcs[q];
+      const double n = d.normal();
+      const double edge = p.x[2 * k + a] + n * p.l[2 * k + a];
+      const double len = 2.0 * p.l[2 * k + 1 - a] * sc.material.thickness;
+      double dup[2] = {0, 0}; // the particle's displacement, as G2P moves it
+      for (PetscInt e = st.start[k]; e < st.start[k + 1]; ++e)
+        for (int c = 0; c < 2; ++c)
+          dup[c] += st.weight(e) * du[2 * st.node[e] + c];
+      const auto F = tensorAt<2>(p.F, k);
+      const auto Lk = tensorAt<2>(L, k), dsk = tensorAt<2>(ds, k);
+      const Tensor<2> dF = product<2>(Lk, F);
+      const double alpha = springs ? alpha_ * d.penaltyScale : 0.0;
+      double force[2] = {0, 0};
+      for (int c = 0; c < 2; ++c) {
+        if (!d.fix[c]) continue;
+        const double dU = dup[c] + dF(c, a) * n * p.l0[2 * k + a];
+        force[c] = ((sc.penaltyTraction ? dsk(c, a) : 0.0) * n - alpha * dU) * len;
       }
       spreadEdgeForce(g, st, k, a, edge, force, fe);
     }

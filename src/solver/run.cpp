@@ -21,6 +21,10 @@ PetscErrorCode Solver::run() {
   PetscCall(TSGetMaxTime(ts_, &maxTime));
   PetscCall(TSMonitor(ts_, 0, 0.0, nodal_.P));
   while (steps < maxSteps && t < maxTime && !failed_ && !atRest_) {
+    if (sc_.stabilityInterval > 0 && steps > 0 && steps % sc_.stabilityInterval == 0) {
+      PetscCall(stabilityRecheck(steps, t));
+      if (failed_) break;
+    }
     PetscCall(step());
     PetscCall(TSGetStepNumber(ts_, &steps));
     PetscCall(TSGetTime(ts_, &t));
@@ -200,6 +204,7 @@ PetscErrorCode Solver::finish(PetscInt steps, double t) {
   PetscCall(boundary_.reactions(comm_, r.reactions, r.gaps));
   r.maxGaps = boundary_.maxGap();
   r.penalty = boundary_.alpha();
+  r.dtCritical = dtCritical_;
   r.measures = measures_;
   PetscCall(crackTips(r.tips));
   PetscLogDouble wall1 = 0;

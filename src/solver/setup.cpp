@@ -56,7 +56,9 @@ PetscErrorCode Solver::setup() {
   PetscCall(createTimeStepper());
   PetscReal dt = 0;
   PetscCall(TSGetTimeStep(ts_, &dt));
-  PetscCall(boundary_.setup(comm_, sc_, grid_, dt));
+  // With -gimp_stability_check the penalty bounds and the step come from the eigenvalues.
+  PetscCall(boundary_.setup(comm_, sc_, grid_, dt, !sc_.stabilityCheck));
+  if (sc_.stabilityCheck) PetscCall(stabilityAtStart());
   PetscCall(rejectUnusedOptions());
   out_ = std::make_unique<Output>(comm_, sc_, grid_);
   PetscCall(out_->open());

@@ -127,8 +127,11 @@ struct Scene {
   double separationThreshold = 0.05; // gap between former neighbours / particle size
   double massCutoff = 1e-8;          // relative to the mean particle mass
   double cfl = 0.3;
-  double staticTol = 0;  // stop when kinetic < staticTol * strain energy (0: never)
-  double staticTime = 0; // ... but not before this time [s]
+  bool stabilityCheck = false;  // critical step from the largest eigenvalue of M^-1 K (SLEPc)
+  bool allowUnstableDt = false; // accept a -ts_dt above the critical step
+  int stabilityInterval = 0;    // steps between re-checks of the critical step (0: at start)
+  double staticTol = 0;         // stop when kinetic < staticTol * strain energy (0: never)
+  double staticTime = 0;        // ... but not before this time [s]
   std::vector<Probe> probes;
   std::vector<Crack> cracks; // explicit cracks, ends classified as tips or mouths
   double crackJRadius = 0;   // J-integral domain radius [m] (0: 5 finest cells)

@@ -22,7 +22,8 @@ PetscErrorCode checkSeeding(MPI_Comm comm, const Scene &sc, const Grid &grid, co
                             PetscInt64 &count, double &meanMass);
 
 /// TSSetFromOptions with parse errors as one line, then the time stepper's type, adaptivity and
-/// step checked (explicit euler, fixed dt below the stable h_min / c_p).
+/// step checked (explicit euler, fixed dt > 0 and, unless -gimp_stability_check bounds it by the
+/// eigenvalue instead, below the stable h_min / c_p).
 PetscErrorCode timeStepFromOptions(TS ts, const Scene &sc, const Lattice &grid);
 
 /// Unknown or misspelled options stop the run (options PETSc reads at exit are allowed).

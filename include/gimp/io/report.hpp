@@ -6,6 +6,7 @@
 #include "gimp/diagnostics/energies.hpp"
 #include "gimp/diagnostics/measures.hpp"
 
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -27,7 +28,8 @@ struct SummaryReport {
   int ranks = 1;
   PetscInt steps = 0;
   double t = 0, dt = 0, wallSeconds = 0;
-  double cpuSeconds = 0; // process CPU time, summed over ranks
+  double cpuSeconds = 0;   // process CPU time, summed over ranks
+  double dtCritical = NAN; // smallest critical step computed (-gimp_stability_check), else NaN
   PetscInt64 particles = 0;
   Energies energy;
   std::vector<ProbeState> probes;

@@ -37,8 +37,19 @@ inline void spreadEdgeForce(const Grid &g, const Stencils<2> &st, PetscInt k, in
 class Boundary {
 public:
   /// The penalty alpha of Eq. 9 from -gimp_penalty or chosen from the material, grid and dt,
-  /// checked against its stability bounds (the same on every rank). Prints it.
-  PetscErrorCode setup(MPI_Comm comm, const Scene &sc, const Lattice &grid, double dt);
+  /// checked against its stability bounds (the same on every rank). Prints it. With
+  /// `constantBounds` false the bounds are left to the eigenvalue check (stability room).
+  PetscErrorCode setup(MPI_Comm comm, const Scene &sc, const Lattice &grid, double dt,
+                       bool constantBounds = true);
+
+  /// The change of the penalty forces of Eq. 9 (springs and, when the scene has it, the traction
+  /// term) for a nodal displacement du (window array): the edge moves by du_p + L F n l0 with L =
+  /// grad du, the stress changes by ds (row-major 2 x 2 per particle). Edges and lengths stay
+  /// those of the current configuration. Accumulated into fe; `springs` false leaves the springs
+  /// out (the traction term alone).
+  void penaltyIncrement(const Scene &sc, const Grid &g, const Stencils<2> &st,
+                        const ParticleView &p, const double *du, const double *L, const double *ds,
+                        bool springs, double *fe) const;
 
   /// Whether the scene has external nodal forces (body force, tractions, penalty terms).
   bool active() const { return active_; }

@@ -21,9 +21,11 @@
 #include "gimp/physics/tracking.hpp"
 #include "gimp/solver/nodal.hpp"
 #include "gimp/solver/scheme.hpp"
+#include "gimp/stability/stability.hpp"
 
 #include <petscts.h>
 
+#include <cmath>
 #include <memory>
 #include <string>
 #include <vector>
@@ -85,6 +87,14 @@ private:
   PetscErrorCode checks(const ParticleView &p, PetscInt step, double t);
   PetscErrorCode report(PetscInt step, double t);
 
+  // the critical time step (solver/stability_check.cpp)
+  /// Stencils and P2G of the current particles, then the eigenvalues of M^-1 K.
+  PetscErrorCode stabilityEstimate(bool springs, bool smallest, stability::Estimate &e);
+  /// At setup: dt_critical, the refusals of -ts_dt and -gimp_penalty, the step without -ts_dt.
+  PetscErrorCode stabilityAtStart();
+  /// Every -gimp_stability_interval steps: the run stops when dt exceeds the new dt_critical.
+  PetscErrorCode stabilityRecheck(PetscInt step, double t);
+
   // the run loop, checks and reports (solver/run.cpp)
   PetscErrorCode historyRow(PetscInt step, double t, HistoryRow &row);
   PetscErrorCode finish(PetscInt steps, double t);
@@ -92,6 +102,7 @@ private:
   PetscErrorCode monitorLine(PetscInt step, double t);
   PetscErrorCode crackTips(std::vector<cracks::TipMeasure> &tips);
 
+  stability::SlepcSession slepc_; // first member: finalised after every other one
   MPI_Comm comm_;
   PetscMPIInt rank_ = 0, size_ = 1;
   Scene sc_;
@@ -117,6 +128,7 @@ private:
   } stages_;
   PetscLogDouble wall0_ = 0;
   bool failed_ = false;
+  double dtCritical_ = NAN;  // smallest critical step computed (-gimp_stability_check)
   std::string localFailure_; // a failure found on this rank inside the step, reported by checks()
   bool atRest_ = false;      // stopped by the rest criterion (-gimp_static_tol)
   int restRows_ = 0;         // consecutive history rows that meet it

@@ -1,0 +1,67 @@
+// The critical time step from the eigenvalues of the lumped-mass-scaled stiffness M^-1 K of the
+// current configuration (SLEPc EPS on a shell matrix).
+//
+// K is applied with the step's own kernels on the step's stencils: a nodal displacement du
+// becomes a particle strain by transfer::velocityGradient (du read as a velocity over dt = 1), a
+// stress increment by the linear tangent (material::jaumannUpdate from zero stress: Hooke with
+// lambda*, mu; the small-strain tangent for neo-Hookean; no geometric stiffness), nodal forces
+// by physics::internalForce, plus the change of the penalty forces of Eq. 9
+// (physics::Boundary::penaltyIncrement). The result is masked (constrained and empty nodes) and
+// divided by the lumped nodal mass of P2G. The traction term of Eq. 9 makes K non-symmetric.
+//
+// Central differences are stable for dt < 2 / omega_max, omega_max^2 the largest eigenvalue;
+// with the damping d of Eq. 16 the bound is (2 / omega)(sqrt(1 + xi^2) - xi), xi = d / (2 omega).
+#pragma once
+
+#include "gimp/grid/grid.hpp"
+#include "gimp/particles/swarm.hpp"
+#include "gimp/physics/boundary.hpp"
+
+#include <petscvec.h>
+
+namespace gimp::stability {
+
+/// The critical step of central differences for the circular frequency omega with the damping
+/// d of Eq. 16 [1/s]: (2 / omega)(sqrt(1 + xi^2) - xi), xi = d / (2 omega).
+double criticalStep(double omega, double damping);
+
+/// What the operator reads: the configuration the step would see, and the masks of P2G.
+struct OperatorInput {
+  const Scene *sc = nullptr;
+  const Grid *grid = nullptr;
+  const Stencils<2> *st = nullptr;
+  const ParticleView *p = nullptr;
+  const physics::Boundary *boundary = nullptr; // null: no penalty conditions
+  bool springs = true;                         // false: the penalty springs left out
+  Vec mask = nullptr, invMass = nullptr;       // global, from P2G
+};
+
+/// The eigenvalues that bound the step.
+struct Estimate {
+  double lambdaRe = 0, lambdaIm = 0; // largest magnitude eigenvalue of M^-1 K [1/s^2]
+  double omega = 0;                  // sqrt(max(lambdaRe, 0)) [rad/s]
+  double dtCritical = 0;             // criticalStep(omega, d) [s]
+  PetscInt iterations = 0;
+  bool hasSmallest = false; // the smallest real part was computed (traction term)
+  double smallestRe = 0, smallestIm = 0;
+  PetscInt smallestIterations = 0;
+};
+
+/// Largest magnitude eigenvalue of M^-1 K and, when `smallest`, the one of smallest real part
+/// (collective). Throws an InputError on every rank when the eigen-solver does not converge.
+PetscErrorCode estimate(MPI_Comm comm, const OperatorInput &in, bool smallest, Estimate &e);
+
+/// SLEPc started after PETSc for the solver's lifetime (no-op without SLEPc).
+class SlepcSession {
+public:
+  SlepcSession() = default;
+  SlepcSession(const SlepcSession &) = delete;
+  SlepcSession &operator=(const SlepcSession &) = delete;
+  ~SlepcSession();
+  PetscErrorCode start();
+
+private:
+  bool started_ = false;
+};
+
+} // namespace gimp::stability

@@ -1,0 +1,113 @@
+// The critical time step of the current configuration (the stability room's eigenvalues) and
+// what the run does with it: the step chosen without -ts_dt, the refusals of an explicit -ts_dt
+// and of -gimp_penalty, and the re-checks every -gimp_stability_interval steps.
+#include "gimp/solver/solver.hpp"
+
+#include <cmath>
+
+namespace gimp {
+
+PetscErrorCode Solver::stabilityEstimate(bool springs, bool smallest, stability::Estimate &e) {
+  // The step's own phases build the stencils and the nodal mass and masks; the next step
+  // rebuilds them, so the nodal vectors may be overwritten here.
+  PetscCall(slepc_.start());
+  PetscCall(migrate());
+  ParticleView p;
+  PetscCall(p.get(sw_));
+  PetscCall(buildStencils(p, tracking::domainCentres(p, centres_)));
+  PetscCall(particlesToGrid(p));
+  stability::OperatorInput in;
+  in.sc = &sc_;
+  in.grid = &grid_;
+  in.st = &st_;
+  in.p = &p;
+  in.boundary = sc_.dbcs.empty() ? nullptr : &boundary_;
+  in.springs = springs;
+  in.mask = nodal_.mask;
+  in.invMass = nodal_.invMass;
+  try {
+    PetscCall(stability::estimate(comm_, in, smallest, e));
+  } catch (...) {
+    (void)p.restore(sw_);
+    throw;
+  }
+  PetscCall(p.restore(sw_));
+  return PETSC_SUCCESS;
+}
+
+PetscErrorCode Solver::stabilityAtStart() {
+  PetscBool explicitDt = PETSC_FALSE;
+  PetscCall(PetscOptionsHasName(nullptr, nullptr, "-ts_dt", &explicitDt));
+  const bool traction = !sc_.dbcs.empty() && sc_.penaltyTraction;
+  stability::Estimate e;
+  PetscCall(stabilityEstimate(true, traction, e));
+  dtCritical_ = e.dtCritical;
+  PetscReal dt = 0;
+  PetscCall(TSGetTimeStep(ts_, &dt));
+  if (!explicitDt) {
+    dt = sc_.cfl * e.dtCritical;
+    PetscCall(TSSetTimeStep(ts_, dt));
+  }
+  PetscCall(PetscPrintf(comm_,
+                        "gimp: stability: omega_max = %.6g rad/s (eigenvalue %.6g%+.3gi of "
+                        "M^-1 K, %" PetscInt_FMT " iterations), dt_critical = %.6g s, dt = %.6g "
+                        "s (%s)\n",
+                        e.omega, e.lambdaRe, e.lambdaIm, e.iterations, e.dtCritical, dt,
+                        explicitDt ? "-ts_dt" : "-gimp_cfl x dt_critical"));
+  if (e.hasSmallest)
+    PetscCall(PetscPrintf(
+        comm_, "gimp: stability: smallest real part %.6g%+.3gi (%" PetscInt_FMT " iterations)\n",
+        e.smallestRe, e.smallestIm, e.smallestIterations));
+  // The traction term of Eq. 9 alone is not symmetric: below some penalty it gives modes that
+  // grow whatever the step. A negative real part beyond round-off of the largest one is refused.
+  const double roundoff = 1e-6 * std::hypot(e.lambdaRe, e.lambdaIm);
+  if (e.hasSmallest && e.smallestRe < -roundoff)
+    throw InputError("option -gimp_penalty " + formatNumber(boundary_.alpha()) +
+                     ": the traction term of Eq. 9 gives M^-1 K an eigenvalue of negative real "
+                     "part (" +
+                     formatNumber(e.smallestRe) +
+                     " 1/s^2), unstable at every -ts_dt; raise it, or use "
+                     "-gimp_penalty_traction false");
+  if (!(dt > e.dtCritical) || sc_.allowUnstableDt) return PETSC_SUCCESS;
+  if (!sc_.dbcs.empty()) { // is it the penalty springs that make the step unstable?
+    stability::Estimate free;
+    PetscCall(stabilityEstimate(false, false, free));
+    if (dt <= free.dtCritical)
+      throw InputError("option -gimp_penalty " + formatNumber(boundary_.alpha()) +
+                       ": its springs lower dt_critical to " + formatNumber(e.dtCritical) +
+                       " s, below -ts_dt " + formatNumber(dt) + " (without them " +
+                       formatNumber(free.dtCritical) + " s); lower it, or -ts_dt");
+  }
+  throw InputError("option -ts_dt " + formatNumber(dt) +
+                   ": exceeds dt_critical = " + formatNumber(e.dtCritical) +
+                   " s (largest eigenvalue of M^-1 K); choose -ts_dt <= " +
+                   formatNumber(e.dtCritical) + ", or -gimp_allow_unstable_dt to run it anyway");
+}
+
+PetscErrorCode Solver::stabilityRecheck(PetscInt step, double t) {
+  stability::Estimate e;
+  PetscCall(stabilityEstimate(true, false, e));
+  dtCritical_ = std::fmin(dtCritical_, e.dtCritical);
+  PetscReal dt = 0;
+  PetscCall(TSGetTimeStep(ts_, &dt));
+  PetscCall(PetscInfo(nullptr,
+                      "step %" PetscInt_FMT ": dt_critical %g s (%" PetscInt_FMT " iterations)\n",
+                      step, e.dtCritical, e.iterations));
+  if (!(dt > e.dtCritical)) return PETSC_SUCCESS;
+  if (sc_.allowUnstableDt) {
+    PetscCall(PetscPrintf(comm_,
+                          "gimp: warning: step %" PetscInt_FMT " t %.9g s: dt %.6g s exceeds the "
+                          "critical step %.6g s of the current configuration\n",
+                          step, t, dt, e.dtCritical));
+    return PETSC_SUCCESS;
+  }
+  failed_ = true; // every rank has the same eigenvalue
+  PetscCall(PetscPrintf(comm_,
+                        "gimp: error: step %" PetscInt_FMT " t %.9g s: dt %.6g s exceeds the "
+                        "critical step %.6g s of the current configuration (the run would go "
+                        "unstable; reduce -ts_dt)\n",
+                        step, t, dt, e.dtCritical));
+  return PETSC_SUCCESS;
+}
+
+} // namespace gimp

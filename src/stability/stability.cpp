@@ -1,0 +1,165 @@
+#include "gimp/stability/stability.hpp"
+
+#include "gimp/physics/internal_force.hpp"
+#include "gimp/physics/material.hpp"
+#include "gimp/transfer/transfer.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#ifdef GIMP_HAVE_SLEPC
+#include <slepceps.h>
+#endif
+
+namespace gimp::stability {
+
+double criticalStep(double omega, double damping) {
+  if (!(omega > 0)) return INFINITY;
+  const double xi = damping / (2.0 * omega);
+  return (2.0 / omega) * (std::sqrt(1.0 + xi * xi) - xi);
+}
+
+#ifdef GIMP_HAVE_SLEPC
+
+namespace {
+
+/// The shell matrix's context: the input and the work arrays of one application.
+struct Shell {
+  OperatorInput in;
+  Vec xm = nullptr, uW = nullptr, fW = nullptr;
+  std::vector<double> L, ds;
+};
+
+/// y = mask M^-1 K mask x, K x = -(the change of the nodal forces for the displacement x).
+PetscErrorCode applyOperator(Mat A, Vec x, Vec y) {
+  Shell *s = nullptr;
+  PetscCall(MatShellGetContext(A, &s));
+  const OperatorInput &in = s->in;
+  const ParticleView &p = *in.p;
+  PetscCall(VecPointwiseMult(s->xm, x, in.mask));
+  PetscCall(in.grid->toWindow(s->xm, s->uW));
+  const PetscScalar *u = nullptr;
+  PetscScalar *f = nullptr;
+  PetscCall(VecGetArrayRead(s->uW, &u));
+  transfer::velocityGradient<2>(*in.st, p.n, u, s->L.data());
+  for (PetscInt k = 0; k < p.n; ++k) { // the linear tangent: Hooke from zero stress
+    auto dsk = tensorAt<2>(s->ds.data(), k);
+    dsk.setZero();
+    double szz = 0;
+    material::jaumannUpdate(in.sc->material, tensorAt<2>(s->L.data(), k), 1.0, dsk, szz);
+  }
+  PetscCall(VecZeroEntries(s->fW));
+  PetscCall(VecGetArray(s->fW, &f));
+  physics::internalForce<2>(*in.st, p.n, p.V, s->ds.data(), f);
+  if (in.boundary)
+    in.boundary->penaltyIncrement(*in.sc, *in.grid, *in.st, p, u, s->L.data(), s->ds.data(),
+                                  in.springs, f);
+  PetscCall(VecRestoreArray(s->fW, &f));
+  PetscCall(VecRestoreArrayRead(s->uW, &u));
+  PetscCall(VecZeroEntries(y));
+  PetscCall(in.grid->addFromWindow(s->fW, y));
+  PetscCall(VecPointwiseMult(y, y, in.invMass));
+  PetscCall(VecScale(y, -1.0));
+  return PETSC_SUCCESS;
+}
+
+/// One eigenvalue of A by EPS (non-Hermitian), the `which` end of the spectrum.
+PetscErrorCode solveOne(MPI_Comm comm, Mat A, EPSWhich which, const char *what, double &re,
+                        double &im, PetscInt &its) {
+  EPS eps = nullptr;
+  PetscCall(EPSCreate(comm, &eps));
+  PetscCall(EPSSetOperators(eps, A, nullptr));
+  PetscCall(EPSSetProblemType(eps, EPS_NHEP));
+  PetscCall(EPSSetWhichEigenpairs(eps, which));
+  PetscCall(EPSSetDimensions(eps, 1, PETSC_DEFAULT, PETSC_DEFAULT));
+  PetscCall(EPSSetTolerances(eps, 1e-8, 5000));
+  PetscCall(EPSSetOptionsPrefix(eps, "gimp_stability_"));
+  PetscCall(EPSSetFromOptions(eps));
+  PetscCall(EPSSolve(eps));
+  PetscInt nconv = 0, maxIt = 0;
+  PetscReal tol = 0;
+  PetscCall(EPSGetConverged(eps, &nconv));
+  PetscCall(EPSGetIterationNumber(eps, &its));
+  PetscCall(EPSGetTolerances(eps, &tol, &maxIt));
+  PetscScalar kr = 0, ki = 0;
+  if (nconv > 0) PetscCall(EPSGetEigenpair(eps, 0, &kr, &ki, nullptr, nullptr));
+  PetscCall(EPSDestroy(&eps));
+  if (nconv < 1)
+    throw InputError("option -gimp_stability_check: the eigen-solver found no " +
+                     std::string(what) + " eigenvalue of M^-1 K in " + std::to_string(maxIt) +
+                     " iterations (tolerance " + formatNumber(tol) +
+                     "); raise -gimp_stability_eps_max_it or -gimp_stability_eps_ncv");
+  re = PetscRealPart(kr);
+  im = PetscRealPart(ki);
+  return PETSC_SUCCESS;
+}
+
+} // namespace
+
+PetscErrorCode estimate(MPI_Comm comm, const OperatorInput &in, bool smallest, Estimate &e) {
+  Shell s;
+  s.in = in;
+  s.L.assign(4 * static_cast<size_t>(in.p->n), 0.0);
+  s.ds.assign(4 * static_cast<size_t>(in.p->n), 0.0);
+  PetscCall(DMCreateGlobalVector(in.grid->dm, &s.xm));
+  PetscCall(in.grid->createWindowVec(&s.uW));
+  PetscCall(in.grid->createWindowVec(&s.fW));
+  PetscInt nLocal = 0, nGlobal = 0;
+  PetscCall(VecGetLocalSize(s.xm, &nLocal));
+  PetscCall(VecGetSize(s.xm, &nGlobal));
+  Mat A = nullptr;
+  PetscCall(MatCreateShell(comm, nLocal, nLocal, nGlobal, nGlobal, &s, &A));
+  PetscCall(MatShellSetOperation(A, MATOP_MULT, reinterpret_cast<void (*)(void)>(applyOperator)));
+  PetscCall(MatShellSetVecType(A, VECSTANDARD));
+  try {
+    PetscCall(
+        solveOne(comm, A, EPS_LARGEST_MAGNITUDE, "largest", e.lambdaRe, e.lambdaIm, e.iterations));
+    e.hasSmallest = smallest;
+    if (smallest)
+      PetscCall(solveOne(comm, A, EPS_SMALLEST_REAL, "smallest real", e.smallestRe, e.smallestIm,
+                         e.smallestIterations));
+  } catch (...) {
+    (void)MatDestroy(&A);
+    (void)VecDestroy(&s.fW);
+    (void)VecDestroy(&s.uW);
+    (void)VecDestroy(&s.xm);
+    throw;
+  }
+  PetscCall(MatDestroy(&A));
+  PetscCall(VecDestroy(&s.fW));
+  PetscCall(VecDestroy(&s.uW));
+  PetscCall(VecDestroy(&s.xm));
+  e.omega = std::sqrt(std::max(e.lambdaRe, 0.0));
+  e.dtCritical = criticalStep(e.omega, in.sc->damping);
+  return PETSC_SUCCESS;
+}
+
+SlepcSession::~SlepcSession() {
+  if (started_) (void)SlepcFinalize();
+}
+
+PetscErrorCode SlepcSession::start() {
+  PetscBool on = PETSC_FALSE;
+  PetscCall(SlepcInitialized(&on));
+  if (on) return PETSC_SUCCESS;
+  PetscCall(SlepcInitializeNoArguments());
+  started_ = true;
+  return PETSC_SUCCESS;
+}
+
+#else // without SLEPc the option is refused when the scene is read
+
+PetscErrorCode estimate(MPI_Comm, const OperatorInput &, bool, Estimate &) {
+  throw InputError("option -gimp_stability_check true: needs gimp built with SLEPc");
+}
+
+SlepcSession::~SlepcSession() = default;
+
+PetscErrorCode SlepcSession::start() {
+  return PETSC_SUCCESS;
+}
+
+#endif
+
+} // namespace gimp::stability
