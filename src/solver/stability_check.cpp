@@ -23,6 +23,7 @@ PetscErrorCode Solver::stabilityEstimate(bool springs, bool smallest, stability:
   in.p = &p;
   in.boundary = sc_.dbcs.empty() ? nullptr : &boundary_;
   in.springs = springs;
+  in.reproject = scheme_.stressFromReprojection;
   in.mask = nodal_.mask;
   in.invMass = nodal_.invMass;
   try {

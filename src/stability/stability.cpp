@@ -28,8 +28,29 @@ namespace {
 struct Shell {
   OperatorInput in;
   Vec xm = nullptr, uW = nullptr, fW = nullptr;
-  std::vector<double> L, ds;
+  std::vector<double> L, ds, vp, xp;
 };
+
+/// y <- R y, R = M^-1 M_c the re-projection of MUSL: y interpolated to the particles (G2P with
+/// dt = 0 and no FLIP, on scratch arrays) and projected back (P2G, masked, over the nodal mass).
+PetscErrorCode reproject(Shell &s, Vec y) {
+  const OperatorInput &in = s.in;
+  const ParticleView &p = *in.p;
+  PetscCall(in.grid->toWindow(y, s.uW));
+  const PetscScalar *yw = nullptr;
+  PetscScalar *mom = nullptr;
+  PetscCall(VecGetArrayRead(s.uW, &yw));
+  transfer::gridToParticles<2>(*in.st, p.n, yw, yw, 0.0, 0.0, s.vp.data(), s.xp.data());
+  PetscCall(VecRestoreArrayRead(s.uW, &yw));
+  PetscCall(VecZeroEntries(s.fW));
+  PetscCall(VecGetArray(s.fW, &mom));
+  transfer::particlesToGrid<2>(*in.st, p.n, p.m, s.vp.data(), mom, nullptr);
+  PetscCall(VecRestoreArray(s.fW, &mom));
+  PetscCall(VecZeroEntries(y));
+  PetscCall(in.grid->addFromWindow(s.fW, y));
+  PetscCall(VecPointwiseMult(y, y, in.invMass));
+  return PETSC_SUCCESS;
+}
 
 /// y = mask M^-1 K mask x, K x = -(the change of the nodal forces for the displacement x).
 PetscErrorCode applyOperator(Mat A, Vec x, Vec y) {
@@ -61,6 +82,7 @@ PetscErrorCode applyOperator(Mat A, Vec x, Vec y) {
   PetscCall(in.grid->addFromWindow(s->fW, y));
   PetscCall(VecPointwiseMult(y, y, in.invMass));
   PetscCall(VecScale(y, -1.0));
+  if (in.reproject) PetscCall(reproject(*s, y));
   return PETSC_SUCCESS;
 }
 
@@ -102,6 +124,8 @@ PetscErrorCode estimate(MPI_Comm comm, const OperatorInput &in, bool smallest, E
   s.in = in;
   s.L.assign(4 * static_cast<size_t>(in.p->n), 0.0);
   s.ds.assign(4 * static_cast<size_t>(in.p->n), 0.0);
+  s.vp.assign(2 * static_cast<size_t>(in.p->n), 0.0);
+  s.xp.assign(2 * static_cast<size_t>(in.p->n), 0.0);
   PetscCall(DMCreateGlobalVector(in.grid->dm, &s.xm));
   PetscCall(in.grid->createWindowVec(&s.uW));
   PetscCall(in.grid->createWindowVec(&s.fW));

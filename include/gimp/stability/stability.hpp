@@ -8,6 +8,9 @@
 // by physics::internalForce, plus the change of the penalty forces of Eq. 9
 // (physics::Boundary::penaltyIncrement). The result is masked (constrained and empty nodes) and
 // divided by the lumped nodal mass of P2G. The traction term of Eq. 9 makes K non-symmetric.
+// With MUSL (FLIP) the grid velocity that strains the particles is the re-projection of the
+// particle velocities, V^n+1 = V^n + dt R M^-1 f with R = M^-1 M_c (M_c = S^T M_p S the
+// consistent mass): the operator is then R M^-1 K, whose highest modes R damps.
 //
 // Central differences are stable for dt < 2 / omega_max, omega_max^2 the largest eigenvalue;
 // with the damping d of Eq. 16 the bound is (2 / omega)(sqrt(1 + xi^2) - xi), xi = d / (2 omega).
@@ -33,7 +36,8 @@ struct OperatorInput {
   const ParticleView *p = nullptr;
   const physics::Boundary *boundary = nullptr; // null: no penalty conditions
   bool springs = true;                         // false: the penalty springs left out
-  Vec mask = nullptr, invMass = nullptr;       // global, from P2G
+  bool reproject = false; // MUSL: the stress sees the re-projected velocity, R M^-1 K
+  Vec mask = nullptr, invMass = nullptr; // global, from P2G
 };
 
 /// The eigenvalues that bound the step.
