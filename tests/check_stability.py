@@ -1,0 +1,87 @@
+"""Critical time step from the eigenvalues of M^-1 K (-gimp_stability_check, SLEPc).
+
+Analytic values on the free bar of options/bar.opts (no node condition: E = 100 Pa, rho = 1,
+nu = 0, plane stress, h = 1 m, 2 x 2 particles per cell filling whole cells, so GIMP's weights
+are those of bilinear elements and the lumped mass is rho h^2 / 4 per cell corner):
+- USL: the operator is M^-1 K; its highest mode is the sawtooth u_x = (-1)^i with
+  lambda = 4 E / (rho h^2), so dt_critical = 2 / omega = h / c with c = sqrt(E / rho): 0.1 s.
+- MUSL: the operator is R M^-1 K, R = M^-1 M_c the re-projection. Along x, for wavenumber
+  theta, M^-1 K = (4 c^2 / h^2) s with s = sin^2(theta / 2), and with particles at h/4 and 3h/4
+  of each cell R = 0.625 + 0.375 cos(theta) = 1 - 0.75 s. s (1 - 0.75 s) is largest at
+  s = 2/3 (1/3), so dt_critical = sqrt(3) h / c = 0.17321 s (the 25-cell bar's discrete
+  wavenumbers reach it to 0.03 %).
+Then: -ts_dt above dt_critical refused in one line naming -ts_dt; a penalty whose springs make
+dt_critical < dt refused naming -gimp_penalty; without -ts_dt, dt = -gimp_cfl x dt_critical;
+one bisection point: the bar at 1.05 dt_critical goes unstable within 600 steps, at 0.95 it
+stays stable. (Without SLEPc the option is refused; this build has SLEPc: not tested here.)
+"""
+import math
+import os
+import gimptest
+
+args = gimptest.parse_args()
+c = gimptest.Checks()
+
+
+def opts_without(prefixes, name):
+    """options/bar.opts without the lines starting with any of prefixes, in the work dir."""
+    with open(os.path.join(args.root, "options", "bar.opts")) as f:
+        lines = [ln for ln in f if not ln.startswith(tuple(prefixes))]
+    path = os.path.join(args.work, name)
+    with open(path, "w") as f:
+        f.writelines(lines)
+    return path
+
+
+free = opts_without(["-gimp_bc"], "bar_free.opts")
+h, cw = 1.0, math.sqrt(100.0 / 1.0)
+for update, exact in (("usl", h / cw), ("musl", math.sqrt(3.0) * h / cw)):
+    out = gimptest.run(args, free, ["-gimp_stability_check", "-gimp_update", update,
+                                    "-ts_max_steps", "1"],
+                       outdir=os.path.join(args.work, "free_" + update))
+    dtc = gimptest.summary(out)["dt_critical"]
+    tol = 1e-6 if update == "usl" else 5e-4
+    c.check("analytic " + update, dtc is not None and abs(dtc / exact - 1) < tol,
+            "dt_critical %.8g s, analytic %.8g s (tolerance %.0e)" % (dtc, exact, tol))
+
+# Refusals: one line, exit 2, naming the option.
+p = gimptest.run(args, "options/bar.opts", ["-gimp_stability_check", "-ts_dt", "0.2"],
+                 expect_ok=False)
+err = p.stderr.strip().splitlines()
+c.check("refuse -ts_dt", p.returncode == 2 and len(err) == 1 and "option -ts_dt 0.2" in err[0]
+        and "dt_critical" in err[0], "exit %d: %s" % (p.returncode, p.stderr.strip()))
+p = gimptest.run(args, "options/slab.opts",
+                 ["-gimp_stability_check", "-gimp_penalty", "1e17", "-ts_dt", "1e-8",
+                  "-gimp_damping", "0"], expect_ok=False)
+err = p.stderr.strip().splitlines()
+c.check("refuse -gimp_penalty", p.returncode == 2 and len(err) == 1 and
+        "option -gimp_penalty 1e+17" in err[0], "exit %d: %s" % (p.returncode, p.stderr.strip()))
+p = gimptest.run(args, "options/bar.opts", ["-gimp_stability_check", "-ts_dt", "0.2",
+                                            "-gimp_allow_unstable_dt", "-ts_max_steps", "1"],
+                 expect_ok=False)
+c.check("allow", p.returncode == 0, "-gimp_allow_unstable_dt: exit %d" % p.returncode)
+
+# The step without -ts_dt.
+nodt = opts_without(["-ts_dt"], "bar_nodt.opts")
+out = gimptest.run(args, nodt, ["-gimp_stability_check", "-gimp_cfl", "0.5", "-ts_max_steps", "2"],
+                   outdir=os.path.join(args.work, "nodt"))
+s = gimptest.summary(out)
+c.check("step from dt_critical", abs(s["dt"] / (0.5 * s["dt_critical"]) - 1) < 1e-12,
+        "dt %.8g s = 0.5 x dt_critical %.8g s" % (s["dt"], s["dt_critical"]))
+out = gimptest.run(args, "options/bar.opts", ["-ts_max_steps", "1"],
+                   outdir=os.path.join(args.work, "off"))
+c.check("off", gimptest.summary(out)["dt_critical"] is None, "dt_critical null without the check")
+
+# One bisection point on the bar (MUSL, undamped).
+dtc = gimptest.summary(os.path.join(args.work, "nodt"))["dt_critical"]
+for f, unstable in ((1.05, True), (0.95, False)):
+    p = gimptest.run(args, "options/bar.opts",
+                     ["-gimp_stability_check", "-gimp_allow_unstable_dt", "-ts_dt", "%.9e" % (f * dtc),
+                      "-ts_max_steps", "600", "-ts_max_time", "1e9"],
+                     outdir=os.path.join(args.work, "f%.2f" % f), expect_ok=False)
+    st = gimptest.summary(os.path.join(args.work, "f%.2f" % f))
+    ok = (p.returncode == 3 and st["status"] == "unstable") if unstable else (
+        p.returncode == 0 and st["status"] == "completed" and st["steps"] == 600)
+    c.check("%.2f dt_critical" % f, ok, "exit %d, status %s after %d steps" %
+            (p.returncode, st["status"], st["steps"]))
+c.done()
