@@ -124,7 +124,8 @@ void Boundary::penaltyForces(const Scene &sc, const Grid &g, const Stencils<2> &
 void Boundary::penaltyIncrement(const Scene &sc, const Grid &g, const Stencils<2> &st,
                                 const ParticleView &p, const double *du, const double *L,
                                 const double *ds, bool springs, double *fe) const {
-  // The linearisation of penaltyForces: the same edges, lengths and edge shapes.
+  // The linearisation of penaltyForces: the same edges, lengths and edge shapes. Each input may
+  // be null: its part is left out.
   for (PetscInt k = 0; k < p.n; ++k)
     for (int a = 0; a < 2; ++a) {
       const PetscInt q = p.dbc[2 * k + a];
@@ -133,19 +134,22 @@ void Boundary::penaltyIncrement(const Scene &sc, const Grid &g, const Stencils<2
       const double n = d.normal();
       const double edge = p.x[2 * k + a] + n * p.l[2 * k + a];
       const double len = 2.0 * p.l[2 * k + 1 - a] * sc.material.thickness;
-      double dup[2] = {0, 0}; // the particle's displacement, as G2P moves it
-      for (PetscInt e = st.start[k]; e < st.start[k + 1]; ++e)
+      double dU[2] = {0, 0}; // the edge's displacement: the particle's, as G2P moves it ...
+      if (du)
+        for (PetscInt e = st.start[k]; e < st.start[k + 1]; ++e)
+          for (int c = 0; c < 2; ++c)
+            dU[c] += st.weight(e) * du[2 * st.node[e] + c];
+      if (L) { // ... and the change of F, dF = L F
+        const Tensor<2> dF = product<2>(tensorAt<2>(L, k), tensorAt<2>(p.F, k));
         for (int c = 0; c < 2; ++c)
-          dup[c] += st.weight(e) * du[2 * st.node[e] + c];
-      const auto F = tensorAt<2>(p.F, k);
-      const auto Lk = tensorAt<2>(L, k), dsk = tensorAt<2>(ds, k);
-      const Tensor<2> dF = product<2>(Lk, F);
+          dU[c] += dF(c, a) * n * p.l0[2 * k + a];
+      }
       const double alpha = springs ? alpha_ * d.penaltyScale : 0.0;
       double force[2] = {0, 0};
       for (int c = 0; c < 2; ++c) {
         if (!d.fix[c]) continue;
-        const double dU = dup[c] + dF(c, a) * n * p.l0[2 * k + a];
-        force[c] = ((sc.penaltyTraction ? dsk(c, a) : 0.0) * n - alpha * dU) * len;
+        const double traction = ds && sc.penaltyTraction ? ds[4 * k + 2 * c + a] * n : 0.0;
+        force[c] = (traction - alpha * dU[c]) * len;
       }
       spreadEdgeForce(g, st, k, a, edge, force, fe);
     }

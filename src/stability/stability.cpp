@@ -24,46 +24,57 @@ double criticalStep(double omega, double damping) {
 
 namespace {
 
-/// The shell matrix's context: the input and the work arrays of one application.
+/// The shell matrix's context: the input and the work vectors of one application.
 struct Shell {
   OperatorInput in;
-  Vec xm = nullptr, uW = nullptr, fW = nullptr;
+  Vec xm = nullptr, r = nullptr, w = nullptr; // global
+  Vec uW = nullptr, fW = nullptr;             // window
   std::vector<double> L, ds, vp, xp;
 };
 
-/// y <- R y, R = M^-1 M_c the re-projection of MUSL: y interpolated to the particles (G2P with
-/// dt = 0 and no FLIP, on scratch arrays) and projected back (P2G, masked, over the nodal mass).
-PetscErrorCode reproject(Shell &s, Vec y) {
-  const OperatorInput &in = s.in;
-  const ParticleView &p = *in.p;
-  PetscCall(in.grid->toWindow(y, s.uW));
-  const PetscScalar *yw = nullptr;
+/// out = R in, R = M^-1 M_c the re-projection of MUSL: `in` interpolated to the particles (G2P
+/// with dt = 0 and no FLIP, on scratch arrays) and projected back (P2G, masked, over the nodal
+/// mass).
+PetscErrorCode reproject(Shell &s, Vec in, Vec out) {
+  const ParticleView &p = *s.in.p;
+  PetscCall(s.in.grid->toWindow(in, s.uW));
+  const PetscScalar *u = nullptr;
   PetscScalar *mom = nullptr;
-  PetscCall(VecGetArrayRead(s.uW, &yw));
-  transfer::gridToParticles<2>(*in.st, p.n, yw, yw, 0.0, 0.0, s.vp.data(), s.xp.data());
-  PetscCall(VecRestoreArrayRead(s.uW, &yw));
+  PetscCall(VecGetArrayRead(s.uW, &u));
+  transfer::gridToParticles<2>(*s.in.st, p.n, u, u, 0.0, 0.0, s.vp.data(), s.xp.data());
+  PetscCall(VecRestoreArrayRead(s.uW, &u));
   PetscCall(VecZeroEntries(s.fW));
   PetscCall(VecGetArray(s.fW, &mom));
-  transfer::particlesToGrid<2>(*in.st, p.n, p.m, s.vp.data(), mom, nullptr);
+  transfer::particlesToGrid<2>(*s.in.st, p.n, p.m, s.vp.data(), mom, nullptr);
   PetscCall(VecRestoreArray(s.fW, &mom));
-  PetscCall(VecZeroEntries(y));
-  PetscCall(in.grid->addFromWindow(s.fW, y));
-  PetscCall(VecPointwiseMult(y, y, in.invMass));
+  PetscCall(VecZeroEntries(out));
+  PetscCall(s.in.grid->addFromWindow(s.fW, out));
+  PetscCall(VecPointwiseMult(out, out, s.in.invMass));
   return PETSC_SUCCESS;
 }
 
-/// y = mask M^-1 K mask x, K x = -(the change of the nodal forces for the displacement x).
+/// y = M^-1 (K_U R x + K_W (2 - R) x) on the masked x (see the header): K_U from the stress
+/// (internal force, and the penalty's change of F and traction term), K_W the penalty springs
+/// on the particles' positions. Without the re-projection R = I and this is M^-1 K x.
 PetscErrorCode applyOperator(Mat A, Vec x, Vec y) {
   Shell *s = nullptr;
   PetscCall(MatShellGetContext(A, &s));
   const OperatorInput &in = s->in;
   const ParticleView &p = *in.p;
   PetscCall(VecPointwiseMult(s->xm, x, in.mask));
-  PetscCall(in.grid->toWindow(s->xm, s->uW));
+  if (in.reproject)
+    PetscCall(reproject(*s, s->xm, s->r));
+  else
+    PetscCall(VecCopy(s->xm, s->r));
+  const bool positions = in.boundary && in.springs;
+  if (positions) PetscCall(VecAXPBYPCZ(s->w, 2.0, -1.0, 0.0, s->xm, s->r)); // (2 - R) x
+  // The stress part, on R x.
+  PetscCall(in.grid->toWindow(s->r, s->uW));
   const PetscScalar *u = nullptr;
   PetscScalar *f = nullptr;
   PetscCall(VecGetArrayRead(s->uW, &u));
   transfer::velocityGradient<2>(*in.st, p.n, u, s->L.data());
+  PetscCall(VecRestoreArrayRead(s->uW, &u));
   for (PetscInt k = 0; k < p.n; ++k) { // the linear tangent: Hooke from zero stress
     auto dsk = tensorAt<2>(s->ds.data(), k);
     dsk.setZero();
@@ -74,15 +85,21 @@ PetscErrorCode applyOperator(Mat A, Vec x, Vec y) {
   PetscCall(VecGetArray(s->fW, &f));
   physics::internalForce<2>(*in.st, p.n, p.V, s->ds.data(), f);
   if (in.boundary)
-    in.boundary->penaltyIncrement(*in.sc, *in.grid, *in.st, p, u, s->L.data(), s->ds.data(),
+    in.boundary->penaltyIncrement(*in.sc, *in.grid, *in.st, p, nullptr, s->L.data(), s->ds.data(),
                                   in.springs, f);
   PetscCall(VecRestoreArray(s->fW, &f));
-  PetscCall(VecRestoreArrayRead(s->uW, &u));
+  if (positions) { // the springs on the positions, on (2 - R) x
+    PetscCall(in.grid->toWindow(s->w, s->uW));
+    PetscCall(VecGetArrayRead(s->uW, &u));
+    PetscCall(VecGetArray(s->fW, &f));
+    in.boundary->penaltyIncrement(*in.sc, *in.grid, *in.st, p, u, nullptr, nullptr, true, f);
+    PetscCall(VecRestoreArray(s->fW, &f));
+    PetscCall(VecRestoreArrayRead(s->uW, &u));
+  }
   PetscCall(VecZeroEntries(y));
   PetscCall(in.grid->addFromWindow(s->fW, y));
   PetscCall(VecPointwiseMult(y, y, in.invMass));
   PetscCall(VecScale(y, -1.0));
-  if (in.reproject) PetscCall(reproject(*s, y));
   return PETSC_SUCCESS;
 }
 
@@ -127,6 +144,8 @@ PetscErrorCode estimate(MPI_Comm comm, const OperatorInput &in, bool smallest, E
   s.vp.assign(2 * static_cast<size_t>(in.p->n), 0.0);
   s.xp.assign(2 * static_cast<size_t>(in.p->n), 0.0);
   PetscCall(DMCreateGlobalVector(in.grid->dm, &s.xm));
+  PetscCall(VecDuplicate(s.xm, &s.r));
+  PetscCall(VecDuplicate(s.xm, &s.w));
   PetscCall(in.grid->createWindowVec(&s.uW));
   PetscCall(in.grid->createWindowVec(&s.fW));
   PetscInt nLocal = 0, nGlobal = 0;
@@ -148,12 +167,16 @@ PetscErrorCode estimate(MPI_Comm comm, const OperatorInput &in, bool smallest, E
     (void)VecDestroy(&s.fW);
     (void)VecDestroy(&s.uW);
     (void)VecDestroy(&s.xm);
+    (void)VecDestroy(&s.r);
+    (void)VecDestroy(&s.w);
     throw;
   }
   PetscCall(MatDestroy(&A));
   PetscCall(VecDestroy(&s.fW));
   PetscCall(VecDestroy(&s.uW));
   PetscCall(VecDestroy(&s.xm));
+  PetscCall(VecDestroy(&s.r));
+  PetscCall(VecDestroy(&s.w));
   e.omega = std::sqrt(std::max(e.lambdaRe, 0.0));
   e.dtCritical = criticalStep(e.omega, in.sc->damping);
   return PETSC_SUCCESS;

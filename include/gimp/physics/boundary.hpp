@@ -43,10 +43,10 @@ public:
                        bool constantBounds = true);
 
   /// The change of the penalty forces of Eq. 9 (springs and, when the scene has it, the traction
-  /// term) for a nodal displacement du (window array): the edge moves by du_p + L F n l0 with L =
-  /// grad du, the stress changes by ds (row-major 2 x 2 per particle). Edges and lengths stay
-  /// those of the current configuration. Accumulated into fe; `springs` false leaves the springs
-  /// out (the traction term alone).
+  /// term) into fe: the edge moves by du_p (du, a window array, interpolated at the particle) plus
+  /// the change of F, L F n l0 (L row-major 2 x 2 per particle); the stress changes by ds. A null
+  /// input leaves its part out; `springs` false leaves the springs out. Edges and lengths stay
+  /// those of the current configuration.
   void penaltyIncrement(const Scene &sc, const Grid &g, const Stencils<2> &st,
                         const ParticleView &p, const double *du, const double *L, const double *ds,
                         bool springs, double *fe) const;

@@ -1,5 +1,5 @@
-// The critical time step from the eigenvalues of the lumped-mass-scaled stiffness M^-1 K of the
-// current configuration (SLEPc EPS on a shell matrix).
+// The critical time step from the eigenvalues of the lumped-mass-scaled stiffness of the current
+// configuration (SLEPc EPS on a shell matrix).
 //
 // K is applied with the step's own kernels on the step's stencils: a nodal displacement du
 // becomes a particle strain by transfer::velocityGradient (du read as a velocity over dt = 1), a
@@ -8,12 +8,18 @@
 // by physics::internalForce, plus the change of the penalty forces of Eq. 9
 // (physics::Boundary::penaltyIncrement). The result is masked (constrained and empty nodes) and
 // divided by the lumped nodal mass of P2G. The traction term of Eq. 9 makes K non-symmetric.
-// With MUSL (FLIP) the grid velocity that strains the particles is the re-projection of the
-// particle velocities, V^n+1 = V^n + dt R M^-1 f with R = M^-1 M_c (M_c = S^T M_p S the
-// consistent mass): the operator is then R M^-1 K, whose highest modes R damps.
 //
-// Central differences are stable for dt < 2 / omega_max, omega_max^2 the largest eigenvalue;
-// with the damping d of Eq. 16 the bound is (2 / omega)(sqrt(1 + xi^2) - xi), xi = d / (2 omega).
+// The update the step makes is central differences on two displacements. The stress (and F)
+// follows the grid velocity V that MUSL re-projects from the particles, V^n+1 = V^n + dt R a^n
+// with R = M^-1 M_c (M_c = S^T M_p S, the consistent mass; R = I without re-projection); the
+// particles' positions, which the penalty springs read, move with the velocity before it,
+// V^n + dt a^n. With a = -M^-1 (K_U U + K_W W) (K_U: internal force, the penalty's change of F
+// and traction term; K_W: the springs on the positions), a period-2 mode z = -1 first appears
+// when dt^2 reaches 4 / lambda_max of
+//     B = M^-1 (K_U R + K_W (2 - R)),
+// which is M^-1 K without re-projection (R = I). dt_critical = 2 / omega_max with
+// omega_max^2 = lambda_max(B); with the damping d of Eq. 16 the bound is
+// (2 / omega)(sqrt(1 + xi^2) - xi), xi = d / (2 omega).
 #pragma once
 
 #include "gimp/grid/grid.hpp"
@@ -36,13 +42,13 @@ struct OperatorInput {
   const ParticleView *p = nullptr;
   const physics::Boundary *boundary = nullptr; // null: no penalty conditions
   bool springs = true;                         // false: the penalty springs left out
-  bool reproject = false; // MUSL: the stress sees the re-projected velocity, R M^-1 K
+  bool reproject = false; // MUSL: the stress follows the re-projected velocity (R != I)
   Vec mask = nullptr, invMass = nullptr; // global, from P2G
 };
 
 /// The eigenvalues that bound the step.
 struct Estimate {
-  double lambdaRe = 0, lambdaIm = 0; // largest magnitude eigenvalue of M^-1 K [1/s^2]
+  double lambdaRe = 0, lambdaIm = 0; // largest magnitude eigenvalue of B [1/s^2]
   double omega = 0;                  // sqrt(max(lambdaRe, 0)) [rad/s]
   double dtCritical = 0;             // criticalStep(omega, d) [s]
   PetscInt iterations = 0;
@@ -51,7 +57,7 @@ struct Estimate {
   PetscInt smallestIterations = 0;
 };
 
-/// Largest magnitude eigenvalue of M^-1 K and, when `smallest`, the one of smallest real part
+/// Largest magnitude eigenvalue of B and, when `smallest`, the one of smallest real part
 /// (collective). Throws an InputError on every rank when the eigen-solver does not converge.
 PetscErrorCode estimate(MPI_Comm comm, const OperatorInput &in, bool smallest, Estimate &e);
 
