@@ -4,8 +4,41 @@
 #include "gimp/solver/solver.hpp"
 
 #include <cmath>
+#include <complex>
+#include <string>
 
 namespace gimp {
+
+namespace {
+
+/// The traction term of Eq. 9 is not symmetric: below some penalty it gives B eigenvalues of
+/// negative real part or with an imaginary part, whose modes grow whatever the step (at the rate
+/// Im sqrt(lambda)). Beyond round-off of the largest eigenvalue they are refused, and so is a
+/// search for the largest imaginary part that does not converge (complex pairs it cannot
+/// separate; with real eigenvalues only it converges at once).
+void refuseGrowingModes(const stability::Estimate &e, double alpha) {
+  const double roundoff = 1e-6 * std::hypot(e.lambdaRe, e.lambdaIm);
+  std::string what;
+  if (e.smallestRe < -roundoff) {
+    what = "an eigenvalue of negative real part (" + formatNumber(e.smallestRe) + " 1/s^2)";
+  } else if (!e.complexConverged) {
+    what = "complex eigenvalues the eigen-solver cannot separate";
+  } else if (std::fabs(e.complexIm) > roundoff) {
+    const double growth = std::sqrt(std::complex<double>(e.complexRe, e.complexIm)).imag();
+    what = "a complex eigenvalue (" + formatNumber(e.complexRe) + " + " +
+           formatNumber(std::fabs(e.complexIm)) + "i 1/s^2, growth " +
+           formatNumber(std::fabs(growth)) + " 1/s)";
+  }
+  if (what.empty()) return;
+  throw InputError("option -gimp_penalty " + formatNumber(alpha) +
+                   ": the traction term of Eq. 9 "
+                   "gives B " +
+                   what +
+                   ", unstable at every -ts_dt; raise it, or use "
+                   "-gimp_penalty_traction false");
+}
+
+} // namespace
 
 PetscErrorCode Solver::stabilityEstimate(bool springs, bool smallest, stability::Estimate &e) {
   // The step's own phases build the stencils and the nodal mass and masks; the next step
@@ -58,18 +91,12 @@ PetscErrorCode Solver::stabilityAtStart() {
                         explicitDt ? "-ts_dt" : "-gimp_cfl x dt_critical"));
   if (e.hasSmallest)
     PetscCall(PetscPrintf(
-        comm_, "gimp: stability: smallest real part %.6g%+.3gi (%" PetscInt_FMT " iterations)\n",
-        e.smallestRe, e.smallestIm, e.smallestIterations));
-  // The traction term of Eq. 9 alone is not symmetric: below some penalty it gives modes that
-  // grow whatever the step. A negative real part beyond round-off of the largest one is refused.
-  const double roundoff = 1e-6 * std::hypot(e.lambdaRe, e.lambdaIm);
-  if (e.hasSmallest && e.smallestRe < -roundoff)
-    throw InputError("option -gimp_penalty " + formatNumber(boundary_.alpha()) +
-                     ": the traction term of Eq. 9 gives M^-1 K an eigenvalue of negative real "
-                     "part (" +
-                     formatNumber(e.smallestRe) +
-                     " 1/s^2), unstable at every -ts_dt; raise it, or use "
-                     "-gimp_penalty_traction false");
+        comm_,
+        "gimp: stability: smallest real part %.6g%+.3gi (%" PetscInt_FMT
+        " iterations), largest imaginary part %.6g%+.3gi (%" PetscInt_FMT " iterations%s)\n",
+        e.smallestRe, e.smallestIm, e.smallestIterations, e.complexRe, e.complexIm,
+        e.complexIterations, e.complexConverged ? "" : ", not converged"));
+  if (e.hasSmallest) refuseGrowingModes(e, boundary_.alpha());
   if (!(dt > e.dtCritical) || sc_.allowUnstableDt) return PETSC_SUCCESS;
   if (!sc_.dbcs.empty()) { // is it the penalty springs that make the step unstable?
     stability::Estimate free;

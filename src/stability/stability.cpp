@@ -104,8 +104,9 @@ PetscErrorCode applyOperator(Mat A, Vec x, Vec y) {
 }
 
 /// One eigenvalue of A by EPS (non-Hermitian), the `which` end of the spectrum.
+/// Without `converged` a failure to converge is an InputError; with it, it is reported there.
 PetscErrorCode solveOne(MPI_Comm comm, Mat A, EPSWhich which, const char *what, double &re,
-                        double &im, PetscInt &its) {
+                        double &im, PetscInt &its, bool *converged = nullptr) {
   EPS eps = nullptr;
   PetscCall(EPSCreate(comm, &eps));
   PetscCall(EPSSetOperators(eps, A, nullptr));
@@ -124,11 +125,13 @@ PetscErrorCode solveOne(MPI_Comm comm, Mat A, EPSWhich which, const char *what, 
   PetscScalar kr = 0, ki = 0;
   if (nconv > 0) PetscCall(EPSGetEigenpair(eps, 0, &kr, &ki, nullptr, nullptr));
   PetscCall(EPSDestroy(&eps));
-  if (nconv < 1)
+  if (converged) *converged = nconv > 0;
+  if (nconv < 1 && !converged)
     throw InputError("option -gimp_stability_check: the eigen-solver found no " +
-                     std::string(what) + " eigenvalue of M^-1 K in " + std::to_string(maxIt) +
+                     std::string(what) + " eigenvalue of B in " + std::to_string(maxIt) +
                      " iterations (tolerance " + formatNumber(tol) +
                      "); raise -gimp_stability_eps_max_it or -gimp_stability_eps_ncv");
+  if (nconv < 1) kr = ki = 0;
   re = PetscRealPart(kr);
   im = PetscRealPart(ki);
   return PETSC_SUCCESS;
@@ -159,9 +162,12 @@ PetscErrorCode estimate(MPI_Comm comm, const OperatorInput &in, bool smallest, E
     PetscCall(
         solveOne(comm, A, EPS_LARGEST_MAGNITUDE, "largest", e.lambdaRe, e.lambdaIm, e.iterations));
     e.hasSmallest = smallest;
-    if (smallest)
+    if (smallest) {
       PetscCall(solveOne(comm, A, EPS_SMALLEST_REAL, "smallest real", e.smallestRe, e.smallestIm,
                          e.smallestIterations));
+      PetscCall(solveOne(comm, A, EPS_LARGEST_IMAGINARY, "largest imaginary", e.complexRe,
+                         e.complexIm, e.complexIterations, &e.complexConverged));
+    }
   } catch (...) {
     (void)MatDestroy(&A);
     (void)VecDestroy(&s.fW);

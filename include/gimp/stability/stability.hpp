@@ -55,10 +55,16 @@ struct Estimate {
   bool hasSmallest = false; // the smallest real part was computed (traction term)
   double smallestRe = 0, smallestIm = 0;
   PetscInt smallestIterations = 0;
+  // With `smallest` also the eigenvalue of largest imaginary part: central differences grow at
+  // the rate Im sqrt(lambda) on a complex eigenvalue whatever the step.
+  double complexRe = 0, complexIm = 0;
+  PetscInt complexIterations = 0;
+  bool complexConverged = false;
 };
 
-/// Largest magnitude eigenvalue of B and, when `smallest`, the one of smallest real part
-/// (collective). Throws an InputError on every rank when the eigen-solver does not converge.
+/// Largest magnitude eigenvalue of B and, when `smallest`, the ones of smallest real part and
+/// largest imaginary part (collective). Throws an InputError on every rank when the eigen-solver
+/// does not converge.
 PetscErrorCode estimate(MPI_Comm comm, const OperatorInput &in, bool smallest, Estimate &e);
 
 /// SLEPc started after PETSc for the solver's lifetime (no-op without SLEPc).
