@@ -13,17 +13,14 @@ namespace {
 
 /// The traction term of Eq. 9 is not symmetric: below some penalty it gives B eigenvalues of
 /// negative real part or with an imaginary part, whose modes grow whatever the step (at the rate
-/// Im sqrt(lambda)). Beyond round-off of the largest eigenvalue they are refused, and so is a
-/// search for the largest imaginary part that does not converge (complex pairs it cannot
-/// separate; with real eigenvalues only it converges at once).
+/// Im sqrt(lambda)). Beyond round-off of the largest eigenvalue they are refused. A search for
+/// the largest imaginary part that does not converge refuses nothing (it is printed).
 void refuseGrowingModes(const stability::Estimate &e, double alpha) {
   const double roundoff = 1e-6 * std::hypot(e.lambdaRe, e.lambdaIm);
   std::string what;
   if (e.smallestRe < -roundoff) {
     what = "an eigenvalue of negative real part (" + formatNumber(e.smallestRe) + " 1/s^2)";
-  } else if (!e.complexConverged) {
-    what = "complex eigenvalues the eigen-solver cannot separate";
-  } else if (std::fabs(e.complexIm) > roundoff) {
+  } else if (e.complexConverged && std::fabs(e.complexIm) > roundoff) {
     const double growth = std::sqrt(std::complex<double>(e.complexRe, e.complexIm)).imag();
     what = "a complex eigenvalue (" + formatNumber(e.complexRe) + " + " +
            formatNumber(std::fabs(e.complexIm)) + "i 1/s^2, growth " +
