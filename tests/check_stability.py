@@ -11,7 +11,8 @@ are those of bilinear elements and the lumped mass is rho h^2 / 4 per cell corne
   s = 2/3 (1/3), so dt_critical = sqrt(3) h / c = 0.17321 s (the 25-cell bar's discrete
   wavenumbers reach it to 0.03 %).
 Then: -ts_dt above dt_critical refused in one line naming -ts_dt; a penalty whose springs make
-dt_critical < dt refused naming -gimp_penalty; without -ts_dt, dt = -gimp_cfl x dt_critical;
+dt_critical < dt refused naming -gimp_penalty; a penalty so low that the traction term of Eq. 9
+gives a complex eigenvalue refused naming -gimp_penalty; without -ts_dt, dt = -gimp_cfl x dt_critical;
 one bisection point: the bar at 1.05 dt_critical goes unstable within 600 steps, at 0.95 it
 stays stable. (Without SLEPc the option is refused; this build has SLEPc: not tested here.)
 """
@@ -56,6 +57,15 @@ p = gimptest.run(args, "options/slab.opts",
 err = p.stderr.strip().splitlines()
 c.check("refuse -gimp_penalty", p.returncode == 2 and len(err) == 1 and
         "option -gimp_penalty 1e+17" in err[0], "exit %d: %s" % (p.returncode, p.stderr.strip()))
+# The traction term of Eq. 9 at 0.5 M / h_min: B has a complex eigenvalue (a mode growing at
+# every dt; the slab's run stops as unstable after 989 steps, docs/validation.md).
+p = gimptest.run(args, "options/slab.opts",
+                 ["-gimp_stability_check", "-gimp_penalty", "2.2e14", "-gimp_damping", "0"],
+                 expect_ok=False)
+err = p.stderr.strip().splitlines()
+c.check("refuse low -gimp_penalty", p.returncode == 2 and len(err) == 1 and
+        "option -gimp_penalty 2.2e+14" in err[0] and "complex eigenvalue" in err[0],
+        "exit %d: %s" % (p.returncode, p.stderr.strip()))
 p = gimptest.run(args, "options/bar.opts", ["-gimp_stability_check", "-ts_dt", "0.2",
                                             "-gimp_allow_unstable_dt", "-ts_max_steps", "1"],
                  expect_ok=False)
