@@ -53,7 +53,7 @@ PetscErrorCode Solver::stabilityEstimate(bool springs, bool smallest, stability:
   in.p = &p;
   in.boundary = sc_.dbcs.empty() ? nullptr : &boundary_;
   in.springs = springs;
-  in.reproject = scheme_.stressFromReprojection;
+  in.stressOnUpdated = !scheme_.stressFromReprojection && !scheme_.stressBeforeGridUpdate;
   in.mask = nodal_.mask;
   in.invMass = nodal_.invMass;
   try {
@@ -106,7 +106,7 @@ PetscErrorCode Solver::stabilityAtStart() {
   }
   throw InputError("option -ts_dt " + formatNumber(dt) +
                    ": exceeds dt_critical = " + formatNumber(e.dtCritical) +
-                   " s (largest eigenvalue of M^-1 K); choose -ts_dt <= " +
+                   " s (largest eigenvalue of the step operator B); choose -ts_dt <= " +
                    formatNumber(e.dtCritical) + ", or -gimp_allow_unstable_dt to run it anyway");
 }
 

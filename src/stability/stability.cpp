@@ -55,21 +55,18 @@ PetscErrorCode reproject(Shell &s, Vec in, Vec out) {
 
 /// y = M^-1 (K_U R x + K_W (2 - R) x) on the masked x (see the header): K_U from the stress
 /// (internal force, and the penalty's change of F and traction term), K_W the penalty springs
-/// on the particles' positions. Without the re-projection R = I and this is M^-1 K x.
+/// on the particles' positions. With USL the stress part is on (2 - R) x as well.
 PetscErrorCode applyOperator(Mat A, Vec x, Vec y) {
   Shell *s = nullptr;
   PetscCall(MatShellGetContext(A, &s));
   const OperatorInput &in = s->in;
   const ParticleView &p = *in.p;
   PetscCall(VecPointwiseMult(s->xm, x, in.mask));
-  if (in.reproject)
-    PetscCall(reproject(*s, s->xm, s->r));
-  else
-    PetscCall(VecCopy(s->xm, s->r));
+  PetscCall(reproject(*s, s->xm, s->r));
   const bool positions = in.boundary && in.springs;
-  if (positions) PetscCall(VecAXPBYPCZ(s->w, 2.0, -1.0, 0.0, s->xm, s->r)); // (2 - R) x
-  // The stress part, on R x.
-  PetscCall(in.grid->toWindow(s->r, s->uW));
+  PetscCall(VecAXPBYPCZ(s->w, 2.0, -1.0, 0.0, s->xm, s->r)); // (2 - R) x
+  // The stress part: on R x (MUSL, USF) or on (2 - R) x (USL).
+  PetscCall(in.grid->toWindow(in.stressOnUpdated ? s->w : s->r, s->uW));
   const PetscScalar *u = nullptr;
   PetscScalar *f = nullptr;
   PetscCall(VecGetArrayRead(s->uW, &u));

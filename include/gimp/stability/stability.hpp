@@ -9,15 +9,16 @@
 // (physics::Boundary::penaltyIncrement). The result is masked (constrained and empty nodes) and
 // divided by the lumped nodal mass of P2G. The traction term of Eq. 9 makes K non-symmetric.
 //
-// The update the step makes is central differences on two displacements. The stress (and F)
-// follows the grid velocity V that MUSL re-projects from the particles, V^n+1 = V^n + dt R a^n
-// with R = M^-1 M_c (M_c = S^T M_p S, the consistent mass; R = I without re-projection); the
-// particles' positions, which the penalty springs read, move with the velocity before it,
-// V^n + dt a^n. With a = -M^-1 (K_U U + K_W W) (K_U: internal force, the penalty's change of F
-// and traction term; K_W: the springs on the positions), a period-2 mode z = -1 first appears
-// when dt^2 reaches 4 / lambda_max of
+// The update the step makes is central differences on two displacements. With FLIP the grid
+// velocity projected from the particles (MUSL's re-projection, and every scheme's next P2G)
+// advances as V^n+1 = V^n + dt R a^n with R = M^-1 M_c (M_c = S^T M_p S, the consistent mass).
+// The stress (and F) follows it with MUSL (re-projected velocity) and USF (P2G velocity); with
+// USL it follows the updated velocity V^n + dt a^n, as the particles' positions, which the
+// penalty springs read, do: there (2 - R) stands for R. With a = -M^-1 (K_U U + K_W W) (K_U:
+// internal force, the penalty's change of F and traction term; K_W: the springs on the positions),
+// a period-2 mode z = -1 first appears when dt^2 reaches 4 / lambda_max of
 //     B = M^-1 (K_U R + K_W (2 - R)),
-// which is M^-1 K without re-projection (R = I). dt_critical = 2 / omega_max with
+// with USL K_U (2 - R) for K_U R. dt_critical = 2 / omega_max with
 // omega_max^2 = lambda_max(B); with the damping d of Eq. 16 the bound is
 // (2 / omega)(sqrt(1 + xi^2) - xi), xi = d / (2 omega).
 #pragma once
@@ -42,7 +43,7 @@ struct OperatorInput {
   const ParticleView *p = nullptr;
   const physics::Boundary *boundary = nullptr; // null: no penalty conditions
   bool springs = true;                         // false: the penalty springs left out
-  bool reproject = false; // MUSL: the stress follows the re-projected velocity (R != I)
+  bool stressOnUpdated = false;          // USL: the stress follows V^n + dt a^n, (2 - R) x, not R x
   Vec mask = nullptr, invMass = nullptr; // global, from P2G
 };
 
