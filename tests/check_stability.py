@@ -3,13 +3,15 @@
 Analytic values on the free bar of options/bar.opts (no node condition: E = 100 Pa, rho = 1,
 nu = 0, plane stress, h = 1 m, 2 x 2 particles per cell filling whole cells, so GIMP's weights
 are those of bilinear elements and the lumped mass is rho h^2 / 4 per cell corner):
-- USL: the operator is M^-1 K; its highest mode is the sawtooth u_x = (-1)^i with
-  lambda = 4 E / (rho h^2), so dt_critical = 2 / omega = h / c with c = sqrt(E / rho): 0.1 s.
-- MUSL: the operator is R M^-1 K, R = M^-1 M_c the re-projection. Along x, for wavenumber
-  theta, M^-1 K = (4 c^2 / h^2) s with s = sin^2(theta / 2), and with particles at h/4 and 3h/4
-  of each cell R = 0.625 + 0.375 cos(theta) = 1 - 0.75 s. s (1 - 0.75 s) is largest at
-  s = 2/3 (1/3), so dt_critical = sqrt(3) h / c = 0.17321 s (the 25-cell bar's discrete
-  wavenumbers reach it to 0.03 %).
+- Along x, for wavenumber theta, M^-1 K = (4 c^2 / h^2) s with s = sin^2(theta / 2),
+  c = sqrt(E / rho), and with particles at h/4 and 3h/4 of each cell the re-projection
+  R = M^-1 M_c = 0.625 + 0.375 cos(theta) = 1 - 0.75 s.
+- MUSL and USF (the stress follows the projected velocity): the operator is R M^-1 K;
+  s (1 - 0.75 s) is largest at s = 2/3 (1/3), so dt_critical = sqrt(3) h / c = 0.17321 s (the
+  25-cell bar's discrete wavenumbers reach it to 0.03 %).
+- USL (the stress follows the updated velocity V^n + dt a^n, the projected one of FLIP's next
+  P2G plus the step's change): the operator is (2 - R) M^-1 K; s (1 + 0.75 s) is largest for
+  the sawtooth u_x = (-1)^i (s = 1, 1.75), so dt_critical = h / (c sqrt(1.75)) = 0.075593 s.
 Then: -ts_dt above dt_critical refused in one line naming -ts_dt; a penalty whose springs make
 dt_critical < dt refused naming -gimp_penalty; a penalty so low that the traction term of Eq. 9
 gives a complex eigenvalue refused naming -gimp_penalty; without -ts_dt, dt = -gimp_cfl x dt_critical;
@@ -36,7 +38,8 @@ def opts_without(prefixes, name):
 
 free = opts_without(["-gimp_bc"], "bar_free.opts")
 h, cw = 1.0, math.sqrt(100.0 / 1.0)
-for update, exact in (("usl", h / cw), ("musl", math.sqrt(3.0) * h / cw)):
+for update, exact in (("usl", h / (cw * math.sqrt(1.75))), ("usf", math.sqrt(3.0) * h / cw),
+                      ("musl", math.sqrt(3.0) * h / cw)):
     out = gimptest.run(args, free, ["-gimp_stability_check", "-gimp_update", update,
                                     "-ts_max_steps", "1"],
                        outdir=os.path.join(args.work, "free_" + update))

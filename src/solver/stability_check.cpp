@@ -79,13 +79,14 @@ PetscErrorCode Solver::stabilityAtStart() {
     dt = sc_.cfl * e.dtCritical;
     PetscCall(TSSetTimeStep(ts_, dt));
   }
-  PetscCall(PetscPrintf(comm_,
-                        "gimp: stability: omega_max = %.6g rad/s (eigenvalue %.6g%+.3gi of B = "
-                        "M^-1 (K_U R + K_W (2 - R)), %" PetscInt_FMT
-                        " iterations), dt_critical = %.6g s, dt = %.6g "
-                        "s (%s)\n",
-                        e.omega, e.lambdaRe, e.lambdaIm, e.iterations, e.dtCritical, dt,
-                        explicitDt ? "-ts_dt" : "-gimp_cfl x dt_critical"));
+  PetscCall(PetscPrintf(
+      comm_,
+      "gimp: stability: omega_max = %.6g rad/s (eigenvalue %.6g%+.3gi of B = "
+      "M^-1 (K_U %s + K_W (2 - R)), %" PetscInt_FMT " iterations), dt_critical = %.6g s, dt = %.6g "
+      "s (%s)\n",
+      e.omega, e.lambdaRe, e.lambdaIm,
+      scheme_.stressFromReprojection || scheme_.stressBeforeGridUpdate ? "R" : "(2 - R)",
+      e.iterations, e.dtCritical, dt, explicitDt ? "-ts_dt" : "-gimp_cfl x dt_critical"));
   if (e.hasSmallest)
     PetscCall(PetscPrintf(
         comm_,

@@ -53,9 +53,9 @@ PetscErrorCode reproject(Shell &s, Vec in, Vec out) {
   return PETSC_SUCCESS;
 }
 
-/// y = M^-1 (K_U R x + K_W (2 - R) x) on the masked x (see the header): K_U from the stress
-/// (internal force, and the penalty's change of F and traction term), K_W the penalty springs
-/// on the particles' positions. With USL the stress part is on (2 - R) x as well.
+/// y = M^-1 (K_U R x + K_W (2 - R) x) (USL: K_U (2 - R) x) on the masked x (see the header): K_U
+/// from the stress (internal force, and the penalty's change of F and traction term), K_W the
+/// penalty springs on the particles' positions. With USL the stress part is on (2 - R) x as well.
 PetscErrorCode applyOperator(Mat A, Vec x, Vec y) {
   Shell *s = nullptr;
   PetscCall(MatShellGetContext(A, &s));
