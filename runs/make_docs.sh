@@ -75,6 +75,10 @@ step patch "$py" "$root/runs/study_patch.py" --gimp "$gimp" --root "$root" --wor
 step slab "$py" "$root/runs/study_slab.py" --gimp "$gimp" --root "$root" --work "$work/slab"
 step plot_slab "$py" "$root/tools/plot_slab.py" "$work/slab"
 
+# Critical time step: predicted against bisected (table; needs gimp built with SLEPc).
+step stability "$py" "$root/runs/study_stability.py" --gimp "$gimp" --root "$root" \
+  --work "$work/stability"
+
 # Plate with a hole (table and docs/img/plate.png).
 step plate "$py" "$root/runs/study_plate.py" --gimp "$gimp" --root "$root" --work "$work/plate"
 step plot_plate "$py" "$root/tools/plot_plate.py" "$work/plate"

@@ -4,7 +4,8 @@ against the step where runs actually go unstable, found by bisection. The table 
 docs/validation.md, section "Critical time step".
 
 Usage: /usr/bin/python3 runs/study_stability.py --gimp build/gimp --work build/WORK_stability
-       [--steps 1500] [--cases bar,patch3,...]
+       [--root .] [--steps 1500] [--cases bar,patch3,...]
+(gimp built with SLEPc.)
 
 Each case runs undamped (unless it is the damped case) for a fixed number of steps with
 -gimp_allow_unstable_dt. A run is unstable when it stops with status "unstable" (a particle
@@ -45,7 +46,7 @@ def run(a, scene, extra, out, dt=None):
     """One run; returns its summary and whether it went unstable."""
     shutil.rmtree(out, ignore_errors=True)
     env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
-    cmd = [a.gimp, "-options_file", os.path.join(os.path.dirname(a.gimp), scene),
+    cmd = [a.gimp, "-options_file", os.path.join(a.root, "options", scene),
            "-gimp_output_dir", out, "-gimp_stability_check", "-gimp_allow_unstable_dt",
            "-ts_max_steps", str(a.steps), "-gimp_history_interval", "10",
            "-gimp_output_interval", "0"] + extra
@@ -87,6 +88,7 @@ def threshold(a, name, scene, extra, dtc):
 def main():
     ap = series.argparse.ArgumentParser()
     ap.add_argument("--gimp", default=os.path.join(series.ROOT, "build", "gimp"))
+    ap.add_argument("--root", default=series.ROOT, help="the repository (its options/)")
     ap.add_argument("--work", default=os.path.join(series.ROOT, "build", "WORK_stability"))
     ap.add_argument("--steps", type=int, default=1500)
     ap.add_argument("--cases", default="", help="comma-separated prefixes of the case names")
