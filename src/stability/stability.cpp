@@ -30,6 +30,7 @@ struct Shell {
   Vec xm = nullptr, r = nullptr, w = nullptr; // global
   Vec uW = nullptr, fW = nullptr;             // window
   std::vector<double> L, ds, vp, xp;
+  double bScale = 1, rScale = 0; // the shell applies bScale B + rScale R
 };
 
 /// out = R in, R = M^-1 M_c the re-projection of MUSL: `in` interpolated to the particles (G2P
@@ -97,6 +98,7 @@ PetscErrorCode applyOperator(Mat A, Vec x, Vec y) {
   PetscCall(in.grid->addFromWindow(s->fW, y));
   PetscCall(VecPointwiseMult(y, y, in.invMass));
   PetscCall(VecScale(y, -1.0));
+  if (s->rScale != 0) PetscCall(VecAXPBY(y, s->rScale, s->bScale, s->r));
   return PETSC_SUCCESS;
 }
 
@@ -136,6 +138,32 @@ PetscErrorCode solveOne(MPI_Comm comm, Mat A, EPSWhich which, const char *what, 
 
 } // namespace
 
+/// The critical step with the damping d of Eq. 16. The damping acts on the projected momentum, so
+/// like the force it reaches a mode through R: mode by mode central differences are stable for
+/// omega_m^2 dt^2 + 2 r_m d dt < 4 (r_m R's eigenvalue on the mode), and with large d the low
+/// modes (r_m near 1) bound dt before the highest one. dt_critical is where the largest eigenvalue
+/// of dt^2 B + 2 d dt R reaches 4, found by bisection between (2 / omega)(sqrt(1 + xi^2) - xi),
+/// xi = d / (2 omega) (every r_m taken as 1: below every mode's bound) and min(2 / omega, 2 / d).
+/// The lower end of the last bracket is returned (stable side).
+PetscErrorCode dampedStep(MPI_Comm comm, Mat A, Shell &s, double omega, double d, double &dt,
+                          PetscInt &its) {
+  double lo = criticalStep(omega, d), hi = std::min(2.0 / omega, 2.0 / d);
+  for (int k = 0; k < 14 && hi > lo * (1.0 + 1e-4); ++k) {
+    const double mid = 0.5 * (lo + hi);
+    double re = 0, im = 0;
+    PetscInt n = 0;
+    s.bScale = mid * mid;
+    s.rScale = 2.0 * d * mid;
+    PetscCall(solveOne(comm, A, EPS_LARGEST_MAGNITUDE, "damped largest", re, im, n));
+    its += n;
+    (re < 4.0 ? lo : hi) = mid;
+  }
+  s.bScale = 1;
+  s.rScale = 0;
+  dt = lo;
+  return PETSC_SUCCESS;
+}
+
 PetscErrorCode estimate(MPI_Comm comm, const OperatorInput &in, bool smallest, Estimate &e) {
   Shell s;
   s.in = in;
@@ -158,6 +186,10 @@ PetscErrorCode estimate(MPI_Comm comm, const OperatorInput &in, bool smallest, E
   try {
     PetscCall(
         solveOne(comm, A, EPS_LARGEST_MAGNITUDE, "largest", e.lambdaRe, e.lambdaIm, e.iterations));
+    e.omega = std::sqrt(std::max(e.lambdaRe, 0.0));
+    e.dtCritical = criticalStep(e.omega, in.sc->damping);
+    if (in.sc->damping > 0 && e.omega > 0)
+      PetscCall(dampedStep(comm, A, s, e.omega, in.sc->damping, e.dtCritical, e.dampedIterations));
     e.hasSmallest = smallest;
     if (smallest) {
       PetscCall(solveOne(comm, A, EPS_SMALLEST_REAL, "smallest real", e.smallestRe, e.smallestIm,
@@ -180,8 +212,6 @@ PetscErrorCode estimate(MPI_Comm comm, const OperatorInput &in, bool smallest, E
   PetscCall(VecDestroy(&s.xm));
   PetscCall(VecDestroy(&s.r));
   PetscCall(VecDestroy(&s.w));
-  e.omega = std::sqrt(std::max(e.lambdaRe, 0.0));
-  e.dtCritical = criticalStep(e.omega, in.sc->damping);
   return PETSC_SUCCESS;
 }
 

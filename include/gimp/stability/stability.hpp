@@ -20,7 +20,10 @@
 //     B = M^-1 (K_U R + K_W (2 - R)),
 // with USL K_U (2 - R) for K_U R. dt_critical = 2 / omega_max with
 // omega_max^2 = lambda_max(B); with the damping d of Eq. 16 the bound is
-// (2 / omega)(sqrt(1 + xi^2) - xi), xi = d / (2 omega).
+// (2 / omega)(sqrt(1 + xi^2) - xi), xi = d / (2 omega), for one mode. The damping acts on the
+// projected momentum and so reaches a mode through R as the force does: mode by mode the bound is
+// omega_m^2 dt^2 + 2 r_m d dt < 4, and dt_critical is where the largest eigenvalue of
+// dt^2 B + 2 d dt R reaches 4 (a bisection between that formula and min(2 / omega, 2 / d)).
 #pragma once
 
 #include "gimp/grid/grid.hpp"
@@ -51,7 +54,8 @@ struct OperatorInput {
 struct Estimate {
   double lambdaRe = 0, lambdaIm = 0; // largest magnitude eigenvalue of B [1/s^2]
   double omega = 0;                  // sqrt(max(lambdaRe, 0)) [rad/s]
-  double dtCritical = 0;             // criticalStep(omega, d) [s]
+  double dtCritical = 0; // 2 / omega; with damping d where lambda_max(dt^2 B + 2 d dt R) = 4 [s]
+  PetscInt dampedIterations = 0; // the eigen-solver's iterations of that search
   PetscInt iterations = 0;
   bool hasSmallest = false; // the smallest real part was computed (traction term)
   double smallestRe = 0, smallestIm = 0;
