@@ -39,6 +39,9 @@ CASES = [
      SLAB + ["-gimp_penalty", "1e17", "-gimp_penalty_traction", "false"]),
     ("plate ring (25 ppc)", "plate.opts", ["-gimp_damping", "0", "-gimp_flip", "1"]),
     ("bar damped d=10", "bar.opts", ["-ts_max_time", "1e9", "-gimp_damping", "10"]),
+    ("bar damped d=30", "bar.opts", ["-ts_max_time", "1e9", "-gimp_damping", "30"]),
+    ("bar USL", "bar.opts", ["-ts_max_time", "1e9", "-gimp_update", "usl"]),
+    ("bar USF", "bar.opts", ["-ts_max_time", "1e9", "-gimp_update", "usf"]),
 ]
 
 
