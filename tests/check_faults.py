@@ -19,7 +19,7 @@ PATCH = os.path.join(args.root, "options", "patch.opts")
 PLATE = os.path.join(args.root, "options", "plate.opts")
 ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
            OMPI_MCA_rmaps_base_oversubscribe="1")
-TIMEOUT = 60
+TIMEOUT = 30
 t_start = time.time()
 # Open MPI's launcher adds a notice of its own when a rank exits non-zero; -q keeps it quiet, so
 # that stderr holds only what gimp wrote.
@@ -43,9 +43,9 @@ def gimp(opts, ranks=1, fsize=None, outdir=None):
     cmd = [args.gimp] + opts
     if outdir is not None:
         cmd += ["-gimp_output_dir", outdir]
-    if fsize is not None:
+    if fsize is not None:  # under the launcher even on one rank: the limit is gimp's alone
         cmd = [sys.executable, "-c", LIMITED, str(fsize)] + cmd
-    if ranks > 1:
+    if ranks > 1 or fsize is not None:
         cmd = [args.mpiexec] + QUIET + ["-n", str(ranks)] + cmd
     t0 = time.time()
     try:
@@ -79,12 +79,10 @@ def plate(*extra):
 # --- values: NaN and inf in every kind of real option, extra or missing values -----------------
 value_cases = [
     ("E inf (not -ts_dt)", patch("-gimp_E", "inf"), ["-gimp_E inf", "finite"]),
-    ("E nan", patch("-gimp_E", "nan"), ["-gimp_E nan"]),
     ("nu nan", patch("-gimp_nu", "nan"), ["-gimp_nu nan"]),
     ("rho inf", patch("-gimp_rho", "inf"), ["-gimp_rho inf"]),
     ("thickness inf", patch("-gimp_thickness", "inf"), ["-gimp_thickness inf"]),
     ("damping nan", patch("-gimp_damping", "nan"), ["-gimp_damping nan"]),
-    ("damping -inf", patch("-gimp_damping", "-inf"), ["-gimp_damping -inf"]),
     ("cfl nan", patch("-gimp_cfl", "nan"), ["-gimp_cfl nan"]),
     ("h inf", patch("-gimp_h", "inf"), ["-gimp_h inf"]),
     ("box nan", patch("-gimp_body0_box", "0,0,1,nan"), ["-gimp_body0_box 0,0,1,nan"]),
@@ -115,8 +113,6 @@ value_cases = [
     ("box without value", patch("-gimp_body0_box"), ["-gimp_body0_box", "needs a value"]),
     ("dt without value", patch("-ts_dt"), ["-ts_dt", "needs a value"]),
     ("negative step count", patch("-ts_max_steps", "-5"), ["-ts_max_steps -5"]),
-    ("negative output interval", patch("-gimp_output_interval", "-1"),
-     ["-gimp_output_interval -1"]),
     ("unstable dt names dt", patch("-ts_dt", "1"), ["-ts_dt 1", "stable limit"]),
 ]
 for name, opts, needles in value_cases:
@@ -197,7 +193,7 @@ rank_cases = [
      ["-gimp_grid_dump /dev/full", "No space"], ok_out),
 ]
 for name, o, needles, out in rank_cases:
-    for ranks in (1, 2):
+    for ranks in (1, 2) if "full disk" in name else (2,):
         expect_one_line(name, o, needles, ranks=ranks, outdir=out)
 
 
@@ -235,9 +231,21 @@ c.check("first run wrote its files", all(os.path.exists(os.path.join(reuse, f)) 
 # The second run in the same directory writes history.csv, then fails on a full disk.
 rc, err, _ = gimp(patch("-ts_max_steps", "200", "-gimp_output_interval", "20"),
                   fsize=60000, outdir=reuse)
-left = [f for f in stale if os.path.exists(os.path.join(reuse, f))]
-c.check("a failed run in a reused directory leaves no file of the earlier run", rc and not left,
-        "exit %s, left: %s" % (rc, left))
+# Its own fields.h5 and XDMF (step 0) stay; nothing of the first run (step 1) may.
+left = [f for f in ("summary.json", "hoop.csv") if os.path.exists(os.path.join(reuse, f))]
+for f in ("particles.xmf", "grid.xmf"):
+    path = os.path.join(reuse, f)
+    if os.path.exists(path) and "step_00000001" in open(path).read():
+        left.append(f)
+try:
+    import h5py
+    with h5py.File(os.path.join(reuse, "fields.h5"), "r") as h5:
+        if "particles/step_00000001" in h5:
+            left.append("fields.h5")
+except (OSError, KeyError):
+    pass  # no readable fields.h5: nothing of the first run either
+c.check("a failed run in a reused directory leaves no file of the earlier run",
+        rc is not None and rc > 0 and not left, "exit %s, left: %s" % (rc, left))
 # An unstable run: the summary is valid JSON (no NaN), status unstable.
 unst = os.path.join(W, "unstable")
 rc, err, _ = gimp(["-options_file", os.path.join(args.root, "options", "drift.opts"),

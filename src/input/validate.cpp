@@ -74,7 +74,8 @@ bool endsWith(const std::string &s, const char *tail) {
   return s.size() >= n && s.compare(s.size() - n, n, tail) == 0;
 }
 
-/// gimp options that PETSc reads as logicals: given alone they mean true.
+/// gimp options that PETSc reads as logicals: given alone they mean true. A new logical
+/// option must be added here, or given alone it is refused for its missing value.
 bool isLogical(const std::string &name) {
   return name == "gimp_half_step_start" || name == "gimp_penalty_traction";
 }
@@ -82,8 +83,8 @@ bool isLogical(const std::string &name) {
 /// gimp options whose value is a word (a name, a path or a choice), not numbers.
 bool isWord(const std::string &name) {
   for (const char *tail :
-       {"_scene", "_output_dir", "_particle_dump", "_grid_dump", "_name", "_material", "_plane",
-        "_update", "_tracking", "_mms", "_side", "_components", "_type", "_velocity_profile"})
+       {"_scene", "_dir", "_dump", "_file", "_restart", "_name", "_material", "_plane", "_update",
+        "_tracking", "_mms", "_side", "_components", "_type", "_velocity_profile"})
     if (endsWith(name, tail)) return true;
   return false;
 }
@@ -96,7 +97,7 @@ bool allFinite(const std::string &value) {
     const std::string token = value.substr(at, comma - at);
     char *end = nullptr;
     const double v = std::strtod(token.c_str(), &end);
-    if (end != token.c_str() && !std::isfinite(v)) return false;
+    if (end != token.c_str() && *end == '\0' && !std::isfinite(v)) return false;
     at = comma + 1;
   }
   return true;
