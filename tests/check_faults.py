@@ -4,6 +4,7 @@ nothing else on stderr (no PETSc or HDF5 stack, no MPI abort text); a non-zero e
 a signal; within the timeout (no rank waits forever). Cases found on one rank run under
 mpiexec -n 2. Full-disk cases keep what was written before the failure valid, and a reused
 output directory holds no file of an earlier run."""
+import concurrent.futures
 import json
 import os
 import shutil
@@ -56,9 +57,9 @@ def gimp(opts, ranks=1, fsize=None, outdir=None):
         return None, "(hung: killed after %d s)" % TIMEOUT, time.time() - t0
 
 
-def expect_one_line(name, opts, needles, ranks=1, fsize=None, outdir=None):
+def expect_one_line(name, opts, needles, ranks=1, fsize=None, outdir=None, result=None):
     """Exactly one non-empty stderr line, `gimp: error:` holding every needle; exit > 0."""
-    rc, err, sec = gimp(opts, ranks, fsize, outdir if outdir else os.path.join(W, "bad"))
+    rc, err, sec = result or gimp(opts, ranks, fsize, outdir if outdir else os.path.join(W, "bad"))
     lines = [l for l in err.splitlines() if l.strip()]
     ok = rc is not None and rc > 0 and len(lines) == 1 and lines[0].startswith("gimp: error: ")
     ok = ok and all(n in lines[0] for n in needles)
@@ -66,6 +67,16 @@ def expect_one_line(name, opts, needles, ranks=1, fsize=None, outdir=None):
     c.check("%s%s" % (name, " (2 ranks)" if ranks > 1 else ""), ok,
             "exit %s, %.1f s: %s%s" % (rc, sec, shown[:300], " ..." if len(lines) > 3 else ""))
     return lines
+
+
+def expect_all(cases):
+    """expect_one_line for serial cases (name, options, needles), two runs at a time, each in
+    its own output directory (the cases fail before writing anything)."""
+    with concurrent.futures.ThreadPoolExecutor(max_workers=2) as pool:
+        runs = [pool.submit(gimp, o, 1, None, os.path.join(W, "bad%d" % (i % 2)))
+                for i, (_, o, _) in enumerate(cases)]
+        for (name, o, needles), run in zip(cases, runs):
+            expect_one_line(name, o, needles, result=run.result())
 
 
 def patch(*extra):
@@ -113,10 +124,11 @@ value_cases = [
     ("box without value", patch("-gimp_body0_box"), ["-gimp_body0_box", "needs a value"]),
     ("dt without value", patch("-ts_dt"), ["-ts_dt", "needs a value"]),
     ("negative step count", patch("-ts_max_steps", "-5"), ["-ts_max_steps -5"]),
+    ("ppc beyond PetscInt", patch("-gimp_body0_ppc", "99999999999"),
+     ["-gimp_body0_ppc 99999999999"]),
     ("unstable dt names dt", patch("-ts_dt", "1"), ["-ts_dt 1", "stable limit"]),
 ]
-for name, opts, needles in value_cases:
-    expect_one_line(name, opts, needles)
+expect_all(value_cases)
 
 # --- problem size: estimated before anything is allocated ---------------------------------------
 size_cases = [
@@ -129,8 +141,7 @@ size_cases = [
      ["-gimp_body0_ppc 4096", "GB", "-gimp_memory_limit"]),
     ("memory limit nan", patch("-gimp_memory_limit", "nan"), ["-gimp_memory_limit nan"]),
 ]
-for name, opts, needles in size_cases:
-    expect_one_line(name, opts, needles)
+expect_all(size_cases)
 
 # --- options files ---------------------------------------------------------------------------
 opts = os.path.join(W, "opts")
@@ -161,8 +172,7 @@ file_cases = [
     ("value on the next line", patch("-options_file", os.path.join(opts, "nextline.opts")),
      ["nextline.opts", "line 2", "300"]),
 ]
-for name, o, needles in file_cases:
-    expect_one_line(name, o, needles)
+expect_all(file_cases)
 # A UTF-8 byte-order mark is skipped: the file's options apply.
 bom_out = os.path.join(W, "bom")
 rc, err, _ = gimp(patch("-options_file", os.path.join(opts, "bom.opts")), outdir=bom_out)

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cerrno>
 #include <climits>
 #include <cmath>
 #include <cstdlib>
@@ -89,6 +90,24 @@ bool isWord(const std::string &name) {
   return false;
 }
 
+/// Options PETSc reads as one PetscInt: it keeps a value too large for one wrapped around.
+bool isInteger(const std::string &name) {
+  if (name == "ts_max_steps" || name == "gimp_pad" || name == "gimp_levels") return true;
+  for (const char *tail : {"_ppc", "_interval", "_bodies", "_tractions", "_bcs", "_dbcs", "_probes",
+                           "_cracks", "_body"})
+    if (endsWith(name, tail)) return true;
+  return false;
+}
+
+/// An integer literal outside PetscInt's range.
+bool overflowsPetscInt(const std::string &value) {
+  char *end = nullptr;
+  errno = 0;
+  const long long v = std::strtoll(value.c_str(), &end, 10);
+  return end != value.c_str() && *end == '\0' &&
+         (errno == ERANGE || v > PETSC_MAX_INT || v < PETSC_MIN_INT);
+}
+
 /// Every number in a comma-separated value is finite ("nan", "inf", 1e999 are not).
 bool allFinite(const std::string &value) {
   size_t at = 0;
@@ -119,6 +138,9 @@ PetscErrorCode checkOptionValues() {
       error = "option -" + name + ": needs a value after it (see -help and docs/options.md)";
     else if (!isWord(name) && !allFinite(value))
       error = "option -" + name + " " + value + ": the values must be finite numbers";
+    else if (isInteger(name) && overflowsPetscInt(value))
+      error = "option -" + name + " " + value + ": must be an integer from " +
+              std::to_string(PETSC_MIN_INT) + " to " + std::to_string(PETSC_MAX_INT);
   }
   PetscCall(PetscOptionsLeftRestore(nullptr, &n, &names, &values));
   if (!error.empty()) throw InputError(error);
