@@ -7,6 +7,7 @@ output directory holds no file of an earlier run."""
 import concurrent.futures
 import json
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -210,7 +211,7 @@ for name, o, needles, out in rank_cases:
 # --- a full disk for the output directory: a file size limit (EFBIG) ---------------------------
 for name, nbytes, needles in [
         ("history.csv on a full disk", 0, ["-gimp_output_dir", "history.csv"]),
-        ("fields.h5 on a full disk", 60000, ["-gimp_output_dir", "fields.h5"])]:
+        ("fields.h5 on a full disk", 1500000, ["-gimp_output_dir", "fields.h5"])]:
     for ranks in (1, 2):
         out = os.path.join(W, "full")
         shutil.rmtree(out, ignore_errors=True)
@@ -223,6 +224,19 @@ for name, nbytes, needles in [
                     "%d rows" % len(h["step"]))
             c.check("%s: no summary.json (%d ranks)" % (name, ranks),
                     not os.path.exists(os.path.join(out, "summary.json")), "")
+            # The frames before the failure: every one the XDMF file lists is in fields.h5.
+            try:
+                import h5py
+                with h5py.File(os.path.join(out, "fields.h5"), "r") as h5:
+                    groups = sorted(h5["particles"])
+                    xmf = open(os.path.join(out, "particles.xmf")).read()
+                    listed = sorted(set(re.findall(r"fields\.h5:/particles/(step_\d+)/", xmf)))
+                    ok = len(groups) >= 1 and listed == groups and all(
+                        h5["particles/%s/x" % g].shape[0] == 160 for g in groups)
+                    detail = "%d frames, xmf lists %d" % (len(groups), len(listed))
+            except (OSError, KeyError, ImportError) as e:
+                ok, detail = False, str(e)
+            c.check("%s: earlier frames readable (%d ranks)" % (name, ranks), ok, detail)
 
 # --- summary.json: valid JSON, strings escaped; no stale files in a reused directory -----------
 reuse = os.path.join(W, "reuse")
@@ -240,7 +254,7 @@ c.check("first run wrote its files", all(os.path.exists(os.path.join(reuse, f)) 
         str(sorted(os.listdir(reuse))))
 # The second run in the same directory writes history.csv, then fails on a full disk.
 rc, err, _ = gimp(patch("-ts_max_steps", "200", "-gimp_output_interval", "20"),
-                  fsize=60000, outdir=reuse)
+                  fsize=1500000, outdir=reuse)
 # Its own fields.h5 and XDMF (step 0) stay; nothing of the first run (step 1) may.
 left = [f for f in ("summary.json", "hoop.csv") if os.path.exists(os.path.join(reuse, f))]
 for f in ("particles.xmf", "grid.xmf"):
