@@ -132,11 +132,12 @@ PetscErrorCode Output::open() {
       error = "option -gimp_output_dir " + dir_ + ": cannot create it (" + ec.message() + ")";
     else if (!std::filesystem::is_directory(dir_, ec))
       error = "option -gimp_output_dir " + dir_ + ": is not a directory";
-    // Remove every file an earlier run in the same directory wrote: a run that fails later
-    // leaves none of them behind.
-    for (const char *name :
+    // Remove every file an earlier run in the same directory wrote (and the temporary files of
+    // one that was killed while writing): a run that fails later leaves none of them behind.
+    for (const std::string name :
          {"fields.h5", "particles.xmf", "grid.xmf", "summary.json", "hoop.csv", "history.csv"})
-      if (error.empty()) std::filesystem::remove(dir_ + "/" + name, ec);
+      for (const char *tail : {"", ".tmp"})
+        if (error.empty()) std::filesystem::remove(dir_ + "/" + name + tail, ec);
     if (error.empty()) error = checkDumpPaths();
   }
   PetscCall(agree(comm_, error));
