@@ -158,23 +158,27 @@ PetscErrorCode Output::open() {
         std::fprintf(history_, ",crack%d_tip%d_%s", m.crack, m.end, c);
     std::fprintf(history_, "\n");
   }
-  return flushHistory();
+  return flushHistory(0);
 }
 
-PetscErrorCode Output::flushHistory() {
+PetscErrorCode Output::flushHistory(long rowStart) {
   std::string error;
   if (rank_ == 0) {
     errno = 0;
-    if (std::fflush(history_) != 0 || std::ferror(history_))
+    if (std::fflush(history_) != 0 || std::ferror(history_)) {
       error = "option -gimp_output_dir " + dir_ + ": cannot write history.csv (" +
               std::strerror(errno ? errno : EIO) + ")";
+      // No half row: the rows before stay a valid CSV file.
+      if (ftruncate(fileno(history_), rowStart) != 0) error += ", its last row may be partial";
+    }
   }
   PetscCall(agree(comm_, error));
   return PETSC_SUCCESS;
 }
 
 PetscErrorCode Output::writeHistory(const HistoryRow &r) {
-  if (rank_ != 0) return flushHistory();
+  if (rank_ != 0) return flushHistory(0);
+  const long rowStart = std::ftell(history_);
   const Energies &e = r.energy;
   std::fprintf(history_, "%lld,%.12e,%.12e,%.12e,%.12e,%.12e,%.12e,%.12e,%.12e",
                static_cast<long long>(r.step), r.t, e.kinetic, e.strain, e.externalWork, e.damping,
@@ -192,7 +196,7 @@ PetscErrorCode Output::writeHistory(const HistoryRow &r) {
                  m.GII_vcct, m.G_J, m.KI_vcct, m.KII_vcct, m.KI_J, m.KII_J, m.opening[0],
                  m.opening[1]);
   std::fprintf(history_, "\n");
-  return flushHistory();
+  return flushHistory(rowStart);
 }
 
 PetscErrorCode Output::writeFields(PetscInt step, double t, DM sw, Vec velocity, Vec mass) {

@@ -36,8 +36,9 @@ private:
   PetscErrorCode writeFrame(PetscInt step, double t, DM sw, Vec velocity, Vec mass);
   PetscErrorCode writeParticleFrame(PetscViewer v, const std::string &g, double t, DM sw) const;
   PetscErrorCode writeGridFrame(PetscViewer v, const std::string &g, Vec velocity, Vec mass) const;
-  /// Flushes history.csv on rank 0; every rank learns of a failed write (collective).
-  PetscErrorCode flushHistory();
+  /// Flushes history.csv on rank 0; a failed write cuts the file back to rowStart (the end of
+  /// the last whole row) and every rank learns of it (collective).
+  PetscErrorCode flushHistory(long rowStart);
   std::string checkDumpPaths() const;
   PetscErrorCode writeXdmf() const;
   // summary.json in three parts (rank 0): the run and its grid; energies, reactions and probes;
