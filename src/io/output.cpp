@@ -99,8 +99,8 @@ PetscErrorCode Output::closeOnRoot(const std::string &name, FILE *f, bool whole)
   return PETSC_SUCCESS;
 }
 
-/// Rank 0: the dump paths can be written (not a directory, in a directory that exists), and
-/// the particle dump of an earlier run is gone.
+/// Rank 0: the dump paths can be written (not a directory, in a directory that exists, the
+/// particle dump can be created), and the particle dump of an earlier run is gone.
 std::string Output::checkDumpPaths() const {
   namespace fs = std::filesystem;
   for (const auto &[option, file] :
@@ -115,9 +115,18 @@ std::string Output::checkDumpPaths() const {
       return "option -" + option + " " + file + ": " + parent.string() +
              " is not a directory that exists";
   }
+  // The particle dump is written at the end: try now that it can be created, then leave no
+  // file (neither this probe nor an earlier run's dump).
+  const std::string &dump = sc_.particleDump;
   std::error_code ec;
-  if (!sc_.particleDump.empty() && fs::is_regular_file(sc_.particleDump, ec))
-    fs::remove(sc_.particleDump, ec);
+  if (dump.empty()) return "";
+  if (fs::is_regular_file(dump, ec)) fs::remove(dump, ec);
+  FILE *f = std::fopen(dump.c_str(), "w");
+  if (!f)
+    return "option -gimp_particle_dump " + dump + ": cannot open the file (" +
+           std::strerror(errno) + ")";
+  std::fclose(f);
+  if (fs::is_regular_file(dump, ec)) fs::remove(dump, ec);
   return "";
 }
 
