@@ -55,6 +55,14 @@ std::string reserveSpace(const std::string &file, long double bytes) {
   return err ? std::strerror(err) : "";
 }
 
+/// After a frame (the file closed by every rank): give back what reserveSpace kept beyond the
+/// end of the file (truncating to its own size frees blocks allocated past it).
+void releaseSpace(const std::string &file) {
+  struct stat st {};
+  if (::stat(file.c_str(), &st) != 0) return;
+  if (truncate(file.c_str(), st.st_size) != 0) return; // the blocks only stay allocated
+}
+
 /// Flushes and closes f; the error of the first write that failed, or "".
 std::string closeChecked(FILE *f) {
   errno = 0;
@@ -237,6 +245,7 @@ PetscErrorCode Output::writeFields(PetscInt step, double t, DM sw, Vec velocity,
   H5Eset_auto2(H5E_DEFAULT, hdf5Print, hdf5Data);
   if (ierr) error = where + (err ? std::strerror(err) : "the HDF5 write failed") + ")";
   PetscCall(agree(comm_, error));
+  if (rank_ == 0) releaseSpace(dir_ + "/fields.h5");
   frames_.push_back({step, t, static_cast<long long>(total)});
   PetscCall(writeXdmf());
   return PETSC_SUCCESS;
