@@ -154,7 +154,9 @@ PetscErrorCode Output::open() {
     for (const std::string name :
          {"fields.h5", "particles.xmf", "grid.xmf", "summary.json", "hoop.csv", "history.csv"})
       for (const char *tail : {"", ".tmp"})
-        if (error.empty()) std::filesystem::remove(dir_ + "/" + name + tail, ec);
+        if (error.empty() && !std::filesystem::remove(dir_ + "/" + name + tail, ec) && ec)
+          error = "option -gimp_output_dir " + dir_ + ": cannot remove the earlier run's " + name +
+                  tail + " (" + ec.message() + ")";
     if (error.empty()) error = checkDumpPaths();
   }
   PetscCall(agree(comm_, error));
