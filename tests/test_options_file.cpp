@@ -232,7 +232,12 @@ TEST_F(OptionsFile, SyntaxErrorsAsPetsc) {
   EXPECT_EQ(err("-a -b"),
             "option -options_file " + f + ": line 2: two options on one line (-a -b)");
   EXPECT_EQ(err("-a 1 2"), "option -options_file " + f + ": line 2: extra token '2' after -a");
-  EXPECT_EQ(err("2"), "option -options_file " + f + ": line 2: '2' is not an option");
+  EXPECT_EQ(err("2"),
+            "option -options_file " + f +
+                ": line 2: '2' is not an option (a value goes on the line of its option)");
+  EXPECT_EQ(err("-a 1, 2"), "option -options_file " + f +
+                                ": line 2: blank after a comma in the value of -a (write a list "
+                                "without blanks: 1,2,3)");
   EXPECT_EQ(err("- 1"), "option -options_file " + f + ": line 2: '-' is not a valid option");
   EXPECT_EQ(err("alias -a -b"),
             "option -options_file " + f + ": line 2: alias lines are not supported");

@@ -255,11 +255,19 @@ private:
       const std::string at_line = "line " + std::to_string(number) + ": ";
       if (t[0][0] != '-') {
         if (is(t[0], "alias")) fail(path, at_line + "alias lines are not supported", where);
-        fail(path, at_line + "'" + t[0] + "' is not an option", where);
+        fail(path,
+             at_line + "'" + t[0] + "' is not an option" +
+                 (packed.text.empty() ? "" : " (a value goes on the line of its option)"),
+             where);
       }
       if (!isKey(t[0])) fail(path, at_line + "'" + t[0] + "' is not a valid option", where);
       if (has[1] && isKey(t[1]))
         fail(path, at_line + "two options on one line (" + t[0] + " " + t[1] + ")", where);
+      if (has[2] && !t[1].empty() && t[1].back() == ',')
+        fail(path,
+             at_line + "blank after a comma in the value of " + t[0] +
+                 " (write a list without blanks: 1,2,3)",
+             where);
       if (has[2]) fail(path, at_line + "extra token '" + t[2] + "' after " + t[0], where);
       packed.lines.emplace_back(packed.text.size(), number);
       packed.text += t[0] + " ";

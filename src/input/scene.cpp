@@ -81,8 +81,8 @@ namespace {
 struct RunOptions {
   char name[256] = "scene", outdir[PETSC_MAX_PATH_LEN] = "", pdump[PETSC_MAX_PATH_LEN] = "",
        gdump[PETSC_MAX_PATH_LEN] = "";
-  PetscReal dom[4] = {0, 0, 0, 0}, hm[3] = {0, 0, 0};
-  PetscInt ndom = 4, nhm = 3, pad = 2, update = 2, tracking = 2, mms = 0, stabilityInterval = 0;
+  PetscReal dom[5] = {0, 0, 0, 0, 0}, hm[4] = {0, 0, 0, 0}; // one spare: extra values are seen
+  PetscInt ndom = 5, nhm = 4, pad = 2, update = 2, tracking = 2, mms = 0, stabilityInterval = 0;
   PetscBool setDom = PETSC_FALSE, setH = PETSC_FALSE, setHm = PETSC_FALSE;
 };
 
@@ -203,6 +203,10 @@ PetscErrorCode readMethodOptions(MPI_Comm comm, Scene &sc, RunOptions &o) {
   PetscCall(PetscOptionsInt("-gimp_stability_interval",
                             "Steps between re-checks of the critical step (0: at the start only)",
                             "docs/options.md", o.stabilityInterval, &o.stabilityInterval, nullptr));
+  PetscCall(PetscOptionsReal("-gimp_memory_limit",
+                             "Memory the run may take [bytes] (0: the physical memory of the "
+                             "nodes it runs on); larger problems are refused before allocating",
+                             "docs/options.md", sc.memoryLimit, &sc.memoryLimit, nullptr));
   PetscOptionsEnd();
   return PETSC_SUCCESS;
 }
@@ -246,6 +250,9 @@ void checkRunOptions(const Scene &sc, const RunOptions &o) {
   if (sc.monitorInterval < 0)
     bad("gimp_monitor_interval", std::to_string(sc.monitorInterval), "must be >= 0");
   if (o.pad < 0) bad("gimp_pad", std::to_string(o.pad), "must be >= 0");
+  if (!(sc.memoryLimit >= 0))
+    bad("gimp_memory_limit", formatNumber(sc.memoryLimit),
+        "must be >= 0 [bytes] (0: the physical memory)");
   if (sc.mms != Mms::None && !(sc.mmsAmplitude > 0))
     bad("gimp_mms_amplitude", formatNumber(sc.mmsAmplitude), "must be > 0 [m]");
 }
@@ -286,6 +293,8 @@ void setDomain(Scene &sc, RunOptions &o) {
       bad("gimp_domain", fmtList(dom, 4), "needs at least 2 cells of -gimp_h in each direction");
   }
   std::copy(dom, dom + 4, sc.domain.begin());
+  sc.domainGiven = setDom;
+  sc.pad = pad;
 }
 
 /// Bodies do not overlap and lie in the domain; the manufactured solution fits the material.

@@ -5,6 +5,8 @@
 
 namespace gimp::input {
 
+// Fixed-length lists are read with one spare place, so that an extra value is seen and refused.
+
 namespace {
 
 const char *const kSides[] = {"left", "right", "bottom", "top"};
@@ -60,8 +62,8 @@ PetscErrorCode readBodies(MPI_Comm comm, Scene &sc) {
   for (PetscInt k = 0; k < std::max<PetscInt>(nb, 1); ++k) {
     Body b;
     const std::string p = "-gimp_body" + std::to_string(k) + "_";
-    PetscReal box[4] = {0, 0, 0, 0}, holes[301] = {0}, vel[2] = {0, 0};
-    PetscInt nbox = 4, nholes = 301, nvel = 2, ppc = 4, hppc = 0;
+    PetscReal box[5] = {0, 0, 0, 0, 0}, holes[301] = {0}, vel[3] = {0, 0, 0};
+    PetscInt nbox = 5, nholes = 301, nvel = 3, ppc = 4, hppc = 0;
     PetscBool setBox = PETSC_FALSE, setHoles = PETSC_FALSE;
     const char *profiles[] = {"uniform", "sine_x"};
     PetscInt profile = 0;
@@ -154,8 +156,8 @@ PetscErrorCode readRamp(MPI_Comm comm, const std::string &opt, Ramp &r, bool hel
 /// Body, side and range of a segment: -gimp_<kind>K_body, _side, _range.
 PetscErrorCode readSegment(MPI_Comm comm, const std::string &p, const char *what, Scene &sc,
                            Segment &seg) {
-  PetscInt body = 0, side = 1, nr = 2;
-  PetscReal rng[2] = {0, 0};
+  PetscInt body = 0, side = 1, nr = 3;
+  PetscReal rng[3] = {0, 0, 0};
   PetscBool setR = PETSC_FALSE;
   PetscCall(checkChoice(p + "side", kSides, 4));
   PetscOptionsBegin(comm, nullptr, (std::string(what) + " segment " + p + "*").c_str(), "gimp");
@@ -184,8 +186,8 @@ PetscErrorCode readSegment(MPI_Comm comm, const std::string &p, const char *what
 PetscErrorCode readTraction(MPI_Comm comm, PetscInt k, Scene &sc) {
   Traction t;
   const std::string p = "-gimp_traction" + std::to_string(k) + "_";
-  PetscInt nv = 2;
-  PetscReal val[2] = {0, 0};
+  PetscInt nv = 3;
+  PetscReal val[3] = {0, 0, 0};
   PetscBool setV = PETSC_FALSE;
   PetscCall(readSegment(comm, p, "Traction", sc, t));
   PetscOptionsBegin(comm, nullptr, ("Traction " + p + "*").c_str(), "gimp");
@@ -235,9 +237,9 @@ PetscErrorCode readDisplacementBC(MPI_Comm comm, PetscInt k, Scene &sc) {
 PetscErrorCode readNodeBC(MPI_Comm comm, PetscInt k, Scene &sc) {
   NodeBC b;
   const std::string p = "-gimp_bc" + std::to_string(k) + "_";
-  PetscReal x = 0, y = 0, rng[2] = {0, 0};
+  PetscReal x = 0, y = 0, rng[3] = {0, 0, 0};
   PetscBool setX = PETSC_FALSE, setY = PETSC_FALSE, setR = PETSC_FALSE;
-  PetscInt nr = 2, type = 0;
+  PetscInt nr = 3, type = 0;
   const char *types[] = {"fixed", "roller"};
   PetscCall(checkChoice(p + "type", types, 2));
   PetscOptionsBegin(comm, nullptr, ("Grid-node constraint " + p + "*").c_str(), "gimp");
@@ -275,8 +277,8 @@ PetscErrorCode readProbe(MPI_Comm comm, PetscInt k, Scene &sc) {
   Probe pr;
   const std::string p = "-gimp_probe" + std::to_string(k) + "_";
   char name[256] = "";
-  PetscReal x[2] = {0, 0};
-  PetscInt nx = 2;
+  PetscReal x[3] = {0, 0, 0};
+  PetscInt nx = 3;
   PetscBool setX = PETSC_FALSE;
   pr.name = "probe" + std::to_string(k);
   PetscOptionsBegin(comm, nullptr, ("Probe " + p + "*").c_str(), "gimp");
@@ -305,8 +307,8 @@ PetscErrorCode readProbe(MPI_Comm comm, PetscInt k, Scene &sc) {
 
 PetscErrorCode readLoads(MPI_Comm comm, Scene &sc) {
   PetscInt nt = 0, nbc = 0, np = 0, ndbc = 0;
-  PetscReal g[2] = {0, 0};
-  PetscInt ng = 2;
+  PetscReal g[3] = {0, 0, 0};
+  PetscInt ng = 3;
   PetscBool setG = PETSC_FALSE;
   PetscOptionsBegin(comm, nullptr, "Loads and constraints", "gimp");
   PetscCall(PetscOptionsRealArray("-gimp_gravity", "Body force per unit mass gx,gy [m/s^2]",
@@ -364,8 +366,8 @@ PetscErrorCode readLevels(MPI_Comm comm, Scene &sc) {
   sc.levels.assign(1, LevelSpec{sc.domain, 1});
   for (PetscInt k = 1; k < (sc.help ? 2 : n); ++k) {
     const std::string p = "-gimp_level" + std::to_string(k) + "_";
-    PetscReal box[4] = {0, 0, 0, 0}, ratio = 2;
-    PetscInt nbox = 4;
+    PetscReal box[5] = {0, 0, 0, 0, 0}, ratio = 2;
+    PetscInt nbox = 5;
     PetscBool setBox = PETSC_FALSE;
     PetscOptionsBegin(comm, nullptr, ("Grid level " + p + "*").c_str(), "gimp");
     PetscCall(PetscOptionsRealArray((p + "box").c_str(),

@@ -4,7 +4,11 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cerrno>
 #include <climits>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
 #include <sstream>
 #include <vector>
 
@@ -66,9 +70,90 @@ template <class Read> PetscErrorCode readOneLine(Read read) {
   return PETSC_SUCCESS;
 }
 
+bool endsWith(const std::string &s, const char *tail) {
+  const size_t n = std::strlen(tail);
+  return s.size() >= n && s.compare(s.size() - n, n, tail) == 0;
+}
+
+/// gimp options that PETSc reads as logicals: given alone they mean true. A new logical
+/// option must be added here, or given alone it is refused for its missing value.
+bool isLogical(const std::string &name) {
+  return name == "gimp_half_step_start" || name == "gimp_penalty_traction" ||
+         name == "gimp_stability_check" || name == "gimp_allow_unstable_dt";
+}
+
+/// gimp options whose value is a word (a name, a path or a choice), not numbers.
+bool isWord(const std::string &name) {
+  for (const char *tail :
+       {"_scene", "_dir", "_dump", "_file", "_restart", "_name", "_material", "_plane", "_update",
+        "_tracking", "_mms", "_side", "_components", "_type", "_velocity_profile"})
+    if (endsWith(name, tail)) return true;
+  return false;
+}
+
+/// Options PETSc reads as one PetscInt: it keeps a value too large for one wrapped around.
+bool isInteger(const std::string &name) {
+  if (name == "ts_max_steps" || name == "gimp_pad" || name == "gimp_levels") return true;
+  for (const char *tail : {"_ppc", "_interval", "_bodies", "_tractions", "_bcs", "_dbcs", "_probes",
+                           "_cracks", "_body"})
+    if (endsWith(name, tail)) return true;
+  return false;
+}
+
+/// An integer literal outside PetscInt's range.
+bool overflowsPetscInt(const std::string &value) {
+  char *end = nullptr;
+  errno = 0;
+  const long long v = std::strtoll(value.c_str(), &end, 10);
+  return end != value.c_str() && *end == '\0' &&
+         (errno == ERANGE || v > PETSC_MAX_INT || v < PETSC_MIN_INT);
+}
+
+/// Every number in a comma-separated value is finite ("nan", "inf", 1e999 are not).
+bool allFinite(const std::string &value) {
+  size_t at = 0;
+  while (at <= value.size()) {
+    const size_t comma = std::min(value.find(',', at), value.size());
+    const std::string token = value.substr(at, comma - at);
+    char *end = nullptr;
+    const double v = std::strtod(token.c_str(), &end);
+    if (end != token.c_str() && *end == '\0' && !std::isfinite(v)) return false;
+    at = comma + 1;
+  }
+  return true;
+}
+
+/// Before anything is read: every gimp option and the time stepper's step, end time and step
+/// count have a value (PETSc would silently keep the default of an option given alone), and
+/// every number in them is finite (a NaN passes checks written as x < 0).
+PetscErrorCode checkOptionValues() {
+  PetscInt n = 0;
+  char **names = nullptr, **values = nullptr;
+  PetscCall(PetscOptionsLeftGet(nullptr, &n, &names, &values));
+  std::string error;
+  for (PetscInt i = 0; i < n && error.empty(); ++i) {
+    const std::string name = names[i], value = values[i] ? values[i] : "";
+    const bool ts = name == "ts_dt" || name == "ts_max_time" || name == "ts_max_steps";
+    if ((name.rfind("gimp_", 0) != 0 && !ts) || isLogical(name)) continue;
+    if (value.empty())
+      error = "option -" + name + ": needs a value after it (see -help and docs/options.md)";
+    else if (!isWord(name) && !allFinite(value))
+      error = "option -" + name + " " + value + ": the values must be finite numbers";
+    else if (isInteger(name) && overflowsPetscInt(value))
+      error = "option -" + name + " " + value + ": must be an integer from " +
+              std::to_string(PETSC_MIN_INT) + " to " + std::to_string(PETSC_MAX_INT);
+  }
+  PetscCall(PetscOptionsLeftRestore(nullptr, &n, &names, &values));
+  if (!error.empty()) throw InputError(error);
+  return PETSC_SUCCESS;
+}
+
 } // namespace
 
 PetscErrorCode readSceneOneLine(MPI_Comm comm, Scene &sc) {
+  PetscBool help = PETSC_FALSE;
+  PetscCall(PetscOptionsHasHelp(nullptr, &help));
+  if (!help) PetscCall(checkOptionValues());
   return readOneLine([&] { return readScene(comm, sc); });
 }
 
@@ -166,7 +251,14 @@ PetscErrorCode timeStepFromOptions(TS ts, const Scene &sc, const Lattice &grid) 
   if (std::string(atype) != TSADAPTNONE)
     throw InputError("option -ts_adapt_type " + std::string(atype) +
                      ": the time step is fixed (-ts_dt); use -ts_adapt_type none");
-  PetscReal dt = 0;
+  PetscInt maxSteps = 0;
+  PetscReal dt = 0, maxTime = 0;
+  PetscCall(TSGetMaxSteps(ts, &maxSteps));
+  PetscCall(TSGetMaxTime(ts, &maxTime));
+  if (maxSteps < 0)
+    throw InputError("option -ts_max_steps " + std::to_string(maxSteps) + ": must be >= 0");
+  if (!(maxTime > 0))
+    throw InputError("option -ts_max_time " + formatNumber(maxTime) + ": must be > 0 [s]");
   PetscCall(TSGetTimeStep(ts, &dt));
   const double cp = sc.material.waveSpeed(), dtStable = grid.hMin() / cp;
   if (!(dt > 0)) throw InputError("option -ts_dt " + formatNumber(dt) + ": must be > 0 [s]");

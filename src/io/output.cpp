@@ -2,9 +2,17 @@
 
 #include "gimp/particles/swarm.hpp"
 
+#include <hdf5.h>
 #include <petscviewerhdf5.h>
 
+#include <fcntl.h>
+#include <sys/resource.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 
 namespace gimp {
@@ -25,11 +33,43 @@ std::vector<const FieldSpec *> writtenFields(const Scene &sc) {
   return out;
 }
 
-std::string num(double v) {
-  if (!std::isfinite(v)) return "null";
-  char b[64];
-  std::snprintf(b, sizeof(b), "%.12e", v);
-  return b;
+/// Before a frame: room for `bytes` more in `file` (within the process's file size limit, and
+/// reserved on the disk where the file system can), or the reason there is none. HDF5 must
+/// never meet a failed write: it keeps the file open and unreadable, and its own clean-up at
+/// MPI_Finalize then crashes writing to it again.
+std::string reserveSpace(const std::string &file, long double bytes) {
+  struct stat st {};
+  const long double size = ::stat(file.c_str(), &st) == 0 ? st.st_size : 0;
+  rlimit lim{};
+  if (getrlimit(RLIMIT_FSIZE, &lim) == 0 && lim.rlim_cur != RLIM_INFINITY &&
+      size + bytes > static_cast<long double>(lim.rlim_cur))
+    return std::strerror(EFBIG);
+  const int fd = ::open(file.c_str(), O_WRONLY | O_CREAT, 0644);
+  if (fd < 0) return std::strerror(errno);
+  int err =
+      fallocate(fd, FALLOC_FL_KEEP_SIZE, static_cast<off_t>(size), static_cast<off_t>(bytes)) == 0
+          ? 0
+          : errno;
+  ::close(fd);
+  if (err == EOPNOTSUPP || err == ENOSYS) err = 0; // the file system cannot tell in advance
+  return err ? std::strerror(err) : "";
+}
+
+/// After a frame (the file closed by every rank): give back what reserveSpace kept beyond the
+/// end of the file (truncating to its own size frees blocks allocated past it).
+void releaseSpace(const std::string &file) {
+  struct stat st {};
+  if (::stat(file.c_str(), &st) != 0) return;
+  if (truncate(file.c_str(), st.st_size) != 0) return; // the blocks only stay allocated
+}
+
+/// Flushes and closes f; the error of the first write that failed, or "".
+std::string closeChecked(FILE *f) {
+  errno = 0;
+  int err = std::fflush(f) != 0 ? errno : 0;
+  if (!err && std::ferror(f)) err = errno ? errno : EIO;
+  if (std::fclose(f) != 0 && !err) err = errno ? errno : EIO;
+  return err ? std::strerror(err) : "";
 }
 
 } // namespace
@@ -38,15 +78,64 @@ Output::~Output() {
   if (history_) std::fclose(history_);
 }
 
-PetscErrorCode Output::openOnRoot(const std::string &name, FILE **f) const {
+PetscErrorCode Output::openOnRoot(const std::string &name, FILE **f, bool whole) const {
   *f = nullptr;
   std::string error;
   if (rank_ == 0) {
-    *f = std::fopen((dir_ + "/" + name).c_str(), "w");
-    if (!*f) error = "option -gimp_output_dir " + dir_ + ": cannot write " + name + " there";
+    *f = std::fopen((dir_ + "/" + name + (whole ? ".tmp" : "")).c_str(), "w");
+    if (!*f)
+      error = "option -gimp_output_dir " + dir_ + ": cannot write " + name + " there (" +
+              std::strerror(errno) + ")";
   }
   PetscCall(agree(comm_, error));
   return PETSC_SUCCESS;
+}
+
+PetscErrorCode Output::closeOnRoot(const std::string &name, FILE *f, bool whole) const {
+  std::string error;
+  if (rank_ == 0) {
+    const std::string path = dir_ + "/" + name;
+    error = closeChecked(f);
+    if (error.empty() && whole && std::rename((path + ".tmp").c_str(), path.c_str()) != 0)
+      error = std::strerror(errno);
+    if (!error.empty()) {
+      if (whole) std::remove((path + ".tmp").c_str());
+      error = "option -gimp_output_dir " + dir_ + ": cannot write " + name + " (" + error + ")";
+    }
+  }
+  PetscCall(agree(comm_, error));
+  return PETSC_SUCCESS;
+}
+
+/// Rank 0: the dump paths can be written (not a directory, in a directory that exists, the
+/// particle dump can be created), and the particle dump of an earlier run is gone.
+std::string Output::checkDumpPaths() const {
+  namespace fs = std::filesystem;
+  for (const auto &[option, file] :
+       {std::pair<std::string, std::string>{"gimp_particle_dump", sc_.particleDump},
+        {"gimp_grid_dump", sc_.gridDump}}) {
+    if (file.empty()) continue;
+    std::error_code ec;
+    const fs::path parent = fs::path(file).parent_path();
+    if (fs::is_directory(file, ec))
+      return "option -" + option + " " + file + ": is a directory, not a file";
+    if (!parent.empty() && !fs::is_directory(parent, ec))
+      return "option -" + option + " " + file + ": " + parent.string() +
+             " is not a directory that exists";
+  }
+  // The particle dump is written at the end: try now that it can be created, then leave no
+  // file (neither this probe nor an earlier run's dump).
+  const std::string &dump = sc_.particleDump;
+  std::error_code ec;
+  if (dump.empty()) return "";
+  if (fs::is_regular_file(dump, ec)) fs::remove(dump, ec);
+  FILE *f = std::fopen(dump.c_str(), "w");
+  if (!f)
+    return "option -gimp_particle_dump " + dump + ": cannot open the file (" +
+           std::strerror(errno) + ")";
+  std::fclose(f);
+  if (fs::is_regular_file(dump, ec)) fs::remove(dump, ec);
+  return "";
 }
 
 PetscErrorCode Output::open() {
@@ -56,10 +145,22 @@ PetscErrorCode Output::open() {
   if (rank_ == 0) {
     std::error_code ec;
     std::filesystem::create_directories(dir_, ec);
-    if (ec) error = "option -gimp_output_dir " + dir_ + ": cannot create it (" + ec.message() + ")";
+    if (ec)
+      error = "option -gimp_output_dir " + dir_ + ": cannot create it (" + ec.message() + ")";
+    else if (!std::filesystem::is_directory(dir_, ec))
+      error = "option -gimp_output_dir " + dir_ + ": is not a directory";
+    // Remove every file an earlier run in the same directory wrote (and the temporary files of
+    // one that was killed while writing): a run that fails later leaves none of them behind.
+    for (const std::string name :
+         {"fields.h5", "particles.xmf", "grid.xmf", "summary.json", "hoop.csv", "history.csv"})
+      for (const char *tail : {"", ".tmp"})
+        if (error.empty() && !std::filesystem::remove(dir_ + "/" + name + tail, ec) && ec)
+          error = "option -gimp_output_dir " + dir_ + ": cannot remove the earlier run's " + name +
+                  tail + " (" + ec.message() + ")";
+    if (error.empty()) error = checkDumpPaths();
   }
   PetscCall(agree(comm_, error));
-  PetscCall(openOnRoot("history.csv", &history_));
+  PetscCall(openOnRoot("history.csv", &history_, false));
   if (rank_ == 0) {
     std::fprintf(history_,
                  "step,time,kinetic,strain,external_work,damping,total,momentum_x,momentum_y,"
@@ -75,18 +176,28 @@ PetscErrorCode Output::open() {
                             "opening_n", "opening_t"})
         std::fprintf(history_, ",crack%d_tip%d_%s", m.crack, m.end, c);
     std::fprintf(history_, "\n");
-    std::fflush(history_);
-    // Remove fields of an earlier run in the same directory.
-    std::error_code ec;
-    for (const char *name : {"fields.h5", "particles.xmf", "grid.xmf"})
-      std::filesystem::remove(dir_ + "/" + name, ec);
   }
-  PetscCallMPI(MPI_Barrier(comm_));
+  return flushHistory(0);
+}
+
+PetscErrorCode Output::flushHistory(long rowStart) {
+  std::string error;
+  if (rank_ == 0) {
+    errno = 0;
+    if (std::fflush(history_) != 0 || std::ferror(history_)) {
+      error = "option -gimp_output_dir " + dir_ + ": cannot write history.csv (" +
+              std::strerror(errno ? errno : EIO) + ")";
+      // No half row: the rows before stay a valid CSV file.
+      if (ftruncate(fileno(history_), rowStart) != 0) error += ", its last row may be partial";
+    }
+  }
+  PetscCall(agree(comm_, error));
   return PETSC_SUCCESS;
 }
 
 PetscErrorCode Output::writeHistory(const HistoryRow &r) {
-  if (rank_ != 0) return PETSC_SUCCESS;
+  if (rank_ != 0) return flushHistory(0);
+  const long rowStart = std::ftell(history_);
   const Energies &e = r.energy;
   std::fprintf(history_, "%lld,%.12e,%.12e,%.12e,%.12e,%.12e,%.12e,%.12e,%.12e",
                static_cast<long long>(r.step), r.t, e.kinetic, e.strain, e.externalWork, e.damping,
@@ -104,16 +215,71 @@ PetscErrorCode Output::writeHistory(const HistoryRow &r) {
                  m.GII_vcct, m.G_J, m.KI_vcct, m.KII_vcct, m.KI_J, m.KII_J, m.opening[0],
                  m.opening[1]);
   std::fprintf(history_, "\n");
-  std::fflush(history_);
-  return PETSC_SUCCESS;
+  return flushHistory(rowStart);
 }
 
 PetscErrorCode Output::writeFields(PetscInt step, double t, DM sw, Vec velocity, Vec mass) {
-  PetscViewer v;
+  // Room for the frame first (a full disk stops the run with one line and the frames written
+  // before intact); a write that still fails returns an error instead of printing PETSc's and
+  // HDF5's stacks, and every rank learns of it.
+  PetscInt nloc = 0;
+  PetscCall(DMSwarmGetLocalSize(sw, &nloc));
+  PetscInt64 n = nloc, total = 0;
+  PetscCallMPI(MPI_Allreduce(&n, &total, 1, MPI_INT64_T, MPI_SUM, comm_));
+  const std::string where = "option -gimp_output_dir " + dir_ +
+                            ": cannot write fields.h5 at step " +
+                            std::to_string(static_cast<long long>(step)) + " (";
+  std::string error;
+  if (rank_ == 0) {
+    const std::string reason = reserveSpace(dir_ + "/fields.h5", frameBytes(total));
+    if (!reason.empty()) error = where + reason + ")";
+  }
+  PetscCall(agree(comm_, error));
+  H5E_auto2_t hdf5Print = nullptr;
+  void *hdf5Data = nullptr;
+  H5Eget_auto2(H5E_DEFAULT, &hdf5Print, &hdf5Data);
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  PetscCall(PetscPushErrorHandler(PetscReturnErrorHandler, nullptr));
+  errno = 0;
+  const PetscErrorCode ierr = writeFrame(step, t, sw, velocity, mass);
+  const int err = errno;
+  PetscCall(PetscPopErrorHandler());
+  H5Eset_auto2(H5E_DEFAULT, hdf5Print, hdf5Data);
+  if (ierr) error = where + (err ? std::strerror(err) : "the HDF5 write failed") + ")";
+  PetscCall(agree(comm_, error));
+  if (rank_ == 0) releaseSpace(dir_ + "/fields.h5");
+  frames_.push_back({step, t, static_cast<long long>(total)});
+  PetscCall(writeXdmf());
+  return PETSC_SUCCESS;
+}
+
+long double Output::frameBytes(PetscInt64 particles) const {
+  // The data of one frame, twice over for HDF5's chunks and headers, and 1 MB of metadata.
+  long double components = 0, nodes = 0;
+  for (const FieldSpec *fs : writtenFields(sc_))
+    components += fs->components;
+  for (const Level &L : grid_.levels)
+    nodes += static_cast<long double>(L.M) * L.N;
+  return 2 * 8 * (particles * components + 3 * nodes) + (1 << 20);
+}
+
+PetscErrorCode Output::writeFrame(PetscInt step, double t, DM sw, Vec velocity, Vec mass) {
+  // Every object borrowed here is given back before an error returns, so that a failed write
+  // leaves the swarm and the grid usable and the run can stop cleanly.
+  PetscViewer v = nullptr;
   const std::string file = dir_ + "/fields.h5";
   PetscCall(PetscViewerHDF5Open(comm_, file.c_str(),
                                 frames_.empty() ? FILE_MODE_WRITE : FILE_MODE_APPEND, &v));
-  const std::string g = groupName(step);
+  PetscErrorCode ierr = writeParticleFrame(v, groupName(step), t, sw);
+  if (!ierr) ierr = writeGridFrame(v, groupName(step), velocity, mass);
+  const PetscErrorCode closed = PetscViewerDestroy(&v);
+  PetscCall(ierr);
+  PetscCall(closed);
+  return PETSC_SUCCESS;
+}
+
+PetscErrorCode Output::writeParticleFrame(PetscViewer v, const std::string &g, double t,
+                                          DM sw) const {
   PetscCall(PetscViewerHDF5PushGroup(v, ("/particles/" + g).c_str()));
   PetscInt nloc = 0;
   PetscCall(DMSwarmGetLocalSize(sw, &nloc));
@@ -125,56 +291,61 @@ PetscErrorCode Output::writeFields(PetscInt step, double t, DM sw, Vec velocity,
     PetscCall(DMSwarmGetField(sw, fs->name, nullptr, nullptr, reinterpret_cast<void **>(&data)));
     PetscCall(VecCreateMPIWithArray(comm_, bs, bs * nloc, PETSC_DECIDE, data, &f));
     PetscCall(PetscObjectSetName(reinterpret_cast<PetscObject>(f), fs->name));
-    PetscCall(VecView(f, v));
+    const PetscErrorCode ierr = VecView(f, v);
     PetscCall(VecDestroy(&f));
     PetscCall(
         DMSwarmRestoreField(sw, fs->name, nullptr, nullptr, reinterpret_cast<void **>(&data)));
+    PetscCall(ierr);
   }
   PetscCall(PetscViewerHDF5WriteAttribute(v, nullptr, "time", PETSC_DOUBLE, &t));
   PetscCall(PetscViewerHDF5PopGroup(v));
-  // Grid: each level's velocity and mass as (N, M[, 2]) datasets.
+  return PETSC_SUCCESS;
+}
+
+PetscErrorCode Output::writeGridFrame(PetscViewer v, const std::string &g, Vec velocity,
+                                      Vec mass) const {
+  // Each level's velocity and mass as (N, M[, 2]) datasets.
   const int K = static_cast<int>(grid_.levels.size());
   std::vector<Vec> vel(K), ms(K);
   PetscCall(DMCompositeGetAccessArray(grid_.dm, velocity, K, nullptr, vel.data()));
   PetscCall(DMCompositeGetAccessArray(grid_.dm, mass, K, nullptr, ms.data()));
-  for (int k = 0; k < K; ++k) {
+  PetscErrorCode ierr = PETSC_SUCCESS;
+  for (int k = 0; k < K && !ierr; ++k) {
     Vec m1;
     PetscCall(PetscViewerHDF5PushGroup(v, ("/grid/" + g + "/level_" + std::to_string(k)).c_str()));
     PetscCall(PetscObjectSetName(reinterpret_cast<PetscObject>(vel[k]), "velocity"));
-    PetscCall(VecView(vel[k], v));
+    ierr = VecView(vel[k], v);
     PetscCall(DMGetGlobalVector(grid_.da1[k], &m1));
     PetscCall(VecStrideGather(ms[k], 0, m1, INSERT_VALUES));
     PetscCall(PetscObjectSetName(reinterpret_cast<PetscObject>(m1), "mass"));
-    PetscCall(VecView(m1, v));
+    if (!ierr) ierr = VecView(m1, v);
     PetscCall(DMRestoreGlobalVector(grid_.da1[k], &m1));
     PetscCall(PetscViewerHDF5PopGroup(v));
   }
   PetscCall(DMCompositeRestoreAccessArray(grid_.dm, mass, K, nullptr, ms.data()));
   PetscCall(DMCompositeRestoreAccessArray(grid_.dm, velocity, K, nullptr, vel.data()));
-  PetscCall(PetscViewerDestroy(&v));
-  PetscInt64 n = nloc, total = 0;
-  PetscCallMPI(MPI_Allreduce(&n, &total, 1, MPI_INT64_T, MPI_SUM, comm_));
-  frames_.push_back({step, t, static_cast<long long>(total)});
-  PetscCall(writeXdmf());
+  PetscCall(ierr);
   return PETSC_SUCCESS;
 }
 
 PetscErrorCode Output::writeXdmf() const {
+  // Written whole to a temporary file and renamed: a failure leaves the previous version.
   FILE *fp = nullptr, *fg = nullptr;
-  PetscCall(openOnRoot("particles.xmf", &fp));
-  PetscCall(openOnRoot("grid.xmf", &fg));
-  if (rank_ != 0) return PETSC_SUCCESS;
-  const char *head = "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n<Domain>\n"
-                     "<Grid Name=\"%s\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
-  const char *tail = "</Grid>\n</Domain>\n</Xdmf>\n";
-  std::fprintf(fp, head, "particles");
-  std::fprintf(fg, head, "grid");
-  PetscCall(writeParticleXdmf(fp));
-  PetscCall(writeGridXdmf(fg));
-  std::fputs(tail, fp);
-  std::fputs(tail, fg);
-  std::fclose(fp);
-  std::fclose(fg);
+  PetscCall(openOnRoot("particles.xmf", &fp, true));
+  PetscCall(openOnRoot("grid.xmf", &fg, true));
+  if (rank_ == 0) {
+    const char *head = "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n<Domain>\n"
+                       "<Grid Name=\"%s\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
+    const char *tail = "</Grid>\n</Domain>\n</Xdmf>\n";
+    std::fprintf(fp, head, "particles");
+    std::fprintf(fg, head, "grid");
+    PetscCall(writeParticleXdmf(fp));
+    PetscCall(writeGridXdmf(fg));
+    std::fputs(tail, fp);
+    std::fputs(tail, fg);
+  }
+  PetscCall(closeOnRoot("particles.xmf", fp, true));
+  PetscCall(closeOnRoot("grid.xmf", fg, true));
   return PETSC_SUCCESS;
 }
 
@@ -238,115 +409,13 @@ PetscErrorCode Output::writeGridXdmf(FILE *fg) const {
 
 PetscErrorCode Output::writeHoop(const HoleMeasure &h) {
   FILE *f = nullptr;
-  PetscCall(openOnRoot("hoop.csv", &f));
-  if (rank_ != 0) return PETSC_SUCCESS;
-  std::fprintf(f, "angle_deg,r,hoop_over_p,kirsch\n");
-  for (const std::vector<double> &r : h.rows)
-    std::fprintf(f, "%.6f,%.9e,%.9e,%.9e\n", r[0], r[1], r[2], r[3]);
-  std::fclose(f);
-  return PETSC_SUCCESS;
-}
-
-PetscErrorCode Output::writeSummary(const SummaryReport &r) {
-  FILE *f = nullptr;
-  PetscCall(openOnRoot("summary.json", &f));
-  if (rank_ != 0) return PETSC_SUCCESS;
-  summaryRun(f, r);
-  summaryState(f, r);
-  summaryMeasures(f, r);
-  std::fprintf(f, "\n}\n");
-  std::fclose(f);
-  return PETSC_SUCCESS;
-}
-
-void Output::summaryRun(FILE *f, const SummaryReport &r) const {
-  std::fprintf(f, "{\n  \"scene\": \"%s\",\n  \"version\": \"%s\",\n  \"status\": \"%s\",\n",
-               sc_.name.c_str(), GIMP_VERSION, r.status.c_str());
-  std::fprintf(f,
-               "  \"ranks\": %d,\n  \"steps\": %lld,\n  \"time\": %.12e,\n  \"dt\": %.12e,\n"
-               "  \"wall_seconds\": %.6f,\n  \"cpu_seconds\": %.6f,\n  \"particles\": %lld,\n",
-               r.ranks, static_cast<long long>(r.steps), r.t, r.dt, r.wallSeconds, r.cpuSeconds,
-               static_cast<long long>(r.particles));
-  if (std::isfinite(r.dtCritical))
-    std::fprintf(f, "  \"dt_critical\": %.12e,\n", r.dtCritical);
-  else
-    std::fprintf(f, "  \"dt_critical\": null,\n");
-  std::fprintf(f, "  \"levels\": [");
-  for (size_t k = 0; k < grid_.levels.size(); ++k) {
-    const Level &L = grid_.levels[k];
-    std::fprintf(f,
-                 "%s\n    {\"h\": %.12e, \"ratio\": %d, \"box\": [%.12e, %.12e, %.12e, %.12e], "
-                 "\"nodes\": [%lld, %lld], \"active_nodes\": %lld}",
-                 k ? "," : "", L.h, k ? sc_.levels[k].ratio : 1, L.box[0], L.box[1], L.box[2],
-                 L.box[3], static_cast<long long>(L.M), static_cast<long long>(L.N),
-                 static_cast<long long>(grid_.activeNodes(static_cast<int>(k))));
+  PetscCall(openOnRoot("hoop.csv", &f, true));
+  if (rank_ == 0) {
+    std::fprintf(f, "angle_deg,r,hoop_over_p,kirsch\n");
+    for (const std::vector<double> &r : h.rows)
+      std::fprintf(f, "%.6f,%.9e,%.9e,%.9e\n", r[0], r[1], r[2], r[3]);
   }
-  std::fprintf(f, "],\n");
-}
-
-void Output::summaryState(FILE *f, const SummaryReport &r) const {
-  const Energies &e = r.energy;
-  std::fprintf(f,
-               "  \"energy\": {\"kinetic\": %.12e, \"strain\": %.12e, \"external_work\": %.12e, "
-               "\"damping\": %.12e},\n",
-               e.kinetic, e.strain, e.externalWork, e.damping);
-  std::fprintf(f, "  \"momentum\": [%.12e, %.12e],\n", e.momentum[0], e.momentum[1]);
-  std::fprintf(f, "  \"reactions\": {");
-  for (size_t q = 0; q < sc_.dbcs.size(); ++q)
-    std::fprintf(f, "%s\"dbc%zu\": [%.12e, %.12e]", q ? ", " : "", q, r.reactions[2 * q],
-                 r.reactions[2 * q + 1]);
-  std::fprintf(f, "},\n");
-  if (!sc_.dbcs.empty()) {
-    std::fprintf(f, "  \"penalty\": %.12e,\n  \"constraint_violation\": {", r.penalty);
-    for (size_t q = 0; q < sc_.dbcs.size(); ++q)
-      std::fprintf(f, "%s\"dbc%zu\": {\"final\": %.12e, \"max\": %.12e}", q ? ", " : "", q,
-                   r.gaps[q], r.maxGaps[q]);
-    std::fprintf(f, "},\n");
-  }
-  std::fprintf(f, "  \"probes\": {");
-  for (size_t q = 0; q < r.probes.size(); ++q) {
-    const ProbeState &p = r.probes[q];
-    std::fprintf(f,
-                 "%s\n    \"%s\": {\"id\": %lld, \"x0\": [%.12e, %.12e], \"u\": [%.12e, %.12e], "
-                 "\"stress\": [%.12e, %.12e, %.12e, %.12e]}",
-                 q ? "," : "", sc_.probes[q].name.c_str(), static_cast<long long>(p.id), p.X0[0],
-                 p.X0[1], p.u[0], p.u[1], p.stress[0], p.stress[1], p.stress[2], p.stress[3]);
-  }
-}
-
-void Output::summaryMeasures(FILE *f, const SummaryReport &r) const {
-  const RunMeasures &m = r.measures;
-  std::fprintf(f, "%s},\n  \"measures\": {", r.probes.empty() ? "" : "\n  ");
-  std::fprintf(f, "\"particles_migrated\": %lld", static_cast<long long>(m.migrated));
-  std::fprintf(f, ", \"separation_strain\": %s", num(m.separationStrain).c_str());
-  std::fprintf(f, ", \"max_strain\": %.12e, \"max_separation\": %.12e", m.maxStrain,
-               m.maxSeparation);
-  if (r.hole) {
-    std::fprintf(f, ", \"kt\": %s, \"kt_edge\": %s", num(r.hole->kt).c_str(),
-                 num(r.hole->ktEdge).c_str());
-    for (size_t a = 0; a < r.hole->hoopByAngle.size(); ++a)
-      std::fprintf(f, ", \"hoop_%zu\": %s", 15 * a, num(r.hole->hoopByAngle[a]).c_str());
-  }
-  if (sc_.mms != Mms::None)
-    std::fprintf(f, ", \"mms_linf\": %.12e, \"mms_rms\": %.12e", m.mmsLinf, m.mmsRms);
-  std::fprintf(f, "}");
-  if (!r.tips.empty()) {
-    std::fprintf(f, ",\n  \"cracks\": [");
-    for (size_t q = 0; q < r.tips.size(); ++q) {
-      const cracks::TipMeasure &m = r.tips[q];
-      std::fprintf(
-          f,
-          "%s\n    {\"crack\": %d, \"end\": %d, \"tip\": [%s, %s], \"G_vcct\": %s, "
-          "\"GII_vcct\": %s, \"G_J\": %s, \"KI_vcct\": %s, \"KII_vcct\": %s, \"KI_J\": %s, "
-          "\"KII_J\": %s, \"h\": %s, \"opening\": [%s, %s]}",
-          q ? "," : "", m.crack, m.end, num(m.tip[0]).c_str(), num(m.tip[1]).c_str(),
-          num(m.G_vcct).c_str(), num(m.GII_vcct).c_str(), num(m.G_J).c_str(),
-          num(m.KI_vcct).c_str(), num(m.KII_vcct).c_str(), num(m.KI_J).c_str(),
-          num(m.KII_J).c_str(), num(m.h).c_str(), num(m.opening[0]).c_str(),
-          num(m.opening[1]).c_str());
-    }
-    std::fprintf(f, "]");
-  }
+  return closeOnRoot("hoop.csv", f, true);
 }
 
 } // namespace gimp

@@ -3,8 +3,30 @@
 #include "gimp/particles/swarm.hpp"
 
 #include <algorithm>
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
 
 namespace gimp {
+
+namespace {
+
+/// Flushes and closes f; the error of the first write that failed, or "".
+std::string closeChecked(FILE *f) {
+  errno = 0;
+  int err = std::fflush(f) != 0 ? errno : 0;
+  if (!err && std::ferror(f)) err = errno ? errno : EIO;
+  if (std::fclose(f) != 0 && !err) err = errno ? errno : EIO;
+  return err ? std::strerror(err) : "";
+}
+
+/// "option -OPTION FILE: cannot WHAT the file (reason)".
+std::string fileError(const std::string &option, const std::string &file, const char *what,
+                      const std::string &reason) {
+  return "option -" + option + " " + file + ": cannot " + what + " the file (" + reason + ")";
+}
+
+} // namespace
 
 PetscErrorCode writeParticleDump(MPI_Comm comm, DM sw, const std::string &file) {
   // Gather id and state on rank 0, sorted by id: rank-independent for comparisons.
@@ -34,10 +56,10 @@ PetscErrorCode writeParticleDump(MPI_Comm comm, DM sw, const std::string &file) 
   PetscMPIInt rank = 0;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   FILE *f = rank == 0 ? std::fopen(file.c_str(), "w") : nullptr;
-  PetscCall(agree(comm, rank == 0 && !f ? "option -gimp_particle_dump " + file +
-                                              ": cannot open the file for writing"
-                                        : std::string()));
-  if (rank != 0) return PETSC_SUCCESS;
+  PetscCall(agree(comm, rank == 0 && !f
+                            ? fileError("gimp_particle_dump", file, "open", std::strerror(errno))
+                            : std::string()));
+  if (rank != 0) return agree(comm, "");
   const size_t n = all.size() / kCols;
   std::vector<size_t> order(n);
   for (size_t i = 0; i < n; ++i)
@@ -52,7 +74,12 @@ PetscErrorCode writeParticleDump(MPI_Comm comm, DM sw, const std::string &file) 
       std::fprintf(f, ",%.17g", r[c]);
     std::fprintf(f, "\n");
   }
-  std::fclose(f);
+  const std::string reason = closeChecked(f);
+  std::error_code ec; // remove a partial dump, never a device or other special file
+  if (!reason.empty() && std::filesystem::is_regular_file(file, ec))
+    std::filesystem::remove(file, ec);
+  PetscCall(
+      agree(comm, reason.empty() ? "" : fileError("gimp_particle_dump", file, "write", reason)));
   return PETSC_SUCCESS;
 }
 

@@ -1,4 +1,5 @@
 // Setting up a run: scene, grid, particles, nodal vectors, time stepper, output.
+#include "gimp/input/problem_size.hpp"
 #include "gimp/input/validate.hpp"
 #include "gimp/particles/seed.hpp"
 #include "gimp/physics/constraints.hpp"
@@ -6,7 +7,30 @@
 #include "gimp/physics/mms.hpp"
 #include "gimp/solver/solver.hpp"
 
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+
 namespace gimp {
+
+namespace {
+
+/// What a particle and a grid node cost: the swarm's fields and a stencil of up to 16 nodes
+/// per particle; per node, the global and window Vecs of Nodal and TS's work vectors (about
+/// 24 Vecs of 2 components) with their index sets.
+ItemBytes itemBytes(const Scene &sc) {
+  constexpr double kStencilNodes = 16, kNodeVecs = 24, kDof = 2;
+  ItemBytes b;
+  for (const FieldSpec &f : particleFields())
+    if (!f.cornersOnly || sc.tracking == Tracking::Corners)
+      b.particle +=
+          static_cast<double>(f.components) * (f.type == PETSC_INT ? sizeof(PetscInt) : 8);
+  b.particle += kStencilNodes * (sizeof(PetscInt) + 2 * kDim * sizeof(double));
+  b.node = kNodeVecs * kDof * sizeof(PetscScalar) + 4 * sizeof(PetscInt);
+  return b;
+}
+
+} // namespace
 
 Solver::Solver(MPI_Comm comm) : comm_(comm) {}
 
@@ -33,18 +57,10 @@ PetscErrorCode Solver::setup() {
     return PETSC_SUCCESS;
   }
   checkSceneCombinations(sc_);
+  PetscCall(checkProblemSize(comm_, sc_, itemBytes(sc_)));
   scheme_ = schemeFor(sc_.update);
   PetscCall(grid_.create(comm_, sc_));
-  if (!sc_.gridDump.empty()) {
-    std::FILE *f = rank_ == 0 ? std::fopen(sc_.gridDump.c_str(), "w") : nullptr;
-    PetscCall(agree(comm_, rank_ == 0 && !f ? "option -gimp_grid_dump " + sc_.gridDump +
-                                                  ": cannot open the file for writing"
-                                            : std::string()));
-    if (f) {
-      std::fputs(grid_.activeNodesCsv().c_str(), f);
-      std::fclose(f);
-    }
-  }
+  if (!sc_.gridDump.empty()) PetscCall(writeGridDump());
   PetscCall(createParticles());
   PetscCall(nodal_.create(grid_,
                           !sc_.tractions.empty() || !sc_.dbcs.empty() || sc_.gravity[0] != 0 ||
@@ -63,6 +79,32 @@ PetscErrorCode Solver::setup() {
   out_ = std::make_unique<Output>(comm_, sc_, grid_);
   PetscCall(out_->open());
   return PETSC_SUCCESS;
+}
+
+PetscErrorCode Solver::writeGridDump() {
+  // Rank 0 writes; a failure to open or to write (a full disk) ends every rank with one line
+  // and removes what was written of a regular file.
+  std::string error;
+  if (rank_ == 0) {
+    errno = 0;
+    std::FILE *f = std::fopen(sc_.gridDump.c_str(), "w");
+    if (!f) {
+      error = std::string("cannot open the file for writing (") + std::strerror(errno) + ")";
+    } else {
+      const std::string text = grid_.activeNodesCsv();
+      const bool written = std::fwrite(text.data(), 1, text.size(), f) == text.size();
+      int e = written ? 0 : errno;
+      if (std::fclose(f) != 0 && !e) e = errno;
+      if (!written || e) {
+        error = std::string("cannot write the file (") + std::strerror(e ? e : EIO) + ")";
+        std::error_code ec;
+        if (std::filesystem::is_regular_file(sc_.gridDump, ec))
+          std::filesystem::remove(sc_.gridDump, ec);
+      }
+    }
+  }
+  return agree(comm_,
+               error.empty() ? error : "option -gimp_grid_dump " + sc_.gridDump + ": " + error);
 }
 
 PetscErrorCode Solver::createParticles() {

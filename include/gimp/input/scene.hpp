@@ -109,6 +109,9 @@ struct Scene {
   int monitorInterval = 0; // steps between monitor lines (0: off)
   Box domain{};
   double h = 0;                  // level-0 cell size
+  bool domainGiven = false;      // -gimp_domain given (else the bodies' box padded by pad cells)
+  PetscInt pad = 2;              // cells of padding around the bodies for the default domain
+  double memoryLimit = 0;        // bytes the run may take (0: the physical memory of its nodes)
   std::vector<LevelSpec> levels; // levels[0] is the domain
   std::vector<Body> bodies;
   Material material;

@@ -20,7 +20,8 @@ public:
   Output(const Output &) = delete;
   Output &operator=(const Output &) = delete;
 
-  /// Create the directory, start history.csv, remove fields of an earlier run.
+  /// Create the directory, remove every file an earlier run wrote there (and its particle
+  /// dump), check that the dump paths can be written, start history.csv.
   PetscErrorCode open();
   PetscErrorCode writeHistory(const HistoryRow &row);
   /// Particle fields of the swarm and each level's nodal velocity and mass (global Vecs).
@@ -29,6 +30,16 @@ public:
   PetscErrorCode writeHoop(const HoleMeasure &h);
 
 private:
+  /// Bytes to reserve for one frame of fields.h5 (an upper bound).
+  long double frameBytes(PetscInt64 particles) const;
+  /// One HDF5 frame; an error code (no stack printed) when a write fails.
+  PetscErrorCode writeFrame(PetscInt step, double t, DM sw, Vec velocity, Vec mass);
+  PetscErrorCode writeParticleFrame(PetscViewer v, const std::string &g, double t, DM sw) const;
+  PetscErrorCode writeGridFrame(PetscViewer v, const std::string &g, Vec velocity, Vec mass) const;
+  /// Flushes history.csv on rank 0; a failed write cuts the file back to rowStart (the end of
+  /// the last whole row) and every rank learns of it (collective).
+  PetscErrorCode flushHistory(long rowStart);
+  std::string checkDumpPaths() const;
   PetscErrorCode writeXdmf() const;
   // summary.json in three parts (rank 0): the run and its grid; energies, reactions and probes;
   // measures and crack tips.
@@ -37,8 +48,12 @@ private:
   void summaryMeasures(FILE *f, const SummaryReport &r) const;
   PetscErrorCode writeParticleXdmf(FILE *fp) const;
   PetscErrorCode writeGridXdmf(FILE *fg) const;
-  /// Opens dir/name for writing on rank 0; every rank learns of a failure (collective).
-  PetscErrorCode openOnRoot(const std::string &name, FILE **f) const;
+  /// Opens dir/name (dir/name.tmp when whole) for writing on rank 0; every rank learns of a
+  /// failure (collective).
+  PetscErrorCode openOnRoot(const std::string &name, FILE **f, bool whole) const;
+  /// Closes it on rank 0, checking every write, and renames name.tmp into place when whole
+  /// (a failure leaves the previous version or none, never half a file); collective.
+  PetscErrorCode closeOnRoot(const std::string &name, FILE *f, bool whole) const;
 
   MPI_Comm comm_;
   const Scene &sc_;
@@ -54,7 +69,8 @@ private:
   std::vector<Frame> frames_;
 };
 
-/// The particles sorted by id as CSV id,x,y,vx,vy,sxx,syy,sxy,szz,V,lx,ly (collective).
+/// The particles sorted by id as CSV id,x,y,vx,vy,sxx,syy,sxy,szz,V,lx,ly (collective);
+/// a failed write removes the partial file and ends every rank with one line.
 PetscErrorCode writeParticleDump(MPI_Comm comm, DM sw, const std::string &file);
 
 } // namespace gimp

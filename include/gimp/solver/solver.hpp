@@ -63,6 +63,7 @@ public:
 private:
   // setup (solver/setup.cpp)
   PetscErrorCode createParticles();
+  PetscErrorCode writeGridDump(); // -gimp_grid_dump, collective
   PetscErrorCode createTimeStepper();
   static PetscErrorCode rhs(TS ts, PetscReal t, Vec X, Vec F, void *ctx);
 

@@ -1,0 +1,161 @@
+// summary.json (docs/output.md): strict JSON, written whole or not at all.
+#include "gimp/io/output.hpp"
+
+#include <cmath>
+
+namespace gimp {
+
+namespace {
+
+/// A number in summary.json: NaN and inf are not JSON, they are written as null.
+std::string num(double v) {
+  if (!std::isfinite(v)) return "null";
+  char b[64];
+  std::snprintf(b, sizeof(b), "%.12e", v);
+  return b;
+}
+
+/// Length of the valid UTF-8 sequence starting at s[i], 0 when it is not one.
+size_t utf8Length(const std::string &s, size_t i) {
+  const unsigned char c = static_cast<unsigned char>(s[i]);
+  const size_t n = c < 0x80 ? 1 : (c >> 5) == 6 ? 2 : (c >> 4) == 14 ? 3 : (c >> 3) == 30 ? 4 : 0;
+  if (n == 0 || i + n > s.size()) return 0;
+  for (size_t k = 1; k < n; ++k)
+    if ((static_cast<unsigned char>(s[i + k]) >> 6) != 2) return 0;
+  return n;
+}
+
+/// A string as a JSON string: quotes, backslashes and control characters escaped, bytes that
+/// are not UTF-8 replaced by U+FFFD.
+std::string jsonString(const std::string &s) {
+  std::string r = "\"";
+  for (size_t i = 0; i < s.size();) {
+    const unsigned char c = static_cast<unsigned char>(s[i]);
+    const size_t n = utf8Length(s, i);
+    if (c == '"' || c == '\\') {
+      r += '\\';
+      r += static_cast<char>(c);
+    } else if (c < 0x20) {
+      char b[8];
+      std::snprintf(b, sizeof(b), "\\u%04x", c);
+      r += b;
+    } else if (n == 0) {
+      r += "\\ufffd";
+    } else {
+      r += s.substr(i, n);
+    }
+    i += n ? n : 1;
+  }
+  return r + "\"";
+}
+
+} // namespace
+
+PetscErrorCode Output::writeSummary(const SummaryReport &r) {
+  FILE *f = nullptr;
+  PetscCall(openOnRoot("summary.json", &f, true));
+  if (rank_ == 0) {
+    summaryRun(f, r);
+    summaryState(f, r);
+    summaryMeasures(f, r);
+    std::fprintf(f, "\n}\n");
+  }
+  return closeOnRoot("summary.json", f, true);
+}
+
+void Output::summaryRun(FILE *f, const SummaryReport &r) const {
+  std::fprintf(f, "{\n  \"scene\": %s,\n  \"version\": %s,\n  \"status\": %s,\n",
+               jsonString(sc_.name).c_str(), jsonString(GIMP_VERSION).c_str(),
+               jsonString(r.status).c_str());
+  std::fprintf(f,
+               "  \"ranks\": %d,\n  \"steps\": %lld,\n  \"time\": %s,\n  \"dt\": %s,\n"
+               "  \"wall_seconds\": %s,\n  \"cpu_seconds\": %s,\n  \"particles\": %lld,\n",
+               r.ranks, static_cast<long long>(r.steps), num(r.t).c_str(), num(r.dt).c_str(),
+               num(r.wallSeconds).c_str(), num(r.cpuSeconds).c_str(),
+               static_cast<long long>(r.particles));
+  std::fprintf(f, "  \"dt_critical\": %s,\n", num(r.dtCritical).c_str());
+  std::fprintf(f, "  \"levels\": [");
+  for (size_t k = 0; k < grid_.levels.size(); ++k) {
+    const Level &L = grid_.levels[k];
+    std::fprintf(f,
+                 "%s\n    {\"h\": %s, \"ratio\": %d, \"box\": [%s, %s, %s, %s], "
+                 "\"nodes\": [%lld, %lld], \"active_nodes\": %lld}",
+                 k ? "," : "", num(L.h).c_str(), k ? sc_.levels[k].ratio : 1, num(L.box[0]).c_str(),
+                 num(L.box[1]).c_str(), num(L.box[2]).c_str(), num(L.box[3]).c_str(),
+                 static_cast<long long>(L.M), static_cast<long long>(L.N),
+                 static_cast<long long>(grid_.activeNodes(static_cast<int>(k))));
+  }
+  std::fprintf(f, "],\n");
+}
+
+void Output::summaryState(FILE *f, const SummaryReport &r) const {
+  const Energies &e = r.energy;
+  std::fprintf(f,
+               "  \"energy\": {\"kinetic\": %s, \"strain\": %s, \"external_work\": %s, "
+               "\"damping\": %s},\n",
+               num(e.kinetic).c_str(), num(e.strain).c_str(), num(e.externalWork).c_str(),
+               num(e.damping).c_str());
+  std::fprintf(f, "  \"momentum\": [%s, %s],\n", num(e.momentum[0]).c_str(),
+               num(e.momentum[1]).c_str());
+  std::fprintf(f, "  \"reactions\": {");
+  for (size_t q = 0; q < sc_.dbcs.size(); ++q)
+    std::fprintf(f, "%s\"dbc%zu\": [%s, %s]", q ? ", " : "", q, num(r.reactions[2 * q]).c_str(),
+                 num(r.reactions[2 * q + 1]).c_str());
+  std::fprintf(f, "},\n");
+  if (!sc_.dbcs.empty()) {
+    std::fprintf(f, "  \"penalty\": %s,\n  \"constraint_violation\": {", num(r.penalty).c_str());
+    for (size_t q = 0; q < sc_.dbcs.size(); ++q)
+      std::fprintf(f, "%s\"dbc%zu\": {\"final\": %s, \"max\": %s}", q ? ", " : "", q,
+                   num(r.gaps[q]).c_str(), num(r.maxGaps[q]).c_str());
+    std::fprintf(f, "},\n");
+  }
+  std::fprintf(f, "  \"probes\": {");
+  for (size_t q = 0; q < r.probes.size(); ++q) {
+    const ProbeState &p = r.probes[q];
+    std::fprintf(f,
+                 "%s\n    %s: {\"id\": %lld, \"x0\": [%s, %s], \"u\": [%s, %s], "
+                 "\"stress\": [%s, %s, %s, %s]}",
+                 q ? "," : "", jsonString(sc_.probes[q].name).c_str(), static_cast<long long>(p.id),
+                 num(p.X0[0]).c_str(), num(p.X0[1]).c_str(), num(p.u[0]).c_str(),
+                 num(p.u[1]).c_str(), num(p.stress[0]).c_str(), num(p.stress[1]).c_str(),
+                 num(p.stress[2]).c_str(), num(p.stress[3]).c_str());
+  }
+}
+
+void Output::summaryMeasures(FILE *f, const SummaryReport &r) const {
+  const RunMeasures &m = r.measures;
+  std::fprintf(f, "%s},\n  \"measures\": {", r.probes.empty() ? "" : "\n  ");
+  std::fprintf(f, "\"particles_migrated\": %lld", static_cast<long long>(m.migrated));
+  std::fprintf(f, ", \"separation_strain\": %s", num(m.separationStrain).c_str());
+  std::fprintf(f, ", \"max_strain\": %s, \"max_separation\": %s", num(m.maxStrain).c_str(),
+               num(m.maxSeparation).c_str());
+  if (r.hole) {
+    std::fprintf(f, ", \"kt\": %s, \"kt_edge\": %s", num(r.hole->kt).c_str(),
+                 num(r.hole->ktEdge).c_str());
+    for (size_t a = 0; a < r.hole->hoopByAngle.size(); ++a)
+      std::fprintf(f, ", \"hoop_%zu\": %s", 15 * a, num(r.hole->hoopByAngle[a]).c_str());
+  }
+  if (sc_.mms != Mms::None)
+    std::fprintf(f, ", \"mms_linf\": %s, \"mms_rms\": %s", num(m.mmsLinf).c_str(),
+                 num(m.mmsRms).c_str());
+  std::fprintf(f, "}");
+  if (!r.tips.empty()) {
+    std::fprintf(f, ",\n  \"cracks\": [");
+    for (size_t q = 0; q < r.tips.size(); ++q) {
+      const cracks::TipMeasure &m = r.tips[q];
+      std::fprintf(
+          f,
+          "%s\n    {\"crack\": %d, \"end\": %d, \"tip\": [%s, %s], \"G_vcct\": %s, "
+          "\"GII_vcct\": %s, \"G_J\": %s, \"KI_vcct\": %s, \"KII_vcct\": %s, \"KI_J\": %s, "
+          "\"KII_J\": %s, \"h\": %s, \"opening\": [%s, %s]}",
+          q ? "," : "", m.crack, m.end, num(m.tip[0]).c_str(), num(m.tip[1]).c_str(),
+          num(m.G_vcct).c_str(), num(m.GII_vcct).c_str(), num(m.G_J).c_str(),
+          num(m.KI_vcct).c_str(), num(m.KII_vcct).c_str(), num(m.KI_J).c_str(),
+          num(m.KII_J).c_str(), num(m.h).c_str(), num(m.opening[0]).c_str(),
+          num(m.opening[1]).c_str());
+    }
+    std::fprintf(f, "]");
+  }
+}
+
+} // namespace gimp
