@@ -78,7 +78,7 @@ namespace {
 /// Options read by readScene itself, before they are checked.
 struct RunOptions {
   char name[256] = "scene", outdir[PETSC_MAX_PATH_LEN] = "", pdump[PETSC_MAX_PATH_LEN] = "",
-       gdump[PETSC_MAX_PATH_LEN] = "";
+       gdump[PETSC_MAX_PATH_LEN] = "", restart[PETSC_MAX_PATH_LEN] = "";
   PetscReal dom[4] = {0, 0, 0, 0}, hm[3] = {0, 0, 0};
   PetscInt ndom = 4, nhm = 3, pad = 2, update = 2, tracking = 2, mms = 0;
   PetscBool setDom = PETSC_FALSE, setH = PETSC_FALSE, setHm = PETSC_FALSE;
@@ -126,6 +126,14 @@ PetscErrorCode readOutputOptions(MPI_Comm comm, Scene &sc, RunOptions &o) {
   PetscCall(PetscOptionsString("-gimp_grid_dump",
                                "Write the active grid nodes as CSV level,x,y,Lxm,Lxp,Lym,Lyp",
                                "docs/options.md", gdump, gdump, sizeof(o.gdump), nullptr));
+  PetscCall(PetscOptionsInt("-gimp_checkpoint_interval",
+                            "Steps between checkpoints (checkpoint.h5 in the output directory; "
+                            "0: none, but on SIGINT/SIGTERM)",
+                            "docs/options.md", sc.checkpointInterval, &sc.checkpointInterval,
+                            nullptr));
+  PetscCall(PetscOptionsString(
+      "-gimp_restart", "Continue from this checkpoint (give the scene's options again)",
+      "docs/options.md", o.restart, o.restart, sizeof(o.restart), nullptr));
   PetscOptionsEnd();
   return PETSC_SUCCESS;
 }
@@ -215,6 +223,9 @@ void checkRunOptions(const Scene &sc, const RunOptions &o) {
     bad("gimp_history_interval", std::to_string(sc.historyInterval), "must be >= 1");
   if (sc.monitorInterval < 0)
     bad("gimp_monitor_interval", std::to_string(sc.monitorInterval), "must be >= 0");
+  if (sc.checkpointInterval < 0)
+    bad("gimp_checkpoint_interval", std::to_string(sc.checkpointInterval),
+        "must be >= 0 (0: none)");
   if (o.pad < 0) bad("gimp_pad", std::to_string(o.pad), "must be >= 0");
   if (sc.mms != Mms::None && !(sc.mmsAmplitude > 0))
     bad("gimp_mms_amplitude", formatNumber(sc.mmsAmplitude), "must be > 0 [m]");
@@ -293,6 +304,7 @@ PetscErrorCode readScene(MPI_Comm comm, Scene &sc) {
   sc.outputDir = o.outdir[0] ? o.outdir : "output/" + sc.name;
   sc.particleDump = o.pdump;
   sc.gridDump = o.gdump;
+  sc.restart = o.restart;
   sc.holeMeasure = o.setHm;
   std::copy(o.hm, o.hm + 3, sc.hole);
   if (!sc.help && o.setHm && (o.nhm != 3 || !(o.hm[2] > 0)))

@@ -49,7 +49,7 @@ PetscErrorCode Output::openOnRoot(const std::string &name, FILE **f) const {
   return PETSC_SUCCESS;
 }
 
-PetscErrorCode Output::open() {
+PetscErrorCode Output::open(const Resume *resume) {
   PetscCallMPI(MPI_Comm_rank(comm_, &rank_));
   dir_ = sc_.outputDir;
   std::string error;
@@ -60,6 +60,13 @@ PetscErrorCode Output::open() {
   }
   PetscCall(agree(comm_, error));
   PetscCall(openOnRoot("history.csv", &history_));
+  if (resume) { // a restart: the history up to the checkpoint, the frames it had written
+    if (rank_ == 0) {
+      std::fwrite(resume->history.data(), 1, resume->history.size(), history_);
+      std::fflush(history_);
+    }
+    return resumeFrames(resume->frames);
+  }
   if (rank_ == 0) {
     std::fprintf(history_,
                  "step,time,kinetic,strain,external_work,damping,total,momentum_x,momentum_y,"

@@ -20,15 +20,37 @@ public:
   Output(const Output &) = delete;
   Output &operator=(const Output &) = delete;
 
-  /// Create the directory, start history.csv, remove fields of an earlier run.
-  PetscErrorCode open();
+  /// A field frame written: fields.h5's /particles/step_<step> and /grid/step_<step>.
+  struct Frame {
+    PetscInt step;
+    double t;
+    long long particles;
+  };
+  /// Where a restarted run's output continues: history.csv's bytes and the frames written up
+  /// to the checkpoint (the same on every rank).
+  struct Resume {
+    std::string history;
+    std::vector<Frame> frames;
+  };
+
+  /// Create the directory, start history.csv, remove fields of an earlier run. With `resume`
+  /// (a restart): history.csv is rewritten with its bytes, and fields.h5 keeps the resumed
+  /// frames that it holds and drops every other (output_resume.cpp).
+  PetscErrorCode open(const Resume *resume = nullptr);
   PetscErrorCode writeHistory(const HistoryRow &row);
   /// Particle fields of the swarm and each level's nodal velocity and mass (global Vecs).
   PetscErrorCode writeFields(PetscInt step, double t, DM sw, Vec velocity, Vec mass);
   PetscErrorCode writeSummary(const SummaryReport &r);
   PetscErrorCode writeHoop(const HoleMeasure &h);
+  /// The frames written so far (every rank).
+  const std::vector<Frame> &frames() const { return frames_; }
+  /// history.csv's bytes written so far (rank 0; empty elsewhere).
+  PetscErrorCode historyText(std::string &text) const;
 
 private:
+  /// fields.h5 keeps the frames of `keep` it holds (rank 0 looks, every rank learns), the XDMF
+  /// files list them (output_resume.cpp).
+  PetscErrorCode resumeFrames(const std::vector<Frame> &keep);
   PetscErrorCode writeXdmf() const;
   // summary.json in three parts (rank 0): the run and its grid; energies, reactions and probes;
   // measures and crack tips.
@@ -46,11 +68,6 @@ private:
   PetscMPIInt rank_ = 0;
   std::string dir_;
   FILE *history_ = nullptr;
-  struct Frame {
-    PetscInt step;
-    double t;
-    long long particles;
-  };
   std::vector<Frame> frames_;
 };
 

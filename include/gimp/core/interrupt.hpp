@@ -1,0 +1,16 @@
+// SIGINT and SIGTERM as a request to stop: the handler only records the signal; the run loop
+// finishes the step, agrees on the request over the ranks in the step's one collective check
+// (Solver::checks), writes a checkpoint, the last field frame and summary.json, and main exits
+// 128 + the signal (130 for SIGINT, 143 for SIGTERM).
+#pragma once
+
+namespace gimp {
+
+/// Install the handler for SIGINT and SIGTERM (after PetscInitialize, so that it replaces any
+/// handler PETSc installed). Returns false when the system refuses it.
+bool installInterruptHandlers();
+
+/// The last stop signal received by this process (SIGINT or SIGTERM), or 0.
+int interruptSignal();
+
+} // namespace gimp
