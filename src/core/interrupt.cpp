@@ -11,7 +11,15 @@ namespace {
 // File-static, written only by onStopSignal, read only by interruptSignal.
 volatile std::sig_atomic_t stopSignal = 0;
 
+// The first signal asks the run to stop after its step; a second one (the run is stuck, or the
+// user insists) ends the process at once with the signal's default action. signal() and raise()
+// are async-signal-safe.
 extern "C" void onStopSignal(int sig) {
+  if (stopSignal != 0) {
+    std::signal(sig, SIG_DFL);
+    std::raise(sig);
+    return;
+  }
   stopSignal = sig;
 }
 
