@@ -145,6 +145,11 @@ with h5py.File(ckpt, "r") as f:
             not os.path.exists(ckpt + ".tmp"), "checkpoint step %g, tmp left: %s" % (
                 f["state"].attrs["step"], os.path.exists(ckpt + ".tmp")))
 
+# A fresh run in the directory removes the earlier run's checkpoint (it would not match).
+run(CRACK, "crack_part_np1", ["-ts_max_steps", "2"])
+c.check("a fresh run removes an earlier checkpoint", not os.path.exists(ckpt), "%s left: %s" % (
+    os.path.basename(ckpt), os.path.exists(ckpt)))
+
 # A checkpoint of another scene, and a file that is none, are refused in one line.
 for name, extra in (("another grid", ["-gimp_h", "0.025", "-ts_dt", "1e-4"]),
                     ("without corners", ["-gimp_tracking", "stretch"]),

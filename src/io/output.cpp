@@ -83,9 +83,10 @@ PetscErrorCode Output::open(const Resume *resume) {
         std::fprintf(history_, ",crack%d_tip%d_%s", m.crack, m.end, c);
     std::fprintf(history_, "\n");
     std::fflush(history_);
-    // Remove fields of an earlier run in the same directory.
+    // Remove fields and the checkpoint of an earlier run in the same directory.
     std::error_code ec;
-    for (const char *name : {"fields.h5", "particles.xmf", "grid.xmf"})
+    for (const char *name :
+         {"fields.h5", "particles.xmf", "grid.xmf", "checkpoint.h5", "checkpoint.h5.tmp"})
       std::filesystem::remove(dir_ + "/" + name, ec);
   }
   PetscCallMPI(MPI_Barrier(comm_));
