@@ -70,22 +70,25 @@ PetscErrorCode fieldVec(MPI_Comm comm, const FieldSpec &fs, PetscInt n, Vec *x) 
   return PETSC_SUCCESS;
 }
 
+template <typename T> void copyAs(T *d, PetscScalar *a, PetscInt count, bool toSwarm) {
+  for (PetscInt i = 0; i < count; ++i) {
+    if (toSwarm)
+      d[i] = static_cast<T>(a[i]);
+    else
+      a[i] = static_cast<PetscScalar>(d[i]);
+  }
+}
+
 /// Copy field fs between the swarm and the array a (toSwarm: a -> swarm).
 PetscErrorCode copyField(DM sw, const FieldSpec &fs, PetscScalar *a, PetscInt count, bool toSwarm) {
   void *data = nullptr;
   PetscCall(DMSwarmGetField(sw, fs.name, nullptr, nullptr, &data));
-  for (PetscInt i = 0; i < count; ++i) {
-    if (fs.type == PETSC_INT64) {
-      PetscInt64 &d = static_cast<PetscInt64 *>(data)[i];
-      toSwarm ? void(d = static_cast<PetscInt64>(a[i])) : void(a[i] = static_cast<double>(d));
-    } else if (fs.type == PETSC_INT) {
-      PetscInt &d = static_cast<PetscInt *>(data)[i];
-      toSwarm ? void(d = static_cast<PetscInt>(a[i])) : void(a[i] = static_cast<double>(d));
-    } else {
-      PetscReal &d = static_cast<PetscReal *>(data)[i];
-      toSwarm ? void(d = a[i]) : void(a[i] = d);
-    }
-  }
+  if (fs.type == PETSC_INT64)
+    copyAs(static_cast<PetscInt64 *>(data), a, count, toSwarm);
+  else if (fs.type == PETSC_INT)
+    copyAs(static_cast<PetscInt *>(data), a, count, toSwarm);
+  else
+    copyAs(static_cast<PetscReal *>(data), a, count, toSwarm);
   PetscCall(DMSwarmRestoreField(sw, fs.name, nullptr, nullptr, &data));
   return PETSC_SUCCESS;
 }
@@ -299,9 +302,11 @@ PetscErrorCode Solver::loadCheckpoint(Output::Resume &resume) {
   PetscCall(PetscViewerHDF5PopGroup(v));
   PetscCall(PetscViewerDestroy(&v));
   PetscInt *owner = nullptr;
-  PetscCall(DMSwarmGetField(sw_, DMSwarmField_rank, nullptr, nullptr, (void **)&owner));
+  PetscCall(
+      DMSwarmGetField(sw_, DMSwarmField_rank, nullptr, nullptr, reinterpret_cast<void **>(&owner)));
   std::fill(owner, owner + nloc, static_cast<PetscInt>(rank_));
-  PetscCall(DMSwarmRestoreField(sw_, DMSwarmField_rank, nullptr, nullptr, (void **)&owner));
+  PetscCall(DMSwarmRestoreField(sw_, DMSwarmField_rank, nullptr, nullptr,
+                                reinterpret_cast<void **>(&owner)));
   if (!same) PetscCall(migrate());
   PetscCall(TSSetStepNumber(ts_, static_cast<PetscInt>(s[1])));
   PetscCall(TSSetTime(ts_, s[2]));
