@@ -1,6 +1,7 @@
 // gimp: explicit GIMP solid dynamics on a structured grid. See README.md and docs/.
 #include "gimp/solver/solver.hpp"
 
+#include "gimp/core/interrupt.hpp"
 #include "gimp/input/options_file.hpp"
 
 #include <petscsys.h>
@@ -32,6 +33,10 @@ int main(int argc, char **argv) {
   argc = static_cast<int>(args.size());
   argv = cargs.data();
   PetscCall(PetscInitialize(&argc, &argv, nullptr, help));
+  // After PetscInitialize: SIGINT and SIGTERM stop the run at the end of a step (ours replaces
+  // any handler PETSc installed for them).
+  if (!gimp::installInterruptHandlers())
+    (void)PetscPrintf(PETSC_COMM_WORLD, "gimp: warning: cannot handle SIGINT/SIGTERM\n");
   int code = 0;
   try {
     PetscErrorCode ierr;
@@ -41,6 +46,10 @@ int main(int argc, char **argv) {
       if (!ierr) ierr = sim.run();
       // An unstable run stopped early with its outputs written: exit non-zero.
       if (!ierr && sim.failed()) code = 3;
+      // Interrupted: checkpoint, last frame and summary written; 128 + the signal, as a shell
+      // reports a process the signal ended (130 SIGINT, 143 SIGTERM).
+      else if (!ierr && sim.interrupted())
+        code = 128 + sim.interrupted();
     }
     if (ierr) code = 1;
   } catch (const gimp::InputError &e) {

@@ -80,7 +80,7 @@ namespace {
 /// Options read by readScene itself, before they are checked.
 struct RunOptions {
   char name[256] = "scene", outdir[PETSC_MAX_PATH_LEN] = "", pdump[PETSC_MAX_PATH_LEN] = "",
-       gdump[PETSC_MAX_PATH_LEN] = "";
+       gdump[PETSC_MAX_PATH_LEN] = "", restart[PETSC_MAX_PATH_LEN] = "";
   PetscReal dom[5] = {0, 0, 0, 0, 0}, hm[4] = {0, 0, 0, 0}; // one spare: extra values are seen
   PetscInt ndom = 5, nhm = 4, pad = 2, update = 2, tracking = 2, mms = 0, stabilityInterval = 0;
   PetscBool setDom = PETSC_FALSE, setH = PETSC_FALSE, setHm = PETSC_FALSE;
@@ -128,6 +128,14 @@ PetscErrorCode readOutputOptions(MPI_Comm comm, Scene &sc, RunOptions &o) {
   PetscCall(PetscOptionsString("-gimp_grid_dump",
                                "Write the active grid nodes as CSV level,x,y,Lxm,Lxp,Lym,Lyp",
                                "docs/options.md", gdump, gdump, sizeof(o.gdump), nullptr));
+  PetscCall(PetscOptionsInt("-gimp_checkpoint_interval",
+                            "Steps between checkpoints (checkpoint.h5 in the output directory; "
+                            "0: none, but on SIGINT/SIGTERM)",
+                            "docs/options.md", sc.checkpointInterval, &sc.checkpointInterval,
+                            nullptr));
+  PetscCall(PetscOptionsString(
+      "-gimp_restart", "Continue from this checkpoint (give the scene's options again)",
+      "docs/options.md", o.restart, o.restart, sizeof(o.restart), nullptr));
   PetscOptionsEnd();
   return PETSC_SUCCESS;
 }
@@ -249,6 +257,9 @@ void checkRunOptions(const Scene &sc, const RunOptions &o) {
     bad("gimp_history_interval", std::to_string(sc.historyInterval), "must be >= 1");
   if (sc.monitorInterval < 0)
     bad("gimp_monitor_interval", std::to_string(sc.monitorInterval), "must be >= 0");
+  if (sc.checkpointInterval < 0)
+    bad("gimp_checkpoint_interval", std::to_string(sc.checkpointInterval),
+        "must be >= 0 (0: none)");
   if (o.pad < 0) bad("gimp_pad", std::to_string(o.pad), "must be >= 0");
   if (!(sc.memoryLimit >= 0))
     bad("gimp_memory_limit", formatNumber(sc.memoryLimit),
@@ -332,6 +343,7 @@ PetscErrorCode readScene(MPI_Comm comm, Scene &sc) {
   sc.outputDir = o.outdir[0] ? o.outdir : "output/" + sc.name;
   sc.particleDump = o.pdump;
   sc.gridDump = o.gdump;
+  sc.restart = o.restart;
   sc.holeMeasure = o.setHm;
   std::copy(o.hm, o.hm + 3, sc.hole);
   if (!sc.help && o.setHm && (o.nhm != 3 || !(o.hm[2] > 0)))

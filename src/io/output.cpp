@@ -138,7 +138,7 @@ std::string Output::checkDumpPaths() const {
   return "";
 }
 
-PetscErrorCode Output::open() {
+PetscErrorCode Output::open(const Resume *resume) {
   PetscCallMPI(MPI_Comm_rank(comm_, &rank_));
   dir_ = sc_.outputDir;
   std::string error;
@@ -151,8 +151,12 @@ PetscErrorCode Output::open() {
       error = "option -gimp_output_dir " + dir_ + ": is not a directory";
     // Remove every file an earlier run in the same directory wrote (and the temporary files of
     // one that was killed while writing): a run that fails later leaves none of them behind.
-    for (const std::string name :
-         {"fields.h5", "particles.xmf", "grid.xmf", "summary.json", "hoop.csv", "history.csv"})
+    // A restart keeps the frames its checkpoint lists (resumeFrames) and the checkpoint; a fresh
+    // run also removes an earlier checkpoint, which no longer matches.
+    std::vector<std::string> stale{"summary.json", "hoop.csv", "history.csv"};
+    if (!resume)
+      stale.insert(stale.end(), {"fields.h5", "particles.xmf", "grid.xmf", "checkpoint.h5"});
+    for (const std::string &name : stale)
       for (const char *tail : {"", ".tmp"})
         if (error.empty() && !std::filesystem::remove(dir_ + "/" + name + tail, ec) && ec)
           error = "option -gimp_output_dir " + dir_ + ": cannot remove the earlier run's " + name +
@@ -161,6 +165,11 @@ PetscErrorCode Output::open() {
   }
   PetscCall(agree(comm_, error));
   PetscCall(openOnRoot("history.csv", &history_, false));
+  if (resume) { // a restart: the history up to the checkpoint, the frames it had written
+    if (rank_ == 0) std::fwrite(resume->history.data(), 1, resume->history.size(), history_);
+    PetscCall(flushHistory(0));
+    return resumeFrames(resume->frames);
+  }
   if (rank_ == 0) {
     std::fprintf(history_,
                  "step,time,kinetic,strain,external_work,damping,total,momentum_x,momentum_y,"

@@ -1,26 +1,32 @@
 // The run loop, the checks after each step and the reports (history, rest criterion, fields,
 // monitor lines, summary).
+#include "gimp/core/interrupt.hpp"
 #include "gimp/solver/solver.hpp"
 
 #include <cmath>
+#include <csignal>
 #include <sys/resource.h>
 
 namespace gimp {
 
 PetscErrorCode Solver::run() {
   if (sc_.help) return PETSC_SUCCESS;
-  PetscCall(PetscLogStagePush(stages_.output));
-  PetscCall(out_->writeFields(0, 0.0, sw_, nodal_.vel, nodal_.mass));
-  HistoryRow row;
-  PetscCall(historyRow(0, 0.0, row));
-  PetscCall(out_->writeHistory(row));
-  PetscCall(PetscLogStagePop());
+  if (sc_.restart.empty()) { // a restart continues the outputs of its checkpoint
+    PetscCall(PetscLogStagePush(stages_.output));
+    PetscCall(out_->writeFields(0, 0.0, sw_, nodal_.vel, nodal_.mass));
+    HistoryRow row;
+    PetscCall(historyRow(0, 0.0, row));
+    PetscCall(out_->writeHistory(row));
+    PetscCall(PetscLogStagePop());
+  }
   PetscInt steps = 0, maxSteps = 0;
   PetscReal t = 0, maxTime = 0;
+  PetscCall(TSGetStepNumber(ts_, &steps));
+  PetscCall(TSGetTime(ts_, &t));
   PetscCall(TSGetMaxSteps(ts_, &maxSteps));
   PetscCall(TSGetMaxTime(ts_, &maxTime));
-  PetscCall(TSMonitor(ts_, 0, 0.0, nodal_.P));
-  while (steps < maxSteps && t < maxTime && !failed_ && !atRest_) {
+  PetscCall(TSMonitor(ts_, steps, t, nodal_.P));
+  while (steps < maxSteps && t < maxTime && !failed_ && !atRest_ && !interrupt_) {
     if (sc_.stabilityInterval > 0 && steps > 0 && steps % sc_.stabilityInterval == 0) {
       PetscCall(stabilityRecheck(steps, t));
       if (failed_) break;
@@ -28,7 +34,16 @@ PetscErrorCode Solver::run() {
     PetscCall(step());
     PetscCall(TSGetStepNumber(ts_, &steps));
     PetscCall(TSGetTime(ts_, &t));
+    // The state after the step's report: a restart from it continues with the next step.
+    const bool due = sc_.checkpointInterval > 0 && steps % sc_.checkpointInterval == 0;
+    if (!failed_ && (due || interrupt_)) PetscCall(writeCheckpoint(steps, t));
   }
+  if (interrupt_ && !failed_)
+    PetscCall(PetscPrintf(comm_,
+                          "gimp: interrupted by %s at step %" PetscInt_FMT " t %.9g s: "
+                          "checkpoint %s/checkpoint.h5 written\n",
+                          interrupt_ == SIGINT ? "SIGINT" : "SIGTERM", steps, t,
+                          sc_.outputDir.c_str()));
   PetscCall(TSViewFromOptions(ts_, nullptr, "-ts_view"));
   PetscCall(finish(steps, t));
   return PETSC_SUCCESS;
@@ -60,11 +75,14 @@ PetscErrorCode Solver::checks(const ParticleView &p, PetscInt step, double t) {
       why = "its half-size (" + formatNumber(lx) + ", " + formatNumber(ly) +
             ") is not in (0, h0]: the particle is inverted or stretched beyond one level-0 cell";
     failed_ = true;
+    // The level whose leaf cell holds the particle (none when it is not finite or outside).
+    const bool inside = x >= d[0] && x <= d[2] && y >= d[1] && y <= d[3];
+    const std::string level = inside ? std::to_string(grid_.leafLevelAt(x, y)) : "none";
     PetscCall(PetscSynchronizedFPrintf(comm_, PETSC_STDERR,
                                        "gimp: error: step %" PetscInt_FMT
                                        " t %.9g s: particle %" PetscInt64_FMT
-                                       " at (%.9g, %.9g): %s\n",
-                                       step, t, p.id[k], x, y, why.c_str()));
+                                       " at (%.9g, %.9g) on level %s: %s\n",
+                                       step, t, p.id[k], x, y, level.c_str(), why.c_str()));
   }
   if (!localFailure_.empty()) {
     failed_ = true;
@@ -74,9 +92,12 @@ PetscErrorCode Solver::checks(const ParticleView &p, PetscInt step, double t) {
     localFailure_.clear();
   }
   PetscCall(PetscSynchronizedFlush(comm_, PETSC_STDERR));
-  PetscBool any = PETSC_FALSE, mine = failed_ ? PETSC_TRUE : PETSC_FALSE;
-  PetscCallMPI(MPI_Allreduce(&mine, &any, 1, MPIU_BOOL, MPI_LOR, comm_));
-  failed_ = any;
+  // One reduction for both: bit 0 a failure, bit 1 SIGINT, bit 2 SIGTERM received on a rank.
+  const int sig = interruptSignal();
+  int any = 0, mine = (failed_ ? 1 : 0) | (sig == SIGINT ? 2 : 0) | (sig == SIGTERM ? 4 : 0);
+  PetscCallMPI(MPI_Allreduce(&mine, &any, 1, MPI_INT, MPI_BOR, comm_));
+  failed_ = any & 1;
+  interrupt_ = any & 4 ? SIGTERM : any & 2 ? SIGINT : 0;
   return PETSC_SUCCESS;
 }
 
@@ -169,11 +190,12 @@ PetscErrorCode Solver::monitorLine(PetscInt step, double t) {
 
 PetscErrorCode Solver::finish(PetscInt steps, double t) {
   // The last frame and history row (if the intervals did not just write them), the particle
-  // dump and the summary. An unstable run keeps what it had written.
+  // dump and the summary. An unstable run keeps what it had written and adds the frame of the
+  // state it failed in, to look at (report() wrote nothing of that step).
   PetscCall(PetscLogStagePush(stages_.output));
+  if (failed_ || sc_.outputInterval == 0 || steps % sc_.outputInterval != 0)
+    PetscCall(out_->writeFields(steps, t, sw_, nodal_.vel, nodal_.mass));
   if (!failed_) {
-    if (sc_.outputInterval == 0 || steps % sc_.outputInterval != 0)
-      PetscCall(out_->writeFields(steps, t, sw_, nodal_.vel, nodal_.mass));
     if (steps % sc_.historyInterval != 0) {
       HistoryRow row;
       PetscCall(historyRow(steps, t, row));
@@ -188,7 +210,7 @@ PetscErrorCode Solver::finish(PetscInt steps, double t) {
     PetscCall(out_->writeHoop(hole));
     r.hole = &hole;
   }
-  r.status = failed_ ? "unstable" : atRest_ ? "at_rest" : "completed";
+  r.status = failed_ ? "unstable" : interrupt_ ? "interrupted" : atRest_ ? "at_rest" : "completed";
   r.ranks = size_;
   r.steps = steps;
   r.t = t;

@@ -77,7 +77,13 @@ PetscErrorCode Solver::setup() {
   if (sc_.stabilityCheck) PetscCall(stabilityAtStart());
   PetscCall(rejectUnusedOptions());
   out_ = std::make_unique<Output>(comm_, sc_, grid_);
-  PetscCall(out_->open());
+  if (sc_.restart.empty()) {
+    PetscCall(out_->open());
+  } else {
+    Output::Resume resume;
+    PetscCall(loadCheckpoint(resume));
+    PetscCall(out_->open(&resume));
+  }
   return PETSC_SUCCESS;
 }
 

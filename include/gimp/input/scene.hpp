@@ -145,6 +145,8 @@ struct Scene {
   double holeLoad = 0;
   std::string particleDump;
   std::string gridDump;
+  int checkpointInterval = 0; // steps between checkpoints (0: none, but on an interrupt)
+  std::string restart;        // checkpoint to continue from (empty: a fresh run)
   bool help = false;
 };
 

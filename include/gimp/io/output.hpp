@@ -20,14 +20,33 @@ public:
   Output(const Output &) = delete;
   Output &operator=(const Output &) = delete;
 
+  /// A field frame written: fields.h5's /particles/step_<step> and /grid/step_<step>.
+  struct Frame {
+    PetscInt step;
+    double t;
+    long long particles;
+  };
+  /// Where a restarted run's output continues: history.csv's bytes and the frames written up
+  /// to the checkpoint (the same on every rank).
+  struct Resume {
+    std::string history;
+    std::vector<Frame> frames;
+  };
+
   /// Create the directory, remove every file an earlier run wrote there (and its particle
-  /// dump), check that the dump paths can be written, start history.csv.
-  PetscErrorCode open();
+  /// dump), check that the dump paths can be written, start history.csv. With `resume` (a
+  /// restart): history.csv is rewritten with its bytes, and fields.h5 keeps the resumed frames
+  /// that it holds and drops every other (output_resume.cpp).
+  PetscErrorCode open(const Resume *resume = nullptr);
   PetscErrorCode writeHistory(const HistoryRow &row);
   /// Particle fields of the swarm and each level's nodal velocity and mass (global Vecs).
   PetscErrorCode writeFields(PetscInt step, double t, DM sw, Vec velocity, Vec mass);
   PetscErrorCode writeSummary(const SummaryReport &r);
   PetscErrorCode writeHoop(const HoleMeasure &h);
+  /// The frames written so far (every rank).
+  const std::vector<Frame> &frames() const { return frames_; }
+  /// history.csv's bytes written so far (rank 0; empty elsewhere).
+  PetscErrorCode historyText(std::string &text) const;
 
 private:
   /// Bytes to reserve for one frame of fields.h5 (an upper bound).
@@ -40,6 +59,9 @@ private:
   /// the last whole row) and every rank learns of it (collective).
   PetscErrorCode flushHistory(long rowStart);
   std::string checkDumpPaths() const;
+  /// fields.h5 keeps the frames of `keep` it holds (rank 0 looks, every rank learns), the XDMF
+  /// files list them (output_resume.cpp).
+  PetscErrorCode resumeFrames(const std::vector<Frame> &keep);
   PetscErrorCode writeXdmf() const;
   // summary.json in three parts (rank 0): the run and its grid; energies, reactions and probes;
   // measures and crack tips.
@@ -61,11 +83,6 @@ private:
   PetscMPIInt rank_ = 0;
   std::string dir_;
   FILE *history_ = nullptr;
-  struct Frame {
-    PetscInt step;
-    double t;
-    long long particles;
-  };
   std::vector<Frame> frames_;
 };
 

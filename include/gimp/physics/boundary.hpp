@@ -65,6 +65,8 @@ public:
 
   double alpha() const { return alpha_; }
   const std::vector<double> &maxGap() const { return maxGap_; }
+  /// The largest violations of a run continued from a checkpoint.
+  void setMaxGap(const std::vector<double> &gap) { maxGap_ = gap; }
 
 private:
   void penaltyForces(const Scene &sc, const Grid &g, const Stencils<2> &st, const ParticleView &p,

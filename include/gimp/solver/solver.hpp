@@ -59,6 +59,8 @@ public:
   const Scene &scene() const { return sc_; }
   /// True when the run stopped early because it went unstable.
   bool failed() const { return failed_; }
+  /// The stop signal (SIGINT or SIGTERM) that ended the run, agreed over the ranks; 0 if none.
+  int interrupted() const { return interrupt_; }
 
 private:
   // setup (solver/setup.cpp)
@@ -103,6 +105,11 @@ private:
   PetscErrorCode monitorLine(PetscInt step, double t);
   PetscErrorCode crackTips(std::vector<cracks::TipMeasure> &tips);
 
+  // checkpoint and restart (solver/checkpoint.cpp)
+  PetscErrorCode writeCheckpoint(PetscInt step, double t);
+  PetscErrorCode loadCheckpoint(Output::Resume &resume);
+  PetscErrorCode checkCheckpoint(PetscViewer v, const std::vector<double> &scalars);
+
   stability::SlepcSession slepc_; // first member: finalised after every other one
   MPI_Comm comm_;
   PetscMPIInt rank_ = 0, size_ = 1;
@@ -130,6 +137,7 @@ private:
   PetscLogDouble wall0_ = 0;
   bool failed_ = false;
   double dtCritical_ = NAN;  // smallest critical step computed (-gimp_stability_check)
+  int interrupt_ = 0;        // SIGINT or SIGTERM received on some rank, agreed by checks()
   std::string localFailure_; // a failure found on this rank inside the step, reported by checks()
   bool atRest_ = false;      // stopped by the rest criterion (-gimp_static_tol)
   int restRows_ = 0;         // consecutive history rows that meet it

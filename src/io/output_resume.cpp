@@ -1,0 +1,117 @@
+// A restarted run's output: history.csv's bytes for the checkpoint, and fields.h5 cut back to
+// the frames the checkpoint had written (later frames of the interrupted run are dropped, so
+// fields.h5 and the XDMF files list what the uninterrupted run would have).
+#include "gimp/io/output.hpp"
+
+#include <hdf5.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <set>
+
+namespace gimp {
+
+namespace {
+
+std::string frameGroup(PetscInt step) {
+  char buf[64];
+  std::snprintf(buf, sizeof(buf), "step_%08lld", static_cast<long long>(step));
+  return buf;
+}
+
+herr_t collectName(hid_t, const char *name, const H5L_info_t *, void *data) {
+  static_cast<std::vector<std::string> *>(data)->push_back(name);
+  return 0;
+}
+
+/// Delete every child of `group` in file f whose name is not in `keep`.
+void dropChildren(hid_t f, const char *group, const std::set<std::string> &keep) {
+  if (H5Lexists(f, group, H5P_DEFAULT) <= 0) return;
+  const hid_t g = H5Gopen2(f, group, H5P_DEFAULT);
+  if (g < 0) return;
+  std::vector<std::string> names;
+  H5Literate(g, H5_INDEX_NAME, H5_ITER_NATIVE, nullptr, collectName, &names);
+  for (const std::string &n : names)
+    if (!keep.count(n)) H5Ldelete(g, n.c_str(), H5P_DEFAULT);
+  H5Gclose(g);
+}
+
+/// The frames of `keep` that fields.h5 holds whole (both groups); every other frame group is
+/// deleted. Rank 0 only; a file HDF5 cannot open counts as holding none.
+std::vector<Output::Frame> pruneFields(const std::string &file,
+                                       const std::vector<Output::Frame> &keep) {
+  std::vector<Output::Frame> kept;
+  std::error_code ec;
+  if (!std::filesystem::exists(file, ec)) return kept;
+  H5E_auto2_t func = nullptr;
+  void *data = nullptr;
+  H5Eget_auto2(H5E_DEFAULT, &func, &data);
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); // a damaged file is not an error here
+  const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+  if (f >= 0) {
+    std::set<std::string> names;
+    for (const Output::Frame &fr : keep) {
+      const std::string g = frameGroup(fr.step);
+      if (H5Lexists(f, "/particles", H5P_DEFAULT) > 0 && H5Lexists(f, "/grid", H5P_DEFAULT) > 0 &&
+          H5Lexists(f, ("/particles/" + g).c_str(), H5P_DEFAULT) > 0 &&
+          H5Lexists(f, ("/grid/" + g).c_str(), H5P_DEFAULT) > 0) {
+        kept.push_back(fr);
+        names.insert(g);
+      }
+    }
+    dropChildren(f, "/particles", names);
+    dropChildren(f, "/grid", names);
+    H5Fclose(f);
+  }
+  H5Eset_auto2(H5E_DEFAULT, func, data);
+  if (kept.empty()) std::filesystem::remove(file, ec);
+  return kept;
+}
+
+} // namespace
+
+PetscErrorCode Output::historyText(std::string &text) const {
+  text.clear();
+  std::string error;
+  if (rank_ == 0) {
+    std::fflush(history_);
+    const long end = std::ftell(history_);
+    FILE *f = std::fopen((dir_ + "/history.csv").c_str(), "rb");
+    bool ok = f && end >= 0;
+    if (ok) {
+      text.resize(static_cast<size_t>(end));
+      ok = std::fread(text.data(), 1, text.size(), f) == text.size();
+    }
+    if (f) std::fclose(f);
+    if (!ok) error = "option -gimp_output_dir " + dir_ + ": cannot read back history.csv there";
+  }
+  PetscCall(agree(comm_, error));
+  return PETSC_SUCCESS;
+}
+
+PetscErrorCode Output::resumeFrames(const std::vector<Frame> &keep) {
+  std::vector<double> kept; // step, t, particles of each frame kept (rank 0, then every rank)
+  if (rank_ == 0)
+    for (const Frame &fr : pruneFields(dir_ + "/fields.h5", keep))
+      kept.insert(kept.end(),
+                  {static_cast<double>(fr.step), fr.t, static_cast<double>(fr.particles)});
+  long long n = static_cast<long long>(kept.size());
+  PetscCallMPI(MPI_Bcast(&n, 1, MPI_LONG_LONG, 0, comm_));
+  kept.resize(static_cast<size_t>(n));
+  if (n) PetscCallMPI(MPI_Bcast(kept.data(), static_cast<int>(n), MPI_DOUBLE, 0, comm_));
+  frames_.clear();
+  for (size_t q = 0; q < kept.size(); q += 3)
+    frames_.push_back(
+        {static_cast<PetscInt>(kept[q]), kept[q + 1], static_cast<long long>(kept[q + 2])});
+  if (!frames_.empty()) {
+    PetscCall(writeXdmf());
+  } else if (rank_ == 0) {
+    std::error_code ec;
+    for (const char *name : {"fields.h5", "particles.xmf", "grid.xmf"})
+      std::filesystem::remove(dir_ + "/" + name, ec);
+  }
+  PetscCallMPI(MPI_Barrier(comm_));
+  return PETSC_SUCCESS;
+}
+
+} // namespace gimp

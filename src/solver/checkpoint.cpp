@@ -1,0 +1,335 @@
+// Checkpoint and restart (docs/output.md, checkpoint.h5): the whole state a step hands to the
+// next, through PETSc's HDF5 viewer. Particles: every field of the swarm's field table, each
+// rank's part in its order, and the ranks' local sizes, so that a restart on as many ranks
+// continues bit for bit. State: TS's step, time and dt, the work ledger, the run measures, the
+// rest criterion's counters, the penalty conditions' largest violations, the frames written and
+// history.csv's bytes. The nodal momenta carry nothing across steps (P2G rebuilds them), nor does
+// crack contact (its contact set is decided each step).
+#include "gimp/solver/solver.hpp"
+
+#include <hdf5.h>
+#include <petscviewerhdf5.h>
+
+#include <cstring>
+#include <filesystem>
+
+namespace gimp {
+
+namespace {
+
+constexpr double kFormat = 1; // layout version of checkpoint.h5
+
+/// An array known on rank 0, written as [n, values...] (never an empty dataset).
+PetscErrorCode writeArray(MPI_Comm comm, PetscViewer v, const char *name,
+                          const std::vector<double> &a) {
+  PetscMPIInt rank = 0;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  Vec x;
+  PetscCall(
+      VecCreateMPI(comm, rank == 0 ? static_cast<PetscInt>(a.size()) + 1 : 0, PETSC_DETERMINE, &x));
+  PetscCall(PetscObjectSetName(reinterpret_cast<PetscObject>(x), name));
+  if (rank == 0) {
+    PetscScalar *p = nullptr;
+    PetscCall(VecGetArray(x, &p));
+    p[0] = static_cast<double>(a.size());
+    std::copy(a.begin(), a.end(), p + 1);
+    PetscCall(VecRestoreArray(x, &p));
+  }
+  PetscCall(VecView(x, v));
+  PetscCall(VecDestroy(&x));
+  return PETSC_SUCCESS;
+}
+
+/// Such an array, read onto every rank.
+PetscErrorCode readArray(MPI_Comm comm, PetscViewer v, const char *name, std::vector<double> &a) {
+  Vec x, all;
+  VecScatter toAll;
+  PetscCall(VecCreate(comm, &x));
+  PetscCall(PetscObjectSetName(reinterpret_cast<PetscObject>(x), name));
+  PetscCall(VecLoad(x, v));
+  PetscCall(VecScatterCreateToAll(x, &toAll, &all));
+  PetscCall(VecScatterBegin(toAll, x, all, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecScatterEnd(toAll, x, all, INSERT_VALUES, SCATTER_FORWARD));
+  const PetscScalar *p = nullptr;
+  PetscCall(VecGetArrayRead(all, &p));
+  a.assign(p + 1, p + 1 + static_cast<size_t>(p[0]));
+  PetscCall(VecRestoreArrayRead(all, &p));
+  PetscCall(VecScatterDestroy(&toAll));
+  PetscCall(VecDestroy(&all));
+  PetscCall(VecDestroy(&x));
+  return PETSC_SUCCESS;
+}
+
+/// A Vec of this rank's n particles' values of field fs (integers as doubles: exact).
+PetscErrorCode fieldVec(MPI_Comm comm, const FieldSpec &fs, PetscInt n, Vec *x) {
+  PetscCall(VecCreate(comm, x));
+  PetscCall(VecSetSizes(*x, fs.components * n, PETSC_DETERMINE));
+  PetscCall(VecSetBlockSize(*x, fs.components));
+  PetscCall(VecSetType(*x, VECSTANDARD));
+  PetscCall(PetscObjectSetName(reinterpret_cast<PetscObject>(*x), fs.name));
+  return PETSC_SUCCESS;
+}
+
+template <typename T> void copyAs(T *d, PetscScalar *a, PetscInt count, bool toSwarm) {
+  for (PetscInt i = 0; i < count; ++i) {
+    if (toSwarm)
+      d[i] = static_cast<T>(a[i]);
+    else
+      a[i] = static_cast<PetscScalar>(d[i]);
+  }
+}
+
+/// Copy field fs between the swarm and the array a (toSwarm: a -> swarm).
+PetscErrorCode copyField(DM sw, const FieldSpec &fs, PetscScalar *a, PetscInt count, bool toSwarm) {
+  void *data = nullptr;
+  PetscCall(DMSwarmGetField(sw, fs.name, nullptr, nullptr, &data));
+  if (fs.type == PETSC_INT64)
+    copyAs(static_cast<PetscInt64 *>(data), a, count, toSwarm);
+  else if (fs.type == PETSC_INT)
+    copyAs(static_cast<PetscInt *>(data), a, count, toSwarm);
+  else
+    copyAs(static_cast<PetscReal *>(data), a, count, toSwarm);
+  PetscCall(DMSwarmRestoreField(sw, fs.name, nullptr, nullptr, &data));
+  return PETSC_SUCCESS;
+}
+
+/// The swarm's fields (those registered) into the viewer's current group, or back from it.
+PetscErrorCode transferFields(MPI_Comm comm, PetscViewer v, DM sw, bool load) {
+  bool corners = false;
+  PetscCall(swarmHasCorners(sw, corners));
+  PetscInt n = 0;
+  PetscCall(DMSwarmGetLocalSize(sw, &n));
+  for (const FieldSpec &fs : particleFields()) {
+    if (fs.cornersOnly && !corners) continue;
+    Vec x;
+    PetscScalar *a = nullptr;
+    PetscCall(fieldVec(comm, fs, n, &x));
+    if (load) PetscCall(VecLoad(x, v));
+    PetscCall(VecGetArray(x, &a));
+    PetscCall(copyField(sw, fs, a, fs.components * n, load));
+    PetscCall(VecRestoreArray(x, &a));
+    if (!load) PetscCall(VecView(x, v));
+    PetscCall(VecDestroy(&x));
+  }
+  return PETSC_SUCCESS;
+}
+
+/// The levels as h, box and node counts: a checkpoint belongs to the grid that wrote it.
+std::vector<double> gridDescription(const Grid &g) {
+  std::vector<double> d;
+  for (const Level &L : g.levels)
+    d.insert(d.end(), {L.h, L.box[0], L.box[1], L.box[2], L.box[3], static_cast<double>(L.M),
+                       static_cast<double>(L.N)});
+  return d;
+}
+
+/// Whether `file` is an HDF5 file with /state's format attribute (rank 0).
+bool looksLikeCheckpoint(const std::string &file) {
+  H5E_auto2_t func = nullptr;
+  void *data = nullptr;
+  H5Eget_auto2(H5E_DEFAULT, &func, &data);
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  bool ok = false;
+  std::error_code ec;
+  if (std::filesystem::is_regular_file(file, ec) && H5Fis_hdf5(file.c_str()) > 0) {
+    const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+    if (f >= 0) {
+      ok = H5Aexists_by_name(f, "/state", "format", H5P_DEFAULT) > 0 &&
+           H5Lexists(f, "/particles", H5P_DEFAULT) > 0;
+      H5Fclose(f);
+    }
+  }
+  H5Eset_auto2(H5E_DEFAULT, func, data);
+  return ok;
+}
+
+} // namespace
+
+namespace {
+
+/// The scalar attributes of /state, in the order of Solver::stateScalars.
+constexpr const char *kScalars[] = {"format",
+                                    "step",
+                                    "time",
+                                    "dt",
+                                    "ranks",
+                                    "particles",
+                                    "mean_particle_mass",
+                                    "work_external",
+                                    "work_damping",
+                                    "migrated",
+                                    "separation_strain",
+                                    "max_strain",
+                                    "max_separation",
+                                    "mms_linf",
+                                    "mms_rms",
+                                    "rest_rows",
+                                    "rest_strain",
+                                    "at_rest"};
+constexpr size_t kNScalars = sizeof(kScalars) / sizeof(kScalars[0]);
+
+} // namespace
+
+PetscErrorCode Solver::writeCheckpoint(PetscInt step, double t) {
+  // Every rank writes into checkpoint.h5.tmp; when all have closed it, rank 0 renames it into
+  // place, so a crash while writing leaves the previous checkpoint whole.
+  PetscCall(PetscLogStagePush(stages_.output));
+  const std::string file = sc_.outputDir + "/checkpoint.h5", tmp = file + ".tmp";
+  PetscViewer v;
+  PetscCall(PetscViewerHDF5Open(comm_, tmp.c_str(), FILE_MODE_WRITE, &v));
+  PetscCall(PetscViewerHDF5PushGroup(v, "/particles"));
+  PetscCall(transferFields(comm_, v, sw_, false));
+  PetscInt nloc = 0;
+  PetscCall(DMSwarmGetLocalSize(sw_, &nloc));
+  PetscInt64 mine = nloc;
+  std::vector<PetscInt64> sizes(static_cast<size_t>(size_));
+  PetscCallMPI(MPI_Gather(&mine, 1, MPI_INT64_T, sizes.data(), 1, MPI_INT64_T, 0, comm_));
+  PetscCall(writeArray(comm_, v, "local_sizes", std::vector<double>(sizes.begin(), sizes.end())));
+  PetscCall(PetscViewerHDF5PopGroup(v));
+  PetscCall(PetscViewerHDF5PushGroup(v, "/state"));
+  PetscCall(writeArray(comm_, v, "grid", gridDescription(grid_)));
+  PetscCall(writeArray(comm_, v, "max_gaps", boundary_.maxGap()));
+  std::vector<double> frames;
+  for (const Output::Frame &fr : out_->frames())
+    frames.insert(frames.end(),
+                  {static_cast<double>(fr.step), fr.t, static_cast<double>(fr.particles)});
+  PetscCall(writeArray(comm_, v, "frames", frames));
+  std::string text; // history.csv's bytes, 8 to a value, after their count
+  PetscCall(out_->historyText(text));
+  std::vector<double> history(1 + (text.size() + 7) / 8, 0.0);
+  history[0] = static_cast<double>(text.size());
+  std::memcpy(history.data() + 1, text.data(), text.size());
+  PetscCall(writeArray(comm_, v, "history", history));
+  PetscReal dt = 0;
+  PetscCall(TSGetTimeStep(ts_, &dt));
+  const double values[kNScalars] = {kFormat,
+                                    static_cast<double>(step),
+                                    t,
+                                    dt,
+                                    static_cast<double>(size_),
+                                    static_cast<double>(nParticles_),
+                                    meanParticleMass_,
+                                    work_.external,
+                                    work_.damping,
+                                    static_cast<double>(measures_.migrated),
+                                    measures_.separationStrain,
+                                    measures_.maxStrain,
+                                    measures_.maxSeparation,
+                                    measures_.mmsLinf,
+                                    measures_.mmsRms,
+                                    static_cast<double>(restRows_),
+                                    restStrain_,
+                                    atRest_ ? 1.0 : 0.0};
+  for (size_t q = 0; q < kNScalars; ++q)
+    PetscCall(PetscViewerHDF5WriteAttribute(v, "/state", kScalars[q], PETSC_DOUBLE, &values[q]));
+  PetscCall(PetscViewerHDF5PopGroup(v));
+  PetscCall(PetscViewerDestroy(&v));
+  PetscCallMPI(MPI_Barrier(comm_));
+  std::string error;
+  if (rank_ == 0) {
+    std::error_code ec;
+    std::filesystem::rename(tmp, file, ec);
+    if (ec)
+      error = "option -gimp_output_dir " + sc_.outputDir + ": cannot move " + tmp + " to " + file +
+              " (" + ec.message() + ")";
+  }
+  PetscCall(agree(comm_, error));
+  PetscCall(PetscInfo(nullptr, "step %" PetscInt_FMT ": checkpoint written\n", step));
+  PetscCall(PetscLogStagePop());
+  return PETSC_SUCCESS;
+}
+
+PetscErrorCode Solver::checkCheckpoint(PetscViewer v, const std::vector<double> &s) {
+  // The checkpoint must come from this scene: the same grid, particles and fields, conditions
+  // and time step. Every rank read the same values, so every rank finds the same mismatch.
+  std::vector<double> grid, gaps;
+  PetscCall(readArray(comm_, v, "/state/grid", grid));
+  PetscCall(readArray(comm_, v, "/state/max_gaps", gaps));
+  PetscBool corners = PETSC_FALSE;
+  PetscCall(PetscViewerHDF5HasDataset(v, "/particles/corners", &corners));
+  PetscReal dt = 0;
+  PetscCall(TSGetTimeStep(ts_, &dt));
+  std::string why;
+  if (s[0] != kFormat)
+    why = "its layout version " + formatNumber(s[0]) + " is not " + formatNumber(kFormat);
+  else if (grid != gridDescription(grid_))
+    why = "its grid differs from the scene's (levels, cell sizes, boxes)";
+  else if (s[5] != static_cast<double>(nParticles_))
+    why = "it holds " + formatNumber(s[5]) + " particles, the scene seeds " +
+          std::to_string(nParticles_);
+  else if ((corners == PETSC_TRUE) != (sc_.tracking == Tracking::Corners))
+    why = "its particles were tracked with" + std::string(corners ? "" : "out") +
+          " corners, the scene's are not";
+  else if (gaps.size() != sc_.dbcs.size())
+    why = "it has " + std::to_string(gaps.size()) + " displacement conditions, the scene " +
+          std::to_string(sc_.dbcs.size());
+  else if (s[3] != dt)
+    why = "its time step " + formatNumber(s[3]) + " s differs from the scene's " + formatNumber(dt);
+  if (!why.empty()) {
+    PetscCall(PetscViewerDestroy(&v));
+    throw InputError("option -gimp_restart " + sc_.restart + ": " + why +
+                     ": give the options of the run that wrote it");
+  }
+  boundary_.setMaxGap(gaps);
+  return PETSC_SUCCESS;
+}
+
+PetscErrorCode Solver::loadCheckpoint(Output::Resume &resume) {
+  // Runs after setup has seeded the scene: the particles are replaced by the checkpoint's, each
+  // rank's own in their order on as many ranks, split evenly and migrated on another count.
+  PetscCall(agree(comm_, rank_ == 0 && !looksLikeCheckpoint(sc_.restart)
+                             ? "option -gimp_restart " + sc_.restart +
+                                   ": not a gimp checkpoint (no HDF5 file with /state and "
+                                   "/particles there)"
+                             : std::string()));
+  PetscViewer v;
+  PetscCall(PetscViewerHDF5Open(comm_, sc_.restart.c_str(), FILE_MODE_READ, &v));
+  std::vector<double> s(kNScalars);
+  for (size_t q = 0; q < kNScalars; ++q)
+    PetscCall(PetscViewerHDF5ReadAttribute(v, "/state", kScalars[q], PETSC_DOUBLE, nullptr, &s[q]));
+  PetscCall(checkCheckpoint(v, s)); // destroys v when it throws
+  std::vector<double> sizes, frames, history;
+  PetscCall(readArray(comm_, v, "/particles/local_sizes", sizes));
+  PetscCall(readArray(comm_, v, "/state/frames", frames));
+  PetscCall(readArray(comm_, v, "/state/history", history));
+  const bool same = sizes.size() == static_cast<size_t>(size_);
+  const PetscInt total = static_cast<PetscInt>(s[5]);
+  const PetscInt nloc = same ? static_cast<PetscInt>(sizes[static_cast<size_t>(rank_)])
+                             : total / size_ + (rank_ < total % size_ ? 1 : 0);
+  PetscCall(DMSwarmSetLocalSizes(sw_, nloc, 16));
+  PetscCall(PetscViewerHDF5PushGroup(v, "/particles"));
+  PetscCall(transferFields(comm_, v, sw_, true));
+  PetscCall(PetscViewerHDF5PopGroup(v));
+  PetscCall(PetscViewerDestroy(&v));
+  PetscInt *owner = nullptr;
+  PetscCall(
+      DMSwarmGetField(sw_, DMSwarmField_rank, nullptr, nullptr, reinterpret_cast<void **>(&owner)));
+  std::fill(owner, owner + nloc, static_cast<PetscInt>(rank_));
+  PetscCall(DMSwarmRestoreField(sw_, DMSwarmField_rank, nullptr, nullptr,
+                                reinterpret_cast<void **>(&owner)));
+  if (!same) PetscCall(migrate());
+  PetscCall(TSSetStepNumber(ts_, static_cast<PetscInt>(s[1])));
+  PetscCall(TSSetTime(ts_, s[2]));
+  meanParticleMass_ = s[6];
+  work_.external = s[7];
+  work_.damping = s[8];
+  measures_.migrated = static_cast<PetscInt64>(s[9]);
+  measures_.separationStrain = s[10];
+  measures_.maxStrain = s[11];
+  measures_.maxSeparation = s[12];
+  measures_.mmsLinf = s[13];
+  measures_.mmsRms = s[14];
+  restRows_ = static_cast<int>(s[15]);
+  restStrain_ = s[16];
+  atRest_ = s[17] != 0;
+  for (size_t q = 0; q + 2 < frames.size(); q += 3)
+    resume.frames.push_back(
+        {static_cast<PetscInt>(frames[q]), frames[q + 1], static_cast<long long>(frames[q + 2])});
+  resume.history.assign(static_cast<size_t>(history.at(0)), '\0');
+  std::memcpy(resume.history.data(), history.data() + 1, resume.history.size());
+  PetscCall(PetscPrintf(comm_, "gimp: restart from %s at step %" PetscInt_FMT " t %.9g s\n",
+                        sc_.restart.c_str(), static_cast<PetscInt>(s[1]), s[2]));
+  return PETSC_SUCCESS;
+}
+
+} // namespace gimp
