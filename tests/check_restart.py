@@ -131,6 +131,25 @@ same_bits("crack 2 -> 2 into a fresh directory", crack2, fresh22, False)
 patch1, fresh11 = restart_pair(PATCH, "patch3", 50, 100, 1)
 same_bits("patch3 1 -> 1 into a fresh directory", patch1, fresh11, False)
 
+# With the critical step re-checked during large deformation, summary.json's dt_critical is the
+# smallest of the whole run, re-checks before the checkpoint included (with SLEPc only).
+TENSION = ("options/tension.opts", ["-gimp_stability_check", "-gimp_stability_interval", "50",
+                                    "-gimp_history_interval", "10", "-gimp_output_interval", "50"])
+probe = subprocess.run([args.gimp, "-options_file", os.path.join(args.root, TENSION[0]),
+                        "-gimp_stability_check", "-ts_max_steps", "0", "-gimp_output_dir",
+                        out("slepc_probe")], cwd=args.root, env=ENV, capture_output=True,
+                       text=True)
+if probe.returncode == 0:
+    tension1, tfresh = restart_pair(TENSION, "tension_stability", 150, 300, 1)
+    same_bits("tension with stability re-checks 1 -> 1 into a fresh directory", tension1, tfresh,
+              False)
+    # The case means something only when the re-checks before the checkpoint found a smaller
+    # critical step than the start's.
+    start = gimptest.summary(out("slepc_probe"))["dt_critical"]
+    before = gimptest.summary(out("tension_stability_part_np1"))["dt_critical"]
+    c.check("tension: re-checks before the checkpoint lowered dt_critical", before < start,
+            "dt_critical at the start %.6e, by step 150 %.6e" % (start, before))
+
 # A stale checkpoint.h5.tmp (a crash while writing the next one) leaves the checkpoint whole,
 # and the next checkpoint replaces it.
 part = out("crack_part_np1")

@@ -10,6 +10,7 @@
 #include <hdf5.h>
 #include <petscviewerhdf5.h>
 
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 
@@ -165,7 +166,8 @@ constexpr const char *kScalars[] = {"format",
                                     "mms_rms",
                                     "rest_rows",
                                     "rest_strain",
-                                    "at_rest"};
+                                    "at_rest",
+                                    "dt_critical"};
 constexpr size_t kNScalars = sizeof(kScalars) / sizeof(kScalars[0]);
 
 } // namespace
@@ -219,7 +221,8 @@ PetscErrorCode Solver::writeCheckpoint(PetscInt step, double t) {
                                     measures_.mmsRms,
                                     static_cast<double>(restRows_),
                                     restStrain_,
-                                    atRest_ ? 1.0 : 0.0};
+                                    atRest_ ? 1.0 : 0.0,
+                                    dtCritical_};
   for (size_t q = 0; q < kNScalars; ++q)
     PetscCall(PetscViewerHDF5WriteAttribute(v, "/state", kScalars[q], PETSC_DOUBLE, &values[q]));
   PetscCall(PetscViewerHDF5PopGroup(v));
@@ -322,6 +325,8 @@ PetscErrorCode Solver::loadCheckpoint(Output::Resume &resume) {
   restRows_ = static_cast<int>(s[15]);
   restStrain_ = s[16];
   atRest_ = s[17] != 0;
+  // The smallest critical step of the run so far (re-checks before the checkpoint included).
+  dtCritical_ = std::fmin(dtCritical_, s[18]);
   for (size_t q = 0; q + 2 < frames.size(); q += 3)
     resume.frames.push_back(
         {static_cast<PetscInt>(frames[q]), frames[q + 1], static_cast<long long>(frames[q + 2])});
