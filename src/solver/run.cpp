@@ -38,6 +38,8 @@ PetscErrorCode Solver::run() {
     const bool due = sc_.checkpointInterval > 0 && steps % sc_.checkpointInterval == 0;
     if (!failed_ && (due || interrupt_)) PetscCall(writeCheckpoint(steps, t));
   }
+  // A signal during the last step: the run is complete (its checkpoint stays as written).
+  if (steps >= maxSteps || t >= maxTime) interrupt_ = 0;
   if (interrupt_ && !failed_)
     PetscCall(PetscPrintf(comm_,
                           "gimp: interrupted by %s at step %" PetscInt_FMT " t %.9g s: "
@@ -193,7 +195,9 @@ PetscErrorCode Solver::finish(PetscInt steps, double t) {
   // dump and the summary. An unstable run keeps what it had written and adds the frame of the
   // state it failed in, to look at (report() wrote nothing of that step).
   PetscCall(PetscLogStagePush(stages_.output));
-  if (failed_ || sc_.outputInterval == 0 || steps % sc_.outputInterval != 0)
+  // (A re-check of the critical step stops the run before a step whose frame may be written.)
+  const bool written = !out_->frames().empty() && out_->frames().back().step == steps;
+  if ((failed_ && !written) || sc_.outputInterval == 0 || steps % sc_.outputInterval != 0)
     PetscCall(out_->writeFields(steps, t, sw_, nodal_.vel, nodal_.mass));
   if (!failed_) {
     if (steps % sc_.historyInterval != 0) {
