@@ -154,6 +154,7 @@ PetscErrorCode Output::open(const Resume *resume) {
     // A restart keeps the frames its checkpoint lists (resumeFrames) and the checkpoint; a fresh
     // run also removes an earlier checkpoint, which no longer matches.
     std::vector<std::string> stale{"summary.json", "hoop.csv", "history.csv"};
+    if (resume) stale.push_back("checkpoint.h5.tmp"); // left by a crash while writing
     if (!resume)
       stale.insert(stale.end(), {"fields.h5", "particles.xmf", "grid.xmf", "checkpoint.h5"});
     for (const std::string &name : stale)
