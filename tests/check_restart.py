@@ -131,6 +131,16 @@ same_bits("crack 2 -> 2 into a fresh directory", crack2, fresh22, False)
 patch1, fresh11 = restart_pair(PATCH, "patch3", 50, 100, 1)
 same_bits("patch3 1 -> 1 into a fresh directory", patch1, fresh11, False)
 
+# A restart from a checkpoint of the last step runs no step: its summary still reports the
+# penalty conditions' reactions and gaps of that step (the slab's two displacement conditions).
+SLAB = ("options/slab.opts", ["-gimp_history_interval", "10", "-gimp_output_interval", "25"])
+slab_ref = run(SLAB, "slab_ref", ["-ts_max_steps", "25"])
+slab_part = run(SLAB, "slab_part", ["-ts_max_steps", "25", "-gimp_checkpoint_interval", "25"])
+slab_ckpt = out("slab_step25.h5")
+shutil.copy(os.path.join(slab_part, "checkpoint.h5"), slab_ckpt)
+same_bits("slab restart that runs no step", slab_ref,
+          run(SLAB, "slab_part", ["-ts_max_steps", "25", "-gimp_restart", slab_ckpt]))
+
 # With the critical step re-checked during large deformation, summary.json's dt_critical is the
 # smallest of the whole run, re-checks before the checkpoint included (with SLEPc only).
 TENSION = ("options/tension.opts", ["-gimp_stability_check", "-gimp_stability_interval", "50",

@@ -155,8 +155,8 @@ void Boundary::penaltyIncrement(const Scene &sc, const Grid &g, const Stencils<2
     }
 }
 
-PetscErrorCode Boundary::reactions(MPI_Comm comm, std::vector<double> &force,
-                                   std::vector<double> &gap) {
+PetscErrorCode Boundary::lastReactions(MPI_Comm comm, std::vector<double> &force,
+                                       std::vector<double> &gap) const {
   force.assign(reactions_.size(), 0.0);
   gap.assign(gaps_.size(), 0.0);
   if (reactions_.empty()) return PETSC_SUCCESS;
@@ -164,9 +164,27 @@ PetscErrorCode Boundary::reactions(MPI_Comm comm, std::vector<double> &force,
                              MPI_DOUBLE, MPI_SUM, comm));
   PetscCallMPI(MPI_Allreduce(gaps_.data(), gap.data(), static_cast<int>(gap.size()), MPI_DOUBLE,
                              MPI_MAX, comm));
+  return PETSC_SUCCESS;
+}
+
+PetscErrorCode Boundary::reactions(MPI_Comm comm, std::vector<double> &force,
+                                   std::vector<double> &gap) {
+  PetscCall(lastReactions(comm, force, gap));
   for (size_t q = 0; q < gap.size(); ++q)
     maxGap_[q] = std::max(maxGap_[q], gap[q]);
   return PETSC_SUCCESS;
+}
+
+void Boundary::restore(const std::vector<double> &maxGap, const std::vector<double> &force,
+                       const std::vector<double> &gap, bool root) {
+  maxGap_ = maxGap;
+  // The sums over ranks on one rank, zeros on the others: the reductions give them back exactly.
+  reactions_.assign(force.size(), 0.0);
+  gaps_.assign(gap.size(), 0.0);
+  if (root) {
+    reactions_ = force;
+    gaps_ = gap;
+  }
 }
 
 } // namespace gimp::physics

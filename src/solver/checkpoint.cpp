@@ -18,7 +18,7 @@ namespace gimp {
 
 namespace {
 
-constexpr double kFormat = 2; // layout version of checkpoint.h5
+constexpr double kFormat = 3; // layout version of checkpoint.h5
 
 /// An array known on rank 0, written as [n, values...] (never an empty dataset).
 PetscErrorCode writeArray(MPI_Comm comm, PetscViewer v, const char *name,
@@ -191,6 +191,10 @@ PetscErrorCode Solver::writeCheckpoint(PetscInt step, double t) {
   PetscCall(PetscViewerHDF5PushGroup(v, "/state"));
   PetscCall(writeArray(comm_, v, "grid", gridDescription(grid_)));
   PetscCall(writeArray(comm_, v, "max_gaps", boundary_.maxGap()));
+  std::vector<double> force, gap; // of the last step, for a restart that runs no step
+  PetscCall(boundary_.lastReactions(comm_, force, gap));
+  PetscCall(writeArray(comm_, v, "reactions", force));
+  PetscCall(writeArray(comm_, v, "gaps", gap));
   std::vector<double> frames;
   for (const Output::Frame &fr : out_->frames())
     frames.insert(frames.end(),
@@ -275,7 +279,10 @@ PetscErrorCode Solver::checkCheckpoint(PetscViewer v, const std::vector<double> 
     throw InputError("option -gimp_restart " + sc_.restart + ": " + why +
                      ": give the options of the run that wrote it");
   }
-  boundary_.setMaxGap(gaps);
+  std::vector<double> force, gap;
+  PetscCall(readArray(comm_, v, "/state/reactions", force));
+  PetscCall(readArray(comm_, v, "/state/gaps", gap));
+  boundary_.restore(gaps, force, gap, rank_ == 0);
   return PETSC_SUCCESS;
 }
 

@@ -62,11 +62,16 @@ public:
   /// Each penalty condition's force (fx, fy) summed over ranks and its largest violation
   /// |u - u_bar| at the last force evaluation; keeps the largest violation seen (collective).
   PetscErrorCode reactions(MPI_Comm comm, std::vector<double> &force, std::vector<double> &gap);
+  /// The same without keeping the violation (for a checkpoint, collective).
+  PetscErrorCode lastReactions(MPI_Comm comm, std::vector<double> &force,
+                               std::vector<double> &gap) const;
 
   double alpha() const { return alpha_; }
   const std::vector<double> &maxGap() const { return maxGap_; }
-  /// The largest violations of a run continued from a checkpoint.
-  void setMaxGap(const std::vector<double> &gap) { maxGap_ = gap; }
+  /// A run continued from a checkpoint: the largest violations so far, and the last force
+  /// evaluation's forces and violations summed over ranks (held by the `root` rank).
+  void restore(const std::vector<double> &maxGap, const std::vector<double> &force,
+               const std::vector<double> &gap, bool root);
 
 private:
   void penaltyForces(const Scene &sc, const Grid &g, const Stencils<2> &st, const ParticleView &p,
