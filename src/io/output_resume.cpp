@@ -5,6 +5,7 @@
 
 #include <hdf5.h>
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <set>
@@ -36,8 +37,36 @@ void dropChildren(hid_t f, const char *group, const std::set<std::string> &keep)
   H5Gclose(g);
 }
 
-/// The frames of `keep` that fields.h5 holds whole (both groups); every other frame group is
-/// deleted. Rank 0 only; a file HDF5 cannot open counts as holding none.
+/// Whether /particles/<g> is the frame `fr` (its time and particle count), not a frame of the same
+/// step written by another run into the same directory.
+bool sameFrame(hid_t f, const std::string &g, const Output::Frame &fr) {
+  const hid_t grp = H5Gopen2(f, ("/particles/" + g).c_str(), H5P_DEFAULT);
+  if (grp < 0) return false;
+  double t = NAN;
+  bool same = false;
+  if (H5Aexists(grp, "time") > 0) {
+    const hid_t a = H5Aopen(grp, "time", H5P_DEFAULT);
+    if (a >= 0 && H5Aread(a, H5T_NATIVE_DOUBLE, &t) >= 0 && t == fr.t) {
+      const hid_t d = H5Dopen2(grp, "x", H5P_DEFAULT);
+      if (d >= 0) {
+        const hid_t sp = H5Dget_space(d);
+        hsize_t dims[2] = {0, 0};
+        same = sp >= 0 && H5Sget_simple_extent_ndims(sp) >= 1 &&
+               H5Sget_simple_extent_dims(sp, dims, nullptr) >= 1 &&
+               static_cast<long long>(dims[0]) == fr.particles;
+        if (sp >= 0) H5Sclose(sp);
+        H5Dclose(d);
+      }
+    }
+    if (a >= 0) H5Aclose(a);
+  }
+  H5Gclose(grp);
+  return same;
+}
+
+/// The frames of `keep` that fields.h5 holds whole (both groups, the same time and particle
+/// count); every other frame group is deleted. Rank 0 only; a file HDF5 cannot open counts as
+/// holding none.
 std::vector<Output::Frame> pruneFields(const std::string &file,
                                        const std::vector<Output::Frame> &keep) {
   std::vector<Output::Frame> kept;
@@ -54,7 +83,7 @@ std::vector<Output::Frame> pruneFields(const std::string &file,
       const std::string g = frameGroup(fr.step);
       if (H5Lexists(f, "/particles", H5P_DEFAULT) > 0 && H5Lexists(f, "/grid", H5P_DEFAULT) > 0 &&
           H5Lexists(f, ("/particles/" + g).c_str(), H5P_DEFAULT) > 0 &&
-          H5Lexists(f, ("/grid/" + g).c_str(), H5P_DEFAULT) > 0) {
+          H5Lexists(f, ("/grid/" + g).c_str(), H5P_DEFAULT) > 0 && sameFrame(f, g, fr)) {
         kept.push_back(fr);
         names.insert(g);
       }
