@@ -238,6 +238,21 @@ for name, nbytes, needles in [
                 ok, detail = False, str(e)
             c.check("%s: earlier frames readable (%d ranks)" % (name, ranks), ok, detail)
 
+# A checkpoint that does not fit (it holds every particle field: about twice a frame) stops the
+# run with one line before HDF5 writes it; the frames before stay, no checkpoint.h5.tmp is left.
+for ranks in (1, 2):
+    out = os.path.join(W, "full_ckpt")
+    shutil.rmtree(out, ignore_errors=True)
+    expect_one_line("checkpoint.h5 on a full disk",
+                    patch("-gimp_body0_ppc", "256", "-ts_max_steps", "4",
+                          "-gimp_checkpoint_interval", "2"),
+                    ["-gimp_output_dir", "checkpoint.h5 at step 2"], ranks=ranks, fsize=6000000,
+                    outdir=out)
+    left = sorted(os.listdir(out)) if os.path.isdir(out) else []
+    c.check("checkpoint.h5 on a full disk: fields.h5 kept, no checkpoint file (%d ranks)" % ranks,
+            "fields.h5" in left and not any(f.startswith("checkpoint") for f in left),
+            " ".join(left))
+
 # --- summary.json: valid JSON, strings escaped; no stale files in a reused directory -----------
 reuse = os.path.join(W, "reuse")
 shutil.rmtree(reuse, ignore_errors=True)

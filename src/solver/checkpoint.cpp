@@ -10,9 +10,13 @@
 #include <hdf5.h>
 #include <petscviewerhdf5.h>
 
+#include <cerrno>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <sys/resource.h>
+#include <sys/stat.h>
+#include <sys/statvfs.h>
 
 namespace gimp {
 
@@ -172,7 +176,70 @@ constexpr size_t kNScalars = sizeof(kScalars) / sizeof(kScalars[0]);
 
 } // namespace
 
+namespace {
+
+/// Rank 0: why a new file of `bytes` cannot be written in `dir` (the process's file size limit,
+/// the free space), or "".
+std::string roomFor(const std::string &dir, long double bytes) {
+  rlimit lim{};
+  if (getrlimit(RLIMIT_FSIZE, &lim) == 0 && lim.rlim_cur != RLIM_INFINITY &&
+      bytes > static_cast<long double>(lim.rlim_cur))
+    return std::strerror(EFBIG);
+  struct statvfs fs {};
+  if (statvfs(dir.c_str(), &fs) == 0 &&
+      static_cast<long double>(fs.f_bavail) * static_cast<long double>(fs.f_frsize) < bytes)
+    return std::strerror(ENOSPC);
+  return "";
+}
+
+} // namespace
+
 PetscErrorCode Solver::writeCheckpoint(PetscInt step, double t) {
+  // Room for the file first (twice its data, history.csv's bytes and 1 MB of metadata), so that
+  // HDF5 does not meet a full disk; a write that still fails is one line on every rank, the
+  // previous checkpoint whole and no .tmp left.
+  const std::string where = "option -gimp_output_dir " + sc_.outputDir +
+                            ": cannot write checkpoint.h5 at step " +
+                            std::to_string(static_cast<long long>(step)) + " (";
+  std::string error;
+  if (rank_ == 0) {
+    long double components = 0;
+    for (const FieldSpec &fs : particleFields())
+      components += fs.components;
+    struct stat st {};
+    const long double history =
+        ::stat((sc_.outputDir + "/history.csv").c_str(), &st) == 0 ? st.st_size : 0;
+    const std::string why =
+        roomFor(sc_.outputDir, 2 * (8 * components * nParticles_ + history) + (1 << 20));
+    if (!why.empty()) error = where + why + ")";
+  }
+  PetscCall(agree(comm_, error));
+  H5E_auto2_t hdf5Print = nullptr;
+  void *hdf5Data = nullptr;
+  H5Eget_auto2(H5E_DEFAULT, &hdf5Print, &hdf5Data);
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  PetscCall(PetscPushErrorHandler(PetscReturnErrorHandler, nullptr));
+  errno = 0;
+  PetscErrorCode ierr = PETSC_SUCCESS;
+  try {
+    ierr = writeCheckpointFile(step, t);
+  } catch (const InputError &) { // the rename failed on rank 0: every rank throws it
+    (void)PetscPopErrorHandler();
+    H5Eset_auto2(H5E_DEFAULT, hdf5Print, hdf5Data);
+    throw;
+  }
+  const int err = errno;
+  PetscCall(PetscPopErrorHandler());
+  H5Eset_auto2(H5E_DEFAULT, hdf5Print, hdf5Data);
+  if (ierr) {
+    error = where + (err ? std::strerror(err) : "the HDF5 write failed") + ")";
+    if (rank_ == 0) std::remove((sc_.outputDir + "/checkpoint.h5.tmp").c_str());
+  }
+  PetscCall(agree(comm_, error));
+  return PETSC_SUCCESS;
+}
+
+PetscErrorCode Solver::writeCheckpointFile(PetscInt step, double t) {
   // Every rank writes into checkpoint.h5.tmp; when all have closed it, rank 0 renames it into
   // place, so a crash while writing leaves the previous checkpoint whole.
   PetscCall(PetscLogStagePush(stages_.output));

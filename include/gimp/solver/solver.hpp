@@ -107,6 +107,7 @@ private:
 
   // checkpoint and restart (solver/checkpoint.cpp)
   PetscErrorCode writeCheckpoint(PetscInt step, double t);
+  PetscErrorCode writeCheckpointFile(PetscInt step, double t); // the HDF5 file, unchecked
   PetscErrorCode loadCheckpoint(Output::Resume &resume);
   PetscErrorCode checkCheckpoint(PetscViewer v, const std::vector<double> &scalars);
 
