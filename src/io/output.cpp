@@ -1,5 +1,7 @@
 #include "gimp/io/output.hpp"
 
+#include "gimp/io/checked.hpp"
+
 #include "gimp/particles/swarm.hpp"
 
 #include <hdf5.h>
@@ -18,12 +20,6 @@
 namespace gimp {
 
 namespace {
-
-std::string groupName(PetscInt step) {
-  char buf[64];
-  std::snprintf(buf, sizeof(buf), "step_%08lld", static_cast<long long>(step));
-  return buf;
-}
 
 /// The particle fields that the HDF5 output holds for this scene.
 std::vector<const FieldSpec *> writtenFields(const Scene &sc) {
@@ -61,15 +57,6 @@ void releaseSpace(const std::string &file) {
   struct stat st {};
   if (::stat(file.c_str(), &st) != 0) return;
   if (truncate(file.c_str(), st.st_size) != 0) return; // the blocks only stay allocated
-}
-
-/// Flushes and closes f; the error of the first write that failed, or "".
-std::string closeChecked(FILE *f) {
-  errno = 0;
-  int err = std::fflush(f) != 0 ? errno : 0;
-  if (!err && std::ferror(f)) err = errno ? errno : EIO;
-  if (std::fclose(f) != 0 && !err) err = errno ? errno : EIO;
-  return err ? std::strerror(err) : "";
 }
 
 } // namespace
@@ -245,16 +232,14 @@ PetscErrorCode Output::writeFields(PetscInt step, double t, DM sw, Vec velocity,
     if (!reason.empty()) error = where + reason + ")";
   }
   PetscCall(agree(comm_, error));
-  H5E_auto2_t hdf5Print = nullptr;
-  void *hdf5Data = nullptr;
-  H5Eget_auto2(H5E_DEFAULT, &hdf5Print, &hdf5Data);
-  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-  PetscCall(PetscPushErrorHandler(PetscReturnErrorHandler, nullptr));
-  errno = 0;
-  const PetscErrorCode ierr = writeFrame(step, t, sw, velocity, mass);
-  const int err = errno;
-  PetscCall(PetscPopErrorHandler());
-  H5Eset_auto2(H5E_DEFAULT, hdf5Print, hdf5Data);
+  PetscErrorCode ierr;
+  int err;
+  {
+    const QuietErrors quiet(true);
+    errno = 0;
+    ierr = writeFrame(step, t, sw, velocity, mass);
+    err = errno;
+  }
   if (ierr) error = where + (err ? std::strerror(err) : "the HDF5 write failed") + ")";
   PetscCall(agree(comm_, error));
   if (rank_ == 0) releaseSpace(dir_ + "/fields.h5");
@@ -280,8 +265,8 @@ PetscErrorCode Output::writeFrame(PetscInt step, double t, DM sw, Vec velocity, 
   const std::string file = dir_ + "/fields.h5";
   PetscCall(PetscViewerHDF5Open(comm_, file.c_str(),
                                 frames_.empty() ? FILE_MODE_WRITE : FILE_MODE_APPEND, &v));
-  PetscErrorCode ierr = writeParticleFrame(v, groupName(step), t, sw);
-  if (!ierr) ierr = writeGridFrame(v, groupName(step), velocity, mass);
+  PetscErrorCode ierr = writeParticleFrame(v, frameGroup(step), t, sw);
+  if (!ierr) ierr = writeGridFrame(v, frameGroup(step), velocity, mass);
   const PetscErrorCode closed = PetscViewerDestroy(&v);
   PetscCall(ierr);
   PetscCall(closed);
@@ -361,7 +346,7 @@ PetscErrorCode Output::writeXdmf() const {
 
 PetscErrorCode Output::writeParticleXdmf(FILE *fp) const {
   for (const Frame &fr : frames_) {
-    const std::string g = groupName(fr.step);
+    const std::string g = frameGroup(fr.step);
     std::fprintf(fp,
                  " <Grid Name=\"%s\" GridType=\"Uniform\">\n  <Time Value=\"%.12e\"/>\n"
                  "  <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"%lld\"/>\n"
@@ -387,7 +372,7 @@ PetscErrorCode Output::writeParticleXdmf(FILE *fp) const {
 
 PetscErrorCode Output::writeGridXdmf(FILE *fg) const {
   for (const Frame &fr : frames_) {
-    const std::string g = groupName(fr.step);
+    const std::string g = frameGroup(fr.step);
     std::fprintf(fg,
                  " <Grid Name=\"%s\" GridType=\"Collection\" CollectionType=\"Spatial\">\n"
                  "  <Time Value=\"%.12e\"/>\n",

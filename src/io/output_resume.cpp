@@ -1,6 +1,7 @@
 // A restarted run's output: history.csv's bytes for the checkpoint, and fields.h5 cut back to
 // the frames the checkpoint had written (later frames of the interrupted run are dropped, so
 // fields.h5 and the XDMF files list what the uninterrupted run would have).
+#include "gimp/io/checked.hpp"
 #include "gimp/io/output.hpp"
 
 #include <hdf5.h>
@@ -13,12 +14,6 @@
 namespace gimp {
 
 namespace {
-
-std::string frameGroup(PetscInt step) {
-  char buf[64];
-  std::snprintf(buf, sizeof(buf), "step_%08lld", static_cast<long long>(step));
-  return buf;
-}
 
 herr_t collectName(hid_t, const char *name, const H5L_info_t *, void *data) {
   static_cast<std::vector<std::string> *>(data)->push_back(name);
@@ -72,27 +67,25 @@ std::vector<Output::Frame> pruneFields(const std::string &file,
   std::vector<Output::Frame> kept;
   std::error_code ec;
   if (!std::filesystem::exists(file, ec)) return kept;
-  H5E_auto2_t func = nullptr;
-  void *data = nullptr;
-  H5Eget_auto2(H5E_DEFAULT, &func, &data);
-  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); // a damaged file is not an error here
-  const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
-  if (f >= 0) {
-    std::set<std::string> names;
-    for (const Output::Frame &fr : keep) {
-      const std::string g = frameGroup(fr.step);
-      if (H5Lexists(f, "/particles", H5P_DEFAULT) > 0 && H5Lexists(f, "/grid", H5P_DEFAULT) > 0 &&
-          H5Lexists(f, ("/particles/" + g).c_str(), H5P_DEFAULT) > 0 &&
-          H5Lexists(f, ("/grid/" + g).c_str(), H5P_DEFAULT) > 0 && sameFrame(f, g, fr)) {
-        kept.push_back(fr);
-        names.insert(g);
+  {
+    const QuietErrors quiet(false); // a damaged file is not an error here
+    const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+    if (f >= 0) {
+      std::set<std::string> names;
+      for (const Output::Frame &fr : keep) {
+        const std::string g = frameGroup(fr.step);
+        if (H5Lexists(f, "/particles", H5P_DEFAULT) > 0 && H5Lexists(f, "/grid", H5P_DEFAULT) > 0 &&
+            H5Lexists(f, ("/particles/" + g).c_str(), H5P_DEFAULT) > 0 &&
+            H5Lexists(f, ("/grid/" + g).c_str(), H5P_DEFAULT) > 0 && sameFrame(f, g, fr)) {
+          kept.push_back(fr);
+          names.insert(g);
+        }
       }
+      dropChildren(f, "/particles", names);
+      dropChildren(f, "/grid", names);
+      H5Fclose(f);
     }
-    dropChildren(f, "/particles", names);
-    dropChildren(f, "/grid", names);
-    H5Fclose(f);
   }
-  H5Eset_auto2(H5E_DEFAULT, func, data);
   if (kept.empty()) std::filesystem::remove(file, ec);
   return kept;
 }

@@ -1,4 +1,5 @@
 #include "gimp/diagnostics/gather.hpp"
+#include "gimp/io/checked.hpp"
 #include "gimp/io/output.hpp"
 #include "gimp/particles/swarm.hpp"
 
@@ -10,15 +11,6 @@
 namespace gimp {
 
 namespace {
-
-/// Flushes and closes f; the error of the first write that failed, or "".
-std::string closeChecked(FILE *f) {
-  errno = 0;
-  int err = std::fflush(f) != 0 ? errno : 0;
-  if (!err && std::ferror(f)) err = errno ? errno : EIO;
-  if (std::fclose(f) != 0 && !err) err = errno ? errno : EIO;
-  return err ? std::strerror(err) : "";
-}
 
 /// "option -OPTION FILE: cannot WHAT the file (reason)".
 std::string fileError(const std::string &option, const std::string &file, const char *what,

@@ -7,6 +7,8 @@
 // crack contact (its contact set is decided each step).
 #include "gimp/solver/solver.hpp"
 
+#include "gimp/io/checked.hpp"
+
 #include <hdf5.h>
 #include <petscviewerhdf5.h>
 
@@ -130,10 +132,7 @@ std::vector<double> gridDescription(const Grid &g) {
 
 /// Whether `file` is an HDF5 file with /state's format attribute (rank 0).
 bool looksLikeCheckpoint(const std::string &file) {
-  H5E_auto2_t func = nullptr;
-  void *data = nullptr;
-  H5Eget_auto2(H5E_DEFAULT, &func, &data);
-  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  const QuietErrors quiet(false);
   bool ok = false;
   std::error_code ec;
   if (std::filesystem::is_regular_file(file, ec) && H5Fis_hdf5(file.c_str()) > 0) {
@@ -144,7 +143,6 @@ bool looksLikeCheckpoint(const std::string &file) {
       H5Fclose(f);
     }
   }
-  H5Eset_auto2(H5E_DEFAULT, func, data);
   return ok;
 }
 
@@ -214,23 +212,14 @@ PetscErrorCode Solver::writeCheckpoint(PetscInt step, double t) {
     if (!why.empty()) error = where + why + ")";
   }
   PetscCall(agree(comm_, error));
-  H5E_auto2_t hdf5Print = nullptr;
-  void *hdf5Data = nullptr;
-  H5Eget_auto2(H5E_DEFAULT, &hdf5Print, &hdf5Data);
-  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-  PetscCall(PetscPushErrorHandler(PetscReturnErrorHandler, nullptr));
-  errno = 0;
-  PetscErrorCode ierr = PETSC_SUCCESS;
-  try {
+  PetscErrorCode ierr;
+  int err;
+  { // (a failed rename throws on every rank; the guard restores the handlers then too)
+    const QuietErrors quiet(true);
+    errno = 0;
     ierr = writeCheckpointFile(step, t);
-  } catch (const InputError &) { // the rename failed on rank 0: every rank throws it
-    (void)PetscPopErrorHandler();
-    H5Eset_auto2(H5E_DEFAULT, hdf5Print, hdf5Data);
-    throw;
+    err = errno;
   }
-  const int err = errno;
-  PetscCall(PetscPopErrorHandler());
-  H5Eset_auto2(H5E_DEFAULT, hdf5Print, hdf5Data);
   if (ierr) {
     error = where + (err ? std::strerror(err) : "the HDF5 write failed") + ")";
     if (rank_ == 0) std::remove((sc_.outputDir + "/checkpoint.h5.tmp").c_str());
