@@ -83,10 +83,12 @@ struct RunOptions {
        gdump[PETSC_MAX_PATH_LEN] = "", restart[PETSC_MAX_PATH_LEN] = "";
   PetscReal dom[5] = {0, 0, 0, 0, 0}, hm[4] = {0, 0, 0, 0}; // one spare: extra values are seen
   PetscInt ndom = 5, nhm = 4, pad = 2, update = 2, tracking = 2, mms = 0, stabilityInterval = 0;
-  PetscBool setDom = PETSC_FALSE, setH = PETSC_FALSE, setHm = PETSC_FALSE;
+  PetscInt transfer = 0, xpicOrder = 2;
+  PetscBool setDom = PETSC_FALSE, setH = PETSC_FALSE, setFlip = PETSC_FALSE, setHm = PETSC_FALSE;
 };
 
 const char *const kUpdates[] = {"usf", "usl", "musl"};
+const char *const kTransfers[] = {"flip", "apic", "xpic"};
 const char *const kTrackings[] = {"none", "strain", "stretch", "corners"};
 const char *const kMms[] = {"none", "skb1d"};
 
@@ -148,6 +150,7 @@ PetscErrorCode readMethodOptions(MPI_Comm comm, Scene &sc, RunOptions &o) {
   const char *const *updates = kUpdates, *const *trackings = kTrackings;
   PetscCall(checkChoice("-gimp_update", kUpdates, 3));
   PetscCall(checkChoice("-gimp_tracking", kTrackings, 4));
+  PetscCall(checkChoice("-gimp_transfer", kTransfers, 3));
   PetscOptionsBegin(comm, nullptr, "gimp scene: grid and method", "gimp");
   PetscCall(PetscOptionsReal("-gimp_h", "Cell size of the background grid [m]", "docs/options.md",
                              sc.h, &sc.h, &setH));
@@ -162,9 +165,20 @@ PetscErrorCode readMethodOptions(MPI_Comm comm, Scene &sc, RunOptions &o) {
                              "docs/options.md", sc.damping, &sc.damping, nullptr));
   PetscCall(PetscOptionsEList("-gimp_update", "Update scheme", "docs/options.md", updates, 3,
                               updates[2], &update, nullptr));
+  const char *const *transfers = kTransfers;
+  PetscCall(PetscOptionsEList("-gimp_transfer",
+                              "Particle velocity transfer: flip (FLIP/PIC blend of -gimp_flip), "
+                              "apic (affine PIC) or xpic (XPIC(m), m = -gimp_xpic_order)",
+                              "docs/options.md", transfers, 3, transfers[o.transfer], &o.transfer,
+                              nullptr));
   PetscCall(PetscOptionsReal("-gimp_flip",
-                             "FLIP fraction of the particle velocity update (1: FLIP, 0: PIC)",
-                             "docs/options.md", sc.flip, &sc.flip, nullptr));
+                             "FLIP fraction of the particle velocity update with -gimp_transfer "
+                             "flip (1: FLIP, 0: PIC)",
+                             "docs/options.md", sc.flip, &sc.flip, &o.setFlip));
+  PetscCall(PetscOptionsInt("-gimp_xpic_order",
+                            "Order m of XPIC(m): m - 1 extra projections filter the particle "
+                            "velocity (1: PIC)",
+                            "docs/options.md", o.xpicOrder, &o.xpicOrder, nullptr));
   PetscBool half = sc.halfStepStart ? PETSC_TRUE : PETSC_FALSE;
   PetscCall(PetscOptionsBool("-gimp_half_step_start",
                              "Start the leapfrog with a half kick (particle velocities at half "
@@ -226,6 +240,12 @@ void checkRunOptions(const Scene &sc, const RunOptions &o) {
   if (sc.damping < 0) bad("gimp_damping", formatNumber(sc.damping), "must be >= 0 [1/s]");
   if (!(sc.flip >= 0 && sc.flip <= 1))
     bad("gimp_flip", formatNumber(sc.flip), "must lie in [0, 1]");
+  if (o.setFlip && o.transfer != 0)
+    bad("gimp_flip", formatNumber(sc.flip),
+        std::string("blends FLIP and PIC only with -gimp_transfer flip, not ") +
+            kTransfers[o.transfer]);
+  if (o.xpicOrder < 1 || o.xpicOrder > 100)
+    bad("gimp_xpic_order", std::to_string(o.xpicOrder), "must be an integer from 1 to 100");
   if (!(sc.massCutoff >= 0 && sc.massCutoff < 1))
     bad("gimp_mass_cutoff", formatNumber(sc.massCutoff), "must lie in [0, 1)");
   if (!(sc.cfl > 0 && sc.cfl <= 1)) bad("gimp_cfl", formatNumber(sc.cfl), "must lie in (0, 1]");
@@ -351,6 +371,8 @@ PetscErrorCode readScene(MPI_Comm comm, Scene &sc) {
   if (!sc.help && o.setHm && sc.holeLoad == 0)
     bad("gimp_hole_measure_load", "0", "the hole measure needs the remote stress p != 0 [Pa]");
   sc.update = static_cast<Update>(o.update);
+  sc.transfer = static_cast<Transfer>(o.transfer);
+  sc.xpicOrder = static_cast<int>(o.xpicOrder);
   sc.tracking = static_cast<Tracking>(o.tracking);
   sc.mms = static_cast<Mms>(o.mms);
   sc.stabilityInterval = static_cast<int>(std::min<PetscInt>(o.stabilityInterval, INT_MAX));

@@ -86,14 +86,16 @@ bool isLogical(const std::string &name) {
 bool isWord(const std::string &name) {
   for (const char *tail :
        {"_scene", "_dir", "_dump", "_file", "_restart", "_name", "_material", "_plane", "_update",
-        "_tracking", "_mms", "_side", "_components", "_type", "_velocity_profile"})
+        "_transfer", "_tracking", "_mms", "_side", "_components", "_type", "_velocity_profile"})
     if (endsWith(name, tail)) return true;
   return false;
 }
 
 /// Options PETSc reads as one PetscInt: it keeps a value too large for one wrapped around.
 bool isInteger(const std::string &name) {
-  if (name == "ts_max_steps" || name == "gimp_pad" || name == "gimp_levels") return true;
+  if (name == "ts_max_steps" || name == "gimp_pad" || name == "gimp_levels" ||
+      name == "gimp_xpic_order")
+    return true;
   for (const char *tail : {"_ppc", "_interval", "_bodies", "_tractions", "_bcs", "_dbcs", "_probes",
                            "_cracks", "_body"})
     if (endsWith(name, tail)) return true;

@@ -44,8 +44,9 @@ PetscErrorCode Solver::stabilityEstimate(bool springs, bool smallest, stability:
   PetscCall(migrate());
   ParticleView p;
   PetscCall(p.get(sw_));
-  PetscCall(buildStencils(p, tracking::domainCentres(p, centres_)));
-  PetscCall(particlesToGrid(p));
+  const double *centres = stencilCentres(p);
+  PetscCall(buildStencils(p, centres));
+  PetscCall(particlesToGrid(p, centres));
   stability::OperatorInput in;
   in.sc = &sc_;
   in.grid = &grid_;

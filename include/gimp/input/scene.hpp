@@ -14,6 +14,7 @@
 namespace gimp {
 
 enum class Update { USF, USL, MUSL };
+enum class Transfer { Flip, Apic, Xpic };
 enum class Tracking { None, Strain, Stretch, Corners };
 enum class MaterialModel { Linear, NeoHookean };
 enum class Side { Left = 0, Right = 1, Bottom = 2, Top = 3 };
@@ -123,8 +124,10 @@ struct Scene {
   std::vector<NodeBC> bcs;
   double damping = 0;
   Update update = Update::MUSL;
-  double flip = 1.0;
-  bool halfStepStart = true; // leapfrog start: half kick on the first step
+  Transfer transfer = Transfer::Flip; // particle <-> grid velocity transfer
+  double flip = 1.0;                  // FLIP fraction of -gimp_transfer flip
+  int xpicOrder = 2;                  // m of XPIC(m)
+  bool halfStepStart = true;          // leapfrog start: half kick on the first step
   Tracking tracking = Tracking::Stretch;
   double cornerSize = 0.5;           // fictitious corner size / initial particle size
   double separationThreshold = 0.05; // gap between former neighbours / particle size
