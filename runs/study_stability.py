@@ -51,6 +51,7 @@ def run(a, scene, extra, out, dt=None):
     env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
     cmd = [a.gimp, "-options_file", os.path.join(a.root, "options", scene),
            "-gimp_output_dir", out, "-gimp_stability_check", "-gimp_allow_unstable_dt",
+           "-gimp_transfer", "flip",
            "-ts_max_steps", str(a.steps), "-gimp_history_interval", "10",
            "-gimp_output_interval", "0"] + extra
     if dt is not None:

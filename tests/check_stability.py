@@ -23,6 +23,8 @@ import os
 import gimptest
 
 args = gimptest.parse_args()
+# The operator models FLIP's particle update (docs/method.md): the prediction is checked for it.
+args.extra = getattr(args, "extra", "") + " -gimp_transfer flip"
 c = gimptest.Checks()
 
 

@@ -83,7 +83,7 @@ struct RunOptions {
        gdump[PETSC_MAX_PATH_LEN] = "", restart[PETSC_MAX_PATH_LEN] = "";
   PetscReal dom[5] = {0, 0, 0, 0, 0}, hm[4] = {0, 0, 0, 0}; // one spare: extra values are seen
   PetscInt ndom = 5, nhm = 4, pad = 2, update = 2, tracking = 2, mms = 0, stabilityInterval = 0;
-  PetscInt transfer = 0, xpicOrder = 2;
+  PetscInt transfer = 1, xpicOrder = 2;
   PetscBool setDom = PETSC_FALSE, setH = PETSC_FALSE, setFlip = PETSC_FALSE, setHm = PETSC_FALSE;
 };
 

@@ -122,8 +122,12 @@ PetscErrorCode seedParticles(const Scene &sc, const Grid &g, DM sw) {
       vx *= f;
       vy *= f;
     }
+    // A rigid rotation omega x (X - c) about the box's centre c.
+    vx -= body.spin * (s.y - 0.5 * (body.box[1] + body.box[3]));
+    vy += body.spin * (s.x - 0.5 * (body.box[0] + body.box[2]));
     p.v[2 * k] = vx;
     p.v[2 * k + 1] = vy;
+    std::fill(&p.B[4 * k], &p.B[4 * k] + 4, 0.0); // APIC's affine moment: none at the start
     p.V0[k] = p.V[k] = 4.0 * s.l * s.l * mat.thickness;
     p.m[k] = mat.rho * p.V0[k];
     p.l[2 * k] = p.l[2 * k + 1] = p.l0[2 * k] = p.l0[2 * k + 1] = s.l;

@@ -88,6 +88,12 @@ PetscErrorCode Solver::stabilityAtStart() {
       e.omega, e.lambdaRe, e.lambdaIm,
       scheme_.stressFromReprojection || scheme_.stressBeforeGridUpdate ? "R" : "(2 - R)",
       e.iterations, e.dtCritical, dt, explicitDt ? "-ts_dt" : "-gimp_cfl x dt_critical"));
+  if (sc_.transfer != Transfer::Flip)
+    PetscCall(PetscPrintf(comm_,
+                          "gimp: stability: the operator models the FLIP/PIC particle update of "
+                          "-gimp_transfer flip; with %s its dt_critical is an estimate that is not "
+                          "verified (docs/method.md)\n",
+                          sc_.transfer == Transfer::Apic ? "apic" : "xpic"));
   if (e.hasSmallest)
     PetscCall(PetscPrintf(
         comm_,

@@ -44,6 +44,7 @@ struct Body {
   Vec2 velocity{};          // initial velocity [m/s]
   bool sineProfile = false; // v = velocity * sin(k (X - x0)) instead of uniform
   double wavenumber = 0;    // k [1/m]
+  double spin = 0;          // initial rigid rotation about the box's centre [rad/s]
   bool inside(double x, double y) const;
 };
 
@@ -124,7 +125,7 @@ struct Scene {
   std::vector<NodeBC> bcs;
   double damping = 0;
   Update update = Update::MUSL;
-  Transfer transfer = Transfer::Flip; // particle <-> grid velocity transfer
+  Transfer transfer = Transfer::Apic; // particle <-> grid velocity transfer
   double flip = 1.0;                  // FLIP fraction of -gimp_transfer flip
   int xpicOrder = 2;                  // m of XPIC(m)
   bool halfStepStart = true;          // leapfrog start: half kick on the first step
