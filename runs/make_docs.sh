@@ -79,6 +79,10 @@ step plot_slab "$py" "$root/tools/plot_slab.py" "$work/slab"
 step stability "$py" "$root/runs/study_stability.py" --gimp "$gimp" --root "$root" \
   --work "$work/stability"
 
+# Velocity transfers: FLIP, PIC, APIC, XPIC(2) on the block to rest, the bar, the spin
+step transfers "$py" "$root/runs/study_transfers.py" --gimp "$gimp" --root "$root" \
+  --work "$work/transfers"
+
 # Plate with a hole (table and docs/img/plate.png).
 step plate "$py" "$root/runs/study_plate.py" --gimp "$gimp" --root "$root" --work "$work/plate"
 step plot_plate "$py" "$root/tools/plot_plate.py" "$work/plate"
