@@ -57,6 +57,10 @@ PetscErrorCode Solver::stabilityEstimate(bool springs, bool smallest, stability:
   in.stressOnUpdated = !scheme_.stressFromReprojection && !scheme_.stressBeforeGridUpdate;
   in.mask = nodal_.mask;
   in.invMass = nodal_.invMass;
+  if (sc_.transfer == Transfer::Apic) { // R: APIC's affine re-projection
+    in.centres = centres;
+    in.slotX = slotCoordinates();
+  }
   try {
     PetscCall(stability::estimate(comm_, in, smallest, e));
   } catch (...) {
@@ -88,12 +92,9 @@ PetscErrorCode Solver::stabilityAtStart() {
       e.omega, e.lambdaRe, e.lambdaIm,
       scheme_.stressFromReprojection || scheme_.stressBeforeGridUpdate ? "R" : "(2 - R)",
       e.iterations, e.dtCritical, dt, explicitDt ? "-ts_dt" : "-gimp_cfl x dt_critical"));
-  if (sc_.transfer != Transfer::Flip)
-    PetscCall(PetscPrintf(comm_,
-                          "gimp: stability: the operator models the FLIP/PIC particle update of "
-                          "-gimp_transfer flip; with %s its dt_critical is an estimate that is not "
-                          "verified (docs/method.md)\n",
-                          sc_.transfer == Transfer::Apic ? "apic" : "xpic"));
+  if (sc_.transfer == Transfer::Xpic)
+    PetscCall(PetscPrintf(comm_, "gimp: stability: R is the PIC re-projection: with xpic "
+                                 "dt_critical is an estimate not verified (docs/method.md)\n"));
   if (e.hasSmallest)
     PetscCall(PetscPrintf(
         comm_,
