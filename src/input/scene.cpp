@@ -142,29 +142,10 @@ PetscErrorCode readOutputOptions(MPI_Comm comm, Scene &sc, RunOptions &o) {
   return PETSC_SUCCESS;
 }
 
-/// The grid's cell size and domain, the update scheme and its parameters.
-PetscErrorCode readMethodOptions(MPI_Comm comm, Scene &sc, RunOptions &o) {
-  PetscReal *dom = o.dom;
-  PetscInt &ndom = o.ndom, &pad = o.pad, &update = o.update, &tracking = o.tracking;
-  PetscBool &setDom = o.setDom, &setH = o.setH;
-  const char *const *updates = kUpdates, *const *trackings = kTrackings;
-  PetscCall(checkChoice("-gimp_update", kUpdates, 3));
-  PetscCall(checkChoice("-gimp_tracking", kTrackings, 4));
+/// The particle velocity transfer and its parameters.
+PetscErrorCode readTransferOptions(MPI_Comm comm, Scene &sc, RunOptions &o) {
   PetscCall(checkChoice("-gimp_transfer", kTransfers, 3));
-  PetscOptionsBegin(comm, nullptr, "gimp scene: grid and method", "gimp");
-  PetscCall(PetscOptionsReal("-gimp_h", "Cell size of the background grid [m]", "docs/options.md",
-                             sc.h, &sc.h, &setH));
-  PetscCall(PetscOptionsRealArray("-gimp_domain",
-                                  "Grid domain x0,y0,x1,y1 [m] (default: the bodies' bounding box "
-                                  "padded by -gimp_pad cells)",
-                                  "docs/options.md", dom, &ndom, &setDom));
-  PetscCall(PetscOptionsInt("-gimp_pad",
-                            "Cells of padding around the bodies for the default domain",
-                            "docs/options.md", pad, &pad, nullptr));
-  PetscCall(PetscOptionsReal("-gimp_damping", "Artificial damping coefficient d of Eq. 16 [1/s]",
-                             "docs/options.md", sc.damping, &sc.damping, nullptr));
-  PetscCall(PetscOptionsEList("-gimp_update", "Update scheme", "docs/options.md", updates, 3,
-                              updates[2], &update, nullptr));
+  PetscOptionsBegin(comm, nullptr, "gimp scene: velocity transfer", "gimp");
   const char *const *transfers = kTransfers;
   PetscCall(PetscOptionsEList("-gimp_transfer",
                               "Particle velocity transfer: flip (FLIP/PIC blend of -gimp_flip), "
@@ -179,6 +160,32 @@ PetscErrorCode readMethodOptions(MPI_Comm comm, Scene &sc, RunOptions &o) {
                             "Order m of XPIC(m): m - 1 extra projections filter the particle "
                             "velocity (1: PIC)",
                             "docs/options.md", o.xpicOrder, &o.xpicOrder, nullptr));
+  PetscOptionsEnd();
+  return PETSC_SUCCESS;
+}
+
+/// The grid's cell size and domain, the update scheme and its parameters.
+PetscErrorCode readMethodOptions(MPI_Comm comm, Scene &sc, RunOptions &o) {
+  PetscReal *dom = o.dom;
+  PetscInt &ndom = o.ndom, &pad = o.pad, &update = o.update, &tracking = o.tracking;
+  PetscBool &setDom = o.setDom, &setH = o.setH;
+  const char *const *updates = kUpdates, *const *trackings = kTrackings;
+  PetscCall(checkChoice("-gimp_update", kUpdates, 3));
+  PetscCall(checkChoice("-gimp_tracking", kTrackings, 4));
+  PetscOptionsBegin(comm, nullptr, "gimp scene: grid and method", "gimp");
+  PetscCall(PetscOptionsReal("-gimp_h", "Cell size of the background grid [m]", "docs/options.md",
+                             sc.h, &sc.h, &setH));
+  PetscCall(PetscOptionsRealArray("-gimp_domain",
+                                  "Grid domain x0,y0,x1,y1 [m] (default: the bodies' bounding box "
+                                  "padded by -gimp_pad cells)",
+                                  "docs/options.md", dom, &ndom, &setDom));
+  PetscCall(PetscOptionsInt("-gimp_pad",
+                            "Cells of padding around the bodies for the default domain",
+                            "docs/options.md", pad, &pad, nullptr));
+  PetscCall(PetscOptionsReal("-gimp_damping", "Artificial damping coefficient d of Eq. 16 [1/s]",
+                             "docs/options.md", sc.damping, &sc.damping, nullptr));
+  PetscCall(PetscOptionsEList("-gimp_update", "Update scheme", "docs/options.md", updates, 3,
+                              updates[2], &update, nullptr));
   PetscBool half = sc.halfStepStart ? PETSC_TRUE : PETSC_FALSE;
   PetscCall(PetscOptionsBool("-gimp_half_step_start",
                              "Start the leapfrog with a half kick (particle velocities at half "
@@ -359,6 +366,7 @@ PetscErrorCode readScene(MPI_Comm comm, Scene &sc) {
   RunOptions o;
   PetscCall(readOutputOptions(comm, sc, o));
   PetscCall(readMethodOptions(comm, sc, o));
+  PetscCall(readTransferOptions(comm, sc, o));
   sc.name = o.name;
   sc.outputDir = o.outdir[0] ? o.outdir : "output/" + sc.name;
   sc.particleDump = o.pdump;
