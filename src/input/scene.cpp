@@ -192,6 +192,13 @@ PetscErrorCode readMethodOptions(MPI_Comm comm, Scene &sc, RunOptions &o) {
                              "steps; second order in time)",
                              "docs/options.md", half, &half, nullptr));
   sc.halfStepStart = half;
+  PetscBool cutCells = sc.cutCells ? PETSC_TRUE : PETSC_FALSE;
+  PetscCall(PetscOptionsBool("-gimp_cut_cells",
+                             "Particles whose square a hole cuts take the area inside the body as "
+                             "volume and its centroid as position (false: whole squares whose "
+                             "centre is in the body)",
+                             "docs/options.md", cutCells, &cutCells, nullptr));
+  sc.cutCells = cutCells;
   PetscCall(PetscOptionsEList("-gimp_tracking",
                               "Particle domain tracking: none, strain ((1+eps) l0), stretch (F l0) "
                               "or corners (the paper's corner tracking)",

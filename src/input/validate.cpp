@@ -79,7 +79,8 @@ bool endsWith(const std::string &s, const char *tail) {
 /// option must be added here, or given alone it is refused for its missing value.
 bool isLogical(const std::string &name) {
   return name == "gimp_half_step_start" || name == "gimp_penalty_traction" ||
-         name == "gimp_stability_check" || name == "gimp_allow_unstable_dt";
+         name == "gimp_stability_check" || name == "gimp_allow_unstable_dt" ||
+         name == "gimp_cut_cells";
 }
 
 /// gimp options whose value is a word (a name, a path or a choice), not numbers.

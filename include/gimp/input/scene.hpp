@@ -129,6 +129,7 @@ struct Scene {
   double flip = 1.0;                  // FLIP fraction of -gimp_transfer flip
   int xpicOrder = 2;                  // m of XPIC(m)
   bool halfStepStart = true;          // leapfrog start: half kick on the first step
+  bool cutCells = true;               // particles cut by a hole take the cut's area and centroid
   Tracking tracking = Tracking::Stretch;
   double cornerSize = 0.5;           // fictitious corner size / initial particle size
   double separationThreshold = 0.05; // gap between former neighbours / particle size
