@@ -86,6 +86,9 @@ step transfers "$py" "$root/runs/study_transfers.py" --gimp "$gimp" --root "$roo
 # Plate with a hole (table and docs/img/plate.png).
 step plate "$py" "$root/runs/study_plate.py" --gimp "$gimp" --root "$root" --work "$work/plate"
 step plot_plate "$py" "$root/tools/plot_plate.py" "$work/plate"
+# Hole edge convergence: the wide plate at a/4, a/8, a/16 and the paper's plate with finer levels
+# (table and docs/img/hole_edge.png; about 10 minutes).
+step hole "$py" "$root/runs/study_hole.py" --gimp "$gimp" --root "$root" --work "$work/hole"
 
 # Particle domain tracking: tension scene, its two figures, and the MMS with tracking modes.
 step tension "$py" "$root/tests/check_tension.py" --gimp "$gimp" --root "$root" \
