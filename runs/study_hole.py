@@ -111,7 +111,7 @@ def main():
         if not r["run"].startswith("wide"):
             continue
         c = gimptest.read_csv(os.path.join(args.work, r["run"], "hoop_fit.csv"))
-        ax.plot([float(x["angle_deg"]) for x in c], [float(x["edge_hoop_over_p"]) for x in c],
+        ax.plot(c["angle_deg"], c["edge_hoop_over_p"],
                 "o-" if "nocut" not in r["run"] else "x--", ms=3,
                 label="%s (a / %g)" % (r["run"], r["cells_per_radius"]))
     ax.set_xlabel("angle from the load axis [deg]")

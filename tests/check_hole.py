@@ -10,7 +10,7 @@ Static hoop stress at the edge (damped to rest) with 4 and 5 levels, the finest 
 a / 8 next to the hole: the fitted edge curve (summary.json hoop_max_error: the largest distance
 from Kirsch's 1 - 2 cos 2 theta over 5-degree bins, hoop_fit.csv) comes closer to Kirsch's when
 the grid is refined, and kt (the curve at 90 degrees) is within 3 % of 3 on both (the measured
-kt: 2.966 and 3.056; the curve's error 0.18 and 0.13). The finest grid (a / 16, about 5 min) is
+kt: 2.967 and 3.056; the curve's error 0.184 and 0.124). The finest grid (a / 16, about 5 min) is
 check_hole_fine.py (label long)."""
 import math
 import os
