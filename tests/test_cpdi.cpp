@@ -15,7 +15,12 @@
 //      node with a weight has a support that meets the true square; the axis-aligned box that
 //      corner tracking spans gives weight to nodes whose supports miss it.
 //   4. A corner outside the grid and an inverted quad are reported, not crashed on.
+//   5. A block of particles rotated by 45 degrees under a uniform stress (a 3-level grid):
+//      the internal force (the solver's kernel) vanishes at every node whose support lies inside
+//      the block, so the patch stays at rest with its stress uniform; the axis-aligned boxes of
+//      corner tracking leave out-of-balance forces there.
 #include "gimp/grid/grid.hpp"
+#include "gimp/physics/internal_force.hpp"
 
 #include "grid_layouts.hpp"
 #include "test_util.hpp"
@@ -363,6 +368,70 @@ TEST(Cpdi, CornerOutsideTheGridOrInvertedQuadIsReported) {
   why = g.buildCpdiStencils(1, inv, s);
   ASSERT_NE(why, nullptr);
   EXPECT_NE(std::string(why).find("inverted"), std::string::npos) << why;
+}
+
+TEST(Cpdi, RotatedPatchUnderUniformStressIsInEquilibrium) {
+  // 3 levels: the block straddles the level boxes, so interior nodes include transition nodes.
+  const auto gp = makeGrid(sceneOf({"3 levels", 10, 8, {{2, 2, 8, 6, 2}, {3.5, 3, 6, 5, 4}}}));
+  const Grid &g = *gp;
+  const gimp::Box &D = g.levels[0].box;
+  const double h = g.h0(), a = 0.3 * h, th = M_PI / 4;
+  const double ox = D[0] + 5.0 * h, oy = D[1] + 1.2 * h; // the block's lowest corner
+  const double u[2] = {a * std::cos(th), a * std::sin(th)}, v[2] = {-u[1], u[0]};
+  const int n = 12; // n x n particles, a block of side n a
+  std::vector<double> c, xs, ls, V, sig;
+  const double stress[4] = {3.0, 1.25, 1.25, -2.0};
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      static const double si[4] = {0, 1, 1, 0}, sj[4] = {0, 0, 1, 1};
+      for (int q = 0; q < 4; ++q) {
+        c.push_back(ox + (i + si[q]) * u[0] + (j + sj[q]) * v[0]);
+        c.push_back(oy + (i + si[q]) * u[1] + (j + sj[q]) * v[1]);
+      }
+      xs.push_back(ox + (i + 0.5) * u[0] + (j + 0.5) * v[0]);
+      xs.push_back(oy + (i + 0.5) * u[1] + (j + 0.5) * v[1]);
+      ls.push_back(a / std::sqrt(2.0)); // the corners' axis-aligned box (corner tracking)
+      ls.push_back(a / std::sqrt(2.0));
+      V.push_back(a * a);
+      sig.insert(sig.end(), stress, stress + 4);
+    }
+  const PetscInt np = n * n;
+  // A node is interior when its support lies inside the block (in the block's frame).
+  auto interior = [&](PetscInt nd) {
+    const double *z = &g.zone[4 * nd];
+    for (double px : {g.X[nd] - z[0], g.X[nd] + z[1]})
+      for (double py : {g.Y[nd] - z[2], g.Y[nd] + z[3]}) {
+        const double s = ((px - ox) * u[0] + (py - oy) * u[1]) / (a * a);
+        const double t = ((px - ox) * v[0] + (py - oy) * v[1]) / (a * a);
+        if (!(s > 0 && s < n && t > 0 && t < n)) return false;
+      }
+    return true;
+  };
+  auto worstInterior = [&](const Stencils &st, long &count) {
+    std::vector<double> f(2 * g.nWindow, 0.0);
+    gimp::physics::internalForce<2>(st, np, V.data(), sig.data(), f.data());
+    double worst = 0, fx = 0, fy = 0;
+    count = 0;
+    for (PetscInt nd = 0; nd < g.nWindow; ++nd) {
+      fx += f[2 * nd];
+      fy += f[2 * nd + 1];
+      if (!g.active[nd] || !interior(nd)) continue;
+      ++count;
+      worst = std::max(worst, std::hypot(f[2 * nd], f[2 * nd + 1]));
+    }
+    EXPECT_LE(std::hypot(fx, fy), 1e-13 * 3.0 * n * a); // the block's forces balance
+    return worst / (3.0 * a); // relative to a particle's edge force, |sigma| a
+  };
+  Stencils cpdi, box;
+  ASSERT_EQ(g.buildCpdiStencils(np, c.data(), cpdi), nullptr);
+  ASSERT_TRUE(g.buildStencils(np, xs.data(), ls.data(), box));
+  long nc = 0, nb = 0;
+  const double ec = worstInterior(cpdi, nc), eb = worstInterior(box, nb);
+  std::printf("  interior nodes %ld: largest |f| / (|sigma| a): cpdi %.3g, corners' boxes %.3g\n",
+              nc, ec, eb);
+  EXPECT_GT(nc, 50);
+  EXPECT_LE(ec, 1e-12);
+  EXPECT_GT(eb, 1e-3);
 }
 
 } // namespace
