@@ -79,7 +79,11 @@ PetscErrorCode Solver::migrate() {
 PetscErrorCode Solver::buildStencils(const ParticleView &p, const double *centres) {
   // The checks after every step keep each particle within one level-0 cell, so this cannot
   // fail; if it does, the failure joins those checks (no extra collective in the step).
-  if (!grid_.buildStencils(p.n, centres, p.l, st_))
+  if (usesCpdi(sc_.tracking)) {
+    const char *why =
+        grid_.buildCpdiStencils(p.n, tracking::cpdiCorners(sc_, p, cpdiCorners_), st_);
+    if (why) localFailure_ = why;
+  } else if (!grid_.buildStencils(p.n, centres, p.l, st_))
     localFailure_ = "a particle is larger than a level-0 cell (its half-size exceeds -gimp_h)";
   cracks::assignFields(grid_, sc_.cracks, p.n, centres, st_);
   return PETSC_SUCCESS;

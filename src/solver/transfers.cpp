@@ -14,7 +14,7 @@
 namespace gimp {
 
 const double *Solver::stencilCentres(const ParticleView &p) {
-  const double *centres = tracking::domainCentres(p, centres_);
+  const double *centres = tracking::domainCentres(p, centres_, sc_.tracking);
   if (sc_.transfer != Transfer::Apic || centres != p.x) return centres;
   // G2P moves x; the affine moments of the re-projection are taken about the stencils' centres.
   centres_.assign(p.x, p.x + kDim * static_cast<size_t>(p.n));
@@ -115,7 +115,7 @@ PetscErrorCode Solver::gridToParticles(ParticleView &p, const StepClock &c, cons
   }
   PetscCall(VecRestoreArrayRead(nodal_.accW, &ag));
   PetscCall(VecRestoreArrayRead(nodal_.velW, &vg));
-  if (scheme_.stressFromReprojection || sc_.tracking == Tracking::Corners)
+  if (scheme_.stressFromReprojection || tracksCorners(sc_.tracking))
     PetscCall(reproject(p, c, centres));
   PetscCall(PetscLogStagePop());
   return PETSC_SUCCESS;
@@ -142,16 +142,20 @@ PetscErrorCode Solver::reproject(ParticleView &p, const StepClock &c, const doub
     PetscCall(VecCopy(nodal_.acc, nodal_.vel));
     PetscCall(VecCopy(nodal_.accW, nodal_.velW));
   }
-  if (sc_.tracking == Tracking::Corners) {
+  if (tracksCorners(sc_.tracking)) {
     PetscCall(grid_.toWindow(nodal_.mass, nodal_.massW)); // the summed mass on the window
     const PetscScalar *va = nullptr, *mw = nullptr;
     PetscCall(VecGetArrayRead(nodal_.accW, &va));
     PetscCall(VecGetArrayRead(nodal_.massW, &mw));
-    const bool ok = corners_.move(grid_, sc_.cracks, sc_.cornerSize,
-                                  sc_.massCutoff * meanParticleMass_, c.dt, va, mw, p);
+    // cpdi2 moves its corners with the grid's point shape functions (Sadeghirad et al. 2013).
+    const double size = sc_.tracking == Tracking::Cpdi2 ? 0.0 : sc_.cornerSize;
+    const bool ok = corners_.move(grid_, sc_.cracks, size, sc_.massCutoff * meanParticleMass_,
+                                  c.dt, va, mw, p);
     PetscCall(VecRestoreArrayRead(nodal_.massW, &mw));
     PetscCall(VecRestoreArrayRead(nodal_.accW, &va));
-    if (!ok) localFailure_ = "a tracked corner's particle is larger than a level-0 cell";
+    if (!ok)
+      localFailure_ = "a tracked corner's particle is larger than a level-0 cell, or a corner "
+                      "left the grid";
   }
   return PETSC_SUCCESS;
 }

@@ -138,6 +138,7 @@ private:
   std::vector<double> slotX_;      // window coordinates of every slot (affine transfers)
   std::vector<double> affineC_;    // APIC's C_p = B_p D_p^-1 per particle (row-major D x D)
   std::vector<double> xpicVp_;     // XPIC's interpolated field per particle (D each)
+  std::vector<double> cpdiCorners_; // the cpdi parallelograms of this step
   physics::Boundary boundary_;     // external forces and penalty conditions
   tracking::CornerMotion corners_; // corner tracking's motion of the corners
   cracks::Contact contact_;        // contact between the two fields at cracked nodes
