@@ -27,17 +27,10 @@ import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests"))
 import gimptest  # noqa: E402
+from check_hole import levels as wide_levels  # noqa: E402
 
 FW_PAPER = (2 + (1 - 1 / 15) ** 3) / (1 - 1 / 15)
 FW_WIDE = (2 + (1 - 1 / 40) ** 3) / (1 - 1 / 40) / 3.0 * 3.0
-
-
-def wide_levels(n):
-    boxes = {4: "-0.25e-3,-0.25e-3,2.5e-3,2.5e-3", 5: "-0.125e-3,-0.125e-3,1.75e-3,1.75e-3"}
-    extra = ["-gimp_levels", str(n)]
-    for k in range(4, n):
-        extra += ["-gimp_level%d_box" % k, boxes[k]]
-    return extra
 
 
 def paper_levels(n):
