@@ -40,8 +40,15 @@ void Solver::projectMomentum(const ParticleView &p, const double *centres, doubl
     return;
   }
   const double *xs = slotCoordinates();
-  affineC_.resize(kDim * kDim * static_cast<size_t>(p.n));
-  transfer::affineVelocity<kDim>(st_, p.n, centres, xs, p.B, affineC_.data());
+  const size_t nt = kDim * kDim * static_cast<size_t>(p.n);
+  // D_p^-1 depends on the stencils only: computed at the step's P2G (mass != null) and reused
+  // by the re-projection of the same stencils.
+  if (mass || affineDinv_.size() != nt) {
+    affineDinv_.resize(nt);
+    transfer::inverseInertias<kDim>(st_, p.n, centres, xs, affineDinv_.data());
+  }
+  affineC_.resize(nt);
+  transfer::affineFromInverse<kDim>(p.n, p.B, affineDinv_.data(), affineC_.data());
   transfer::particlesToGridAffine<kDim>(st_, p.n, p.m, p.v, affineC_.data(), centres, xs, mom,
                                         mass);
 }
@@ -149,8 +156,8 @@ PetscErrorCode Solver::reproject(ParticleView &p, const StepClock &c, const doub
     PetscCall(VecGetArrayRead(nodal_.massW, &mw));
     // cpdi2 moves its corners with the grid's point shape functions (Sadeghirad et al. 2013).
     const double size = sc_.tracking == Tracking::Cpdi2 ? 0.0 : sc_.cornerSize;
-    const bool ok = corners_.move(grid_, sc_.cracks, size, sc_.massCutoff * meanParticleMass_,
-                                  c.dt, va, mw, p);
+    const bool ok =
+        corners_.move(grid_, sc_.cracks, size, sc_.massCutoff * meanParticleMass_, c.dt, va, mw, p);
     PetscCall(VecRestoreArrayRead(nodal_.massW, &mw));
     PetscCall(VecRestoreArrayRead(nodal_.accW, &va));
     if (!ok)

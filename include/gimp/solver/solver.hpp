@@ -132,16 +132,17 @@ private:
   DM sw_ = nullptr;
   TS ts_ = nullptr;
   Nodal nodal_;
-  Stencils<kDim> st_;              // particle -> node weights, rebuilt each step
-  std::vector<double> L_;          // velocity gradient per particle (row-major 2 x 2)
-  std::vector<double> centres_;    // weight centres with corner tracking (or APIC's copy)
-  std::vector<double> slotX_;      // window coordinates of every slot (affine transfers)
-  std::vector<double> affineC_;    // APIC's C_p = B_p D_p^-1 per particle (row-major D x D)
-  std::vector<double> xpicVp_;     // XPIC's interpolated field per particle (D each)
+  Stencils<kDim> st_;               // particle -> node weights, rebuilt each step
+  std::vector<double> L_;           // velocity gradient per particle (row-major 2 x 2)
+  std::vector<double> centres_;     // weight centres with corner tracking (or APIC's copy)
+  std::vector<double> slotX_;       // window coordinates of every slot (affine transfers)
+  std::vector<double> affineC_;     // APIC's C_p = B_p D_p^-1 per particle (row-major D x D)
+  std::vector<double> affineDinv_;  // APIC's D_p^-1 of this step's stencils (row-major D x D)
+  std::vector<double> xpicVp_;      // XPIC's interpolated field per particle (D each)
   std::vector<double> cpdiCorners_; // the cpdi parallelograms of this step
-  physics::Boundary boundary_;     // external forces and penalty conditions
-  tracking::CornerMotion corners_; // corner tracking's motion of the corners
-  cracks::Contact contact_;        // contact between the two fields at cracked nodes
+  physics::Boundary boundary_;      // external forces and penalty conditions
+  tracking::CornerMotion corners_;  // corner tracking's motion of the corners
+  cracks::Contact contact_;         // contact between the two fields at cracked nodes
   WorkLedger work_;
   RunMeasures measures_;
   std::vector<PetscInt64> probeIds_;

@@ -33,22 +33,39 @@ Tensor<D> inertia(const Stencils<D> &st, PetscInt k, const double *xc, const dou
   return Dp;
 }
 
-/// C_p = B_p D_p^-1 for every particle (row-major D x D into C). Where D_p is singular (its
-/// determinant below 1e-12 of (trace / D)^D: a particle whose weights all sit on one line of
-/// nodes) C_p = 0, and the particle transfers as in PIC.
+/// D_p^-1 of particle k. Where D_p is singular (its determinant below 1e-12 of (trace / D)^D: a
+/// particle whose weights all sit on one line of nodes) the inverse is taken as 0, so C_p = 0
+/// and the particle transfers as in PIC.
+template <int D>
+Tensor<D> inverseInertia(const Stencils<D> &st, PetscInt k, const double *xc, const double *xs) {
+  const Tensor<D> Dp = inertia<D>(st, k, xc, xs);
+  const double scale = std::pow(Dp.trace() / D, D);
+  if (!(Dp.determinant() > 1e-12 * scale)) return Tensor<D>::Zero();
+  return Dp.inverse();
+}
+
+/// D_p^-1 for every particle (row-major D x D into Dinv). It depends on the stencils only: the
+/// solver computes it once per step for P2G and the re-projection.
+template <int D>
+void inverseInertias(const Stencils<D> &st, PetscInt n, const double *xc, const double *xs,
+                     double *Dinv) {
+  for (PetscInt k = 0; k < n; ++k)
+    tensorAt<D>(Dinv, k) = inverseInertia<D>(st, k, xc, xs);
+}
+
+/// C_p = B_p D_p^-1 for every particle from the inverses of inverseInertias.
+template <int D>
+void affineFromInverse(PetscInt n, const double *B, const double *Dinv, double *C) {
+  for (PetscInt k = 0; k < n; ++k)
+    tensorAt<D>(C, k) = product<D>(tensorAt<D>(B, k), tensorAt<D>(Dinv, k));
+}
+
+/// C_p = B_p D_p^-1 for every particle (row-major D x D into C).
 template <int D>
 void affineVelocity(const Stencils<D> &st, PetscInt n, const double *xc, const double *xs,
                     const double *B, double *C) {
-  for (PetscInt k = 0; k < n; ++k) {
-    const Tensor<D> Dp = inertia<D>(st, k, xc, xs);
-    const double scale = std::pow(Dp.trace() / D, D);
-    if (!(Dp.determinant() > 1e-12 * scale)) {
-      tensorAt<D>(C, k).setZero();
-      continue;
-    }
-    const Tensor<D> inv = Dp.inverse();
-    tensorAt<D>(C, k) = product<D>(tensorAt<D>(B, k), inv);
-  }
+  for (PetscInt k = 0; k < n; ++k)
+    tensorAt<D>(C, k) = product<D>(tensorAt<D>(B, k), inverseInertia<D>(st, k, xc, xs));
 }
 
 /// APIC P2G: nodal momentum sum_p S_ip m_p (v_p + C_p (x_i - x_p)) into mom and, when mass is
