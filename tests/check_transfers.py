@@ -3,8 +3,8 @@ transfers"). With the default transfer (APIC):
   - the block of options/rest_tension.opts comes to rest (kinetic / strain energy < 1e-10) on
     one level and on three levels, in fewer steps than FLIP, with EVERY particle's displacement
     within 1e-4 of the exact linear field (relative to its largest value, Poisson contraction
-    included) and every particle's stress outside the loaded side's cell column within 1e-5 of
-    the traction; the loaded column's in-cell stress mode is reported (docs/validation.md);
+    included) and every particle's stress within 1e-5 of the traction, the loaded side's cell
+    column included (an empty-node cut-off of 1e-8 left 3.7e-5 there: docs/method.md);
   - the undamped bar keeps its total energy within 0.1 % over 20 periods (last period's mean
     against the first's);
   - a square spinning free of load keeps its angular momentum (with the affine spin) within
@@ -29,9 +29,9 @@ for levels in (False, True):
             "default at rest after %d steps, FLIP %s after %d" % (d["steps"], f["status"], f["steps"]))
     c.check("displacement, " + name, d["du"] < 1e-4,
             "max over %d particles |u - u_exact| / max |u_exact| = %.2e" % (d["n"], d["du"]))
-    c.check("stress, " + name, d["ds_in"] < 1e-5,
-            "max |sigma - sigma_exact| / t = %.2e (%.2e in the loaded side's cell column)" %
-            (d["ds_in"], d["ds"]))
+    c.check("stress, " + name, d["ds"] < 1e-5,
+            "max |sigma - sigma_exact| / t = %.2e (%.2e outside the loaded side's cell column)" %
+            (d["ds"], d["ds_in"]))
 # XPIC(m): m = 1 is PIC to the last bit; each extra projection brings the free edge closer.
 pic = tm.rest(args, "pic_0", ["-gimp_transfer", "flip", "-gimp_flip", "0"], False)
 xp = {m: tm.rest(args, "xpic%d_0" % m, ["-gimp_transfer", "xpic", "-gimp_xpic_order", str(m)],

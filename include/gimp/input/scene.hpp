@@ -144,7 +144,7 @@ struct Scene {
   Tracking tracking = Tracking::Stretch;
   double cornerSize = 0.5;           // fictitious corner size / initial particle size
   double separationThreshold = 0.05; // gap between former neighbours / particle size
-  double massCutoff = 1e-8;          // relative to the mean particle mass
+  double massCutoff = 1e-14;         // relative to the mean particle mass
   double cfl = 0.3;
   bool stabilityCheck = false;  // critical step from the largest eigenvalue of M^-1 K (SLEPc)
   bool allowUnstableDt = false; // accept a -ts_dt above the critical step
