@@ -287,7 +287,7 @@ TEST(Boundary, EdgeShapeIsAPartitionOfUnity) {
           const double edge = P.x[2 * k + a] + (isSide ? nrm * P.l[2 * k + a] : 0.0);
           double sum = 0;
           for (PetscInt e = st.start[k]; e < st.start[k + 1]; ++e)
-            sum += gimp::physics::edgeShape(g, st, e, a, edge);
+            sum += gimp::physics::edgeShape(g, st, e, a, nrm, edge);
           (isSide ? onSide : centre).update(std::abs(sum - 1.0), [&] {
             return c.name() + " " + kSideName[q] + " " +
                    at({{"particle", double(k)}, {"x", P.x[2 * k]}, {"y", P.x[2 * k + 1]}});

@@ -221,12 +221,13 @@ TEST(Tracking, DomainCentres) {
   One o(0.3, -0.7, 0.02, 0.03);
   std::vector<double> centre;
   o.p.hasCorners = false;
-  EXPECT_EQ(gimp::tracking::domainCentres(o.p, centre), o.p.x); // the material point itself
+  EXPECT_EQ(gimp::tracking::domainCentres(o.p, centre, Tracking::Corners),
+            o.p.x); // the material point itself
   o.p.hasCorners = true;
   // An irregular quadrilateral: box [0.25, 0.34] x [-0.74, -0.66], centre (0.295, -0.70).
   o.corners = {0.27, -0.74, 0.34, -0.72, 0.31, -0.66, 0.25, -0.69};
   o.p.corners = o.corners.data();
-  const double *c = gimp::tracking::domainCentres(o.p, centre);
+  const double *c = gimp::tracking::domainCentres(o.p, centre, Tracking::Corners);
   ASSERT_EQ(c, centre.data());
   EXPECT_NEAR(c[0], 0.5 * (0.25 + 0.34), 2 * kEps);
   EXPECT_NEAR(c[1], 0.5 * (-0.74 - 0.66), 2 * kEps);

@@ -117,6 +117,7 @@ void Grid::appendNodes(const Level &L, const Reach &r, double xp, double yp, dou
 
 bool Grid::buildStencils(PetscInt n, const double *x, const double *l, Stencils<kDim> &s) const {
   s.start.resize(static_cast<size_t>(n) + 1);
+  s.general = false;
   size_t m = 0;
   s.reserve(10 * static_cast<size_t>(n)); // grows below if a step needs more
   const int K = static_cast<int>(levels.size());

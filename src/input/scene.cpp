@@ -87,7 +87,7 @@ struct RunOptions {
 };
 
 const char *const kUpdates[] = {"usf", "usl", "musl"};
-const char *const kTrackings[] = {"none", "strain", "stretch", "corners"};
+const char *const kTrackings[] = {"none", "strain", "stretch", "corners", "cpdi", "cpdi2"};
 const char *const kMms[] = {"none", "skb1d"};
 
 /// Outputs, monitors and measures.
@@ -147,7 +147,7 @@ PetscErrorCode readMethodOptions(MPI_Comm comm, Scene &sc, RunOptions &o) {
   PetscBool &setDom = o.setDom, &setH = o.setH;
   const char *const *updates = kUpdates, *const *trackings = kTrackings;
   PetscCall(checkChoice("-gimp_update", kUpdates, 3));
-  PetscCall(checkChoice("-gimp_tracking", kTrackings, 4));
+  PetscCall(checkChoice("-gimp_tracking", kTrackings, 6));
   PetscOptionsBegin(comm, nullptr, "gimp scene: grid and method", "gimp");
   PetscCall(PetscOptionsReal("-gimp_h", "Cell size of the background grid [m]", "docs/options.md",
                              sc.h, &sc.h, &setH));
@@ -173,8 +173,9 @@ PetscErrorCode readMethodOptions(MPI_Comm comm, Scene &sc, RunOptions &o) {
   sc.halfStepStart = half;
   PetscCall(PetscOptionsEList("-gimp_tracking",
                               "Particle domain tracking: none, strain ((1+eps) l0), stretch (F l0) "
-                              "or corners (the paper's corner tracking)",
-                              "docs/options.md", trackings, 4, trackings[2], &tracking, nullptr));
+                              "corners (the paper's corner tracking), cpdi (parallelogram F r0) or "
+                              "cpdi2 (quadrilateral of tracked corners)",
+                              "docs/options.md", trackings, 6, trackings[2], &tracking, nullptr));
   PetscCall(PetscOptionsReal("-gimp_corner_size",
                              "Fictitious size of a tracked corner / initial particle size [-]",
                              "docs/options.md", sc.cornerSize, &sc.cornerSize, nullptr));

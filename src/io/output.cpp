@@ -25,7 +25,7 @@ namespace {
 std::vector<const FieldSpec *> writtenFields(const Scene &sc) {
   std::vector<const FieldSpec *> out;
   for (const FieldSpec &f : particleFields())
-    if (f.written && (!f.cornersOnly || sc.tracking == Tracking::Corners)) out.push_back(&f);
+    if (f.written && (!f.cornersOnly || tracksCorners(sc.tracking))) out.push_back(&f);
   return out;
 }
 

@@ -1,12 +1,46 @@
 #include "gimp/physics/boundary.hpp"
 
 #include "gimp/physics/mms.hpp"
+#include "gimp/physics/tracking.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <memory>
 
 namespace gimp::physics {
+
+namespace {
+
+/// Particle k's edge normal to reference axis a on side n: its coordinate (GIMP's box edge),
+/// its length times the thickness and, with CPDI, its midpoint. GIMP's edge spans 2 halfLength
+/// across a; a CPDI edge is the segment between its two corners, of its current length.
+struct Edge {
+  double coord = 0, len = 0, mid[2] = {0, 0};
+  bool cpdi = false;
+};
+
+Edge edgeOf(const Scene &sc, const ParticleView &p, PetscInt k, int a, double n,
+            double halfLength) {
+  Edge E;
+  E.coord = p.x[2 * k + a] + n * p.l[2 * k + a];
+  E.len = 2.0 * halfLength * sc.material.thickness;
+  if (!usesCpdi(sc.tracking)) return E;
+  double own[8];
+  const double *c = &p.corners[8 * k];
+  if (sc.tracking == Tracking::Cpdi) {
+    tracking::cpdiParallelogram(p, k, own);
+    c = own;
+  }
+  int c1, c2;
+  edgeCorners(a, n, c1, c2);
+  E.cpdi = true;
+  E.len = std::hypot(c[2 * c2] - c[2 * c1], c[2 * c2 + 1] - c[2 * c1 + 1]) * sc.material.thickness;
+  for (int d = 0; d < 2; ++d)
+    E.mid[d] = 0.5 * (c[2 * c1 + d] + c[2 * c2 + d]);
+  return E;
+}
+
+} // namespace
 
 PetscErrorCode Boundary::setup(MPI_Comm comm, const Scene &sc, const Lattice &grid, double dt,
                                bool constantBounds) {
@@ -70,16 +104,16 @@ void Boundary::externalForces(const Scene &sc, const Grid &g, const Stencils<2> 
         fe[2 * node[e] + 1] += w * fy;
       }
     }
-    // Tractions, Eq. 8: a dead load, whose resultant is the traction times the initial edge
-    // length.
+    // Tractions, Eq. 8. GIMP: a dead load, whose resultant is the traction times the initial
+    // edge length. CPDI: the traction (force per current area, global components) acts on the
+    // current edge between the corners, its resultant the traction times the current length.
     for (int a = 0; a < 2; ++a) {
       const PetscInt q = p.trac[2 * k + a];
       if (q < 0) continue;
       const Traction &tr = sc.tractions[q];
-      const double edge = p.x[2 * k + a] + tr.normal() * p.l[2 * k + a];
-      const double len = 2.0 * p.l0[2 * k + 1 - a] * sc.material.thickness;
-      const double force[2] = {tr.value[0] * factor[q] * len, tr.value[1] * factor[q] * len};
-      spreadEdgeForce(g, st, k, a, edge, force, fe);
+      const Edge E = edgeOf(sc, p, k, a, tr.normal(), p.l0[2 * k + 1 - a]);
+      const double force[2] = {tr.value[0] * factor[q] * E.len, tr.value[1] * factor[q] * E.len};
+      spreadEdgeForce(g, st, k, a, tr.normal(), E.coord, force, fe);
     }
   }
   if (!sc.dbcs.empty()) penaltyForces(sc, g, st, p, t, fe);
@@ -103,21 +137,23 @@ void Boundary::penaltyForces(const Scene &sc, const Grid &g, const Stencils<2> &
       if (q < 0) continue;
       const DisplacementBC &d = sc.dbcs[q];
       const double n = d.normal();
-      const double edge = p.x[2 * k + a] + n * p.l[2 * k + a];
-      const double len = 2.0 * p.l[2 * k + 1 - a] * sc.material.thickness;
+      const Edge E = edgeOf(sc, p, k, a, n, p.l[2 * k + 1 - a]);
+      const double len = E.len;
       const auto F = tensorAt<2>(p.F, k), sg = tensorAt<2>(p.s, k);
       const double alpha = alpha_ * d.penaltyScale;
       double force[2] = {0, 0};
       for (int c = 0; c < 2; ++c) {
         if (!d.fix[c]) continue;
-        const double u = p.x[2 * k + c] - p.X0[2 * k + c] +
-                         (F(c, a) - (c == a ? 1.0 : 0.0)) * n * p.l0[2 * k + a];
+        // CPDI: the displacement of the edge's midpoint (the same for cpdi's parallelogram).
+        const double u = E.cpdi ? E.mid[c] - p.X0[2 * k + c] - (c == a ? n * p.l0[2 * k + a] : 0.0)
+                                : p.x[2 * k + c] - p.X0[2 * k + c] +
+                                      (F(c, a) - (c == a ? 1.0 : 0.0)) * n * p.l0[2 * k + a];
         const double sigmaCA = sc.penaltyTraction ? sg(c, a) : 0.0;
         force[c] = (sigmaCA * n - alpha * (u - ubar[2 * q + c])) * len;
         gaps_[q] = std::max(gaps_[q], std::fabs(u - ubar[2 * q + c]));
         reactions_[2 * q + c] += force[c];
       }
-      spreadEdgeForce(g, st, k, a, edge, force, fe);
+      spreadEdgeForce(g, st, k, a, n, E.coord, force, fe);
     }
 }
 
@@ -132,8 +168,8 @@ void Boundary::penaltyIncrement(const Scene &sc, const Grid &g, const Stencils<2
       if (q < 0) continue;
       const DisplacementBC &d = sc.dbcs[q];
       const double n = d.normal();
-      const double edge = p.x[2 * k + a] + n * p.l[2 * k + a];
-      const double len = 2.0 * p.l[2 * k + 1 - a] * sc.material.thickness;
+      const Edge E = edgeOf(sc, p, k, a, n, p.l[2 * k + 1 - a]);
+      const double len = E.len;
       double dU[2] = {0, 0}; // the edge's displacement: the particle's, as G2P moves it ...
       if (du)
         for (PetscInt e = st.start[k]; e < st.start[k + 1]; ++e)
@@ -151,7 +187,7 @@ void Boundary::penaltyIncrement(const Scene &sc, const Grid &g, const Stencils<2
         const double traction = ds && sc.penaltyTraction ? ds[4 * k + 2 * c + a] * n : 0.0;
         force[c] = (traction - alpha * dU[c]) * len;
       }
-      spreadEdgeForce(g, st, k, a, edge, force, fe);
+      spreadEdgeForce(g, st, k, a, n, E.coord, force, fe);
     }
 }
 

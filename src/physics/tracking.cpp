@@ -4,8 +4,8 @@
 
 namespace gimp::tracking {
 
-const double *domainCentres(const ParticleView &p, std::vector<double> &centre) {
-  if (!p.hasCorners) return p.x;
+const double *domainCentres(const ParticleView &p, std::vector<double> &centre, Tracking t) {
+  if (!p.hasCorners || usesCpdi(t)) return p.x;
   // With corner tracking the particle's domain (chi_p of Eq. 10) is the rectangle its corners
   // span: the weights integrate over that rectangle, whose centre may differ from the material
   // point's position by a fraction of its size.
@@ -17,17 +17,29 @@ const double *domainCentres(const ParticleView &p, std::vector<double> &centre) 
   return centre.data();
 }
 
+const double *cpdiCorners(const Scene &sc, const ParticleView &p, std::vector<double> &scratch) {
+  if (sc.tracking == Tracking::Cpdi2) return p.corners;
+  scratch.resize(8 * static_cast<size_t>(p.n));
+  for (PetscInt k = 0; k < p.n; ++k)
+    cpdiParallelogram(p, k, &scratch[8 * k]);
+  return scratch.data();
+}
+
 bool CornerMotion::move(const Grid &g, const std::vector<Crack> &cracks, double cornerSize,
                         double cut, double dt, const double *vg, const double *mg,
                         ParticleView &p) {
   const size_t n4 = 4 * static_cast<size_t>(p.n);
-  size_.resize(2 * n4);
-  for (PetscInt k = 0; k < p.n; ++k)
-    for (int q = 0; q < 4; ++q) {
-      size_[8 * k + 2 * q] = cornerSize * p.l0[2 * k];
-      size_[8 * k + 2 * q + 1] = cornerSize * p.l0[2 * k + 1];
-    }
-  if (!g.buildStencils(static_cast<PetscInt>(n4), p.corners, size_.data(), st_)) return false;
+  if (cornerSize == 0) { // the grid's point shape functions at the corners (cpdi2)
+    if (!g.buildPointStencils(static_cast<PetscInt>(n4), p.corners, st_)) return false;
+  } else {
+    size_.resize(2 * n4);
+    for (PetscInt k = 0; k < p.n; ++k)
+      for (int q = 0; q < 4; ++q) {
+        size_[8 * k + 2 * q] = cornerSize * p.l0[2 * k];
+        size_[8 * k + 2 * q + 1] = cornerSize * p.l0[2 * k + 1];
+      }
+    if (!g.buildStencils(static_cast<PetscInt>(n4), p.corners, size_.data(), st_)) return false;
+  }
   if (!cracks.empty()) {
     owner_.resize(2 * n4);
     for (PetscInt k = 0; k < p.n; ++k)

@@ -320,7 +320,7 @@ PetscErrorCode Solver::checkCheckpoint(PetscViewer v, const std::vector<double> 
   else if (s[5] != static_cast<double>(nParticles_))
     why = "it holds " + formatNumber(s[5]) + " particles, the scene seeds " +
           std::to_string(nParticles_);
-  else if ((corners == PETSC_TRUE) != (sc_.tracking == Tracking::Corners))
+  else if ((corners == PETSC_TRUE) != tracksCorners(sc_.tracking))
     why = "its particles were tracked with" + std::string(corners ? "" : "out") +
           " corners, the scene's are not";
   else if (gaps.size() != sc_.dbcs.size())

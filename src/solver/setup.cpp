@@ -22,7 +22,7 @@ ItemBytes itemBytes(const Scene &sc) {
   constexpr double kStencilNodes = 16, kNodeVecs = 24, kDof = 2;
   ItemBytes b;
   for (const FieldSpec &f : particleFields())
-    if (!f.cornersOnly || sc.tracking == Tracking::Corners)
+    if (!f.cornersOnly || tracksCorners(sc.tracking))
       b.particle +=
           static_cast<double>(f.components) * (f.type == PETSC_INT ? sizeof(PetscInt) : 8);
   b.particle += kStencilNodes * (sizeof(PetscInt) + 2 * kDim * sizeof(double));
@@ -114,7 +114,7 @@ PetscErrorCode Solver::writeGridDump() {
 }
 
 PetscErrorCode Solver::createParticles() {
-  PetscCall(createSwarm(comm_, sc_.tracking == Tracking::Corners, &sw_));
+  PetscCall(createSwarm(comm_, tracksCorners(sc_.tracking), &sw_));
   PetscCall(seedParticles(sc_, grid_, sw_));
   ParticleView p;
   PetscCall(p.get(sw_));

@@ -44,7 +44,7 @@ PetscErrorCode Solver::stabilityEstimate(bool springs, bool smallest, stability:
   PetscCall(migrate());
   ParticleView p;
   PetscCall(p.get(sw_));
-  PetscCall(buildStencils(p, tracking::domainCentres(p, centres_)));
+  PetscCall(buildStencils(p, tracking::domainCentres(p, centres_, sc_.tracking)));
   PetscCall(particlesToGrid(p));
   stability::OperatorInput in;
   in.sc = &sc_;

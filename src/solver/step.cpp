@@ -32,7 +32,7 @@ PetscErrorCode Solver::step() {
   PetscCall(p.get(sw_));
   // Where each particle's weights are centred (the corner box with corner tracking), for the
   // stencils and the crack faces of this step.
-  const double *centres = tracking::domainCentres(p, centres_);
+  const double *centres = tracking::domainCentres(p, centres_, sc_.tracking);
   PetscCall(buildStencils(p, centres));
   PetscCall(particlesToGrid(p));
   PetscCall(PetscLogStagePop());
@@ -80,7 +80,11 @@ PetscErrorCode Solver::migrate() {
 PetscErrorCode Solver::buildStencils(const ParticleView &p, const double *centres) {
   // The checks after every step keep each particle within one level-0 cell, so this cannot
   // fail; if it does, the failure joins those checks (no extra collective in the step).
-  if (!grid_.buildStencils(p.n, centres, p.l, st_))
+  if (usesCpdi(sc_.tracking)) {
+    const char *why =
+        grid_.buildCpdiStencils(p.n, tracking::cpdiCorners(sc_, p, cpdiCorners_), st_);
+    if (why) localFailure_ = why;
+  } else if (!grid_.buildStencils(p.n, centres, p.l, st_))
     localFailure_ = "a particle is larger than a level-0 cell (its half-size exceeds -gimp_h)";
   cracks::assignFields(grid_, sc_.cracks, p.n, centres, st_);
   return PETSC_SUCCESS;
@@ -230,7 +234,7 @@ PetscErrorCode Solver::gridToParticles(ParticleView &p, const StepClock &c) {
   transfer::gridToParticles<kDim>(st_, p.n, vg, ag, c.dt, sc_.flip, p.v, p.x);
   PetscCall(VecRestoreArrayRead(nodal_.accW, &ag));
   PetscCall(VecRestoreArrayRead(nodal_.velW, &vg));
-  const bool corners = sc_.tracking == Tracking::Corners;
+  const bool corners = tracksCorners(sc_.tracking);
   if (scheme_.stressFromReprojection || corners) {
     // Re-project the updated particle momentum (acc is free now): the velocity field of MUSL's
     // stress update, and the one the corners follow. Unlike p^n+1 / m it is a weighted mean of
@@ -257,11 +261,15 @@ PetscErrorCode Solver::gridToParticles(ParticleView &p, const StepClock &c) {
       const PetscScalar *va = nullptr, *mw = nullptr;
       PetscCall(VecGetArrayRead(nodal_.accW, &va));
       PetscCall(VecGetArrayRead(nodal_.massW, &mw));
-      const bool ok = corners_.move(grid_, sc_.cracks, sc_.cornerSize,
-                                    sc_.massCutoff * meanParticleMass_, c.dt, va, mw, p);
+      // cpdi2 moves its corners with the grid's point shape functions (Sadeghirad et al. 2013).
+      const double size = sc_.tracking == Tracking::Cpdi2 ? 0.0 : sc_.cornerSize;
+      const bool ok = corners_.move(grid_, sc_.cracks, size, sc_.massCutoff * meanParticleMass_,
+                                    c.dt, va, mw, p);
       PetscCall(VecRestoreArrayRead(nodal_.massW, &mw));
       PetscCall(VecRestoreArrayRead(nodal_.accW, &va));
-      if (!ok) localFailure_ = "a tracked corner's particle is larger than a level-0 cell";
+      if (!ok)
+        localFailure_ = "a tracked corner's particle is larger than a level-0 cell, or a corner "
+                        "left the grid";
     }
   }
   PetscCall(PetscLogStagePop());

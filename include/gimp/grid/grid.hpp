@@ -14,6 +14,7 @@
 #include <petscdmda.h>
 
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 namespace gimp {
@@ -74,6 +75,22 @@ public:
   /// unchanged past the particles done, when a particle is larger than a level-0 cell (the
   /// caller reports it collectively).
   bool buildStencils(PetscInt n, const double *x, const double *l, Stencils<kDim> &s) const;
+
+  /// CPDI stencils (Sadeghirad et al. 2011, 2013) of n particles whose domains are the
+  /// quadrilaterals of their corners (8 values each, counter-clockwise from (-, -)): general
+  /// entries, S_ip = (1/A) sum_c w_c N_i(x_c) and grad S_ip = (1/A) sum_c N_i(x_c) G_c with w_c
+  /// the integral of the bilinear map's corner function over the quad, G_c that of its gradient,
+  /// A the quad's area, N_i the composite grid's point shape functions. Returns null, or why it
+  /// could not (a corner outside the grid or the rank window, a collapsed or inverted domain),
+  /// with s unchanged past the particles done.
+  const char *buildCpdiStencils(PetscInt n, const double *corners, Stencils<kDim> &s) const;
+  /// The point shape functions of the active nodes at (x, y) (the tent functions of Eq. 14, with
+  /// the zones of transition and edge nodes): appends (slot, N) with N > 0 to `out`; returns
+  /// their sum (1 inside the grid and the window).
+  double pointShapes(double x, double y, std::vector<std::pair<PetscInt, double>> &out) const;
+  /// Stencils of n points: general entries with the point shape functions as weights (their
+  /// gradients are left zero). False when a point lies outside the grid or the window.
+  bool buildPointStencils(PetscInt n, const double *x, Stencils<kDim> &s) const;
 
 private:
   /// Level-0 ownership and this rank's window of every level.

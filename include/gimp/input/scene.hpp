@@ -14,7 +14,18 @@
 namespace gimp {
 
 enum class Update { USF, USL, MUSL };
-enum class Tracking { None, Strain, Stretch, Corners };
+enum class Tracking { None, Strain, Stretch, Corners, Cpdi, Cpdi2 };
+
+/// Whether particles carry tracked corners (corners: the paper's mode; cpdi2: the quadrilateral
+/// CPDI domain).
+inline bool tracksCorners(Tracking t) {
+  return t == Tracking::Corners || t == Tracking::Cpdi2;
+}
+/// Whether the weights are CPDI's (Sadeghirad et al. 2011, 2013): averages of the grid's point
+/// shape functions over the particle's parallelogram or quadrilateral, not tensor products.
+inline bool usesCpdi(Tracking t) {
+  return t == Tracking::Cpdi || t == Tracking::Cpdi2;
+}
 enum class MaterialModel { Linear, NeoHookean };
 enum class Side { Left = 0, Right = 1, Bottom = 2, Top = 3 };
 enum class Mms { None, Skb1d };

@@ -15,20 +15,36 @@
 
 namespace gimp::physics {
 
-/// S_i of stencil entry e integrated along particle edge normal to axis a, lying at coordinate
-/// `edge`, per unit edge length.
-inline double edgeShape(const Grid &g, const Stencils<2> &st, PetscInt e, int a, double edge) {
+/// The two corners (counter-clockwise from (-, -)) of a CPDI particle's edge normal to the
+/// reference axis a on side n = +-1.
+inline void edgeCorners(int a, double n, int &c1, int &c2) {
+  static const int kFirst[2][2] = {{3, 1}, {0, 2}}; // [a][n > 0]
+  c1 = kFirst[a][n > 0];
+  c2 = (c1 + 1) % 4;
+}
+
+/// S_i of stencil entry e integrated along particle edge normal to axis a on side n = +-1, lying
+/// at coordinate `edge`, per unit edge length. With CPDI stencils the edge is the segment between
+/// the particle's two corners on that side and S_i linear along it (the corners' N_i averaged).
+inline double edgeShape(const Grid &g, const Stencils<2> &st, PetscInt e, int a, double n,
+                        double edge) {
+  if (st.general) {
+    int c1, c2;
+    edgeCorners(a, n, c1, c2);
+    return 0.5 * (st.cw[4 * e + c1] + st.cw[4 * e + c2]);
+  }
   const PetscInt nd = g.slotNode[st.node[e]];
   const double *z = &g.zone[4 * nd];
   return a == 0 ? shape::tent(edge - g.X[nd], z[0], z[1]) * st.w[1][e]
                 : st.w[0][e] * shape::tent(edge - g.Y[nd], z[2], z[3]);
 }
 
-/// Spread a force (fx, fy) acting on particle k's edge normal to axis a at `edge` onto fe.
-inline void spreadEdgeForce(const Grid &g, const Stencils<2> &st, PetscInt k, int a, double edge,
-                            const double force[2], double *fe) {
+/// Spread a force (fx, fy) acting on particle k's edge normal to axis a on side n at `edge` onto
+/// fe.
+inline void spreadEdgeForce(const Grid &g, const Stencils<2> &st, PetscInt k, int a, double n,
+                            double edge, const double force[2], double *fe) {
   for (PetscInt e = st.start[k]; e < st.start[k + 1]; ++e) {
-    const double w = edgeShape(g, st, e, a, edge);
+    const double w = edgeShape(g, st, e, a, n, edge);
     fe[2 * st.node[e]] += w * force[0];
     fe[2 * st.node[e] + 1] += w * force[1];
   }

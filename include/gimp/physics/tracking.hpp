@@ -1,7 +1,11 @@
 // Particle domain tracking (paper section 2.3): what a particle's domain chi_p of Eq. 10 is
 // after it deforms. none: the initial square; strain: (1 + eps) l0 with eps the accumulated
 // axial strain increments; stretch: the stretches of F times l0 (the default); corners: the
-// paper's tracked corners, the domain being the axis-aligned rectangle they span.
+// paper's tracked corners, the domain being the axis-aligned rectangle they span; cpdi: the
+// parallelogram x_p +- F r1^0 +- F r2^0 (Sadeghirad et al. 2011); cpdi2: the quadrilateral of
+// the tracked corners (Sadeghirad et al. 2013). With cpdi and cpdi2 the half-sizes l are the
+// largest distances of a corner from the material point along x and y (what the checks, the
+// crack reach and the output read), the weights come from the corners (Grid::buildCpdiStencils).
 #pragma once
 
 #include "gimp/cracks/geometry.hpp"
@@ -19,6 +23,36 @@ inline double cornerBoxCentre(const double *c, int d) {
   return 0.5 * (std::min({c[d], c[d + 2], c[d + 4], c[d + 6]}) +
                 std::max({c[d], c[d + 2], c[d + 4], c[d + 6]}));
 }
+
+/// The CPDI parallelogram of particle k: corners x_p - r1 - r2, x_p + r1 - r2, x_p + r1 + r2,
+/// x_p - r1 + r2 (counter-clockwise) with r_a = F r_a^0, r_a^0 = l0_a e_a, into c (8 values).
+inline void cpdiParallelogram(const ParticleView &p, PetscInt k, double *c) {
+  const auto F = tensorAt<2>(p.F, k);
+  const double r1[2] = {F(0, 0) * p.l0[2 * k], F(1, 0) * p.l0[2 * k]};
+  const double r2[2] = {F(0, 1) * p.l0[2 * k + 1], F(1, 1) * p.l0[2 * k + 1]};
+  static const double s1[4] = {-1, 1, 1, -1}, s2[4] = {-1, -1, 1, 1};
+  for (int q = 0; q < 4; ++q)
+    for (int d = 0; d < 2; ++d)
+      c[2 * q + d] = p.x[2 * k + d] + s1[q] * r1[d] + s2[q] * r2[d];
+}
+
+/// Half-sizes of a CPDI particle: the largest distance of a corner from x_p along each axis.
+inline void cornerReach(ParticleView &p, PetscInt k, const double *c) {
+  for (int d = 0; d < 2; ++d)
+    p.l[2 * k + d] =
+        std::max({std::fabs(c[d] - p.x[2 * k + d]), std::fabs(c[d + 2] - p.x[2 * k + d]),
+                  std::fabs(c[d + 4] - p.x[2 * k + d]), std::fabs(c[d + 6] - p.x[2 * k + d])});
+}
+
+/// Area of the quadrilateral of four corners (counter-clockwise, shoelace).
+inline double quadArea(const double *c) {
+  return 0.5 * ((c[0] * c[3] - c[2] * c[1]) + (c[2] * c[5] - c[4] * c[3]) +
+                (c[4] * c[7] - c[6] * c[5]) + (c[6] * c[1] - c[0] * c[7]));
+}
+
+/// The CPDI domains' corners of every particle: the parallelograms of F (cpdi, into `scratch`)
+/// or the tracked corners (cpdi2).
+const double *cpdiCorners(const Scene &sc, const ParticleView &p, std::vector<double> &scratch);
 
 /// Particle k's domain after its deformation gradient F (already updated) and velocity
 /// gradient L over dt: half-sizes l, and with corners also the volume.
@@ -39,6 +73,16 @@ inline void updateDomain(const Scene &sc, ParticleView &p, PetscInt k, const Ten
       p.l[2 * k + a] = std::sqrt(F(0, a) * F(0, a) + F(1, a) * F(1, a)) * p.l0[2 * k + a];
     return;
   }
+  case Tracking::Cpdi: { // the volume stays det(F) V0
+    double c[8];
+    cpdiParallelogram(p, k, c);
+    cornerReach(p, k, c);
+    return;
+  }
+  case Tracking::Cpdi2: // the corners moved in G2P; the volume is the quad's area
+    cornerReach(p, k, &p.corners[8 * k]);
+    p.V[k] = quadArea(&p.corners[8 * k]) * sc.material.thickness;
+    return;
   case Tracking::Corners:
     break;
   }
@@ -62,18 +106,18 @@ inline void updateDomain(const Scene &sc, ParticleView &p, PetscInt k, const Ten
   const double ymin = std::min({c[1], c[3], c[5], c[7]}), ymax = std::max({c[1], c[3], c[5], c[7]});
   p.l[2 * k] = 0.5 * (xmax - xmin);
   p.l[2 * k + 1] = 0.5 * (ymax - ymin);
-  const double area = 0.5 * ((c[0] * c[3] - c[2] * c[1]) + (c[2] * c[5] - c[4] * c[3]) +
-                             (c[4] * c[7] - c[6] * c[5]) + (c[6] * c[1] - c[0] * c[7]));
-  p.V[k] = area * sc.material.thickness;
+  p.V[k] = quadArea(c) * sc.material.thickness;
 }
 
 /// Where each particle's weights are centred: the material point, or with corner tracking the
-/// centre of its corners' rectangle (into `centre`, which then is returned).
-const double *domainCentres(const ParticleView &p, std::vector<double> &centre);
+/// centre of its corners' rectangle (into `centre`, which then is returned). With cpdi and cpdi2
+/// the material point (the crack side of a particle is its material point's).
+const double *domainCentres(const ParticleView &p, std::vector<double> &centre, Tracking t);
 
 /// Moves the tracked corners with the grid velocity interpolated at each corner, as a particle
-/// of the fictitious size -gimp_corner_size times the particle's, renormalised over the nodes
-/// that carry mass. Neighbours' shared corners get the same velocity and stay together. At a
+/// of the fictitious size -gimp_corner_size times the particle's (cornerSize 0: with the grid's
+/// point shape functions, cpdi2's corner update of Sadeghirad et al. 2013), renormalised over the
+/// nodes that carry mass. Neighbours' shared corners get the same velocity and stay together. At a
 /// cracked node a corner takes the field of its particle's side (the side of the segment from
 /// the material point to the node): a face's corners lie on the crack line, where the corner's
 /// own position would give both faces' corners one side, and the lower face's corners would

@@ -120,12 +120,13 @@ private:
   DM sw_ = nullptr;
   TS ts_ = nullptr;
   Nodal nodal_;
-  Stencils<kDim> st_;              // particle -> node weights, rebuilt each step
-  std::vector<double> L_;          // velocity gradient per particle (row-major 2 x 2)
-  std::vector<double> centres_;    // weight centres with corner tracking
-  physics::Boundary boundary_;     // external forces and penalty conditions
-  tracking::CornerMotion corners_; // corner tracking's motion of the corners
-  cracks::Contact contact_;        // contact between the two fields at cracked nodes
+  Stencils<kDim> st_;               // particle -> node weights, rebuilt each step
+  std::vector<double> L_;           // velocity gradient per particle (row-major 2 x 2)
+  std::vector<double> centres_;     // weight centres with corner tracking
+  std::vector<double> cpdiCorners_; // the cpdi parallelograms of this step
+  physics::Boundary boundary_;      // external forces and penalty conditions
+  tracking::CornerMotion corners_;  // corner tracking's motion of the corners
+  cracks::Contact contact_;         // contact between the two fields at cracked nodes
   WorkLedger work_;
   RunMeasures measures_;
   std::vector<PetscInt64> probeIds_;

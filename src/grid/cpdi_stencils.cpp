@@ -1,0 +1,163 @@
+// CPDI stencils (Sadeghirad et al. 2011, 2013): a particle's domain is the quadrilateral of its
+// four corners; its weights average the composite grid's point shape functions over it through
+// the quad's bilinear map, so they hold for rotated and sheared domains, which GIMP's
+// axis-aligned boxes cannot represent.
+#include "gimp/grid/grid.hpp"
+#include "gimp/grid/shape.hpp"
+
+#include <cmath>
+
+namespace gimp {
+
+namespace {
+
+/// The tent of Eq. 14 at a point, with a point that lies on a domain-edge node (zone 0 on that
+/// side) up to round-off put on it (the value from inside the domain).
+inline double pointTent(double s, double Lm, double Lp, double eps) {
+  if (Lp == 0.0 && s > 0.0 && s < eps) s = 0.0;
+  if (Lm == 0.0 && s < 0.0 && s > -eps) s = 0.0;
+  return shape::tent(s, Lm, Lp);
+}
+
+/// The quad's corner integrals: w[c] = integral of the bilinear corner function M_c over the
+/// quad (2 x 2 Gauss on the map, exact: M_c det J is bi-quadratic in the reference square),
+/// G[2c + a] = integral of d M_c / d x_a = half the outward normal times length of the two
+/// edges at c. Returns the area.
+double quadIntegrals(const double *c, double w[4], double G[8]) {
+  static const double sx[4] = {-1, 1, 1, -1}, sy[4] = {-1, -1, 1, 1};
+  const double gp = 1.0 / std::sqrt(3.0);
+  double area = 0;
+  for (int q = 0; q < 4; ++q)
+    w[q] = 0;
+  for (int gx = 0; gx < 2; ++gx)
+    for (int gy = 0; gy < 2; ++gy) {
+      const double xi = gx ? gp : -gp, eta = gy ? gp : -gp;
+      double J[4] = {0, 0, 0, 0}; // dx/dxi, dx/deta, dy/dxi, dy/deta
+      for (int q = 0; q < 4; ++q) {
+        const double dxi = 0.25 * sx[q] * (1 + sy[q] * eta), deta = 0.25 * sy[q] * (1 + sx[q] * xi);
+        J[0] += dxi * c[2 * q];
+        J[1] += deta * c[2 * q];
+        J[2] += dxi * c[2 * q + 1];
+        J[3] += deta * c[2 * q + 1];
+      }
+      const double det = J[0] * J[3] - J[1] * J[2];
+      if (!(det > 0)) return 0; // inverted or collapsed somewhere
+      for (int q = 0; q < 4; ++q)
+        w[q] += 0.25 * (1 + sx[q] * xi) * (1 + sy[q] * eta) * det;
+      area += det;
+    }
+  for (int q = 0; q < 4; ++q) {
+    const int next = (q + 1) % 4, prev = (q + 3) % 4;
+    G[2 * q] = 0.5 * (c[2 * next + 1] - c[2 * prev + 1]);
+    G[2 * q + 1] = 0.5 * (c[2 * prev] - c[2 * next]);
+  }
+  return area;
+}
+
+} // namespace
+
+double Grid::pointShapes(double x, double y, std::vector<std::pair<PetscInt, double>> &out) const {
+  double sum = 0;
+  for (int q = 0; q < static_cast<int>(levels.size()); ++q) {
+    Reach r;
+    if (!levelReach(q, x, y, 0.0, 0.0, r)) continue;
+    const Level &L = levels[q];
+    const double eps = 1e-9 * L.h;
+    for (PetscInt j = r.j0; j <= r.j1; ++j) {
+      const PetscInt row = L.offset + (j - L.wj0) * L.wnx() - L.wi0;
+      for (PetscInt i = r.i0; i <= r.i1; ++i) {
+        const PetscInt nd = row + i;
+        if (!(flags_[nd] & kActive)) continue;
+        const double *z = &zone[4 * nd];
+        const double N =
+            pointTent(x - X[nd], z[0], z[1], eps) * pointTent(y - Y[nd], z[2], z[3], eps);
+        if (N <= 0) continue;
+        out.emplace_back(nd, N);
+        sum += N;
+      }
+    }
+  }
+  return sum;
+}
+
+bool Grid::buildPointStencils(PetscInt n, const double *x, Stencils<kDim> &s) const {
+  s.start.resize(static_cast<size_t>(n) + 1);
+  s.general = true;
+  size_t m = 0;
+  std::vector<std::pair<PetscInt, double>> pts;
+  for (PetscInt k = 0; k < n; ++k) {
+    s.start[k] = static_cast<PetscInt>(m);
+    pts.clear();
+    const bool ok = std::fabs(pointShapes(x[2 * k], x[2 * k + 1], pts) - 1.0) < 1e-9;
+    s.reserveGeneral(m + pts.size());
+    for (const auto &[nd, N] : pts) {
+      s.node[m] = nd;
+      s.sw[m] = N;
+      s.sg[0][m] = s.sg[1][m] = 0;
+      ++m;
+    }
+    if (!ok) {
+      s.start[k + 1] = static_cast<PetscInt>(m);
+      return false;
+    }
+  }
+  s.start[n] = static_cast<PetscInt>(m);
+  return true;
+}
+
+const char *Grid::buildCpdiStencils(PetscInt n, const double *corners, Stencils<kDim> &s) const {
+  s.start.resize(static_cast<size_t>(n) + 1);
+  s.general = true;
+  size_t m = 0;
+  s.reserveGeneral(16 * static_cast<size_t>(n));
+  std::vector<std::pair<PetscInt, double>> pts;
+  for (PetscInt k = 0; k < n; ++k) {
+    s.start[k] = static_cast<PetscInt>(m);
+    const double *c = &corners[8 * k];
+    double w[4], G[8];
+    const double A = quadIntegrals(c, w, G);
+    if (!(A > 0)) {
+      s.start[k + 1] = static_cast<PetscInt>(m);
+      return "a particle's CPDI domain is inverted or collapsed (its corners cross)";
+    }
+    const size_t first = m;
+    for (int q = 0; q < 4; ++q) {
+      pts.clear();
+      const double sum = pointShapes(c[2 * q], c[2 * q + 1], pts);
+      if (!(std::fabs(sum - 1.0) < 1e-9)) {
+        s.start[k + 1] = static_cast<PetscInt>(m);
+        return "a particle's corner lies outside the grid or this rank's window";
+      }
+      for (const auto &[nd, N] : pts) {
+        size_t e = first;
+        while (e < m && s.node[e] != nd)
+          ++e;
+        if (e == m) { // a new node of this particle
+          s.reserveGeneral(m + 1);
+          s.node[m] = nd;
+          for (int r = 0; r < 4; ++r)
+            s.cw[4 * m + r] = 0;
+          ++m;
+        }
+        s.cw[4 * e + q] = N;
+      }
+    }
+    const double iA = 1.0 / A;
+    for (size_t e = first; e < m; ++e) {
+      double S = 0, gx = 0, gy = 0;
+      for (int q = 0; q < 4; ++q) {
+        const double N = s.cw[4 * e + q];
+        S += w[q] * N;
+        gx += G[2 * q] * N;
+        gy += G[2 * q + 1] * N;
+      }
+      s.sw[e] = S * iA;
+      s.sg[0][e] = gx * iA;
+      s.sg[1][e] = gy * iA;
+    }
+  }
+  s.start[n] = static_cast<PetscInt>(m);
+  return nullptr;
+}
+
+} // namespace gimp
