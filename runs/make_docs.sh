@@ -79,9 +79,25 @@ step plot_slab "$py" "$root/tools/plot_slab.py" "$work/slab"
 step stability "$py" "$root/runs/study_stability.py" --gimp "$gimp" --root "$root" \
   --work "$work/stability"
 
+# Velocity transfers: FLIP, PIC, APIC, XPIC(2) on the block to rest, the bar, the spin
+step transfers "$py" "$root/runs/study_transfers.py" --gimp "$gimp" --root "$root" \
+  --work "$work/transfers"
+
 # Plate with a hole (table and docs/img/plate.png).
 step plate "$py" "$root/runs/study_plate.py" --gimp "$gimp" --root "$root" --work "$work/plate"
 step plot_plate "$py" "$root/tools/plot_plate.py" "$work/plate"
+# Dispersion on one level: APIC and FLIP against the lumped-mass chain (docs/img/dispersion.png).
+step dispersion_apic "$py" "$root/runs/study_dispersion.py" --gimp "$gimp" --root "$root" \
+  --work "$work/dispersion" --tag apic
+step dispersion_flip "$py" "$root/runs/study_dispersion.py" --gimp "$gimp" --root "$root" \
+  --work "$work/dispersion" --tag flip --extra "-gimp_transfer flip"
+step plot_dispersion "$py" "$root/runs/study_dispersion.py" --root "$root" \
+  --work "$work/dispersion" \
+  --plot "$work/dispersion/dispersion_apic.csv,$work/dispersion/dispersion_flip.csv"
+
+# Hole edge convergence: the wide plate at a/4, a/8, a/16 and the paper's plate with finer levels
+# (table and docs/img/hole_edge.png; about 10 minutes).
+step hole "$py" "$root/runs/study_hole.py" --gimp "$gimp" --root "$root" --work "$work/hole"
 
 # Particle domain tracking: tension scene, its two figures, and the MMS with tracking modes.
 step tension "$py" "$root/tests/check_tension.py" --gimp "$gimp" --root "$root" \

@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Particle domain tracking on the 1D manufactured solution (options/mms_skb1d.opts).
 
-Runs the scene for -gimp_tracking none, stretch and corners at A = 1e-4 and A = 0.05
+Runs the scene for -gimp_tracking none, stretch, corners, cpdi and cpdi2 at A = 1e-4 and A = 0.05
 (-gimp_mms_amplitude) on h = 1/n (overriding -gimp_h, -gimp_body0_box and -gimp_bc3_y as
 tests/check_mms.py does), prints a markdown table of the measured errors (summary.json
 measures mms_linf and mms_rms, maxima over one period) with the observed orders between
@@ -32,7 +32,7 @@ env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIR
 def run(mode, A, n):
     h = 1.0 / n
     out = os.path.join(work, "%s_A%g_n%d" % (mode, A, n))
-    cmd = [gimp, "-options_file", os.path.join(ROOT, "runs", "mms_skb1d.opts"),
+    cmd = [gimp, "-options_file", os.path.join(ROOT, "options", "mms_skb1d.opts"),
            "-gimp_output_dir", out, "-gimp_h", repr(h), "-gimp_body0_box", "0,0,1,%r" % h,
            "-gimp_bc3_y", repr(h), "-gimp_tracking", mode, "-gimp_mms_amplitude", repr(A)]
     p = subprocess.run(cmd, cwd=work, env=env, capture_output=True, text=True)
@@ -56,7 +56,7 @@ def fo(p):
 
 table = []
 for A in (1e-4, 0.05):
-    for mode in ("none", "stretch", "corners"):
+    for mode in ("none", "stretch", "corners", "cpdi", "cpdi2"):
         rows = [run(mode, A, n) for n in levels]
         for i, r in enumerate(rows):
             r["order_linf"], r["order_rms"] = order(rows, i, "linf"), order(rows, i, "rms")

@@ -52,15 +52,15 @@ GRIDS = [("3level", "options/plate.opts", [], "3 levels 1.0 / 0.5 / 0.25 mm"),
 RUNS = []
 for flip, tag in (("0", "pic"), ("1", "flip1")):
     for g, opts, extra, label in GRIDS:
-        RUNS.append(("static_%s_%s" % (tag, g), opts, STATIC + extra + ["-gimp_flip", flip], label,
+        RUNS.append(("static_%s_%s" % (tag, g), opts, STATIC + extra + ["-gimp_transfer", "flip", "-gimp_flip", flip], label,
                      "static, FLIP %s" % flip))
 # Finer levels around the hole (PIC, static): 0.125 mm and 0.0625 mm at the top of the hole.
 L3 = ["-gimp_levels", "4", "-gimp_level3_box", "-0.5e-3,-0.5e-3,3e-3,3e-3", "-gimp_level3_ratio", "2"]
 L4 = ["-gimp_levels", "5", "-gimp_level3_box", "-0.5e-3,-0.5e-3,3e-3,3e-3", "-gimp_level3_ratio", "2",
       "-gimp_level4_box", "-0.25e-3,1.5e-3,1e-3,2.75e-3", "-gimp_level4_ratio", "2"]
-RUNS.append(("static_pic_4level", "options/plate.opts", STATIC + L3 + ["-gimp_flip", "0"],
+RUNS.append(("static_pic_4level", "options/plate.opts", STATIC + L3 + ["-gimp_transfer", "flip", "-gimp_flip", "0"],
              "4 levels, + 0.125 mm on [-0.5, 3]² mm", "static, FLIP 0"))
-RUNS.append(("static_pic_5level", "options/plate.opts", STATIC + L4 + ["-gimp_flip", "0"],
+RUNS.append(("static_pic_5level", "options/plate.opts", STATIC + L4 + ["-gimp_transfer", "flip", "-gimp_flip", "0"],
              "5 levels, + 0.0625 mm on [-0.25, 1] × [1.5, 2.75] mm", "static, FLIP 0"))
 for g, opts, extra, label in (GRIDS[0], GRIDS[3]):
     RUNS.append(("paper_%s" % g, opts, PAPER + extra, label, "paper (dynamic)"))

@@ -4,7 +4,7 @@ against the step where runs actually go unstable, found by bisection. The table 
 docs/validation.md, section "Critical time step".
 
 Usage: /usr/bin/python3 runs/study_stability.py --gimp build/gimp --work build/WORK_stability
-       [--root .] [--steps 1500] [--cases bar,patch3,...]
+       [--root .] [--steps 1500] [--cases bar,patch3,...] [--transfer flip|apic]
 (gimp built with SLEPc.)
 
 Each case runs undamped (unless it is the damped case) for a fixed number of steps with
@@ -51,6 +51,7 @@ def run(a, scene, extra, out, dt=None):
     env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
     cmd = [a.gimp, "-options_file", os.path.join(a.root, "options", scene),
            "-gimp_output_dir", out, "-gimp_stability_check", "-gimp_allow_unstable_dt",
+           "-gimp_transfer", a.transfer,
            "-ts_max_steps", str(a.steps), "-gimp_history_interval", "10",
            "-gimp_output_interval", "0"] + extra
     if dt is not None:
@@ -95,6 +96,8 @@ def main():
     ap.add_argument("--work", default=os.path.join(series.ROOT, "build", "WORK_stability"))
     ap.add_argument("--steps", type=int, default=1500)
     ap.add_argument("--cases", default="", help="comma-separated prefixes of the case names")
+    ap.add_argument("--transfer", default="flip", choices=("flip", "apic"),
+                    help="-gimp_transfer of every run (the plate ring blends FLIP: flip only)")
     a = ap.parse_args()
     os.makedirs(a.work, exist_ok=True)
     wanted = [c for c in a.cases.split(",") if c]

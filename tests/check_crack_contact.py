@@ -80,7 +80,7 @@ dump = os.path.join(out, "particles.csv")
 steps, dt = 100, 2.5e-4
 gimptest.run(args, SCENE, ["-gimp_traction0_value", "0,1e4", "-gimp_traction1_value", "0,-1e4",
                            "-gimp_traction0_ramp", "0,1", "-gimp_traction1_ramp", "0,1",
-                           "-gimp_damping", "0", "-ts_max_steps", str(steps), "-gimp_flip", "1",
+                           "-gimp_damping", "0", "-ts_max_steps", str(steps), "-gimp_transfer", "flip", "-gimp_flip", "1",
                            "-gimp_particle_dump", dump], outdir=out)
 rows = particles(dump)
 below, above = halves(rows)

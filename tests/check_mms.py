@@ -121,7 +121,7 @@ if mine.study:
     study = []  # (study, A, update, flip, cfl, periods, row)
 
     def add(name, n, A=1e-4, update="musl", flip=1.0, cfl=0.1, periods=1):
-        extra = ["-gimp_mms_amplitude", repr(A), "-gimp_update", update, "-gimp_flip", repr(flip),
+        extra = ["-gimp_mms_amplitude", repr(A), "-gimp_update", update, "-gimp_transfer", "flip", "-gimp_flip", repr(flip),
                  "-gimp_cfl", repr(cfl), "-ts_max_time", repr(periods * PERIOD)]
         if periods > 1:
             extra += ["-gimp_history_interval", "4"]

@@ -1,7 +1,8 @@
 """Two ranks give the one-rank answer: positions, velocities and stresses of every particle
 agree to 1e-10 relative (to the largest value of each field) after runs in which particles
 migrate between ranks, on a uniform grid and on a three-level grid (also with corner tracking,
-whose corners migrate with their particles)."""
+whose corners migrate with their particles, and with the CPDI domains cpdi and cpdi2, whose
+corners' stencils reach across rank borders)."""
 import os
 import gimptest
 
@@ -11,16 +12,24 @@ cases = [("drift", "x", ["-da_processors_x", "2", "-da_processors_y", "1"]),
          ("drift", "y", ["-da_processors_x", "1", "-da_processors_y", "2"]),
          ("drift3", "x", ["-da_processors_x", "2", "-da_processors_y", "1"]),
          ("drift3", "y", ["-da_processors_x", "1", "-da_processors_y", "2"]),
-         ("drift3", "x-corners", ["-da_processors_x", "2", "-da_processors_y", "1"])]
+         ("drift3", "x-corners", ["-da_processors_x", "2", "-da_processors_y", "1"]),
+         ("drift3", "y-cpdi", ["-da_processors_x", "1", "-da_processors_y", "2"]),
+         ("drift3", "x-cpdi2", ["-da_processors_x", "2", "-da_processors_y", "1"])]
 serial = {}
 for scene, tag, layout in cases:
     opts = "options/%s.opts" % scene
-    extra = ["-gimp_tracking", "corners"] if tag.endswith("corners") else []
+    mode = tag.split("-")[1] if "-" in tag else ""
+    extra = ["-gimp_tracking", mode] if mode else []
+    # cpdi2 with APIC (the default transfer) fails on this scene: where the block enters the
+    # ratio-3 level, D_p shrinks ninefold and C_p = B_p D_p^-1 with the coarse level's B_p throws
+    # the tracked corners apart (docs/validation.md "Velocity transfers", open). FLIP here.
+    if mode == "cpdi2":
+        extra += ["-gimp_transfer", "flip"]
     key = scene + " ".join(extra)
     if key not in serial:
-        d1 = os.path.join(args.work, "%s_np1%s.csv" % (scene, "_corners" if extra else ""))
+        d1 = os.path.join(args.work, "%s_np1%s.csv" % (scene, "_" + mode if mode else ""))
         gimptest.run(args, opts, ["-gimp_particle_dump", d1] + extra,
-                     outdir=os.path.join(args.work, scene + "_np1"))
+                     outdir=os.path.join(args.work, scene + "_np1" + mode))
         serial[key] = gimptest.read_csv(d1)
     d2 = os.path.join(args.work, "%s_np2_%s.csv" % (scene, tag))
     o2 = gimptest.run(args, opts, ["-gimp_particle_dump", d2] + layout + extra, ranks=2,

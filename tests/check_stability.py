@@ -23,6 +23,8 @@ import os
 import gimptest
 
 args = gimptest.parse_args()
+# The operator models FLIP's particle update (docs/method.md): the prediction is checked for it.
+args.extra = getattr(args, "extra", "") + " -gimp_transfer flip"
 c = gimptest.Checks()
 
 
@@ -96,5 +98,26 @@ for f, unstable in ((1.05, True), (0.95, False)):
     ok = (p.returncode == 3 and st["status"] == "unstable") if unstable else (
         p.returncode == 0 and st["status"] == "completed" and st["steps"] == 600)
     c.check("%.2f dt_critical" % f, ok, "exit %d, status %s after %d steps" %
+            (p.returncode, st["status"], st["steps"]))
+
+# APIC: R is its affine re-projection, the identity on the bar's modes (each particle's two
+# nodes carry its affine field exactly), so B = M^-1 K and dt_critical = h / c = 0.1 s, 1 / sqrt(3)
+# of FLIP's; the bar measured stable at 1.053 of it and unstable at 1.057
+# (runs/study_stability.py --transfer apic). A run at 1.2 dt_critical goes unstable, at 0.95 not.
+args.extra = args.extra.replace("-gimp_transfer flip", "-gimp_transfer apic")
+dta = gimptest.summary(gimptest.run(args, "options/bar.opts", ["-gimp_stability_check",
+                       "-ts_max_steps", "1"], outdir=os.path.join(args.work, "apic")))["dt_critical"]
+c.check("apic dt_critical", abs(dta / 0.1 - 1) < 0.01 and abs(dta / dtc - 3 ** -0.5) < 0.01,
+        "%.6g s: %.4f of h / c, %.4f of FLIP's %.6g s" % (dta, dta / 0.1, dta / dtc, dtc))
+for f, unstable in ((1.2, True), (0.95, False)):
+    tag = "apic_f%.2f" % f
+    p = gimptest.run(args, "options/bar.opts",
+                     ["-gimp_stability_check", "-gimp_allow_unstable_dt", "-ts_dt", "%.9e" % (f * dta),
+                      "-ts_max_steps", "600", "-ts_max_time", "1e9"],
+                     outdir=os.path.join(args.work, tag), expect_ok=False)
+    st = gimptest.summary(os.path.join(args.work, tag))
+    ok = (p.returncode == 3 and st["status"] == "unstable") if unstable else (
+        p.returncode == 0 and st["status"] == "completed" and st["steps"] == 600)
+    c.check("apic %.2f dt_critical" % f, ok, "exit %d, status %s after %d steps" %
             (p.returncode, st["status"], st["steps"]))
 c.done()

@@ -83,10 +83,12 @@ struct RunOptions {
        gdump[PETSC_MAX_PATH_LEN] = "", restart[PETSC_MAX_PATH_LEN] = "";
   PetscReal dom[5] = {0, 0, 0, 0, 0}, hm[4] = {0, 0, 0, 0}; // one spare: extra values are seen
   PetscInt ndom = 5, nhm = 4, pad = 2, update = 2, tracking = 2, mms = 0, stabilityInterval = 0;
-  PetscBool setDom = PETSC_FALSE, setH = PETSC_FALSE, setHm = PETSC_FALSE;
+  PetscInt transfer = 1, xpicOrder = 2;
+  PetscBool setDom = PETSC_FALSE, setH = PETSC_FALSE, setFlip = PETSC_FALSE, setHm = PETSC_FALSE;
 };
 
 const char *const kUpdates[] = {"usf", "usl", "musl"};
+const char *const kTransfers[] = {"flip", "apic", "xpic"};
 const char *const kTrackings[] = {"none", "strain", "stretch", "corners", "cpdi", "cpdi2"};
 const char *const kMms[] = {"none", "skb1d"};
 
@@ -140,6 +142,28 @@ PetscErrorCode readOutputOptions(MPI_Comm comm, Scene &sc, RunOptions &o) {
   return PETSC_SUCCESS;
 }
 
+/// The particle velocity transfer and its parameters.
+PetscErrorCode readTransferOptions(MPI_Comm comm, Scene &sc, RunOptions &o) {
+  PetscCall(checkChoice("-gimp_transfer", kTransfers, 3));
+  PetscOptionsBegin(comm, nullptr, "gimp scene: velocity transfer", "gimp");
+  const char *const *transfers = kTransfers;
+  PetscCall(PetscOptionsEList("-gimp_transfer",
+                              "Particle velocity transfer: flip (FLIP/PIC blend of -gimp_flip), "
+                              "apic (affine PIC) or xpic (XPIC(m), m = -gimp_xpic_order)",
+                              "docs/options.md", transfers, 3, transfers[o.transfer], &o.transfer,
+                              nullptr));
+  PetscCall(PetscOptionsReal("-gimp_flip",
+                             "FLIP fraction of the particle velocity update with -gimp_transfer "
+                             "flip (1: FLIP, 0: PIC)",
+                             "docs/options.md", sc.flip, &sc.flip, &o.setFlip));
+  PetscCall(PetscOptionsInt("-gimp_xpic_order",
+                            "Order m of XPIC(m): m - 1 extra projections filter the particle "
+                            "velocity (1: PIC)",
+                            "docs/options.md", o.xpicOrder, &o.xpicOrder, nullptr));
+  PetscOptionsEnd();
+  return PETSC_SUCCESS;
+}
+
 /// The grid's cell size and domain, the update scheme and its parameters.
 PetscErrorCode readMethodOptions(MPI_Comm comm, Scene &sc, RunOptions &o) {
   PetscReal *dom = o.dom;
@@ -162,15 +186,19 @@ PetscErrorCode readMethodOptions(MPI_Comm comm, Scene &sc, RunOptions &o) {
                              "docs/options.md", sc.damping, &sc.damping, nullptr));
   PetscCall(PetscOptionsEList("-gimp_update", "Update scheme", "docs/options.md", updates, 3,
                               updates[2], &update, nullptr));
-  PetscCall(PetscOptionsReal("-gimp_flip",
-                             "FLIP fraction of the particle velocity update (1: FLIP, 0: PIC)",
-                             "docs/options.md", sc.flip, &sc.flip, nullptr));
   PetscBool half = sc.halfStepStart ? PETSC_TRUE : PETSC_FALSE;
   PetscCall(PetscOptionsBool("-gimp_half_step_start",
                              "Start the leapfrog with a half kick (particle velocities at half "
                              "steps; second order in time)",
                              "docs/options.md", half, &half, nullptr));
   sc.halfStepStart = half;
+  PetscBool cutCells = sc.cutCells ? PETSC_TRUE : PETSC_FALSE;
+  PetscCall(PetscOptionsBool("-gimp_cut_cells",
+                             "Particles whose square a hole cuts take the area inside the body as "
+                             "volume and its centroid as position (false: whole squares whose "
+                             "centre is in the body)",
+                             "docs/options.md", cutCells, &cutCells, nullptr));
+  sc.cutCells = cutCells;
   PetscCall(PetscOptionsEList("-gimp_tracking",
                               "Particle domain tracking: none, strain ((1+eps) l0), stretch (F l0) "
                               "corners (the paper's corner tracking), cpdi (parallelogram F r0) or "
@@ -227,6 +255,12 @@ void checkRunOptions(const Scene &sc, const RunOptions &o) {
   if (sc.damping < 0) bad("gimp_damping", formatNumber(sc.damping), "must be >= 0 [1/s]");
   if (!(sc.flip >= 0 && sc.flip <= 1))
     bad("gimp_flip", formatNumber(sc.flip), "must lie in [0, 1]");
+  if (o.setFlip && o.transfer != 0)
+    bad("gimp_flip", formatNumber(sc.flip),
+        std::string("blends FLIP and PIC only with -gimp_transfer flip, not ") +
+            kTransfers[o.transfer]);
+  if (o.xpicOrder < 1 || o.xpicOrder > 100)
+    bad("gimp_xpic_order", std::to_string(o.xpicOrder), "must be an integer from 1 to 100");
   if (!(sc.massCutoff >= 0 && sc.massCutoff < 1))
     bad("gimp_mass_cutoff", formatNumber(sc.massCutoff), "must lie in [0, 1)");
   if (!(sc.cfl > 0 && sc.cfl <= 1)) bad("gimp_cfl", formatNumber(sc.cfl), "must lie in (0, 1]");
@@ -340,6 +374,7 @@ PetscErrorCode readScene(MPI_Comm comm, Scene &sc) {
   RunOptions o;
   PetscCall(readOutputOptions(comm, sc, o));
   PetscCall(readMethodOptions(comm, sc, o));
+  PetscCall(readTransferOptions(comm, sc, o));
   sc.name = o.name;
   sc.outputDir = o.outdir[0] ? o.outdir : "output/" + sc.name;
   sc.particleDump = o.pdump;
@@ -352,6 +387,8 @@ PetscErrorCode readScene(MPI_Comm comm, Scene &sc) {
   if (!sc.help && o.setHm && sc.holeLoad == 0)
     bad("gimp_hole_measure_load", "0", "the hole measure needs the remote stress p != 0 [Pa]");
   sc.update = static_cast<Update>(o.update);
+  sc.transfer = static_cast<Transfer>(o.transfer);
+  sc.xpicOrder = static_cast<int>(o.xpicOrder);
   sc.tracking = static_cast<Tracking>(o.tracking);
   sc.mms = static_cast<Mms>(o.mms);
   sc.stabilityInterval = static_cast<int>(std::min<PetscInt>(o.stabilityInterval, INT_MAX));

@@ -67,7 +67,7 @@ PetscErrorCode readBodies(MPI_Comm comm, Scene &sc) {
     PetscBool setBox = PETSC_FALSE, setHoles = PETSC_FALSE;
     const char *profiles[] = {"uniform", "sine_x"};
     PetscInt profile = 0;
-    PetscReal band = 0, k0 = 0;
+    PetscReal band = 0, k0 = 0, spin = 0;
     PetscCall(checkChoice(p + "velocity_profile", profiles, 2));
     PetscOptionsBegin(comm, nullptr, ("Body " + p + "*").c_str(), "gimp");
     PetscCall(PetscOptionsRealArray((p + "box").c_str(), "Body rectangle x0,y0,x1,y1 [m]",
@@ -93,6 +93,10 @@ PetscErrorCode readBodies(MPI_Comm comm, Scene &sc) {
                                 "docs/options.md", profiles, 2, profiles[0], &profile, nullptr));
     PetscCall(PetscOptionsReal((p + "wavenumber").c_str(), "Wavenumber k of sine_x [1/m]",
                                "docs/options.md", k0, &k0, nullptr));
+    PetscCall(PetscOptionsReal((p + "spin").c_str(),
+                               "Initial rigid rotation about the box's centre, added to the "
+                               "velocity: omega x (X - centre) [rad/s]",
+                               "docs/options.md", spin, &spin, nullptr));
     PetscOptionsEnd();
     if (sc.help) continue;
     const std::string q = p.substr(1);
@@ -124,6 +128,7 @@ PetscErrorCode readBodies(MPI_Comm comm, Scene &sc) {
           "velocity_profile sine_x needs a non-zero wavenumber [1/m]");
     b.sineProfile = profile == 1;
     b.wavenumber = k0;
+    b.spin = spin;
     sc.bodies.push_back(b);
   }
   return PETSC_SUCCESS;

@@ -79,21 +79,24 @@ bool endsWith(const std::string &s, const char *tail) {
 /// option must be added here, or given alone it is refused for its missing value.
 bool isLogical(const std::string &name) {
   return name == "gimp_half_step_start" || name == "gimp_penalty_traction" ||
-         name == "gimp_stability_check" || name == "gimp_allow_unstable_dt";
+         name == "gimp_stability_check" || name == "gimp_allow_unstable_dt" ||
+         name == "gimp_cut_cells";
 }
 
 /// gimp options whose value is a word (a name, a path or a choice), not numbers.
 bool isWord(const std::string &name) {
   for (const char *tail :
        {"_scene", "_dir", "_dump", "_file", "_restart", "_name", "_material", "_plane", "_update",
-        "_tracking", "_mms", "_side", "_components", "_type", "_velocity_profile"})
+        "_transfer", "_tracking", "_mms", "_side", "_components", "_type", "_velocity_profile"})
     if (endsWith(name, tail)) return true;
   return false;
 }
 
 /// Options PETSc reads as one PetscInt: it keeps a value too large for one wrapped around.
 bool isInteger(const std::string &name) {
-  if (name == "ts_max_steps" || name == "gimp_pad" || name == "gimp_levels") return true;
+  if (name == "ts_max_steps" || name == "gimp_pad" || name == "gimp_levels" ||
+      name == "gimp_xpic_order")
+    return true;
   for (const char *tail : {"_ppc", "_interval", "_bodies", "_tractions", "_bcs", "_dbcs", "_probes",
                            "_cracks", "_body"})
     if (endsWith(name, tail)) return true;

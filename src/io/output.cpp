@@ -140,7 +140,7 @@ PetscErrorCode Output::open(const Resume *resume) {
     // one that was killed while writing): a run that fails later leaves none of them behind.
     // A restart keeps the frames its checkpoint lists (resumeFrames) and the checkpoint; a fresh
     // run also removes an earlier checkpoint, which no longer matches.
-    std::vector<std::string> stale{"summary.json", "hoop.csv", "history.csv"};
+    std::vector<std::string> stale{"summary.json", "hoop.csv", "hoop_fit.csv", "history.csv"};
     if (resume) stale.push_back("checkpoint.h5.tmp"); // left by a crash while writing
     if (!resume)
       stale.insert(stale.end(), {"fields.h5", "particles.xmf", "grid.xmf", "checkpoint.h5"});
@@ -410,7 +410,14 @@ PetscErrorCode Output::writeHoop(const HoleMeasure &h) {
     for (const std::vector<double> &r : h.rows)
       std::fprintf(f, "%.6f,%.9e,%.9e,%.9e\n", r[0], r[1], r[2], r[3]);
   }
-  return closeOnRoot("hoop.csv", f, true);
+  PetscCall(closeOnRoot("hoop.csv", f, true));
+  PetscCall(openOnRoot("hoop_fit.csv", &f, true));
+  if (rank_ == 0) {
+    std::fprintf(f, "angle_deg,edge_hoop_over_p,kirsch_edge,particles\n");
+    for (const auto &c : h.curve)
+      std::fprintf(f, "%.3f,%.9e,%.9e,%d\n", c[0], c[1], c[2], static_cast<int>(c[3]));
+  }
+  return closeOnRoot("hoop_fit.csv", f, true);
 }
 
 } // namespace gimp

@@ -130,8 +130,10 @@ void Output::summaryMeasures(FILE *f, const SummaryReport &r) const {
   std::fprintf(f, ", \"max_strain\": %s, \"max_separation\": %s", num(m.maxStrain).c_str(),
                num(m.maxSeparation).c_str());
   if (r.hole) {
-    std::fprintf(f, ", \"kt\": %s, \"kt_edge\": %s", num(r.hole->kt).c_str(),
-                 num(r.hole->ktEdge).c_str());
+    // kt_edge: the same edge value as kt, under the name earlier versions gave it.
+    std::fprintf(f, ", \"kt\": %s, \"kt_edge\": %s, \"kt_particle\": %s", num(r.hole->kt).c_str(),
+                 num(r.hole->kt).c_str(), num(r.hole->ktParticle).c_str());
+    std::fprintf(f, ", \"hoop_max_error\": %s", num(r.hole->maxError).c_str());
     for (size_t a = 0; a < r.hole->hoopByAngle.size(); ++a)
       std::fprintf(f, ", \"hoop_%zu\": %s", 15 * a, num(r.hole->hoopByAngle[a]).c_str());
   }

@@ -1,5 +1,6 @@
 // Seeding: each body's cells filled with particles at the body's density.
 #include "gimp/particles/seed.hpp"
+#include "gimp/particles/cut_cell.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -10,12 +11,12 @@ namespace gimp {
 namespace {
 
 /// Whether the square particle (x, y, half-size l) of body b has an edge on the segment.
-bool onSegment(const Scene &sc, const Segment &seg, int b, double x, double y, double l,
+bool onSegment(const Scene &sc, const Segment &seg, int b, double x, double y, const double *l,
                double tol) {
   if (seg.body != b) return false;
   const Box &box = sc.bodies[b].box;
   const int a = seg.axis();
-  const double edge = (a == 0 ? x : y) + seg.normal() * l;
+  const double edge = (a == 0 ? x : y) + seg.normal() * l[a];
   const double target = a == 0 ? (seg.side == Side::Left ? box[0] : box[2])
                                : (seg.side == Side::Bottom ? box[1] : box[3]);
   if (std::fabs(edge - target) > tol) return false;
@@ -24,11 +25,42 @@ bool onSegment(const Scene &sc, const Segment &seg, int b, double x, double y, d
 }
 
 struct Seed {
-  double x, y, l;
+  double x, y;
+  double l[2]; // half-sizes
+  double area; // the part of the square in the body (the whole square unless a hole cuts it)
   double cx0, cx1, cy0, cy1; // corners from the sub-cell lattice: neighbours share them exactly
   PetscInt64 id;
   int body;
 };
+
+/// Whether the seed's square keeps a part in the body, with a hole cutting the square: the
+/// seed becomes that part (area, centroid, the rectangle of its second moments; its corners
+/// that rectangle's). The body's rectangle still keeps a square by its centre.
+bool cutByHoles(const Body &body, Seed &s) {
+  const Box &box = body.box;
+  if (s.x < box[0] || s.x > box[2] || s.y < box[1] || s.y > box[3]) return false;
+  std::vector<std::array<double, 3>> disks;
+  for (const Hole &c : body.holes) {
+    const double nx = std::clamp(c.cx, s.cx0, s.cx1), ny = std::clamp(c.cy, s.cy0, s.cy1);
+    const double fx = std::max(std::fabs(s.cx0 - c.cx), std::fabs(s.cx1 - c.cx));
+    const double fy = std::max(std::fabs(s.cy0 - c.cy), std::fabs(s.cy1 - c.cy));
+    if (std::hypot(nx - c.cx, ny - c.cy) >= c.r) continue; // the hole misses the square
+    if (std::hypot(fx, fy) <= c.r) return false;           // the hole holds the whole square
+    disks.push_back({c.cx, c.cy, c.r});
+  }
+  if (disks.empty()) return true;
+  const cut::Moments m = cut::rectMinusDisks(s.cx0, s.cy0, s.cx1, s.cy1, disks);
+  if (m.A <= 0) return false;
+  s.x = m.cx;
+  s.y = m.cy;
+  s.area = m.A;
+  cut::equivalentRectangle(m, s.l);
+  s.cx0 = s.x - s.l[0];
+  s.cx1 = s.x + s.l[0];
+  s.cy0 = s.y - s.l[1];
+  s.cy1 = s.y + s.l[1];
+  return true;
+}
 
 /// The particles this rank seeds: the leaf cells of every level whose centre lies in its
 /// level-0 cells, cut into n x n squares whose centres lie in a body.
@@ -76,16 +108,20 @@ std::vector<Seed> collectSeeds(const Scene &sc, const Grid &g, PetscMPIInt rank)
           const PetscInt64 cell = static_cast<PetscInt64>(j) * L.M + i;
           for (int b2 = 0; b2 < n; ++b2)
             for (int a = 0; a < n; ++a) {
-              const double x = cx0 + (a + 0.5) * d, y = cy0 + (b2 + 0.5) * d;
-              if (!body.inside(x, y)) continue;
-              // Unique and independent of the rank count: body, level, cell, sub-cell.
-              const PetscInt64 id =
-                  (((static_cast<PetscInt64>(b) * K + q) * maxCells + cell) * 64 + b2) * 64 + a;
               const PetscInt64 nx = static_cast<PetscInt64>(i) * n + a,
                                ny = static_cast<PetscInt64>(j) * n + b2;
-              seeds.push_back({x, y, 0.5 * d, L.box[0] + nx * d, L.box[0] + (nx + 1) * d,
-                               L.box[1] + ny * d, L.box[1] + (ny + 1) * d, id,
-                               static_cast<int>(b)});
+              Seed s{cx0 + (a + 0.5) * d,
+                     cy0 + (b2 + 0.5) * d,
+                     {0.5 * d, 0.5 * d},
+                     d * d,
+                     L.box[0] + nx * d,
+                     L.box[0] + (nx + 1) * d,
+                     L.box[1] + ny * d,
+                     L.box[1] + (ny + 1) * d,
+                     // Unique and independent of the rank count: body, level, cell, sub-cell.
+                     (((static_cast<PetscInt64>(b) * K + q) * maxCells + cell) * 64 + b2) * 64 + a,
+                     static_cast<int>(b)};
+              if (sc.cutCells ? cutByHoles(body, s) : body.inside(s.x, s.y)) seeds.push_back(s);
             }
         }
     }
@@ -122,11 +158,16 @@ PetscErrorCode seedParticles(const Scene &sc, const Grid &g, DM sw) {
       vx *= f;
       vy *= f;
     }
+    // A rigid rotation omega x (X - c) about the box's centre c.
+    vx -= body.spin * (s.y - 0.5 * (body.box[1] + body.box[3]));
+    vy += body.spin * (s.x - 0.5 * (body.box[0] + body.box[2]));
     p.v[2 * k] = vx;
     p.v[2 * k + 1] = vy;
-    p.V0[k] = p.V[k] = 4.0 * s.l * s.l * mat.thickness;
+    std::fill(&p.B[4 * k], &p.B[4 * k] + 4, 0.0); // APIC's affine moment: none at the start
+    p.V0[k] = p.V[k] = s.area * mat.thickness;
     p.m[k] = mat.rho * p.V0[k];
-    p.l[2 * k] = p.l[2 * k + 1] = p.l0[2 * k] = p.l0[2 * k + 1] = s.l;
+    for (int a = 0; a < 2; ++a)
+      p.l[2 * k + a] = p.l0[2 * k + a] = s.l[a];
     if (p.hasCorners) {
       const double c[8] = {s.cx0, s.cy0, s.cx1, s.cy0, s.cx1, s.cy1, s.cx0, s.cy1};
       std::copy(c, c + 8, &p.corners[8 * k]);

@@ -29,6 +29,7 @@ const std::vector<FieldSpec> &particleFields() {
       {"id", 1, PETSC_INT64, false, false, [](ParticleView &p) { return slotOf(p.id); }},
       {"trac", D, PETSC_INT, false, false, [](ParticleView &p) { return slotOf(p.trac); }},
       {"dbc", D, PETSC_INT, false, false, [](ParticleView &p) { return slotOf(p.dbc); }},
+      {"B", D * D, PETSC_REAL, true, false, [](ParticleView &p) { return slotOf(p.B); }},
       {"corners", (1 << D) * D, PETSC_REAL, true, true,
        [](ParticleView &p) { return slotOf(p.corners); }},
   };

@@ -24,7 +24,7 @@ namespace gimp {
 
 namespace {
 
-constexpr double kFormat = 3; // layout version of checkpoint.h5
+constexpr double kFormat = 4; // layout version of checkpoint.h5
 
 /// An array known on rank 0, written as [n, values...] (never an empty dataset).
 PetscErrorCode writeArray(MPI_Comm comm, PetscViewer v, const char *name,

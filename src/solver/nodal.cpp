@@ -3,12 +3,13 @@
 namespace gimp {
 
 Nodal::~Nodal() {
-  for (Vec *v : {&P, &mass, &vel, &acc, &f, &rhs, &fext, &bcMask, &mask, &invMass, &face, &sumW,
-                 &massW, &velW, &accW, &extW, &faceW, &maskW})
+  for (Vec *v :
+       {&P,     &mass, &vel,  &acc,   &f,    &rhs,  &fext, &bcMask, &mask,  &invMass, &face,
+        &vstar, &term, &sumW, &massW, &velW, &accW, &extW, &faceW,  &maskW, &vstarW})
     if (*v) (void)VecDestroy(v);
 }
 
-PetscErrorCode Nodal::create(const Grid &grid, bool external, bool cracks) {
+PetscErrorCode Nodal::create(const Grid &grid, bool external, bool cracks, bool xpic) {
   PetscCall(DMCreateGlobalVector(grid.dm, &P));
   PetscCall(PetscObjectSetName(reinterpret_cast<PetscObject>(P), "momentum"));
   for (Vec *v : {&mass, &vel, &acc, &f, &rhs, &bcMask, &mask, &invMass})
@@ -19,6 +20,11 @@ PetscErrorCode Nodal::create(const Grid &grid, bool external, bool cracks) {
     PetscCall(VecDuplicate(P, &face));
     PetscCall(grid.createWindowVec(&faceW));
     PetscCall(grid.createWindowVec(&maskW));
+  }
+  if (xpic) {
+    PetscCall(VecDuplicate(P, &vstar));
+    PetscCall(VecDuplicate(P, &term));
+    PetscCall(grid.createWindowVec(&vstarW));
   }
   if (external) {
     PetscCall(VecDuplicate(P, &fext));

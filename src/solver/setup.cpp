@@ -65,7 +65,7 @@ PetscErrorCode Solver::setup() {
   PetscCall(nodal_.create(grid_,
                           !sc_.tractions.empty() || !sc_.dbcs.empty() || sc_.gravity[0] != 0 ||
                               sc_.gravity[1] != 0 || sc_.mms != Mms::None,
-                          !sc_.cracks.empty()));
+                          !sc_.cracks.empty(), sc_.transfer == Transfer::Xpic));
   contact_.setup(grid_, sc_.cracks);
   PetscCall(physics::nodeConstraints(sc_, grid_, nodal_.bcMask));
   PetscCall(findProbes(comm_, sc_, sw_, probeIds_));

@@ -44,8 +44,9 @@ PetscErrorCode Solver::stabilityEstimate(bool springs, bool smallest, stability:
   PetscCall(migrate());
   ParticleView p;
   PetscCall(p.get(sw_));
-  PetscCall(buildStencils(p, tracking::domainCentres(p, centres_, sc_.tracking)));
-  PetscCall(particlesToGrid(p));
+  const double *centres = stencilCentres(p);
+  PetscCall(buildStencils(p, centres));
+  PetscCall(particlesToGrid(p, centres));
   stability::OperatorInput in;
   in.sc = &sc_;
   in.grid = &grid_;
@@ -56,6 +57,10 @@ PetscErrorCode Solver::stabilityEstimate(bool springs, bool smallest, stability:
   in.stressOnUpdated = !scheme_.stressFromReprojection && !scheme_.stressBeforeGridUpdate;
   in.mask = nodal_.mask;
   in.invMass = nodal_.invMass;
+  if (sc_.transfer == Transfer::Apic) { // R: APIC's affine re-projection
+    in.centres = centres;
+    in.slotX = slotCoordinates();
+  }
   try {
     PetscCall(stability::estimate(comm_, in, smallest, e));
   } catch (...) {
@@ -87,6 +92,9 @@ PetscErrorCode Solver::stabilityAtStart() {
       e.omega, e.lambdaRe, e.lambdaIm,
       scheme_.stressFromReprojection || scheme_.stressBeforeGridUpdate ? "R" : "(2 - R)",
       e.iterations, e.dtCritical, dt, explicitDt ? "-ts_dt" : "-gimp_cfl x dt_critical"));
+  if (sc_.transfer == Transfer::Xpic)
+    PetscCall(PetscPrintf(comm_, "gimp: stability: R is the PIC re-projection: with xpic "
+                                 "dt_critical is an estimate not verified (docs/method.md)\n"));
   if (e.hasSmallest)
     PetscCall(PetscPrintf(
         comm_,

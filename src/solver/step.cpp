@@ -2,7 +2,6 @@
 // (stencils), transfer (P2G, G2P), physics (forces, deformation, tracking), TS (grid update),
 // diagnostics and io (report). Values one phase hands to a later one are passed explicitly.
 #include "gimp/cracks/fields.hpp"
-#include "gimp/physics/constraints.hpp"
 #include "gimp/physics/deformation.hpp"
 #include "gimp/physics/internal_force.hpp"
 #include "gimp/solver/solver.hpp"
@@ -32,9 +31,9 @@ PetscErrorCode Solver::step() {
   PetscCall(p.get(sw_));
   // Where each particle's weights are centred (the corner box with corner tracking), for the
   // stencils and the crack faces of this step.
-  const double *centres = tracking::domainCentres(p, centres_, sc_.tracking);
+  const double *centres = stencilCentres(p);
   PetscCall(buildStencils(p, centres));
-  PetscCall(particlesToGrid(p));
+  PetscCall(particlesToGrid(p, centres));
   PetscCall(PetscLogStagePop());
   if (!sc_.cracks.empty()) {
     PetscCall(crackFaces(p));
@@ -46,7 +45,7 @@ PetscErrorCode Solver::step() {
   PetscCall(gridUpdate());
   if (!sc_.cracks.empty())
     PetscCall(crackContact(c, nodal_.velW, nodal_.vel, nodal_.accW, nodal_.acc));
-  PetscCall(gridToParticles(p, c));
+  PetscCall(gridToParticles(p, c, centres));
   PetscCall(work(c, power));
   if (!scheme_.stressBeforeGridUpdate) PetscCall(stress(p, nodal_.velW, c.dt));
   PetscCall(checks(p, c.step + 1, c.t + c.dt));
@@ -87,28 +86,6 @@ PetscErrorCode Solver::buildStencils(const ParticleView &p, const double *centre
   } else if (!grid_.buildStencils(p.n, centres, p.l, st_))
     localFailure_ = "a particle is larger than a level-0 cell (its half-size exceeds -gimp_h)";
   cracks::assignFields(grid_, sc_.cracks, p.n, centres, st_);
-  return PETSC_SUCCESS;
-}
-
-PetscErrorCode Solver::particlesToGrid(const ParticleView &p) {
-  // Mass and momentum to the nodes, masked (constraints, empty nodes); the nodal velocity.
-  PetscScalar *mom = nullptr, *mass = nullptr;
-  PetscCall(VecZeroEntries(nodal_.sumW));
-  PetscCall(VecZeroEntries(nodal_.massW));
-  PetscCall(VecGetArray(nodal_.sumW, &mom));
-  PetscCall(VecGetArray(nodal_.massW, &mass));
-  transfer::particlesToGrid<kDim>(st_, p.n, p.m, p.v, mom, mass);
-  PetscCall(VecRestoreArray(nodal_.massW, &mass));
-  PetscCall(VecRestoreArray(nodal_.sumW, &mom));
-  PetscCall(VecZeroEntries(nodal_.P));
-  PetscCall(grid_.addFromWindow(nodal_.sumW, nodal_.P));
-  PetscCall(VecZeroEntries(nodal_.mass));
-  PetscCall(grid_.addFromWindow(nodal_.massW, nodal_.mass));
-  PetscCall(physics::massMask(nodal_.mass, nodal_.bcMask, sc_.massCutoff * meanParticleMass_,
-                              nodal_.mask, nodal_.invMass));
-  PetscCall(VecPointwiseMult(nodal_.P, nodal_.P, nodal_.mask));
-  PetscCall(VecPointwiseMult(nodal_.vel, nodal_.P, nodal_.invMass));
-  if (scheme_.stressBeforeGridUpdate) PetscCall(grid_.toWindow(nodal_.vel, nodal_.velW));
   return PETSC_SUCCESS;
 }
 
@@ -222,56 +199,6 @@ PetscErrorCode Solver::crackContact(const StepClock &c, Vec velW, Vec vel, Vec a
                       c.step, touching));
   PetscCall(grid_.fromWindow(velW, vel, INSERT_VALUES));
   if (accW) PetscCall(grid_.fromWindow(accW, acc, INSERT_VALUES));
-  PetscCall(PetscLogStagePop());
-  return PETSC_SUCCESS;
-}
-
-PetscErrorCode Solver::gridToParticles(ParticleView &p, const StepClock &c) {
-  PetscCall(PetscLogStagePush(stages_.g2p));
-  const PetscScalar *vg = nullptr, *ag = nullptr;
-  PetscCall(VecGetArrayRead(nodal_.velW, &vg));
-  PetscCall(VecGetArrayRead(nodal_.accW, &ag));
-  transfer::gridToParticles<kDim>(st_, p.n, vg, ag, c.dt, sc_.flip, p.v, p.x);
-  PetscCall(VecRestoreArrayRead(nodal_.accW, &ag));
-  PetscCall(VecRestoreArrayRead(nodal_.velW, &vg));
-  const bool corners = tracksCorners(sc_.tracking);
-  if (scheme_.stressFromReprojection || corners) {
-    // Re-project the updated particle momentum (acc is free now): the velocity field of MUSL's
-    // stress update, and the one the corners follow. Unlike p^n+1 / m it is a weighted mean of
-    // particle velocities, so a node that a particle barely touches (tiny mass, huge F / m)
-    // cannot throw a corner away.
-    PetscScalar *mom = nullptr;
-    PetscCall(VecZeroEntries(nodal_.sumW));
-    PetscCall(VecGetArray(nodal_.sumW, &mom));
-    transfer::particlesToGrid<kDim>(st_, p.n, p.m, p.v, mom, nullptr);
-    PetscCall(VecRestoreArray(nodal_.sumW, &mom));
-    PetscCall(VecZeroEntries(nodal_.acc));
-    PetscCall(grid_.addFromWindow(nodal_.sumW, nodal_.acc));
-    PetscCall(VecPointwiseMult(nodal_.acc, nodal_.acc, nodal_.invMass));
-    PetscCall(grid_.toWindow(nodal_.acc, nodal_.accW));
-    // The re-projected fields of a cracked node may approach each other again: the same contact
-    // (faces of this step), or MUSL's strain would see the faces interpenetrate.
-    if (!sc_.cracks.empty()) PetscCall(crackContact(c, nodal_.accW, nodal_.acc, nullptr, nullptr));
-    if (scheme_.stressFromReprojection) {
-      PetscCall(VecCopy(nodal_.acc, nodal_.vel));
-      PetscCall(VecCopy(nodal_.accW, nodal_.velW));
-    }
-    if (corners) {
-      PetscCall(grid_.toWindow(nodal_.mass, nodal_.massW)); // the summed mass on the window
-      const PetscScalar *va = nullptr, *mw = nullptr;
-      PetscCall(VecGetArrayRead(nodal_.accW, &va));
-      PetscCall(VecGetArrayRead(nodal_.massW, &mw));
-      // cpdi2 moves its corners with the grid's point shape functions (Sadeghirad et al. 2013).
-      const double size = sc_.tracking == Tracking::Cpdi2 ? 0.0 : sc_.cornerSize;
-      const bool ok = corners_.move(grid_, sc_.cracks, size, sc_.massCutoff * meanParticleMass_,
-                                    c.dt, va, mw, p);
-      PetscCall(VecRestoreArrayRead(nodal_.massW, &mw));
-      PetscCall(VecRestoreArrayRead(nodal_.accW, &va));
-      if (!ok)
-        localFailure_ = "a tracked corner's particle is larger than a level-0 cell, or a corner "
-                        "left the grid";
-    }
-  }
   PetscCall(PetscLogStagePop());
   return PETSC_SUCCESS;
 }

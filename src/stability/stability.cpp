@@ -2,6 +2,7 @@
 
 #include "gimp/physics/internal_force.hpp"
 #include "gimp/physics/material.hpp"
+#include "gimp/transfer/affine.hpp"
 #include "gimp/transfer/transfer.hpp"
 
 #include <algorithm>
@@ -29,8 +30,8 @@ struct Shell {
   OperatorInput in;
   Vec xm = nullptr, r = nullptr, w = nullptr; // global
   Vec uW = nullptr, fW = nullptr;             // window
-  std::vector<double> L, ds, vp, xp;
-  double bScale = 1, rScale = 0; // the shell applies bScale B + rScale R
+  std::vector<double> L, ds, vp, xp, B, C;    // B, C: APIC's affine fields
+  double bScale = 1, rScale = 0;              // the shell applies bScale B + rScale R
 };
 
 /// out = R in, R = M^-1 M_c the re-projection of MUSL: `in` interpolated to the particles (G2P
@@ -41,12 +42,23 @@ PetscErrorCode reproject(Shell &s, Vec in, Vec out) {
   PetscCall(s.in.grid->toWindow(in, s.uW));
   const PetscScalar *u = nullptr;
   PetscScalar *mom = nullptr;
+  const bool affine = s.in.centres != nullptr;
   PetscCall(VecGetArrayRead(s.uW, &u));
-  transfer::gridToParticles<2>(*s.in.st, p.n, u, u, 0.0, 0.0, s.vp.data(), s.xp.data());
+  if (affine) {
+    transfer::gridToParticlesAffine<2>(*s.in.st, p.n, u, s.in.centres, s.in.slotX, 0.0, s.vp.data(),
+                                       s.B.data(), s.xp.data());
+    transfer::affineVelocity<2>(*s.in.st, p.n, s.in.centres, s.in.slotX, s.B.data(), s.C.data());
+  } else {
+    transfer::gridToParticles<2>(*s.in.st, p.n, u, u, 0.0, 0.0, s.vp.data(), s.xp.data());
+  }
   PetscCall(VecRestoreArrayRead(s.uW, &u));
   PetscCall(VecZeroEntries(s.fW));
   PetscCall(VecGetArray(s.fW, &mom));
-  transfer::particlesToGrid<2>(*s.in.st, p.n, p.m, s.vp.data(), mom, nullptr);
+  if (affine)
+    transfer::particlesToGridAffine<2>(*s.in.st, p.n, p.m, s.vp.data(), s.C.data(), s.in.centres,
+                                       s.in.slotX, mom, nullptr);
+  else
+    transfer::particlesToGrid<2>(*s.in.st, p.n, p.m, s.vp.data(), mom, nullptr);
   PetscCall(VecRestoreArray(s.fW, &mom));
   PetscCall(VecZeroEntries(out));
   PetscCall(s.in.grid->addFromWindow(s.fW, out));
@@ -171,6 +183,10 @@ PetscErrorCode estimate(MPI_Comm comm, const OperatorInput &in, bool smallest, E
   s.ds.assign(4 * static_cast<size_t>(in.p->n), 0.0);
   s.vp.assign(2 * static_cast<size_t>(in.p->n), 0.0);
   s.xp.assign(2 * static_cast<size_t>(in.p->n), 0.0);
+  if (in.centres) {
+    s.B.assign(4 * static_cast<size_t>(in.p->n), 0.0);
+    s.C.assign(4 * static_cast<size_t>(in.p->n), 0.0);
+  }
   PetscCall(DMCreateGlobalVector(in.grid->dm, &s.xm));
   PetscCall(VecDuplicate(s.xm, &s.r));
   PetscCall(VecDuplicate(s.xm, &s.w));

@@ -7,6 +7,7 @@
 
 #include <petscdm.h>
 
+#include <array>
 #include <limits>
 #include <string>
 #include <vector>
@@ -27,16 +28,24 @@ struct RunMeasures {
   PetscInt64 migrated = 0;        // particles that changed rank, summed over the run
 };
 
-/// The hole measure (-gimp_hole_measure): hoop stress / p of the first layer of particles next
-/// to the hole by angle from the load axis (rows: angle [deg], r, hoop / p, Kirsch's value at r;
-/// on rank 0), kt at 90 degrees (the nearest particle, and its linear extrapolation to the edge
-/// along the 90-degree ray), and the hoop stress at 0, 15, ..., 90 degrees.
+/// The hole measure (-gimp_hole_measure): the hoop stress / p at the hole's edge as a curve over
+/// the angle from the load axis. At every angle bin (5 degrees apart, a window of +-5 degrees)
+/// the hoop stress of the particles within three particle sizes of the edge is fitted by least
+/// squares, quadratic in the distance from the edge and in the angle, and the fit's value at the
+/// edge and the bin's angle is the curve's (`curve`: angle [deg], edge value, Kirsch's edge value
+/// 1 - 2 cos 2 theta, particles in the fit). kt is the curve at 90 degrees, hoopByAngle at 0, 15,
+/// ..., 90 degrees, maxError the largest distance of the curve from Kirsch's edge values (the
+/// infinite plate's). ktParticle is the particle on the 90-degree ray nearest to the edge. rows:
+/// the first layer of particles (angle [deg], r, hoop / p, Kirsch's value at r). On rank 0 only:
+/// rows and curve; every rank: the numbers.
 struct HoleMeasure {
   static constexpr int kAngles = 7;
   double kt = std::numeric_limits<double>::quiet_NaN();
-  double ktEdge = std::numeric_limits<double>::quiet_NaN();
+  double ktParticle = std::numeric_limits<double>::quiet_NaN();
+  double maxError = std::numeric_limits<double>::quiet_NaN();
   std::vector<double> hoopByAngle;
   std::vector<std::vector<double>> rows;
+  std::vector<std::array<double, 4>> curve;
 };
 
 /// Ids of the particles nearest to each probe's initial position (ties: smallest id).

@@ -14,6 +14,7 @@
 namespace gimp {
 
 enum class Update { USF, USL, MUSL };
+enum class Transfer { Flip, Apic, Xpic };
 enum class Tracking { None, Strain, Stretch, Corners, Cpdi, Cpdi2 };
 
 /// Whether particles carry tracked corners (corners: the paper's mode; cpdi2: the quadrilateral
@@ -54,6 +55,7 @@ struct Body {
   Vec2 velocity{};          // initial velocity [m/s]
   bool sineProfile = false; // v = velocity * sin(k (X - x0)) instead of uniform
   double wavenumber = 0;    // k [1/m]
+  double spin = 0;          // initial rigid rotation about the box's centre [rad/s]
   bool inside(double x, double y) const;
 };
 
@@ -134,8 +136,11 @@ struct Scene {
   std::vector<NodeBC> bcs;
   double damping = 0;
   Update update = Update::MUSL;
-  double flip = 1.0;
-  bool halfStepStart = true; // leapfrog start: half kick on the first step
+  Transfer transfer = Transfer::Apic; // particle <-> grid velocity transfer
+  double flip = 1.0;                  // FLIP fraction of -gimp_transfer flip
+  int xpicOrder = 2;                  // m of XPIC(m)
+  bool halfStepStart = true;          // leapfrog start: half kick on the first step
+  bool cutCells = true;               // particles cut by a hole take the cut's area and centroid
   Tracking tracking = Tracking::Stretch;
   double cornerSize = 0.5;           // fictitious corner size / initial particle size
   double separationThreshold = 0.05; // gap between former neighbours / particle size

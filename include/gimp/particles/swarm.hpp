@@ -30,6 +30,7 @@ struct ParticleView {
   double *s = nullptr;       // Cauchy stress, row-major D x D
   double *szz = nullptr;     // out-of-plane stress (plane strain; zero in plane stress)
   double *eps = nullptr;     // accumulated small-strain increments (xx, yy) [D]
+  double *B = nullptr;       // APIC affine moment sum_i S_ip v_i (x_i - x_p)^T, row-major D x D
   PetscInt64 *id = nullptr;  // identity, independent of the rank count
   PetscInt *trac = nullptr;  // traction index on its x side and y side, -1 if none [D]
   PetscInt *dbc = nullptr;   // penalty displacement condition index, likewise [D]

@@ -20,15 +20,17 @@ struct Nodal {
   Vec mask = nullptr;    // bcMask times (node has mass)
   Vec invMass = nullptr; // mask / mass
   Vec face = nullptr;    // with cracks: where each field's material ends toward the other
+  Vec vstar = nullptr, term = nullptr; // XPIC: the filtered velocity and its series' term
   // Window.
   Vec sumW = nullptr, massW = nullptr, velW = nullptr, accW = nullptr, extW = nullptr;
   Vec faceW = nullptr, maskW = nullptr; // with cracks: faces; mask on the window
+  Vec vstarW = nullptr;                 // XPIC: the filtered velocity on the window
 
   Nodal() = default;
   Nodal(const Nodal &) = delete;
   Nodal &operator=(const Nodal &) = delete;
   ~Nodal();
-  PetscErrorCode create(const Grid &grid, bool external, bool cracks);
+  PetscErrorCode create(const Grid &grid, bool external, bool cracks, bool xpic);
 };
 
 } // namespace gimp

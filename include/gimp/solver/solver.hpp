@@ -74,7 +74,19 @@ private:
   PetscErrorCode step();
   PetscErrorCode migrate();
   PetscErrorCode buildStencils(const ParticleView &p, const double *centres);
-  PetscErrorCode particlesToGrid(const ParticleView &p);
+  // the transfers (solver/transfers.cpp)
+  /// Where the stencils are centred: tracking::domainCentres, copied when the affine transfer
+  /// needs the centres after G2P has moved the particles.
+  const double *stencilCentres(const ParticleView &p);
+  /// The window coordinates of every slot (D per slot), built once.
+  const double *slotCoordinates();
+  /// Momentum of the particles' velocities (with APIC their affine fields) into the window
+  /// array mom, and the mass into mass when it is not null.
+  void projectMomentum(const ParticleView &p, const double *centres, double *mom, double *mass);
+  PetscErrorCode particlesToGrid(const ParticleView &p, const double *centres);
+  /// XPIC(m): v* = sum_{k<m} (I - M^-1 S^T M_p S)^k v^n into nodal_.vstarW.
+  PetscErrorCode xpicFilter(const ParticleView &p, const StepClock &c);
+  PetscErrorCode reproject(ParticleView &p, const StepClock &c, const double *centres);
   PetscErrorCode forces(const ParticleView &p, const StepClock &c, StartPower &power);
   PetscErrorCode gridUpdate();
   /// Each crack field's nodal displacement along the contact normal at the cracked nodes (into
@@ -84,7 +96,7 @@ private:
   /// Contact on a grid velocity (window velW, global vel) and, when accW is given, the same
   /// change / dt on the acceleration (window accW, global acc).
   PetscErrorCode crackContact(const StepClock &c, Vec velW, Vec vel, Vec accW, Vec acc);
-  PetscErrorCode gridToParticles(ParticleView &p, const StepClock &c);
+  PetscErrorCode gridToParticles(ParticleView &p, const StepClock &c, const double *centres);
   PetscErrorCode work(const StepClock &c, const StartPower &power);
   PetscErrorCode stress(ParticleView &p, Vec velocityWindow, double dt);
   PetscErrorCode checks(const ParticleView &p, PetscInt step, double t);
@@ -122,7 +134,11 @@ private:
   Nodal nodal_;
   Stencils<kDim> st_;               // particle -> node weights, rebuilt each step
   std::vector<double> L_;           // velocity gradient per particle (row-major 2 x 2)
-  std::vector<double> centres_;     // weight centres with corner tracking
+  std::vector<double> centres_;     // weight centres with corner tracking (or APIC's copy)
+  std::vector<double> slotX_;       // window coordinates of every slot (affine transfers)
+  std::vector<double> affineC_;     // APIC's C_p = B_p D_p^-1 per particle (row-major D x D)
+  std::vector<double> affineDinv_;  // APIC's D_p^-1 of this step's stencils (row-major D x D)
+  std::vector<double> xpicVp_;      // XPIC's interpolated field per particle (D each)
   std::vector<double> cpdiCorners_; // the cpdi parallelograms of this step
   physics::Boundary boundary_;      // external forces and penalty conditions
   tracking::CornerMotion corners_;  // corner tracking's motion of the corners

@@ -48,6 +48,9 @@ struct OperatorInput {
   bool springs = true;                         // false: the penalty springs left out
   bool stressOnUpdated = false;          // USL: the stress follows V^n + dt a^n, (2 - R) x, not R x
   Vec mask = nullptr, invMass = nullptr; // global, from P2G
+  // APIC: R is the affine re-projection, about the stencils' centres with the slots' coordinates
+  // (D per particle and per slot); null: the FLIP/PIC re-projection.
+  const double *centres = nullptr, *slotX = nullptr;
 };
 
 /// The eigenvalues that bound the step.
