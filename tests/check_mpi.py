@@ -20,11 +20,6 @@ for scene, tag, layout in cases:
     opts = "options/%s.opts" % scene
     mode = tag.split("-")[1] if "-" in tag else ""
     extra = ["-gimp_tracking", mode] if mode else []
-    # cpdi2 with APIC (the default transfer) fails on this scene: where the block enters the
-    # ratio-3 level, D_p shrinks ninefold and C_p = B_p D_p^-1 with the coarse level's B_p throws
-    # the tracked corners apart (docs/validation.md "Velocity transfers", open). FLIP here.
-    if mode == "cpdi2":
-        extra += ["-gimp_transfer", "flip"]
     key = scene + " ".join(extra)
     if key not in serial:
         d1 = os.path.join(args.work, "%s_np1%s.csv" % (scene, "_" + mode if mode else ""))

@@ -46,6 +46,7 @@ PetscErrorCode Solver::stabilityEstimate(bool springs, bool smallest, stability:
   PetscCall(p.get(sw_));
   const double *centres = stencilCentres(p);
   PetscCall(buildStencils(p, centres));
+  centres = affineCentres(p, centres);
   PetscCall(particlesToGrid(p, centres));
   stability::OperatorInput in;
   in.sc = &sc_;

@@ -33,6 +33,7 @@ PetscErrorCode Solver::step() {
   // stencils and the crack faces of this step.
   const double *centres = stencilCentres(p);
   PetscCall(buildStencils(p, centres));
+  centres = affineCentres(p, centres);
   PetscCall(particlesToGrid(p, centres));
   PetscCall(PetscLogStagePop());
   if (!sc_.cracks.empty()) {

@@ -21,6 +21,17 @@ const double *Solver::stencilCentres(const ParticleView &p) {
   return centres_.data();
 }
 
+const double *Solver::affineCentres(const ParticleView &p, const double *centres) {
+  // cpdi2's weights integrate the quadrilateral of the corners, whose centroid drifts from the
+  // material point that G2P moves; moments about the material point would read the particle's
+  // velocity times that offset as a velocity gradient (and divide it by D_p, ratio^2 smaller on
+  // a finer level). Corners and GIMP domains are centred where their weights are.
+  if (sc_.transfer != Transfer::Apic || sc_.tracking != Tracking::Cpdi2) return centres;
+  centres_.resize(kDim * static_cast<size_t>(p.n));
+  transfer::weightCentroids<kDim>(st_, p.n, slotCoordinates(), centres_.data());
+  return centres_.data();
+}
+
 const double *Solver::slotCoordinates() {
   if (slotX_.size() != kDim * static_cast<size_t>(grid_.nSlots)) {
     slotX_.resize(kDim * static_cast<size_t>(grid_.nSlots));

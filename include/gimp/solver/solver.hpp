@@ -78,6 +78,9 @@ private:
   /// Where the stencils are centred: tracking::domainCentres, copied when the affine transfer
   /// needs the centres after G2P has moved the particles.
   const double *stencilCentres(const ParticleView &p);
+  /// The centres of APIC's moments once the stencils are built: the stencils' centres, or with
+  /// cpdi2 the weights' centroid sum_i S_ip x_i (the quadrilateral's, not the material point's).
+  const double *affineCentres(const ParticleView &p, const double *centres);
   /// The window coordinates of every slot (D per slot), built once.
   const double *slotCoordinates();
   /// Momentum of the particles' velocities (with APIC their affine fields) into the window

@@ -16,6 +16,21 @@
 
 namespace gimp::transfer {
 
+/// x_p = sum_i S_ip x_i for every particle: the point its weights are centred at (into xc).
+/// Moments about any other point y see an affine field v = a + G x as
+/// B = v(x_p) (x_p - y)^T + G D: a gradient made of the velocity itself.
+template <int D>
+void weightCentroids(const Stencils<D> &st, PetscInt n, const double *xs, double *xc) {
+  for (PetscInt k = 0; k < n; ++k) {
+    double c[D] = {};
+    for (PetscInt e = st.start[k]; e < st.start[k + 1]; ++e)
+      for (int a = 0; a < D; ++a)
+        c[a] += st.weight(e) * xs[D * st.node[e] + a];
+    for (int a = 0; a < D; ++a)
+      xc[D * k + a] = c[a];
+  }
+}
+
 /// D_p = sum_i S_ip (x_i - x_p)(x_i - x_p)^T of particle k.
 template <int D>
 Tensor<D> inertia(const Stencils<D> &st, PetscInt k, const double *xc, const double *xs) {
