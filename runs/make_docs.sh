@@ -105,6 +105,10 @@ step tension "$py" "$root/tests/check_tension.py" --gimp "$gimp" --root "$root" 
 step plot_tension "$py" "$root/tools/plot_tension.py" --gimp "$gimp" --work "$work/tension_plot"
 step mms_tracking "$py" "$root/runs/study_mms_tracking.py" --gimp "$gimp" \
   --work "$work/mms_tracking"
+# Large-deflection cantilever against the elastica: tracking modes and two grids (table and
+# docs/img/cantilever.png; about 35 minutes on one core, most of it the two runs at H / h = 8).
+step cantilever "$py" "$root/runs/study_cantilever.py" --gimp "$gimp" --root "$root" \
+  --work "$work/cantilever" --write-docs
 
 # Cracks: the DCB grid study at rest (table, docs/img/dcb_speed_error.png; about 30 minutes of
 # CPU, most of it the uniform 0.5 mm reference) and the large-load DCB (docs/img/dcb_large.png).

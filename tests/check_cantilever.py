@@ -4,8 +4,8 @@ neo-Hookean beam of L/H = 20 clamped at x = 0 under a dead tip load, damped to r
 
 Measured from the particles (tests/elastica.py): the centre line is the mean position of each
 column of particles of equal initial x = s; the tip is the last column (s = L - h/4, compared
-with the elastica at that same s); the rotation theta(s) is the slope of a local quadratic
-through 7 columns. Checks, for each load:
+with the elastica at that same s); the rotation theta(s) is the rotation of each column's
+section (the line through its particles). Checks, for each load:
 - the run came to rest (status at_rest);
 - the tip displacement along x and along y within 1 % of the elastica's;
 - the tip rotation within 0.5 degree, and the rotation along the whole beam within 0.5 degree.
