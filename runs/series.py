@@ -14,7 +14,9 @@ def parse_args(work):
     ap.add_argument("--gimp", default=os.path.join(ROOT, "build", "gimp"))
     ap.add_argument("--work", default=os.path.join(ROOT, "build", work))
     ap.add_argument("--no-run", action="store_true", help="tables and figure from the last runs")
-    return ap.parse_args()
+    a = ap.parse_args()
+    a.gimp, a.work = os.path.abspath(a.gimp), os.path.abspath(a.work)  # runs change directory
+    return a
 
 
 def run_series(a, runs, common=(), cwd=None):
