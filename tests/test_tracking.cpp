@@ -217,6 +217,24 @@ TEST(Tracking, CornersOnALoadedEdgeFollowTheStrain) {
   EXPECT_NEAR(o.V[0], (tri(0, 1, 2) + tri(0, 2, 3)) * kThickness, tol * l0 * kThickness);
 }
 
+// A cut cell's domain may be larger than its volume (a sliver keeps a minimum half-size,
+// src/particles/seed.cpp): corners and cpdi2 scale the initial volume V0 by the quadrilateral's
+// area over the initial rectangle's, not the domain's area times the thickness.
+TEST(Tracking, CornerVolumesScaleTheInitialVolume) {
+  for (Tracking mode : {Tracking::Corners, Tracking::Cpdi2}) {
+    const Scene sc = scene(mode);
+    const double l0x = 0.02, l0y = 0.005;
+    One o(0.3, -0.7, l0x, l0y);
+    const double v0 = 0.3 * 4 * l0x * l0y * kThickness; // the cut's area is 0.3 of the domain's
+    o.V0[0] = o.V[0] = v0;
+    const Tensor2 M = 1.2 * rotation(0.7) * tensor(1.5, 0.2, 0.0, 0.6);
+    o.mapCorners(M);
+    gimp::tracking::updateDomain(sc, o.p, 0, kL, 1e-3);
+    const double det = M(0, 0) * M(1, 1) - M(0, 1) * M(1, 0);
+    EXPECT_NEAR(o.V[0], v0 * det, 1e-12 * v0) << "mode " << static_cast<int>(mode);
+  }
+}
+
 TEST(Tracking, DomainCentres) {
   One o(0.3, -0.7, 0.02, 0.03);
   std::vector<double> centre;

@@ -51,10 +51,18 @@ bool cutByHoles(const Body &body, Seed &s) {
   if (disks.empty()) return true;
   const cut::Moments m = cut::rectMinusDisks(s.cx0, s.cy0, s.cx1, s.cy1, disks);
   if (m.A <= 0) return false;
+  const double half[2] = {0.5 * (s.cx1 - s.cx0), 0.5 * (s.cy1 - s.cy0)};
   s.x = m.cx;
   s.y = m.cy;
   s.area = m.A;
   cut::equivalentRectangle(m, s.l);
+  // A sliver's domain keeps a quarter of the square's half-size each way (its volume stays the
+  // cut's area): a domain much thinner than its cell acts like a material point across the grid
+  // line it straddles, the weight of the node beyond falls linearly instead of quadratically as
+  // it leaves that node's support, and the tiny nodal mass against the weight's gradient gives a
+  // frequency of about c / sqrt(h l) that the time step does not resolve.
+  for (int a = 0; a < 2; ++a)
+    s.l[a] = std::max(s.l[a], cut::kMinSliverFraction * half[a]);
   s.cx0 = s.x - s.l[0];
   s.cx1 = s.x + s.l[0];
   s.cy0 = s.y - s.l[1];

@@ -32,4 +32,8 @@ Moments rectMinusDisks(double x0, double y0, double x1, double y1,
 /// Ixx / Iyy = a^2 / b^2), scaled to the region's area. Half-sizes into l[0], l[1].
 void equivalentRectangle(const Moments &m, double l[2]);
 
+/// The smallest half-size of a cut particle's domain along each axis, as a fraction of the
+/// square's (src/particles/seed.cpp).
+constexpr double kMinSliverFraction = 0.25;
+
 } // namespace gimp::cut

@@ -50,6 +50,12 @@ inline double quadArea(const double *c) {
                 (c[4] * c[7] - c[6] * c[5]) + (c[6] * c[1] - c[0] * c[7]));
 }
 
+/// The volume of a particle whose corners span c: V0 times the quadrilateral's area over the
+/// initial rectangle's, 4 l0_x l0_y (a cut cell's domain may be larger than its volume).
+inline double volumeOfCorners(const ParticleView &p, PetscInt k, const double *c) {
+  return p.V0[k] * quadArea(c) / (4.0 * p.l0[2 * k] * p.l0[2 * k + 1]);
+}
+
 /// The CPDI domains' corners of every particle: the parallelograms of F (cpdi, into `scratch`)
 /// or the tracked corners (cpdi2).
 const double *cpdiCorners(const Scene &sc, const ParticleView &p, std::vector<double> &scratch);
@@ -79,9 +85,9 @@ inline void updateDomain(const Scene &sc, ParticleView &p, PetscInt k, const Ten
     cornerReach(p, k, c);
     return;
   }
-  case Tracking::Cpdi2: // the corners moved in G2P; the volume is the quad's area
+  case Tracking::Cpdi2: // the corners moved in G2P; the volume follows the quad's area
     cornerReach(p, k, &p.corners[8 * k]);
-    p.V[k] = quadArea(&p.corners[8 * k]) * sc.material.thickness;
+    p.V[k] = volumeOfCorners(p, k, &p.corners[8 * k]);
     return;
   case Tracking::Corners:
     break;
@@ -106,7 +112,7 @@ inline void updateDomain(const Scene &sc, ParticleView &p, PetscInt k, const Ten
   const double ymin = std::min({c[1], c[3], c[5], c[7]}), ymax = std::max({c[1], c[3], c[5], c[7]});
   p.l[2 * k] = 0.5 * (xmax - xmin);
   p.l[2 * k + 1] = 0.5 * (ymax - ymin);
-  p.V[k] = quadArea(c) * sc.material.thickness;
+  p.V[k] = volumeOfCorners(p, k, c);
 }
 
 /// Where each particle's weights are centred: the material point, or with corner tracking the
