@@ -6,11 +6,11 @@ d/W = 1/15, whose finite-width gross-section kt is (2 + (1 - d/W)^3) / (1 - d/W)
 The measurements of docs/validation.md, section "Hole edge convergence".
 
 Usage: /usr/bin/python3 runs/study_hole.py --gimp build/gimp --root . --work WORK [--no-run]
-       [--finest 6]
+       [--finest 7]
 
 Runs, into WORK/<name>:
-  wide_L4, wide_L5, wide_L6   plate_wide.opts with 4, 5, 6 levels: finest cell a / 4, a / 8,
-                              a / 16 next to the hole, cut cells (the default)
+  wide_L4 ... wide_L7         plate_wide.opts with 4 to 7 levels: finest cell a / 4, a / 8,
+                              a / 16, a / 32 next to the hole, cut cells (the default)
   wide_L4_nocut, wide_L5_nocut  the same without cut cells (-gimp_cut_cells false)
   paper_L3, paper_L4, paper_L5  plate_static.opts, 0.25 mm next to the hole, and one and two more
                               levels (0.125, 0.0625 mm) around the hole
@@ -61,7 +61,7 @@ def main():
     ap.add_argument("--work", required=True)
     ap.add_argument("--mpiexec", default="mpiexec")
     ap.add_argument("--no-run", action="store_true")
-    ap.add_argument("--finest", type=int, default=6, help="levels of the finest wide run")
+    ap.add_argument("--finest", type=int, default=7, help="levels of the finest wide run")
     args = ap.parse_args()
     args.gimp, args.root, args.work = (os.path.abspath(p) for p in (args.gimp, args.root,
                                                                      args.work))
