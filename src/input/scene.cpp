@@ -84,7 +84,8 @@ struct RunOptions {
   PetscReal dom[5] = {0, 0, 0, 0, 0}, hm[4] = {0, 0, 0, 0}; // one spare: extra values are seen
   PetscInt ndom = 5, nhm = 4, pad = 2, update = 2, tracking = 2, mms = 0, stabilityInterval = 0;
   PetscInt transfer = 1, xpicOrder = 2;
-  PetscBool setDom = PETSC_FALSE, setH = PETSC_FALSE, setFlip = PETSC_FALSE, setHm = PETSC_FALSE;
+  PetscBool setDom = PETSC_FALSE, setH = PETSC_FALSE, setFlip = PETSC_FALSE, setHm = PETSC_FALSE,
+            setCutoff = PETSC_FALSE;
 };
 
 const char *const kUpdates[] = {"usf", "usl", "musl"};
@@ -214,8 +215,8 @@ PetscErrorCode readMethodOptions(MPI_Comm comm, Scene &sc, RunOptions &o) {
                              nullptr));
   PetscCall(PetscOptionsReal("-gimp_mass_cutoff",
                              "Nodes lighter than this fraction of the mean particle mass are "
-                             "treated as empty [-]",
-                             "docs/options.md", sc.massCutoff, &sc.massCutoff, nullptr));
+                             "treated as empty (default 1e-14 with APIC, 1e-8 otherwise) [-]",
+                             "docs/options.md", sc.massCutoff, &sc.massCutoff, &o.setCutoff));
   PetscCall(PetscOptionsReal("-gimp_static_tol",
                              "Stop at rest: when the kinetic energy falls below this fraction of "
                              "the strain energy at a history row (0: off) [-]",
@@ -388,6 +389,7 @@ PetscErrorCode readScene(MPI_Comm comm, Scene &sc) {
     bad("gimp_hole_measure_load", "0", "the hole measure needs the remote stress p != 0 [Pa]");
   sc.update = static_cast<Update>(o.update);
   sc.transfer = static_cast<Transfer>(o.transfer);
+  if (!o.setCutoff) sc.massCutoff = Scene::defaultMassCutoff(sc.transfer);
   sc.xpicOrder = static_cast<int>(o.xpicOrder);
   sc.tracking = static_cast<Tracking>(o.tracking);
   sc.mms = static_cast<Mms>(o.mms);

@@ -145,6 +145,10 @@ struct Scene {
   double cornerSize = 0.5;           // fictitious corner size / initial particle size
   double separationThreshold = 0.05; // gap between former neighbours / particle size
   double massCutoff = 1e-14;         // relative to the mean particle mass
+  /// APIC comes to exact rest only with nodes down to 1e-14 of a particle's mass active; FLIP
+  /// and PIC stay quieter with the lightest nodes treated as empty (docs/method.md,
+  /// *Small-mass cut-off and constraints*).
+  static double defaultMassCutoff(Transfer t) { return t == Transfer::Apic ? 1e-14 : 1e-8; }
   double cfl = 0.3;
   bool stabilityCheck = false;  // critical step from the largest eigenvalue of M^-1 K (SLEPc)
   bool allowUnstableDt = false; // accept a -ts_dt above the critical step
