@@ -99,6 +99,9 @@ step plot_dispersion "$py" "$root/runs/study_dispersion.py" --root "$root" \
 # (table and docs/img/hole_edge.png; about 10 minutes).
 step hole "$py" "$root/runs/study_hole.py" --gimp "$gimp" --root "$root" --work "$work/hole"
 
+# Colliding disks: energies and rebound (table and docs/img/disks_energy.png; a few seconds).
+step disks "$py" "$root/runs/study_disks.py" --gimp "$gimp" --work "$work/disks"
+
 # Particle domain tracking: tension scene, its two figures, and the MMS with tracking modes.
 step tension "$py" "$root/tests/check_tension.py" --gimp "$gimp" --root "$root" \
   --work "$work/tension" --mpiexec "$mpiexec"

@@ -61,10 +61,38 @@ double Ramp::at(double time) const {
 }
 
 bool Body::inside(double x, double y) const {
-  if (x < box[0] || x > box[2] || y < box[1] || y > box[3]) return false;
+  if (!shape.contains(x, y)) return false;
   for (const Hole &c : holes)
     if ((x - c.cx) * (x - c.cx) + (y - c.cy) * (y - c.cy) < c.r * c.r) return false;
+  for (const Shape &h : shapeHoles)
+    if (h.strictlyInside(x, y)) return false;
   return true;
+}
+
+bool Body::strictlyInside(double x, double y) const {
+  if (!shape.strictlyInside(x, y)) return false;
+  for (const Hole &c : holes)
+    if ((x - c.cx) * (x - c.cx) + (y - c.cy) * (y - c.cy) <= c.r * c.r) return false;
+  for (const Shape &h : shapeHoles)
+    if (h.contains(x, y)) return false;
+  return true;
+}
+
+bool bodiesOverlap(const Body &a, const Body &b) {
+  const double x0 = std::max(a.box[0], b.box[0]), x1 = std::min(a.box[2], b.box[2]);
+  const double y0 = std::max(a.box[1], b.box[1]), y1 = std::min(a.box[3], b.box[3]);
+  if (!(x1 > x0) || !(y1 > y0)) return false;
+  for (const auto &p : a.shape.boundaryPoints(720))
+    if (b.strictlyInside(p[0], p[1])) return true;
+  for (const auto &p : b.shape.boundaryPoints(720))
+    if (a.strictlyInside(p[0], p[1])) return true;
+  const int n = 256; // one inside the other: a lattice over the boxes' intersection
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const double x = x0 + (i + 0.5) * (x1 - x0) / n, y = y0 + (j + 0.5) * (y1 - y0) / n;
+      if (a.strictlyInside(x, y) && b.strictlyInside(x, y)) return true;
+    }
+  return false;
 }
 
 double Material::lambdaEff() const {
@@ -344,14 +372,31 @@ void setDomain(Scene &sc, RunOptions &o) {
   sc.pad = pad;
 }
 
+/// The values of the option that gave the body's shape, as the user wrote them.
+std::string shapeText(const Body &b) {
+  const Shape &s = b.shape;
+  if (b.shapeOption == "circle") {
+    const double v[3] = {s.cx, s.cy, s.a};
+    return fmtList(v, 3);
+  }
+  if (b.shapeOption == "ellipse") {
+    const double v[4] = {s.cx, s.cy, s.a, s.b};
+    return fmtList(v, 4);
+  }
+  if (b.shapeOption == "polygon") return fmtList(s.xy.data(), static_cast<PetscInt>(s.xy.size()));
+  return fmtList(b.box.data(), 4);
+}
+
 /// Bodies do not overlap and lie in the domain; the manufactured solution fits the material.
 void checkBodies(const Scene &sc) {
   for (size_t k = 0; k < sc.bodies.size(); ++k)
     for (size_t q = 0; q < k; ++q) {
       const Box &a = sc.bodies[q].box, &b = sc.bodies[k].box;
-      if (a[0] < b[2] && b[0] < a[2] && a[1] < b[3] && b[1] < a[3])
-        bad("gimp_body" + std::to_string(k) + "_box", fmtList(b.data(), 4),
-            "overlaps body " + std::to_string(q) + " (" + fmtList(a.data(), 4) +
+      if (bodiesOverlap(sc.bodies[q], sc.bodies[k]))
+        bad("gimp_body" + std::to_string(k) + "_" + sc.bodies[k].shapeOption,
+            shapeText(sc.bodies[k]),
+            "overlaps body " + std::to_string(q) + " (bounding box " + fmtList(a.data(), 4) +
+                ", body " + std::to_string(k) + "'s " + fmtList(b.data(), 4) +
                 "): bodies may touch but not overlap");
     }
   if (sc.mms == Mms::Skb1d &&
@@ -361,8 +406,9 @@ void checkBodies(const Scene &sc) {
   for (size_t k = 0; k < sc.bodies.size(); ++k) {
     const Box &b = sc.bodies[k].box;
     if (b[0] < sc.domain[0] || b[1] < sc.domain[1] || b[2] > sc.domain[2] || b[3] > sc.domain[3])
-      bad("gimp_body" + std::to_string(k) + "_box", fmtList(b.data(), 4),
-          "lies outside the grid domain " + fmtList(sc.domain.data(), 4));
+      bad("gimp_body" + std::to_string(k) + "_" + sc.bodies[k].shapeOption, shapeText(sc.bodies[k]),
+          "lies outside the grid domain " + fmtList(sc.domain.data(), 4) + " (bounding box " +
+              fmtList(b.data(), 4) + ")");
   }
 }
 

@@ -52,6 +52,157 @@ PetscErrorCode readMaterial(MPI_Comm comm, Scene &sc) {
   return PETSC_SUCCESS;
 }
 
+namespace {
+
+bool allFinite(const PetscReal *v, PetscInt n) {
+  for (PetscInt i = 0; i < n; ++i)
+    if (!std::isfinite(v[i])) return false;
+  return true;
+}
+
+/// The body's shape from -gimp_bodyK_shape and the option it names (box, circle, ellipse,
+/// polygon), and its elliptic and polygonal holes; p is "-gimp_bodyK_".
+PetscErrorCode readShape(MPI_Comm comm, const std::string &p, bool help, Body &b) {
+  const char *shapes[] = {"rectangle", "circle", "ellipse", "polygon"};
+  constexpr PetscInt kMaxPolygon = 400, kMaxHolePolygons = 20;
+  PetscInt shape = 0, nbox = 5, ncirc = 4, nell = 5, npoly = kMaxPolygon + 1, nhe = 401, nhp = 0;
+  PetscReal box[5] = {0}, circ[4] = {0}, ell[5] = {0}, poly[kMaxPolygon + 1] = {0}, he[401] = {0};
+  PetscBool setBox = PETSC_FALSE, setCirc = PETSC_FALSE, setEll = PETSC_FALSE,
+            setPoly = PETSC_FALSE, setHe = PETSC_FALSE;
+  PetscCall(checkChoice(p + "shape", shapes, 4));
+  PetscOptionsBegin(comm, nullptr, ("Body shape " + p + "*").c_str(), "gimp");
+  PetscCall(PetscOptionsEList((p + "shape").c_str(),
+                              "Shape of the body: rectangle (_box), circle (_circle), ellipse "
+                              "(_ellipse) or polygon (_polygon)",
+                              "docs/options.md", shapes, 4, shapes[0], &shape, nullptr));
+  PetscCall(PetscOptionsRealArray((p + "box").c_str(), "Body rectangle x0,y0,x1,y1 [m]",
+                                  "docs/options.md", box, &nbox, &setBox));
+  PetscCall(PetscOptionsRealArray((p + "circle").c_str(), "Body circle cx,cy,r [m] (shape circle)",
+                                  "docs/options.md", circ, &ncirc, &setCirc));
+  PetscCall(PetscOptionsRealArray((p + "ellipse").c_str(),
+                                  "Body ellipse cx,cy,a,b, half-axes a along x and b along y [m] "
+                                  "(shape ellipse)",
+                                  "docs/options.md", ell, &nell, &setEll));
+  PetscCall(PetscOptionsRealArray((p + "polygon").c_str(),
+                                  "Body polygon x0,y0,x1,y1,... (a simple polygon, at most 200 "
+                                  "vertices) [m] (shape polygon)",
+                                  "docs/options.md", poly, &npoly, &setPoly));
+  PetscCall(PetscOptionsRealArray((p + "hole_ellipses").c_str(),
+                                  "Elliptic holes inside the body: cx,cy,a,b,... [m]",
+                                  "docs/options.md", he, &nhe, &setHe));
+  PetscCall(PetscOptionsInt((p + "hole_polygons").c_str(),
+                            "Number of polygonal holes (each _hole_polygonJ, J = 0..N-1)",
+                            "docs/options.md", nhp, &nhp, nullptr));
+  PetscOptionsEnd();
+  if (help) return PETSC_SUCCESS;
+  const std::string q = p.substr(1);
+  const bool set[4] = {setBox == PETSC_TRUE, setCirc == PETSC_TRUE, setEll == PETSC_TRUE,
+                       setPoly == PETSC_TRUE};
+  const char *opt[4] = {"box", "circle", "ellipse", "polygon"};
+  for (int k = 0; k < 4; ++k)
+    if (set[k] && k != shape)
+      bad(q + opt[k], "(given)",
+          std::string("is for shape ") + shapes[k] + ", but " + q + "shape is " + shapes[shape]);
+  if (!set[shape])
+    bad(q + opt[shape], "(missing)",
+        std::string("each body of shape ") + shapes[shape] + " needs it" +
+            (shape == 0 ? ": its rectangle x0,y0,x1,y1 [m]" : ""));
+  b.shapeOption = opt[shape];
+  switch (shape) {
+  case 0:
+    if (nbox != 4) bad(q + "box", fmtList(box, nbox), "needs 4 values x0,y0,x1,y1 [m]");
+    if (!allFinite(box, 4) || !(box[2] > box[0] && box[3] > box[1]))
+      bad(q + "box", fmtList(box, 4), "needs finite x1 > x0 and y1 > y0 (an empty body)");
+    b.shape = Shape::rectangle(box[0], box[1], box[2], box[3]);
+    break;
+  case 1:
+    if (ncirc != 3) bad(q + "circle", fmtList(circ, ncirc), "needs 3 values cx,cy,r [m]");
+    if (!allFinite(circ, 3) || !(circ[2] > 0))
+      bad(q + "circle", fmtList(circ, 3), "needs finite values and a radius r > 0 [m]");
+    b.shape = Shape::ellipse(circ[0], circ[1], circ[2], circ[2]);
+    break;
+  case 2:
+    if (nell != 4) bad(q + "ellipse", fmtList(ell, nell), "needs 4 values cx,cy,a,b [m]");
+    if (!allFinite(ell, 4) || !(ell[2] > 0) || !(ell[3] > 0))
+      bad(q + "ellipse", fmtList(ell, 4), "needs finite values and half-axes a, b > 0 [m]");
+    b.shape = Shape::ellipse(ell[0], ell[1], ell[2], ell[3]);
+    break;
+  default: {
+    if (npoly > kMaxPolygon)
+      bad(q + "polygon", "(more than 200 vertices)", "at most 200 vertices (400 values)");
+    const std::vector<double> xy(poly, poly + npoly);
+    const std::string why = polygonProblem(xy);
+    if (!why.empty()) bad(q + "polygon", fmtList(poly, npoly), why);
+    b.shape = Shape::polygon(xy);
+  }
+  }
+  b.box = b.shape.box;
+  // Elliptic and polygonal holes: inside the shape, apart from each other.
+  if (setHe && nhe > 400)
+    bad(q + "hole_ellipses", "(more than 100 holes)", "at most 100 (400 values cx,cy,a,b)");
+  if (setHe && nhe % 4 != 0)
+    bad(q + "hole_ellipses", fmtList(he, nhe), "needs groups of 4 values cx,cy,a,b");
+  for (PetscInt i = 0; setHe && i + 3 < nhe; i += 4) {
+    if (!allFinite(he + i, 4) || !(he[i + 2] > 0) || !(he[i + 3] > 0))
+      bad(q + "hole_ellipses", fmtList(he, nhe), "needs finite values and half-axes a, b > 0");
+    b.shapeHoles.push_back(Shape::ellipse(he[i], he[i + 1], he[i + 2], he[i + 3]));
+  }
+  if (nhp < 0 || nhp > kMaxHolePolygons)
+    bad(q + "hole_polygons", std::to_string(nhp),
+        "must be 0 to " + std::to_string(kMaxHolePolygons));
+  for (PetscInt j = 0; j < nhp; ++j) {
+    const std::string o = p + "hole_polygon" + std::to_string(j);
+    PetscReal v[kMaxPolygon + 1] = {0};
+    PetscInt n = kMaxPolygon + 1;
+    PetscBool given = PETSC_FALSE;
+    PetscOptionsBegin(comm, nullptr, ("Hole " + o).c_str(), "gimp");
+    PetscCall(PetscOptionsRealArray(o.c_str(), "Polygonal hole x0,y0,x1,y1,... [m]",
+                                    "docs/options.md", v, &n, &given));
+    PetscOptionsEnd();
+    if (!given)
+      bad(o.substr(1), "(missing)",
+          "each of the " + std::to_string(nhp) + " hole polygons needs its vertices");
+    if (n > kMaxPolygon) bad(o.substr(1), "(more than 200 vertices)", "at most 200 vertices");
+    const std::vector<double> xy(v, v + n);
+    const std::string why = polygonProblem(xy);
+    if (!why.empty()) bad(o.substr(1), fmtList(v, n), why);
+    b.shapeHoles.push_back(Shape::polygon(xy));
+  }
+  return PETSC_SUCCESS;
+}
+
+/// Holes lie inside the body (a rectangle's circular holes may cross its sides, as cut
+/// planes of symmetry do) and do not overlap one another.
+void checkHoles(const std::string &q, const Body &b) {
+  std::vector<Shape> all;
+  std::vector<std::string> names; // the option that gave each hole
+  for (const Hole &c : b.holes) {
+    all.push_back(Shape::ellipse(c.cx, c.cy, c.r, c.r));
+    names.push_back(q + "holes");
+  }
+  int polygons = 0;
+  for (const Shape &h : b.shapeHoles) {
+    all.push_back(h);
+    names.push_back(h.kind == Shape::Kind::Ellipse
+                        ? q + "hole_ellipses"
+                        : q + "hole_polygon" + std::to_string(polygons++));
+  }
+  for (size_t i = 0; i < all.size(); ++i) {
+    const bool mayCross = i < b.holes.size() && b.shape.kind == Shape::Kind::Rectangle;
+    if (!mayCross && !all[i].insideOf(b.shape))
+      bad(names[i], "(hole " + std::to_string(i) + ")",
+          "must lie inside the body's " + b.shapeOption +
+              " (only circular holes of a rectangle may cross its sides)");
+    for (size_t j = 0; j < i; ++j)
+      if (all[i].overlaps(all[j]))
+        bad(names[i], "(hole " + std::to_string(i) + ")",
+            "overlaps hole " + std::to_string(j) +
+                " of the same body: holes may touch but not overlap");
+  }
+}
+
+} // namespace
+
 PetscErrorCode readBodies(MPI_Comm comm, Scene &sc) {
   PetscInt nb = 1;
   PetscOptionsBegin(comm, nullptr, "Bodies", "gimp");
@@ -62,16 +213,14 @@ PetscErrorCode readBodies(MPI_Comm comm, Scene &sc) {
   for (PetscInt k = 0; k < std::max<PetscInt>(nb, 1); ++k) {
     Body b;
     const std::string p = "-gimp_body" + std::to_string(k) + "_";
-    PetscReal box[5] = {0, 0, 0, 0, 0}, holes[301] = {0}, vel[3] = {0, 0, 0};
-    PetscInt nbox = 5, nholes = 301, nvel = 3, ppc = 4, hppc = 0;
-    PetscBool setBox = PETSC_FALSE, setHoles = PETSC_FALSE;
+    PetscReal holes[301] = {0}, vel[3] = {0, 0, 0};
+    PetscInt nholes = 301, nvel = 3, ppc = 4, hppc = 0;
+    PetscBool setHoles = PETSC_FALSE;
     const char *profiles[] = {"uniform", "sine_x"};
     PetscInt profile = 0;
     PetscReal band = 0, k0 = 0, spin = 0;
     PetscCall(checkChoice(p + "velocity_profile", profiles, 2));
     PetscOptionsBegin(comm, nullptr, ("Body " + p + "*").c_str(), "gimp");
-    PetscCall(PetscOptionsRealArray((p + "box").c_str(), "Body rectangle x0,y0,x1,y1 [m]",
-                                    "docs/options.md", box, &nbox, &setBox));
     PetscCall(PetscOptionsRealArray((p + "holes").c_str(),
                                     "Circular holes removed from the body: cx,cy,r,... [m]",
                                     "docs/options.md", holes, &nholes, &setHoles));
@@ -98,27 +247,25 @@ PetscErrorCode readBodies(MPI_Comm comm, Scene &sc) {
                                "velocity: omega x (X - centre) [rad/s]",
                                "docs/options.md", spin, &spin, nullptr));
     PetscOptionsEnd();
+    PetscCall(readShape(comm, p, sc.help, b));
     if (sc.help) continue;
     const std::string q = p.substr(1);
-    if (!setBox) bad(q + "box", "(missing)", "each body needs its rectangle x0,y0,x1,y1 [m]");
-    if (nbox != 4) bad(q + "box", fmtList(box, nbox), "needs 4 values x0,y0,x1,y1 [m]");
-    if (!(box[2] > box[0] && box[3] > box[1]))
-      bad(q + "box", fmtList(box, 4), "needs x1 > x0 and y1 > y0 (an empty body)");
     if (setHoles && nholes > 300)
       bad(q + "holes", "(more than 100 holes)", "at most 100 holes (300 values cx,cy,r)");
     if (setHoles && nholes % 3 != 0)
       bad(q + "holes", fmtList(holes, nholes), "needs triples cx,cy,r");
     for (PetscInt i = 0; setHoles && i + 2 < nholes; i += 3) {
-      if (!(holes[i + 2] > 0)) bad(q + "holes", fmtList(holes, nholes), "radii must be > 0");
+      if (!allFinite(holes + i, 3) || !(holes[i + 2] > 0))
+        bad(q + "holes", fmtList(holes, nholes), "needs finite values and radii > 0");
       b.holes.push_back({holes[i], holes[i + 1], holes[i + 2]});
     }
+    checkHoles(q, b);
     if (!isPerfectSquare(ppc))
       bad(q + "ppc", std::to_string(ppc), "must be a perfect square (1, 4, 9, 16, 25, ...)");
     if (hppc != 0 && !isPerfectSquare(hppc))
       bad(q + "hole_ppc", std::to_string(hppc), "must be 0 or a perfect square (1, 4, 9, ...)");
     if (band < 0) bad(q + "hole_band", formatNumber(band), "must be >= 0 [m]");
     if (nvel != 2 && nvel != 0) bad(q + "velocity", fmtList(vel, nvel), "needs 2 values vx,vy");
-    std::copy(box, box + 4, b.box.begin());
     b.ppc = static_cast<int>(ppc);
     b.holePpc = static_cast<int>(hppc ? hppc : ppc);
     b.holeBand = band;

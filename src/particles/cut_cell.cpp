@@ -77,9 +77,13 @@ Moments rectMinusDisks(double x0, double y0, double x1, double y1,
     for (int i = 0; i < 5; ++i)
       mom[i] -= cut[i];
   }
+  return fromRaw(mom, xc, yc, w * h);
+}
+
+Moments fromRaw(const std::array<double, 5> &mom, double xc, double yc, double whole) {
   Moments m;
   // Round-off of a fully removed rectangle leaves about 1e-16 of its area.
-  if (mom[0] <= 1e-13 * w * h) return m;
+  if (mom[0] <= 1e-13 * whole) return m;
   m.A = mom[0];
   const double dx = mom[1] / m.A, dy = mom[2] / m.A;
   m.cx = xc + dx;

@@ -33,25 +33,49 @@ struct Seed {
   int body;
 };
 
-/// Whether the seed's square keeps a part in the body, with a hole cutting the square: the
-/// seed becomes that part (area, centroid, the rectangle of its second moments; its corners
-/// that rectangle's). The body's rectangle still keeps a square by its centre.
-bool cutByHoles(const Body &body, Seed &s) {
-  const Box &box = body.box;
-  if (s.x < box[0] || s.x > box[2] || s.y < box[1] || s.y > box[3]) return false;
-  std::vector<std::array<double, 3>> disks;
+/// Whether the seed's square keeps a part in the body. A square that the body's edge or a hole
+/// cuts becomes that part (area, centroid, the rectangle of its second moments; its corners
+/// that rectangle's). A rectangle body keeps a square by its centre (its sides lie on the
+/// particle lattice in every scene it was made for); ellipses and polygons cut it.
+bool cutByShape(const Body &body, Seed &s) {
+  const double w = s.cx1 - s.cx0, h = s.cy1 - s.cy0;
+  const double xc = 0.5 * (s.cx0 + s.cx1), yc = 0.5 * (s.cy0 + s.cy1);
+  std::array<double, 5> mom = {w * h, 0.0, 0.0, w * h * w * w / 12.0, w * h * h * h / 12.0};
+  bool cut = false;
+  if (body.shape.kind == Shape::Kind::Rectangle) {
+    const Box &box = body.box;
+    if (s.x < box[0] || s.x > box[2] || s.y < box[1] || s.y > box[3]) return false;
+  } else {
+    const auto in = body.shape.momentsIn(s.cx0, s.cy0, s.cx1, s.cy1, xc, yc);
+    if (in[0] <= 1e-13 * w * h) return false;
+    if (std::fabs(in[0] - w * h) > 1e-12 * w * h) { // the edge crosses the square
+      mom = in;
+      cut = true;
+    }
+  }
   for (const Hole &c : body.holes) {
     const double nx = std::clamp(c.cx, s.cx0, s.cx1), ny = std::clamp(c.cy, s.cy0, s.cy1);
     const double fx = std::max(std::fabs(s.cx0 - c.cx), std::fabs(s.cx1 - c.cx));
     const double fy = std::max(std::fabs(s.cy0 - c.cy), std::fabs(s.cy1 - c.cy));
     if (std::hypot(nx - c.cx, ny - c.cy) >= c.r) continue; // the hole misses the square
     if (std::hypot(fx, fy) <= c.r) return false;           // the hole holds the whole square
-    disks.push_back({c.cx, c.cy, c.r});
+    const auto d =
+        cut::rectDiskMoments(-0.5 * w, -0.5 * h, 0.5 * w, 0.5 * h, c.cx - xc, c.cy - yc, c.r);
+    for (int i = 0; i < 5; ++i)
+      mom[i] -= d[i];
+    cut = true;
   }
-  if (disks.empty()) return true;
-  const cut::Moments m = cut::rectMinusDisks(s.cx0, s.cy0, s.cx1, s.cy1, disks);
+  for (const Shape &hole : body.shapeHoles) {
+    const auto d = hole.momentsIn(s.cx0, s.cy0, s.cx1, s.cy1, xc, yc);
+    if (d[0] <= 0) continue;
+    for (int i = 0; i < 5; ++i)
+      mom[i] -= d[i];
+    cut = true;
+  }
+  if (!cut) return true;
+  const cut::Moments m = cut::fromRaw(mom, xc, yc, w * h);
   if (m.A <= 0) return false;
-  const double half[2] = {0.5 * (s.cx1 - s.cx0), 0.5 * (s.cy1 - s.cy0)};
+  const double half[2] = {0.5 * w, 0.5 * h};
   s.x = m.cx;
   s.y = m.cy;
   s.area = m.A;
@@ -129,7 +153,7 @@ std::vector<Seed> collectSeeds(const Scene &sc, const Grid &g, PetscMPIInt rank)
                      // Unique and independent of the rank count: body, level, cell, sub-cell.
                      (((static_cast<PetscInt64>(b) * K + q) * maxCells + cell) * 64 + b2) * 64 + a,
                      static_cast<int>(b)};
-              if (sc.cutCells ? cutByHoles(body, s) : body.inside(s.x, s.y)) seeds.push_back(s);
+              if (sc.cutCells ? cutByShape(body, s) : body.inside(s.x, s.y)) seeds.push_back(s);
             }
         }
     }

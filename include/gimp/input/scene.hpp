@@ -5,6 +5,7 @@
 
 #include "gimp/core/errors.hpp"
 #include "gimp/cracks/geometry.hpp"
+#include "gimp/particles/shape.hpp"
 
 #include <array>
 #include <stdexcept>
@@ -47,17 +48,26 @@ struct Hole {
 };
 
 struct Body {
-  Box box{};
-  std::vector<Hole> holes;
-  int ppc = 4;              // particles per cell (a perfect square: 1, 4, 9, ...)
-  int holePpc = 0;          // particles per cell in cells next to a hole (0: same as ppc)
-  double holeBand = 0;      // width of the band next to a hole that gets holePpc [m]
-  Vec2 velocity{};          // initial velocity [m/s]
-  bool sineProfile = false; // v = velocity * sin(k (X - x0)) instead of uniform
-  double wavenumber = 0;    // k [1/m]
-  double spin = 0;          // initial rigid rotation about the box's centre [rad/s]
+  Shape shape;                     // rectangle (the default), ellipse (circle) or polygon
+  std::string shapeOption = "box"; // the option that gave it: box, circle, ellipse, polygon
+  Box box{};                       // the shape's bounding box (a rectangle's own box)
+  std::vector<Hole> holes;         // circular holes (may cross a rectangle's sides)
+  std::vector<Shape> shapeHoles;   // elliptic and polygonal holes (inside the shape)
+  int ppc = 4;                     // particles per cell (a perfect square: 1, 4, 9, ...)
+  int holePpc = 0;                 // particles per cell in cells next to a hole (0: same as ppc)
+  double holeBand = 0;             // width of the band next to a hole that gets holePpc [m]
+  Vec2 velocity{};                 // initial velocity [m/s]
+  bool sineProfile = false;        // v = velocity * sin(k (X - x0)) instead of uniform
+  double wavenumber = 0;           // k [1/m]
+  double spin = 0;                 // initial rigid rotation about the box's centre [rad/s]
+  /// In the shape and in no hole (boundaries count as inside the body).
   bool inside(double x, double y) const;
+  /// In the shape, off its boundary, and in no hole (not even on a hole's boundary).
+  bool strictlyInside(double x, double y) const;
 };
+
+/// Whether two bodies share interior (a body inside another's hole does not).
+bool bodiesOverlap(const Body &a, const Body &b);
 
 /// A part of one side of a body's rectangle: where tractions and displacement conditions act.
 struct Segment {

@@ -27,6 +27,10 @@ std::array<double, 5> rectDiskMoments(double x0, double y0, double x1, double y1
 Moments rectMinusDisks(double x0, double y0, double x1, double y1,
                        const std::vector<std::array<double, 3>> &disks);
 
+/// The region's moments from its raw moments {A, Sx, Sy, Sxx, Syy} about (xc, yc); an empty
+/// region (A = 0) when A is at most 1e-13 of `whole` (the round-off of a removed square).
+Moments fromRaw(const std::array<double, 5> &mom, double xc, double yc, double whole);
+
 /// The rectangle standing for a cut region in GIMP's weights: centred on the centroid, with
 /// the aspect ratio of the region's central second moments (a rectangle of half-sizes a, b has
 /// Ixx / Iyy = a^2 / b^2), scaled to the region's area. Half-sizes into l[0], l[1].

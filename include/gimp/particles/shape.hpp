@@ -1,0 +1,54 @@
+// Plane shapes that bodies and their holes are made of: rectangles, axis-aligned ellipses
+// (circles) and simple polygons. Each answers whether a point is inside and gives the exact
+// moments of its intersection with an axis-aligned rectangle (a particle's square), from which
+// seeding takes a cut particle's volume, centroid and domain. Plain geometry: no PETSc, no grid.
+#pragma once
+
+#include <array>
+#include <string>
+#include <vector>
+
+namespace gimp {
+
+struct Shape {
+  enum class Kind { Rectangle, Ellipse, Polygon };
+  Kind kind = Kind::Rectangle;
+  std::array<double, 4> box{}; // Rectangle: x0, y0, x1, y1; every kind: the bounding box
+  double cx = 0, cy = 0;       // Ellipse: centre
+  double a = 0, b = 0;         // Ellipse: half-axes along x and y (a circle: a = b)
+  std::vector<double> xy;      // Polygon: vertices x0, y0, x1, y1, ... counter-clockwise
+
+  static Shape rectangle(double x0, double y0, double x1, double y1);
+  static Shape ellipse(double cx, double cy, double a, double b);
+  /// Vertices in either orientation (stored counter-clockwise); see polygonProblem.
+  static Shape polygon(const std::vector<double> &xy);
+
+  /// Strictly inside, or on the boundary (points on it count as inside).
+  bool contains(double x, double y) const;
+
+  /// The raw moments {A, Sx, Sy, Sxx, Syy} = int {1, x', y', x'^2, y'^2} dA over the part of the
+  /// rectangle [x0, x1] x [y0, y1] inside the shape, with x' = x - ox, y' = y - oy (take o at
+  /// the rectangle's centre so that a small rectangle far from the origin loses no digits).
+  /// Exact up to round-off for every kind.
+  std::array<double, 5> momentsIn(double x0, double y0, double x1, double y1, double ox,
+                                  double oy) const;
+
+  /// Inside and farther than round-off (1e-12 of the bounding box) from the boundary.
+  bool strictlyInside(double x, double y) const;
+
+  /// Whether the whole shape lies inside `outer` (boundary points may touch it), from 720
+  /// points on this boundary and, for a polygon `outer`, its vertices.
+  bool insideOf(const Shape &outer) const;
+  /// Whether the interiors of the two shapes meet (touching boundaries do not count): a
+  /// boundary point of one strictly inside the other, or a point of a 256 x 256 lattice over
+  /// the bounding boxes' intersection strictly inside both.
+  bool overlaps(const Shape &other) const;
+  /// Points on the boundary, about `n` of them, for containment tests.
+  std::vector<std::array<double, 2>> boundaryPoints(int n) const;
+};
+
+/// Why the polygon x0, y0, x1, y1, ... is not a simple polygon ("" if it is): fewer than 3
+/// vertices, an odd count of numbers, a non-finite value, zero area or crossing edges.
+std::string polygonProblem(const std::vector<double> &xy);
+
+} // namespace gimp
