@@ -44,8 +44,8 @@ double modulus(const Material &m) {
 }
 
 /// Particle k's terms of the domain integrals at tip-frame position (along, across), distance
-/// rr < R, with q = (1 - r^2 / R^2)^2, added to out: J = sum_p V_p (sigma_ij du_i/dx_1 - W delta_1j)
-/// dq/dx_j, and the interaction integrals with the unit mode I and mode II tip fields,
+/// rr < R, with q = (1 - r^2 / R^2)^2, added to out: J = sum_p V_p (sigma_ij du_i/dx_1 - W
+/// delta_1j) dq/dx_j, and the interaction integrals with the unit mode I and mode II tip fields,
 /// I_m = sum_p V_p (sigma_ij du^m_i/dx_1 + sigma^m_ij du_i/dx_1 - sigma^m_ij eps_ij delta_1j)
 /// dq/dx_j, all in the tip frame (t, n).
 void domainTerms(const Material &mat, const TipElastic &el, const ParticleView &p, PetscInt k,
@@ -109,7 +109,8 @@ constexpr int kForce = 0, kJ = 2, kPlus = 5, kMinus = 8, kRow = 11;
 void finishTip(const Scene &sc, const double *r, double h, TipMeasure &m) {
   double t[2], n[2];
   tipFrame(sc.cracks[m.crack], m.end, t, n);
-  const double Ep = modulus(sc.material), th = sc.material.thickness;
+  const Material &mat = sc.materialAt(m.tip[0], m.tip[1]);
+  const double Ep = modulus(mat), th = sc.material.thickness;
   const double *up = &r[kPlus], *dn = &r[kMinus];
   double dux = 0, duy = 0;
   if (up[2] > 0 && dn[2] > 0) {
@@ -194,7 +195,7 @@ PetscErrorCode measureTips(MPI_Comm comm, const Scene &sc, const Grid &g, const 
         o[2] += p.m[k] * w;
       }
     }
-    addDomainIntegrals(sc.material, p, m.tip, t, R, &r[kJ]);
+    addDomainIntegrals(sc.materialAt(m.tip[0], m.tip[1]), p, m.tip, t, R, &r[kJ]);
   }
   PetscCallMPI(MPI_Allreduce(local.data(), global.data(), static_cast<int>(local.size()),
                              MPI_DOUBLE, MPI_SUM, comm));

@@ -13,7 +13,7 @@ PetscErrorCode particleEnergies(MPI_Comm comm, const Scene &sc, DM sw, const Wor
   for (PetscInt k = 0; k < p.n; ++k) {
     const double vx = p.v[2 * k], vy = p.v[2 * k + 1];
     loc[0] += 0.5 * p.m[k] * (vx * vx + vy * vy);
-    loc[1] += material::strainEnergy(sc.material, tensorAt<2>(p.s, k), p.szz[k],
+    loc[1] += material::strainEnergy(sc.materialOf(p.id[k]), tensorAt<2>(p.s, k), p.szz[k],
                                      tensorAt<2>(p.F, k), p.V0[k], p.V[k]);
     loc[2] += p.m[k] * vx;
     loc[3] += p.m[k] * vy;

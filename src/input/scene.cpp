@@ -95,6 +95,19 @@ bool bodiesOverlap(const Body &a, const Body &b) {
   return false;
 }
 
+const Material &Scene::materialAt(double x, double y) const {
+  for (const Body &b : bodies)
+    if (b.inside(x, y)) return b.material;
+  return material;
+}
+
+double Scene::maxWaveSpeed() const {
+  double c = material.waveSpeed();
+  for (const Body &b : bodies)
+    c = std::max(c, b.material.waveSpeed());
+  return c;
+}
+
 double Material::lambdaEff() const {
   return planeStrain ? lambda : 2.0 * mu * lambda / (lambda + 2.0 * mu);
 }
@@ -400,9 +413,10 @@ void checkBodies(const Scene &sc) {
                 "): bodies may touch but not overlap");
     }
   if (sc.mms == Mms::Skb1d &&
-      (sc.material.model != MaterialModel::NeoHookean || sc.material.nu != 0))
+      (sc.material.model != MaterialModel::NeoHookean || sc.material.nu != 0 || !sc.oneMaterial))
     bad("gimp_mms", "skb1d",
-        "the 1D manufactured solution needs -gimp_material neohookean and -gimp_nu 0");
+        "the 1D manufactured solution needs -gimp_material neohookean and -gimp_nu 0 (one "
+        "material)");
   for (size_t k = 0; k < sc.bodies.size(); ++k) {
     const Box &b = sc.bodies[k].box;
     if (b[0] < sc.domain[0] || b[1] < sc.domain[1] || b[2] > sc.domain[2] || b[3] > sc.domain[3])

@@ -20,6 +20,8 @@ PetscErrorCode checkChoice(const std::string &opt, const char *const *list, int 
 
 // The parts of the scene, each from its options (collective; sc.help lists them only).
 PetscErrorCode readMaterial(MPI_Comm comm, Scene &sc);
+/// mu, lambda and the 2D model's lambda from E and nu.
+void deriveMaterial(Material &m);
 PetscErrorCode readBodies(MPI_Comm comm, Scene &sc);
 PetscErrorCode readLoads(MPI_Comm comm, Scene &sc);
 PetscErrorCode readLevels(MPI_Comm comm, Scene &sc);

@@ -46,11 +46,56 @@ PetscErrorCode readMaterial(MPI_Comm comm, Scene &sc) {
   if (!(m.rho > 0)) bad("gimp_rho", formatNumber(m.rho), "must be > 0 [kg/m^3]");
   if (!(m.nu > -1.0 && m.nu < 0.5)) bad("gimp_nu", formatNumber(m.nu), "must lie in (-1, 0.5)");
   if (!(m.thickness > 0)) bad("gimp_thickness", formatNumber(m.thickness), "must be > 0 [m]");
+  deriveMaterial(m);
+  return PETSC_SUCCESS;
+}
+
+void deriveMaterial(Material &m) {
   m.mu = m.E / (2.0 * (1.0 + m.nu));
   m.lambda = m.E * m.nu / ((1.0 + m.nu) * (1.0 - 2.0 * m.nu));
   m.lambdaStar = m.lambdaEff();
+}
+
+namespace {
+
+/// A body's own material: -gimp_bodyK_material, _E, _nu, _rho, each the scene's unless given
+/// (the plane and the thickness are the scene's); p is "-gimp_bodyK_".
+PetscErrorCode readBodyMaterial(MPI_Comm comm, const std::string &p, const Scene &sc, Body &b) {
+  b.material = sc.material;
+  Material &m = b.material;
+  const char *models[] = {"linear", "neohookean"};
+  PetscInt model = m.model == MaterialModel::Linear ? 0 : 1;
+  PetscCall(checkChoice(p + "material", models, 2));
+  PetscOptionsBegin(comm, nullptr, ("Body material " + p + "*").c_str(), "gimp");
+  PetscCall(PetscOptionsEList((p + "material").c_str(),
+                              "The body's constitutive model (default: -gimp_material)",
+                              "docs/options.md", models, 2, models[model], &model, nullptr));
+  PetscCall(PetscOptionsReal((p + "E").c_str(),
+                             "The body's Young's modulus (default: -gimp_E) [Pa]",
+                             "docs/options.md", m.E, &m.E, nullptr));
+  PetscCall(PetscOptionsReal((p + "nu").c_str(),
+                             "The body's Poisson's ratio (default: -gimp_nu) [-]",
+                             "docs/options.md", m.nu, &m.nu, nullptr));
+  PetscCall(PetscOptionsReal((p + "rho").c_str(),
+                             "The body's mass density (default: -gimp_rho) [kg/m^3]",
+                             "docs/options.md", m.rho, &m.rho, nullptr));
+  PetscOptionsEnd();
+  if (sc.help) return PETSC_SUCCESS;
+  m.model = model == 0 ? MaterialModel::Linear : MaterialModel::NeoHookean;
+  const std::string q = p.substr(1);
+  if (!(m.E > 0) || !std::isfinite(m.E)) bad(q + "E", formatNumber(m.E), "must be > 0 [Pa]");
+  if (!(m.rho > 0) || !std::isfinite(m.rho))
+    bad(q + "rho", formatNumber(m.rho), "must be > 0 [kg/m^3]");
+  if (!(m.nu > -1.0 && m.nu < 0.5)) bad(q + "nu", formatNumber(m.nu), "must lie in (-1, 0.5)");
+  deriveMaterial(m);
   return PETSC_SUCCESS;
 }
+
+bool sameMaterial(const Material &a, const Material &b) {
+  return a.model == b.model && a.E == b.E && a.nu == b.nu && a.rho == b.rho;
+}
+
+} // namespace
 
 namespace {
 
@@ -248,6 +293,7 @@ PetscErrorCode readBodies(MPI_Comm comm, Scene &sc) {
                                "docs/options.md", spin, &spin, nullptr));
     PetscOptionsEnd();
     PetscCall(readShape(comm, p, sc.help, b));
+    PetscCall(readBodyMaterial(comm, p, sc, b));
     if (sc.help) continue;
     const std::string q = p.substr(1);
     if (setHoles && nholes > 300)
@@ -278,6 +324,9 @@ PetscErrorCode readBodies(MPI_Comm comm, Scene &sc) {
     b.spin = spin;
     sc.bodies.push_back(b);
   }
+  sc.oneMaterial = true;
+  for (const Body &b : sc.bodies)
+    sc.oneMaterial = sc.oneMaterial && sameMaterial(b.material, sc.material);
   return PETSC_SUCCESS;
 }
 

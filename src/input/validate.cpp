@@ -165,6 +165,11 @@ void checkSceneCombinations(const Scene &sc) {
     throw InputError("option -gimp_material neohookean: needs -gimp_plane strain (the plane-stress "
                      "neo-Hookean model is not implemented)");
   for (size_t b = 0; b < sc.bodies.size(); ++b)
+    if (sc.bodies[b].material.model == MaterialModel::NeoHookean && !sc.material.planeStrain)
+      throw InputError("option -gimp_body" + std::to_string(b) +
+                       "_material neohookean: needs -gimp_plane strain (the plane-stress "
+                       "neo-Hookean model is not implemented)");
+  for (size_t b = 0; b < sc.bodies.size(); ++b)
     if (std::max(sc.bodies[b].ppc, sc.bodies[b].holePpc) > 64 * 64)
       throw InputError("option -gimp_body" + std::to_string(b) +
                        "_ppc: at most 4096 particles per cell (64 x 64)");
@@ -263,7 +268,7 @@ PetscErrorCode timeStepFromOptions(TS ts, const Scene &sc, const Lattice &grid) 
   if (!(maxTime > 0))
     throw InputError("option -ts_max_time " + formatNumber(maxTime) + ": must be > 0 [s]");
   PetscCall(TSGetTimeStep(ts, &dt));
-  const double cp = sc.material.waveSpeed(), dtStable = grid.hMin() / cp;
+  const double cp = sc.maxWaveSpeed(), dtStable = grid.hMin() / cp;
   if (!(dt > 0)) throw InputError("option -ts_dt " + formatNumber(dt) + ": must be > 0 [s]");
   if (dt > dtStable && !sc.stabilityCheck)
     throw InputError("option -ts_dt " + formatNumber(dt) + ": exceeds the stable limit h / c_p = " +

@@ -177,7 +177,6 @@ PetscErrorCode seedParticles(const Scene &sc, const Grid &g, DM sw) {
   PetscCall(DMSwarmSetLocalSizes(sw, static_cast<PetscInt>(seeds.size()), 16));
   ParticleView p;
   PetscCall(p.get(sw));
-  const Material &mat = sc.material;
   const double tol = 1e-9 * g.hMin();
   for (PetscInt k = 0; k < p.n; ++k) {
     const Seed &s = seeds[k];
@@ -196,8 +195,8 @@ PetscErrorCode seedParticles(const Scene &sc, const Grid &g, DM sw) {
     p.v[2 * k] = vx;
     p.v[2 * k + 1] = vy;
     std::fill(&p.B[4 * k], &p.B[4 * k] + 4, 0.0); // APIC's affine moment: none at the start
-    p.V0[k] = p.V[k] = s.area * mat.thickness;
-    p.m[k] = mat.rho * p.V0[k];
+    p.V0[k] = p.V[k] = s.area * sc.material.thickness;
+    p.m[k] = body.material.rho * p.V0[k];
     for (int a = 0; a < 2; ++a)
       p.l[2 * k + a] = p.l0[2 * k + a] = s.l[a];
     if (p.hasCorners) {

@@ -49,16 +49,23 @@ PetscErrorCode Boundary::setup(MPI_Comm comm, const Scene &sc, const Lattice &gr
   if (sc.dbcs.empty()) return PETSC_SUCCESS;
   // The penalty spring on a boundary node (alpha h per unit thickness against a mass of about
   // rho h^2 / 2) is stable for alpha < 2 rho h / dt^2.
-  const double M = sc.material.lambdaStar + 2.0 * sc.material.mu, h = grid.hMin();
+  // With several materials: the stiffest modulus and the lightest density (the penalty acts on
+  // the edges of every body with one alpha).
+  double M = sc.material.lambdaStar + 2.0 * sc.material.mu, rho = sc.material.rho;
+  for (const Body &b : sc.bodies) {
+    M = std::max(M, b.material.lambdaStar + 2.0 * b.material.mu);
+    rho = std::min(rho, b.material.rho);
+  }
+  const double h = grid.hMin();
   // Measured on the slab: stable at 0.83 of 2 rho h / dt^2, unstable at 0.92 of it.
-  const double limit = 1.6 * sc.material.rho * h / (dt * dt);
+  const double limit = 1.6 * rho * h / (dt * dt);
   double worst = 0, weakest = 1e300;
   for (const DisplacementBC &d : sc.dbcs) {
     worst = std::max(worst, d.penaltyScale);
     weakest = std::min(weakest, d.penaltyScale);
   }
   if (sc.penalty == 0) {
-    alpha_ = std::min(100.0 * M / h, 0.5 * sc.material.rho * h / (dt * dt));
+    alpha_ = std::min(100.0 * M / h, 0.5 * rho * h / (dt * dt));
   } else {
     alpha_ = sc.penalty;
     if (constantBounds && alpha_ * worst > limit)

@@ -6,8 +6,8 @@
 namespace gimp::physics {
 
 void updateDeformation(const Scene &sc, ParticleView &p, const double *L, double dt) {
-  const Material &mat = sc.material;
   for (PetscInt k = 0; k < p.n; ++k) {
+    const Material &mat = sc.materialOf(p.id[k]);
     const Tensor<2> Lk = tensorAt<2>(L, k);
     auto F = tensorAt<2>(p.F, k);
     F += dt * product<2>(Lk, F);

@@ -60,6 +60,7 @@ PetscErrorCode Solver::setup() {
   PetscCall(checkProblemSize(comm_, sc_, itemBytes(sc_)));
   scheme_ = schemeFor(sc_.update);
   PetscCall(grid_.create(comm_, sc_));
+  sc_.idSlots = bodyIdSlots(grid_);
   if (!sc_.gridDump.empty()) PetscCall(writeGridDump());
   PetscCall(createParticles());
   PetscCall(nodal_.create(grid_,
@@ -134,9 +135,11 @@ PetscErrorCode Solver::createParticles() {
           p.corners[8 * k + 2 * q] += ex.u(p.corners[8 * k + 2 * q], 0.0);
     }
   }
-  if (sc_.material.model == MaterialModel::NeoHookean)
-    for (PetscInt k = 0; k < p.n; ++k)
-      material::neoHookeanStress(sc_.material, tensorAt<2>(p.F, k), tensorAt<2>(p.s, k), p.szz[k]);
+  for (PetscInt k = 0; k < p.n; ++k) {
+    const Material &mat = sc_.materialOf(p.id[k]);
+    if (mat.model == MaterialModel::NeoHookean)
+      material::neoHookeanStress(mat, tensorAt<2>(p.F, k), tensorAt<2>(p.s, k), p.szz[k]);
+  }
   PetscCall(p.restore(sw_));
   return PETSC_SUCCESS;
 }
@@ -149,7 +152,7 @@ PetscErrorCode Solver::createTimeStepper() {
   PetscCall(TSSetProblemType(ts_, TS_NONLINEAR));
   PetscCall(TSSetApplicationContext(ts_, this));
   PetscCall(TSSetRHSFunction(ts_, nullptr, &Solver::rhs, this));
-  PetscCall(TSSetTimeStep(ts_, sc_.cfl * (grid_.hMin() / sc_.material.waveSpeed())));
+  PetscCall(TSSetTimeStep(ts_, sc_.cfl * (grid_.hMin() / sc_.maxWaveSpeed())));
   PetscCall(TSSetMaxSteps(ts_, 1000));
   PetscCall(TSSetMaxTime(ts_, 1e300));
   PetscCall(TSSetExactFinalTime(ts_, TS_EXACTFINALTIME_STEPOVER));

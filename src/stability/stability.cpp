@@ -89,7 +89,7 @@ PetscErrorCode applyOperator(Mat A, Vec x, Vec y) {
     auto dsk = tensorAt<2>(s->ds.data(), k);
     dsk.setZero();
     double szz = 0;
-    material::jaumannUpdate(in.sc->material, tensorAt<2>(s->L.data(), k), 1.0, dsk, szz);
+    material::jaumannUpdate(in.sc->materialOf(p.id[k]), tensorAt<2>(s->L.data(), k), 1.0, dsk, szz);
   }
   PetscCall(VecZeroEntries(s->fW));
   PetscCall(VecGetArray(s->fW, &f));

@@ -43,11 +43,24 @@ struct Ramp {
   double valueOr0(double time) const { return t.empty() ? 0.0 : at(time); }
 };
 
+struct Material {
+  MaterialModel model = MaterialModel::Linear;
+  double E = 0, nu = 0, rho = 0;
+  bool planeStrain = true;
+  double thickness = 1.0; // [m]
+  // derived
+  double lambda = 0, mu = 0;
+  double lambdaStar = 0;    // lambdaEff(), stored for the stress update
+  double lambdaEff() const; // lambda, or its plane-stress reduction
+  double waveSpeed() const; // P-wave speed of the 2D model [m/s]
+};
+
 struct Hole {
   double cx, cy, r;
 };
 
 struct Body {
+  Material material;               // the scene's, unless -gimp_bodyK_E etc. set its own
   Shape shape;                     // rectangle (the default), ellipse (circle) or polygon
   std::string shapeOption = "box"; // the option that gave it: box, circle, ellipse, polygon
   Box box{};                       // the shape's bounding box (a rectangle's own box)
@@ -112,18 +125,6 @@ struct Probe {
   Vec2 x{};
 };
 
-struct Material {
-  MaterialModel model = MaterialModel::Linear;
-  double E = 0, nu = 0, rho = 0;
-  bool planeStrain = true;
-  double thickness = 1.0; // [m]
-  // derived
-  double lambda = 0, mu = 0;
-  double lambdaStar = 0;    // lambdaEff(), stored for the stress update
-  double lambdaEff() const; // lambda, or its plane-stress reduction
-  double waveSpeed() const; // P-wave speed of the 2D model [m/s]
-};
-
 struct Scene {
   std::string name = "scene";
   std::string outputDir;
@@ -137,7 +138,17 @@ struct Scene {
   double memoryLimit = 0;        // bytes the run may take (0: the physical memory of its nodes)
   std::vector<LevelSpec> levels; // levels[0] is the domain
   std::vector<Body> bodies;
-  Material material;
+  Material material;       // the scene's (-gimp_E, ...): every body's unless it sets its own
+  bool oneMaterial = true; // every body has the scene's material
+  PetscInt64 idSlots = 1;  // particle id / idSlots = its body (bodyIdSlots, set with the grid)
+  /// The material of the particle with this id.
+  const Material &materialOf(PetscInt64 id) const {
+    return oneMaterial ? material : bodies[static_cast<size_t>(id / idSlots)].material;
+  }
+  /// The material of the body that holds the point (the scene's if none does).
+  const Material &materialAt(double x, double y) const;
+  /// The largest P-wave speed of the bodies' materials [m/s].
+  double maxWaveSpeed() const;
   Vec2 gravity{};
   std::vector<Traction> tractions;
   std::vector<DisplacementBC> dbcs;
