@@ -89,6 +89,11 @@ SizeEstimate estimateSize(const Scene &sc, const ItemBytes &cost) {
     e.nodes += e.levelNodes.back();
   }
   for (const Body &body : sc.bodies) {
+    if (!body.file.empty()) { // a particle file: its particles
+      e.bodyParticles.push_back(static_cast<long double>(body.fromFile.particles.size()));
+      e.particles += e.bodyParticles.back();
+      continue;
+    }
     // Each level seeds the part of the body it covers and no finer level does.
     long double n = 0;
     for (size_t k = 0; k < K; ++k) {

@@ -82,6 +82,15 @@ bool bodiesOverlap(const Body &a, const Body &b) {
   const double x0 = std::max(a.box[0], b.box[0]), x1 = std::min(a.box[2], b.box[2]);
   const double y0 = std::max(a.box[1], b.box[1]), y1 = std::min(a.box[3], b.box[3]);
   if (!(x1 > x0) || !(y1 > y0)) return false;
+  // A body from a particle file: its particles' centres strictly inside the other body (two
+  // file bodies are taken as given).
+  if (!a.file.empty() || !b.file.empty()) {
+    if (!a.file.empty() && !b.file.empty()) return false;
+    const Body &f = a.file.empty() ? b : a, &o = a.file.empty() ? a : b;
+    for (const FileParticle &p : f.fromFile.particles)
+      if (o.strictlyInside(p.x, p.y)) return true;
+    return false;
+  }
   for (const auto &p : a.shape.boundaryPoints(720))
     if (b.strictlyInside(p[0], p[1])) return true;
   for (const auto &p : b.shape.boundaryPoints(720))
@@ -397,6 +406,7 @@ std::string shapeText(const Body &b) {
     return fmtList(v, 4);
   }
   if (b.shapeOption == "polygon") return fmtList(s.xy.data(), static_cast<PetscInt>(s.xy.size()));
+  if (b.shapeOption == "file") return b.file;
   return fmtList(b.box.data(), 4);
 }
 
@@ -417,6 +427,18 @@ void checkBodies(const Scene &sc) {
     bad("gimp_mms", "skb1d",
         "the 1D manufactured solution needs -gimp_material neohookean and -gimp_nu 0 (one "
         "material)");
+  // Every particle of a particle file inside the grid domain (seeding places each on the rank
+  // that owns its point; none may be lost).
+  for (size_t k = 0; k < sc.bodies.size(); ++k) {
+    const std::vector<FileParticle> &ps = sc.bodies[k].fromFile.particles;
+    for (size_t i = 0; i < ps.size(); ++i)
+      if (ps[i].x - ps[i].lx < sc.domain[0] || ps[i].x + ps[i].lx > sc.domain[2] ||
+          ps[i].y - ps[i].ly < sc.domain[1] || ps[i].y + ps[i].ly > sc.domain[3])
+        bad("gimp_body" + std::to_string(k) + "_file", sc.bodies[k].file,
+            "particle " + std::to_string(i) + " (data row " + std::to_string(i + 1) + ", at " +
+                formatNumber(ps[i].x) + "," + formatNumber(ps[i].y) +
+                ") is not inside the grid domain " + fmtList(sc.domain.data(), 4));
+  }
   for (size_t k = 0; k < sc.bodies.size(); ++k) {
     const Box &b = sc.bodies[k].box;
     if (b[0] < sc.domain[0] || b[1] < sc.domain[1] || b[2] > sc.domain[2] || b[3] > sc.domain[3])

@@ -1,4 +1,5 @@
 // Reading the parts of a scene: material, bodies, loads and constraints, probes, grid levels.
+#include "gimp/input/particle_file.hpp"
 #include "scene_options.hpp"
 
 #include <cmath>
@@ -107,19 +108,26 @@ bool allFinite(const PetscReal *v, PetscInt n) {
 
 /// The body's shape from -gimp_bodyK_shape and the option it names (box, circle, ellipse,
 /// polygon), and its elliptic and polygonal holes; p is "-gimp_bodyK_".
-PetscErrorCode readShape(MPI_Comm comm, const std::string &p, bool help, Body &b) {
-  const char *shapes[] = {"rectangle", "circle", "ellipse", "polygon"};
+PetscErrorCode readShape(MPI_Comm comm, const std::string &p, const Scene &sc, Body &b) {
+  const bool help = sc.help;
+  const char *shapes[] = {"rectangle", "circle", "ellipse", "polygon", "file"};
+  char file[PETSC_MAX_PATH_LEN] = "";
+  PetscBool setFile = PETSC_FALSE;
   constexpr PetscInt kMaxPolygon = 400, kMaxHolePolygons = 20;
   PetscInt shape = 0, nbox = 5, ncirc = 4, nell = 5, npoly = kMaxPolygon + 1, nhe = 401, nhp = 0;
   PetscReal box[5] = {0}, circ[4] = {0}, ell[5] = {0}, poly[kMaxPolygon + 1] = {0}, he[401] = {0};
   PetscBool setBox = PETSC_FALSE, setCirc = PETSC_FALSE, setEll = PETSC_FALSE,
             setPoly = PETSC_FALSE, setHe = PETSC_FALSE;
-  PetscCall(checkChoice(p + "shape", shapes, 4));
+  PetscCall(checkChoice(p + "shape", shapes, 5));
   PetscOptionsBegin(comm, nullptr, ("Body shape " + p + "*").c_str(), "gimp");
   PetscCall(PetscOptionsEList((p + "shape").c_str(),
                               "Shape of the body: rectangle (_box), circle (_circle), ellipse "
-                              "(_ellipse) or polygon (_polygon)",
-                              "docs/options.md", shapes, 4, shapes[0], &shape, nullptr));
+                              "(_ellipse), polygon (_polygon) or particles from a file (_file)",
+                              "docs/options.md", shapes, 5, shapes[0], &shape, nullptr));
+  PetscCall(PetscOptionsString((p + "file").c_str(),
+                               "CSV file of the body's particles: x,y and lx,ly or V, optionally "
+                               "vx,vy (shape file)",
+                               "docs/options.md", file, file, sizeof(file), &setFile));
   PetscCall(PetscOptionsRealArray((p + "box").c_str(), "Body rectangle x0,y0,x1,y1 [m]",
                                   "docs/options.md", box, &nbox, &setBox));
   PetscCall(PetscOptionsRealArray((p + "circle").c_str(), "Body circle cx,cy,r [m] (shape circle)",
@@ -141,10 +149,10 @@ PetscErrorCode readShape(MPI_Comm comm, const std::string &p, bool help, Body &b
   PetscOptionsEnd();
   if (help) return PETSC_SUCCESS;
   const std::string q = p.substr(1);
-  const bool set[4] = {setBox == PETSC_TRUE, setCirc == PETSC_TRUE, setEll == PETSC_TRUE,
-                       setPoly == PETSC_TRUE};
-  const char *opt[4] = {"box", "circle", "ellipse", "polygon"};
-  for (int k = 0; k < 4; ++k)
+  const bool set[5] = {setBox == PETSC_TRUE, setCirc == PETSC_TRUE, setEll == PETSC_TRUE,
+                       setPoly == PETSC_TRUE, setFile == PETSC_TRUE};
+  const char *opt[5] = {"box", "circle", "ellipse", "polygon", "file"};
+  for (int k = 0; k < 5; ++k)
     if (set[k] && k != shape)
       bad(q + opt[k], "(given)",
           std::string("is for shape ") + shapes[k] + ", but " + q + "shape is " + shapes[shape]);
@@ -172,6 +180,23 @@ PetscErrorCode readShape(MPI_Comm comm, const std::string &p, bool help, Body &b
       bad(q + "ellipse", fmtList(ell, 4), "needs finite values and half-axes a, b > 0 [m]");
     b.shape = Shape::ellipse(ell[0], ell[1], ell[2], ell[3]);
     break;
+  case 4: {
+    // The particles as they are; the body's rectangle is their domains' bounding box.
+    b.file = file;
+    PetscCall(readParticleFile(comm, p + "file", b.file, sc.material.thickness, b.fromFile));
+    Box bb = {1e300, 1e300, -1e300, -1e300};
+    for (const FileParticle &f : b.fromFile.particles) {
+      bb[0] = std::min(bb[0], f.x - f.lx);
+      bb[1] = std::min(bb[1], f.y - f.ly);
+      bb[2] = std::max(bb[2], f.x + f.lx);
+      bb[3] = std::max(bb[3], f.y + f.ly);
+    }
+    b.shape = Shape::rectangle(bb[0], bb[1], bb[2], bb[3]);
+    if (setHe || nhp > 0)
+      bad(q + (setHe ? "hole_ellipses" : "hole_polygons"), "(given)",
+          "a body of shape file has no holes: leave its particles out of the file");
+    break;
+  }
   default: {
     if (npoly > kMaxPolygon)
       bad(q + "polygon", "(more than 200 vertices)", "at most 200 vertices (400 values)");
@@ -292,7 +317,7 @@ PetscErrorCode readBodies(MPI_Comm comm, Scene &sc) {
                                "velocity: omega x (X - centre) [rad/s]",
                                "docs/options.md", spin, &spin, nullptr));
     PetscOptionsEnd();
-    PetscCall(readShape(comm, p, sc.help, b));
+    PetscCall(readShape(comm, p, sc, b));
     PetscCall(readBodyMaterial(comm, p, sc, b));
     if (sc.help) continue;
     const std::string q = p.substr(1);
@@ -305,6 +330,9 @@ PetscErrorCode readBodies(MPI_Comm comm, Scene &sc) {
         bad(q + "holes", fmtList(holes, nholes), "needs finite values and radii > 0");
       b.holes.push_back({holes[i], holes[i + 1], holes[i + 2]});
     }
+    if (!b.file.empty() && setHoles)
+      bad(q + "holes", fmtList(holes, nholes),
+          "a body of shape file has no holes: leave its particles out of the file");
     checkHoles(q, b);
     if (!isPerfectSquare(ppc))
       bad(q + "ppc", std::to_string(ppc), "must be a perfect square (1, 4, 9, 16, 25, ...)");

@@ -26,7 +26,8 @@ bool onSegment(const Scene &sc, const Segment &seg, int b, double x, double y, c
 
 struct Seed {
   double x, y;
-  double l[2]; // half-sizes
+  double v[2] = {0, 0}; // a particle file's velocity, if it gives one
+  double l[2];          // half-sizes
   double area; // the part of the square in the body (the whole square unless a hole cuts it)
   double cx0, cx1, cy0, cy1; // corners from the sub-cell lattice: neighbours share them exactly
   PetscInt64 id;
@@ -104,8 +105,33 @@ std::vector<Seed> collectSeeds(const Scene &sc, const Grid &g, PetscMPIInt rank)
     maxCells = std::max<PetscInt64>(maxCells, static_cast<PetscInt64>(L.M) * L.N);
   // Leaf cells of every level: a body's particles take the size of the finest cell there.
   // The rank owning the level-0 cell of a leaf cell's centre seeds it.
+  const PetscInt64 slots = bodyIdSlots(g);
   for (size_t b = 0; b < sc.bodies.size(); ++b) {
     const Body &body = sc.bodies[b];
+    if (!body.file.empty()) { // the file's particles as they are, each on the rank of its point
+      const std::vector<FileParticle> &ps = body.fromFile.particles;
+      if (static_cast<PetscInt64>(ps.size()) > slots) // the same on every rank
+        throw InputError("option -gimp_body" + std::to_string(b) + "_file " + body.file + ": " +
+                         std::to_string(ps.size()) + " particles, more than the " +
+                         std::to_string(slots) + " ids a body has on this grid");
+      for (size_t i = 0; i < ps.size(); ++i) {
+        const FileParticle &f = ps[i];
+        if (g.ownerOf(f.x, f.y) != rank) continue;
+        Seed s{f.x,
+               f.y,
+               {f.vx, f.vy},
+               {f.lx, f.ly},
+               f.area,
+               f.x - f.lx,
+               f.x + f.lx,
+               f.y - f.ly,
+               f.y + f.ly,
+               static_cast<PetscInt64>(b) * slots + static_cast<PetscInt64>(i),
+               static_cast<int>(b)};
+        seeds.push_back(s);
+      }
+      continue;
+    }
     for (int q = 0; q < K; ++q) {
       const Level &L = g.levels[q];
       const double h = L.h;
@@ -144,6 +170,7 @@ std::vector<Seed> collectSeeds(const Scene &sc, const Grid &g, PetscMPIInt rank)
                                ny = static_cast<PetscInt64>(j) * n + b2;
               Seed s{cx0 + (a + 0.5) * d,
                      cy0 + (b2 + 0.5) * d,
+                     {0.0, 0.0},
                      {0.5 * d, 0.5 * d},
                      d * d,
                      L.box[0] + nx * d,
@@ -184,6 +211,10 @@ PetscErrorCode seedParticles(const Scene &sc, const Grid &g, DM sw) {
     p.x[2 * k] = p.X0[2 * k] = s.x;
     p.x[2 * k + 1] = p.X0[2 * k + 1] = s.y;
     double vx = body.velocity[0], vy = body.velocity[1];
+    if (body.fromFile.hasVelocity) {
+      vx = s.v[0];
+      vy = s.v[1];
+    }
     if (body.sineProfile) {
       const double f = std::sin(body.wavenumber * (s.x - body.box[0]));
       vx *= f;

@@ -5,6 +5,7 @@
 
 #include "gimp/core/errors.hpp"
 #include "gimp/cracks/geometry.hpp"
+#include "gimp/input/particle_file.hpp"
 #include "gimp/particles/shape.hpp"
 
 #include <array>
@@ -62,17 +63,19 @@ struct Hole {
 struct Body {
   Material material;               // the scene's, unless -gimp_bodyK_E etc. set its own
   Shape shape;                     // rectangle (the default), ellipse (circle) or polygon
-  std::string shapeOption = "box"; // the option that gave it: box, circle, ellipse, polygon
+  std::string shapeOption = "box"; // the option that gave it: box, circle, ellipse, polygon, file
   Box box{};                       // the shape's bounding box (a rectangle's own box)
   std::vector<Hole> holes;         // circular holes (may cross a rectangle's sides)
   std::vector<Shape> shapeHoles;   // elliptic and polygonal holes (inside the shape)
-  int ppc = 4;                     // particles per cell (a perfect square: 1, 4, 9, ...)
-  int holePpc = 0;                 // particles per cell in cells next to a hole (0: same as ppc)
-  double holeBand = 0;             // width of the band next to a hole that gets holePpc [m]
-  Vec2 velocity{};                 // initial velocity [m/s]
-  bool sineProfile = false;        // v = velocity * sin(k (X - x0)) instead of uniform
-  double wavenumber = 0;           // k [1/m]
-  double spin = 0;                 // initial rigid rotation about the box's centre [rad/s]
+  std::string file;                // shape file: the particle file, and its particles
+  ParticleFile fromFile;
+  int ppc = 4;              // particles per cell (a perfect square: 1, 4, 9, ...)
+  int holePpc = 0;          // particles per cell in cells next to a hole (0: same as ppc)
+  double holeBand = 0;      // width of the band next to a hole that gets holePpc [m]
+  Vec2 velocity{};          // initial velocity [m/s]
+  bool sineProfile = false; // v = velocity * sin(k (X - x0)) instead of uniform
+  double wavenumber = 0;    // k [1/m]
+  double spin = 0;          // initial rigid rotation about the box's centre [rad/s]
   /// In the shape and in no hole (boundaries count as inside the body).
   bool inside(double x, double y) const;
   /// In the shape, off its boundary, and in no hole (not even on a hole's boundary).
