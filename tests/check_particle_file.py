@@ -109,8 +109,9 @@ def bad_file(name, text, needle, extra=()):
                 "-gimp_body0_shape file\n-gimp_body0_file %s\n-ts_max_steps 1\n" % path)
     p = gimptest.run(args, o, list(extra), expect_ok=False, outdir=os.path.join(W, "bad"))
     lines = [ln for ln in p.stderr.splitlines() if "error" in ln]
+    opt = "-gimp_body0_velocity" if extra else "-gimp_body0_file"
     c.check("bad file: " + name, p.returncode != 0 and len(lines) == 1 and
-            "-gimp_body0_file" in lines[0] and needle in lines[0],
+            opt in lines[0] and needle in lines[0],
             "exit %d: %s" % (p.returncode, lines[0] if lines else p.stderr.strip()[-200:]))
 
 
@@ -129,4 +130,8 @@ bad_file("zero half-size", "x,y,lx,ly\n0.5,0.5,0,0.01\n", "lx and ly must be > 0
 bad_file("no particles", "x,y,V\n", "holds no particle")
 bad_file("outside the grid", "x,y,V\n0.5,0.5,1e-4\n1.2,0.5,1e-4\n",
          "particle 1 (data row 2, at 1.2,0.5) is not inside the grid domain")
+bad_file("larger than a cell", "x,y,lx,ly\n0.5,0.5,0.01,0.01\n0.3,0.5,0.06,0.01\n",
+         "particle 1 (data row 2) has half-sizes 0.06,0.01 larger than the coarsest cell")
+bad_file("velocity twice", "x,y,V,vx,vy\n0.5,0.5,1e-4,1,0\n",
+         "gives each particle's velocity", ["-gimp_body0_velocity", "0,1"])
 c.done()

@@ -111,7 +111,8 @@ const Material &Scene::materialAt(double x, double y) const {
 }
 
 double Scene::maxWaveSpeed() const {
-  double c = material.waveSpeed();
+  if (bodies.empty()) return material.waveSpeed();
+  double c = 0; // every body carries its material (the scene's unless it sets its own)
   for (const Body &b : bodies)
     c = std::max(c, b.material.waveSpeed());
   return c;
@@ -431,6 +432,12 @@ void checkBodies(const Scene &sc) {
   // that owns its point; none may be lost).
   for (size_t k = 0; k < sc.bodies.size(); ++k) {
     const std::vector<FileParticle> &ps = sc.bodies[k].fromFile.particles;
+    for (size_t i = 0; i < ps.size(); ++i)
+      if (ps[i].lx > sc.h || ps[i].ly > sc.h) // the stencils reach one level-0 cell
+        bad("gimp_body" + std::to_string(k) + "_file", sc.bodies[k].file,
+            "particle " + std::to_string(i) + " (data row " + std::to_string(i + 1) +
+                ") has half-sizes " + formatNumber(ps[i].lx) + "," + formatNumber(ps[i].ly) +
+                " larger than the coarsest cell -gimp_h " + formatNumber(sc.h));
     for (size_t i = 0; i < ps.size(); ++i)
       if (ps[i].x - ps[i].lx < sc.domain[0] || ps[i].x + ps[i].lx > sc.domain[2] ||
           ps[i].y - ps[i].ly < sc.domain[1] || ps[i].y + ps[i].ly > sc.domain[3])

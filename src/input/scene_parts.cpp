@@ -340,6 +340,11 @@ PetscErrorCode readBodies(MPI_Comm comm, Scene &sc) {
       bad(q + "hole_ppc", std::to_string(hppc), "must be 0 or a perfect square (1, 4, 9, ...)");
     if (band < 0) bad(q + "hole_band", formatNumber(band), "must be >= 0 [m]");
     if (nvel != 2 && nvel != 0) bad(q + "velocity", fmtList(vel, nvel), "needs 2 values vx,vy");
+    if (nvel == 2 && b.fromFile.hasVelocity)
+      bad(q + "velocity", fmtList(vel, nvel),
+          "the particle file " + b.file +
+              " gives each particle's velocity (vx, vy): one or the "
+              "other");
     b.ppc = static_cast<int>(ppc);
     b.holePpc = static_cast<int>(hppc ? hppc : ppc);
     b.holeBand = band;

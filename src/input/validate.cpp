@@ -222,8 +222,9 @@ PetscErrorCode checkSeeding(MPI_Comm comm, const Scene &sc, const Grid &grid, co
   count = 0;
   for (size_t b = 0; b < total.size(); ++b) {
     if (total[b] == 0)
-      throw InputError("option -gimp_body" + std::to_string(b) + "_box " +
-                       boxText(sc.bodies[b].box) +
+      throw InputError("option -gimp_body" + std::to_string(b) + "_" + sc.bodies[b].shapeOption +
+                       " " +
+                       (sc.bodies[b].file.empty() ? boxText(sc.bodies[b].box) : sc.bodies[b].file) +
                        ": the body holds no particle (its cells are all removed by holes "
                        "or it is thinner than a particle); enlarge it or refine -gimp_h");
     count += total[b];

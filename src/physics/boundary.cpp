@@ -52,6 +52,10 @@ PetscErrorCode Boundary::setup(MPI_Comm comm, const Scene &sc, const Lattice &gr
   // With several materials: the stiffest modulus and the lightest density (the penalty acts on
   // the edges of every body with one alpha).
   double M = sc.material.lambdaStar + 2.0 * sc.material.mu, rho = sc.material.rho;
+  if (!sc.bodies.empty()) { // every body carries its material
+    M = 0;
+    rho = 1e300;
+  }
   for (const Body &b : sc.bodies) {
     M = std::max(M, b.material.lambdaStar + 2.0 * b.material.mu);
     rho = std::min(rho, b.material.rho);
