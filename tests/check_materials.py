@@ -93,4 +93,21 @@ for name, extra, needle in (
     lines = [ln for ln in p.stderr.splitlines() if "error" in ln]
     c.check("bad input: " + name, p.returncode != 0 and len(lines) == 1 and needle in lines[0],
             "exit %d: %s" % (p.returncode, lines[0] if lines else p.stderr.strip()[-200:]))
+# A body with no material: neither the scene's -gimp_E, -gimp_rho nor its own.
+with open(os.path.join(args.root, "options", "bimaterial.opts")) as f:
+    lines = [ln for ln in f if not ln.startswith(("-gimp_E ", "-gimp_rho "))]
+noscene = os.path.join(args.work, "no_scene_material.opts")
+with open(noscene, "w") as f:
+    f.writelines(lines)
+p = gimptest.run(args, noscene, ["-ts_max_steps", "1"], expect_ok=False,
+                 outdir=os.path.join(args.work, "bad"))
+lines = [ln for ln in p.stderr.splitlines() if "error" in ln]
+c.check("bad input: a body with no material", p.returncode != 0 and len(lines) == 1 and
+        "-gimp_body0_E (missing): the body has no Young's modulus" in lines[0],
+        "exit %d: %s" % (p.returncode, lines[0] if lines else p.stderr.strip()[-200:]))
+s, ok = run(noscene, "bodies_only", ["-gimp_body0_E", "100", "-gimp_body0_rho", "1"])
+same = max(abs(a - b) for k in ("x", "y", "sxx") for a, b in zip(ok[k], end[k]))
+c.check("every body its own material, no scene material", s["status"] == "at_rest" and same == 0,
+        "status %s; largest difference from the bar with the scene's material %.1e"
+        % (s["status"], same))
 c.done()

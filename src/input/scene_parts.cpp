@@ -41,10 +41,12 @@ PetscErrorCode readMaterial(MPI_Comm comm, Scene &sc) {
   m.model = model == 0 ? MaterialModel::Linear : MaterialModel::NeoHookean;
   m.planeStrain = plane == 0;
   if (sc.help) return PETSC_SUCCESS;
-  if (!setE) bad("gimp_E", "(missing)", "Young's modulus is required, a value > 0 in Pa");
-  if (!(m.E > 0)) bad("gimp_E", formatNumber(m.E), "must be > 0 [Pa]");
-  if (!setRho) bad("gimp_rho", "(missing)", "density is required, a value > 0 in kg/m^3");
-  if (!(m.rho > 0)) bad("gimp_rho", formatNumber(m.rho), "must be > 0 [kg/m^3]");
+  // E and rho may be left to the bodies (-gimp_bodyK_E, _rho): a body that has neither its own
+  // nor the scene's is refused in readBodyMaterial.
+  sc.sceneE = setE == PETSC_TRUE;
+  sc.sceneRho = setRho == PETSC_TRUE;
+  if (setE && !(m.E > 0)) bad("gimp_E", formatNumber(m.E), "must be > 0 [Pa]");
+  if (setRho && !(m.rho > 0)) bad("gimp_rho", formatNumber(m.rho), "must be > 0 [kg/m^3]");
   if (!(m.nu > -1.0 && m.nu < 0.5)) bad("gimp_nu", formatNumber(m.nu), "must lie in (-1, 0.5)");
   if (!(m.thickness > 0)) bad("gimp_thickness", formatNumber(m.thickness), "must be > 0 [m]");
   deriveMaterial(m);
@@ -66,6 +68,7 @@ PetscErrorCode readBodyMaterial(MPI_Comm comm, const std::string &p, const Scene
   Material &m = b.material;
   const char *models[] = {"linear", "neohookean"};
   PetscInt model = m.model == MaterialModel::Linear ? 0 : 1;
+  PetscBool setE = PETSC_FALSE, setRho = PETSC_FALSE;
   PetscCall(checkChoice(p + "material", models, 2));
   PetscOptionsBegin(comm, nullptr, ("Body material " + p + "*").c_str(), "gimp");
   PetscCall(PetscOptionsEList((p + "material").c_str(),
@@ -73,17 +76,23 @@ PetscErrorCode readBodyMaterial(MPI_Comm comm, const std::string &p, const Scene
                               "docs/options.md", models, 2, models[model], &model, nullptr));
   PetscCall(PetscOptionsReal((p + "E").c_str(),
                              "The body's Young's modulus (default: -gimp_E) [Pa]",
-                             "docs/options.md", m.E, &m.E, nullptr));
+                             "docs/options.md", m.E, &m.E, &setE));
   PetscCall(PetscOptionsReal((p + "nu").c_str(),
                              "The body's Poisson's ratio (default: -gimp_nu) [-]",
                              "docs/options.md", m.nu, &m.nu, nullptr));
   PetscCall(PetscOptionsReal((p + "rho").c_str(),
                              "The body's mass density (default: -gimp_rho) [kg/m^3]",
-                             "docs/options.md", m.rho, &m.rho, nullptr));
+                             "docs/options.md", m.rho, &m.rho, &setRho));
   PetscOptionsEnd();
   if (sc.help) return PETSC_SUCCESS;
   m.model = model == 0 ? MaterialModel::Linear : MaterialModel::NeoHookean;
   const std::string q = p.substr(1);
+  if (!setE && !sc.sceneE)
+    bad(q + "E", "(missing)",
+        "the body has no Young's modulus: give it " + p + "E or the scene's -gimp_E [Pa]");
+  if (!setRho && !sc.sceneRho)
+    bad(q + "rho", "(missing)",
+        "the body has no density: give it " + p + "rho or the scene's -gimp_rho [kg/m^3]");
   if (!(m.E > 0) || !std::isfinite(m.E)) bad(q + "E", formatNumber(m.E), "must be > 0 [Pa]");
   if (!(m.rho > 0) || !std::isfinite(m.rho))
     bad(q + "rho", formatNumber(m.rho), "must be > 0 [kg/m^3]");

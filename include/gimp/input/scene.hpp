@@ -143,7 +143,8 @@ struct Scene {
   std::vector<Body> bodies;
   Material material;       // the scene's (-gimp_E, ...): every body's unless it sets its own
   bool oneMaterial = true; // every body has the scene's material
-  PetscInt64 idSlots = 1;  // particle id / idSlots = its body (bodyIdSlots, set with the grid)
+  bool sceneE = true, sceneRho = true; // -gimp_E, -gimp_rho given (else every body gives its own)
+  PetscInt64 idSlots = 1; // particle id / idSlots = its body (bodyIdSlots, set with the grid)
   /// The material of the particle with this id.
   const Material &materialOf(PetscInt64 id) const {
     return oneMaterial ? material : bodies[static_cast<size_t>(id / idSlots)].material;
