@@ -66,6 +66,37 @@ err = sum(float(r["V"]) for r in rows) / exact - 1
 c.check("star minus triangle: area", abs(err) <= 1e-12,
         "particle volumes / polygon areas - 1 = %.1e (tol 1e-12), %d particles" % (err, len(rows)))
 
+# Unions (-gimp_bodyK_add_*): exact areas by inclusion-exclusion.
+unions = [
+    ("stadium: rectangle + two circles",
+     "-gimp_body0_box 0.5,0.5,1.5,1.0\n-gimp_body0_add_circles 0.5,0.75,0.25,1.5,0.75,0.25\n",
+     0.5 + math.pi * 0.0625),
+    ("T: two overlapping rectangles",
+     "-gimp_body0_box 0,0,1,0.2\n-gimp_body0_add_boxes 0.4,0.1,0.6,0.8\n", 0.32),
+    ("notched square + convex polygon",
+     "-gimp_body0_shape polygon\n-gimp_body0_polygon 0,0,1,0,1,1,0.5,0.5,0,1\n"
+     "-gimp_body0_add_polygons 1\n-gimp_body0_add_polygon0 0.3,0.3,0.7,0.3,0.7,1.4,0.3,1.4\n",
+     0.75 + 0.44 - 0.12),
+]
+for k, (name, lines, exact) in enumerate(unions):
+    _, rows = dump_run(scene("union%d" % k, "-gimp_h 0.05\n-gimp_domain -0.5,-0.5,2.5,2\n"
+                             "-ts_max_steps 0\n" + lines), "union%d" % k)
+    err = sum(float(r["V"]) for r in rows) / exact - 1
+    c.check("union: " + name, abs(err) <= 1e-12,
+            "particle volumes / exact area - 1 = %.1e (tol 1e-12), %d particles"
+            % (err, len(rows)))
+for name, lines, needle in (
+        ("two overlapping circles", "-gimp_body0_shape circle\n-gimp_body0_circle 1,1,0.4\n"
+         "-gimp_body0_add_circles 1.5,1,0.4\n",
+         "-gimp_body0_add_circles (shape 1 of the union): overlaps shape 0, and neither"),
+        ("three shapes at a point", "-gimp_body0_box 0,0,1,0.2\n"
+         "-gimp_body0_add_boxes 0.4,0.1,0.6,0.8,0.45,0,0.55,1\n", "three of the joined shapes")):
+    o = scene("bad_union", "-gimp_h 0.05\n-gimp_domain -0.5,-0.5,2.5,2\n-ts_max_steps 0\n" + lines)
+    p = gimptest.run(args, o, [], expect_ok=False, outdir=os.path.join(W, "bad"))
+    errs = [ln for ln in p.stderr.splitlines() if "error" in ln]
+    c.check("union refused: " + name, p.returncode != 0 and len(errs) == 1 and needle in errs[0],
+            "exit %d: %s" % (p.returncode, errs[0] if errs else p.stderr.strip()[-200:]))
+
 # 2. A rectangle as a polygon equals the rectangle.
 common = ("-gimp_h 0.125\n-gimp_body0_holes 1,0.5,0.2\n-gimp_tractions 1\n"
           "-gimp_traction0_side right\n-gimp_traction0_value 1e-4,0\n-gimp_bcs 1\n-gimp_bc0_x 0\n"

@@ -60,8 +60,54 @@ double Ramp::at(double time) const {
   return f.back();
 }
 
+bool Body::inUnion(double x, double y) const {
+  if (shape.contains(x, y)) return true;
+  for (const Shape &s : added)
+    if (s.contains(x, y)) return true;
+  return false;
+}
+
+bool Body::strictlyInUnion(double x, double y) const {
+  if (shape.strictlyInside(x, y)) return true;
+  for (const Shape &s : added)
+    if (s.strictlyInside(x, y)) return true;
+  return false;
+}
+
+std::array<double, 5> Body::unionMomentsIn(double x0, double y0, double x1, double y1, double ox,
+                                           double oy) const {
+  std::array<double, 5> m = shape.momentsIn(x0, y0, x1, y1, ox, oy);
+  const size_t n = added.size() + 1;
+  auto part = [&](size_t i) -> const Shape & { return i == 0 ? shape : added[i - 1]; };
+  for (size_t i = 1; i < n; ++i) {
+    const auto a = part(i).momentsIn(x0, y0, x1, y1, ox, oy);
+    for (int k = 0; k < 5; ++k)
+      m[k] += a[k];
+  }
+  for (size_t i = 0; i < n; ++i)
+    for (size_t j = i + 1; j < n; ++j) {
+      const Shape &a = part(i), &b = part(j);
+      if (a.box[0] >= b.box[2] || b.box[0] >= a.box[2] || a.box[1] >= b.box[3] ||
+          b.box[1] >= a.box[3] || !intersectable(a, b))
+        continue; // apart (a pair that overlaps is intersectable: checked at input)
+      const auto ab = intersectionMomentsIn(a, b, x0, y0, x1, y1, ox, oy);
+      for (int k = 0; k < 5; ++k)
+        m[k] -= ab[k];
+    }
+  return m;
+}
+
+std::vector<std::array<double, 2>> Body::boundaryPoints(int perShape) const {
+  std::vector<std::array<double, 2>> pts = shape.boundaryPoints(perShape);
+  for (const Shape &s : added) {
+    const auto more = s.boundaryPoints(perShape);
+    pts.insert(pts.end(), more.begin(), more.end());
+  }
+  return pts;
+}
+
 bool Body::inside(double x, double y) const {
-  if (!shape.contains(x, y)) return false;
+  if (!inUnion(x, y)) return false;
   for (const Hole &c : holes)
     if ((x - c.cx) * (x - c.cx) + (y - c.cy) * (y - c.cy) < c.r * c.r) return false;
   for (const Shape &h : shapeHoles)
@@ -70,7 +116,7 @@ bool Body::inside(double x, double y) const {
 }
 
 bool Body::strictlyInside(double x, double y) const {
-  if (!shape.strictlyInside(x, y)) return false;
+  if (!strictlyInUnion(x, y)) return false;
   for (const Hole &c : holes)
     if ((x - c.cx) * (x - c.cx) + (y - c.cy) * (y - c.cy) <= c.r * c.r) return false;
   for (const Shape &h : shapeHoles)
@@ -91,9 +137,9 @@ bool bodiesOverlap(const Body &a, const Body &b) {
       if (o.strictlyInside(p.x, p.y)) return true;
     return false;
   }
-  for (const auto &p : a.shape.boundaryPoints(720))
+  for (const auto &p : a.boundaryPoints(720))
     if (b.strictlyInside(p[0], p[1])) return true;
-  for (const auto &p : b.shape.boundaryPoints(720))
+  for (const auto &p : b.boundaryPoints(720))
     if (a.strictlyInside(p[0], p[1])) return true;
   const int n = 256; // one inside the other: a lattice over the boxes' intersection
   for (int j = 0; j < n; ++j)

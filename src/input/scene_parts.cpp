@@ -117,6 +117,43 @@ bool allFinite(const PetscReal *v, PetscInt n) {
 
 /// The body's shape from -gimp_bodyK_shape and the option it names (box, circle, ellipse,
 /// polygon), and its elliptic and polygonal holes; p is "-gimp_bodyK_".
+/// The union's shapes: where two overlap, the moments of their intersection must be exact (one
+/// a rectangle, or two polygons one of which is convex), and no point lies in three of them.
+void checkUnion(const std::string &q, const Body &b, const std::vector<std::string> &names) {
+  std::vector<const Shape *> parts = {&b.shape};
+  for (const Shape &s : b.added)
+    parts.push_back(&s);
+  for (size_t i = 0; i < parts.size(); ++i)
+    for (size_t j = i + 1; j < parts.size(); ++j)
+      if (parts[j]->overlaps(*parts[i]) && !intersectable(*parts[i], *parts[j]))
+        bad(names[j], "(shape " + std::to_string(j) + " of the union)",
+            "overlaps shape " + std::to_string(i) +
+                ", and neither is a rectangle nor are both polygons with one convex: their "
+                "common part has no exact moments; split them so that they only touch");
+  if (parts.size() < 3) return;
+  double box[4] = {1e300, 1e300, -1e300, -1e300};
+  for (const Shape *s : parts) {
+    box[0] = std::min(box[0], s->box[0]);
+    box[1] = std::min(box[1], s->box[1]);
+    box[2] = std::max(box[2], s->box[2]);
+    box[3] = std::max(box[3], s->box[3]);
+  }
+  const int n = 256; // no point strictly inside three shapes, on a lattice over the union
+  for (int jy = 0; jy < n; ++jy)
+    for (int ix = 0; ix < n; ++ix) {
+      const double x = box[0] + (ix + 0.5) * (box[2] - box[0]) / n;
+      const double y = box[1] + (jy + 0.5) * (box[3] - box[1]) / n;
+      int in = 0;
+      for (const Shape *s : parts)
+        in += s->strictlyInside(x, y) ? 1 : 0;
+      if (in >= 3)
+        bad(q + "add_" +
+                std::string(b.added.back().kind == Shape::Kind::Polygon ? "polygons" : "boxes"),
+            "(at " + formatNumber(x) + "," + formatNumber(y) + ")",
+            "three of the joined shapes overlap there: at most two may overlap at a point");
+    }
+}
+
 PetscErrorCode readShape(MPI_Comm comm, const std::string &p, const Scene &sc, Body &b) {
   const bool help = sc.help;
   const char *shapes[] = {"rectangle", "circle", "ellipse", "polygon", "file"};
@@ -126,7 +163,10 @@ PetscErrorCode readShape(MPI_Comm comm, const std::string &p, const Scene &sc, B
   PetscInt shape = 0, nbox = 5, ncirc = 4, nell = 5, npoly = kMaxPolygon + 1, nhe = 401, nhp = 0;
   PetscReal box[5] = {0}, circ[4] = {0}, ell[5] = {0}, poly[kMaxPolygon + 1] = {0}, he[401] = {0};
   PetscBool setBox = PETSC_FALSE, setCirc = PETSC_FALSE, setEll = PETSC_FALSE,
-            setPoly = PETSC_FALSE, setHe = PETSC_FALSE;
+            setPoly = PETSC_FALSE, setHe = PETSC_FALSE, setAb = PETSC_FALSE, setAc = PETSC_FALSE,
+            setAe = PETSC_FALSE;
+  PetscReal ab[401] = {0}, ac[301] = {0}, ae[401] = {0};
+  PetscInt nab = 401, nac = 301, nae = 401, nap = 0;
   PetscCall(checkChoice(p + "shape", shapes, 5));
   PetscOptionsBegin(comm, nullptr, ("Body shape " + p + "*").c_str(), "gimp");
   PetscCall(PetscOptionsEList((p + "shape").c_str(),
@@ -152,6 +192,18 @@ PetscErrorCode readShape(MPI_Comm comm, const std::string &p, const Scene &sc, B
   PetscCall(PetscOptionsRealArray((p + "hole_ellipses").c_str(),
                                   "Elliptic holes inside the body: cx,cy,a,b,... [m]",
                                   "docs/options.md", he, &nhe, &setHe));
+  PetscCall(PetscOptionsRealArray((p + "add_boxes").c_str(),
+                                  "Rectangles joined to the body: x0,y0,x1,y1,... [m]",
+                                  "docs/options.md", ab, &nab, &setAb));
+  PetscCall(PetscOptionsRealArray((p + "add_circles").c_str(),
+                                  "Circles joined to the body: cx,cy,r,... [m]", "docs/options.md",
+                                  ac, &nac, &setAc));
+  PetscCall(PetscOptionsRealArray((p + "add_ellipses").c_str(),
+                                  "Ellipses joined to the body: cx,cy,a,b,... [m]",
+                                  "docs/options.md", ae, &nae, &setAe));
+  PetscCall(PetscOptionsInt((p + "add_polygons").c_str(),
+                            "Number of polygons joined to the body (each _add_polygonJ)",
+                            "docs/options.md", nap, &nap, nullptr));
   PetscCall(PetscOptionsInt((p + "hole_polygons").c_str(),
                             "Number of polygonal holes (each _hole_polygonJ, J = 0..N-1)",
                             "docs/options.md", nhp, &nhp, nullptr));
@@ -215,7 +267,76 @@ PetscErrorCode readShape(MPI_Comm comm, const std::string &p, const Scene &sc, B
     b.shape = Shape::polygon(xy);
   }
   }
+  // Shapes joined to the body (a union).
+  auto groups = [&](const char *name, PetscBool set, PetscInt n, int per, PetscReal *v,
+                    const char *what) {
+    if (!set) return;
+    if (n > 400 || n % per != 0)
+      bad(q + name, n > 400 ? "(too many values)" : fmtList(v, n),
+          std::string("needs groups of ") + std::to_string(per) + " values " + what +
+              " (at most 100 shapes)");
+    for (PetscInt i = 0; i + per - 1 < n; i += per)
+      if (!allFinite(v + i, per)) bad(q + name, fmtList(v, n), "the values must be finite");
+  };
+  groups("add_boxes", setAb, nab, 4, ab, "x0,y0,x1,y1");
+  groups("add_circles", setAc, nac, 3, ac, "cx,cy,r");
+  groups("add_ellipses", setAe, nae, 4, ae, "cx,cy,a,b");
+  for (PetscInt i = 0; setAb && i + 3 < nab; i += 4) {
+    if (!(ab[i + 2] > ab[i] && ab[i + 3] > ab[i + 1]))
+      bad(q + "add_boxes", fmtList(ab, nab), "needs x1 > x0 and y1 > y0 in each");
+    b.added.push_back(Shape::rectangle(ab[i], ab[i + 1], ab[i + 2], ab[i + 3]));
+  }
+  for (PetscInt i = 0; setAc && i + 2 < nac; i += 3) {
+    if (!(ac[i + 2] > 0)) bad(q + "add_circles", fmtList(ac, nac), "radii must be > 0");
+    b.added.push_back(Shape::ellipse(ac[i], ac[i + 1], ac[i + 2], ac[i + 2]));
+  }
+  for (PetscInt i = 0; setAe && i + 3 < nae; i += 4) {
+    if (!(ae[i + 2] > 0) || !(ae[i + 3] > 0))
+      bad(q + "add_ellipses", fmtList(ae, nae), "half-axes must be > 0");
+    b.added.push_back(Shape::ellipse(ae[i], ae[i + 1], ae[i + 2], ae[i + 3]));
+  }
+  if (nap < 0 || nap > kMaxHolePolygons)
+    bad(q + "add_polygons", std::to_string(nap),
+        "must be 0 to " + std::to_string(kMaxHolePolygons));
+  for (PetscInt j = 0; j < nap; ++j) {
+    const std::string o = p + "add_polygon" + std::to_string(j);
+    PetscReal v[kMaxPolygon + 1] = {0};
+    PetscInt n = kMaxPolygon + 1;
+    PetscBool given = PETSC_FALSE;
+    PetscOptionsBegin(comm, nullptr, ("Added " + o).c_str(), "gimp");
+    PetscCall(PetscOptionsRealArray(o.c_str(), "Polygon joined to the body x0,y0,x1,y1,... [m]",
+                                    "docs/options.md", v, &n, &given));
+    PetscOptionsEnd();
+    if (!given)
+      bad(o.substr(1), "(missing)",
+          "each of the " + std::to_string(nap) + " added polygons needs its vertices");
+    if (n > kMaxPolygon) bad(o.substr(1), "(more than 200 vertices)", "at most 200 vertices");
+    const std::vector<double> xy(v, v + n);
+    const std::string why = polygonProblem(xy);
+    if (!why.empty()) bad(o.substr(1), fmtList(v, n), why);
+    b.added.push_back(Shape::polygon(xy));
+  }
+  if (!b.added.empty() && shape == 4)
+    bad(q + "add_boxes", "(given)", "a body of shape file cannot be joined to other shapes");
+  std::vector<std::string> names = {q + b.shapeOption};
+  {
+    size_t k = 0;
+    const char *kinds[3] = {"add_boxes", "add_circles", "add_ellipses"};
+    const PetscInt counts[3] = {setAb ? nab / 4 : 0, setAc ? nac / 3 : 0, setAe ? nae / 4 : 0};
+    for (int g = 0; g < 3; ++g)
+      for (PetscInt i = 0; i < counts[g]; ++i, ++k)
+        names.push_back(q + kinds[g]);
+    for (PetscInt j = 0; j < nap; ++j)
+      names.push_back(q + "add_polygon" + std::to_string(j));
+  }
+  checkUnion(q, b, names);
   b.box = b.shape.box;
+  for (const Shape &s : b.added) {
+    b.box[0] = std::min(b.box[0], s.box[0]);
+    b.box[1] = std::min(b.box[1], s.box[1]);
+    b.box[2] = std::max(b.box[2], s.box[2]);
+    b.box[3] = std::max(b.box[3], s.box[3]);
+  }
   // Elliptic and polygonal holes: inside the shape, apart from each other.
   if (setHe && nhe > 400)
     bad(q + "hole_ellipses", "(more than 100 holes)", "at most 100 (400 values cx,cy,a,b)");
@@ -267,8 +388,22 @@ void checkHoles(const std::string &q, const Body &b) {
                         : q + "hole_polygon" + std::to_string(polygons++));
   }
   for (size_t i = 0; i < all.size(); ++i) {
-    const bool mayCross = i < b.holes.size() && b.shape.kind == Shape::Kind::Rectangle;
-    if (!mayCross && !all[i].insideOf(b.shape))
+    const bool mayCross =
+        i < b.holes.size() && b.shape.kind == Shape::Kind::Rectangle && b.added.empty();
+    bool inside = all[i].insideOf(b.shape);
+    if (!b.added.empty()) { // inside the union: its boundary in it, no polygon's corner in it
+      inside = true;
+      for (const auto &pt : all[i].boundaryPoints(720))
+        inside = inside && b.inUnion(pt[0], pt[1]);
+      std::vector<const Shape *> parts = {&b.shape};
+      for (const Shape &s2 : b.added)
+        parts.push_back(&s2);
+      for (const Shape *s2 : parts)
+        if (s2->kind == Shape::Kind::Polygon)
+          for (size_t v = 0; v + 1 < s2->xy.size(); v += 2)
+            inside = inside && !all[i].strictlyInside(s2->xy[v], s2->xy[v + 1]);
+    }
+    if (!mayCross && !inside)
       bad(names[i], "(hole " + std::to_string(i) + ")",
           "must lie inside the body's " + b.shapeOption +
               " (only circular holes of a rectangle may cross its sides)");

@@ -43,11 +43,11 @@ bool cutByShape(const Body &body, Seed &s) {
   const double xc = 0.5 * (s.cx0 + s.cx1), yc = 0.5 * (s.cy0 + s.cy1);
   std::array<double, 5> mom = {w * h, 0.0, 0.0, w * h * w * w / 12.0, w * h * h * h / 12.0};
   bool cut = false;
-  if (body.shape.kind == Shape::Kind::Rectangle) {
+  if (body.shape.kind == Shape::Kind::Rectangle && body.added.empty()) {
     const Box &box = body.box;
     if (s.x < box[0] || s.x > box[2] || s.y < box[1] || s.y > box[3]) return false;
   } else {
-    const auto in = body.shape.momentsIn(s.cx0, s.cy0, s.cx1, s.cy1, xc, yc);
+    const auto in = body.unionMomentsIn(s.cx0, s.cy0, s.cx1, s.cy1, xc, yc);
     if (in[0] <= 1e-13 * w * h) return false;
     if (std::fabs(in[0] - w * h) > 1e-12 * w * h) { // the edge crosses the square
       mom = in;

@@ -285,6 +285,75 @@ bool Shape::overlaps(const Shape &o) const {
   return false;
 }
 
+namespace {
+
+bool convexPolygon(const Shape &s) {
+  if (s.kind != Shape::Kind::Polygon) return false;
+  const size_t n = s.xy.size() / 2;
+  for (size_t i = 0; i < n; ++i) { // counter-clockwise: every turn to the left (or straight)
+    const double *a = &s.xy[2 * i], *b = &s.xy[2 * ((i + 1) % n)], *c = &s.xy[2 * ((i + 2) % n)];
+    if (cross(b[0] - a[0], b[1] - a[1], c[0] - b[0], c[1] - b[1]) < 0) return false;
+  }
+  return true;
+}
+
+/// The polygon `poly` (coordinates relative to o) clipped to the left of the directed line
+/// p -> q (Sutherland-Hodgman; exact intersections up to round-off).
+std::vector<double> clipLeftOf(const std::vector<double> &poly, const double *p, const double *q) {
+  std::vector<double> out;
+  const size_t n = poly.size() / 2;
+  const double ux = q[0] - p[0], uy = q[1] - p[1];
+  auto side = [&](const double *v) { return -cross(ux, uy, v[0] - p[0], v[1] - p[1]); };
+  for (size_t i = 0; i < n; ++i) {
+    const double *a = &poly[2 * i], *b = &poly[2 * ((i + 1) % n)];
+    const double da = side(a), db = side(b); // <= 0: left of the line (kept)
+    if (da <= 0) out.insert(out.end(), {a[0], a[1]});
+    if ((da < 0 && db > 0) || (da > 0 && db < 0)) {
+      const double t = da / (da - db);
+      out.insert(out.end(), {a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])});
+    }
+  }
+  return out;
+}
+
+} // namespace
+
+bool intersectable(const Shape &a, const Shape &b) {
+  return a.kind == Shape::Kind::Rectangle || b.kind == Shape::Kind::Rectangle ||
+         (a.kind == Shape::Kind::Polygon && b.kind == Shape::Kind::Polygon &&
+          (convexPolygon(a) || convexPolygon(b)));
+}
+
+std::array<double, 5> intersectionMomentsIn(const Shape &a, const Shape &b, double x0, double y0,
+                                            double x1, double y1, double ox, double oy) {
+  if (a.kind == Shape::Kind::Rectangle || b.kind == Shape::Kind::Rectangle) {
+    const Shape &r = a.kind == Shape::Kind::Rectangle ? a : b, &o = &r == &a ? b : a;
+    const double u0 = std::max(x0, r.box[0]), u1 = std::min(x1, r.box[2]);
+    const double v0 = std::max(y0, r.box[1]), v1 = std::min(y1, r.box[3]);
+    if (!(u1 > u0) || !(v1 > v0)) return {};
+    return o.momentsIn(u0, v0, u1, v1, ox, oy);
+  }
+  // Two polygons, one convex: the other clipped by each of its edges, then by the rectangle.
+  const Shape &cv = convexPolygon(a) ? a : b, &other = &cv == &a ? b : a;
+  std::vector<double> poly(other.xy.size());
+  for (size_t i = 0; i + 1 < other.xy.size(); i += 2) {
+    poly[i] = other.xy[i] - ox;
+    poly[i + 1] = other.xy[i + 1] - oy;
+  }
+  const size_t n = cv.xy.size() / 2;
+  for (size_t i = 0; i < n && poly.size() >= 6; ++i) {
+    const double p[2] = {cv.xy[2 * i] - ox, cv.xy[2 * i + 1] - oy};
+    const double q[2] = {cv.xy[2 * ((i + 1) % n)] - ox, cv.xy[2 * ((i + 1) % n) + 1] - oy};
+    poly = clipLeftOf(poly, p, q);
+  }
+  if (poly.size() < 6) return {};
+  Shape clipped;
+  clipped.kind = Shape::Kind::Polygon;
+  clipped.xy = poly; // relative to o already
+  clipped.box = {-1e300, -1e300, 1e300, 1e300};
+  return clipped.momentsIn(x0 - ox, y0 - oy, x1 - ox, y1 - oy, 0.0, 0.0);
+}
+
 std::string polygonProblem(const std::vector<double> &xy) {
   if (xy.size() % 2) return "needs pairs x,y";
   if (xy.size() < 6) return "needs at least 3 vertices";

@@ -67,6 +67,7 @@ struct Body {
   Box box{};                       // the shape's bounding box (a rectangle's own box)
   std::vector<Hole> holes;         // circular holes (may cross a rectangle's sides)
   std::vector<Shape> shapeHoles;   // elliptic and polygonal holes (inside the shape)
+  std::vector<Shape> added;        // shapes joined to the shape (-gimp_bodyK_add_*): the union
   std::string file;                // shape file: the particle file, and its particles
   ParticleFile fromFile;
   int ppc = 4;              // particles per cell (a perfect square: 1, 4, 9, ...)
@@ -76,6 +77,17 @@ struct Body {
   bool sineProfile = false; // v = velocity * sin(k (X - x0)) instead of uniform
   double wavenumber = 0;    // k [1/m]
   double spin = 0;          // initial rigid rotation about the box's centre [rad/s]
+  /// In the union of the shape and the added shapes (boundaries count as inside).
+  bool inUnion(double x, double y) const;
+  /// Strictly inside one of the union's shapes.
+  bool strictlyInUnion(double x, double y) const;
+  /// The raw moments of the part of the rectangle inside the union (Shape::momentsIn):
+  /// inclusion-exclusion over the shapes, whose pairwise intersections are exact
+  /// (intersectable) and which never overlap three at a time (both checked at input).
+  std::array<double, 5> unionMomentsIn(double x0, double y0, double x1, double y1, double ox,
+                                       double oy) const;
+  /// Points on the boundaries of the union's shapes.
+  std::vector<std::array<double, 2>> boundaryPoints(int perShape) const;
   /// In the shape and in no hole (boundaries count as inside the body).
   bool inside(double x, double y) const;
   /// In the shape, off its boundary, and in no hole (not even on a hole's boundary).

@@ -47,6 +47,15 @@ struct Shape {
   std::vector<std::array<double, 2>> boundaryPoints(int n) const;
 };
 
+/// Whether the moments of the intersection of a and b in a rectangle can be taken exactly: one
+/// of them is a rectangle, or both are polygons and one is convex.
+bool intersectable(const Shape &a, const Shape &b);
+
+/// The raw moments (as Shape::momentsIn) of the part of the rectangle [x0, x1] x [y0, y1] inside
+/// both a and b; intersectable(a, b) must hold.
+std::array<double, 5> intersectionMomentsIn(const Shape &a, const Shape &b, double x0, double y0,
+                                            double x1, double y1, double ox, double oy);
+
 /// Why the polygon x0, y0, x1, y1, ... is not a simple polygon ("" if it is): fewer than 3
 /// vertices, an odd count of numbers, a non-finite value, zero area or crossing edges.
 std::string polygonProblem(const std::vector<double> &xy);
