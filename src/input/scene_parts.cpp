@@ -117,6 +117,35 @@ bool allFinite(const PetscReal *v, PetscInt n) {
 
 /// The body's shape from -gimp_bodyK_shape and the option it names (box, circle, ellipse,
 /// polygon), and its elliptic and polygonal holes; p is "-gimp_bodyK_".
+/// The polygons -gimp_bodyK_<name>J, J = 0 .. count - 1 (count from -gimp_bodyK_<name>s, at
+/// most 20), each a simple polygon of at most 200 vertices, appended to `out`.
+PetscErrorCode readPolygons(MPI_Comm comm, const std::string &p, const std::string &name,
+                            PetscInt count, const char *what, std::vector<Shape> &out) {
+  constexpr PetscInt kMaxPolygon = 400, kMaxPolygons = 20;
+  if (count < 0 || count > kMaxPolygons)
+    bad(p.substr(1) + name + "s", std::to_string(count),
+        "must be 0 to " + std::to_string(kMaxPolygons));
+  for (PetscInt j = 0; j < count; ++j) {
+    const std::string o = p + name + std::to_string(j);
+    PetscReal v[kMaxPolygon + 1] = {0};
+    PetscInt n = kMaxPolygon + 1;
+    PetscBool given = PETSC_FALSE;
+    PetscOptionsBegin(comm, nullptr, o.c_str(), "gimp");
+    PetscCall(PetscOptionsRealArray(o.c_str(), (std::string(what) + " x0,y0,x1,y1,... [m]").c_str(),
+                                    "docs/options.md", v, &n, &given));
+    PetscOptionsEnd();
+    if (!given)
+      bad(o.substr(1), "(missing)",
+          "each of the " + std::to_string(count) + " " + name + "s needs its vertices");
+    if (n > kMaxPolygon) bad(o.substr(1), "(more than 200 vertices)", "at most 200 vertices");
+    const std::vector<double> xy(v, v + n);
+    const std::string why = polygonProblem(xy);
+    if (!why.empty()) bad(o.substr(1), fmtList(v, n), why);
+    out.push_back(Shape::polygon(xy));
+  }
+  return PETSC_SUCCESS;
+}
+
 /// The union's shapes: where two overlap, the moments of their intersection must be exact (one
 /// a rectangle, or two polygons one of which is convex), and no point lies in three of them.
 void checkUnion(const std::string &q, const Body &b, const std::vector<std::string> &names) {
@@ -159,7 +188,7 @@ PetscErrorCode readShape(MPI_Comm comm, const std::string &p, const Scene &sc, B
   const char *shapes[] = {"rectangle", "circle", "ellipse", "polygon", "file"};
   char file[PETSC_MAX_PATH_LEN] = "";
   PetscBool setFile = PETSC_FALSE;
-  constexpr PetscInt kMaxPolygon = 400, kMaxHolePolygons = 20;
+  constexpr PetscInt kMaxPolygon = 400;
   PetscInt shape = 0, nbox = 5, ncirc = 4, nell = 5, npoly = kMaxPolygon + 1, nhe = 401, nhp = 0;
   PetscReal box[5] = {0}, circ[4] = {0}, ell[5] = {0}, poly[kMaxPolygon + 1] = {0}, he[401] = {0};
   PetscBool setBox = PETSC_FALSE, setCirc = PETSC_FALSE, setEll = PETSC_FALSE,
@@ -295,27 +324,7 @@ PetscErrorCode readShape(MPI_Comm comm, const std::string &p, const Scene &sc, B
       bad(q + "add_ellipses", fmtList(ae, nae), "half-axes must be > 0");
     b.added.push_back(Shape::ellipse(ae[i], ae[i + 1], ae[i + 2], ae[i + 3]));
   }
-  if (nap < 0 || nap > kMaxHolePolygons)
-    bad(q + "add_polygons", std::to_string(nap),
-        "must be 0 to " + std::to_string(kMaxHolePolygons));
-  for (PetscInt j = 0; j < nap; ++j) {
-    const std::string o = p + "add_polygon" + std::to_string(j);
-    PetscReal v[kMaxPolygon + 1] = {0};
-    PetscInt n = kMaxPolygon + 1;
-    PetscBool given = PETSC_FALSE;
-    PetscOptionsBegin(comm, nullptr, ("Added " + o).c_str(), "gimp");
-    PetscCall(PetscOptionsRealArray(o.c_str(), "Polygon joined to the body x0,y0,x1,y1,... [m]",
-                                    "docs/options.md", v, &n, &given));
-    PetscOptionsEnd();
-    if (!given)
-      bad(o.substr(1), "(missing)",
-          "each of the " + std::to_string(nap) + " added polygons needs its vertices");
-    if (n > kMaxPolygon) bad(o.substr(1), "(more than 200 vertices)", "at most 200 vertices");
-    const std::vector<double> xy(v, v + n);
-    const std::string why = polygonProblem(xy);
-    if (!why.empty()) bad(o.substr(1), fmtList(v, n), why);
-    b.added.push_back(Shape::polygon(xy));
-  }
+  PetscCall(readPolygons(comm, p, "add_polygon", nap, "Polygon joined to the body", b.added));
   if (!b.added.empty() && shape == 4)
     bad(q + "add_boxes", "(given)", "a body of shape file cannot be joined to other shapes");
   std::vector<std::string> names = {q + b.shapeOption};
@@ -347,27 +356,7 @@ PetscErrorCode readShape(MPI_Comm comm, const std::string &p, const Scene &sc, B
       bad(q + "hole_ellipses", fmtList(he, nhe), "needs finite values and half-axes a, b > 0");
     b.shapeHoles.push_back(Shape::ellipse(he[i], he[i + 1], he[i + 2], he[i + 3]));
   }
-  if (nhp < 0 || nhp > kMaxHolePolygons)
-    bad(q + "hole_polygons", std::to_string(nhp),
-        "must be 0 to " + std::to_string(kMaxHolePolygons));
-  for (PetscInt j = 0; j < nhp; ++j) {
-    const std::string o = p + "hole_polygon" + std::to_string(j);
-    PetscReal v[kMaxPolygon + 1] = {0};
-    PetscInt n = kMaxPolygon + 1;
-    PetscBool given = PETSC_FALSE;
-    PetscOptionsBegin(comm, nullptr, ("Hole " + o).c_str(), "gimp");
-    PetscCall(PetscOptionsRealArray(o.c_str(), "Polygonal hole x0,y0,x1,y1,... [m]",
-                                    "docs/options.md", v, &n, &given));
-    PetscOptionsEnd();
-    if (!given)
-      bad(o.substr(1), "(missing)",
-          "each of the " + std::to_string(nhp) + " hole polygons needs its vertices");
-    if (n > kMaxPolygon) bad(o.substr(1), "(more than 200 vertices)", "at most 200 vertices");
-    const std::vector<double> xy(v, v + n);
-    const std::string why = polygonProblem(xy);
-    if (!why.empty()) bad(o.substr(1), fmtList(v, n), why);
-    b.shapeHoles.push_back(Shape::polygon(xy));
-  }
+  PetscCall(readPolygons(comm, p, "hole_polygon", nhp, "Polygonal hole", b.shapeHoles));
   return PETSC_SUCCESS;
 }
 
