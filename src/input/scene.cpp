@@ -157,7 +157,7 @@ const Material &Scene::materialAt(double x, double y) const {
 }
 
 double Scene::maxWaveSpeed() const {
-  if (bodies.empty()) return material.waveSpeed();
+  if (oneMaterial || bodies.empty()) return material.waveSpeed();
   double c = 0; // every body carries its material (the scene's unless it sets its own)
   for (const Body &b : bodies)
     c = std::max(c, b.material.waveSpeed());
