@@ -74,19 +74,25 @@ bool Body::strictlyInUnion(double x, double y) const {
   return false;
 }
 
+std::vector<const Shape *> Body::parts() const {
+  std::vector<const Shape *> all = {&shape};
+  for (const Shape &s : added)
+    all.push_back(&s);
+  return all;
+}
+
 std::array<double, 5> Body::unionMomentsIn(double x0, double y0, double x1, double y1, double ox,
                                            double oy) const {
-  std::array<double, 5> m = shape.momentsIn(x0, y0, x1, y1, ox, oy);
-  const size_t n = added.size() + 1;
-  auto part = [&](size_t i) -> const Shape & { return i == 0 ? shape : added[i - 1]; };
-  for (size_t i = 1; i < n; ++i) {
-    const auto a = part(i).momentsIn(x0, y0, x1, y1, ox, oy);
+  const std::vector<const Shape *> all = parts();
+  std::array<double, 5> m{};
+  for (const Shape *s : all) {
+    const auto a = s->momentsIn(x0, y0, x1, y1, ox, oy);
     for (int k = 0; k < 5; ++k)
       m[k] += a[k];
   }
-  for (size_t i = 0; i < n; ++i)
-    for (size_t j = i + 1; j < n; ++j) {
-      const Shape &a = part(i), &b = part(j);
+  for (size_t i = 0; i < all.size(); ++i)
+    for (size_t j = i + 1; j < all.size(); ++j) {
+      const Shape &a = *all[i], &b = *all[j];
       if (a.box[0] >= b.box[2] || b.box[0] >= a.box[2] || a.box[1] >= b.box[3] ||
           b.box[1] >= a.box[3] || !intersectable(a, b))
         continue; // apart (a pair that overlaps is intersectable: checked at input)
@@ -98,9 +104,9 @@ std::array<double, 5> Body::unionMomentsIn(double x0, double y0, double x1, doub
 }
 
 std::vector<std::array<double, 2>> Body::boundaryPoints(int perShape) const {
-  std::vector<std::array<double, 2>> pts = shape.boundaryPoints(perShape);
-  for (const Shape &s : added) {
-    const auto more = s.boundaryPoints(perShape);
+  std::vector<std::array<double, 2>> pts;
+  for (const Shape *s : parts()) {
+    const auto more = s->boundaryPoints(perShape);
     pts.insert(pts.end(), more.begin(), more.end());
   }
   return pts;
@@ -125,9 +131,6 @@ bool Body::strictlyInside(double x, double y) const {
 }
 
 bool bodiesOverlap(const Body &a, const Body &b) {
-  const double x0 = std::max(a.box[0], b.box[0]), x1 = std::min(a.box[2], b.box[2]);
-  const double y0 = std::max(a.box[1], b.box[1]), y1 = std::min(a.box[3], b.box[3]);
-  if (!(x1 > x0) || !(y1 > y0)) return false;
   // A body from a particle file: its particles' centres strictly inside the other body (two
   // file bodies are taken as given).
   if (!a.file.empty() || !b.file.empty()) {
@@ -137,17 +140,10 @@ bool bodiesOverlap(const Body &a, const Body &b) {
       if (o.strictlyInside(p.x, p.y)) return true;
     return false;
   }
-  for (const auto &p : a.boundaryPoints(720))
-    if (b.strictlyInside(p[0], p[1])) return true;
-  for (const auto &p : b.boundaryPoints(720))
-    if (a.strictlyInside(p[0], p[1])) return true;
-  const int n = 256; // one inside the other: a lattice over the boxes' intersection
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) {
-      const double x = x0 + (i + 0.5) * (x1 - x0) / n, y = y0 + (j + 0.5) * (y1 - y0) / n;
-      if (a.strictlyInside(x, y) && b.strictlyInside(x, y)) return true;
-    }
-  return false;
+  return interiorsMeet(
+      a.box, b.box, [&] { return a.boundaryPoints(720); }, [&] { return b.boundaryPoints(720); },
+      [&](double x, double y) { return a.strictlyInside(x, y); },
+      [&](double x, double y) { return b.strictlyInside(x, y); });
 }
 
 const Material &Scene::materialAt(double x, double y) const {

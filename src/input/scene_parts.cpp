@@ -149,9 +149,7 @@ PetscErrorCode readPolygons(MPI_Comm comm, const std::string &p, const std::stri
 /// The union's shapes: where two overlap, the moments of their intersection must be exact (one
 /// a rectangle, or two polygons one of which is convex), and no point lies in three of them.
 void checkUnion(const std::string &q, const Body &b, const std::vector<std::string> &names) {
-  std::vector<const Shape *> parts = {&b.shape};
-  for (const Shape &s : b.added)
-    parts.push_back(&s);
+  const std::vector<const Shape *> parts = b.parts();
   for (size_t i = 0; i < parts.size(); ++i)
     for (size_t j = i + 1; j < parts.size(); ++j)
       if (parts[j]->overlaps(*parts[i]) && !intersectable(*parts[i], *parts[j]))
@@ -160,27 +158,18 @@ void checkUnion(const std::string &q, const Body &b, const std::vector<std::stri
                 ", and neither is a rectangle nor are both polygons with one convex: their "
                 "common part has no exact moments; split them so that they only touch");
   if (parts.size() < 3) return;
-  double box[4] = {1e300, 1e300, -1e300, -1e300};
-  for (const Shape *s : parts) {
-    box[0] = std::min(box[0], s->box[0]);
-    box[1] = std::min(box[1], s->box[1]);
-    box[2] = std::max(box[2], s->box[2]);
-    box[3] = std::max(box[3], s->box[3]);
-  }
-  const int n = 256; // no point strictly inside three shapes, on a lattice over the union
-  for (int jy = 0; jy < n; ++jy)
-    for (int ix = 0; ix < n; ++ix) {
-      const double x = box[0] + (ix + 0.5) * (box[2] - box[0]) / n;
-      const double y = box[1] + (jy + 0.5) * (box[3] - box[1]) / n;
-      int in = 0;
-      for (const Shape *s : parts)
-        in += s->strictlyInside(x, y) ? 1 : 0;
-      if (in >= 3)
-        bad(q + "add_" +
-                std::string(b.added.back().kind == Shape::Kind::Polygon ? "polygons" : "boxes"),
-            "(at " + formatNumber(x) + "," + formatNumber(y) + ")",
-            "three of the joined shapes overlap there: at most two may overlap at a point");
-    }
+  auto threeDeep = [&](double x, double y) { // strictly inside three shapes (b.box: the union's)
+    int in = 0;
+    for (const Shape *s : parts)
+      in += s->strictlyInside(x, y) ? 1 : 0;
+    return in >= 3;
+  };
+  double at[2];
+  if (latticeFind(b.box, 256, threeDeep, at))
+    bad(q + "add_" +
+            std::string(b.added.back().kind == Shape::Kind::Polygon ? "polygons" : "boxes"),
+        "(at " + formatNumber(at[0]) + "," + formatNumber(at[1]) + ")",
+        "three of the joined shapes overlap there: at most two may overlap at a point");
 }
 
 PetscErrorCode readShape(MPI_Comm comm, const std::string &p, const Scene &sc, Body &b) {
@@ -328,17 +317,13 @@ PetscErrorCode readShape(MPI_Comm comm, const std::string &p, const Scene &sc, B
   if (!b.added.empty() && shape == 4)
     bad(q + "add_boxes", "(given)", "a body of shape file cannot be joined to other shapes");
   std::vector<std::string> names = {q + b.shapeOption};
-  {
-    size_t k = 0;
-    const char *kinds[3] = {"add_boxes", "add_circles", "add_ellipses"};
-    const PetscInt counts[3] = {setAb ? nab / 4 : 0, setAc ? nac / 3 : 0, setAe ? nae / 4 : 0};
-    for (int g = 0; g < 3; ++g)
-      for (PetscInt i = 0; i < counts[g]; ++i, ++k)
-        names.push_back(q + kinds[g]);
-    for (PetscInt j = 0; j < nap; ++j)
-      names.push_back(q + "add_polygon" + std::to_string(j));
-  }
-  checkUnion(q, b, names);
+  const char *kinds[3] = {"add_boxes", "add_circles", "add_ellipses"};
+  const PetscInt counts[3] = {setAb ? nab / 4 : 0, setAc ? nac / 3 : 0, setAe ? nae / 4 : 0};
+  for (int g = 0; g < 3; ++g)
+    for (PetscInt i = 0; i < counts[g]; ++i)
+      names.push_back(q + kinds[g]);
+  for (PetscInt j = 0; j < nap; ++j)
+    names.push_back(q + "add_polygon" + std::to_string(j));
   b.box = b.shape.box;
   for (const Shape &s : b.added) {
     b.box[0] = std::min(b.box[0], s.box[0]);
@@ -346,6 +331,7 @@ PetscErrorCode readShape(MPI_Comm comm, const std::string &p, const Scene &sc, B
     b.box[2] = std::max(b.box[2], s.box[2]);
     b.box[3] = std::max(b.box[3], s.box[3]);
   }
+  checkUnion(q, b, names);
   // Elliptic and polygonal holes: inside the shape, apart from each other.
   if (setHe && nhe > 400)
     bad(q + "hole_ellipses", "(more than 100 holes)", "at most 100 (400 values cx,cy,a,b)");
@@ -379,20 +365,7 @@ void checkHoles(const std::string &q, const Body &b) {
   for (size_t i = 0; i < all.size(); ++i) {
     const bool mayCross =
         i < b.holes.size() && b.shape.kind == Shape::Kind::Rectangle && b.added.empty();
-    bool inside = all[i].insideOf(b.shape);
-    if (!b.added.empty()) { // inside the union: its boundary in it, no polygon's corner in it
-      inside = true;
-      for (const auto &pt : all[i].boundaryPoints(720))
-        inside = inside && b.inUnion(pt[0], pt[1]);
-      std::vector<const Shape *> parts = {&b.shape};
-      for (const Shape &s2 : b.added)
-        parts.push_back(&s2);
-      for (const Shape *s2 : parts)
-        if (s2->kind == Shape::Kind::Polygon)
-          for (size_t v = 0; v + 1 < s2->xy.size(); v += 2)
-            inside = inside && !all[i].strictlyInside(s2->xy[v], s2->xy[v + 1]);
-    }
-    if (!mayCross && !inside)
+    if (!mayCross && !insideOfUnion(all[i], b.parts()))
       bad(names[i], "(hole " + std::to_string(i) + ")",
           "must lie inside the body's " + b.shapeOption +
               " (only circular holes of a rectangle may cross its sides)");

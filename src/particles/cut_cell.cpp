@@ -70,7 +70,7 @@ Moments rectMinusDisks(double x0, double y0, double x1, double y1,
   // In coordinates centred on the rectangle: the central second moments of a particle far from
   // the origin would otherwise be the small difference of two large numbers.
   const double w = x1 - x0, h = y1 - y0, xc = 0.5 * (x0 + x1), yc = 0.5 * (y0 + y1);
-  std::array<double, 5> mom = {w * h, 0.0, 0.0, w * h * w * w / 12.0, w * h * h * h / 12.0};
+  std::array<double, 5> mom = centredRectangleMoments(w, h);
   for (const auto &d : disks) {
     const auto cut =
         rectDiskMoments(-0.5 * w, -0.5 * h, 0.5 * w, 0.5 * h, d[0] - xc, d[1] - yc, d[2]);

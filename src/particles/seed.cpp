@@ -41,7 +41,7 @@ struct Seed {
 bool cutByShape(const Body &body, Seed &s) {
   const double w = s.cx1 - s.cx0, h = s.cy1 - s.cy0;
   const double xc = 0.5 * (s.cx0 + s.cx1), yc = 0.5 * (s.cy0 + s.cy1);
-  std::array<double, 5> mom = {w * h, 0.0, 0.0, w * h * w * w / 12.0, w * h * h * h / 12.0};
+  std::array<double, 5> mom = cut::centredRectangleMoments(w, h);
   bool cut = false;
   if (body.shape.kind == Shape::Kind::Rectangle && body.added.empty()) {
     const Box &box = body.box;

@@ -257,32 +257,29 @@ bool Shape::strictlyInside(double x, double y) const {
   return false;
 }
 
-bool Shape::insideOf(const Shape &outer) const {
-  for (const auto &p : boundaryPoints(720))
-    if (!outer.contains(p[0], p[1])) return false;
-  // A notch of a non-convex outer polygon could reach into this shape between the samples.
-  if (outer.kind == Kind::Polygon)
-    for (size_t i = 0; i + 1 < outer.xy.size(); i += 2)
-      if (strictlyInside(outer.xy[i], outer.xy[i + 1])) return false;
+bool insideOfUnion(const Shape &s, const std::vector<const Shape *> &parts) {
+  for (const auto &p : s.boundaryPoints(720)) {
+    bool in = false;
+    for (const Shape *o : parts)
+      in = in || o->contains(p[0], p[1]);
+    if (!in) return false;
+  }
+  for (const Shape *o : parts)
+    if (o->kind == Shape::Kind::Polygon)
+      for (size_t v = 0; v + 1 < o->xy.size(); v += 2)
+        if (s.strictlyInside(o->xy[v], o->xy[v + 1])) return false;
   return true;
 }
 
+bool Shape::insideOf(const Shape &outer) const {
+  return insideOfUnion(*this, {&outer});
+}
+
 bool Shape::overlaps(const Shape &o) const {
-  const double x0 = std::max(box[0], o.box[0]), x1 = std::min(box[2], o.box[2]);
-  const double y0 = std::max(box[1], o.box[1]), y1 = std::min(box[3], o.box[3]);
-  if (!(x1 > x0) || !(y1 > y0)) return false;
-  for (const auto &p : boundaryPoints(720))
-    if (o.strictlyInside(p[0], p[1])) return true;
-  for (const auto &p : o.boundaryPoints(720))
-    if (strictlyInside(p[0], p[1])) return true;
-  // One inside the other, or equal: a lattice of 256 x 256 points over the boxes' intersection.
-  const int n = 256;
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) {
-      const double x = x0 + (i + 0.5) * (x1 - x0) / n, y = y0 + (j + 0.5) * (y1 - y0) / n;
-      if (strictlyInside(x, y) && o.strictlyInside(x, y)) return true;
-    }
-  return false;
+  return interiorsMeet(
+      box, o.box, [&] { return boundaryPoints(720); }, [&] { return o.boundaryPoints(720); },
+      [&](double x, double y) { return strictlyInside(x, y); },
+      [&](double x, double y) { return o.strictlyInside(x, y); });
 }
 
 namespace {

@@ -86,6 +86,8 @@ struct Body {
   /// (intersectable) and which never overlap three at a time (both checked at input).
   std::array<double, 5> unionMomentsIn(double x0, double y0, double x1, double y1, double ox,
                                        double oy) const;
+  /// The union's shapes: the shape, then the added ones.
+  std::vector<const Shape *> parts() const;
   /// Points on the boundaries of the union's shapes.
   std::vector<std::array<double, 2>> boundaryPoints(int perShape) const;
   /// In the shape and in no hole (boundaries count as inside the body).

@@ -22,6 +22,11 @@ struct Moments {
 std::array<double, 5> rectDiskMoments(double x0, double y0, double x1, double y1, double ox,
                                       double oy, double r);
 
+/// The raw moments {A, Sx, Sy, Sxx, Syy} of a w x h rectangle about its centre.
+inline std::array<double, 5> centredRectangleMoments(double w, double h) {
+  return {w * h, 0.0, 0.0, w * h * w * w / 12.0, w * h * h * h / 12.0};
+}
+
 /// The moments of the rectangle [x0, x1] x [y0, y1] minus the disks (ox, oy, r) given as
 /// triples (the disks must not overlap inside the rectangle).
 Moments rectMinusDisks(double x0, double y0, double x1, double y1,

@@ -4,6 +4,7 @@
 // seeding takes a cut particle's volume, centroid and domain. Plain geometry: no PETSc, no grid.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <string>
 #include <vector>
@@ -46,6 +47,47 @@ struct Shape {
   /// Points on the boundary, about `n` of them, for containment tests.
   std::vector<std::array<double, 2>> boundaryPoints(int n) const;
 };
+
+/// Whether the whole of `s` lies inside the union of `parts` (boundary points may touch it): its
+/// boundary (720 points) in the union, and no polygon vertex of a part strictly inside `s` (a
+/// notch of a non-convex part reaching into it between the samples).
+bool insideOfUnion(const Shape &s, const std::vector<const Shape *> &parts);
+
+/// The first point, in lattice order, of the n x n cell centres over `box` for which `pred(x, y)`
+/// holds, into at[0], at[1]; false if none does.
+template <class Pred>
+bool latticeFind(const std::array<double, 4> &box, int n, Pred pred, double at[2]) {
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const double x = box[0] + (i + 0.5) * (box[2] - box[0]) / n;
+      const double y = box[1] + (j + 0.5) * (box[3] - box[1]) / n;
+      if (pred(x, y)) {
+        at[0] = x;
+        at[1] = y;
+        return true;
+      }
+    }
+  return false;
+}
+
+/// Whether the interiors of two regions meet (touching boundaries do not count): their bounding
+/// boxes overlap and a point on one's boundary (`edgeA()`, `edgeB()`) lies strictly inside the
+/// other (`inA`, `inB`), or a point of a 256 x 256 lattice over the boxes' intersection lies
+/// strictly inside both (one inside the other). Shapes and bodies (with holes) share it.
+template <class EdgeA, class EdgeB, class InA, class InB>
+bool interiorsMeet(const std::array<double, 4> &boxA, const std::array<double, 4> &boxB,
+                   EdgeA edgeA, EdgeB edgeB, InA inA, InB inB) {
+  const std::array<double, 4> both = {std::max(boxA[0], boxB[0]), std::max(boxA[1], boxB[1]),
+                                      std::min(boxA[2], boxB[2]), std::min(boxA[3], boxB[3])};
+  if (!(both[2] > both[0]) || !(both[3] > both[1])) return false;
+  for (const auto &p : edgeA())
+    if (inB(p[0], p[1])) return true;
+  for (const auto &p : edgeB())
+    if (inA(p[0], p[1])) return true;
+  double at[2];
+  return latticeFind(
+      both, 256, [&](double x, double y) { return inA(x, y) && inB(x, y); }, at);
+}
 
 /// Whether the moments of the intersection of a and b in a rectangle can be taken exactly: one
 /// of them is a rectangle, or both are polygons and one is convex.
