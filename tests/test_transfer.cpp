@@ -16,10 +16,15 @@
 //      node with mass, and G2P gives back v_p, B_p and C_p = B_p D_p^-1 = A.
 //   7. APIC conserves angular momentum through P2G and G2P: sum_i x_i x m_i v_i equals
 //      sum_p m_p (x_p x v_p + B_yx - B_xy) before and after.
+//   8. Blocks (grid/stencils.hpp: a particle inside one level's regular nodes keeps its 1D
+//      factors, and the kernels sum along one axis, then the other) give every kernel's result
+//      the rows give (P2G, G2P, velocity gradient, internal force, APIC P2G and G2P, XPIC's
+//      interpolation) to round-off, on a sample that holds both kinds.
 //
 // Tolerances are round-off: each particle's weights add up to 1 within a few ulp over its
 // 4-25 nodes, and the sums over particles add ~1e-16 relative per term.
 #include "gimp/grid/grid.hpp"
+#include "gimp/physics/internal_force.hpp"
 #include "gimp/transfer/affine.hpp"
 #include "gimp/transfer/transfer.hpp"
 
@@ -420,6 +425,113 @@ TEST(Transfer, ApicConservesAngularMomentum) {
   EXPECT_LE(std::abs(Lg - L0) / scale, 1e-14);
   EXPECT_LE(std::abs(L1 - L0) / scale, 1e-14);
   EXPECT_GT(std::abs(orbital - L0) / scale, 1e-4); // the spin term matters in this sample
+}
+
+TEST(Transfer, BlocksGiveTheRowsResults) {
+  Fixture f(8);
+  Stencils blocks;
+  ASSERT_TRUE(f.g.buildStencils(f.p.n, f.p.x.data(), f.p.l.data(), blocks, true));
+  // Both kinds are present: blocks inside the levels, rows at their borders.
+  PetscInt nBlocks = 0;
+  for (PetscInt k = 0; k < f.p.n; ++k) {
+    nBlocks += blocks.isBlock(k);
+    if (!blocks.isBlock(k)) continue;
+    // A block's entries are the rows' entries (a third node of weight 0 may be left out).
+    std::vector<std::pair<PetscInt, double>> a, b;
+    blocks.forEach(k, [&](PetscInt s, double w, const gimp::Vector<2> &) { a.push_back({s, w}); });
+    f.st.forEach(k, [&](PetscInt s, double w, const gimp::Vector<2> &) { b.push_back({s, w}); });
+    for (const auto &e : b)
+      EXPECT_TRUE(e.second == 0.0 || std::count(a.begin(), a.end(), e) == 1) << k;
+  }
+  // (The sample is made to straddle level borders, so most particles keep rows.)
+  EXPECT_GT(nBlocks, 200);
+  EXPECT_GT(f.p.n - nBlocks, 200);
+
+  std::mt19937_64 rng(9);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::vector<double> vg(2 * f.g.nWindow), ag(2 * f.g.nWindow), xs(2 * f.g.nWindow);
+  for (auto &z : vg)
+    z = u(rng);
+  for (auto &z : ag)
+    z = u(rng);
+  for (PetscInt s = 0; s < f.g.nWindow; ++s) {
+    xs[2 * s] = f.g.X[s];
+    xs[2 * s + 1] = f.g.Y[s];
+  }
+  std::vector<double> stress(4 * f.p.n), V(f.p.n), B(4 * f.p.n);
+  for (auto &z : stress)
+    z = u(rng);
+  for (auto &z : V)
+    z = 1.0 + 0.5 * u(rng);
+  for (auto &z : B)
+    z = u(rng);
+
+  // Largest difference relative to the largest value of two arrays.
+  auto rel = [](const std::vector<double> &a, const std::vector<double> &b) {
+    double d = 0, m = 0;
+    for (size_t i = 0; i < a.size(); ++i) {
+      d = std::max(d, std::abs(a[i] - b[i]));
+      m = std::max(m, std::abs(b[i]));
+    }
+    return d / m;
+  };
+  const double tol = 1e-14;
+  {
+    auto mom = f.nodal(), mass = f.nodal(), mom2 = f.nodal(), mass2 = f.nodal();
+    gimp::transfer::particlesToGrid<2>(f.st, f.p.n, f.p.m.data(), f.p.v.data(), mom.data(),
+                                       mass.data());
+    gimp::transfer::particlesToGrid<2>(blocks, f.p.n, f.p.m.data(), f.p.v.data(), mom2.data(),
+                                       mass2.data());
+    EXPECT_LT(rel(mom2, mom), tol);
+    EXPECT_LT(rel(mass2, mass), tol);
+  }
+  {
+    auto v1 = f.p.v, v2 = f.p.v, x1 = f.p.x, x2 = f.p.x;
+    gimp::transfer::gridToParticles<2>(f.st, f.p.n, vg.data(), ag.data(), 0.1, 0.7, v1.data(),
+                                       x1.data());
+    gimp::transfer::gridToParticles<2>(blocks, f.p.n, vg.data(), ag.data(), 0.1, 0.7, v2.data(),
+                                       x2.data());
+    EXPECT_LT(rel(v2, v1), tol);
+    EXPECT_LT(rel(x2, x1), tol);
+  }
+  {
+    std::vector<double> L1(4 * f.p.n), L2(4 * f.p.n);
+    gimp::transfer::velocityGradient<2>(f.st, f.p.n, vg.data(), L1.data());
+    gimp::transfer::velocityGradient<2>(blocks, f.p.n, vg.data(), L2.data());
+    EXPECT_LT(rel(L2, L1), tol);
+  }
+  {
+    auto f1 = f.nodal(), f2 = f.nodal();
+    gimp::physics::internalForce<2>(f.st, f.p.n, V.data(), stress.data(), f1.data());
+    gimp::physics::internalForce<2>(blocks, f.p.n, V.data(), stress.data(), f2.data());
+    EXPECT_LT(rel(f2, f1), tol);
+  }
+  {
+    auto mom = f.nodal(), mass = f.nodal(), mom2 = f.nodal(), mass2 = f.nodal();
+    gimp::transfer::particlesToGridAffineB<2>(f.st, f.p.n, f.p.m.data(), f.p.v.data(), B.data(),
+                                              f.p.x.data(), xs.data(), mom.data(), mass.data());
+    gimp::transfer::particlesToGridAffineB<2>(blocks, f.p.n, f.p.m.data(), f.p.v.data(), B.data(),
+                                              f.p.x.data(), xs.data(), mom2.data(), mass2.data());
+    EXPECT_LT(rel(mom2, mom), 1e-12); // C_p = B_p D_p^-1: D_p^-1 amplifies round-off
+    EXPECT_LT(rel(mass2, mass), tol);
+  }
+  {
+    auto v1 = f.p.v, v2 = f.p.v, x1 = f.p.x, x2 = f.p.x;
+    std::vector<double> B1(4 * f.p.n), B2(4 * f.p.n);
+    gimp::transfer::gridToParticlesAffine<2>(f.st, f.p.n, vg.data(), f.p.x.data(), xs.data(), 0.1,
+                                             v1.data(), B1.data(), x1.data());
+    gimp::transfer::gridToParticlesAffine<2>(blocks, f.p.n, vg.data(), f.p.x.data(), xs.data(), 0.1,
+                                             v2.data(), B2.data(), x2.data());
+    EXPECT_LT(rel(v2, v1), tol);
+    EXPECT_LT(rel(B2, B1), tol);
+    EXPECT_LT(rel(x2, x1), tol);
+  }
+  {
+    std::vector<double> o1(2 * f.p.n), o2(2 * f.p.n);
+    gimp::transfer::interpolate<2>(f.st, f.p.n, vg.data(), o1.data());
+    gimp::transfer::interpolate<2>(blocks, f.p.n, vg.data(), o2.data());
+    EXPECT_LT(rel(o2, o1), tol);
+  }
 }
 
 } // namespace

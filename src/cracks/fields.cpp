@@ -50,16 +50,14 @@ void Contact::faces(const Grid &g, const Stencils<kDim> &st, PetscInt n, const d
   for (PetscInt s = 0; s < g.nSlots; ++s)
     face[2 * s] = 0.0;
   if (g.nSlots == g.nWindow) return;
-  const PetscInt *node = st.node.data();
   for (PetscInt k = 0; k < n; ++k) {
     const double ux = m[k] * (x[2 * k] - X0[2 * k]), uy = m[k] * (x[2 * k + 1] - X0[2 * k + 1]);
-    for (PetscInt e = st.start[k]; e < st.start[k + 1]; ++e) {
-      const PetscInt s = node[e];
+    st.forEach(k, [&](PetscInt s, double w, const Vector<kDim> &) {
       const PetscInt c = s >= g.nWindow ? s : g.crackSlot[s];
-      if (c < 0) continue;
+      if (c < 0) return;
       const double *d = &dir_[2 * (c - g.nWindow)];
-      face[2 * s] += st.weight(e) * (ux * d[0] + uy * d[1]);
-    }
+      face[2 * s] += w * (ux * d[0] + uy * d[1]);
+    });
   }
 }
 

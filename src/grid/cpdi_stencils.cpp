@@ -83,6 +83,7 @@ double Grid::pointShapes(double x, double y, std::vector<std::pair<PetscInt, dou
 bool Grid::buildPointStencils(PetscInt n, const double *x, Stencils<kDim> &s) const {
   s.start.resize(static_cast<size_t>(n) + 1);
   s.general = true;
+  s.compact = false;
   size_t m = 0;
   std::vector<std::pair<PetscInt, double>> pts;
   for (PetscInt k = 0; k < n; ++k) {
@@ -108,6 +109,7 @@ bool Grid::buildPointStencils(PetscInt n, const double *x, Stencils<kDim> &s) co
 const char *Grid::buildCpdiStencils(PetscInt n, const double *corners, Stencils<kDim> &s) const {
   s.start.resize(static_cast<size_t>(n) + 1);
   s.general = true;
+  s.compact = false;
   size_t m = 0;
   s.reserveGeneral(16 * static_cast<size_t>(n));
   std::vector<std::pair<PetscInt, double>> pts;

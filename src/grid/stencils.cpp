@@ -115,22 +115,48 @@ void Grid::appendNodes(const Level &L, const Reach &r, double xp, double yp, dou
   }
 }
 
-bool Grid::buildStencils(PetscInt n, const double *x, const double *l, Stencils<kDim> &s) const {
+bool Grid::buildStencils(PetscInt n, const double *x, const double *l, Stencils<kDim> &s,
+                         bool compact, const std::uint8_t *rowsOnly) const {
+  const int K = static_cast<int>(levels.size());
   s.start.resize(static_cast<size_t>(n) + 1);
   s.general = false;
+  s.compact = compact;
+  if (compact) s.blocks.resize(static_cast<size_t>(n));
   size_t m = 0;
-  s.reserve(10 * static_cast<size_t>(n)); // grows below if a step needs more
-  const int K = static_cast<int>(levels.size());
+  // Rows: room for the previous step's entries (or 10 per particle); grows below if needed.
+  if (!compact) s.reserve(10 * static_cast<size_t>(n));
   // A candidate range spans at most 2 (l + Z) / h + 1 nodes with l, Z <= h0 (l is checked
   // every step): size the scratch for the finest level.
   const PetscInt maxRange = static_cast<PetscInt>(4.0 * levels[0].h / levels.back().h) + 4;
   std::vector<double> scratch(4 * static_cast<size_t>(maxRange));
+  std::vector<Reach> reach(K);
+  std::vector<char> reaches(K);
   for (PetscInt k = 0; k < n; ++k) {
     s.start[k] = static_cast<PetscInt>(m);
     const double xp = x[2 * k], yp = x[2 * k + 1], lx = l[2 * k], ly = l[2 * k + 1];
+    int nReach = 0, last = -1;
     for (int q = 0; q < K; ++q) {
-      Reach r;
-      if (!levelReach(q, xp, yp, lx, ly, r)) continue;
+      reaches[q] = levelReach(q, xp, yp, lx, ly, reach[q]);
+      if (reaches[q]) ++nReach, last = q;
+    }
+    if (compact) {
+      s.blocks[k].base = -1;
+      if (nReach == 1 && reach[last].block3 && !(rowsOnly && rowsOnly[k])) {
+        // One level's regular 3 x 3 block: the arguments appendBlock3 gives
+        // shape::uniformWeights3, so the factors are those the rows would hold.
+        const Level &L = levels[last];
+        const Reach &r = reach[last];
+        const double xi[2] = {(xp - (L.box[0] + r.i0 * L.h)) * L.ih,
+                              (yp - (L.box[1] + r.j0 * L.h)) * L.ih};
+        const double lam[2] = {lx * L.ih, ly * L.ih};
+        const PetscInt stride[2] = {1, L.wnx()};
+        s.setBlock(k, L.offset + (r.j0 - L.wj0) * L.wnx() + (r.i0 - L.wi0), stride, xi, lam, L.ih);
+        continue;
+      }
+    }
+    for (int q = 0; q < K; ++q) {
+      if (!reaches[q]) continue;
+      const Reach &r = reach[q];
       if (r.block3) {
         appendBlock3(levels[q], r, xp, yp, lx, ly, s, m);
         continue;

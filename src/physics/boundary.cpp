@@ -96,7 +96,6 @@ PetscErrorCode Boundary::setup(MPI_Comm comm, const Scene &sc, const Lattice &gr
 
 void Boundary::externalForces(const Scene &sc, const Grid &g, const Stencils<2> &st,
                               const ParticleView &p, double t, double *fe) {
-  const PetscInt *start = st.start.data(), *node = st.node.data();
   const double gxv = sc.gravity[0], gyv = sc.gravity[1];
   const bool gravity = gxv != 0 || gyv != 0;
   std::unique_ptr<mms::Skb1d> ex;
@@ -109,11 +108,10 @@ void Boundary::externalForces(const Scene &sc, const Grid &g, const Stencils<2> 
     if (gravity || ex) {
       const double bx = gxv + (ex ? ex->bodyForce(p.X0[2 * k], t) : 0.0);
       const double fx = p.m[k] * bx, fy = p.m[k] * gyv;
-      for (PetscInt e = start[k]; e < start[k + 1]; ++e) {
-        const double w = st.weight(e);
-        fe[2 * node[e]] += w * fx;
-        fe[2 * node[e] + 1] += w * fy;
-      }
+      st.forEach(k, [&](PetscInt nd, double w, const Vector<2> &) {
+        fe[2 * nd] += w * fx;
+        fe[2 * nd + 1] += w * fy;
+      });
     }
     // Tractions, Eq. 8. GIMP: a dead load, whose resultant is the traction times the initial
     // edge length. CPDI: the traction (force per current area, global components) acts on the
@@ -183,9 +181,10 @@ void Boundary::penaltyIncrement(const Scene &sc, const Grid &g, const Stencils<2
       const double len = E.len;
       double dU[2] = {0, 0}; // the edge's displacement: the particle's, as G2P moves it ...
       if (du)
-        for (PetscInt e = st.start[k]; e < st.start[k + 1]; ++e)
+        st.forEach(k, [&](PetscInt nd, double w, const Vector<2> &) {
           for (int c = 0; c < 2; ++c)
-            dU[c] += st.weight(e) * du[2 * st.node[e] + c];
+            dU[c] += w * du[2 * nd + c];
+        });
       if (L) { // ... and the change of F, dF = L F
         const Tensor<2> dF = product<2>(tensorAt<2>(L, k), tensorAt<2>(p.F, k));
         for (int c = 0; c < 2; ++c)

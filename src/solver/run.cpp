@@ -57,6 +57,16 @@ PetscErrorCode Solver::checks(const ParticleView &p, PetscInt step, double t) {
   const double *d = sc_.domain.data();
   const double h0 = grid_.h0();
   PetscInt bad = -1;
+  // With several ranks, the particles outside this rank's cells: the next step's migration.
+  PetscInt64 leaving = 0;
+  if (size_ > 1) {
+    double box[4];
+    grid_.ownedBox(rank_, box);
+    for (PetscInt k = 0; k < p.n; ++k) {
+      const double x = p.x[2 * k], y = p.x[2 * k + 1];
+      leaving += !(x >= box[0] && x < box[2] && y >= box[1] && y < box[3]);
+    }
+  }
   for (PetscInt k = 0; k < p.n && bad < 0; ++k) {
     const double x = p.x[2 * k], y = p.x[2 * k + 1], lx = p.l[2 * k], ly = p.l[2 * k + 1];
     const double s = p.s[4 * k] + p.s[4 * k + 3] + p.s[4 * k + 1];
@@ -93,13 +103,18 @@ PetscErrorCode Solver::checks(const ParticleView &p, PetscInt step, double t) {
                                        t, localFailure_.c_str()));
     localFailure_.clear();
   }
-  PetscCall(PetscSynchronizedFlush(comm_, PETSC_STDERR));
-  // One reduction for both: bit 0 a failure, bit 1 SIGINT, bit 2 SIGTERM received on a rank.
+  // One reduction for all: ranks that failed, got SIGINT, got SIGTERM, and the particles that
+  // leave their rank (the step's only collective call besides the scatters).
   const int sig = interruptSignal();
-  int any = 0, mine = (failed_ ? 1 : 0) | (sig == SIGINT ? 2 : 0) | (sig == SIGTERM ? 4 : 0);
-  PetscCallMPI(MPI_Allreduce(&mine, &any, 1, MPI_INT, MPI_BOR, comm_));
-  failed_ = any & 1;
-  interrupt_ = any & 4 ? SIGTERM : any & 2 ? SIGINT : 0;
+  const PetscInt64 mine[4] = {failed_ ? 1 : 0, sig == SIGINT ? 1 : 0, sig == SIGTERM ? 1 : 0,
+                              leaving};
+  PetscInt64 any[4] = {0, 0, 0, 0};
+  PetscCallMPI(MPI_Allreduce(mine, any, 4, MPI_INT64_T, MPI_SUM, comm_));
+  failed_ = any[0] > 0;
+  interrupt_ = any[2] ? SIGTERM : any[1] ? SIGINT : 0;
+  leaving_ = any[3];
+  // The failing ranks' lines (collective, so only when some rank failed).
+  if (failed_) PetscCall(PetscSynchronizedFlush(comm_, PETSC_STDERR));
   return PETSC_SUCCESS;
 }
 

@@ -7,6 +7,8 @@
 #include "gimp/solver/solver.hpp"
 #include "gimp/transfer/transfer.hpp"
 
+#include <algorithm>
+
 namespace gimp {
 
 PetscErrorCode Solver::clockOf(TS ts, const Scene &sc, StepClock &c) {
@@ -56,11 +58,13 @@ PetscErrorCode Solver::step() {
 }
 
 PetscErrorCode Solver::migrate() {
-  // Particles go to the rank owning their level-0 cell.
-  if (size_ == 1) return PETSC_SUCCESS;
+  // Particles go to the rank owning their level-0 cell. The previous step's check counted the
+  // particles outside their rank's cells over all ranks (leaving_): none, and nothing is done;
+  // unknown (-1: the first step, after a restart), and this counts them itself.
+  if (size_ == 1 || leaving_ == 0) return PETSC_SUCCESS;
   ParticleView p;
   PetscCall(p.get(sw_));
-  PetscInt64 moved = 0, any = 0;
+  PetscInt64 moved = 0, any = leaving_;
   double box[4];
   grid_.ownedBox(rank_, box);
   for (PetscInt k = 0; k < p.n; ++k) {
@@ -71,9 +75,10 @@ PetscErrorCode Solver::migrate() {
     if (r != rank_) ++moved;
   }
   PetscCall(p.restore(sw_));
-  PetscCallMPI(MPI_Allreduce(&moved, &any, 1, MPI_INT64_T, MPI_SUM, comm_));
+  if (leaving_ < 0) PetscCallMPI(MPI_Allreduce(&moved, &any, 1, MPI_INT64_T, MPI_SUM, comm_));
   if (any) PetscCall(DMSwarmMigrate(sw_, PETSC_TRUE));
   measures_.migrated += any;
+  leaving_ = -1;
   return PETSC_SUCCESS;
 }
 
@@ -84,8 +89,22 @@ PetscErrorCode Solver::buildStencils(const ParticleView &p, const double *centre
     const char *why =
         grid_.buildCpdiStencils(p.n, tracking::cpdiCorners(sc_, p, cpdiCorners_), st_);
     if (why) localFailure_ = why;
-  } else if (!grid_.buildStencils(p.n, centres, p.l, st_))
-    localFailure_ = "a particle is larger than a level-0 cell (its half-size exceeds -gimp_h)";
+  } else {
+    // Blocks for every particle that one level's regular nodes alone reach, unless cracks
+    // re-address entries (assignFields) or the particle has an edge the boundary terms spread
+    // along (spreadEdgeForce reads its rows).
+    const bool compact = sc_.cracks.empty();
+    const std::uint8_t *rowsOnly = nullptr;
+    if (compact && (!sc_.tractions.empty() || !sc_.dbcs.empty())) {
+      rowsOnly_.resize(static_cast<size_t>(p.n));
+      for (PetscInt k = 0; k < p.n; ++k)
+        rowsOnly_[k] = p.trac[2 * k] >= 0 || p.trac[2 * k + 1] >= 0 || p.dbc[2 * k] >= 0 ||
+                       p.dbc[2 * k + 1] >= 0;
+      rowsOnly = rowsOnly_.data();
+    }
+    if (!grid_.buildStencils(p.n, centres, p.l, st_, compact, rowsOnly))
+      localFailure_ = "a particle is larger than a level-0 cell (its half-size exceeds -gimp_h)";
+  }
   cracks::assignFields(grid_, sc_.cracks, p.n, centres, st_);
   return PETSC_SUCCESS;
 }
@@ -226,12 +245,18 @@ PetscErrorCode Solver::work(const StepClock &c, const StartPower &power) {
 PetscErrorCode Solver::stress(ParticleView &p, Vec velocityWindow, double dt) {
   // Velocity gradient from the scheme's velocity field, then F, volume, stress and domain.
   PetscCall(PetscLogStagePush(stages_.stress));
-  L_.resize(4 * static_cast<size_t>(p.n));
+  // In chunks that stay in cache: the gradients of a chunk, then its particles' update.
+  constexpr PetscInt kChunk = 256;
+  L_.resize(kDim * kDim * static_cast<size_t>(kChunk));
   const PetscScalar *vg = nullptr;
   PetscCall(VecGetArrayRead(velocityWindow, &vg));
-  transfer::velocityGradient<kDim>(st_, p.n, vg, L_.data());
+  for (PetscInt k0 = 0; k0 < p.n; k0 += kChunk) {
+    const PetscInt k1 = std::min(p.n, k0 + kChunk);
+    for (PetscInt k = k0; k < k1; ++k)
+      tensorAt<kDim>(L_.data(), k - k0) = transfer::velocityGradientAt<kDim>(st_, k, vg);
+    physics::updateDeformation(sc_, p, L_.data(), dt, k0, k1);
+  }
   PetscCall(VecRestoreArrayRead(velocityWindow, &vg));
-  physics::updateDeformation(sc_, p, L_.data(), dt);
   PetscCall(PetscLogStagePop());
   return PETSC_SUCCESS;
 }

@@ -14,11 +14,10 @@
 namespace gimp {
 
 const double *Solver::stencilCentres(const ParticleView &p) {
-  const double *centres = tracking::domainCentres(p, centres_, sc_.tracking);
-  if (sc_.transfer != Transfer::Apic || centres != p.x) return centres;
-  // G2P moves x; the affine moments of the re-projection are taken about the stencils' centres.
-  centres_.assign(p.x, p.x + kDim * static_cast<size_t>(p.n));
-  return centres_.data();
+  // With APIC the re-projection's affine moments are taken about the stencils' centres: where
+  // those are the positions, G2P leaves the particles in place until the re-projection is done
+  // (gridToParticles), so no copy is needed.
+  return tracking::domainCentres(p, centres_, sc_.tracking);
 }
 
 const double *Solver::affineCentres(const ParticleView &p, const double *centres) {
@@ -50,18 +49,9 @@ void Solver::projectMomentum(const ParticleView &p, const double *centres, doubl
     transfer::particlesToGrid<kDim>(st_, p.n, p.m, p.v, mom, mass);
     return;
   }
-  const double *xs = slotCoordinates();
-  const size_t nt = kDim * kDim * static_cast<size_t>(p.n);
-  // D_p^-1 depends on the stencils only: computed at the step's P2G (mass != null) and reused
-  // by the re-projection of the same stencils.
-  if (mass || affineDinv_.size() != nt) {
-    affineDinv_.resize(nt);
-    transfer::inverseInertias<kDim>(st_, p.n, centres, xs, affineDinv_.data());
-  }
-  affineC_.resize(nt);
-  transfer::affineFromInverse<kDim>(p.n, p.B, affineDinv_.data(), affineC_.data());
-  transfer::particlesToGridAffine<kDim>(st_, p.n, p.m, p.v, affineC_.data(), centres, xs, mom,
-                                        mass);
+  // C_p = B_p D_p^-1 per particle from its stencil, at the step's P2G and at the re-projection.
+  transfer::particlesToGridAffineB<kDim>(st_, p.n, p.m, p.v, p.B, centres, slotCoordinates(), mom,
+                                         mass);
 }
 
 PetscErrorCode Solver::particlesToGrid(const ParticleView &p, const double *centres) {
@@ -120,9 +110,13 @@ PetscErrorCode Solver::gridToParticles(ParticleView &p, const StepClock &c, cons
   const PetscScalar *vg = nullptr, *ag = nullptr;
   PetscCall(VecGetArrayRead(nodal_.velW, &vg));
   PetscCall(VecGetArrayRead(nodal_.accW, &ag));
+  const bool reprojects = scheme_.stressFromReprojection || tracksCorners(sc_.tracking);
+  // APIC's re-projection reads the stencils' centres: when they are the positions, the particles
+  // move (by dt v_p, the velocity G2P gives them) once it is done.
+  const bool moveLater = sc_.transfer == Transfer::Apic && centres == p.x && reprojects;
   if (sc_.transfer == Transfer::Apic) {
     transfer::gridToParticlesAffine<kDim>(st_, p.n, vg, centres, slotCoordinates(), c.dt, p.v, p.B,
-                                          p.x);
+                                          moveLater ? nullptr : p.x);
   } else if (sc_.transfer == Transfer::Xpic) {
     const PetscScalar *vs = nullptr;
     PetscCall(VecGetArrayRead(nodal_.vstarW, &vs));
@@ -133,13 +127,13 @@ PetscErrorCode Solver::gridToParticles(ParticleView &p, const StepClock &c, cons
   }
   PetscCall(VecRestoreArrayRead(nodal_.accW, &ag));
   PetscCall(VecRestoreArrayRead(nodal_.velW, &vg));
-  if (scheme_.stressFromReprojection || tracksCorners(sc_.tracking))
-    PetscCall(reproject(p, c, centres));
+  if (reprojects) PetscCall(reproject(p, c, centres, moveLater));
   PetscCall(PetscLogStagePop());
   return PETSC_SUCCESS;
 }
 
-PetscErrorCode Solver::reproject(ParticleView &p, const StepClock &c, const double *centres) {
+PetscErrorCode Solver::reproject(ParticleView &p, const StepClock &c, const double *centres,
+                                 bool moveParticles) {
   // Re-project the updated particle momentum (acc is free now) with the step's own P2G (APIC:
   // the affine fields of the new B_p): the velocity field of MUSL's stress update, and the one
   // the corners follow. Unlike p^n+1 / m it is a weighted mean of particle velocities, so a
@@ -149,6 +143,9 @@ PetscErrorCode Solver::reproject(ParticleView &p, const StepClock &c, const doub
   PetscCall(VecGetArray(nodal_.sumW, &mom));
   projectMomentum(p, centres, mom, nullptr);
   PetscCall(VecRestoreArray(nodal_.sumW, &mom));
+  if (moveParticles) // G2P left them at the centres (APIC): x += dt v_p, v_p = sum_i S_ip v_i
+    for (PetscInt i = 0; i < kDim * p.n; ++i)
+      p.x[i] += c.dt * p.v[i];
   PetscCall(VecZeroEntries(nodal_.acc));
   PetscCall(grid_.addFromWindow(nodal_.sumW, nodal_.acc));
   PetscCall(VecPointwiseMult(nodal_.acc, nodal_.acc, nodal_.invMass));

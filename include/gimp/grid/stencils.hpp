@@ -1,26 +1,46 @@
-// Particle -> node weights of GIMP (Eq. 15) in compressed rows, for any dimension D.
+// Particle -> node weights of GIMP (Eq. 15), for any dimension D, in two forms.
 //
-// Entries start[k] .. start[k+1]-1 belong to particle k; each names a slot of the window's
-// nodal arrays (a window node: one velocity field per node today; see docs/architecture.md for
-// how a second field at cracked nodes adds slots) and carries the 1D weights w[d] and their
-// derivatives g[d] along every axis d. The weight is their product (Eq. 11) and the gradient's
-// component a is g[a] times the other axes' w. CPDI weights (Grid::buildCpdiStencils) are not
-// tensor products: with `general` set an entry holds its weight sw, its gradient sg[a] and the
-// point shape function of the node at each of the particle's 2^D corners, cw[2^D e + c] (for the
-// particle's edges). weight(e) and gradient(e) are the only way kernels read either kind. The
-// arrays keep their capacity between steps: only the first start[n] entries are valid.
+// Rows: entries start[k] .. start[k+1]-1 belong to particle k; each names a slot of the window's
+// nodal arrays (a window node: one velocity field per node; see docs/architecture.md for how a
+// second field at cracked nodes adds slots) and carries the 1D weights w[d] and their derivatives
+// g[d] along every axis d. The weight is their product (Eq. 11) and the gradient's component a is
+// g[a] times the other axes' w. CPDI weights (Grid::buildCpdiStencils) are not tensor products:
+// with `general` set an entry holds its weight sw, its gradient sg[a] and the point shape function
+// of the node at each of the particle's 2^D corners, cw[2^D e + c] (for the particle's edges).
+//
+// Blocks (with `compact` set): a particle that only one level's nodes reach, all of them regular
+// (zones h), keeps no entries but its 1D factors (Block: 2 or 3 nodes per axis, their weights and
+// derivatives from the closed form shape::uniformWeights3, the first slot and the slot strides):
+// 112 bytes per particle in 2D instead of 36 per entry (4 to 9 entries), the same values the rows
+// would hold. Kernels with a tensor-product form sum along one axis, then the other.
+//
+// forEach(k, f) calls f(slot, weight, gradient) for every entry of particle k in either form; it
+// is the way kernels read stencils. The arrays keep their capacity between steps: only the first
+// start[n] entries are valid.
 #pragma once
 
 #include "gimp/core/petsc_compat.hpp"
 #include "gimp/core/tensor.hpp"
+#include "gimp/grid/shape.hpp"
 
 #include <petscsys.h>
 
 #include <algorithm>
 #include <array>
+#include <cstdint>
 #include <vector>
 
 namespace gimp {
+
+/// The 1D factors of a block particle: n[d] nodes along axis d (2 or 3), their weights w[d][i]
+/// and derivatives g[d][i]; node (i, j, ...) is slot base + i stride[0] + j stride[1] + ....
+/// Kernels with a tensor-product form use it directly (sums along one axis, then the other).
+template <int D> struct Block {
+  double w[D][3], g[D][3];
+  PetscInt base;
+  PetscInt stride[D];
+  std::uint8_t n[D];
+};
 
 template <int D> struct Stencils {
   std::vector<PetscInt> start;
@@ -29,6 +49,11 @@ template <int D> struct Stencils {
   bool general = false;
   std::vector<double> sw, cw;
   std::array<std::vector<double>, D> sg;
+
+  // Blocks (see above). levelIh[q] = 1 / h of level q, levelStride[D q + d] the slot distance
+  // of one node along axis d on level q's window.
+  bool compact = false;
+  std::vector<Block<D>> blocks; // per particle; blocks[k].base < 0: particle k has rows
 
   double weight(PetscInt e) const {
     if (general) return sw[e];
@@ -51,6 +76,69 @@ template <int D> struct Stencils {
       r[a] = s;
     }
     return r;
+  }
+  /// True when particle k keeps a block instead of rows.
+  bool isBlock(PetscInt k) const { return compact && blocks[k].base >= 0; }
+  /// Number of entries of particle k (a block counts the nodes its weights reach).
+  PetscInt count(PetscInt k) const {
+    PetscInt c = 0;
+    forEach(k, [&](PetscInt, double, const Vector<D> &) { ++c; });
+    return c;
+  }
+  /// The 1D factors of block particle k (isBlock(k)).
+  const Block<D> &block(PetscInt k) const { return blocks[k]; }
+  /// Make particle k a block: base slot, strides, and per axis the particle's left end in the
+  /// block's first cell xi[d], its half-size in cells lam[d] and 1 / h of its level.
+  void setBlock(PetscInt k, PetscInt base, const PetscInt *stride, const double *xi,
+                const double *lam, double ih) {
+    Block<D> &b = blocks[k];
+    for (int d = 0; d < D; ++d) {
+      const double i2l = 0.5 / lam[d];
+      shape::uniformWeights3(xi[d], lam[d], i2l, i2l * ih, b.w[d], b.g[d]);
+      b.n[d] = b.g[d][2] > 0.0 ? 3 : 2; // the third node is reached only when its weight is not 0
+      b.stride[d] = stride[d];
+    }
+    b.base = base;
+  }
+  /// f(slot, weight, gradient) for every entry of particle k.
+  template <class F> void forEach(PetscInt k, F &&f) const {
+    if (!isBlock(k)) {
+      for (PetscInt e = start[k]; e < start[k + 1]; ++e)
+        f(node[e], weight(e), gradient(e));
+      return;
+    }
+    const Block<D> b = block(k); // a copy: f's stores cannot alias it
+    if constexpr (D == 2) {
+      for (int j = 0; j < b.n[1]; ++j)
+        for (int i = 0; i < b.n[0]; ++i) {
+          Vector<D> gr;
+          gr[0] = b.g[0][i] * b.w[1][j];
+          gr[1] = b.g[1][j] * b.w[0][i];
+          f(b.base + j * b.stride[1] + i, b.w[0][i] * b.w[1][j], gr);
+        }
+    } else {
+      int idx[D] = {};
+      for (;;) {
+        PetscInt s = b.base;
+        double wt = b.w[0][idx[0]];
+        for (int d = 1; d < D; ++d)
+          wt *= b.w[d][idx[d]];
+        Vector<D> gr;
+        for (int a = 0; a < D; ++a) {
+          double v = b.g[a][idx[a]];
+          for (int d = 0; d < D; ++d)
+            if (d != a) v *= b.w[d][idx[d]];
+          gr[a] = v;
+        }
+        for (int d = 0; d < D; ++d)
+          s += idx[d] * b.stride[d];
+        f(s, wt, gr);
+        int d = 0;
+        while (d < D && ++idx[d] == b.n[d])
+          idx[d++] = 0;
+        if (d == D) break;
+      }
+    }
   }
   /// Make room for at least `want` entries, growing by half at least.
   void reserve(size_t want) {

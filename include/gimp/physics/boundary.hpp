@@ -7,6 +7,8 @@
 // traction sigma_p n (optional) and -alpha (u - u_bar) with u the edge's displacement.
 #pragma once
 
+#include <cassert>
+
 #include "gimp/grid/grid.hpp"
 #include "gimp/grid/shape.hpp"
 #include "gimp/particles/swarm.hpp"
@@ -43,6 +45,8 @@ inline double edgeShape(const Grid &g, const Stencils<2> &st, PetscInt e, int a,
 /// fe.
 inline void spreadEdgeForce(const Grid &g, const Stencils<2> &st, PetscInt k, int a, double n,
                             double edge, const double force[2], double *fe) {
+  // A particle with a boundary edge keeps rows (Solver::buildStencils asks for them).
+  assert(!st.isBlock(k));
   for (PetscInt e = st.start[k]; e < st.start[k + 1]; ++e) {
     const double w = edgeShape(g, st, e, a, n, edge);
     fe[2 * st.node[e]] += w * force[0];

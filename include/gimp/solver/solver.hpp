@@ -89,7 +89,10 @@ private:
   PetscErrorCode particlesToGrid(const ParticleView &p, const double *centres);
   /// XPIC(m): v* = sum_{k<m} (I - M^-1 S^T M_p S)^k v^n into nodal_.vstarW.
   PetscErrorCode xpicFilter(const ParticleView &p, const StepClock &c);
-  PetscErrorCode reproject(ParticleView &p, const StepClock &c, const double *centres);
+  /// MUSL's and the corners' re-projection; with moveParticles the particles, left in place by
+  /// G2P, move by dt v_p once the momentum is projected.
+  PetscErrorCode reproject(ParticleView &p, const StepClock &c, const double *centres,
+                           bool moveParticles);
   PetscErrorCode forces(const ParticleView &p, const StepClock &c, StartPower &power);
   PetscErrorCode gridUpdate();
   /// Each crack field's nodal displacement along the contact normal at the cracked nodes (into
@@ -135,13 +138,12 @@ private:
   DM sw_ = nullptr;
   TS ts_ = nullptr;
   Nodal nodal_;
-  Stencils<kDim> st_;               // particle -> node weights, rebuilt each step
-  std::vector<double> L_;           // velocity gradient per particle (row-major 2 x 2)
-  std::vector<double> centres_;     // weight centres with corner tracking (or APIC's copy)
-  std::vector<double> slotX_;       // window coordinates of every slot (affine transfers)
-  std::vector<double> affineC_;     // APIC's C_p = B_p D_p^-1 per particle (row-major D x D)
-  std::vector<double> affineDinv_;  // APIC's D_p^-1 of this step's stencils (row-major D x D)
-  std::vector<double> xpicVp_;      // XPIC's interpolated field per particle (D each)
+  Stencils<kDim> st_;                  // particle -> node weights, rebuilt each step
+  std::vector<double> L_;              // velocity gradients of a chunk of particles (stress)
+  std::vector<std::uint8_t> rowsOnly_; // particles with a boundary edge: stencil rows, no block
+  std::vector<double> centres_; // weight centres with corner tracking (cpdi2 with APIC: centroids)
+  std::vector<double> slotX_;   // window coordinates of every slot (affine transfers)
+  std::vector<double> xpicVp_;  // XPIC's interpolated field per particle (D each)
   std::vector<double> cpdiCorners_; // the cpdi parallelograms of this step
   physics::Boundary boundary_;      // external forces and penalty conditions
   tracking::CornerMotion corners_;  // corner tracking's motion of the corners
@@ -160,9 +162,11 @@ private:
   double dtCritical_ = NAN;  // smallest critical step computed (-gimp_stability_check)
   int interrupt_ = 0;        // SIGINT or SIGTERM received on some rank, agreed by checks()
   std::string localFailure_; // a failure found on this rank inside the step, reported by checks()
-  bool atRest_ = false;      // stopped by the rest criterion (-gimp_static_tol)
-  int restRows_ = 0;         // consecutive history rows that meet it
-  double restStrain_ = 0;    // strain energy at the first of them
+  PetscInt64 leaving_ =
+      -1;                 // particles outside their rank's cells after the last check (-1: unknown)
+  bool atRest_ = false;   // stopped by the rest criterion (-gimp_static_tol)
+  int restRows_ = 0;      // consecutive history rows that meet it
+  double restStrain_ = 0; // strain energy at the first of them
 };
 
 } // namespace gimp

@@ -23,9 +23,10 @@ template <int D>
 void weightCentroids(const Stencils<D> &st, PetscInt n, const double *xs, double *xc) {
   for (PetscInt k = 0; k < n; ++k) {
     double c[D] = {};
-    for (PetscInt e = st.start[k]; e < st.start[k + 1]; ++e)
+    st.forEach(k, [&](PetscInt nd, double w, const Vector<D> &) {
       for (int a = 0; a < D; ++a)
-        c[a] += st.weight(e) * xs[D * st.node[e] + a];
+        c[a] += w * xs[D * nd + a];
+    });
     for (int a = 0; a < D; ++a)
       xc[D * k + a] = c[a];
   }
@@ -35,17 +36,26 @@ void weightCentroids(const Stencils<D> &st, PetscInt n, const double *xs, double
 template <int D>
 Tensor<D> inertia(const Stencils<D> &st, PetscInt k, const double *xc, const double *xs) {
   Tensor<D> Dp = Tensor<D>::Zero();
-  for (PetscInt e = st.start[k]; e < st.start[k + 1]; ++e) {
-    const double w = st.weight(e);
-    const PetscInt nd = st.node[e];
+  st.forEach(k, [&](PetscInt nd, double w, const Vector<D> &) {
     double dx[D];
     for (int a = 0; a < D; ++a)
       dx[a] = xs[D * nd + a] - xc[D * k + a];
     for (int a = 0; a < D; ++a)
       for (int b = 0; b < D; ++b)
         Dp(a, b) += w * dx[a] * dx[b];
-  }
+  });
   return Dp;
+}
+
+/// The inverse of a 2 x 2 inertia (a, b; c, d), or 0 where it is singular (see below).
+inline Tensor<2> inverseInertia2(double a, double b, double c, double d) {
+  const double det = a * d - b * c;
+  const double half = 0.5 * (a + d);
+  if (!(det > 1e-12 * half * half)) return Tensor<2>::Zero();
+  const double id = 1.0 / det;
+  Tensor<2> r;
+  r << d * id, -b * id, -c * id, a * id;
+  return r;
 }
 
 /// D_p^-1 of particle k. Where D_p is singular (its determinant below 1e-12 of (trace / D)^D: a
@@ -54,25 +64,13 @@ Tensor<D> inertia(const Stencils<D> &st, PetscInt k, const double *xc, const dou
 template <int D>
 Tensor<D> inverseInertia(const Stencils<D> &st, PetscInt k, const double *xc, const double *xs) {
   const Tensor<D> Dp = inertia<D>(st, k, xc, xs);
-  const double scale = std::pow(Dp.trace() / D, D);
-  if (!(Dp.determinant() > 1e-12 * scale)) return Tensor<D>::Zero();
-  return Dp.inverse();
-}
-
-/// D_p^-1 for every particle (row-major D x D into Dinv). It depends on the stencils only: the
-/// solver computes it once per step for P2G and the re-projection.
-template <int D>
-void inverseInertias(const Stencils<D> &st, PetscInt n, const double *xc, const double *xs,
-                     double *Dinv) {
-  for (PetscInt k = 0; k < n; ++k)
-    tensorAt<D>(Dinv, k) = inverseInertia<D>(st, k, xc, xs);
-}
-
-/// C_p = B_p D_p^-1 for every particle from the inverses of inverseInertias.
-template <int D>
-void affineFromInverse(PetscInt n, const double *B, const double *Dinv, double *C) {
-  for (PetscInt k = 0; k < n; ++k)
-    tensorAt<D>(C, k) = product<D>(tensorAt<D>(B, k), tensorAt<D>(Dinv, k));
+  if constexpr (D == 2) { // closed form: no pow, no general inverse in the per-particle loop
+    return inverseInertia2(Dp(0, 0), Dp(0, 1), Dp(1, 0), Dp(1, 1));
+  } else {
+    const double scale = std::pow(Dp.trace() / D, D);
+    if (!(Dp.determinant() > 1e-12 * scale)) return Tensor<D>::Zero();
+    return Dp.inverse();
+  }
 }
 
 /// C_p = B_p D_p^-1 for every particle (row-major D x D into C).
@@ -83,54 +81,134 @@ void affineVelocity(const Stencils<D> &st, PetscInt n, const double *xc, const d
     tensorAt<D>(C, k) = product<D>(tensorAt<D>(B, k), inverseInertia<D>(st, k, xc, xs));
 }
 
+/// APIC P2G of particle k with affine velocity C: nodal momentum S_ip m_p (v_p + C (x_i - x_p))
+/// into mom and, when mass is not null, S_ip m_p into component 0 of mass.
+template <int D, class Ct>
+void particleToGridAffine(const Stencils<D> &st, PetscInt k, double mp, const double *vk,
+                          const Ct &Ck, const double *xk, const double *xs, double *mom,
+                          double *mass) {
+  st.forEach(k, [&](PetscInt nd, double w, const Vector<D> &) {
+    double dx[D];
+    for (int a = 0; a < D; ++a)
+      dx[a] = xs[D * nd + a] - xk[a];
+    for (int c = 0; c < D; ++c) {
+      double vc = vk[c];
+      for (int a = 0; a < D; ++a)
+        vc += Ck(c, a) * dx[a];
+      mom[D * nd + c] += w * mp * vc;
+    }
+    if (mass) mass[D * nd] += w * mp;
+  });
+}
+
 /// APIC P2G: nodal momentum sum_p S_ip m_p (v_p + C_p (x_i - x_p)) into mom and, when mass is
 /// not null, nodal mass sum_p S_ip m_p into component 0 of mass (both accumulated).
 template <int D>
 void particlesToGridAffine(const Stencils<D> &st, PetscInt n, const double *m, const double *v,
                            const double *C, const double *xc, const double *xs, double *mom,
                            double *mass) {
+  for (PetscInt k = 0; k < n; ++k)
+    particleToGridAffine<D>(st, k, m[k], v + D * k, tensorAt<D>(C, k), xc + D * k, xs, mom, mass);
+}
+
+/// The same with C_p = B_p D_p^-1 formed per particle from its stencil (no per-particle
+/// arrays): the step's P2G and its re-projection.
+template <int D>
+void particlesToGridAffineB(const Stencils<D> &st, PetscInt n, const double *m, const double *v,
+                            const double *B, const double *xc, const double *xs, double *mom,
+                            double *mass) {
   for (PetscInt k = 0; k < n; ++k) {
-    const double mp = m[k];
-    const auto Ck = tensorAt<D>(C, k);
-    for (PetscInt e = st.start[k]; e < st.start[k + 1]; ++e) {
-      const double w = st.weight(e);
-      const PetscInt nd = st.node[e];
-      double dx[D];
-      for (int a = 0; a < D; ++a)
-        dx[a] = xs[D * nd + a] - xc[D * k + a];
-      for (int c = 0; c < D; ++c) {
-        double vc = v[D * k + c];
-        for (int a = 0; a < D; ++a)
-          vc += Ck(c, a) * dx[a];
-        mom[D * nd + c] += w * mp * vc;
+    if constexpr (D == 2)
+      if (st.isBlock(k)) {
+        // Tensor-product form: D_p from the 1D moments of each axis, and the momentum of node
+        // (i, j) as m w_j [w_i (v + C e_y dy_j) + w_i dx_i C e_x].
+        const Block<2> b = st.block(k); // a copy: stores to nodal arrays cannot alias it
+        const double *xk = xc + 2 * k, *vk = v + 2 * k;
+        double dx[3], dy[3], Sx[3] = {0, 0, 0}, Sy[3] = {0, 0, 0};
+        for (int i = 0; i < 3; ++i) {
+          dx[i] = xs[2 * (b.base + i)] - xk[0];
+          Sx[0] += b.w[0][i];
+          Sx[1] += b.w[0][i] * dx[i];
+          Sx[2] += b.w[0][i] * dx[i] * dx[i];
+        }
+        for (int j = 0; j < 3; ++j) {
+          dy[j] = xs[2 * (b.base + j * b.stride[1]) + 1] - xk[1];
+          Sy[0] += b.w[1][j];
+          Sy[1] += b.w[1][j] * dy[j];
+          Sy[2] += b.w[1][j] * dy[j] * dy[j];
+        }
+        const double dxy = Sx[1] * Sy[1];
+        const Tensor<2> Ck =
+            product<2>(tensorAt<2>(B, k), inverseInertia2(Sx[2] * Sy[0], dxy, dxy, Sx[0] * Sy[2]));
+        const double mp = m[k];
+        for (int j = 0; j < 3; ++j) {
+          const double mw = mp * b.w[1][j];
+          const double r0 = mw * (vk[0] + Ck(0, 1) * dy[j]), r1 = mw * (vk[1] + Ck(1, 1) * dy[j]);
+          const double s0 = mw * Ck(0, 0), s1 = mw * Ck(1, 0);
+          double *row = mom + 2 * (b.base + j * b.stride[1]);
+          double *mrow = mass ? mass + 2 * (b.base + j * b.stride[1]) : nullptr;
+          for (int i = 0; i < 3; ++i) {
+            const double wx = b.w[0][i], wdx = wx * dx[i];
+            row[2 * i] += wx * r0 + wdx * s0;
+            row[2 * i + 1] += wx * r1 + wdx * s1;
+            if (mrow) mrow[2 * i] += wx * mw;
+          }
+        }
+        continue;
       }
-      if (mass) mass[D * nd] += w * mp;
-    }
+    const Tensor<D> Ck = product<D>(tensorAt<D>(B, k), inverseInertia<D>(st, k, xc, xs));
+    particleToGridAffine<D>(st, k, m[k], v + D * k, Ck, xc + D * k, xs, mom, mass);
   }
 }
 
 /// APIC G2P: v_p = sum_i S_ip v_i, B_p = sum_i S_ip v_i (x_i - x_p)^T, and the particle moves by
-/// dt v_p. x may be the array xc points to: each particle reads its own centre before it moves.
+/// dt v_p. x may be the array xc points to: each particle reads its own centre before it moves;
+/// with x null the particles stay (the caller moves them).
 template <int D>
 void gridToParticlesAffine(const Stencils<D> &st, PetscInt n, const double *vg, const double *xc,
                            const double *xs, double dt, double *v, double *B, double *x) {
   for (PetscInt k = 0; k < n; ++k) {
     double vp[D] = {};
     Tensor<D> Bk = Tensor<D>::Zero();
-    for (PetscInt e = st.start[k]; e < st.start[k + 1]; ++e) {
-      const double w = st.weight(e);
-      const PetscInt nd = st.node[e];
-      for (int c = 0; c < D; ++c) {
-        const double wv = w * vg[D * nd + c];
-        vp[c] += wv;
-        for (int a = 0; a < D; ++a)
-          Bk(c, a) += wv * (xs[D * nd + a] - xc[D * k + a]);
+    bool done = false;
+    if constexpr (D == 2)
+      if (st.isBlock(k)) {              // row sums along x, then along y
+        const Block<2> b = st.block(k); // a copy: stores to nodal arrays cannot alias it
+        const double *xk = xc + 2 * k;
+        double dx[3];
+        for (int i = 0; i < 3; ++i)
+          dx[i] = xs[2 * (b.base + i)] - xk[0];
+        for (int j = 0; j < 3; ++j) {
+          const PetscInt r = 2 * (b.base + j * b.stride[1]);
+          const double dy = xs[r + 1] - xk[1];
+          double t[2] = {0, 0}, u[2] = {0, 0};
+          for (int i = 0; i < 3; ++i)
+            for (int c = 0; c < 2; ++c) {
+              const double wv = b.w[0][i] * vg[r + 2 * i + c];
+              t[c] += wv;
+              u[c] += wv * dx[i];
+            }
+          for (int c = 0; c < 2; ++c) {
+            vp[c] += b.w[1][j] * t[c];
+            Bk(c, 0) += b.w[1][j] * u[c];
+            Bk(c, 1) += b.w[1][j] * dy * t[c];
+          }
+        }
+        done = true;
       }
-    }
+    if (!done)
+      st.forEach(k, [&](PetscInt nd, double w, const Vector<D> &) {
+        for (int c = 0; c < D; ++c) {
+          const double wv = w * vg[D * nd + c];
+          vp[c] += wv;
+          for (int a = 0; a < D; ++a)
+            Bk(c, a) += wv * (xs[D * nd + a] - xc[D * k + a]);
+        }
+      });
     tensorAt<D>(B, k) = Bk;
     for (int c = 0; c < D; ++c) {
       v[D * k + c] = vp[c];
-      x[D * k + c] += dt * vp[c];
+      if (x) x[D * k + c] += dt * vp[c];
     }
   }
 }
@@ -140,11 +218,10 @@ template <int D>
 void interpolate(const Stencils<D> &st, PetscInt n, const double *fg, double *out) {
   for (PetscInt k = 0; k < n; ++k) {
     double fp[D] = {};
-    for (PetscInt e = st.start[k]; e < st.start[k + 1]; ++e) {
-      const double w = st.weight(e);
+    st.forEach(k, [&](PetscInt nd, double w, const Vector<D> &) {
       for (int c = 0; c < D; ++c)
-        fp[c] += w * fg[D * st.node[e] + c];
-    }
+        fp[c] += w * fg[D * nd + c];
+    });
     for (int c = 0; c < D; ++c)
       out[D * k + c] = fp[c];
   }
@@ -157,14 +234,12 @@ void gridToParticlesFiltered(const Stencils<D> &st, PetscInt n, const double *vg
                              const double *vstar, double dt, double *v, double *x) {
   for (PetscInt k = 0; k < n; ++k) {
     double vp[D] = {}, up[D] = {};
-    for (PetscInt e = st.start[k]; e < st.start[k + 1]; ++e) {
-      const double w = st.weight(e);
-      const PetscInt nd = st.node[e];
+    st.forEach(k, [&](PetscInt nd, double w, const Vector<D> &) {
       for (int c = 0; c < D; ++c) {
         vp[c] += w * vg[D * nd + c];
         up[c] += w * (vstar[D * nd + c] + dt * ag[D * nd + c]);
       }
-    }
+    });
     for (int c = 0; c < D; ++c) {
       v[D * k + c] = up[c];
       x[D * k + c] += dt * vp[c];

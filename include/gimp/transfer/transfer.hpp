@@ -1,4 +1,5 @@
-// Particle <-> grid transfers as free kernels over explicit arrays, for any dimension D.
+// Particle <-> grid transfers as free kernels over explicit arrays, for any dimension D. They
+// read the stencils through Stencils::forEach (rows or blocks alike).
 //
 // Nodal arrays are the window arrays of one rank: D values per slot (see grid/stencils.hpp);
 // nodal mass is stored in component 0 of its slot, in the layout of the momentum. Particle
@@ -14,19 +15,37 @@ namespace gimp::transfer {
 template <int D>
 void particlesToGrid(const Stencils<D> &st, PetscInt n, const double *m, const double *v,
                      double *mom, double *mass) {
-  const PetscInt *start = st.start.data(), *node = st.node.data();
   for (PetscInt k = 0; k < n; ++k) {
     const double mp = m[k];
     double pk[D];
     for (int c = 0; c < D; ++c)
       pk[c] = mp * v[D * k + c];
-    for (PetscInt e = start[k]; e < start[k + 1]; ++e) {
-      const double w = st.weight(e);
-      const PetscInt nd = node[e];
-      for (int c = 0; c < D; ++c)
-        mom[D * nd + c] += w * pk[c];
-      if (mass) mass[D * nd] += w * mp;
-    }
+    if constexpr (D == 2)
+      if (st.isBlock(k)) {              // a sum along x for each row of nodes
+        const Block<2> b = st.block(k); // a copy: stores to nodal arrays cannot alias it
+        for (int j = 0; j < 3; ++j) {
+          const double wy = b.w[1][j], a0 = wy * pk[0], a1 = wy * pk[1], am = wy * mp;
+          double *row = mom + 2 * (b.base + j * b.stride[1]);
+          double *mrow = mass ? mass + 2 * (b.base + j * b.stride[1]) : nullptr;
+          for (int i = 0; i < 3; ++i) {
+            row[2 * i] += b.w[0][i] * a0;
+            row[2 * i + 1] += b.w[0][i] * a1;
+            if (mrow) mrow[2 * i] += b.w[0][i] * am;
+          }
+        }
+        continue;
+      }
+    if (mass)
+      st.forEach(k, [&](PetscInt nd, double w, const Vector<D> &) {
+        for (int c = 0; c < D; ++c)
+          mom[D * nd + c] += w * pk[c];
+        mass[D * nd] += w * mp;
+      });
+    else
+      st.forEach(k, [&](PetscInt nd, double w, const Vector<D> &) {
+        for (int c = 0; c < D; ++c)
+          mom[D * nd + c] += w * pk[c];
+      });
   }
 }
 
@@ -35,17 +54,34 @@ void particlesToGrid(const Stencils<D> &st, PetscInt n, const double *m, const d
 template <int D>
 void gridToParticles(const Stencils<D> &st, PetscInt n, const double *vg, const double *ag,
                      double dt, double flip, double *v, double *x) {
-  const PetscInt *start = st.start.data(), *node = st.node.data();
   for (PetscInt k = 0; k < n; ++k) {
     double vp[D] = {}, ap[D] = {};
-    for (PetscInt e = start[k]; e < start[k + 1]; ++e) {
-      const double w = st.weight(e);
-      const PetscInt nd = node[e];
-      for (int c = 0; c < D; ++c) {
-        vp[c] += w * vg[D * nd + c];
-        ap[c] += w * ag[D * nd + c];
+    bool done = false;
+    if constexpr (D == 2)
+      if (st.isBlock(k)) {
+        const Block<2> b = st.block(k); // a copy: stores to nodal arrays cannot alias it
+        for (int j = 0; j < 3; ++j) {
+          const PetscInt r = 2 * (b.base + j * b.stride[1]);
+          double tv[2] = {0, 0}, ta[2] = {0, 0};
+          for (int i = 0; i < 3; ++i)
+            for (int c = 0; c < 2; ++c) {
+              tv[c] += b.w[0][i] * vg[r + 2 * i + c];
+              ta[c] += b.w[0][i] * ag[r + 2 * i + c];
+            }
+          for (int c = 0; c < 2; ++c) {
+            vp[c] += b.w[1][j] * tv[c];
+            ap[c] += b.w[1][j] * ta[c];
+          }
+        }
+        done = true;
       }
-    }
+    if (!done)
+      st.forEach(k, [&](PetscInt nd, double w, const Vector<D> &) {
+        for (int c = 0; c < D; ++c) {
+          vp[c] += w * vg[D * nd + c];
+          ap[c] += w * ag[D * nd + c];
+        }
+      });
     for (int c = 0; c < D; ++c) {
       v[D * k + c] = flip * (v[D * k + c] + dt * ap[c]) + (1.0 - flip) * vp[c];
       x[D * k + c] += dt * vp[c];
@@ -53,22 +89,40 @@ void gridToParticles(const Stencils<D> &st, PetscInt n, const double *vg, const 
   }
 }
 
-/// Velocity gradient at each particle, L = sum_i v_i (x) grad S_ip, row-major D x D per
-/// particle into L.
+/// Velocity gradient of particle k, L = sum_i v_i (x) grad S_ip.
+template <int D> Tensor<D> velocityGradientAt(const Stencils<D> &st, PetscInt k, const double *vg) {
+  Tensor<D> Lk = Tensor<D>::Zero();
+  if constexpr (D == 2)
+    if (st.isBlock(k)) { // L(c, 0) = sum_j w_j sum_i g_i v_c, L(c, 1) = sum_j g_j sum_i w_i v_c
+      const Block<2> b = st.block(k); // a copy: stores to nodal arrays cannot alias it
+      for (int j = 0; j < 3; ++j) {
+        const PetscInt r = 2 * (b.base + j * b.stride[1]);
+        double pg[2] = {0, 0}, qw[2] = {0, 0};
+        for (int i = 0; i < 3; ++i)
+          for (int c = 0; c < 2; ++c) {
+            pg[c] += b.g[0][i] * vg[r + 2 * i + c];
+            qw[c] += b.w[0][i] * vg[r + 2 * i + c];
+          }
+        for (int c = 0; c < 2; ++c) {
+          Lk(c, 0) += b.w[1][j] * pg[c];
+          Lk(c, 1) += b.g[1][j] * qw[c];
+        }
+      }
+      return Lk;
+    }
+  st.forEach(k, [&](PetscInt nd, double, const Vector<D> &grad) {
+    for (int c = 0; c < D; ++c)
+      for (int a = 0; a < D; ++a)
+        Lk(c, a) += vg[D * nd + c] * grad[a];
+  });
+  return Lk;
+}
+
+/// Velocity gradient at each particle, row-major D x D per particle into L.
 template <int D>
 void velocityGradient(const Stencils<D> &st, PetscInt n, const double *vg, double *L) {
-  const PetscInt *start = st.start.data(), *node = st.node.data();
-  for (PetscInt k = 0; k < n; ++k) {
-    Tensor<D> Lk = Tensor<D>::Zero();
-    for (PetscInt e = start[k]; e < start[k + 1]; ++e) {
-      const Vector<D> grad = st.gradient(e);
-      const PetscInt nd = node[e];
-      for (int c = 0; c < D; ++c)
-        for (int a = 0; a < D; ++a)
-          Lk(c, a) += vg[D * nd + c] * grad[a];
-    }
-    tensorAt<D>(L, k) = Lk;
-  }
+  for (PetscInt k = 0; k < n; ++k)
+    tensorAt<D>(L, k) = velocityGradientAt<D>(st, k, vg);
 }
 
 } // namespace gimp::transfer
