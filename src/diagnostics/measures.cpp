@@ -9,7 +9,6 @@
 #include <algorithm>
 #include <climits>
 #include <cmath>
-#include <map>
 
 namespace gimp {
 
@@ -99,73 +98,119 @@ PetscErrorCode mmsErrors(MPI_Comm comm, const Scene &sc, DM sw, double t, double
 
 namespace {
 
-/// On rank 0: the separation measure over all particles' rows (id, X0, centre, l, l0).
-void separationOfRows(const std::vector<double> &all, int kCols, double q,
-                      const std::vector<Crack> &cracks, double res[2]) {
-  const size_t n = all.size() / kCols;
-  auto key = [q](double x, double y) {
-    return std::make_pair(std::llround(x / q), std::llround(y / q));
-  };
-  std::map<std::pair<long long, long long>, size_t> at;
-  double lo = 1e300, hi = -1e300, lo0 = 1e300, hi0 = -1e300;
-  for (size_t i = 0; i < n; ++i) {
-    const double *r = &all[i * kCols];
-    at[key(r[1], r[2])] = i;
-    lo = std::min(lo, r[3] - r[5]);
-    hi = std::max(hi, r[3] + r[5]);
-    lo0 = std::min(lo0, r[1] - r[7]);
-    hi0 = std::max(hi0, r[1] + r[7]);
-  }
-  double worst = 0;
-  for (size_t i = 0; i < n; ++i) {
-    const double *r = &all[i * kCols];
+// A particle's row for the separation measure: X0, the domain's centre, l, l0 (2 each).
+constexpr int kCols = 8;
+using Key = std::pair<long long, long long>;
+
+/// Rows read from a particle view (this rank's particles) or from a packed array (the rows
+/// gathered on rank 0).
+struct Rows {
+  const ParticleView *p = nullptr;
+  const double *packed = nullptr;
+  size_t n = 0;
+  void row(size_t i, double r[kCols]) const {
+    if (packed) {
+      std::copy_n(&packed[i * kCols], kCols, r);
+      return;
+    }
+    const ParticleView &v = *p;
     for (int d = 0; d < 2; ++d) {
-      const auto it = at.find(key(r[1] + (d == 0) * 2 * r[7], r[2] + (d == 1) * 2 * r[8]));
-      if (it == at.end()) continue;
-      const double *o = &all[it->second * kCols];
-      if (o[7 + d] != r[7 + d]) continue; // neighbours of another size (another level)
-      if (std::any_of(cracks.begin(), cracks.end(), [&](const Crack &c) {
-            return cracks::crossing(c, r[1], r[2], o[1], o[2]) != 0;
-          }))
-        continue; // a crack between them
-      const double g = ((o[3 + d] - o[5 + d]) - (r[3 + d] + r[5 + d])) / (2.0 * r[7 + d]);
-      worst = std::max(worst, g);
+      // The particle's domain: centred on the material point, or the corners' rectangle.
+      r[d] = v.X0[2 * i + d];
+      r[2 + d] = v.hasCorners ? tracking::cornerBoxCentre(&v.corners[8 * i], d) : v.x[2 * i + d];
+      r[4 + d] = v.l[2 * i + d];
+      r[6 + d] = v.l0[2 * i + d];
     }
   }
-  res[0] = worst;
-  res[1] = (hi - lo) / (hi0 - lo0) - 1.0;
+};
+
+/// The rows sorted by their X0 lattice key (step q), for lookups.
+std::vector<std::pair<Key, size_t>> keyed(const Rows &rows, double q) {
+  std::vector<std::pair<Key, size_t>> at(rows.n);
+  double r[kCols];
+  for (size_t i = 0; i < rows.n; ++i) {
+    rows.row(i, r);
+    at[i] = {{std::llround(r[0] / q), std::llround(r[1] / q)}, i};
+  }
+  std::sort(at.begin(), at.end());
+  return at;
+}
+
+/// The row whose X0 is at (x, y), or -1.
+long long findAt(const std::vector<std::pair<Key, size_t>> &at, double q, double x, double y) {
+  const Key k{std::llround(x / q), std::llround(y / q)};
+  const auto it = std::lower_bound(at.begin(), at.end(), std::make_pair(k, size_t{0}));
+  return it != at.end() && it->first == k ? static_cast<long long>(it->second) : -1;
+}
+
+/// Over the rows: the largest gap between a particle and its former +x or +y neighbour found
+/// among the same rows (into worst); with `open`, which rows miss a neighbour on either side
+/// (a neighbour that may be another rank's particle).
+void gapsOfRows(const Rows &rows, double q, const std::vector<Crack> &cracks, double &worst,
+                std::vector<char> *open) {
+  const auto at = keyed(rows, q);
+  if (open) open->assign(rows.n, 0);
+  double r[kCols], o[kCols];
+  for (size_t i = 0; i < rows.n; ++i) {
+    rows.row(i, r);
+    for (int d = 0; d < 2; ++d)
+      for (int side = -1; side <= 1; side += 2) {
+        const long long j =
+            findAt(at, q, r[0] + (d == 0) * side * 2 * r[6], r[1] + (d == 1) * side * 2 * r[7]);
+        if (j < 0) {
+          if (open) (*open)[i] = 1;
+          continue;
+        }
+        if (side < 0) continue; // each pair once: from its lower particle
+        rows.row(static_cast<size_t>(j), o);
+        if (o[6 + d] != r[6 + d]) continue; // neighbours of another size (another level)
+        if (std::any_of(cracks.begin(), cracks.end(), [&](const Crack &c) {
+              return cracks::crossing(c, r[0], r[1], o[0], o[1]) != 0;
+            }))
+          continue; // a crack between them
+        worst = std::max(worst, ((o[2 + d] - o[4 + d]) - (r[2 + d] + r[4 + d])) / (2.0 * r[6 + d]));
+      }
+  }
 }
 
 } // namespace
 
 PetscErrorCode separation(MPI_Comm comm, const Lattice &grid, DM sw,
                           const std::vector<Crack> &cracks, double &gap, double &strain) {
+  // Each rank measures the pairs it holds; the particles missing a neighbour on some side (at a
+  // rank's border, or on a body's edge) go to rank 0, which measures the pairs among them. The
+  // memory and the work on rank 0 grow with the rank borders and body edges, not with the
+  // particles.
   ParticleView p;
   PetscCall(p.get(sw));
-  constexpr int kCols = 9;
-  std::vector<double> loc(static_cast<size_t>(p.n) * kCols);
-  for (PetscInt k = 0; k < p.n; ++k) {
-    double *r = &loc[static_cast<size_t>(k) * kCols];
-    r[0] = static_cast<double>(p.id[k]);
-    for (int d = 0; d < 2; ++d) {
-      // The particle's domain: centred on the material point, or the corners' rectangle.
-      r[1 + d] = p.X0[2 * k + d];
-      r[3 + d] = p.hasCorners ? tracking::cornerBoxCentre(&p.corners[8 * k], d) : p.x[2 * k + d];
-      r[5 + d] = p.l[2 * k + d];
-      r[7 + d] = p.l0[2 * k + d];
-    }
+  const Rows mine{&p, nullptr, static_cast<size_t>(p.n)};
+  // Initial positions lie on a lattice of step unit / 512.
+  const double q = grid.unit / 512.0;
+  double worst = 0;
+  std::vector<char> open;
+  gapsOfRows(mine, q, cracks, worst, &open);
+  double ext[4] = {1e300, 1e300, 1e300, 1e300}; // min of lo, -hi, lo0, -hi0 along x
+  std::vector<double> loc;
+  double r[kCols];
+  for (size_t i = 0; i < mine.n; ++i) {
+    mine.row(i, r);
+    ext[0] = std::min(ext[0], r[2] - r[4]);
+    ext[1] = std::min(ext[1], -(r[2] + r[4]));
+    ext[2] = std::min(ext[2], r[0] - r[6]);
+    ext[3] = std::min(ext[3], -(r[0] + r[6]));
+    if (open[i]) loc.insert(loc.end(), r, r + kCols);
   }
   PetscCall(p.restore(sw));
   std::vector<double> all;
   PetscCall(gatherToRoot(comm, loc, all));
   PetscMPIInt rank = 0;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
-  double res[2] = {0, 0};
-  // Initial positions lie on a lattice of step unit / 512.
-  if (rank == 0) separationOfRows(all, kCols, grid.unit / 512.0, cracks, res);
-  PetscCallMPI(MPI_Bcast(res, 2, MPI_DOUBLE, 0, comm));
-  gap = res[0];
-  strain = res[1];
+  if (rank == 0)
+    gapsOfRows(Rows{nullptr, all.data(), all.size() / kCols}, q, cracks, worst, nullptr);
+  double red[5] = {-worst, ext[0], ext[1], ext[2], ext[3]}, res[5];
+  PetscCallMPI(MPI_Allreduce(red, res, 5, MPI_DOUBLE, MPI_MIN, comm));
+  gap = -res[0];
+  strain = (-res[2] - res[1]) / (-res[4] - res[3]) - 1.0;
   return PETSC_SUCCESS;
 }
 
