@@ -24,8 +24,9 @@ namespace {
 /// The particle fields that the HDF5 output holds for this scene.
 std::vector<const FieldSpec *> writtenFields(const Scene &sc) {
   std::vector<const FieldSpec *> out;
+  const OptionalFields optional = optionalFieldsOf(sc);
   for (const FieldSpec &f : particleFields())
-    if (f.written && (!f.cornersOnly || tracksCorners(sc.tracking))) out.push_back(&f);
+    if (f.written && optional.has(f.need)) out.push_back(&f);
   return out;
 }
 

@@ -225,7 +225,7 @@ PetscErrorCode seedParticles(const Scene &sc, const Grid &g, DM sw) {
     vy += body.spin * (s.x - 0.5 * (body.box[0] + body.box[2]));
     p.v[2 * k] = vx;
     p.v[2 * k + 1] = vy;
-    std::fill(&p.B[4 * k], &p.B[4 * k] + 4, 0.0); // APIC's affine moment: none at the start
+    if (p.B) std::fill(&p.B[4 * k], &p.B[4 * k] + 4, 0.0); // APIC's affine moment: none yet
     p.V0[k] = p.V[k] = s.area * sc.material.thickness;
     p.m[k] = body.material.rho * p.V0[k];
     for (int a = 0; a < 2; ++a)
@@ -239,7 +239,7 @@ PetscErrorCode seedParticles(const Scene &sc, const Grid &g, DM sw) {
     for (int c = 0; c < 4; ++c)
       p.s[4 * k + c] = 0.0;
     p.szz[k] = 0.0;
-    p.eps[2 * k] = p.eps[2 * k + 1] = 0.0;
+    if (p.eps) p.eps[2 * k] = p.eps[2 * k + 1] = 0.0;
     p.id[k] = s.id;
     p.rank[k] = rank;
     p.trac[2 * k] = p.trac[2 * k + 1] = -1;

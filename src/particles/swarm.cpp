@@ -1,4 +1,5 @@
 #include "gimp/particles/swarm.hpp"
+#include "gimp/input/scene.hpp"
 
 namespace gimp {
 
@@ -14,54 +15,77 @@ template <typename T> void **slotOf(T *&p) {
 
 const std::vector<FieldSpec> &particleFields() {
   static const std::vector<FieldSpec> fields = {
-      {"x", D, PETSC_REAL, true, false, [](ParticleView &p) { return slotOf(p.x); }},
-      {"X0", D, PETSC_REAL, true, false, [](ParticleView &p) { return slotOf(p.X0); }},
-      {"v", D, PETSC_REAL, true, false, [](ParticleView &p) { return slotOf(p.v); }},
-      {"m", 1, PETSC_REAL, true, false, [](ParticleView &p) { return slotOf(p.m); }},
-      {"V0", 1, PETSC_REAL, false, false, [](ParticleView &p) { return slotOf(p.V0); }},
-      {"V", 1, PETSC_REAL, true, false, [](ParticleView &p) { return slotOf(p.V); }},
-      {"l", D, PETSC_REAL, true, false, [](ParticleView &p) { return slotOf(p.l); }},
-      {"l0", D, PETSC_REAL, false, false, [](ParticleView &p) { return slotOf(p.l0); }},
-      {"F", D * D, PETSC_REAL, false, false, [](ParticleView &p) { return slotOf(p.F); }},
-      {"stress", D * D, PETSC_REAL, true, false, [](ParticleView &p) { return slotOf(p.s); }},
-      {"szz", 1, PETSC_REAL, true, false, [](ParticleView &p) { return slotOf(p.szz); }},
-      {"eps", D, PETSC_REAL, false, false, [](ParticleView &p) { return slotOf(p.eps); }},
-      {"id", 1, PETSC_INT64, false, false, [](ParticleView &p) { return slotOf(p.id); }},
-      {"trac", D, PETSC_INT, false, false, [](ParticleView &p) { return slotOf(p.trac); }},
-      {"dbc", D, PETSC_INT, false, false, [](ParticleView &p) { return slotOf(p.dbc); }},
-      {"B", D * D, PETSC_REAL, true, false, [](ParticleView &p) { return slotOf(p.B); }},
-      {"corners", (1 << D) * D, PETSC_REAL, true, true,
+      {"x", D, PETSC_REAL, true, FieldNeed::Always, [](ParticleView &p) { return slotOf(p.x); }},
+      {"X0", D, PETSC_REAL, true, FieldNeed::Always, [](ParticleView &p) { return slotOf(p.X0); }},
+      {"v", D, PETSC_REAL, true, FieldNeed::Always, [](ParticleView &p) { return slotOf(p.v); }},
+      {"m", 1, PETSC_REAL, true, FieldNeed::Always, [](ParticleView &p) { return slotOf(p.m); }},
+      {"V0", 1, PETSC_REAL, false, FieldNeed::Always, [](ParticleView &p) { return slotOf(p.V0); }},
+      {"V", 1, PETSC_REAL, true, FieldNeed::Always, [](ParticleView &p) { return slotOf(p.V); }},
+      {"l", D, PETSC_REAL, true, FieldNeed::Always, [](ParticleView &p) { return slotOf(p.l); }},
+      {"l0", D, PETSC_REAL, false, FieldNeed::Always, [](ParticleView &p) { return slotOf(p.l0); }},
+      {"F", D * D, PETSC_REAL, false, FieldNeed::Always,
+       [](ParticleView &p) { return slotOf(p.F); }},
+      {"stress", D * D, PETSC_REAL, true, FieldNeed::Always,
+       [](ParticleView &p) { return slotOf(p.s); }},
+      {"szz", 1, PETSC_REAL, true, FieldNeed::Always,
+       [](ParticleView &p) { return slotOf(p.szz); }},
+      {"eps", D, PETSC_REAL, false, FieldNeed::Strain,
+       [](ParticleView &p) { return slotOf(p.eps); }},
+      {"id", 1, PETSC_INT64, false, FieldNeed::Always,
+       [](ParticleView &p) { return slotOf(p.id); }},
+      {"trac", D, PETSC_INT, false, FieldNeed::Always,
+       [](ParticleView &p) { return slotOf(p.trac); }},
+      {"dbc", D, PETSC_INT, false, FieldNeed::Always,
+       [](ParticleView &p) { return slotOf(p.dbc); }},
+      {"B", D * D, PETSC_REAL, true, FieldNeed::Affine,
+       [](ParticleView &p) { return slotOf(p.B); }},
+      {"corners", (1 << D) * D, PETSC_REAL, true, FieldNeed::Corners,
        [](ParticleView &p) { return slotOf(p.corners); }},
   };
   return fields;
 }
 
-PetscErrorCode swarmHasCorners(DM sw, bool &has) {
-  PetscObject mark = nullptr;
-  PetscCall(PetscObjectQuery(reinterpret_cast<PetscObject>(sw), "gimp_corners", &mark));
-  has = mark != nullptr;
+namespace {
+const char *const kMarks[3] = {"gimp_corners", "gimp_strain", "gimp_affine"};
+} // namespace
+
+OptionalFields optionalFieldsOf(const Scene &sc) {
+  OptionalFields o;
+  o.corners = tracksCorners(sc.tracking);
+  o.strain = sc.tracking == Tracking::Strain || sc.tracking == Tracking::Corners;
+  o.affine = sc.transfer == Transfer::Apic;
+  return o;
+}
+
+PetscErrorCode swarmOptionalFields(DM sw, OptionalFields &optional) {
+  bool *flag[3] = {&optional.corners, &optional.strain, &optional.affine};
+  for (int i = 0; i < 3; ++i) {
+    PetscObject mark = nullptr;
+    PetscCall(PetscObjectQuery(reinterpret_cast<PetscObject>(sw), kMarks[i], &mark));
+    *flag[i] = mark != nullptr;
+  }
   return PETSC_SUCCESS;
 }
 
 PetscErrorCode ParticleView::get(DM sw) {
-  PetscCall(swarmHasCorners(sw, hasCorners));
+  PetscCall(swarmOptionalFields(sw, fields));
+  hasCorners = fields.corners;
   PetscCall(DMSwarmGetLocalSize(sw, &n));
   for (const FieldSpec &f : particleFields())
-    if (hasCorners || !f.cornersOnly)
-      PetscCall(DMSwarmGetField(sw, f.name, nullptr, nullptr, f.slot(*this)));
+    if (fields.has(f.need)) PetscCall(DMSwarmGetField(sw, f.name, nullptr, nullptr, f.slot(*this)));
   PetscCall(DMSwarmGetField(sw, DMSwarmField_rank, nullptr, nullptr, slotOf(rank)));
   return PETSC_SUCCESS;
 }
 
 PetscErrorCode ParticleView::restore(DM sw) {
   for (const FieldSpec &f : particleFields())
-    if (hasCorners || !f.cornersOnly)
+    if (fields.has(f.need))
       PetscCall(DMSwarmRestoreField(sw, f.name, nullptr, nullptr, f.slot(*this)));
   PetscCall(DMSwarmRestoreField(sw, DMSwarmField_rank, nullptr, nullptr, slotOf(rank)));
   return PETSC_SUCCESS;
 }
 
-PetscErrorCode createSwarm(MPI_Comm comm, bool corners, DM *sw) {
+PetscErrorCode createSwarm(MPI_Comm comm, OptionalFields optional, DM *sw) {
   PetscCall(DMCreate(comm, sw));
   PetscCall(DMSetType(*sw, DMSWARM));
   PetscCall(PetscObjectSetName(reinterpret_cast<PetscObject>(*sw), "particles"));
@@ -69,13 +93,16 @@ PetscErrorCode createSwarm(MPI_Comm comm, bool corners, DM *sw) {
   PetscCall(DMSwarmSetType(*sw, DMSWARM_BASIC));
   PetscCall(DMSwarmInitializeFieldRegister(*sw));
   for (const FieldSpec &f : particleFields())
-    if (corners || !f.cornersOnly)
+    if (optional.has(f.need))
       PetscCall(DMSwarmRegisterPetscDatatypeField(*sw, f.name, f.components, f.type));
   PetscCall(DMSwarmFinalizeFieldRegister(*sw));
-  if (corners) { // mark the swarm, so that ParticleView::get knows the field is there
+  // Mark the swarm with its optional fields, so that ParticleView::get knows which are there.
+  const bool flag[3] = {optional.corners, optional.strain, optional.affine};
+  for (int i = 0; i < 3; ++i) {
+    if (!flag[i]) continue;
     PetscContainer mark;
     PetscCall(PetscContainerCreate(comm, &mark));
-    PetscCall(PetscObjectCompose(reinterpret_cast<PetscObject>(*sw), "gimp_corners",
+    PetscCall(PetscObjectCompose(reinterpret_cast<PetscObject>(*sw), kMarks[i],
                                  reinterpret_cast<PetscObject>(mark)));
     PetscCall(PetscContainerDestroy(&mark));
   }

@@ -102,12 +102,12 @@ PetscErrorCode copyField(DM sw, const FieldSpec &fs, PetscScalar *a, PetscInt co
 
 /// The swarm's fields (those registered) into the viewer's current group, or back from it.
 PetscErrorCode transferFields(MPI_Comm comm, PetscViewer v, DM sw, bool load) {
-  bool corners = false;
-  PetscCall(swarmHasCorners(sw, corners));
+  OptionalFields optional;
+  PetscCall(swarmOptionalFields(sw, optional));
   PetscInt n = 0;
   PetscCall(DMSwarmGetLocalSize(sw, &n));
   for (const FieldSpec &fs : particleFields()) {
-    if (fs.cornersOnly && !corners) continue;
+    if (!optional.has(fs.need)) continue;
     Vec x;
     PetscScalar *a = nullptr;
     PetscCall(fieldVec(comm, fs, n, &x));
@@ -308,8 +308,18 @@ PetscErrorCode Solver::checkCheckpoint(PetscViewer v, const std::vector<double> 
   std::vector<double> grid, gaps;
   PetscCall(readArray(comm_, v, "/state/grid", grid));
   PetscCall(readArray(comm_, v, "/state/max_gaps", gaps));
-  PetscBool corners = PETSC_FALSE;
-  PetscCall(PetscViewerHDF5HasDataset(v, "/particles/corners", &corners));
+  // The optional particle fields it holds must be the scene's (tracking and transfer).
+  const OptionalFields optional = optionalFieldsOf(sc_);
+  std::string fieldWhy;
+  for (const FieldSpec &fs : particleFields()) {
+    if (fs.need == FieldNeed::Always || !fieldWhy.empty()) continue;
+    PetscBool has = PETSC_FALSE;
+    PetscCall(PetscViewerHDF5HasDataset(v, ("/particles/" + std::string(fs.name)).c_str(), &has));
+    if ((has == PETSC_TRUE) != optional.has(fs.need))
+      fieldWhy = "its particles " + std::string(has ? "carry" : "lack") + " the field " + fs.name +
+                 ", the scene's do" + (has ? " not" : "") +
+                 " (-gimp_tracking and -gimp_transfer differ)";
+  }
   PetscReal dt = 0;
   PetscCall(TSGetTimeStep(ts_, &dt));
   std::string why;
@@ -320,9 +330,8 @@ PetscErrorCode Solver::checkCheckpoint(PetscViewer v, const std::vector<double> 
   else if (s[5] != static_cast<double>(nParticles_))
     why = "it holds " + formatNumber(s[5]) + " particles, the scene seeds " +
           std::to_string(nParticles_);
-  else if ((corners == PETSC_TRUE) != tracksCorners(sc_.tracking))
-    why = "its particles were tracked with" + std::string(corners ? "" : "out") +
-          " corners, the scene's are not";
+  else if (!fieldWhy.empty())
+    why = fieldWhy;
   else if (gaps.size() != sc_.dbcs.size())
     why = "it has " + std::to_string(gaps.size()) + " displacement conditions, the scene " +
           std::to_string(sc_.dbcs.size());

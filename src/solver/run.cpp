@@ -127,8 +127,10 @@ PetscErrorCode Solver::report(PetscInt step, double t) {
     PetscCall(out_->writeHistory(row));
     if (sc_.staticTol > 0 && t >= sc_.staticTime) PetscCall(restCriterion(step, t, row.energy));
   }
-  if (sc_.outputInterval > 0 && step % sc_.outputInterval == 0)
+  if (sc_.outputInterval > 0 && step % sc_.outputInterval == 0) {
+    st_.release(); // not needed until the next step: the frame's buffers take its place
     PetscCall(out_->writeFields(step, t, sw_, nodal_.vel, nodal_.mass));
+  }
   if (sc_.monitorInterval > 0 && step % sc_.monitorInterval == 0) PetscCall(monitorLine(step, t));
   PetscCall(TSMonitor(ts_, step, t, nodal_.P));
   PetscCall(PetscLogStagePop());
@@ -210,6 +212,7 @@ PetscErrorCode Solver::finish(PetscInt steps, double t) {
   // dump and the summary. An unstable run keeps what it had written and adds the frame of the
   // state it failed in, to look at (report() wrote nothing of that step).
   PetscCall(PetscLogStagePush(stages_.output));
+  st_.release(); // the run is over: the frame's buffers take the stencils' place
   // (A re-check of the critical step stops the run before a step whose frame may be written.)
   const bool written = !out_->frames().empty() && out_->frames().back().step == steps;
   if ((failed_ && !written) || sc_.outputInterval == 0 || steps % sc_.outputInterval != 0)

@@ -21,8 +21,9 @@ namespace {
 ItemBytes itemBytes(const Scene &sc) {
   constexpr double kStencilNodes = 16, kNodeVecs = 24, kDof = 2;
   ItemBytes b;
+  const OptionalFields optional = optionalFieldsOf(sc);
   for (const FieldSpec &f : particleFields())
-    if (!f.cornersOnly || tracksCorners(sc.tracking))
+    if (optional.has(f.need))
       b.particle +=
           static_cast<double>(f.components) * (f.type == PETSC_INT ? sizeof(PetscInt) : 8);
   b.particle += kStencilNodes * (sizeof(PetscInt) + 2 * kDim * sizeof(double));
@@ -115,7 +116,7 @@ PetscErrorCode Solver::writeGridDump() {
 }
 
 PetscErrorCode Solver::createParticles() {
-  PetscCall(createSwarm(comm_, tracksCorners(sc_.tracking), &sw_));
+  PetscCall(createSwarm(comm_, optionalFieldsOf(sc_), &sw_));
   PetscCall(seedParticles(sc_, grid_, sw_));
   ParticleView p;
   PetscCall(p.get(sw_));

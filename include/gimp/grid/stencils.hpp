@@ -11,7 +11,7 @@
 // Blocks (with `compact` set): a particle that only one level's nodes reach, all of them regular
 // (zones h), keeps no entries but its 1D factors (Block: 2 or 3 nodes per axis, their weights and
 // derivatives from the closed form shape::uniformWeights3, the first slot and the slot strides):
-// 112 bytes per particle in 2D instead of 36 per entry (4 to 9 entries), the same values the rows
+// 104 bytes per particle in 2D instead of 36 per entry (4 to 9 entries), the same values the rows
 // would hold. Kernels with a tensor-product form sum along one axis, then the other.
 //
 // forEach(k, f) calls f(slot, weight, gradient) for every entry of particle k in either form; it
@@ -32,14 +32,14 @@
 
 namespace gimp {
 
-/// The 1D factors of a block particle: n[d] nodes along axis d (2 or 3), their weights w[d][i]
-/// and derivatives g[d][i]; node (i, j, ...) is slot base + i stride[0] + j stride[1] + ....
-/// Kernels with a tensor-product form use it directly (sums along one axis, then the other).
+/// The 1D factors of a block particle: the weights w[d][i] and derivatives g[d][i] of the 3
+/// nodes along axis d (the third is 0 where the particle does not reach it); node (i, j, ...)
+/// is slot base + i + j stride[0] + k stride[1] .... Kernels with a tensor-product form use it
+/// directly (sums along one axis, then the other). 104 bytes in 2D.
 template <int D> struct Block {
   double w[D][3], g[D][3];
   PetscInt base;
-  PetscInt stride[D];
-  std::uint8_t n[D];
+  PetscInt stride[D - 1];
 };
 
 template <int D> struct Stencils {
@@ -95,8 +95,7 @@ template <int D> struct Stencils {
     for (int d = 0; d < D; ++d) {
       const double i2l = 0.5 / lam[d];
       shape::uniformWeights3(xi[d], lam[d], i2l, i2l * ih, b.w[d], b.g[d]);
-      b.n[d] = b.g[d][2] > 0.0 ? 3 : 2; // the third node is reached only when its weight is not 0
-      b.stride[d] = stride[d];
+      if (d > 0) b.stride[d - 1] = stride[d];
     }
     b.base = base;
   }
@@ -108,13 +107,16 @@ template <int D> struct Stencils {
       return;
     }
     const Block<D> b = block(k); // a copy: f's stores cannot alias it
+    int nn[D];                   // the third node is reached only when its weight is not 0
+    for (int d = 0; d < D; ++d)
+      nn[d] = b.g[d][2] > 0.0 ? 3 : 2;
     if constexpr (D == 2) {
-      for (int j = 0; j < b.n[1]; ++j)
-        for (int i = 0; i < b.n[0]; ++i) {
+      for (int j = 0; j < nn[1]; ++j)
+        for (int i = 0; i < nn[0]; ++i) {
           Vector<D> gr;
           gr[0] = b.g[0][i] * b.w[1][j];
           gr[1] = b.g[1][j] * b.w[0][i];
-          f(b.base + j * b.stride[1] + i, b.w[0][i] * b.w[1][j], gr);
+          f(b.base + j * b.stride[0] + i, b.w[0][i] * b.w[1][j], gr);
         }
     } else {
       int idx[D] = {};
@@ -130,15 +132,21 @@ template <int D> struct Stencils {
             if (d != a) v *= b.w[d][idx[d]];
           gr[a] = v;
         }
-        for (int d = 0; d < D; ++d)
-          s += idx[d] * b.stride[d];
+        s += idx[0];
+        for (int d = 1; d < D; ++d)
+          s += idx[d] * b.stride[d - 1];
         f(s, wt, gr);
         int d = 0;
-        while (d < D && ++idx[d] == b.n[d])
+        while (d < D && ++idx[d] == nn[d])
           idx[d++] = 0;
         if (d == D) break;
       }
     }
+  }
+  /// Give the memory back (before a frame is written: the next step rebuilds everything).
+  void release() {
+    Stencils<D> empty;
+    std::swap(*this, empty);
   }
   /// Make room for at least `want` entries, growing by half at least.
   void reserve(size_t want) {

@@ -1,7 +1,8 @@
 // Material points in a PETSc DMSwarm (structure of arrays).
 //
 // One table, particleFields(), lists every field once: its name, components, type, whether the
-// HDF5 output writes it and whether it exists only with corner tracking. Registration,
+// HDF5 output writes it and which scenes need it (FieldNeed: every scene, corner tracking,
+// strain or corner tracking, APIC); a field no scene option needs is not stored. Registration,
 // ParticleView::get/restore and the output all walk that table. A ParticleView borrows every
 // field's array for one phase of a step; restore() hands them back to the swarm.
 #pragma once
@@ -15,28 +16,42 @@
 
 namespace gimp {
 
+/// Which scenes need a particle field.
+enum class FieldNeed { Always, Corners, Strain, Affine };
+
+/// The optional fields a swarm carries: corners (corner and cpdi2 tracking), eps (strain and
+/// corner tracking), B (APIC).
+struct OptionalFields {
+  bool corners = false, strain = false, affine = false;
+  bool has(FieldNeed need) const {
+    return need == FieldNeed::Always || (need == FieldNeed::Corners && corners) ||
+           (need == FieldNeed::Strain && strain) || (need == FieldNeed::Affine && affine);
+  }
+};
+
 struct ParticleView {
   static constexpr int D = kDim;
   PetscInt n = 0;
-  double *x = nullptr;       // position [D]
-  double *X0 = nullptr;      // initial position [D]
-  double *v = nullptr;       // velocity [D]
-  double *m = nullptr;       // mass
-  double *V0 = nullptr;      // initial volume (area x thickness)
-  double *V = nullptr;       // current volume
-  double *l = nullptr;       // current half-sizes [D]
-  double *l0 = nullptr;      // initial half-sizes [D]
-  double *F = nullptr;       // deformation gradient, row-major D x D
-  double *s = nullptr;       // Cauchy stress, row-major D x D
-  double *szz = nullptr;     // out-of-plane stress (plane strain; zero in plane stress)
-  double *eps = nullptr;     // accumulated small-strain increments (xx, yy) [D]
-  double *B = nullptr;       // APIC affine moment sum_i S_ip v_i (x_i - x_p)^T, row-major D x D
+  double *x = nullptr;   // position [D]
+  double *X0 = nullptr;  // initial position [D]
+  double *v = nullptr;   // velocity [D]
+  double *m = nullptr;   // mass
+  double *V0 = nullptr;  // initial volume (area x thickness)
+  double *V = nullptr;   // current volume
+  double *l = nullptr;   // current half-sizes [D]
+  double *l0 = nullptr;  // initial half-sizes [D]
+  double *F = nullptr;   // deformation gradient, row-major D x D
+  double *s = nullptr;   // Cauchy stress, row-major D x D
+  double *szz = nullptr; // out-of-plane stress (plane strain; zero in plane stress)
+  double *eps = nullptr; // accumulated small-strain increments (xx, yy) [D], if strain or corners
+  double *B = nullptr; // APIC affine moment sum_i S_ip v_i (x_i - x_p)^T, row-major D x D, if APIC
   PetscInt64 *id = nullptr;  // identity, independent of the rank count
   PetscInt *trac = nullptr;  // traction index on its x side and y side, -1 if none [D]
   PetscInt *dbc = nullptr;   // penalty displacement condition index, likewise [D]
   double *corners = nullptr; // tracked corners (-,-), (+,-), (+,+), (-,+) [2^D x D], if any
   PetscInt *rank = nullptr;  // owner rank (DMSwarm's migration field)
   bool hasCorners = false;   // the swarm carries the corners field (found by get())
+  OptionalFields fields;     // the optional fields it carries (found by get())
 
   PetscErrorCode get(DM sw);
   PetscErrorCode restore(DM sw);
@@ -46,8 +61,8 @@ struct FieldSpec {
   const char *name;
   PetscInt components;
   PetscDataType type;
-  bool written;     // in the HDF5 particle output
-  bool cornersOnly; // registered only with corner tracking
+  bool written;   // in the HDF5 particle output
+  FieldNeed need; // the scenes that store it
   void **(*slot)(ParticleView &);
 };
 
@@ -55,9 +70,13 @@ struct FieldSpec {
 const std::vector<FieldSpec> &particleFields();
 
 /// Create the swarm with gimp's fields (collective).
-PetscErrorCode createSwarm(MPI_Comm comm, bool corners, DM *sw);
+PetscErrorCode createSwarm(MPI_Comm comm, OptionalFields optional, DM *sw);
 
-/// Whether the swarm carries the corner field.
-PetscErrorCode swarmHasCorners(DM sw, bool &has);
+/// The optional fields a swarm carries.
+PetscErrorCode swarmOptionalFields(DM sw, OptionalFields &optional);
+
+struct Scene;
+/// The optional fields a scene needs (its tracking and transfer).
+OptionalFields optionalFieldsOf(const Scene &sc);
 
 } // namespace gimp

@@ -16,7 +16,7 @@ void internalForce(const Stencils<D> &st, PetscInt n, const double *V, const dou
       if (st.isBlock(k)) {              // f_ij = A (g_i w_j, w_i g_j)
         const Block<2> b = st.block(k); // a copy: stores to nodal arrays cannot alias it
         for (int j = 0; j < 3; ++j) {
-          double *row = f + 2 * (b.base + j * b.stride[1]);
+          double *row = f + 2 * (b.base + j * b.stride[0]);
           const double a0 = A(0, 0) * b.w[1][j], a1 = A(1, 0) * b.w[1][j];
           const double c0 = A(0, 1) * b.g[1][j], c1 = A(1, 1) * b.g[1][j];
           for (int i = 0; i < 3; ++i) {

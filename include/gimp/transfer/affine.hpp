@@ -132,7 +132,7 @@ void particlesToGridAffineB(const Stencils<D> &st, PetscInt n, const double *m, 
           Sx[2] += b.w[0][i] * dx[i] * dx[i];
         }
         for (int j = 0; j < 3; ++j) {
-          dy[j] = xs[2 * (b.base + j * b.stride[1]) + 1] - xk[1];
+          dy[j] = xs[2 * (b.base + j * b.stride[0]) + 1] - xk[1];
           Sy[0] += b.w[1][j];
           Sy[1] += b.w[1][j] * dy[j];
           Sy[2] += b.w[1][j] * dy[j] * dy[j];
@@ -145,8 +145,8 @@ void particlesToGridAffineB(const Stencils<D> &st, PetscInt n, const double *m, 
           const double mw = mp * b.w[1][j];
           const double r0 = mw * (vk[0] + Ck(0, 1) * dy[j]), r1 = mw * (vk[1] + Ck(1, 1) * dy[j]);
           const double s0 = mw * Ck(0, 0), s1 = mw * Ck(1, 0);
-          double *row = mom + 2 * (b.base + j * b.stride[1]);
-          double *mrow = mass ? mass + 2 * (b.base + j * b.stride[1]) : nullptr;
+          double *row = mom + 2 * (b.base + j * b.stride[0]);
+          double *mrow = mass ? mass + 2 * (b.base + j * b.stride[0]) : nullptr;
           for (int i = 0; i < 3; ++i) {
             const double wx = b.w[0][i], wdx = wx * dx[i];
             row[2 * i] += wx * r0 + wdx * s0;
@@ -179,7 +179,7 @@ void gridToParticlesAffine(const Stencils<D> &st, PetscInt n, const double *vg, 
         for (int i = 0; i < 3; ++i)
           dx[i] = xs[2 * (b.base + i)] - xk[0];
         for (int j = 0; j < 3; ++j) {
-          const PetscInt r = 2 * (b.base + j * b.stride[1]);
+          const PetscInt r = 2 * (b.base + j * b.stride[0]);
           const double dy = xs[r + 1] - xk[1];
           double t[2] = {0, 0}, u[2] = {0, 0};
           for (int i = 0; i < 3; ++i)

@@ -25,8 +25,8 @@ void particlesToGrid(const Stencils<D> &st, PetscInt n, const double *m, const d
         const Block<2> b = st.block(k); // a copy: stores to nodal arrays cannot alias it
         for (int j = 0; j < 3; ++j) {
           const double wy = b.w[1][j], a0 = wy * pk[0], a1 = wy * pk[1], am = wy * mp;
-          double *row = mom + 2 * (b.base + j * b.stride[1]);
-          double *mrow = mass ? mass + 2 * (b.base + j * b.stride[1]) : nullptr;
+          double *row = mom + 2 * (b.base + j * b.stride[0]);
+          double *mrow = mass ? mass + 2 * (b.base + j * b.stride[0]) : nullptr;
           for (int i = 0; i < 3; ++i) {
             row[2 * i] += b.w[0][i] * a0;
             row[2 * i + 1] += b.w[0][i] * a1;
@@ -61,7 +61,7 @@ void gridToParticles(const Stencils<D> &st, PetscInt n, const double *vg, const 
       if (st.isBlock(k)) {
         const Block<2> b = st.block(k); // a copy: stores to nodal arrays cannot alias it
         for (int j = 0; j < 3; ++j) {
-          const PetscInt r = 2 * (b.base + j * b.stride[1]);
+          const PetscInt r = 2 * (b.base + j * b.stride[0]);
           double tv[2] = {0, 0}, ta[2] = {0, 0};
           for (int i = 0; i < 3; ++i)
             for (int c = 0; c < 2; ++c) {
@@ -96,7 +96,7 @@ template <int D> Tensor<D> velocityGradientAt(const Stencils<D> &st, PetscInt k,
     if (st.isBlock(k)) { // L(c, 0) = sum_j w_j sum_i g_i v_c, L(c, 1) = sum_j g_j sum_i w_i v_c
       const Block<2> b = st.block(k); // a copy: stores to nodal arrays cannot alias it
       for (int j = 0; j < 3; ++j) {
-        const PetscInt r = 2 * (b.base + j * b.stride[1]);
+        const PetscInt r = 2 * (b.base + j * b.stride[0]);
         double pg[2] = {0, 0}, qw[2] = {0, 0};
         for (int i = 0; i < 3; ++i)
           for (int c = 0; c < 2; ++c) {
