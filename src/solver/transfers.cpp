@@ -15,8 +15,8 @@ namespace gimp {
 
 const double *Solver::stencilCentres(const ParticleView &p) {
   // With APIC the re-projection's affine moments are taken about the stencils' centres: where
-  // those are the positions, G2P leaves the particles in place until the re-projection is done
-  // (gridToParticles), so no copy is needed.
+  // those are the positions, each particle is re-projected before it moves (gridToParticles,
+  // in one pass), so no copy is needed.
   return tracking::domainCentres(p, centres_, sc_.tracking);
 }
 
@@ -111,41 +111,51 @@ PetscErrorCode Solver::gridToParticles(ParticleView &p, const StepClock &c, cons
   PetscCall(VecGetArrayRead(nodal_.velW, &vg));
   PetscCall(VecGetArrayRead(nodal_.accW, &ag));
   const bool reprojects = scheme_.stressFromReprojection || tracksCorners(sc_.tracking);
-  // APIC's re-projection reads the stencils' centres: when they are the positions, the particles
-  // move (by dt v_p, the velocity G2P gives them) once it is done.
-  const bool moveLater = sc_.transfer == Transfer::Apic && centres == p.x && reprojects;
-  if (sc_.transfer == Transfer::Apic) {
+  // With a re-projection (FLIP/PIC and APIC) each particle's new momentum goes back to the grid
+  // with the same stencil right after its G2P, in one pass over the particles.
+  const bool fused = reprojects && sc_.transfer != Transfer::Xpic;
+  PetscScalar *mom = nullptr;
+  if (fused) {
+    PetscCall(VecZeroEntries(nodal_.sumW));
+    PetscCall(VecGetArray(nodal_.sumW, &mom));
+  }
+  if (sc_.transfer == Transfer::Apic && fused) {
+    transfer::gridToParticlesAffineProjected<kDim>(st_, p.n, vg, centres, slotCoordinates(), c.dt,
+                                                   p.m, p.v, p.B, p.x, mom);
+  } else if (sc_.transfer == Transfer::Apic) {
     transfer::gridToParticlesAffine<kDim>(st_, p.n, vg, centres, slotCoordinates(), c.dt, p.v, p.B,
-                                          moveLater ? nullptr : p.x);
+                                          p.x);
   } else if (sc_.transfer == Transfer::Xpic) {
     const PetscScalar *vs = nullptr;
     PetscCall(VecGetArrayRead(nodal_.vstarW, &vs));
     transfer::gridToParticlesFiltered<kDim>(st_, p.n, vg, ag, vs, c.dt, p.v, p.x);
     PetscCall(VecRestoreArrayRead(nodal_.vstarW, &vs));
+  } else if (fused) {
+    transfer::gridToParticlesProjected<kDim>(st_, p.n, vg, ag, c.dt, sc_.flip, p.m, p.v, p.x, mom);
   } else {
     transfer::gridToParticles<kDim>(st_, p.n, vg, ag, c.dt, sc_.flip, p.v, p.x);
   }
+  if (fused) PetscCall(VecRestoreArray(nodal_.sumW, &mom));
   PetscCall(VecRestoreArrayRead(nodal_.accW, &ag));
   PetscCall(VecRestoreArrayRead(nodal_.velW, &vg));
-  if (reprojects) PetscCall(reproject(p, c, centres, moveLater));
+  if (reprojects) PetscCall(reproject(p, c, centres, fused));
   PetscCall(PetscLogStagePop());
   return PETSC_SUCCESS;
 }
 
 PetscErrorCode Solver::reproject(ParticleView &p, const StepClock &c, const double *centres,
-                                 bool moveParticles) {
+                                 bool projected) {
   // Re-project the updated particle momentum (acc is free now) with the step's own P2G (APIC:
   // the affine fields of the new B_p): the velocity field of MUSL's stress update, and the one
   // the corners follow. Unlike p^n+1 / m it is a weighted mean of particle velocities, so a
   // node that a particle barely touches (tiny mass, huge F / m) cannot throw a corner away.
-  PetscScalar *mom = nullptr;
-  PetscCall(VecZeroEntries(nodal_.sumW));
-  PetscCall(VecGetArray(nodal_.sumW, &mom));
-  projectMomentum(p, centres, mom, nullptr);
-  PetscCall(VecRestoreArray(nodal_.sumW, &mom));
-  if (moveParticles) // G2P left them at the centres (APIC): x += dt v_p, v_p = sum_i S_ip v_i
-    for (PetscInt i = 0; i < kDim * p.n; ++i)
-      p.x[i] += c.dt * p.v[i];
+  if (!projected) { // (else G2P put the momenta on the window already)
+    PetscScalar *mom = nullptr;
+    PetscCall(VecZeroEntries(nodal_.sumW));
+    PetscCall(VecGetArray(nodal_.sumW, &mom));
+    projectMomentum(p, centres, mom, nullptr);
+    PetscCall(VecRestoreArray(nodal_.sumW, &mom));
+  }
   PetscCall(VecZeroEntries(nodal_.acc));
   PetscCall(grid_.addFromWindow(nodal_.sumW, nodal_.acc));
   PetscCall(VecPointwiseMult(nodal_.acc, nodal_.acc, nodal_.invMass));

@@ -9,6 +9,15 @@
 
 #include <Eigen/Core>
 
+/// For the per-particle pieces of the transfer kernels: one call per particle and phase, which
+/// must be inlined into the particle loop (an out-of-line call per particle costs more than the
+/// piece and keeps its stores from being scheduled with the loop's).
+#if defined(__GNUC__)
+#define GIMP_ALWAYS_INLINE inline __attribute__((always_inline))
+#else
+#define GIMP_ALWAYS_INLINE inline
+#endif
+
 namespace gimp {
 
 /// The spatial dimension built today. Kernels take it as a template parameter (see

@@ -89,10 +89,10 @@ private:
   PetscErrorCode particlesToGrid(const ParticleView &p, const double *centres);
   /// XPIC(m): v* = sum_{k<m} (I - M^-1 S^T M_p S)^k v^n into nodal_.vstarW.
   PetscErrorCode xpicFilter(const ParticleView &p, const StepClock &c);
-  /// MUSL's and the corners' re-projection; with moveParticles the particles, left in place by
-  /// G2P, move by dt v_p once the momentum is projected.
+  /// MUSL's and the corners' re-projection; with `projected` G2P has put the particles' new
+  /// momenta on the window already (nodal_.sumW).
   PetscErrorCode reproject(ParticleView &p, const StepClock &c, const double *centres,
-                           bool moveParticles);
+                           bool projected);
   PetscErrorCode forces(const ParticleView &p, const StepClock &c, StartPower &power);
   PetscErrorCode gridUpdate();
   /// Each crack field's nodal displacement along the contact normal at the cracked nodes (into

@@ -32,19 +32,25 @@ void weightCentroids(const Stencils<D> &st, PetscInt n, const double *xs, double
   }
 }
 
-/// D_p = sum_i S_ip (x_i - x_p)(x_i - x_p)^T of particle k.
+/// D_p = sum_i S_ip (x_i - x_p)(x_i - x_p)^T of particle k, with x_p = xk (D values).
 template <int D>
-Tensor<D> inertia(const Stencils<D> &st, PetscInt k, const double *xc, const double *xs) {
+Tensor<D> inertiaAbout(const Stencils<D> &st, PetscInt k, const double *xk, const double *xs) {
   Tensor<D> Dp = Tensor<D>::Zero();
   st.forEach(k, [&](PetscInt nd, double w, const Vector<D> &) {
     double dx[D];
     for (int a = 0; a < D; ++a)
-      dx[a] = xs[D * nd + a] - xc[D * k + a];
+      dx[a] = xs[D * nd + a] - xk[a];
     for (int a = 0; a < D; ++a)
       for (int b = 0; b < D; ++b)
         Dp(a, b) += w * dx[a] * dx[b];
   });
   return Dp;
+}
+
+/// D_p of particle k about its centre in xc (D values per particle).
+template <int D>
+Tensor<D> inertia(const Stencils<D> &st, PetscInt k, const double *xc, const double *xs) {
+  return inertiaAbout<D>(st, k, xc + D * k, xs);
 }
 
 /// The inverse of a 2 x 2 inertia (a, b; c, d), or 0 where it is singular (see below).
@@ -58,12 +64,13 @@ inline Tensor<2> inverseInertia2(double a, double b, double c, double d) {
   return r;
 }
 
-/// D_p^-1 of particle k. Where D_p is singular (its determinant below 1e-12 of (trace / D)^D: a
-/// particle whose weights all sit on one line of nodes) the inverse is taken as 0, so C_p = 0
-/// and the particle transfers as in PIC.
+/// D_p^-1 of particle k about xk. Where D_p is singular (its determinant below 1e-12 of
+/// (trace / D)^D: a particle whose weights all sit on one line of nodes) the inverse is taken as
+/// 0, so C_p = 0 and the particle transfers as in PIC.
 template <int D>
-Tensor<D> inverseInertia(const Stencils<D> &st, PetscInt k, const double *xc, const double *xs) {
-  const Tensor<D> Dp = inertia<D>(st, k, xc, xs);
+Tensor<D> inverseInertiaAbout(const Stencils<D> &st, PetscInt k, const double *xk,
+                              const double *xs) {
+  const Tensor<D> Dp = inertiaAbout<D>(st, k, xk, xs);
   if constexpr (D == 2) { // closed form: no pow, no general inverse in the per-particle loop
     return inverseInertia2(Dp(0, 0), Dp(0, 1), Dp(1, 0), Dp(1, 1));
   } else {
@@ -71,6 +78,12 @@ Tensor<D> inverseInertia(const Stencils<D> &st, PetscInt k, const double *xc, co
     if (!(Dp.determinant() > 1e-12 * scale)) return Tensor<D>::Zero();
     return Dp.inverse();
   }
+}
+
+/// D_p^-1 of particle k about its centre in xc.
+template <int D>
+Tensor<D> inverseInertia(const Stencils<D> &st, PetscInt k, const double *xc, const double *xs) {
+  return inverseInertiaAbout<D>(st, k, xc + D * k, xs);
 }
 
 /// C_p = B_p D_p^-1 for every particle (row-major D x D into C).
@@ -84,9 +97,9 @@ void affineVelocity(const Stencils<D> &st, PetscInt n, const double *xc, const d
 /// APIC P2G of particle k with affine velocity C: nodal momentum S_ip m_p (v_p + C (x_i - x_p))
 /// into mom and, when mass is not null, S_ip m_p into component 0 of mass.
 template <int D, class Ct>
-void particleToGridAffine(const Stencils<D> &st, PetscInt k, double mp, const double *vk,
-                          const Ct &Ck, const double *xk, const double *xs, double *mom,
-                          double *mass) {
+GIMP_ALWAYS_INLINE void particleToGridAffine(const Stencils<D> &st, PetscInt k, double mp,
+                                             const double *vk, const Ct &Ck, const double *xk,
+                                             const double *xs, double *mom, double *mass) {
   st.forEach(k, [&](PetscInt nd, double w, const Vector<D> &) {
     double dx[D];
     for (int a = 0; a < D; ++a)
@@ -111,54 +124,102 @@ void particlesToGridAffine(const Stencils<D> &st, PetscInt n, const double *m, c
     particleToGridAffine<D>(st, k, m[k], v + D * k, tensorAt<D>(C, k), xc + D * k, xs, mom, mass);
 }
 
-/// The same with C_p = B_p D_p^-1 formed per particle from its stencil (no per-particle
-/// arrays): the step's P2G and its re-projection.
+/// APIC P2G of particle k with C = B_k D_k^-1 formed from its stencil (for a block, D_k from the
+/// 1D moments of each axis and the momentum of node (i, j) as m w_j [w_i (v + C e_y dy_j) +
+/// w_i dx_i C e_x]).
+template <int D>
+GIMP_ALWAYS_INLINE void particleToGridAffineB(const Stencils<D> &st, PetscInt k, double mp,
+                                              const double *vk, const Tensor<D> &Bk,
+                                              const double *xk, const double *xs, double *mom,
+                                              double *mass) {
+  if constexpr (D == 2)
+    if (st.isBlock(k)) {
+      const Block<2> b = st.block(k); // a copy: stores to nodal arrays cannot alias it
+      double dx[3], dy[3], Sx[3] = {0, 0, 0}, Sy[3] = {0, 0, 0};
+      for (int i = 0; i < 3; ++i) {
+        dx[i] = xs[2 * (b.base + i)] - xk[0];
+        Sx[0] += b.w[0][i];
+        Sx[1] += b.w[0][i] * dx[i];
+        Sx[2] += b.w[0][i] * dx[i] * dx[i];
+      }
+      for (int j = 0; j < 3; ++j) {
+        dy[j] = xs[2 * (b.base + j * b.stride[0]) + 1] - xk[1];
+        Sy[0] += b.w[1][j];
+        Sy[1] += b.w[1][j] * dy[j];
+        Sy[2] += b.w[1][j] * dy[j] * dy[j];
+      }
+      const double dxy = Sx[1] * Sy[1];
+      const Tensor<2> Ck = product<2>(Bk, inverseInertia2(Sx[2] * Sy[0], dxy, dxy, Sx[0] * Sy[2]));
+      for (int j = 0; j < 3; ++j) {
+        const double mw = mp * b.w[1][j];
+        const double r0 = mw * (vk[0] + Ck(0, 1) * dy[j]), r1 = mw * (vk[1] + Ck(1, 1) * dy[j]);
+        const double s0 = mw * Ck(0, 0), s1 = mw * Ck(1, 0);
+        double *row = mom + 2 * (b.base + j * b.stride[0]);
+        double *mrow = mass ? mass + 2 * (b.base + j * b.stride[0]) : nullptr;
+        for (int i = 0; i < 3; ++i) {
+          const double wx = b.w[0][i], wdx = wx * dx[i];
+          row[2 * i] += wx * r0 + wdx * s0;
+          row[2 * i + 1] += wx * r1 + wdx * s1;
+          if (mrow) mrow[2 * i] += wx * mw;
+        }
+      }
+      return;
+    }
+  const Tensor<D> Ck = product<D>(Bk, inverseInertiaAbout<D>(st, k, xk, xs));
+  particleToGridAffine<D>(st, k, mp, vk, Ck, xk, xs, mom, mass);
+}
+
+/// The same for every particle, C_p = B_p D_p^-1 formed per particle from its stencil (no
+/// per-particle arrays): the step's P2G.
 template <int D>
 void particlesToGridAffineB(const Stencils<D> &st, PetscInt n, const double *m, const double *v,
                             const double *B, const double *xc, const double *xs, double *mom,
                             double *mass) {
-  for (PetscInt k = 0; k < n; ++k) {
-    if constexpr (D == 2)
-      if (st.isBlock(k)) {
-        // Tensor-product form: D_p from the 1D moments of each axis, and the momentum of node
-        // (i, j) as m w_j [w_i (v + C e_y dy_j) + w_i dx_i C e_x].
-        const Block<2> b = st.block(k); // a copy: stores to nodal arrays cannot alias it
-        const double *xk = xc + 2 * k, *vk = v + 2 * k;
-        double dx[3], dy[3], Sx[3] = {0, 0, 0}, Sy[3] = {0, 0, 0};
-        for (int i = 0; i < 3; ++i) {
-          dx[i] = xs[2 * (b.base + i)] - xk[0];
-          Sx[0] += b.w[0][i];
-          Sx[1] += b.w[0][i] * dx[i];
-          Sx[2] += b.w[0][i] * dx[i] * dx[i];
-        }
-        for (int j = 0; j < 3; ++j) {
-          dy[j] = xs[2 * (b.base + j * b.stride[0]) + 1] - xk[1];
-          Sy[0] += b.w[1][j];
-          Sy[1] += b.w[1][j] * dy[j];
-          Sy[2] += b.w[1][j] * dy[j] * dy[j];
-        }
-        const double dxy = Sx[1] * Sy[1];
-        const Tensor<2> Ck =
-            product<2>(tensorAt<2>(B, k), inverseInertia2(Sx[2] * Sy[0], dxy, dxy, Sx[0] * Sy[2]));
-        const double mp = m[k];
-        for (int j = 0; j < 3; ++j) {
-          const double mw = mp * b.w[1][j];
-          const double r0 = mw * (vk[0] + Ck(0, 1) * dy[j]), r1 = mw * (vk[1] + Ck(1, 1) * dy[j]);
-          const double s0 = mw * Ck(0, 0), s1 = mw * Ck(1, 0);
-          double *row = mom + 2 * (b.base + j * b.stride[0]);
-          double *mrow = mass ? mass + 2 * (b.base + j * b.stride[0]) : nullptr;
-          for (int i = 0; i < 3; ++i) {
-            const double wx = b.w[0][i], wdx = wx * dx[i];
-            row[2 * i] += wx * r0 + wdx * s0;
-            row[2 * i + 1] += wx * r1 + wdx * s1;
-            if (mrow) mrow[2 * i] += wx * mw;
+  for (PetscInt k = 0; k < n; ++k)
+    particleToGridAffineB<D>(st, k, m[k], v + D * k, tensorAt<D>(B, k), xc + D * k, xs, mom, mass);
+}
+
+/// APIC G2P of particle k: v_p = sum_i S_ip v_i into vp, B_p = sum_i S_ip v_i (x_i - x_p)^T into
+/// Bk (x_p = xk, the stencil's centre).
+template <int D>
+GIMP_ALWAYS_INLINE void particleFromGridAffine(const Stencils<D> &st, PetscInt k, const double *vg,
+                                               const double *xk, const double *xs, double *vp,
+                                               Tensor<D> &Bk) {
+  for (int c = 0; c < D; ++c)
+    vp[c] = 0.0;
+  Bk = Tensor<D>::Zero();
+  if constexpr (D == 2)
+    if (st.isBlock(k)) {              // row sums along x, then along y
+      const Block<2> b = st.block(k); // a copy: stores to nodal arrays cannot alias it
+      double dx[3];
+      for (int i = 0; i < 3; ++i)
+        dx[i] = xs[2 * (b.base + i)] - xk[0];
+      for (int j = 0; j < 3; ++j) {
+        const PetscInt r = 2 * (b.base + j * b.stride[0]);
+        const double dy = xs[r + 1] - xk[1];
+        double t[2] = {0, 0}, u[2] = {0, 0};
+        for (int i = 0; i < 3; ++i)
+          for (int c = 0; c < 2; ++c) {
+            const double wv = b.w[0][i] * vg[r + 2 * i + c];
+            t[c] += wv;
+            u[c] += wv * dx[i];
           }
+        for (int c = 0; c < 2; ++c) {
+          vp[c] += b.w[1][j] * t[c];
+          Bk(c, 0) += b.w[1][j] * u[c];
+          Bk(c, 1) += b.w[1][j] * dy * t[c];
         }
-        continue;
       }
-    const Tensor<D> Ck = product<D>(tensorAt<D>(B, k), inverseInertia<D>(st, k, xc, xs));
-    particleToGridAffine<D>(st, k, m[k], v + D * k, Ck, xc + D * k, xs, mom, mass);
-  }
+      return;
+    }
+  st.forEach(k, [&](PetscInt nd, double w, const Vector<D> &) {
+    for (int c = 0; c < D; ++c) {
+      const double wv = w * vg[D * nd + c];
+      vp[c] += wv;
+      for (int a = 0; a < D; ++a)
+        Bk(c, a) += wv * (xs[D * nd + a] - xk[a]);
+    }
+  });
 }
 
 /// APIC G2P: v_p = sum_i S_ip v_i, B_p = sum_i S_ip v_i (x_i - x_p)^T, and the particle moves by
@@ -168,47 +229,33 @@ template <int D>
 void gridToParticlesAffine(const Stencils<D> &st, PetscInt n, const double *vg, const double *xc,
                            const double *xs, double dt, double *v, double *B, double *x) {
   for (PetscInt k = 0; k < n; ++k) {
-    double vp[D] = {};
-    Tensor<D> Bk = Tensor<D>::Zero();
-    bool done = false;
-    if constexpr (D == 2)
-      if (st.isBlock(k)) {              // row sums along x, then along y
-        const Block<2> b = st.block(k); // a copy: stores to nodal arrays cannot alias it
-        const double *xk = xc + 2 * k;
-        double dx[3];
-        for (int i = 0; i < 3; ++i)
-          dx[i] = xs[2 * (b.base + i)] - xk[0];
-        for (int j = 0; j < 3; ++j) {
-          const PetscInt r = 2 * (b.base + j * b.stride[0]);
-          const double dy = xs[r + 1] - xk[1];
-          double t[2] = {0, 0}, u[2] = {0, 0};
-          for (int i = 0; i < 3; ++i)
-            for (int c = 0; c < 2; ++c) {
-              const double wv = b.w[0][i] * vg[r + 2 * i + c];
-              t[c] += wv;
-              u[c] += wv * dx[i];
-            }
-          for (int c = 0; c < 2; ++c) {
-            vp[c] += b.w[1][j] * t[c];
-            Bk(c, 0) += b.w[1][j] * u[c];
-            Bk(c, 1) += b.w[1][j] * dy * t[c];
-          }
-        }
-        done = true;
-      }
-    if (!done)
-      st.forEach(k, [&](PetscInt nd, double w, const Vector<D> &) {
-        for (int c = 0; c < D; ++c) {
-          const double wv = w * vg[D * nd + c];
-          vp[c] += wv;
-          for (int a = 0; a < D; ++a)
-            Bk(c, a) += wv * (xs[D * nd + a] - xc[D * k + a]);
-        }
-      });
+    double vp[D];
+    Tensor<D> Bk;
+    particleFromGridAffine<D>(st, k, vg, xc + D * k, xs, vp, Bk);
     tensorAt<D>(B, k) = Bk;
     for (int c = 0; c < D; ++c) {
       v[D * k + c] = vp[c];
       if (x) x[D * k + c] += dt * vp[c];
+    }
+  }
+}
+
+/// APIC G2P followed by the re-projection of the new affine momenta with the same stencils, in
+/// one pass: gridToParticlesAffine, then particlesToGridAffineB of the new v_p and B_p into mom
+/// (accumulated), the particles moving after their own re-projection (x may be xc).
+template <int D>
+void gridToParticlesAffineProjected(const Stencils<D> &st, PetscInt n, const double *vg,
+                                    const double *xc, const double *xs, double dt, const double *m,
+                                    double *v, double *B, double *x, double *mom) {
+  for (PetscInt k = 0; k < n; ++k) {
+    double vp[D];
+    Tensor<D> Bk;
+    particleFromGridAffine<D>(st, k, vg, xc + D * k, xs, vp, Bk);
+    particleToGridAffineB<D>(st, k, m[k], vp, Bk, xc + D * k, xs, mom, nullptr);
+    tensorAt<D>(B, k) = Bk;
+    for (int c = 0; c < D; ++c) {
+      v[D * k + c] = vp[c];
+      x[D * k + c] += dt * vp[c];
     }
   }
 }

@@ -10,43 +10,75 @@
 
 namespace gimp::transfer {
 
+/// P2G of particle k: S_ip m_p v_p into mom and, when mass is not null, S_ip m_p into component 0
+/// of mass (accumulated).
+template <int D>
+GIMP_ALWAYS_INLINE void particleToGrid(const Stencils<D> &st, PetscInt k, double mp,
+                                       const double *vk, double *mom, double *mass) {
+  double pk[D];
+  for (int c = 0; c < D; ++c)
+    pk[c] = mp * vk[c];
+  if constexpr (D == 2)
+    if (st.isBlock(k)) {              // a sum along x for each row of nodes
+      const Block<2> b = st.block(k); // a copy: stores to nodal arrays cannot alias it
+      for (int j = 0; j < 3; ++j) {
+        const double wy = b.w[1][j], a0 = wy * pk[0], a1 = wy * pk[1], am = wy * mp;
+        double *row = mom + 2 * (b.base + j * b.stride[0]);
+        double *mrow = mass ? mass + 2 * (b.base + j * b.stride[0]) : nullptr;
+        for (int i = 0; i < 3; ++i) {
+          row[2 * i] += b.w[0][i] * a0;
+          row[2 * i + 1] += b.w[0][i] * a1;
+          if (mrow) mrow[2 * i] += b.w[0][i] * am;
+        }
+      }
+      return;
+    }
+  st.forEach(k, [&](PetscInt nd, double w, const Vector<D> &) {
+    for (int c = 0; c < D; ++c)
+      mom[D * nd + c] += w * pk[c];
+    if (mass) mass[D * nd] += w * mp;
+  });
+}
+
 /// P2G: nodal momentum sum_p S_ip m_p v_p into mom and, when mass is not null, nodal mass
 /// sum_p S_ip m_p into component 0 of mass. Both are accumulated (the caller zeroes them).
 template <int D>
 void particlesToGrid(const Stencils<D> &st, PetscInt n, const double *m, const double *v,
                      double *mom, double *mass) {
-  for (PetscInt k = 0; k < n; ++k) {
-    const double mp = m[k];
-    double pk[D];
-    for (int c = 0; c < D; ++c)
-      pk[c] = mp * v[D * k + c];
-    if constexpr (D == 2)
-      if (st.isBlock(k)) {              // a sum along x for each row of nodes
-        const Block<2> b = st.block(k); // a copy: stores to nodal arrays cannot alias it
-        for (int j = 0; j < 3; ++j) {
-          const double wy = b.w[1][j], a0 = wy * pk[0], a1 = wy * pk[1], am = wy * mp;
-          double *row = mom + 2 * (b.base + j * b.stride[0]);
-          double *mrow = mass ? mass + 2 * (b.base + j * b.stride[0]) : nullptr;
-          for (int i = 0; i < 3; ++i) {
-            row[2 * i] += b.w[0][i] * a0;
-            row[2 * i + 1] += b.w[0][i] * a1;
-            if (mrow) mrow[2 * i] += b.w[0][i] * am;
+  for (PetscInt k = 0; k < n; ++k)
+    particleToGrid<D>(st, k, m[k], v + D * k, mom, mass);
+}
+
+/// The grid velocity vp and acceleration ap at particle k.
+template <int D>
+GIMP_ALWAYS_INLINE void particleFromGrid(const Stencils<D> &st, PetscInt k, const double *vg,
+                                         const double *ag, double *vp, double *ap) {
+  for (int c = 0; c < D; ++c)
+    vp[c] = ap[c] = 0.0;
+  if constexpr (D == 2)
+    if (st.isBlock(k)) {
+      const Block<2> b = st.block(k); // a copy: stores to nodal arrays cannot alias it
+      for (int j = 0; j < 3; ++j) {
+        const PetscInt r = 2 * (b.base + j * b.stride[0]);
+        double tv[2] = {0, 0}, ta[2] = {0, 0};
+        for (int i = 0; i < 3; ++i)
+          for (int c = 0; c < 2; ++c) {
+            tv[c] += b.w[0][i] * vg[r + 2 * i + c];
+            ta[c] += b.w[0][i] * ag[r + 2 * i + c];
           }
+        for (int c = 0; c < 2; ++c) {
+          vp[c] += b.w[1][j] * tv[c];
+          ap[c] += b.w[1][j] * ta[c];
         }
-        continue;
       }
-    if (mass)
-      st.forEach(k, [&](PetscInt nd, double w, const Vector<D> &) {
-        for (int c = 0; c < D; ++c)
-          mom[D * nd + c] += w * pk[c];
-        mass[D * nd] += w * mp;
-      });
-    else
-      st.forEach(k, [&](PetscInt nd, double w, const Vector<D> &) {
-        for (int c = 0; c < D; ++c)
-          mom[D * nd + c] += w * pk[c];
-      });
-  }
+      return;
+    }
+  st.forEach(k, [&](PetscInt nd, double w, const Vector<D> &) {
+    for (int c = 0; c < D; ++c) {
+      vp[c] += w * vg[D * nd + c];
+      ap[c] += w * ag[D * nd + c];
+    }
+  });
 }
 
 /// G2P: each particle's velocity becomes flip (v + dt a_p) + (1 - flip) v_p with a_p and v_p
@@ -55,37 +87,29 @@ template <int D>
 void gridToParticles(const Stencils<D> &st, PetscInt n, const double *vg, const double *ag,
                      double dt, double flip, double *v, double *x) {
   for (PetscInt k = 0; k < n; ++k) {
-    double vp[D] = {}, ap[D] = {};
-    bool done = false;
-    if constexpr (D == 2)
-      if (st.isBlock(k)) {
-        const Block<2> b = st.block(k); // a copy: stores to nodal arrays cannot alias it
-        for (int j = 0; j < 3; ++j) {
-          const PetscInt r = 2 * (b.base + j * b.stride[0]);
-          double tv[2] = {0, 0}, ta[2] = {0, 0};
-          for (int i = 0; i < 3; ++i)
-            for (int c = 0; c < 2; ++c) {
-              tv[c] += b.w[0][i] * vg[r + 2 * i + c];
-              ta[c] += b.w[0][i] * ag[r + 2 * i + c];
-            }
-          for (int c = 0; c < 2; ++c) {
-            vp[c] += b.w[1][j] * tv[c];
-            ap[c] += b.w[1][j] * ta[c];
-          }
-        }
-        done = true;
-      }
-    if (!done)
-      st.forEach(k, [&](PetscInt nd, double w, const Vector<D> &) {
-        for (int c = 0; c < D; ++c) {
-          vp[c] += w * vg[D * nd + c];
-          ap[c] += w * ag[D * nd + c];
-        }
-      });
+    double vp[D], ap[D];
+    particleFromGrid<D>(st, k, vg, ag, vp, ap);
     for (int c = 0; c < D; ++c) {
       v[D * k + c] = flip * (v[D * k + c] + dt * ap[c]) + (1.0 - flip) * vp[c];
       x[D * k + c] += dt * vp[c];
     }
+  }
+}
+
+/// G2P followed by the re-projection of the new momenta m_p v_p with the same stencils into mom
+/// (accumulated), in one pass.
+template <int D>
+void gridToParticlesProjected(const Stencils<D> &st, PetscInt n, const double *vg, const double *ag,
+                              double dt, double flip, const double *m, double *v, double *x,
+                              double *mom) {
+  for (PetscInt k = 0; k < n; ++k) {
+    double vp[D], ap[D];
+    particleFromGrid<D>(st, k, vg, ag, vp, ap);
+    for (int c = 0; c < D; ++c) {
+      v[D * k + c] = flip * (v[D * k + c] + dt * ap[c]) + (1.0 - flip) * vp[c];
+      x[D * k + c] += dt * vp[c];
+    }
+    particleToGrid<D>(st, k, m[k], v + D * k, mom, nullptr);
   }
 }
 
