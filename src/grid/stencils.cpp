@@ -121,7 +121,10 @@ bool Grid::buildStencils(PetscInt n, const double *x, const double *l, Stencils<
   s.start.resize(static_cast<size_t>(n) + 1);
   s.general = false;
   s.compact = compact;
-  if (compact) s.blocks.resize(static_cast<size_t>(n));
+  if (compact) {
+    s.blockOf.resize(static_cast<size_t>(n));
+    s.nBlocks = 0;
+  }
   size_t m = 0;
   // Rows: room for the previous step's entries (or 10 per particle); grows below if needed.
   if (!compact) s.reserve(10 * static_cast<size_t>(n));
@@ -140,7 +143,7 @@ bool Grid::buildStencils(PetscInt n, const double *x, const double *l, Stencils<
       if (reaches[q]) ++nReach, last = q;
     }
     if (compact) {
-      s.blocks[k].base = -1;
+      s.blockOf[k] = -1;
       if (nReach == 1 && reach[last].block3 && !(rowsOnly && rowsOnly[k])) {
         // One level's regular 3 x 3 block: the arguments appendBlock3 gives
         // shape::uniformWeights3, so the factors are those the rows would hold.

@@ -181,7 +181,7 @@ namespace {
 PetscErrorCode checkSegmentsReached(MPI_Comm comm, const Scene &sc, const ParticleView &p) {
   const size_t nt = sc.tractions.size(), nd = sc.dbcs.size();
   std::vector<PetscInt64> hits(nt + nd, 0), gHits(nt + nd, 0);
-  for (PetscInt k = 0; k < p.n; ++k)
+  for (PetscInt k = 0; k < p.n && p.trac; ++k)
     for (int a = 0; a < 2; ++a) {
       if (p.trac[2 * k + a] >= 0) ++hits[p.trac[2 * k + a]];
       if (p.dbc[2 * k + a] >= 0) ++hits[nt + p.dbc[2 * k + a]];

@@ -242,8 +242,10 @@ PetscErrorCode seedParticles(const Scene &sc, const Grid &g, DM sw) {
     if (p.eps) p.eps[2 * k] = p.eps[2 * k + 1] = 0.0;
     p.id[k] = s.id;
     p.rank[k] = rank;
-    p.trac[2 * k] = p.trac[2 * k + 1] = -1;
-    p.dbc[2 * k] = p.dbc[2 * k + 1] = -1;
+    if (p.trac) { // (the fields exist with tractions or penalty conditions)
+      p.trac[2 * k] = p.trac[2 * k + 1] = -1;
+      p.dbc[2 * k] = p.dbc[2 * k + 1] = -1;
+    }
     for (size_t t = 0; t < sc.tractions.size(); ++t)
       if (onSegment(sc, sc.tractions[t], s.body, s.x, s.y, s.l, tol))
         p.trac[2 * k + sc.tractions[t].axis()] = static_cast<PetscInt>(t);

@@ -33,9 +33,9 @@ const std::vector<FieldSpec> &particleFields() {
        [](ParticleView &p) { return slotOf(p.eps); }},
       {"id", 1, PETSC_INT64, false, FieldNeed::Always,
        [](ParticleView &p) { return slotOf(p.id); }},
-      {"trac", D, PETSC_INT, false, FieldNeed::Always,
+      {"trac", D, PETSC_INT, false, FieldNeed::Boundary,
        [](ParticleView &p) { return slotOf(p.trac); }},
-      {"dbc", D, PETSC_INT, false, FieldNeed::Always,
+      {"dbc", D, PETSC_INT, false, FieldNeed::Boundary,
        [](ParticleView &p) { return slotOf(p.dbc); }},
       {"B", D * D, PETSC_REAL, true, FieldNeed::Affine,
        [](ParticleView &p) { return slotOf(p.B); }},
@@ -46,7 +46,7 @@ const std::vector<FieldSpec> &particleFields() {
 }
 
 namespace {
-const char *const kMarks[3] = {"gimp_corners", "gimp_strain", "gimp_affine"};
+const char *const kMarks[4] = {"gimp_corners", "gimp_strain", "gimp_affine", "gimp_boundary"};
 } // namespace
 
 OptionalFields optionalFieldsOf(const Scene &sc) {
@@ -54,12 +54,13 @@ OptionalFields optionalFieldsOf(const Scene &sc) {
   o.corners = tracksCorners(sc.tracking);
   o.strain = sc.tracking == Tracking::Strain || sc.tracking == Tracking::Corners;
   o.affine = sc.transfer == Transfer::Apic;
+  o.boundary = !sc.tractions.empty() || !sc.dbcs.empty();
   return o;
 }
 
 PetscErrorCode swarmOptionalFields(DM sw, OptionalFields &optional) {
-  bool *flag[3] = {&optional.corners, &optional.strain, &optional.affine};
-  for (int i = 0; i < 3; ++i) {
+  bool *flag[4] = {&optional.corners, &optional.strain, &optional.affine, &optional.boundary};
+  for (int i = 0; i < 4; ++i) {
     PetscObject mark = nullptr;
     PetscCall(PetscObjectQuery(reinterpret_cast<PetscObject>(sw), kMarks[i], &mark));
     *flag[i] = mark != nullptr;
@@ -97,8 +98,8 @@ PetscErrorCode createSwarm(MPI_Comm comm, OptionalFields optional, DM *sw) {
       PetscCall(DMSwarmRegisterPetscDatatypeField(*sw, f.name, f.components, f.type));
   PetscCall(DMSwarmFinalizeFieldRegister(*sw));
   // Mark the swarm with its optional fields, so that ParticleView::get knows which are there.
-  const bool flag[3] = {optional.corners, optional.strain, optional.affine};
-  for (int i = 0; i < 3; ++i) {
+  const bool flag[4] = {optional.corners, optional.strain, optional.affine, optional.boundary};
+  for (int i = 0; i < 4; ++i) {
     if (!flag[i]) continue;
     PetscContainer mark;
     PetscCall(PetscContainerCreate(comm, &mark));

@@ -116,7 +116,7 @@ void Boundary::externalForces(const Scene &sc, const Grid &g, const Stencils<2> 
     // Tractions, Eq. 8. GIMP: a dead load, whose resultant is the traction times the initial
     // edge length. CPDI: the traction (force per current area, global components) acts on the
     // current edge between the corners, its resultant the traction times the current length.
-    for (int a = 0; a < 2; ++a) {
+    for (int a = 0; a < 2 && p.trac; ++a) {
       const PetscInt q = p.trac[2 * k + a];
       if (q < 0) continue;
       const Traction &tr = sc.tractions[q];
@@ -171,6 +171,7 @@ void Boundary::penaltyIncrement(const Scene &sc, const Grid &g, const Stencils<2
                                 const double *ds, bool springs, double *fe) const {
   // The linearisation of penaltyForces: the same edges, lengths and edge shapes. Each input may
   // be null: its part is left out.
+  if (!p.dbc) return; // no penalty condition in the scene
   for (PetscInt k = 0; k < p.n; ++k)
     for (int a = 0; a < 2; ++a) {
       const PetscInt q = p.dbc[2 * k + a];

@@ -318,7 +318,7 @@ PetscErrorCode Solver::checkCheckpoint(PetscViewer v, const std::vector<double> 
     if ((has == PETSC_TRUE) != optional.has(fs.need))
       fieldWhy = "its particles " + std::string(has ? "carry" : "lack") + " the field " + fs.name +
                  ", the scene's do" + (has ? " not" : "") +
-                 " (-gimp_tracking and -gimp_transfer differ)";
+                 " (the tracking, the transfer or the boundary conditions differ)";
   }
   PetscReal dt = 0;
   PetscCall(TSGetTimeStep(ts_, &dt));

@@ -11,8 +11,9 @@
 // Blocks (with `compact` set): a particle that only one level's nodes reach, all of them regular
 // (zones h), keeps no entries but its 1D factors (Block: 2 or 3 nodes per axis, their weights and
 // derivatives from the closed form shape::uniformWeights3, the first slot and the slot strides):
-// 104 bytes per particle in 2D instead of 36 per entry (4 to 9 entries), the same values the rows
-// would hold. Kernels with a tensor-product form sum along one axis, then the other.
+// 104 bytes in 2D (blocks, in particle order; blockOf[k] finds particle k's) instead of 36 per
+// entry (4 to 9 entries), the same values the rows would hold. Kernels with a tensor-product form
+// sum along one axis, then the other.
 //
 // forEach(k, f) calls f(slot, weight, gradient) for every entry of particle k in either form; it
 // is the way kernels read stencils. The arrays keep their capacity between steps: only the first
@@ -28,6 +29,8 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <memory>
+#include <utility>
 #include <vector>
 
 namespace gimp {
@@ -42,18 +45,34 @@ template <int D> struct Block {
   PetscInt stride[D - 1];
 };
 
+/// An allocator that leaves new elements uninitialised (resize() of a vector of doubles does not
+/// write them): the stencil arrays grow with room to spare, and untouched room costs no resident
+/// memory.
+template <class T> struct UninitAllocator : std::allocator<T> {
+  template <class U> struct rebind { using other = UninitAllocator<U>; };
+  UninitAllocator() = default;
+  template <class U> UninitAllocator(const UninitAllocator<U> &) noexcept {}
+  template <class U> void construct(U *p) noexcept { ::new (static_cast<void *>(p)) U; }
+  template <class U, class... A> void construct(U *p, A &&...a) {
+    ::new (static_cast<void *>(p)) U(std::forward<A>(a)...);
+  }
+};
+template <class T> using StencilArray = std::vector<T, UninitAllocator<T>>;
+
 template <int D> struct Stencils {
-  std::vector<PetscInt> start;
-  std::vector<PetscInt> node;
-  std::array<std::vector<double>, D> w, g;
+  StencilArray<PetscInt> start;
+  StencilArray<PetscInt> node;
+  std::array<StencilArray<double>, D> w, g;
   bool general = false;
-  std::vector<double> sw, cw;
-  std::array<std::vector<double>, D> sg;
+  StencilArray<double> sw, cw;
+  std::array<StencilArray<double>, D> sg;
 
   // Blocks (see above). levelIh[q] = 1 / h of level q, levelStride[D q + d] the slot distance
   // of one node along axis d on level q's window.
   bool compact = false;
-  std::vector<Block<D>> blocks; // per particle; blocks[k].base < 0: particle k has rows
+  StencilArray<PetscInt> blockOf; // per particle: its block in `blocks`, or -1 (rows)
+  PetscInt nBlocks = 0;
+  StencilArray<Block<D>> blocks; // the blocks, in particle order
 
   double weight(PetscInt e) const {
     if (general) return sw[e];
@@ -78,7 +97,7 @@ template <int D> struct Stencils {
     return r;
   }
   /// True when particle k keeps a block instead of rows.
-  bool isBlock(PetscInt k) const { return compact && blocks[k].base >= 0; }
+  bool isBlock(PetscInt k) const { return compact && blockOf[k] >= 0; }
   /// Number of entries of particle k (a block counts the nodes its weights reach).
   PetscInt count(PetscInt k) const {
     PetscInt c = 0;
@@ -86,12 +105,14 @@ template <int D> struct Stencils {
     return c;
   }
   /// The 1D factors of block particle k (isBlock(k)).
-  const Block<D> &block(PetscInt k) const { return blocks[k]; }
+  const Block<D> &block(PetscInt k) const { return blocks[blockOf[k]]; }
   /// Make particle k a block: base slot, strides, and per axis the particle's left end in the
   /// block's first cell xi[d], its half-size in cells lam[d] and 1 / h of its level.
   void setBlock(PetscInt k, PetscInt base, const PetscInt *stride, const double *xi,
                 const double *lam, double ih) {
-    Block<D> &b = blocks[k];
+    if (blocks.size() < blockOf.size()) blocks.resize(blockOf.size()); // (untouched room)
+    blockOf[k] = nBlocks;
+    Block<D> &b = blocks[nBlocks++];
     for (int d = 0; d < D; ++d) {
       const double i2l = 0.5 / lam[d];
       shape::uniformWeights3(xi[d], lam[d], i2l, i2l * ih, b.w[d], b.g[d]);

@@ -17,15 +17,16 @@
 namespace gimp {
 
 /// Which scenes need a particle field.
-enum class FieldNeed { Always, Corners, Strain, Affine };
+enum class FieldNeed { Always, Corners, Strain, Affine, Boundary };
 
 /// The optional fields a swarm carries: corners (corner and cpdi2 tracking), eps (strain and
-/// corner tracking), B (APIC).
+/// corner tracking), B (APIC), trac and dbc (tractions or penalty conditions).
 struct OptionalFields {
-  bool corners = false, strain = false, affine = false;
+  bool corners = false, strain = false, affine = false, boundary = false;
   bool has(FieldNeed need) const {
     return need == FieldNeed::Always || (need == FieldNeed::Corners && corners) ||
-           (need == FieldNeed::Strain && strain) || (need == FieldNeed::Affine && affine);
+           (need == FieldNeed::Strain && strain) || (need == FieldNeed::Affine && affine) ||
+           (need == FieldNeed::Boundary && boundary);
   }
 };
 
@@ -46,7 +47,8 @@ struct ParticleView {
   double *eps = nullptr; // accumulated small-strain increments (xx, yy) [D], if strain or corners
   double *B = nullptr; // APIC affine moment sum_i S_ip v_i (x_i - x_p)^T, row-major D x D, if APIC
   PetscInt64 *id = nullptr;  // identity, independent of the rank count
-  PetscInt *trac = nullptr;  // traction index on its x side and y side, -1 if none [D]
+  PetscInt *trac = nullptr;  // traction index on its x side and y side, -1 if none [D] (null
+                             // in a scene without tractions and penalty conditions)
   PetscInt *dbc = nullptr;   // penalty displacement condition index, likewise [D]
   double *corners = nullptr; // tracked corners (-,-), (+,-), (+,+), (-,+) [2^D x D], if any
   PetscInt *rank = nullptr;  // owner rank (DMSwarm's migration field)

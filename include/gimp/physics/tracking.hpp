@@ -96,7 +96,7 @@ inline void updateDomain(const Scene &sc, ParticleView &p, PetscInt k, const Ten
   p.eps[2 * k + 1] += dt * L(1, 1);
   double *c = &p.corners[8 * k];
   // Exterior corners of a particle on a loaded edge follow its strain (the paper, 4.2).
-  for (int a = 0; a < 2; ++a) {
+  for (int a = 0; a < 2 && p.trac; ++a) {
     if (p.trac[2 * k + a] < 0) continue;
     const double n = sc.tractions[p.trac[2 * k + a]].normal();
     for (int q = 0; q < 4; ++q) {
