@@ -204,6 +204,10 @@ PetscErrorCode readOutputOptions(MPI_Comm comm, Scene &sc, RunOptions &o) {
                             "docs/options.md", sc.outputInterval, &sc.outputInterval, nullptr));
   PetscCall(PetscOptionsInt("-gimp_history_interval", "Steps between rows of history.csv",
                             "docs/options.md", sc.historyInterval, &sc.historyInterval, nullptr));
+  PetscCall(PetscOptionsInt("-gimp_sort_interval",
+                            "Steps between orderings of each rank's particles by level-0 cell "
+                            "(0: never)",
+                            "docs/options.md", sc.sortInterval, &sc.sortInterval, nullptr));
   PetscCall(PetscOptionsInt("-gimp_monitor_interval",
                             "Steps between energy/momentum monitor lines (0: off)",
                             "docs/options.md", sc.monitorInterval, &sc.monitorInterval, nullptr));
@@ -386,6 +390,8 @@ void checkRunOptions(const Scene &sc, const RunOptions &o) {
     bad("gimp_history_interval", std::to_string(sc.historyInterval), "must be >= 1");
   if (sc.monitorInterval < 0)
     bad("gimp_monitor_interval", std::to_string(sc.monitorInterval), "must be >= 0");
+  if (sc.sortInterval < 0)
+    bad("gimp_sort_interval", std::to_string(sc.sortInterval), "must be >= 0");
   if (sc.checkpointInterval < 0)
     bad("gimp_checkpoint_interval", std::to_string(sc.checkpointInterval),
         "must be >= 0 (0: none)");

@@ -1,6 +1,8 @@
 #include "gimp/particles/swarm.hpp"
 #include "gimp/input/scene.hpp"
 
+#include <cstring>
+
 namespace gimp {
 
 namespace {
@@ -106,6 +108,32 @@ PetscErrorCode createSwarm(MPI_Comm comm, OptionalFields optional, DM *sw) {
     PetscCall(PetscObjectCompose(reinterpret_cast<PetscObject>(*sw), kMarks[i],
                                  reinterpret_cast<PetscObject>(mark)));
     PetscCall(PetscContainerDestroy(&mark));
+  }
+  return PETSC_SUCCESS;
+}
+
+PetscErrorCode permuteSwarm(DM sw, const std::vector<PetscInt> &order) {
+  OptionalFields optional;
+  PetscCall(swarmOptionalFields(sw, optional));
+  std::vector<const char *> names = {DMSwarmField_pid, DMSwarmField_rank};
+  for (const FieldSpec &f : particleFields())
+    if (optional.has(f.need)) names.push_back(f.name);
+  std::vector<char> scratch;
+  const size_t n = order.size();
+  for (const char *name : names) {
+    PetscInt bs = 0;
+    PetscDataType type;
+    void *data = nullptr;
+    PetscCall(DMSwarmGetField(sw, name, &bs, &type, &data));
+    size_t size = 0;
+    PetscCall(PetscDataTypeGetSize(type, &size));
+    const size_t row = size * static_cast<size_t>(bs);
+    scratch.resize(row * n);
+    const char *from = static_cast<const char *>(data);
+    for (size_t k = 0; k < n; ++k)
+      std::memcpy(&scratch[k * row], from + static_cast<size_t>(order[k]) * row, row);
+    std::memcpy(data, scratch.data(), row * n);
+    PetscCall(DMSwarmRestoreField(sw, name, &bs, &type, &data));
   }
   return PETSC_SUCCESS;
 }

@@ -205,6 +205,7 @@ struct Scene {
   std::string particleDump;
   std::string gridDump;
   int checkpointInterval = 0; // steps between checkpoints (0: none, but on an interrupt)
+  int sortInterval = 50;      // steps between orderings of the particles by cell (0: never)
   std::string restart;        // checkpoint to continue from (empty: a fresh run)
   bool help = false;
 };

@@ -77,6 +77,10 @@ PetscErrorCode createSwarm(MPI_Comm comm, OptionalFields optional, DM *sw);
 /// The optional fields a swarm carries.
 PetscErrorCode swarmOptionalFields(DM sw, OptionalFields &optional);
 
+/// Reorder this rank's particles: particle k becomes the former particle order[k], in every
+/// field (gimp's and DMSwarm's own). Not collective.
+PetscErrorCode permuteSwarm(DM sw, const std::vector<PetscInt> &order);
+
 struct Scene;
 /// The optional fields a scene needs (its tracking and transfer).
 OptionalFields optionalFieldsOf(const Scene &sc);

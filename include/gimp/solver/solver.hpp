@@ -73,6 +73,8 @@ private:
   static PetscErrorCode clockOf(TS ts, const Scene &sc, StepClock &c);
   PetscErrorCode step();
   PetscErrorCode migrate();
+  /// Order this rank's particles by level-0 cell, then id (every -gimp_sort_interval steps).
+  PetscErrorCode sortParticles();
   PetscErrorCode buildStencils(const ParticleView &p, const double *centres);
   // the transfers (solver/transfers.cpp)
   /// Where the stencils are centred: tracking::domainCentres, copied when the affine transfer
