@@ -98,12 +98,6 @@ template <int D> struct Stencils {
   }
   /// True when particle k keeps a block instead of rows.
   bool isBlock(PetscInt k) const { return compact && blockOf[k] >= 0; }
-  /// Number of entries of particle k (a block counts the nodes its weights reach).
-  PetscInt count(PetscInt k) const {
-    PetscInt c = 0;
-    forEach(k, [&](PetscInt, double, const Vector<D> &) { ++c; });
-    return c;
-  }
   /// The 1D factors of block particle k (isBlock(k)).
   const Block<D> &block(PetscInt k) const { return blocks[blockOf[k]]; }
   /// Make particle k a block: base slot, strides, and per axis the particle's left end in the
