@@ -116,7 +116,7 @@ void Grid::appendNodes(const Level &L, const Reach &r, double xp, double yp, dou
 }
 
 bool Grid::buildStencils(PetscInt n, const double *x, const double *l, Stencils<kDim> &s,
-                         bool compact, const std::uint8_t *rowsOnly) const {
+                         bool compact) const {
   const int K = static_cast<int>(levels.size());
   s.start.resize(static_cast<size_t>(n) + 1);
   s.general = false;
@@ -144,7 +144,7 @@ bool Grid::buildStencils(PetscInt n, const double *x, const double *l, Stencils<
     }
     if (compact) {
       s.blockOf[k] = -1;
-      if (nReach == 1 && reach[last].block3 && !(rowsOnly && rowsOnly[k])) {
+      if (nReach == 1 && reach[last].block3) {
         // One level's regular 3 x 3 block: the arguments appendBlock3 gives
         // shape::uniformWeights3, so the factors are those the rows would hold.
         const Level &L = levels[last];

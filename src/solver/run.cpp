@@ -57,18 +57,14 @@ PetscErrorCode Solver::checks(const ParticleView &p, PetscInt step, double t) {
   const double *d = sc_.domain.data();
   const double h0 = grid_.h0();
   PetscInt bad = -1;
-  // With several ranks, the particles outside this rank's cells: the next step's migration.
+  // With several ranks, also the particles outside this rank's cells: the next step's migration.
   PetscInt64 leaving = 0;
-  if (size_ > 1) {
-    double box[4];
-    grid_.ownedBox(rank_, box);
-    for (PetscInt k = 0; k < p.n; ++k) {
-      const double x = p.x[2 * k], y = p.x[2 * k + 1];
-      leaving += !(x >= box[0] && x < box[2] && y >= box[1] && y < box[3]);
-    }
-  }
-  for (PetscInt k = 0; k < p.n && bad < 0; ++k) {
+  double box[4] = {-INFINITY, -INFINITY, INFINITY, INFINITY};
+  if (size_ > 1) grid_.ownedBox(rank_, box);
+  for (PetscInt k = 0; k < p.n; ++k) {
     const double x = p.x[2 * k], y = p.x[2 * k + 1], lx = p.l[2 * k], ly = p.l[2 * k + 1];
+    leaving += !(x >= box[0] && x < box[2] && y >= box[1] && y < box[3]);
+    if (bad >= 0) continue;
     const double s = p.s[4 * k] + p.s[4 * k + 3] + p.s[4 * k + 1];
     // NaN fails every comparison: the test is written so that it lands in the bad branch.
     const bool ok = std::isfinite(x + y + s) && x - lx >= d[0] && x + lx <= d[2] &&

@@ -129,18 +129,8 @@ PetscErrorCode Solver::buildStencils(const ParticleView &p, const double *centre
     if (why) localFailure_ = why;
   } else {
     // Blocks for every particle that one level's regular nodes alone reach, unless cracks
-    // re-address entries (assignFields) or the particle has an edge the boundary terms spread
-    // along (spreadEdgeForce reads its rows).
-    const bool compact = sc_.cracks.empty();
-    const std::uint8_t *rowsOnly = nullptr;
-    if (compact && (!sc_.tractions.empty() || !sc_.dbcs.empty())) {
-      rowsOnly_.resize(static_cast<size_t>(p.n));
-      for (PetscInt k = 0; k < p.n; ++k)
-        rowsOnly_[k] = p.trac[2 * k] >= 0 || p.trac[2 * k + 1] >= 0 || p.dbc[2 * k] >= 0 ||
-                       p.dbc[2 * k + 1] >= 0;
-      rowsOnly = rowsOnly_.data();
-    }
-    if (!grid_.buildStencils(p.n, centres, p.l, st_, compact, rowsOnly))
+    // re-address entries (assignFields).
+    if (!grid_.buildStencils(p.n, centres, p.l, st_, sc_.cracks.empty()))
       localFailure_ = "a particle is larger than a level-0 cell (its half-size exceeds -gimp_h)";
   }
   cracks::assignFields(grid_, sc_.cracks, p.n, centres, st_);

@@ -74,10 +74,9 @@ public:
   /// Stencils of n particles (positions x, half-sizes l; D values each). Returns false, with s
   /// unchanged past the particles done, when a particle is larger than a level-0 cell (the
   /// caller reports it collectively). With `compact` a particle inside one level's regular
-  /// block keeps a block instead of rows (grid/stencils.hpp), unless rowsOnly[k] is set (a
-  /// particle whose edges the boundary terms read from its rows).
+  /// block keeps a block instead of rows (grid/stencils.hpp).
   bool buildStencils(PetscInt n, const double *x, const double *l, Stencils<kDim> &s,
-                     bool compact = false, const std::uint8_t *rowsOnly = nullptr) const;
+                     bool compact = false) const;
 
   /// CPDI stencils (Sadeghirad et al. 2011, 2013) of n particles whose domains are the
   /// quadrilaterals of their corners (8 values each, counter-clockwise from (-, -)): general

@@ -7,8 +7,6 @@
 // traction sigma_p n (optional) and -alpha (u - u_bar) with u the edge's displacement.
 #pragma once
 
-#include <cassert>
-
 #include "gimp/grid/grid.hpp"
 #include "gimp/grid/shape.hpp"
 #include "gimp/particles/swarm.hpp"
@@ -45,8 +43,20 @@ inline double edgeShape(const Grid &g, const Stencils<2> &st, PetscInt e, int a,
 /// fe.
 inline void spreadEdgeForce(const Grid &g, const Stencils<2> &st, PetscInt k, int a, double n,
                             double edge, const double force[2], double *fe) {
-  // A particle with a boundary edge keeps rows (Solver::buildStencils asks for them).
-  assert(!st.isBlock(k));
+  if (st.isBlock(k)) { // the same shape from the block's 1D factors (regular nodes, no cracks)
+    const Block<2> b = st.block(k);
+    const int nx = b.g[0][2] > 0.0 ? 3 : 2, ny = b.g[1][2] > 0.0 ? 3 : 2; // as forEach
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i) {
+        const PetscInt nd = b.base + j * b.stride[0] + i;
+        const double *z = &g.zone[4 * nd];
+        const double w = a == 0 ? shape::tent(edge - g.X[nd], z[0], z[1]) * b.w[1][j]
+                                : b.w[0][i] * shape::tent(edge - g.Y[nd], z[2], z[3]);
+        fe[2 * nd] += w * force[0];
+        fe[2 * nd + 1] += w * force[1];
+      }
+    return;
+  }
   for (PetscInt e = st.start[k]; e < st.start[k + 1]; ++e) {
     const double w = edgeShape(g, st, e, a, n, edge);
     fe[2 * st.node[e]] += w * force[0];

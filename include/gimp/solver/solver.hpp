@@ -140,9 +140,8 @@ private:
   DM sw_ = nullptr;
   TS ts_ = nullptr;
   Nodal nodal_;
-  Stencils<kDim> st_;                  // particle -> node weights, rebuilt each step
-  std::vector<double> L_;              // velocity gradients of a chunk of particles (stress)
-  std::vector<std::uint8_t> rowsOnly_; // particles with a boundary edge: stencil rows, no block
+  Stencils<kDim> st_;           // particle -> node weights, rebuilt each step
+  std::vector<double> L_;       // velocity gradients of a chunk of particles (stress)
   std::vector<double> centres_; // weight centres with corner tracking (cpdi2 with APIC: centroids)
   std::vector<double> slotX_;   // window coordinates of every slot (affine transfers)
   std::vector<double> xpicVp_;  // XPIC's interpolated field per particle (D each)
