@@ -44,6 +44,8 @@ times the chain's: FLIP's grid-invisible modes carry part of the wave at the int
 Extra options (besides those of gimptest.parse_args):
   --levels 16,32,64   cells of h0 per pulse width W (the default takes about 11 s on one core)
   --ratio 2           refinement ratio of level 1 (the time step follows the fine cell h0 / r)
+  --multirate         every grid with -gimp_multirate true: level 0 steps with ratio x dt (the
+                      step count is rounded up to a multiple of the ratio); the same bounds hold
 """
 import argparse
 import csv
@@ -74,6 +76,7 @@ CHAIN_TOL = 0.02
 pre = argparse.ArgumentParser(add_help=False)
 pre.add_argument("--levels", default="16,32,64")
 pre.add_argument("--ratio", type=int, default=2)
+pre.add_argument("--multirate", action="store_true")
 mine, rest = pre.parse_known_args()
 sys.argv = sys.argv[:1] + rest
 args = gimptest.parse_args()
@@ -183,9 +186,11 @@ def spectral(P, n, res):
 def run(n):
     h = W / n
     steps = math.ceil(T / (CFL * h / ratio / C) - 1e-9)
+    if mine.multirate:  # T must end a coarse step of `ratio` fine steps
+        steps = ratio * math.ceil(steps / ratio)
     dt = T / steps
     common = ["-gimp_h", repr(h), "-ts_dt", repr(dt), "-gimp_body0_box", "0,0,%r,%r" % (L, h),
-              "-gimp_bc1_y", repr(h)]
+              "-gimp_bc1_y", repr(h)] + (["-gimp_multirate", "true"] if mine.multirate else [])
     ylo, yhi = -2 * h, 3 * h  # the default domain: the strip padded by 2 cells
     rr = ["-gimp_level1_ratio", str(ratio)]
     grids = {"uniform": (uniform_opts, []),

@@ -330,6 +330,12 @@ PetscErrorCode readMethodOptions(MPI_Comm comm, Scene &sc, RunOptions &o) {
                              "Critical time step from the largest eigenvalue of M^-1 K (SLEPc)",
                              "docs/options.md", check, &check, nullptr));
   sc.stabilityCheck = check;
+  PetscBool multirate = sc.multirate ? PETSC_TRUE : PETSC_FALSE;
+  PetscCall(PetscOptionsBool("-gimp_multirate",
+                             "A time step per level: level k steps with h_k / h_min times the "
+                             "finest step (-ts_dt)",
+                             "docs/options.md", multirate, &multirate, nullptr));
+  sc.multirate = multirate;
   PetscBool allow = sc.allowUnstableDt ? PETSC_TRUE : PETSC_FALSE;
   PetscCall(PetscOptionsBool("-gimp_allow_unstable_dt",
                              "Accept a -ts_dt above the critical step (for stability studies)",
@@ -373,6 +379,9 @@ void checkRunOptions(const Scene &sc, const RunOptions &o) {
   if (o.stabilityInterval > 0 && !sc.stabilityCheck)
     bad("gimp_stability_interval", std::to_string(o.stabilityInterval),
         "needs -gimp_stability_check");
+  if (sc.multirate && o.stabilityInterval > 0)
+    bad("gimp_stability_interval", std::to_string(o.stabilityInterval),
+        "re-checks the single-rate step, not -gimp_multirate's; use 0 with -gimp_multirate");
   if (sc.allowUnstableDt && !sc.stabilityCheck)
     bad("gimp_allow_unstable_dt", "true", "needs -gimp_stability_check");
   if (!(sc.staticTol >= 0 && sc.staticTol < 1))

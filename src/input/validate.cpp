@@ -161,6 +161,19 @@ PetscErrorCode readSceneOneLine(MPI_Comm comm, Scene &sc) {
 }
 
 void checkSceneCombinations(const Scene &sc) {
+  // -gimp_multirate is built for tensor-product GIMP weights on crack-free grids with the FLIP/PIC
+  // blend or APIC (docs/method.md, "Multi-rate time steps per level").
+  if (sc.multirate && !sc.cracks.empty())
+    throw InputError(
+        "option -gimp_multirate true: not built for scenes with cracks (-gimp_cracks " +
+        std::to_string(sc.cracks.size()) + "); use false");
+  if (sc.multirate && (tracksCorners(sc.tracking) || usesCpdi(sc.tracking)))
+    throw InputError("option -gimp_multirate true: not built with corner or CPDI tracking "
+                     "(-gimp_tracking corners, cpdi, cpdi2); use none, strain or stretch, or "
+                     "-gimp_multirate false");
+  if (sc.multirate && sc.transfer == Transfer::Xpic)
+    throw InputError("option -gimp_multirate true: not built with -gimp_transfer xpic; use flip "
+                     "or apic, or -gimp_multirate false");
   if (sc.material.model == MaterialModel::NeoHookean && !sc.material.planeStrain)
     throw InputError("option -gimp_material neohookean: needs -gimp_plane strain (the plane-stress "
                      "neo-Hookean model is not implemented)");

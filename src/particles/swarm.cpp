@@ -39,6 +39,8 @@ const std::vector<FieldSpec> &particleFields() {
        [](ParticleView &p) { return slotOf(p.trac); }},
       {"dbc", D, PETSC_INT, false, FieldNeed::Boundary,
        [](ParticleView &p) { return slotOf(p.dbc); }},
+      {"rate", 1, PETSC_INT, false, FieldNeed::Multirate,
+       [](ParticleView &p) { return slotOf(p.rate); }},
       {"B", D * D, PETSC_REAL, true, FieldNeed::Affine,
        [](ParticleView &p) { return slotOf(p.B); }},
       {"corners", (1 << D) * D, PETSC_REAL, true, FieldNeed::Corners,
@@ -48,7 +50,8 @@ const std::vector<FieldSpec> &particleFields() {
 }
 
 namespace {
-const char *const kMarks[4] = {"gimp_corners", "gimp_strain", "gimp_affine", "gimp_boundary"};
+const char *const kMarks[5] = {"gimp_corners", "gimp_strain", "gimp_affine", "gimp_boundary",
+                               "gimp_multirate"};
 } // namespace
 
 OptionalFields optionalFieldsOf(const Scene &sc) {
@@ -57,12 +60,14 @@ OptionalFields optionalFieldsOf(const Scene &sc) {
   o.strain = sc.tracking == Tracking::Strain || sc.tracking == Tracking::Corners;
   o.affine = sc.transfer == Transfer::Apic;
   o.boundary = !sc.tractions.empty() || !sc.dbcs.empty();
+  o.multirate = sc.multirate;
   return o;
 }
 
 PetscErrorCode swarmOptionalFields(DM sw, OptionalFields &optional) {
-  bool *flag[4] = {&optional.corners, &optional.strain, &optional.affine, &optional.boundary};
-  for (int i = 0; i < 4; ++i) {
+  bool *flag[5] = {&optional.corners, &optional.strain, &optional.affine, &optional.boundary,
+                   &optional.multirate};
+  for (int i = 0; i < 5; ++i) {
     PetscObject mark = nullptr;
     PetscCall(PetscObjectQuery(reinterpret_cast<PetscObject>(sw), kMarks[i], &mark));
     *flag[i] = mark != nullptr;
@@ -88,6 +93,20 @@ PetscErrorCode ParticleView::restore(DM sw) {
   return PETSC_SUCCESS;
 }
 
+ParticleView ParticleView::slice(PetscInt k0, PetscInt k1) const {
+  ParticleView q = *this;
+  q.n = k1 - k0;
+  for (const FieldSpec &f : particleFields()) {
+    char **a = reinterpret_cast<char **>(f.slot(q));
+    const size_t size = f.type == PETSC_INT     ? sizeof(PetscInt)
+                        : f.type == PETSC_INT64 ? sizeof(PetscInt64)
+                                                : sizeof(PetscReal);
+    if (*a) *a += static_cast<size_t>(k0) * size * static_cast<size_t>(f.components);
+  }
+  if (q.rank) q.rank += k0;
+  return q;
+}
+
 PetscErrorCode createSwarm(MPI_Comm comm, OptionalFields optional, DM *sw) {
   PetscCall(DMCreate(comm, sw));
   PetscCall(DMSetType(*sw, DMSWARM));
@@ -100,8 +119,9 @@ PetscErrorCode createSwarm(MPI_Comm comm, OptionalFields optional, DM *sw) {
       PetscCall(DMSwarmRegisterPetscDatatypeField(*sw, f.name, f.components, f.type));
   PetscCall(DMSwarmFinalizeFieldRegister(*sw));
   // Mark the swarm with its optional fields, so that ParticleView::get knows which are there.
-  const bool flag[4] = {optional.corners, optional.strain, optional.affine, optional.boundary};
-  for (int i = 0; i < 4; ++i) {
+  const bool flag[5] = {optional.corners, optional.strain, optional.affine, optional.boundary,
+                        optional.multirate};
+  for (int i = 0; i < 5; ++i) {
     if (!flag[i]) continue;
     PetscContainer mark;
     PetscCall(PetscContainerCreate(comm, &mark));

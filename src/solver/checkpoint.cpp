@@ -318,7 +318,7 @@ PetscErrorCode Solver::checkCheckpoint(PetscViewer v, const std::vector<double> 
     if ((has == PETSC_TRUE) != optional.has(fs.need))
       fieldWhy = "its particles " + std::string(has ? "carry" : "lack") + " the field " + fs.name +
                  ", the scene's do" + (has ? " not" : "") +
-                 " (the tracking, the transfer or the boundary conditions differ)";
+                 " (the tracking, the transfer, the boundary conditions or -gimp_multirate differ)";
   }
   PetscReal dt = 0;
   PetscCall(TSGetTimeStep(ts_, &dt));

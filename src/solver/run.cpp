@@ -35,7 +35,7 @@ PetscErrorCode Solver::run() {
     PetscCall(TSGetStepNumber(ts_, &steps));
     PetscCall(TSGetTime(ts_, &t));
     // The state after the step's report: a restart from it continues with the next step.
-    const bool due = sc_.checkpointInterval > 0 && steps % sc_.checkpointInterval == 0;
+    const bool due = dueIn(steps - stride() + 1, steps + 1, sc_.checkpointInterval);
     if (!failed_ && (due || interrupt_)) PetscCall(writeCheckpoint(steps, t));
   }
   // A signal during the last step: the run is complete (its checkpoint stays as written).
@@ -117,17 +117,19 @@ PetscErrorCode Solver::checks(const ParticleView &p, PetscInt step, double t) {
 PetscErrorCode Solver::report(PetscInt step, double t) {
   if (failed_) return PETSC_SUCCESS;
   PetscCall(PetscLogStagePush(stages_.output));
-  if (step % sc_.historyInterval == 0) {
+  // Due when a multiple of the interval fell within the step (R fine steps with -gimp_multirate).
+  const PetscInt from = step - stride() + 1;
+  if (dueIn(from, step + 1, sc_.historyInterval)) {
     HistoryRow row;
     PetscCall(historyRow(step, t, row));
     PetscCall(out_->writeHistory(row));
     if (sc_.staticTol > 0 && t >= sc_.staticTime) PetscCall(restCriterion(step, t, row.energy));
   }
-  if (sc_.outputInterval > 0 && step % sc_.outputInterval == 0) {
+  if (dueIn(from, step + 1, sc_.outputInterval)) {
     st_.release(); // not needed until the next step: the frame's buffers take its place
     PetscCall(out_->writeFields(step, t, sw_, nodal_.vel, nodal_.mass));
   }
-  if (sc_.monitorInterval > 0 && step % sc_.monitorInterval == 0) PetscCall(monitorLine(step, t));
+  if (dueIn(from, step + 1, sc_.monitorInterval)) PetscCall(monitorLine(step, t));
   PetscCall(TSMonitor(ts_, step, t, nodal_.P));
   PetscCall(PetscLogStagePop());
   return PETSC_SUCCESS;

@@ -72,11 +72,22 @@ PetscErrorCode Solver::setup() {
   PetscCall(physics::nodeConstraints(sc_, grid_, nodal_.bcMask));
   PetscCall(findProbes(comm_, sc_, sw_, probeIds_));
   PetscCall(createTimeStepper());
+  if (sc_.multirate) {
+    // Reports, checkpoints and the step limit act at coarse-step ends (R fine steps).
+    PetscInt maxSteps = 0;
+    PetscCall(TSGetMaxSteps(ts_, &maxSteps));
+    if (maxSteps % stride() != 0)
+      throw InputError("option -ts_max_steps " + std::to_string(maxSteps) +
+                       ": with -gimp_multirate true it must be a multiple of the coarse step, " +
+                       std::to_string(stride()) + " fine steps (h0 / h_min)");
+  }
   PetscReal dt = 0;
   PetscCall(TSGetTimeStep(ts_, &dt));
   // With -gimp_stability_check the penalty bounds and the step come from the eigenvalues.
   PetscCall(boundary_.setup(comm_, sc_, grid_, dt, !sc_.stabilityCheck));
+  if (sc_.multirate) PetscCall(rate_.create(grid_, nodal_.P, boundary_.active()));
   if (sc_.stabilityCheck) PetscCall(stabilityAtStart());
+  if (sc_.multirate) PetscCall(checkCoarseTimeLimit());
   PetscCall(rejectUnusedOptions());
   out_ = std::make_unique<Output>(comm_, sc_, grid_);
   if (sc_.restart.empty()) {
@@ -142,6 +153,25 @@ PetscErrorCode Solver::createParticles() {
       material::neoHookeanStress(mat, tensorAt<2>(p.F, k), tensorAt<2>(p.s, k), p.szz[k]);
   }
   PetscCall(p.restore(sw_));
+  return PETSC_SUCCESS;
+}
+
+PetscErrorCode Solver::checkCoarseTimeLimit() {
+  // A time limit that TS must meet exactly (matchstep, interpolate) has to fall on a coarse-step
+  // end: every class's impulses of a coarse step are taken with the full fine step.
+  TSExactFinalTimeOption exact;
+  PetscReal maxTime = 0, dt = 0;
+  PetscCall(TSGetExactFinalTime(ts_, &exact));
+  PetscCall(TSGetMaxTime(ts_, &maxTime));
+  PetscCall(TSGetTimeStep(ts_, &dt));
+  if (exact == TS_EXACTFINALTIME_STEPOVER || !(maxTime < 1e299)) return PETSC_SUCCESS;
+  const double coarse = static_cast<double>(stride()) * dt, n = std::round(maxTime / coarse);
+  if (n < 1 || std::fabs(n * coarse - maxTime) > 1e-9 * maxTime)
+    throw InputError("option -ts_max_time " + formatNumber(maxTime) +
+                     ": with -gimp_multirate true and an exact final time it must be a whole "
+                     "number of coarse steps of " +
+                     formatNumber(coarse) + " s (" + std::to_string(stride()) +
+                     " x -ts_dt); or use -ts_exact_final_time stepover");
   return PETSC_SUCCESS;
 }
 

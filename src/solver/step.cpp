@@ -8,6 +8,7 @@
 #include "gimp/transfer/transfer.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <utility>
 #include <vector>
@@ -28,6 +29,7 @@ PetscErrorCode Solver::clockOf(TS ts, const Scene &sc, StepClock &c) {
 }
 
 PetscErrorCode Solver::step() {
+  if (sc_.multirate) return coarseStep(); // R fine steps, a step per level (multirate.cpp)
   StepClock c;
   PetscCall(clockOf(ts_, sc_, c));
   ParticleView p;
@@ -46,7 +48,7 @@ PetscErrorCode Solver::step() {
     PetscCall(crackFaces(p));
     PetscCall(contactOnMomentum(c));
   }
-  if (scheme_.stressBeforeGridUpdate) PetscCall(stress(p, nodal_.velW, c.dt));
+  if (scheme_.stressBeforeGridUpdate) PetscCall(stress(st_, p, nodal_.velW, c.dt));
   StartPower power;
   PetscCall(forces(p, c, power));
   PetscCall(gridUpdate());
@@ -54,7 +56,7 @@ PetscErrorCode Solver::step() {
     PetscCall(crackContact(c, nodal_.velW, nodal_.vel, nodal_.accW, nodal_.acc));
   PetscCall(gridToParticles(p, c, centres));
   PetscCall(work(c, power));
-  if (!scheme_.stressBeforeGridUpdate) PetscCall(stress(p, nodal_.velW, c.dt));
+  if (!scheme_.stressBeforeGridUpdate) PetscCall(stress(st_, p, nodal_.velW, c.dt));
   PetscCall(checks(p, c.step + 1, c.t + c.dt));
   PetscCall(p.restore(sw_));
   PetscCall(report(c.step + 1, c.t + c.dt));
@@ -86,18 +88,22 @@ PetscErrorCode Solver::migrate() {
   return PETSC_SUCCESS;
 }
 
-PetscErrorCode Solver::sortParticles() {
+PetscErrorCode Solver::sortParticles(std::vector<int> *cls, bool byCell) {
   // Each rank's particles in the order of their level-0 cell (row by row), by id within a cell:
   // P2G and G2P then walk the nodal arrays in order, and the order depends on neither the
   // seeding nor the migrations. Every -gimp_sort_interval steps; nothing is allocated when the
-  // particles are in order already.
+  // particles are in order already. With rate classes (cls, permuted along) the class comes
+  // first; without byCell only the classes are made contiguous (a stable partition).
   ParticleView p;
   PetscCall(p.get(sw_));
   const Level &L = grid_.levels[0];
+  using Key = std::array<PetscInt64, 3>;
   auto keyOf = [&](PetscInt k) {
+    const PetscInt64 c = cls ? (*cls)[k] : 0;
+    if (!byCell) return Key{c, 0, k};
     const auto i = static_cast<PetscInt64>(std::floor((p.x[2 * k] - L.box[0]) * L.ih));
     const auto j = static_cast<PetscInt64>(std::floor((p.x[2 * k + 1] - L.box[1]) * L.ih));
-    return std::make_pair(j * static_cast<PetscInt64>(L.M) + i, p.id[k]);
+    return Key{c, j * static_cast<PetscInt64>(L.M) + i, p.id[k]};
   };
   bool sorted = true;
   for (PetscInt k = 1; k < p.n && sorted; ++k)
@@ -107,7 +113,7 @@ PetscErrorCode Solver::sortParticles() {
     return PETSC_SUCCESS;
   }
   st_.release(); // the last step's stencils: room for the keys and the permutation buffer
-  std::vector<std::pair<std::pair<PetscInt64, PetscInt64>, PetscInt>> key(p.n);
+  std::vector<std::pair<Key, PetscInt>> key(p.n);
   for (PetscInt k = 0; k < p.n; ++k)
     key[k] = {keyOf(k), k};
   PetscCall(p.restore(sw_));
@@ -117,6 +123,11 @@ PetscErrorCode Solver::sortParticles() {
     order[k] = key[k].second;
   key = {};
   PetscCall(permuteSwarm(sw_, order));
+  if (cls) {
+    std::vector<int> was = *cls;
+    for (PetscInt k = 0; k < p.n; ++k)
+      (*cls)[k] = was[order[k]];
+  }
   return PETSC_SUCCESS;
 }
 
@@ -152,10 +163,20 @@ PetscErrorCode Solver::forces(const ParticleView &p, const StepClock &c, StartPo
     for (PetscInt i = 0; i < 2 * grid_.nSlots; ++i)
       f[i] += fe[i];
     PetscCall(VecRestoreArray(nodal_.extW, &fe));
+  }
+  PetscCall(VecRestoreArray(nodal_.sumW, &f));
+  PetscCall(globalForces(power));
+  PetscCall(PetscLogStagePop());
+  return PETSC_SUCCESS;
+}
+
+PetscErrorCode Solver::globalForces(StartPower &power) {
+  // The window's forces (nodal_.sumW, the external part in nodal_.extW) summed over the ranks
+  // into nodal_.f and nodal_.fext; the power of the damping and external forces at the start.
+  if (boundary_.active()) {
     PetscCall(VecZeroEntries(nodal_.fext));
     PetscCall(grid_.addFromWindow(nodal_.extW, nodal_.fext));
   }
-  PetscCall(VecRestoreArray(nodal_.sumW, &f));
   PetscCall(VecZeroEntries(nodal_.f));
   PetscCall(grid_.addFromWindow(nodal_.sumW, nodal_.f));
   if (sc_.damping > 0) {
@@ -164,7 +185,6 @@ PetscErrorCode Solver::forces(const ParticleView &p, const StepClock &c, StartPo
     power.damping = sc_.damping * pv;
   }
   if (boundary_.active()) PetscCall(VecDot(nodal_.fext, nodal_.vel, &power.external));
-  PetscCall(PetscLogStagePop());
   return PETSC_SUCCESS;
 }
 
@@ -251,11 +271,11 @@ PetscErrorCode Solver::crackContact(const StepClock &c, Vec velW, Vec vel, Vec a
   return PETSC_SUCCESS;
 }
 
-PetscErrorCode Solver::work(const StepClock &c, const StartPower &power) {
+PetscErrorCode Solver::work(const StepClock &c, const StartPower &power, bool external) {
   // Work of the external and damping forces over the step: force times the mean of the grid
   // velocities at its start and end. With MUSL the end velocity is the re-projection of the
   // particles' velocities, so nodal force residuals that move no particle do no work.
-  if (boundary_.active()) {
+  if (boundary_.active() && external) {
     PetscScalar fv = 0;
     PetscCall(VecDot(nodal_.fext, nodal_.vel, &fv));
     work_.external += 0.5 * c.kick * c.dt * (power.external + fv);
@@ -270,7 +290,8 @@ PetscErrorCode Solver::work(const StepClock &c, const StartPower &power) {
   return PETSC_SUCCESS;
 }
 
-PetscErrorCode Solver::stress(ParticleView &p, Vec velocityWindow, double dt) {
+PetscErrorCode Solver::stress(const Stencils<kDim> &st, ParticleView &p, Vec velocityWindow,
+                              double dt) {
   // Velocity gradient from the scheme's velocity field, then F, volume, stress and domain.
   PetscCall(PetscLogStagePush(stages_.stress));
   // In chunks that stay in cache: the gradients of a chunk, then its particles' update.
@@ -281,7 +302,7 @@ PetscErrorCode Solver::stress(ParticleView &p, Vec velocityWindow, double dt) {
   for (PetscInt k0 = 0; k0 < p.n; k0 += kChunk) {
     const PetscInt k1 = std::min(p.n, k0 + kChunk);
     for (PetscInt k = k0; k < k1; ++k)
-      tensorAt<kDim>(L_.data(), k - k0) = transfer::velocityGradientAt<kDim>(st_, k, vg);
+      tensorAt<kDim>(L_.data(), k - k0) = transfer::velocityGradientAt<kDim>(st, k, vg);
     physics::updateDeformation(sc_, p, L_.data(), dt, k0, k1);
   }
   PetscCall(VecRestoreArrayRead(velocityWindow, &vg));

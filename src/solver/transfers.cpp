@@ -43,14 +43,14 @@ const double *Solver::slotCoordinates() {
   return slotX_.data();
 }
 
-void Solver::projectMomentum(const ParticleView &p, const double *centres, double *mom,
-                             double *mass) {
+void Solver::projectMomentum(const Stencils<kDim> &st, const ParticleView &p, const double *centres,
+                             double *mom, double *mass) {
   if (sc_.transfer != Transfer::Apic) {
-    transfer::particlesToGrid<kDim>(st_, p.n, p.m, p.v, mom, mass);
+    transfer::particlesToGrid<kDim>(st, p.n, p.m, p.v, mom, mass);
     return;
   }
   // C_p = B_p D_p^-1 per particle from its stencil, at the step's P2G and at the re-projection.
-  transfer::particlesToGridAffineB<kDim>(st_, p.n, p.m, p.v, p.B, centres, slotCoordinates(), mom,
+  transfer::particlesToGridAffineB<kDim>(st, p.n, p.m, p.v, p.B, centres, slotCoordinates(), mom,
                                          mass);
 }
 
@@ -61,7 +61,7 @@ PetscErrorCode Solver::particlesToGrid(const ParticleView &p, const double *cent
   PetscCall(VecZeroEntries(nodal_.massW));
   PetscCall(VecGetArray(nodal_.sumW, &mom));
   PetscCall(VecGetArray(nodal_.massW, &mass));
-  projectMomentum(p, centres, mom, mass);
+  projectMomentum(st_, p, centres, mom, mass);
   PetscCall(VecRestoreArray(nodal_.massW, &mass));
   PetscCall(VecRestoreArray(nodal_.sumW, &mom));
   PetscCall(VecZeroEntries(nodal_.P));
@@ -153,7 +153,7 @@ PetscErrorCode Solver::reproject(ParticleView &p, const StepClock &c, const doub
     PetscScalar *mom = nullptr;
     PetscCall(VecZeroEntries(nodal_.sumW));
     PetscCall(VecGetArray(nodal_.sumW, &mom));
-    projectMomentum(p, centres, mom, nullptr);
+    projectMomentum(st_, p, centres, mom, nullptr);
     PetscCall(VecRestoreArray(nodal_.sumW, &mom));
   }
   PetscCall(VecZeroEntries(nodal_.acc));

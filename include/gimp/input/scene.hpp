@@ -189,6 +189,7 @@ struct Scene {
   /// *Small-mass cut-off and constraints*).
   static double defaultMassCutoff(Transfer t) { return t == Transfer::Apic ? 1e-14 : 1e-8; }
   double cfl = 0.3;
+  bool multirate = false;       // a time step per level (-gimp_multirate, solver/multirate.cpp)
   bool stabilityCheck = false;  // critical step from the largest eigenvalue of M^-1 K (SLEPc)
   bool allowUnstableDt = false; // accept a -ts_dt above the critical step
   int stabilityInterval = 0;    // steps between re-checks of the critical step (0: at start)

@@ -17,16 +17,16 @@
 namespace gimp {
 
 /// Which scenes need a particle field.
-enum class FieldNeed { Always, Corners, Strain, Affine, Boundary };
+enum class FieldNeed { Always, Corners, Strain, Affine, Boundary, Multirate };
 
 /// The optional fields a swarm carries: corners (corner and cpdi2 tracking), eps (strain and
 /// corner tracking), B (APIC), trac and dbc (tractions or penalty conditions).
 struct OptionalFields {
-  bool corners = false, strain = false, affine = false, boundary = false;
+  bool corners = false, strain = false, affine = false, boundary = false, multirate = false;
   bool has(FieldNeed need) const {
     return need == FieldNeed::Always || (need == FieldNeed::Corners && corners) ||
            (need == FieldNeed::Strain && strain) || (need == FieldNeed::Affine && affine) ||
-           (need == FieldNeed::Boundary && boundary);
+           (need == FieldNeed::Boundary && boundary) || (need == FieldNeed::Multirate && multirate);
   }
 };
 
@@ -50,6 +50,8 @@ struct ParticleView {
   PetscInt *trac = nullptr;  // traction index on its x side and y side, -1 if none [D] (null
                              // in a scene without tractions and penalty conditions)
   PetscInt *dbc = nullptr;   // penalty displacement condition index, likewise [D]
+  PetscInt *rate = nullptr;  // -gimp_multirate: the rate class (level) of the last coarse step,
+                             // -1 before the first
   double *corners = nullptr; // tracked corners (-,-), (+,-), (+,+), (-,+) [2^D x D], if any
   PetscInt *rank = nullptr;  // owner rank (DMSwarm's migration field)
   bool hasCorners = false;   // the swarm carries the corners field (found by get())
@@ -57,6 +59,9 @@ struct ParticleView {
 
   PetscErrorCode get(DM sw);
   PetscErrorCode restore(DM sw);
+  /// Particles [k0, k1) as a view of their own: every array offset to k0, n = k1 - k0. It
+  /// borrows this view's arrays (never restore() it).
+  ParticleView slice(PetscInt k0, PetscInt k1) const;
 };
 
 struct FieldSpec {

@@ -20,6 +20,7 @@
 #include "gimp/physics/boundary.hpp"
 #include "gimp/physics/tracking.hpp"
 #include "gimp/solver/nodal.hpp"
+#include "gimp/solver/rate_classes.hpp"
 #include "gimp/solver/scheme.hpp"
 #include "gimp/stability/stability.hpp"
 
@@ -67,6 +68,8 @@ private:
   PetscErrorCode createParticles();
   PetscErrorCode writeGridDump(); // -gimp_grid_dump, collective
   PetscErrorCode createTimeStepper();
+  /// -gimp_multirate: a time limit met exactly must fall on a coarse-step end.
+  PetscErrorCode checkCoarseTimeLimit();
   static PetscErrorCode rhs(TS ts, PetscReal t, Vec X, Vec F, void *ctx);
 
   // the step and its phases (solver/step.cpp)
@@ -74,7 +77,7 @@ private:
   PetscErrorCode step();
   PetscErrorCode migrate();
   /// Order this rank's particles by level-0 cell, then id (every -gimp_sort_interval steps).
-  PetscErrorCode sortParticles();
+  PetscErrorCode sortParticles(std::vector<int> *cls = nullptr, bool byCell = true);
   PetscErrorCode buildStencils(const ParticleView &p, const double *centres);
   // the transfers (solver/transfers.cpp)
   /// Where the stencils are centred: tracking::domainCentres, copied when the affine transfer
@@ -87,7 +90,8 @@ private:
   const double *slotCoordinates();
   /// Momentum of the particles' velocities (with APIC their affine fields) into the window
   /// array mom, and the mass into mass when it is not null.
-  void projectMomentum(const ParticleView &p, const double *centres, double *mom, double *mass);
+  void projectMomentum(const Stencils<kDim> &st, const ParticleView &p, const double *centres,
+                       double *mom, double *mass);
   PetscErrorCode particlesToGrid(const ParticleView &p, const double *centres);
   /// XPIC(m): v* = sum_{k<m} (I - M^-1 S^T M_p S)^k v^n into nodal_.vstarW.
   PetscErrorCode xpicFilter(const ParticleView &p, const StepClock &c);
@@ -105,8 +109,33 @@ private:
   /// change / dt on the acceleration (window accW, global acc).
   PetscErrorCode crackContact(const StepClock &c, Vec velW, Vec vel, Vec accW, Vec acc);
   PetscErrorCode gridToParticles(ParticleView &p, const StepClock &c, const double *centres);
-  PetscErrorCode work(const StepClock &c, const StartPower &power);
-  PetscErrorCode stress(ParticleView &p, Vec velocityWindow, double dt);
+  /// The step's work: damping, and the external forces unless `external` is false (the
+  /// multi-rate step takes each class's external work over its own step).
+  PetscErrorCode work(const StepClock &c, const StartPower &power, bool external = true);
+  /// The window's forces into nodal_.f and nodal_.fext (all ranks); the start power.
+  PetscErrorCode globalForces(StartPower &power);
+  PetscErrorCode stress(const Stencils<kDim> &st, ParticleView &p, Vec velocityWindow, double dt);
+
+  // the multi-rate step (solver/multirate.cpp): R = levels[0].step fine sub-steps, particles in
+  // rate classes by the finest level their stencil touches, class c stepping every
+  // levels[c].step sub-steps
+  PetscErrorCode coarseStep();
+  /// Each particle's class, the swarm ordered by class, the slices and the kick weights.
+  PetscErrorCode rateClasses(PetscInt step);
+  /// Sub-step j: the classes that start (stencils, P2G, USF's stress), the total mass and mask.
+  PetscErrorCode startClasses(ParticleView &p, const StepClock &c, PetscInt j);
+  /// The starting classes' forces, each times its step in sub-steps, into nodal_.f.
+  PetscErrorCode classForces(const ParticleView &p, const StepClock &c, PetscInt j,
+                             StartPower &power);
+  /// After the grid update of sub-step j: the ending classes' G2P, stress and momentum removal.
+  PetscErrorCode endClasses(ParticleView &p, const StepClock &c, PetscInt j,
+                            const StartPower &power);
+  /// A multiple of `interval` in [a, b): the reports due within a (coarse) step.
+  static bool dueIn(PetscInt a, PetscInt b, PetscInt interval) {
+    return interval > 0 && (b - 1) / interval * interval >= a;
+  }
+  /// Fine steps per step() call: R with -gimp_multirate, else 1.
+  PetscInt stride() const { return sc_.multirate ? grid_.levels[0].step : 1; }
   PetscErrorCode checks(const ParticleView &p, PetscInt step, double t);
   PetscErrorCode report(PetscInt step, double t);
 
@@ -146,6 +175,7 @@ private:
   std::vector<double> slotX_;   // window coordinates of every slot (affine transfers)
   std::vector<double> xpicVp_;  // XPIC's interpolated field per particle (D each)
   std::vector<double> cpdiCorners_; // the cpdi parallelograms of this step
+  RateClasses rate_;                // -gimp_multirate: the classes, their stencils and nodal sums
   physics::Boundary boundary_;      // external forces and penalty conditions
   tracking::CornerMotion corners_;  // corner tracking's motion of the corners
   cracks::Contact contact_;         // contact between the two fields at cracked nodes

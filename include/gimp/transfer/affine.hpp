@@ -9,6 +9,7 @@
 #pragma once
 
 #include "gimp/grid/stencils.hpp"
+#include "gimp/transfer/transfer.hpp"
 
 #include <Eigen/LU>
 
@@ -263,14 +264,28 @@ void gridToParticlesAffineProjected(const Stencils<D> &st, PetscInt n, const dou
 /// The nodal field at each particle, out_p = sum_i S_ip f_i (D values per particle).
 template <int D>
 void interpolate(const Stencils<D> &st, PetscInt n, const double *fg, double *out) {
+  for (PetscInt k = 0; k < n; ++k)
+    interpolateAt<D>(st, k, fg, out + D * k);
+}
+
+/// APIC G2P of one rate class of a multi-rate step: v_p = S v and B_p from the end velocity v,
+/// the particle moving by dt S w with w the mean grid velocity over the class's step dt; with
+/// mom the new affine momenta are re-projected about the particle's place before it moves.
+template <int D>
+void gridToParticlesAffineRated(const Stencils<D> &st, PetscInt n, const double *vg,
+                                const double *wg, const double *xs, double dt, const double *m,
+                                double *v, double *B, double *x, double *mom) {
   for (PetscInt k = 0; k < n; ++k) {
-    double fp[D] = {};
-    st.forEach(k, [&](PetscInt nd, double w, const Vector<D> &) {
-      for (int c = 0; c < D; ++c)
-        fp[c] += w * fg[D * nd + c];
-    });
-    for (int c = 0; c < D; ++c)
-      out[D * k + c] = fp[c];
+    double vp[D], wp[D];
+    Tensor<D> Bk;
+    particleFromGridAffine<D>(st, k, vg, x + D * k, xs, vp, Bk);
+    interpolateAt<D>(st, k, wg, wp);
+    if (mom) particleToGridAffineB<D>(st, k, m[k], vp, Bk, x + D * k, xs, mom, nullptr);
+    tensorAt<D>(B, k) = Bk;
+    for (int c = 0; c < D; ++c) {
+      v[D * k + c] = vp[c];
+      x[D * k + c] += dt * wp[c];
+    }
   }
 }
 

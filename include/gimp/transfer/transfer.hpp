@@ -81,6 +81,52 @@ GIMP_ALWAYS_INLINE void particleFromGrid(const Stencils<D> &st, PetscInt k, cons
   });
 }
 
+/// G2P of one rate class of a multi-rate step (docs/method.md, "Multi-rate time steps per
+/// level"): v_p <- flip v_p + S u and x_p += dt S w, with u the class's velocity update field
+/// (flip times its summed grid velocity increments plus (1 - flip) times the end velocity) and w
+/// the mean grid velocity over its step dt. With mom, the new momenta are re-projected with the
+/// same stencils (accumulated).
+template <int D>
+void gridToParticlesRated(const Stencils<D> &st, PetscInt n, const double *ug, const double *wg,
+                          double dt, double flip, const double *m, double *v, double *x,
+                          double *mom) {
+  for (PetscInt k = 0; k < n; ++k) {
+    double up[D], wp[D];
+    particleFromGrid<D>(st, k, ug, wg, up, wp);
+    for (int c = 0; c < D; ++c) {
+      v[D * k + c] = flip * v[D * k + c] + up[c];
+      x[D * k + c] += dt * wp[c];
+    }
+    if (mom) particleToGrid<D>(st, k, m[k], v + D * k, mom, nullptr);
+  }
+}
+
+/// The nodal field f at particle k: fp = sum_i S_ip f_i (D values).
+template <int D>
+GIMP_ALWAYS_INLINE void interpolateAt(const Stencils<D> &st, PetscInt k, const double *fg,
+                                      double *fp) {
+  for (int c = 0; c < D; ++c)
+    fp[c] = 0.0;
+  if constexpr (D == 2)
+    if (st.isBlock(k)) {
+      const Block<2> b = st.block(k);
+      for (int j = 0; j < 3; ++j) {
+        const PetscInt r = 2 * (b.base + j * b.stride[0]);
+        double t[2] = {0, 0};
+        for (int i = 0; i < 3; ++i)
+          for (int c = 0; c < 2; ++c)
+            t[c] += b.w[0][i] * fg[r + 2 * i + c];
+        for (int c = 0; c < 2; ++c)
+          fp[c] += b.w[1][j] * t[c];
+      }
+      return;
+    }
+  st.forEach(k, [&](PetscInt nd, double w, const Vector<D> &) {
+    for (int c = 0; c < D; ++c)
+      fp[c] += w * fg[D * nd + c];
+  });
+}
+
 /// G2P: each particle's velocity becomes flip (v + dt a_p) + (1 - flip) v_p with a_p and v_p
 /// the grid acceleration and velocity at the particle, and it moves by dt v_p.
 template <int D>

@@ -1,0 +1,40 @@
+// The rate classes of -gimp_multirate (docs/method.md, "Multi-rate time steps per level"): the
+// particles whose stencils reach level c at most form class c and step every levels[c].step
+// fine steps. Each class keeps its stencils and, on the global grid, what it brought to the
+// nodes at its start and what the nodes did since: the nodal step of solver/multirate.cpp.
+#pragma once
+
+#include "gimp/grid/grid.hpp"
+
+#include <vector>
+
+namespace gimp {
+
+struct RateClasses {
+  int n = 0;                      // classes: one per level
+  std::vector<PetscInt> every;    // fine steps per step of class c (levels[c].step)
+  std::vector<PetscInt> begin;    // class c holds this rank's particles [begin[c], begin[c + 1])
+  std::vector<PetscInt64> size;   // particles of class c on all ranks (0: the class is skipped)
+  std::vector<PetscInt> switched; // particles of class c that were in another class before
+  std::vector<double> kickScale;  // per particle of this coarse step: its first kick's weight
+                                  // over its class's step, (m_old + m_new) / (2 m_new)
+  std::vector<Stencils<kDim>> st; // class c's stencils, from its last start
+  // Global, per class (dof layout of the momentum): its mass (component 0) and momentum at its
+  // start, the sum of the grid velocity increments and of the grid velocities since.
+  std::vector<Vec> mass, mom, inc, vsum;
+  // With external forces: each class's external force at its start (not times its step), and
+  // its power and kick there; the class's external work is taken at its end.
+  std::vector<Vec> fext;
+  std::vector<double> startPower, kick;
+  Vec taken = nullptr, field = nullptr;  // global scratch: what the ending classes took, a field
+  Vec corr = nullptr, corrSum = nullptr; // MUSL: a class's re-projection correction, their sum
+  Vec fieldW = nullptr, meanW = nullptr, forceW = nullptr; // window scratch
+
+  RateClasses() = default;
+  RateClasses(const RateClasses &) = delete;
+  RateClasses &operator=(const RateClasses &) = delete;
+  ~RateClasses();
+  PetscErrorCode create(const Grid &grid, Vec like, bool external);
+};
+
+} // namespace gimp
