@@ -15,6 +15,7 @@
 #include "gimp/transfer/transfer.hpp"
 
 #include <algorithm>
+#include <string>
 
 namespace gimp {
 
@@ -35,6 +36,8 @@ PetscErrorCode RateClasses::create(const Grid &grid, Vec like, bool external) {
   size.assign(n, 0);
   switched.assign(n, 0);
   st.resize(n);
+  start.assign(n, 0);
+  live.assign(n, 0);
   for (std::vector<Vec> *vs : {&mass, &mom, &inc, &vsum}) {
     vs->assign(n, nullptr);
     for (Vec &v : *vs)
@@ -86,34 +89,6 @@ PetscInt maxSlot(const Stencils<kDim> &st, PetscInt k) {
   return s;
 }
 
-/// taken += what the particles of each class in `classes` take from the nodes at their G2P:
-/// flip (p_c + m_c inc_c) + (1 - flip) m_c v, with p_c and m_c the class's momentum and mass at
-/// its start, inc_c the grid velocity increments since and v the grid velocity now (APIC: flip 0).
-PetscErrorCode addTaken(const RateClasses &r, const std::vector<int> &classes, double flip, Vec vel,
-                        Vec taken) {
-  PetscInt nloc = 0;
-  PetscCall(VecGetLocalSize(taken, &nloc));
-  const PetscScalar *v = nullptr;
-  PetscScalar *t = nullptr;
-  PetscCall(VecGetArrayRead(vel, &v));
-  PetscCall(VecGetArray(taken, &t));
-  for (int c : classes) {
-    const PetscScalar *m = nullptr, *p = nullptr, *d = nullptr;
-    PetscCall(VecGetArrayRead(r.mass[c], &m));
-    PetscCall(VecGetArrayRead(r.mom[c], &p));
-    PetscCall(VecGetArrayRead(r.inc[c], &d));
-    for (PetscInt i = 0; i < nloc; i += 2)
-      for (int a = 0; a < 2; ++a)
-        t[i + a] += flip * (p[i + a] + m[i] * d[i + a]) + (1.0 - flip) * m[i] * v[i + a];
-    PetscCall(VecRestoreArrayRead(r.inc[c], &d));
-    PetscCall(VecRestoreArrayRead(r.mom[c], &p));
-    PetscCall(VecRestoreArrayRead(r.mass[c], &m));
-  }
-  PetscCall(VecRestoreArray(taken, &t));
-  PetscCall(VecRestoreArrayRead(vel, &v));
-  return PETSC_SUCCESS;
-}
-
 } // namespace
 
 PetscErrorCode Solver::coarseStep() {
@@ -133,12 +108,8 @@ PetscErrorCode Solver::coarseStep() {
     PetscCall(startClasses(p, c, j));
     StartPower power;
     PetscCall(classForces(p, c, j, power));
-    PetscCall(gridUpdate());
-    for (int k = 0; k < rate_.n; ++k) // each class's sums since its start
-      if (rate_.size[k] > 0) {
-        PetscCall(VecAXPY(rate_.inc[k], c.dt, nodal_.acc));
-        PetscCall(VecAXPY(rate_.vsum[k], 1.0, nodal_.vel));
-      }
+    PetscCall(gridUpdate(false));
+    PetscCall(accumulate(c, j));
     PetscCall(endClasses(p, c, j, power));
   }
   StepClock end;
@@ -168,6 +139,11 @@ PetscErrorCode Solver::rateClasses(PetscInt step) {
   for (int c = 0; c < r.n; ++c)
     r.begin[c + 1] = r.begin[c] + static_cast<PetscInt>(count[c]);
   PetscCallMPI(MPI_Allreduce(count.data(), r.size.data(), r.n, MPI_INT64_T, MPI_SUM, comm_));
+  std::string sizes;
+  for (int c = 0; c < r.n; ++c)
+    sizes += " " + std::to_string(r.size[c]) + " (every " + std::to_string(r.every[c]) + ")";
+  PetscCall(PetscInfo(nullptr, "step %" PetscInt_FMT ": particles per rate class:%s\n", step,
+                      sizes.c_str()));
   // A particle that changes class gets the mean of its old and new steps as its first kick (the
   // variable-step leapfrog): its velocity stands half its old step before and half its new step
   // after the sync point.
@@ -216,17 +192,46 @@ PetscErrorCode Solver::startClasses(ParticleView &p, const StepClock &c, PetscIn
     PetscCall(VecZeroEntries(r.mass[k]));
     PetscCall(grid_.addFromWindow(nodal_.massW, r.mass[k]));
     PetscCall(VecAXPY(nodal_.P, 1.0, r.mom[k]));
-    PetscCall(VecZeroEntries(r.inc[k]));
-    PetscCall(VecZeroEntries(r.vsum[k]));
+    r.start[k] = j;
+    r.live[k] = 0;
   }
   // The mass of every class (each from its last start), the masks and the velocity.
-  PetscCall(VecZeroEntries(nodal_.mass));
-  for (int k = 0; k < r.n; ++k)
-    if (r.size[k] > 0) PetscCall(VecAXPY(nodal_.mass, 1.0, r.mass[k]));
+  {
+    PetscInt nloc = 0;
+    PetscCall(VecGetLocalSize(nodal_.mass, &nloc));
+    PetscScalar *m = nullptr;
+    PetscCall(VecGetArray(nodal_.mass, &m));
+    std::fill(m, m + nloc, 0.0);
+    for (int k = 0; k < r.n; ++k) {
+      if (r.size[k] == 0) continue;
+      const PetscScalar *mk = nullptr;
+      PetscCall(VecGetArrayRead(r.mass[k], &mk));
+      for (PetscInt i = 0; i < nloc; i += 2)
+        m[i] += mk[i];
+      PetscCall(VecRestoreArrayRead(r.mass[k], &mk));
+    }
+    PetscCall(VecRestoreArray(nodal_.mass, &m));
+  }
   PetscCall(physics::massMask(nodal_.mass, nodal_.bcMask, sc_.massCutoff * meanParticleMass_,
                               nodal_.mask, nodal_.invMass));
-  PetscCall(VecPointwiseMult(nodal_.P, nodal_.P, nodal_.mask));
-  PetscCall(VecPointwiseMult(nodal_.vel, nodal_.P, nodal_.invMass));
+  {
+    PetscInt nloc = 0;
+    PetscCall(VecGetLocalSize(nodal_.P, &nloc));
+    PetscScalar *P = nullptr, *v = nullptr;
+    const PetscScalar *mk = nullptr, *im = nullptr;
+    PetscCall(VecGetArray(nodal_.P, &P));
+    PetscCall(VecGetArray(nodal_.vel, &v));
+    PetscCall(VecGetArrayRead(nodal_.mask, &mk));
+    PetscCall(VecGetArrayRead(nodal_.invMass, &im));
+    for (PetscInt i = 0; i < nloc; ++i) {
+      P[i] *= mk[i];
+      v[i] = P[i] * im[i];
+    }
+    PetscCall(VecRestoreArrayRead(nodal_.invMass, &im));
+    PetscCall(VecRestoreArrayRead(nodal_.mask, &mk));
+    PetscCall(VecRestoreArray(nodal_.vel, &v));
+    PetscCall(VecRestoreArray(nodal_.P, &P));
+  }
   PetscCall(PetscLogStagePop());
   if (scheme_.stressBeforeGridUpdate) { // USF: each starting class over its own step
     PetscCall(grid_.toWindow(nodal_.vel, nodal_.velW));
@@ -286,6 +291,70 @@ PetscErrorCode Solver::classForces(const ParticleView &p, const StepClock &c, Pe
   return PETSC_SUCCESS;
 }
 
+PetscErrorCode Solver::accumulate(const StepClock &c, PetscInt j) {
+  // A class that steps over several sub-steps sums the grid velocity increments and the grid
+  // velocities since its start; one that steps every sub-step reads them as they are.
+  PetscCall(PetscLogStagePush(stages_.grid));
+  RateClasses &r = rate_;
+  PetscInt nloc = 0;
+  PetscCall(VecGetLocalSize(nodal_.P, &nloc));
+  const PetscScalar *a = nullptr, *v = nullptr;
+  PetscCall(VecGetArrayRead(nodal_.acc, &a));
+  PetscCall(VecGetArrayRead(nodal_.vel, &v));
+  for (int k = 0; k < r.n; ++k) {
+    if (r.size[k] == 0 || r.every[k] == 1) continue;
+    PetscScalar *d = nullptr, *w = nullptr;
+    PetscCall(VecGetArray(r.inc[k], &d));
+    PetscCall(VecGetArray(r.vsum[k], &w));
+    if (r.start[k] == j)
+      for (PetscInt i = 0; i < nloc; ++i) {
+        d[i] = c.dt * a[i];
+        w[i] = v[i];
+      }
+    else
+      for (PetscInt i = 0; i < nloc; ++i) {
+        d[i] += c.dt * a[i];
+        w[i] += v[i];
+      }
+    PetscCall(VecRestoreArray(r.vsum[k], &w));
+    PetscCall(VecRestoreArray(r.inc[k], &d));
+  }
+  PetscCall(VecRestoreArrayRead(nodal_.vel, &v));
+  PetscCall(VecRestoreArrayRead(nodal_.acc, &a));
+  PetscCall(PetscLogStagePop());
+  return PETSC_SUCCESS;
+}
+
+PetscErrorCode Solver::takenBy(int k, double flip, double dt, Vec out, bool add) {
+  // What the particles of class k take from the nodes at their G2P: flip (p_k + m_k inc_k) +
+  // (1 - flip) m_k v, with p_k and m_k the class's momentum and mass at its start, inc_k the grid
+  // velocity increments since (dt a for a class stepping every sub-step, unless materialised)
+  // and v the grid velocity now (APIC: flip 0).
+  RateClasses &r = rate_;
+  PetscInt nloc = 0;
+  PetscCall(VecGetLocalSize(out, &nloc));
+  const bool summed = r.every[k] > 1 || r.live[k];
+  const PetscScalar *v = nullptr, *m = nullptr, *p = nullptr, *d = nullptr;
+  PetscScalar *t = nullptr;
+  PetscCall(VecGetArrayRead(nodal_.vel, &v));
+  PetscCall(VecGetArrayRead(r.mass[k], &m));
+  PetscCall(VecGetArrayRead(r.mom[k], &p));
+  PetscCall(VecGetArrayRead(summed ? r.inc[k] : nodal_.acc, &d));
+  PetscCall(VecGetArray(out, &t));
+  const double ds = summed ? 1.0 : dt;
+  for (PetscInt i = 0; i < nloc; i += 2)
+    for (int q = 0; q < 2; ++q) {
+      const double took = flip * (p[i + q] + m[i] * ds * d[i + q]) + (1.0 - flip) * m[i] * v[i + q];
+      t[i + q] = add ? t[i + q] + took : took;
+    }
+  PetscCall(VecRestoreArray(out, &t));
+  PetscCall(VecRestoreArrayRead(summed ? r.inc[k] : nodal_.acc, &d));
+  PetscCall(VecRestoreArrayRead(r.mom[k], &p));
+  PetscCall(VecRestoreArrayRead(r.mass[k], &m));
+  PetscCall(VecRestoreArrayRead(nodal_.vel, &v));
+  return PETSC_SUCCESS;
+}
+
 PetscErrorCode Solver::endClasses(ParticleView &p, const StepClock &c, PetscInt j,
                                   const StartPower &power) {
   RateClasses &r = rate_;
@@ -298,35 +367,59 @@ PetscErrorCode Solver::endClasses(ParticleView &p, const StepClock &c, PetscInt 
       present.push_back(k);
       if ((j + 1) % r.every[k] == 0) ending.push_back(k);
     }
+  PetscInt nloc = 0;
+  PetscCall(VecGetLocalSize(nodal_.P, &nloc));
   PetscCall(PetscLogStagePush(stages_.g2p));
   if (ending.size() == present.size() && present.size() > 1 && flip > 0 && flip < 1) {
     // Every class ends: with a FLIP/PIC blend the nodes may keep momentum K that no particle
     // took (the blend's share of the velocity jumps where classes re-entered). It goes to the
     // particles in proportion to their mass, through the FLIP increments: nothing is carried.
-    PetscCall(VecZeroEntries(r.taken));
-    PetscCall(addTaken(r, ending, flip, nodal_.vel, r.taken));
+    for (int k : ending)
+      if (r.every[k] == 1) { // its increments as a vector of their own
+        PetscCall(VecAXPBY(r.inc[k], c.dt, 0.0, nodal_.acc));
+        r.live[k] = 1;
+      }
+    for (size_t e = 0; e < ending.size(); ++e)
+      PetscCall(takenBy(ending[e], flip, c.dt, r.taken, e > 0));
     PetscCall(VecWAXPY(r.field, -1.0, r.taken, nodal_.P));
     PetscCall(VecPointwiseMult(r.field, r.field, nodal_.invMass));
     for (int k : ending)
       PetscCall(VecAXPY(r.inc[k], 1.0 / flip, r.field));
   }
-  PetscCall(VecZeroEntries(r.taken));
-  if (musl) PetscCall(VecZeroEntries(r.corrSum));
-  for (int k : ending) {
+  for (size_t e = 0; e < ending.size(); ++e) {
+    const int k = ending[e];
     ParticleView q = p.slice(r.begin[k], r.begin[k + 1]);
     const double every = static_cast<double>(r.every[k]);
+    const bool summed = r.every[k] > 1 || r.live[k];
+    // The velocity update field flip inc + (1 - flip) v (APIC: v) and the mean grid velocity
+    // over the class's step (a class stepping every sub-step: v), on the window.
     Vec u = nodal_.velW, w = nodal_.velW;
-    if (!apic) { // the velocity update field flip inc + (1 - flip) v
-      PetscCall(VecCopy(nodal_.vel, r.field));
-      PetscCall(VecAXPBY(r.field, flip, 1.0 - flip, r.inc[k]));
-      PetscCall(grid_.toWindow(r.field, r.fieldW));
-      u = r.fieldW;
-    }
-    if (r.every[k] > 1) { // the mean grid velocity over the class's step
-      PetscCall(VecCopy(r.vsum[k], r.field));
-      PetscCall(VecScale(r.field, 1.0 / every));
-      PetscCall(grid_.toWindow(r.field, r.meanW));
-      w = r.meanW;
+    if (!apic || r.every[k] > 1) {
+      const PetscScalar *v = nullptr, *d = nullptr, *vs = nullptr;
+      PetscScalar *uf = nullptr, *wf = nullptr;
+      PetscCall(VecGetArrayRead(nodal_.vel, &v));
+      PetscCall(VecGetArrayRead(summed ? r.inc[k] : nodal_.acc, &d));
+      PetscCall(VecGetArrayRead(r.every[k] > 1 ? r.vsum[k] : nodal_.vel, &vs));
+      PetscCall(VecGetArray(r.field, &uf));
+      PetscCall(VecGetArray(r.corr, &wf)); // (free until the re-projection)
+      const double ds = summed ? 1.0 : c.dt;
+      for (PetscInt i = 0; i < nloc; ++i) {
+        uf[i] = flip * ds * d[i] + (1.0 - flip) * v[i];
+        wf[i] = vs[i] / every;
+      }
+      PetscCall(VecRestoreArray(r.corr, &wf));
+      PetscCall(VecRestoreArray(r.field, &uf));
+      PetscCall(VecRestoreArrayRead(r.every[k] > 1 ? r.vsum[k] : nodal_.vel, &vs));
+      PetscCall(VecRestoreArrayRead(summed ? r.inc[k] : nodal_.acc, &d));
+      PetscCall(VecRestoreArrayRead(nodal_.vel, &v));
+      if (!apic) {
+        PetscCall(grid_.toWindow(r.field, r.fieldW));
+        u = r.fieldW;
+      }
+      if (r.every[k] > 1) {
+        PetscCall(grid_.toWindow(r.corr, r.meanW));
+        w = r.meanW;
+      }
     }
     PetscScalar *mom = nullptr;
     if (musl) {
@@ -344,10 +437,12 @@ PetscErrorCode Solver::endClasses(ParticleView &p, const StepClock &c, PetscInt 
                                            mom);
     PetscCall(VecRestoreArrayRead(w, &wg));
     PetscCall(VecRestoreArrayRead(u, &ug));
-    // What the class took from the nodes.
-    PetscCall(VecZeroEntries(r.field));
-    PetscCall(addTaken(r, {k}, flip, nodal_.vel, r.field));
-    PetscCall(VecAXPY(r.taken, 1.0, r.field));
+    // What the class took from the nodes (into r.field), summed over the ending classes.
+    PetscCall(takenBy(k, flip, c.dt, r.field, false));
+    if (e == 0)
+      PetscCall(VecCopy(r.field, r.taken));
+    else
+      PetscCall(VecAXPY(r.taken, 1.0, r.field));
     if (scheme_.stressBeforeGridUpdate) continue;
     // The stress from the mean grid velocity over the class's step (what moved it); with MUSL
     // plus the class's own re-projection correction (its new momenta minus what it took, over
@@ -356,20 +451,35 @@ PetscErrorCode Solver::endClasses(ParticleView &p, const StepClock &c, PetscInt 
       PetscCall(VecRestoreArray(nodal_.sumW, &mom));
       PetscCall(VecZeroEntries(r.corr));
       PetscCall(grid_.addFromWindow(nodal_.sumW, r.corr));
-      PetscCall(VecAXPY(r.corr, -1.0, r.field));
-      PetscCall(VecPointwiseMult(r.corr, r.corr, nodal_.invMass));
-      PetscCall(VecAXPY(r.corrSum, 1.0, r.corr));
+      const PetscScalar *t = nullptr, *im = nullptr, *vs = nullptr;
+      PetscScalar *cr = nullptr, *cs = nullptr, *sf = nullptr;
+      PetscCall(VecGetArrayRead(r.field, &t));
+      PetscCall(VecGetArrayRead(nodal_.invMass, &im));
+      PetscCall(VecGetArrayRead(r.every[k] > 1 ? r.vsum[k] : nodal_.vel, &vs));
+      PetscCall(VecGetArray(r.corr, &cr));
+      PetscCall(VecGetArray(r.corrSum, &cs));
+      PetscCall(VecGetArray(nodal_.f, &sf)); // (free after the grid update)
+      for (PetscInt i = 0; i < nloc; ++i) {
+        cr[i] = (cr[i] - t[i]) * im[i];
+        cs[i] = e == 0 ? cr[i] : cs[i] + cr[i];
+        sf[i] = vs[i] / every + cr[i];
+      }
+      PetscCall(VecRestoreArray(nodal_.f, &sf));
+      PetscCall(VecRestoreArray(r.corrSum, &cs));
+      PetscCall(VecRestoreArray(r.corr, &cr));
+      PetscCall(VecRestoreArrayRead(r.every[k] > 1 ? r.vsum[k] : nodal_.vel, &vs));
+      PetscCall(VecRestoreArrayRead(nodal_.invMass, &im));
+      PetscCall(VecRestoreArrayRead(r.field, &t));
+      PetscCall(grid_.toWindow(nodal_.f, r.meanW));
+      w = r.meanW;
     }
-    PetscCall(VecCopy(r.vsum[k], r.field));
-    if (r.every[k] > 1) PetscCall(VecScale(r.field, 1.0 / every));
-    if (musl) PetscCall(VecAXPY(r.field, 1.0, r.corr));
-    PetscCall(grid_.toWindow(r.field, r.meanW));
-    PetscCall(stress(r.st[k], q, r.meanW, every * c.dt));
+    PetscCall(stress(r.st[k], q, w, every * c.dt));
   }
   PetscCall(PetscLogStagePop());
   // The work's end velocity: with one rate (R = 1) MUSL's re-projection, as in step(); with
   // several the grid velocity (the classes' stress reads their mean grid velocities).
-  if (musl && stride() == 1) PetscCall(VecAXPY(nodal_.vel, 1.0, r.corrSum));
+  const bool corrected = musl && !ending.empty() && !scheme_.stressBeforeGridUpdate;
+  if (corrected && stride() == 1) PetscCall(VecAXPY(nodal_.vel, 1.0, r.corrSum));
   // Work: damping every sub-step; a class's external impulse m_c dt f_c over its own step, with
   // the velocities at its start and at its end (as the single-rate step does over dt).
   PetscCall(work(c, power, false));
@@ -380,8 +490,8 @@ PetscErrorCode Solver::endClasses(ParticleView &p, const StepClock &c, PetscInt 
       work_.external +=
           0.5 * r.kick[k] * static_cast<double>(r.every[k]) * c.dt * (r.startPower[k] + fv);
     }
-  if (musl && stride() > 1) PetscCall(VecAXPY(nodal_.vel, 1.0, r.corrSum)); // as reported
-  PetscCall(VecAXPY(nodal_.P, -1.0, r.taken)); // the ending classes leave the nodes
+  if (corrected && stride() > 1) PetscCall(VecAXPY(nodal_.vel, 1.0, r.corrSum)); // as reported
+  if (!ending.empty()) PetscCall(VecAXPY(nodal_.P, -1.0, r.taken)); // they leave the nodes
   return PETSC_SUCCESS;
 }
 

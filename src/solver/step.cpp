@@ -188,14 +188,14 @@ PetscErrorCode Solver::globalForces(StartPower &power) {
   return PETSC_SUCCESS;
 }
 
-PetscErrorCode Solver::gridUpdate() {
+PetscErrorCode Solver::gridUpdate(bool accOnWindow) {
   // TS euler: p <- p + dt * rhs (Solver::rhs); then the nodal velocity and acceleration.
   PetscCall(PetscLogStagePush(stages_.grid));
   PetscCall(TSStep(ts_));
   PetscCall(VecPointwiseMult(nodal_.vel, nodal_.P, nodal_.invMass));
   PetscCall(VecPointwiseMult(nodal_.acc, nodal_.rhs, nodal_.invMass));
   PetscCall(grid_.toWindow(nodal_.vel, nodal_.velW));
-  PetscCall(grid_.toWindow(nodal_.acc, nodal_.accW));
+  if (accOnWindow) PetscCall(grid_.toWindow(nodal_.acc, nodal_.accW));
   PetscCall(PetscLogStagePop());
   return PETSC_SUCCESS;
 }

@@ -19,6 +19,8 @@ struct RateClasses {
   std::vector<double> kickScale;  // per particle of this coarse step: its first kick's weight
                                   // over its class's step, (m_old + m_new) / (2 m_new)
   std::vector<Stencils<kDim>> st; // class c's stencils, from its last start
+  std::vector<PetscInt> start;    // the sub-step of class c's last start
+  std::vector<char> live; // a class stepping every sub-step: inc holds its increments (else dt a)
   // Global, per class (dof layout of the momentum): its mass (component 0) and momentum at its
   // start, the sum of the grid velocity increments and of the grid velocities since.
   std::vector<Vec> mass, mom, inc, vsum;

@@ -100,7 +100,8 @@ private:
   PetscErrorCode reproject(ParticleView &p, const StepClock &c, const double *centres,
                            bool projected);
   PetscErrorCode forces(const ParticleView &p, const StepClock &c, StartPower &power);
-  PetscErrorCode gridUpdate();
+  /// TSStep, the nodal velocity and acceleration, the velocity (and acceleration) on the window.
+  PetscErrorCode gridUpdate(bool accOnWindow = true);
   /// Each crack field's nodal displacement along the contact normal at the cracked nodes (into
   /// nodal_.faceW), once per step.
   PetscErrorCode crackFaces(const ParticleView &p);
@@ -127,6 +128,10 @@ private:
   /// The starting classes' forces, each times its step in sub-steps, into nodal_.f.
   PetscErrorCode classForces(const ParticleView &p, const StepClock &c, PetscInt j,
                              StartPower &power);
+  /// After the grid update of sub-step j: each class's sums since its start.
+  PetscErrorCode accumulate(const StepClock &c, PetscInt j);
+  /// What class k's particles take from the nodes at their G2P, into (or added to) out.
+  PetscErrorCode takenBy(int k, double flip, double dt, Vec out, bool add);
   /// After the grid update of sub-step j: the ending classes' G2P, stress and momentum removal.
   PetscErrorCode endClasses(ParticleView &p, const StepClock &c, PetscInt j,
                             const StartPower &power);
