@@ -2,8 +2,8 @@
 level"; docs/validation.md, "Multi-rate steps").
 
 Checks:
-  * one level (R = 1): the multi-rate step is the single-rate step, to round-off, for USF, USL
-    and MUSL with APIC, FLIP, PIC and a FLIP/PIC blend;
+  * one level (R = 1): the multi-rate step is the single-rate step, to round-off, for USL and
+    MUSL with APIC, FLIP, PIC and a FLIP/PIC blend;
   * momentum: a free elastic block drifting through three levels (options/drift3.opts, ratios 2
     and 3: R = 6, its particles change class on the way) keeps its momentum to round-off with
     every transfer and update scheme (mass cutoff 0: the cutoff drops the momentum of nodes
@@ -62,8 +62,8 @@ def l2(a, b, keys):
 
 # One level: R = 1, the multi-rate step is the single-rate one.
 ONE = ["-gimp_h", "0.03125", "-ts_max_steps", "60", "-gimp_history_interval", "60"]
-for update, transfer in (("musl", ["apic"]), ("usl", ["apic"]), ("usf", ["flip", "-gimp_flip",
-                                                                          "0.7"]),
+for update, transfer in (("musl", ["apic"]), ("usl", ["apic"]), ("musl", ["flip", "-gimp_flip",
+                                                                           "0.7"]),
                          ("musl", ["flip"]), ("usl", ["flip", "-gimp_flip", "0"])):
     extra = ONE + ["-gimp_update", update, "-gimp_transfer"] + transfer
     tag = "%s_%s" % (update, "_".join(transfer).replace("-gimp_", ""))
@@ -77,7 +77,7 @@ for update, transfer in (("musl", ["apic"]), ("usl", ["apic"]), ("usf", ["flip",
 # Momentum to round-off with particles crossing levels (the traction set to zero).
 FREE = ["-gimp_traction0_value", "0,0", "-gimp_mass_cutoff", "0", "-ts_max_steps", "798",
         "-gimp_history_interval", "42"]
-for update, transfer in (("musl", ["apic"]), ("usl", ["apic"]), ("usf", ["apic"]),
+for update, transfer in (("musl", ["apic"]), ("usl", ["apic"]), ("usl", ["flip"]),
                          ("musl", ["flip"]), ("musl", ["flip", "-gimp_flip", "0"]),
                          ("musl", ["flip", "-gimp_flip", "0.7"])):
     tag = "%s_%s" % (update, "_".join(transfer).replace("-gimp_", ""))
@@ -155,6 +155,8 @@ cases = [
      "option -gimp_multirate true: not built with corner or CPDI tracking"),
     ("xpic", "bench/block3.opts", ["-gimp_transfer", "xpic"],
      "option -gimp_multirate true: not built with -gimp_transfer xpic"),
+    ("usf", "bench/block3.opts", ["-gimp_update", "usf"],
+     "option -gimp_multirate true: not built with -gimp_update usf"),
 ]
 for name, opts, extra, needle in cases:
     p = gimptest.run(args, opts, extra + MR, expect_ok=False, outdir=os.path.join(W, "bad"))

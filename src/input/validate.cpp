@@ -171,6 +171,10 @@ void checkSceneCombinations(const Scene &sc) {
     throw InputError("option -gimp_multirate true: not built with corner or CPDI tracking "
                      "(-gimp_tracking corners, cpdi, cpdi2); use none, strain or stretch, or "
                      "-gimp_multirate false");
+  if (sc.multirate && sc.update == Update::USF)
+    throw InputError("option -gimp_multirate true: not built with -gimp_update usf (its stress "
+                     "update before the impulses grows at level interfaces); use musl or usl, or "
+                     "-gimp_multirate false");
   if (sc.multirate && sc.transfer == Transfer::Xpic)
     throw InputError("option -gimp_multirate true: not built with -gimp_transfer xpic; use flip "
                      "or apic, or -gimp_multirate false");

@@ -15,6 +15,7 @@
 #include "gimp/transfer/transfer.hpp"
 
 #include <algorithm>
+#include <array>
 #include <string>
 
 namespace gimp {
@@ -49,6 +50,7 @@ PetscErrorCode RateClasses::create(const Grid &grid, Vec like, bool external) {
       PetscCall(VecDuplicate(like, &v));
   }
   startPower.assign(n, 0.0);
+  postPower.assign(n, 0.0);
   kick.assign(n, 1.0);
   PetscCall(VecDuplicate(like, &taken));
   PetscCall(VecDuplicate(like, &field));
@@ -61,17 +63,36 @@ PetscErrorCode RateClasses::create(const Grid &grid, Vec like, bool external) {
 
 namespace {
 
+/// How far outside each side of level c's box (x0, y0, x1, y1) its nodes reach: the zone of its
+/// boundary nodes, the cell of the first coarser level whose box side does not coincide with
+/// that side (a box sharing an edge with its parent borders the grandparent's cells there).
+std::array<double, 4> outwardZones(const Grid &g, int c) {
+  std::array<double, 4> z{};
+  for (int side = 0; side < 4; ++side) {
+    int q = c - 1;
+    while (q > 0 && g.levels[q].box[side] == g.levels[c].box[side])
+      --q;
+    z[side] = g.levels[q].h;
+  }
+  return z;
+}
+
 /// The class of a particle at x with half-sizes l: the finest level c whose box, widened by the
-/// reach of its transition nodes (the coarser cell h_{c-1}), the particle's half-size and one
-/// finest cell of motion within the coarse step, it overlaps. A particle with a penalty edge is
-/// in the finest class: the penalty's stability bound is the finest step's.
-int classOf(const Grid &g, const double *x, const double *l, bool penalty) {
+/// reach of its boundary nodes (zones), the particle's half-size and one finest cell of motion
+/// within the coarse step, it overlaps. A particle with a penalty or traction edge is in the
+/// finest class: the penalty's stability bound is the finest step's, and so it never changes
+/// class (its edge force keeps its own step).
+int classOf(const Grid &g, const std::vector<std::array<double, 4>> &zones, const double *x,
+            const double *l, bool edge) {
   const int top = static_cast<int>(g.levels.size()) - 1;
-  if (penalty) return top;
+  if (edge) return top;
+  const double m = g.hMin();
   for (int c = top; c > 0; --c) {
     const Box &b = g.levels[c].box;
-    const double wx = l[0] + g.levels[c - 1].h + g.hMin(), wy = l[1] + g.levels[c - 1].h + g.hMin();
-    if (x[0] + wx > b[0] && x[0] - wx < b[2] && x[1] + wy > b[1] && x[1] - wy < b[3]) return c;
+    const std::array<double, 4> &z = zones[c];
+    if (x[0] + l[0] + z[0] + m > b[0] && x[0] - l[0] - z[2] - m < b[2] &&
+        x[1] + l[1] + z[1] + m > b[1] && x[1] - l[1] - z[3] - m < b[3])
+      return c;
   }
   return 0;
 }
@@ -109,6 +130,10 @@ PetscErrorCode Solver::coarseStep() {
     StartPower power;
     PetscCall(classForces(p, c, j, power));
     PetscCall(gridUpdate(false));
+    if (boundary_.active()) // the starting classes' external power right after their impulse
+      for (int k = 0; k < rate_.n; ++k)
+        if (rate_.size[k] > 0 && j % rate_.every[k] == 0)
+          PetscCall(VecDot(rate_.fext[k], nodal_.vel, &rate_.postPower[k]));
     PetscCall(accumulate(c, j));
     PetscCall(endClasses(p, c, j, power));
   }
@@ -124,9 +149,13 @@ PetscErrorCode Solver::rateClasses(PetscInt step) {
   ParticleView p;
   PetscCall(p.get(sw_));
   std::vector<int> cls(p.n);
+  std::vector<std::array<double, 4>> zones(grid_.levels.size());
+  for (size_t c = 1; c < zones.size(); ++c)
+    zones[c] = outwardZones(grid_, static_cast<int>(c));
   for (PetscInt k = 0; k < p.n; ++k) {
-    const bool penalty = p.dbc && (p.dbc[2 * k] >= 0 || p.dbc[2 * k + 1] >= 0);
-    cls[k] = classOf(grid_, p.x + 2 * k, p.l + 2 * k, penalty);
+    const bool edge = p.dbc && (p.dbc[2 * k] >= 0 || p.dbc[2 * k + 1] >= 0 || p.trac[2 * k] >= 0 ||
+                                p.trac[2 * k + 1] >= 0);
+    cls[k] = classOf(grid_, zones, p.x + 2 * k, p.l + 2 * k, edge);
   }
   PetscCall(p.restore(sw_));
   // Classes contiguous every coarse step; ordered by cell within a class when a sort is due.
@@ -168,8 +197,13 @@ PetscErrorCode Solver::startClasses(ParticleView &p, const StepClock &c, PetscIn
   for (int k = 0; k < r.n; ++k) {
     if (r.size[k] == 0 || j % r.every[k] != 0) continue;
     const ParticleView q = p.slice(r.begin[k], r.begin[k + 1]);
-    if (!grid_.buildStencils(q.n, q.x, q.l, r.st[k], true))
+    if (!grid_.buildStencils(q.n, q.x, q.l, r.st[k], true)) {
+      // (a particle that went bad inside the coarse step: the check at its end reports it; the
+      // class reaches no node until then)
       localFailure_ = "a particle is larger than a level-0 cell (its half-size exceeds -gimp_h)";
+      r.st[k].compact = false;
+      r.st[k].start.assign(static_cast<size_t>(q.n) + 1, 0);
+    }
     if (k + 1 < r.n) // the class's margin kept it off the finer levels' nodes
       for (PetscInt i = 0; i < q.n; ++i)
         if (maxSlot(r.st[k], i) >= grid_.levels[k + 1].offset) {
@@ -195,8 +229,12 @@ PetscErrorCode Solver::startClasses(ParticleView &p, const StepClock &c, PetscIn
     r.start[k] = j;
     r.live[k] = 0;
   }
-  // The mass of every class (each from its last start), the masks and the velocity.
-  {
+  bool started = false;
+  for (int k = 0; k < r.n; ++k)
+    started = started || (r.size[k] > 0 && j % r.every[k] == 0);
+  // The mass of every class (each from its last start), the masks and the velocity (unchanged
+  // when no class starts: the nodes kept them).
+  if (started) {
     PetscInt nloc = 0;
     PetscCall(VecGetLocalSize(nodal_.mass, &nloc));
     PetscScalar *m = nullptr;
@@ -212,8 +250,9 @@ PetscErrorCode Solver::startClasses(ParticleView &p, const StepClock &c, PetscIn
     }
     PetscCall(VecRestoreArray(nodal_.mass, &m));
   }
-  PetscCall(physics::massMask(nodal_.mass, nodal_.bcMask, sc_.massCutoff * meanParticleMass_,
-                              nodal_.mask, nodal_.invMass));
+  if (started)
+    PetscCall(physics::massMask(nodal_.mass, nodal_.bcMask, sc_.massCutoff * meanParticleMass_,
+                                nodal_.mask, nodal_.invMass));
   {
     PetscInt nloc = 0;
     PetscCall(VecGetLocalSize(nodal_.P, &nloc));
@@ -301,22 +340,26 @@ PetscErrorCode Solver::accumulate(const StepClock &c, PetscInt j) {
   const PetscScalar *a = nullptr, *v = nullptr;
   PetscCall(VecGetArrayRead(nodal_.acc, &a));
   PetscCall(VecGetArrayRead(nodal_.vel, &v));
+  // The increments only where a FLIP fraction reads them (not APIC, not PIC).
+  const bool increments = sc_.transfer != Transfer::Apic && sc_.flip > 0;
   for (int k = 0; k < r.n; ++k) {
     if (r.size[k] == 0 || r.every[k] == 1) continue;
     PetscScalar *d = nullptr, *w = nullptr;
-    PetscCall(VecGetArray(r.inc[k], &d));
     PetscCall(VecGetArray(r.vsum[k], &w));
     if (r.start[k] == j)
-      for (PetscInt i = 0; i < nloc; ++i) {
-        d[i] = c.dt * a[i];
-        w[i] = v[i];
-      }
+      std::copy(v, v + nloc, w);
     else
-      for (PetscInt i = 0; i < nloc; ++i) {
-        d[i] += c.dt * a[i];
+      for (PetscInt i = 0; i < nloc; ++i)
         w[i] += v[i];
-      }
     PetscCall(VecRestoreArray(r.vsum[k], &w));
+    if (!increments) continue;
+    PetscCall(VecGetArray(r.inc[k], &d));
+    if (r.start[k] == j)
+      for (PetscInt i = 0; i < nloc; ++i)
+        d[i] = c.dt * a[i];
+    else
+      for (PetscInt i = 0; i < nloc; ++i)
+        d[i] += c.dt * a[i];
     PetscCall(VecRestoreArray(r.inc[k], &d));
   }
   PetscCall(VecRestoreArrayRead(nodal_.vel, &v));
@@ -344,7 +387,10 @@ PetscErrorCode Solver::takenBy(int k, double flip, double dt, Vec out, bool add)
   const double ds = summed ? 1.0 : dt;
   for (PetscInt i = 0; i < nloc; i += 2)
     for (int q = 0; q < 2; ++q) {
-      const double took = flip * (p[i + q] + m[i] * ds * d[i + q]) + (1.0 - flip) * m[i] * v[i + q];
+      // (with flip 0 the increments are not summed: not read)
+      const double took =
+          flip > 0 ? flip * (p[i + q] + m[i] * ds * d[i + q]) + (1.0 - flip) * m[i] * v[i + q]
+                   : m[i] * v[i + q];
       t[i + q] = add ? t[i + q] + took : took;
     }
   PetscCall(VecRestoreArray(out, &t));
@@ -367,6 +413,7 @@ PetscErrorCode Solver::endClasses(ParticleView &p, const StepClock &c, PetscInt 
       present.push_back(k);
       if ((j + 1) % r.every[k] == 0) ending.push_back(k);
     }
+  std::vector<PetscScalar> endPower(ending.size(), 0.0);
   PetscInt nloc = 0;
   PetscCall(VecGetLocalSize(nodal_.P, &nloc));
   PetscCall(PetscLogStagePush(stages_.g2p));
@@ -404,7 +451,7 @@ PetscErrorCode Solver::endClasses(ParticleView &p, const StepClock &c, PetscInt 
       PetscCall(VecGetArray(r.corr, &wf)); // (free until the re-projection)
       const double ds = summed ? 1.0 : c.dt;
       for (PetscInt i = 0; i < nloc; ++i) {
-        uf[i] = flip * ds * d[i] + (1.0 - flip) * v[i];
+        uf[i] = flip > 0 ? flip * ds * d[i] + (1.0 - flip) * v[i] : v[i];
         wf[i] = vs[i] / every;
       }
       PetscCall(VecRestoreArray(r.corr, &wf));
@@ -429,12 +476,15 @@ PetscErrorCode Solver::endClasses(ParticleView &p, const StepClock &c, PetscInt 
     const PetscScalar *ug = nullptr, *wg = nullptr;
     PetscCall(VecGetArrayRead(u, &ug));
     PetscCall(VecGetArrayRead(w, &wg));
+    // MUSL re-projects a class stepping every sub-step's new momenta, as the single-rate step;
+    // a slower class's mean velocity, which moved it (below).
+    const bool mean = r.every[k] > 1;
     if (apic)
       transfer::gridToParticlesAffineRated<kDim>(r.st[k], q.n, ug, wg, slotCoordinates(),
-                                                 every * c.dt, q.m, q.v, q.B, q.x, mom);
+                                                 every * c.dt, q.m, q.v, q.B, q.x, mom, mean);
     else
       transfer::gridToParticlesRated<kDim>(r.st[k], q.n, ug, wg, every * c.dt, flip, q.m, q.v, q.x,
-                                           mom);
+                                           mom, mean);
     PetscCall(VecRestoreArrayRead(w, &wg));
     PetscCall(VecRestoreArrayRead(u, &ug));
     // What the class took from the nodes (into r.field), summed over the ending classes.
@@ -443,6 +493,7 @@ PetscErrorCode Solver::endClasses(ParticleView &p, const StepClock &c, PetscInt 
       PetscCall(VecCopy(r.field, r.taken));
     else
       PetscCall(VecAXPY(r.taken, 1.0, r.field));
+    endPower[e] = r.postPower[k]; // the class's external power after its impulse
     if (scheme_.stressBeforeGridUpdate) continue;
     // The stress from the mean grid velocity over the class's step (what moved it); with MUSL
     // plus the class's own re-projection correction (its new momenta minus what it took, over
@@ -451,16 +502,20 @@ PetscErrorCode Solver::endClasses(ParticleView &p, const StepClock &c, PetscInt 
       PetscCall(VecRestoreArray(nodal_.sumW, &mom));
       PetscCall(VecZeroEntries(r.corr));
       PetscCall(grid_.addFromWindow(nodal_.sumW, r.corr));
-      const PetscScalar *t = nullptr, *im = nullptr, *vs = nullptr;
+      const PetscScalar *t = nullptr, *im = nullptr, *vs = nullptr, *mk = nullptr;
       PetscScalar *cr = nullptr, *cs = nullptr, *sf = nullptr;
       PetscCall(VecGetArrayRead(r.field, &t));
+      PetscCall(VecGetArrayRead(r.mass[k], &mk));
       PetscCall(VecGetArrayRead(nodal_.invMass, &im));
       PetscCall(VecGetArrayRead(r.every[k] > 1 ? r.vsum[k] : nodal_.vel, &vs));
       PetscCall(VecGetArray(r.corr, &cr));
       PetscCall(VecGetArray(r.corrSum, &cs));
       PetscCall(VecGetArray(nodal_.f, &sf)); // (free after the grid update)
       for (PetscInt i = 0; i < nloc; ++i) {
-        cr[i] = (cr[i] - t[i]) * im[i];
+        // a class stepping every sub-step: its new momenta minus what it took; a slower one:
+        // its re-projected mean velocity minus its mass times that velocity
+        const double own = mean ? mk[i - i % 2] * vs[i] / every : t[i];
+        cr[i] = (cr[i] - own) * im[i];
         cs[i] = e == 0 ? cr[i] : cs[i] + cr[i];
         sf[i] = vs[i] / every + cr[i];
       }
@@ -469,29 +524,35 @@ PetscErrorCode Solver::endClasses(ParticleView &p, const StepClock &c, PetscInt 
       PetscCall(VecRestoreArray(r.corr, &cr));
       PetscCall(VecRestoreArrayRead(r.every[k] > 1 ? r.vsum[k] : nodal_.vel, &vs));
       PetscCall(VecRestoreArrayRead(nodal_.invMass, &im));
+      PetscCall(VecRestoreArrayRead(r.mass[k], &mk));
       PetscCall(VecRestoreArrayRead(r.field, &t));
       PetscCall(grid_.toWindow(nodal_.f, r.meanW));
       w = r.meanW;
+      if (boundary_.active()) { // ... plus the class's own correction
+        PetscScalar fc = 0;
+        PetscCall(VecDot(r.fext[k], r.corr, &fc));
+        endPower[e] += fc;
+      }
     }
     PetscCall(stress(r.st[k], q, w, every * c.dt));
   }
   PetscCall(PetscLogStagePop());
-  // The work's end velocity: with one rate (R = 1) MUSL's re-projection, as in step(); with
-  // several the grid velocity (the classes' stress reads their mean grid velocities).
+  // Work: damping every sub-step, with MUSL's velocity at the end (the grid velocity plus the
+  // ending classes' corrections), as in step(). A class's external impulse m_c dt f_c does work
+  // with the mean of the grid velocities just before and just after it (where faster classes
+  // share the nodes, the velocity moves on after the impulse), plus with MUSL the class's own
+  // correction at its end: with one class, the single-rate ledger.
   const bool corrected = musl && !ending.empty() && !scheme_.stressBeforeGridUpdate;
-  if (corrected && stride() == 1) PetscCall(VecAXPY(nodal_.vel, 1.0, r.corrSum));
-  // Work: damping every sub-step; a class's external impulse m_c dt f_c over its own step, with
-  // the velocities at its start and at its end (as the single-rate step does over dt).
+  if (corrected) PetscCall(VecAXPY(nodal_.vel, 1.0, r.corrSum));
   PetscCall(work(c, power, false));
-  if (boundary_.active())
-    for (int k : ending) {
-      PetscScalar fv = 0;
-      PetscCall(VecDot(r.fext[k], nodal_.vel, &fv));
-      work_.external +=
-          0.5 * r.kick[k] * static_cast<double>(r.every[k]) * c.dt * (r.startPower[k] + fv);
-    }
-  if (corrected && stride() > 1) PetscCall(VecAXPY(nodal_.vel, 1.0, r.corrSum)); // as reported
-  if (!ending.empty()) PetscCall(VecAXPY(nodal_.P, -1.0, r.taken)); // they leave the nodes
+  for (size_t e = 0; e < ending.size() && boundary_.active(); ++e) {
+    const int k = ending[e];
+    work_.external +=
+        0.5 * r.kick[k] * static_cast<double>(r.every[k]) * c.dt * (r.startPower[k] + endPower[e]);
+  }
+  // The ending classes leave the nodes; at the coarse end every class does and the next coarse
+  // step starts from P = 0, so P keeps the nodal momentum for the monitor and the frames.
+  if (!ending.empty() && j + 1 < stride()) PetscCall(VecAXPY(nodal_.P, -1.0, r.taken));
   return PETSC_SUCCESS;
 }
 

@@ -75,7 +75,13 @@ PetscErrorCode Solver::setup() {
   if (sc_.multirate) {
     // Reports, checkpoints and the step limit act at coarse-step ends (R fine steps).
     PetscInt maxSteps = 0;
+    PetscBool given = PETSC_FALSE;
     PetscCall(TSGetMaxSteps(ts_, &maxSteps));
+    PetscCall(PetscOptionsHasName(nullptr, nullptr, "-ts_max_steps", &given));
+    if (!given && maxSteps % stride() != 0) { // the default: the next whole coarse step
+      maxSteps += stride() - maxSteps % stride();
+      PetscCall(TSSetMaxSteps(ts_, maxSteps));
+    }
     if (maxSteps % stride() != 0)
       throw InputError("option -ts_max_steps " + std::to_string(maxSteps) +
                        ": with -gimp_multirate true it must be a multiple of the coarse step, " +

@@ -27,7 +27,7 @@ struct RateClasses {
   // With external forces: each class's external force at its start (not times its step), and
   // its power and kick there; the class's external work is taken at its end.
   std::vector<Vec> fext;
-  std::vector<double> startPower, kick;
+  std::vector<double> startPower, postPower, kick; // f.v before and after its impulse
   Vec taken = nullptr, field = nullptr;  // global scratch: what the ending classes took, a field
   Vec corr = nullptr, corrSum = nullptr; // MUSL: a class's re-projection correction, their sum
   Vec fieldW = nullptr, meanW = nullptr, forceW = nullptr; // window scratch
