@@ -476,15 +476,12 @@ PetscErrorCode Solver::endClasses(ParticleView &p, const StepClock &c, PetscInt 
     const PetscScalar *ug = nullptr, *wg = nullptr;
     PetscCall(VecGetArrayRead(u, &ug));
     PetscCall(VecGetArrayRead(w, &wg));
-    // MUSL re-projects a class stepping every sub-step's new momenta, as the single-rate step;
-    // a slower class's mean velocity, which moved it (below).
-    const bool mean = r.every[k] > 1;
     if (apic)
       transfer::gridToParticlesAffineRated<kDim>(r.st[k], q.n, ug, wg, slotCoordinates(),
-                                                 every * c.dt, q.m, q.v, q.B, q.x, mom, mean);
+                                                 every * c.dt, q.m, q.v, q.B, q.x, mom);
     else
       transfer::gridToParticlesRated<kDim>(r.st[k], q.n, ug, wg, every * c.dt, flip, q.m, q.v, q.x,
-                                           mom, mean);
+                                           mom);
     PetscCall(VecRestoreArrayRead(w, &wg));
     PetscCall(VecRestoreArrayRead(u, &ug));
     // What the class took from the nodes (into r.field), summed over the ending classes.
@@ -502,20 +499,16 @@ PetscErrorCode Solver::endClasses(ParticleView &p, const StepClock &c, PetscInt 
       PetscCall(VecRestoreArray(nodal_.sumW, &mom));
       PetscCall(VecZeroEntries(r.corr));
       PetscCall(grid_.addFromWindow(nodal_.sumW, r.corr));
-      const PetscScalar *t = nullptr, *im = nullptr, *vs = nullptr, *mk = nullptr;
+      const PetscScalar *t = nullptr, *im = nullptr, *vs = nullptr;
       PetscScalar *cr = nullptr, *cs = nullptr, *sf = nullptr;
       PetscCall(VecGetArrayRead(r.field, &t));
-      PetscCall(VecGetArrayRead(r.mass[k], &mk));
       PetscCall(VecGetArrayRead(nodal_.invMass, &im));
       PetscCall(VecGetArrayRead(r.every[k] > 1 ? r.vsum[k] : nodal_.vel, &vs));
       PetscCall(VecGetArray(r.corr, &cr));
       PetscCall(VecGetArray(r.corrSum, &cs));
       PetscCall(VecGetArray(nodal_.f, &sf)); // (free after the grid update)
       for (PetscInt i = 0; i < nloc; ++i) {
-        // a class stepping every sub-step: its new momenta minus what it took; a slower one:
-        // its re-projected mean velocity minus its mass times that velocity
-        const double own = mean ? mk[i - i % 2] * vs[i] / every : t[i];
-        cr[i] = (cr[i] - own) * im[i];
+        cr[i] = (cr[i] - t[i]) * im[i];
         cs[i] = e == 0 ? cr[i] : cs[i] + cr[i];
         sf[i] = vs[i] / every + cr[i];
       }
@@ -524,7 +517,6 @@ PetscErrorCode Solver::endClasses(ParticleView &p, const StepClock &c, PetscInt 
       PetscCall(VecRestoreArray(r.corr, &cr));
       PetscCall(VecRestoreArrayRead(r.every[k] > 1 ? r.vsum[k] : nodal_.vel, &vs));
       PetscCall(VecRestoreArrayRead(nodal_.invMass, &im));
-      PetscCall(VecRestoreArrayRead(r.mass[k], &mk));
       PetscCall(VecRestoreArrayRead(r.field, &t));
       PetscCall(grid_.toWindow(nodal_.f, r.meanW));
       w = r.meanW;

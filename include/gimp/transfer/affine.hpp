@@ -271,11 +271,11 @@ void interpolate(const Stencils<D> &st, PetscInt n, const double *fg, double *ou
 /// APIC G2P of one rate class of a multi-rate step: v_p = S v and B_p from the end velocity v,
 /// the particle moving by dt S w with w the mean grid velocity over the class's step dt (w may
 /// be v); with mom the new affine momenta are re-projected about the particle's place before it
-/// moves (with `mean`: the momenta m_p S w, without affine part).
+/// moves.
 template <int D>
 void gridToParticlesAffineRated(const Stencils<D> &st, PetscInt n, const double *vg,
                                 const double *wg, const double *xs, double dt, const double *m,
-                                double *v, double *B, double *x, double *mom, bool mean) {
+                                double *v, double *B, double *x, double *mom) {
   for (PetscInt k = 0; k < n; ++k) {
     double vp[D], wp[D];
     Tensor<D> Bk;
@@ -285,10 +285,7 @@ void gridToParticlesAffineRated(const Stencils<D> &st, PetscInt n, const double 
         wp[c] = vp[c];
     else
       interpolateAt<D>(st, k, wg, wp);
-    if (mom && mean)
-      particleToGrid<D>(st, k, m[k], wp, mom, nullptr);
-    else if (mom)
-      particleToGridAffineB<D>(st, k, m[k], vp, Bk, x + D * k, xs, mom, nullptr);
+    if (mom) particleToGridAffineB<D>(st, k, m[k], vp, Bk, x + D * k, xs, mom, nullptr);
     tensorAt<D>(B, k) = Bk;
     for (int c = 0; c < D; ++c) {
       v[D * k + c] = vp[c];

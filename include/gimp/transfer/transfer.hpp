@@ -84,12 +84,12 @@ GIMP_ALWAYS_INLINE void particleFromGrid(const Stencils<D> &st, PetscInt k, cons
 /// G2P of one rate class of a multi-rate step (docs/method.md, "Multi-rate time steps per
 /// level"): v_p <- flip v_p + S u and x_p += dt S w, with u the class's velocity update field
 /// (flip times its summed grid velocity increments plus (1 - flip) times the end velocity) and w
-/// the mean grid velocity over its step dt. With mom, the particles' momenta are re-projected
-/// with the same stencils (accumulated): m_p S w with `mean`, else the new m_p v_p.
+/// the mean grid velocity over its step dt. With mom, the new momenta are re-projected with the
+/// same stencils (accumulated).
 template <int D>
 void gridToParticlesRated(const Stencils<D> &st, PetscInt n, const double *ug, const double *wg,
                           double dt, double flip, const double *m, double *v, double *x,
-                          double *mom, bool mean) {
+                          double *mom) {
   for (PetscInt k = 0; k < n; ++k) {
     double up[D], wp[D];
     particleFromGrid<D>(st, k, ug, wg, up, wp);
@@ -97,7 +97,7 @@ void gridToParticlesRated(const Stencils<D> &st, PetscInt n, const double *ug, c
       v[D * k + c] = flip * v[D * k + c] + up[c];
       x[D * k + c] += dt * wp[c];
     }
-    if (mom) particleToGrid<D>(st, k, m[k], mean ? wp : v + D * k, mom, nullptr);
+    if (mom) particleToGrid<D>(st, k, m[k], v + D * k, mom, nullptr);
   }
 }
 
