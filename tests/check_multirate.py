@@ -17,8 +17,10 @@ Checks:
   * a restart from a checkpoint equals the straight run exactly;
   * stability: the three-level block at the CFL limit of its finest cell (-gimp_cfl 1) runs 2000
     fine steps;
-  * bad input: the limits of the coarse step and the combinations it is not built for are
-    refused in one line.
+  * a finer box sharing an edge with its parent runs (its edge nodes reach the grandparent's
+    cells);
+  * bad input: the limits of the coarse step and the combinations it is not built for (cracks,
+    corner and CPDI tracking, XPIC, USF, a run to rest) are refused in one line.
 """
 import csv
 import math
@@ -135,6 +137,19 @@ _, again = dump_run("ck_again", "options/drift3.opts", MIG + ["-gimp_restart", c
 c.check("restart equals the straight run", worst(full, again) == 0.0,
         "largest difference %.1e" % worst(full, again))
 
+# A finer box that shares an edge with its parent: the nodes on that edge reach a coarser cell
+# (the grandparent's), and the classes must see that.
+out = gimptest.run(args, "bench/block.opts", ["-gimp_h", "0.03125", "-gimp_levels", "3",
+                                              "-gimp_level1_box", "0.25,0.25,0.75,0.75",
+                                              "-gimp_level1_ratio", "2",
+                                              "-gimp_level2_box", "0.25,0.25,0.5,0.5",
+                                              "-gimp_level2_ratio", "2", "-ts_max_steps", "400",
+                                              "-gimp_history_interval", "400"] + MR,
+                   outdir=os.path.join(W, "shared_edge"))
+s = gimptest.summary(out)
+c.check("nested boxes sharing an edge", s["status"] == "completed" and s["steps"] == 400,
+        "%s after %d fine steps" % (s["status"], s["steps"]))
+
 # Stability at the CFL limit of the finest cell.
 out = gimptest.run(args, "bench/block3.opts", ["-ts_max_steps", "2000", "-gimp_cfl", "1",
                                                "-gimp_history_interval", "500"] + MR,
@@ -157,6 +172,8 @@ cases = [
      "option -gimp_multirate true: not built with -gimp_transfer xpic"),
     ("usf", "bench/block3.opts", ["-gimp_update", "usf"],
      "option -gimp_multirate true: not built with -gimp_update usf"),
+    ("a run to rest", "options/plate_static.opts", [],
+     "option -gimp_multirate true: not for a run to rest (-gimp_static_tol"),
 ]
 for name, opts, extra, needle in cases:
     p = gimptest.run(args, opts, extra + MR, expect_ok=False, outdir=os.path.join(W, "bad"))

@@ -171,6 +171,12 @@ void checkSceneCombinations(const Scene &sc) {
     throw InputError("option -gimp_multirate true: not built with corner or CPDI tracking "
                      "(-gimp_tracking corners, cpdi, cpdi2); use none, strain or stretch, or "
                      "-gimp_multirate false");
+  if (sc.multirate && sc.staticTol > 0)
+    throw InputError("option -gimp_multirate true: not for a run to rest (-gimp_static_tol " +
+                     formatNumber(sc.staticTol) +
+                     "): at a static state the impulses of the slower classes keep the nodes "
+                     "they share with faster ones oscillating, so the run does not come to rest "
+                     "(docs/method.md); use -gimp_multirate false");
   if (sc.multirate && sc.update == Update::USF)
     throw InputError("option -gimp_multirate true: not built with -gimp_update usf (its stress "
                      "update before the impulses grows at level interfaces); use musl or usl, or "

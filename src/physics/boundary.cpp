@@ -95,7 +95,7 @@ PetscErrorCode Boundary::setup(MPI_Comm comm, const Scene &sc, const Lattice &gr
 }
 
 void Boundary::externalForces(const Scene &sc, const Grid &g, const Stencils<2> &st,
-                              const ParticleView &p, double t, double *fe) {
+                              const ParticleView &p, double t, double *fe, const double *scale) {
   const double gxv = sc.gravity[0], gyv = sc.gravity[1];
   const bool gravity = gxv != 0 || gyv != 0;
   std::unique_ptr<mms::Skb1d> ex;
@@ -107,7 +107,8 @@ void Boundary::externalForces(const Scene &sc, const Grid &g, const Stencils<2> 
     // Body force, Eq. 8: f_i = sum_p m_p b S_ip.
     if (gravity || ex) {
       const double bx = gxv + (ex ? ex->bodyForce(p.X0[2 * k], t) : 0.0);
-      const double fx = p.m[k] * bx, fy = p.m[k] * gyv;
+      const double mk = scale ? scale[k] * p.m[k] : p.m[k];
+      const double fx = mk * bx, fy = mk * gyv;
       st.forEach(k, [&](PetscInt nd, double w, const Vector<2> &) {
         fe[2 * nd] += w * fx;
         fe[2 * nd + 1] += w * fy;
@@ -121,7 +122,8 @@ void Boundary::externalForces(const Scene &sc, const Grid &g, const Stencils<2> 
       if (q < 0) continue;
       const Traction &tr = sc.tractions[q];
       const Edge E = edgeOf(sc, p, k, a, tr.normal(), p.l0[2 * k + 1 - a]);
-      const double force[2] = {tr.value[0] * factor[q] * E.len, tr.value[1] * factor[q] * E.len};
+      const double len = scale ? scale[k] * E.len : E.len;
+      const double force[2] = {tr.value[0] * factor[q] * len, tr.value[1] * factor[q] * len};
       spreadEdgeForce(g, st, k, a, tr.normal(), E.coord, force, fe);
     }
   }

@@ -79,13 +79,12 @@ std::array<double, 4> outwardZones(const Grid &g, int c) {
 
 /// The class of a particle at x with half-sizes l: the finest level c whose box, widened by the
 /// reach of its boundary nodes (zones), the particle's half-size and one finest cell of motion
-/// within the coarse step, it overlaps. A particle with a penalty or traction edge is in the
-/// finest class: the penalty's stability bound is the finest step's, and so it never changes
-/// class (its edge force keeps its own step).
+/// within the coarse step, it overlaps. A particle with a penalty edge is in the finest class:
+/// the penalty's stability bound is the finest step's.
 int classOf(const Grid &g, const std::vector<std::array<double, 4>> &zones, const double *x,
-            const double *l, bool edge) {
+            const double *l, bool penalty) {
   const int top = static_cast<int>(g.levels.size()) - 1;
-  if (edge) return top;
+  if (penalty) return top;
   const double m = g.hMin();
   for (int c = top; c > 0; --c) {
     const Box &b = g.levels[c].box;
@@ -153,9 +152,8 @@ PetscErrorCode Solver::rateClasses(PetscInt step) {
   for (size_t c = 1; c < zones.size(); ++c)
     zones[c] = outwardZones(grid_, static_cast<int>(c));
   for (PetscInt k = 0; k < p.n; ++k) {
-    const bool edge = p.dbc && (p.dbc[2 * k] >= 0 || p.dbc[2 * k + 1] >= 0 || p.trac[2 * k] >= 0 ||
-                                p.trac[2 * k + 1] >= 0);
-    cls[k] = classOf(grid_, zones, p.x + 2 * k, p.l + 2 * k, edge);
+    const bool penalty = p.dbc && (p.dbc[2 * k] >= 0 || p.dbc[2 * k + 1] >= 0);
+    cls[k] = classOf(grid_, zones, p.x + 2 * k, p.l + 2 * k, penalty);
   }
   PetscCall(p.restore(sw_));
   // Classes contiguous every coarse step; ordered by cell within a class when a sort is due.
@@ -290,19 +288,17 @@ PetscErrorCode Solver::classForces(const ParticleView &p, const StepClock &c, Pe
   RateClasses &r = rate_;
   PetscCall(VecZeroEntries(nodal_.sumW));
   if (boundary_.active()) PetscCall(VecZeroEntries(nodal_.extW));
-  std::vector<double> V, m; // the volumes and masses of a class with particles that switched
+  std::vector<double> V; // the volumes of a class with particles that switched class
   for (int k = 0; k < r.n; ++k) {
     if (r.size[k] == 0 || j % r.every[k] != 0) continue;
     ParticleView q = p.slice(r.begin[k], r.begin[k + 1]);
+    const double *scale = nullptr;
     if (j == 0 && r.switched[k] > 0) { // their first kick: the mean of the old and new steps
       V.assign(q.V, q.V + q.n);
-      m.assign(q.m, q.m + q.n);
-      for (PetscInt i = 0; i < q.n; ++i) {
+      for (PetscInt i = 0; i < q.n; ++i)
         V[i] *= r.kickScale[r.begin[k] + i];
-        m[i] *= r.kickScale[r.begin[k] + i];
-      }
       q.V = V.data();
-      q.m = m.data();
+      scale = r.kickScale.data() + r.begin[k];
     }
     const double w = static_cast<double>(r.every[k]);
     PetscScalar *f = nullptr;
@@ -314,7 +310,7 @@ PetscErrorCode Solver::classForces(const ParticleView &p, const StepClock &c, Pe
     if (boundary_.active()) {
       PetscCall(VecZeroEntries(r.forceW));
       PetscCall(VecGetArray(r.forceW, &f));
-      boundary_.externalForces(sc_, grid_, r.st[k], q, c.t, f);
+      boundary_.externalForces(sc_, grid_, r.st[k], q, c.t, f, scale);
       PetscCall(VecRestoreArray(r.forceW, &f));
       PetscCall(VecAXPY(nodal_.extW, w, r.forceW));
       PetscCall(VecAXPY(nodal_.sumW, w, r.forceW));

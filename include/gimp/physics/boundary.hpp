@@ -85,9 +85,11 @@ public:
   bool active() const { return active_; }
 
   /// External nodal forces at time t accumulated into the window array fe; records each penalty
-  /// condition's force on the body and its largest violation on this rank.
+  /// condition's force on the body and its largest violation on this rank. With `scale`, each
+  /// particle's body force and tractions are multiplied by its factor (a multi-rate particle's
+  /// first kick in a new rate class).
   void externalForces(const Scene &sc, const Grid &g, const Stencils<2> &st, const ParticleView &p,
-                      double t, double *fe);
+                      double t, double *fe, const double *scale = nullptr);
 
   /// Each penalty condition's force (fx, fy) summed over ranks and its largest violation
   /// |u - u_bar| at the last force evaluation; keeps the largest violation seen (collective).
