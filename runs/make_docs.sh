@@ -125,6 +125,10 @@ step scenes "$root/runs/scenes_report.sh" "$work/scenes"
 step plate_maps sh -c "cd '$root/options' && '$gimp' -options_file plate_static.opts \
   -gimp_output_dir '$work/plate_static' >/dev/null && '$py' '$root/tools/plot_plate_maps.py' '$work/plate_static'"
 step speed_error "$py" "$root/runs/speed_error.py" --gimp "$gimp" --work "$work/speed_error"
+step speed_error_multirate "$py" "$root/runs/speed_error_multirate.py" --gimp "$gimp" \
+  --work "$work/speed_error_multirate"
+step bench_multirate env GIMP_BUILD_DIR="$(dirname "$gimp")" GIMP_BENCH_NOBUILD=1 \
+  "$root/bench/multirate.sh"
 step bench env GIMP_BUILD_DIR="$(dirname "$gimp")" GIMP_BENCH_NOBUILD=1 "$root/bench/run_bench.sh"
 
 echo "make_docs: all steps done in $((SECONDS - start_all)) s; tables in $work/logs/, figures in $root/docs/img/"

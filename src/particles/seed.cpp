@@ -243,7 +243,7 @@ PetscErrorCode seedParticles(const Scene &sc, const Grid &g, DM sw) {
     p.id[k] = s.id;
     p.rank[k] = rank;
     if (p.rate) p.rate[k] = -1; // -gimp_multirate: no rate class yet
-    if (p.trac) { // (the fields exist with tractions or penalty conditions)
+    if (p.trac) {               // (the fields exist with tractions or penalty conditions)
       p.trac[2 * k] = p.trac[2 * k + 1] = -1;
       p.dbc[2 * k] = p.dbc[2 * k + 1] = -1;
     }
