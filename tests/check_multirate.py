@@ -15,6 +15,7 @@ Checks:
     dt); and under a traction (drift3) the energy balance within 0.1 % of the work;
   * 2 ranks give the 1-rank answer to round-off (the body migrates across the ranks);
   * a restart from a checkpoint equals the straight run exactly;
+  * history rows and frames come at coarse-step ends, once each;
   * stability: the three-level block at the CFL limit of its finest cell (-gimp_cfl 1) runs 2000
     fine steps;
   * a finer box sharing an edge with its parent runs (its edge nodes reach the grandparent's
@@ -25,6 +26,8 @@ Checks:
 import csv
 import math
 import os
+
+import h5py
 
 import gimptest
 
@@ -149,6 +152,17 @@ out = gimptest.run(args, "bench/block.opts", ["-gimp_h", "0.03125", "-gimp_level
 s = gimptest.summary(out)
 c.check("nested boxes sharing an edge", s["status"] == "completed" and s["steps"] == 400,
         "%s after %d fine steps" % (s["status"], s["steps"]))
+
+# Reports at coarse-step ends, each once: intervals of 10 fine steps with R = 6.
+out = gimptest.run(args, "options/drift3.opts", ["-ts_max_steps", "24", "-gimp_history_interval",
+                                                 "10", "-gimp_output_interval", "10"] + MR,
+                   outdir=os.path.join(W, "reports"))
+steps = [int(x) for x in gimptest.history(out)["step"]]
+with h5py.File(os.path.join(out, "fields.h5"), "r") as f:
+    frames = sorted(f["particles"].keys())
+c.check("reports at coarse ends, once each", steps == [0, 12, 24] and
+        frames == ["step_00000000", "step_00000012", "step_00000024"],
+        "history rows at steps %s, frames %s" % (steps, frames))
 
 # Stability at the CFL limit of the finest cell.
 out = gimptest.run(args, "bench/block3.opts", ["-ts_max_steps", "2000", "-gimp_cfl", "1",

@@ -125,7 +125,7 @@ PetscErrorCode Solver::coarseStep() {
   for (PetscInt j = 0; j < R; ++j) {
     StepClock c;
     PetscCall(clockOf(ts_, sc_, c));
-    PetscCall(startClasses(p, c, j));
+    PetscCall(startClasses(p, j));
     StartPower power;
     PetscCall(classForces(p, c, j, power));
     PetscCall(gridUpdate(false));
@@ -189,7 +189,7 @@ PetscErrorCode Solver::rateClasses(PetscInt step) {
   return PETSC_SUCCESS;
 }
 
-PetscErrorCode Solver::startClasses(ParticleView &p, const StepClock &c, PetscInt j) {
+PetscErrorCode Solver::startClasses(ParticleView &p, PetscInt j) {
   PetscCall(PetscLogStagePush(stages_.p2g));
   RateClasses &r = rate_;
   for (int k = 0; k < r.n; ++k) {
@@ -270,14 +270,6 @@ PetscErrorCode Solver::startClasses(ParticleView &p, const StepClock &c, PetscIn
     PetscCall(VecRestoreArray(nodal_.P, &P));
   }
   PetscCall(PetscLogStagePop());
-  if (scheme_.stressBeforeGridUpdate) { // USF: each starting class over its own step
-    PetscCall(grid_.toWindow(nodal_.vel, nodal_.velW));
-    for (int k = 0; k < r.n; ++k) {
-      if (r.size[k] == 0 || j % r.every[k] != 0) continue;
-      ParticleView q = p.slice(r.begin[k], r.begin[k + 1]);
-      PetscCall(stress(r.st[k], q, nodal_.velW, static_cast<double>(r.every[k]) * c.dt));
-    }
-  }
   return PETSC_SUCCESS;
 }
 
@@ -289,6 +281,8 @@ PetscErrorCode Solver::classForces(const ParticleView &p, const StepClock &c, Pe
   PetscCall(VecZeroEntries(nodal_.sumW));
   if (boundary_.active()) PetscCall(VecZeroEntries(nodal_.extW));
   std::vector<double> V; // the volumes of a class with particles that switched class
+  // (Boundary keeps the penalty reactions of its last call: the penalty particles are all in the
+  // finest class, which comes last here, and it starts at every sub-step.)
   for (int k = 0; k < r.n; ++k) {
     if (r.size[k] == 0 || j % r.every[k] != 0) continue;
     ParticleView q = p.slice(r.begin[k], r.begin[k + 1]);
@@ -487,7 +481,6 @@ PetscErrorCode Solver::endClasses(ParticleView &p, const StepClock &c, PetscInt 
     else
       PetscCall(VecAXPY(r.taken, 1.0, r.field));
     endPower[e] = r.postPower[k]; // the class's external power after its impulse
-    if (scheme_.stressBeforeGridUpdate) continue;
     // The stress from the mean grid velocity over the class's step (what moved it); with MUSL
     // plus the class's own re-projection correction (its new momenta minus what it took, over
     // the nodal mass): with one class MUSL's velocity, with several each class's share of it.
@@ -530,7 +523,7 @@ PetscErrorCode Solver::endClasses(ParticleView &p, const StepClock &c, PetscInt 
   // with the mean of the grid velocities just before and just after it (where faster classes
   // share the nodes, the velocity moves on after the impulse), plus with MUSL the class's own
   // correction at its end: with one class, the single-rate ledger.
-  const bool corrected = musl && !ending.empty() && !scheme_.stressBeforeGridUpdate;
+  const bool corrected = musl && !ending.empty(); // (USF is refused with -gimp_multirate)
   if (corrected) PetscCall(VecAXPY(nodal_.vel, 1.0, r.corrSum));
   PetscCall(work(c, power, false));
   for (size_t e = 0; e < ending.size() && boundary_.active(); ++e) {

@@ -127,6 +127,8 @@ PetscErrorCode Solver::report(PetscInt step, double t) {
   }
   if (dueIn(from, step + 1, sc_.outputInterval)) {
     st_.release(); // not needed until the next step: the frame's buffers take its place
+    for (Stencils<kDim> &st : rate_.st) // (every class ended with the coarse step)
+      st.release();
     PetscCall(out_->writeFields(step, t, sw_, nodal_.vel, nodal_.mass));
   }
   if (dueIn(from, step + 1, sc_.monitorInterval)) PetscCall(monitorLine(step, t));
@@ -211,12 +213,16 @@ PetscErrorCode Solver::finish(PetscInt steps, double t) {
   // state it failed in, to look at (report() wrote nothing of that step).
   PetscCall(PetscLogStagePush(stages_.output));
   st_.release(); // the run is over: the frame's buffers take the stencils' place
+  for (Stencils<kDim> &st : rate_.st)
+    st.release();
   // (A re-check of the critical step stops the run before a step whose frame may be written.)
   const bool written = !out_->frames().empty() && out_->frames().back().step == steps;
-  if ((failed_ && !written) || sc_.outputInterval == 0 || steps % sc_.outputInterval != 0)
+  // (what report() wrote after the last step: a multiple of the interval within it)
+  const PetscInt from = steps - stride() + 1;
+  if ((failed_ && !written) || !dueIn(from, steps + 1, sc_.outputInterval))
     PetscCall(out_->writeFields(steps, t, sw_, nodal_.vel, nodal_.mass));
   if (!failed_) {
-    if (steps % sc_.historyInterval != 0) {
+    if (!dueIn(from, steps + 1, sc_.historyInterval)) {
       HistoryRow row;
       PetscCall(historyRow(steps, t, row));
       PetscCall(out_->writeHistory(row));

@@ -76,7 +76,8 @@ private:
   static PetscErrorCode clockOf(TS ts, const Scene &sc, StepClock &c);
   PetscErrorCode step();
   PetscErrorCode migrate();
-  /// Order this rank's particles by level-0 cell, then id (every -gimp_sort_interval steps).
+  /// Order this rank's particles by level-0 cell, then id (every -gimp_sort_interval steps);
+  /// with rate classes `cls` (permuted along) by class first, and without `byCell` by class only.
   PetscErrorCode sortParticles(std::vector<int> *cls = nullptr, bool byCell = true);
   PetscErrorCode buildStencils(const ParticleView &p, const double *centres);
   // the transfers (solver/transfers.cpp)
@@ -123,8 +124,8 @@ private:
   PetscErrorCode coarseStep();
   /// Each particle's class, the swarm ordered by class, the slices and the kick weights.
   PetscErrorCode rateClasses(PetscInt step);
-  /// Sub-step j: the classes that start (stencils, P2G, USF's stress), the total mass and mask.
-  PetscErrorCode startClasses(ParticleView &p, const StepClock &c, PetscInt j);
+  /// Sub-step j: the classes that start (stencils, P2G), the total mass and mask.
+  PetscErrorCode startClasses(ParticleView &p, PetscInt j);
   /// The starting classes' forces, each times its step in sub-steps, into nodal_.f.
   PetscErrorCode classForces(const ParticleView &p, const StepClock &c, PetscInt j,
                              StartPower &power);

@@ -264,8 +264,15 @@ void gridToParticlesAffineProjected(const Stencils<D> &st, PetscInt n, const dou
 /// The nodal field at each particle, out_p = sum_i S_ip f_i (D values per particle).
 template <int D>
 void interpolate(const Stencils<D> &st, PetscInt n, const double *fg, double *out) {
-  for (PetscInt k = 0; k < n; ++k)
-    interpolateAt<D>(st, k, fg, out + D * k);
+  for (PetscInt k = 0; k < n; ++k) {
+    double fp[D] = {};
+    st.forEach(k, [&](PetscInt nd, double w, const Vector<D> &) {
+      for (int c = 0; c < D; ++c)
+        fp[c] += w * fg[D * nd + c];
+    });
+    for (int c = 0; c < D; ++c)
+      out[D * k + c] = fp[c];
+  }
 }
 
 /// APIC G2P of one rate class of a multi-rate step: v_p = S v and B_p from the end velocity v,
