@@ -279,7 +279,6 @@ PetscErrorCode Solver::classForces(const ParticleView &p, const StepClock &c, Pe
   PetscCall(PetscLogStagePush(stages_.forces));
   RateClasses &r = rate_;
   PetscCall(VecZeroEntries(nodal_.sumW));
-  if (boundary_.active()) PetscCall(VecZeroEntries(nodal_.extW));
   std::vector<double> V; // the volumes of a class with particles that switched class
   // (Boundary keeps the penalty reactions of its last call: the penalty particles are all in the
   // finest class, which comes last here, and it starts at every sub-step.)
@@ -306,7 +305,6 @@ PetscErrorCode Solver::classForces(const ParticleView &p, const StepClock &c, Pe
       PetscCall(VecGetArray(r.forceW, &f));
       boundary_.externalForces(sc_, grid_, r.st[k], q, c.t, f, scale);
       PetscCall(VecRestoreArray(r.forceW, &f));
-      PetscCall(VecAXPY(nodal_.extW, w, r.forceW));
       PetscCall(VecAXPY(nodal_.sumW, w, r.forceW));
       // Its power at the start, for its work at its end (Solver::endClasses).
       PetscCall(VecZeroEntries(r.fext[k]));
@@ -315,7 +313,7 @@ PetscErrorCode Solver::classForces(const ParticleView &p, const StepClock &c, Pe
       r.kick[k] = c.kick;
     }
   }
-  PetscCall(globalForces(power));
+  PetscCall(globalForces(power, false)); // (the external work is each class's: endClasses)
   PetscCall(PetscLogStagePop());
   return PETSC_SUCCESS;
 }

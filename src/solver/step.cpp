@@ -170,10 +170,12 @@ PetscErrorCode Solver::forces(const ParticleView &p, const StepClock &c, StartPo
   return PETSC_SUCCESS;
 }
 
-PetscErrorCode Solver::globalForces(StartPower &power) {
+PetscErrorCode Solver::globalForces(StartPower &power, bool external) {
   // The window's forces (nodal_.sumW, the external part in nodal_.extW) summed over the ranks
   // into nodal_.f and nodal_.fext; the power of the damping and external forces at the start.
-  if (boundary_.active()) {
+  // Without `external` (the multi-rate step keeps each class's own) no nodal_.fext.
+  external = external && boundary_.active();
+  if (external) {
     PetscCall(VecZeroEntries(nodal_.fext));
     PetscCall(grid_.addFromWindow(nodal_.extW, nodal_.fext));
   }
@@ -184,7 +186,7 @@ PetscErrorCode Solver::globalForces(StartPower &power) {
     PetscCall(VecDot(nodal_.P, nodal_.vel, &pv));
     power.damping = sc_.damping * pv;
   }
-  if (boundary_.active()) PetscCall(VecDot(nodal_.fext, nodal_.vel, &power.external));
+  if (external) PetscCall(VecDot(nodal_.fext, nodal_.vel, &power.external));
   return PETSC_SUCCESS;
 }
 

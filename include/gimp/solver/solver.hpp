@@ -114,8 +114,9 @@ private:
   /// The step's work: damping, and the external forces unless `external` is false (the
   /// multi-rate step takes each class's external work over its own step).
   PetscErrorCode work(const StepClock &c, const StartPower &power, bool external = true);
-  /// The window's forces into nodal_.f and nodal_.fext (all ranks); the start power.
-  PetscErrorCode globalForces(StartPower &power);
+  /// The window's forces into nodal_.f and, with `external`, nodal_.fext (all ranks); the start
+  /// power.
+  PetscErrorCode globalForces(StartPower &power, bool external = true);
   PetscErrorCode stress(const Stencils<kDim> &st, ParticleView &p, Vec velocityWindow, double dt);
 
   // the multi-rate step (solver/multirate.cpp): R = levels[0].step fine sub-steps, particles in
