@@ -54,7 +54,7 @@ int levelOf(const Grid &g, PetscInt n) {
 /// Window index of level k's node (i, j).
 PetscInt windowIndex(const Grid &g, int k, PetscInt i, PetscInt j) {
   const Level &L = g.levels[k];
-  return L.offset + (j - L.wj0) * L.wnx() + (i - L.wi0);
+  return L.offset + (j - L.w0[1]) * L.wnx() + (i - L.w0[0]);
 }
 
 /// Active window nodes at (x, y).
@@ -78,9 +78,9 @@ void expectNode(const Grid &g, double x, double y, int k, std::array<double, 4> 
   const Level &L = g.levels[k];
   const auto i = static_cast<PetscInt>(std::llround((x - L.box[0]) / L.h));
   const auto j = static_cast<PetscInt>(std::llround((y - L.box[1]) / L.h));
-  EXPECT_TRUE(g.nodeActive(k, i, j));
+  EXPECT_TRUE(g.nodeActive(k, {i, j}));
   double zg[4];
-  g.zonesOf(k, i, j, zg);
+  g.zonesOf(k, {i, j}, zg);
   for (int s = 0; s < 4; ++s) {
     EXPECT_EQ(g.zone[4 * n[0] + s], z[s]) << "(" << x << ", " << y << ") zone " << s;
     EXPECT_EQ(zg[s], z[s]) << "(" << x << ", " << y << ") zonesOf " << s;
@@ -115,7 +115,7 @@ TEST(GridFig2, PaperZones) {
   for (PetscInt j = 0; j < 4; ++j)
     for (PetscInt i = 0; i < 5; ++i) {
       const bool covered = i >= 1 && i <= 3 && j >= 1;
-      EXPECT_EQ(g->nodeActive(0, i, j), !covered) << "coarse node " << i << "," << j;
+      EXPECT_EQ(g->nodeActive(0, {i, j}), !covered) << "coarse node " << i << "," << j;
       EXPECT_EQ(g->active[windowIndex(*g, 0, i, j)] != 0, !covered);
     }
   EXPECT_EQ(g->activeNodes(0), 20 - 9);
@@ -141,7 +141,7 @@ TEST(GridFig2, EnlargedDomain) {
   for (PetscInt j = 0; j < 5; ++j)
     for (PetscInt i = 0; i < 7; ++i) {
       const bool covered = i >= 1 && i <= 3 && j >= 1 && j <= 3;
-      EXPECT_EQ(g->nodeActive(0, i, j), !covered) << "coarse node " << i << "," << j;
+      EXPECT_EQ(g->nodeActive(0, {i, j}), !covered) << "coarse node " << i << "," << j;
     }
   EXPECT_EQ(g->activeNodes(0), 35 - 9);
   EXPECT_EQ(g->activeNodes(1), 25);
@@ -180,20 +180,21 @@ TEST(GridNodes, OneActiveNodePerLocation) {
       widths.insert(L.h);
     for (int k = 0; k < K; ++k) {
       const Level &L = g->levels[k];
-      ASSERT_EQ(L.wnx() * (L.wj1 - L.wj0), L.M * L.N); // one rank: the window is everything
-      for (PetscInt j = 0; j < L.N; ++j)
-        for (PetscInt i = 0; i < L.M; ++i) {
+      ASSERT_EQ(L.wnx() * (L.w1[1] - L.w0[1]),
+                L.n[0] * L.n[1]); // one rank: the window is everything
+      for (PetscInt j = 0; j < L.n[1]; ++j)
+        for (PetscInt i = 0; i < L.n[0]; ++i) {
           const PetscInt n = windowIndex(*g, k, i, j);
-          const auto key = std::make_pair(L.u0 + i * L.step, L.v0 + j * L.step);
+          const auto key = std::make_pair(L.lo[0] + i * L.step, L.lo[1] + j * L.step);
           activeCount[key] += g->active[n];
-          EXPECT_EQ(g->active[n] != 0, g->nodeActive(k, i, j));
+          EXPECT_EQ(g->active[n] != 0, g->nodeActive(k, {i, j}));
           if (!g->active[n]) {
             // An inactive node lies in the closed box of a finer level.
             bool covered = false;
             for (int q = k + 1; q < K; ++q) {
               const Level &F = g->levels[q];
-              covered = covered || (key.first >= F.u0 && key.first <= F.u1 && key.second >= F.v0 &&
-                                    key.second <= F.v1);
+              covered = covered || (key.first >= F.lo[0] && key.first <= F.hi[0] &&
+                                    key.second >= F.lo[1] && key.second <= F.hi[1]);
             }
             EXPECT_TRUE(covered) << "level " << k << " node " << i << "," << j;
             continue;

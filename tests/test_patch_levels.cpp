@@ -137,17 +137,17 @@ Particles tile(const Grid &g, const CellBox &blk, int n, double sx, double sy) {
   Particles p;
   const std::int64_t total = g.levels[0].step; // finest-lattice units per level-0 cell
   const auto lat = [&](double c) { return static_cast<std::int64_t>(std::llround(c * total)); };
-  const std::int64_t bu0 = g.levels[0].u0 + lat(blk.i0), bu1 = g.levels[0].u0 + lat(blk.i1);
-  const std::int64_t bv0 = g.levels[0].v0 + lat(blk.j0), bv1 = g.levels[0].v0 + lat(blk.j1);
+  const std::int64_t bu0 = g.levels[0].lo[0] + lat(blk.i0), bu1 = g.levels[0].lo[0] + lat(blk.i1);
+  const std::int64_t bv0 = g.levels[0].lo[1] + lat(blk.j0), bv1 = g.levels[0].lo[1] + lat(blk.j1);
   for (int q = 0; q < static_cast<int>(g.levels.size()); ++q) {
     const Level &L = g.levels[q];
-    for (PetscInt j = 0; j + 1 < L.N; ++j)
-      for (PetscInt i = 0; i + 1 < L.M; ++i) {
-        const std::int64_t u = L.u0 + i * L.step, v = L.v0 + j * L.step;
+    for (PetscInt j = 0; j + 1 < L.n[1]; ++j)
+      for (PetscInt i = 0; i + 1 < L.n[0]; ++i) {
+        const std::int64_t u = L.lo[0] + i * L.step, v = L.lo[1] + j * L.step;
         if (u < bu0 || u + L.step > bu1 || v < bv0 || v + L.step > bv1) continue;
         if (g.leafLevelAt2(2 * u + L.step, 2 * v + L.step) != q) continue;
-        const double cx = g.x0 + static_cast<double>(u) * g.unit;
-        const double cy = g.y0 + static_cast<double>(v) * g.unit;
+        const double cx = g.origin[0] + static_cast<double>(u) * g.unit;
+        const double cy = g.origin[1] + static_cast<double>(v) * g.unit;
         const double d = L.h / n;
         for (int b = 0; b < n; ++b)
           for (int a = 0; a < n; ++a) {

@@ -323,8 +323,8 @@ TEST(GridStencils, ParticleTouchingDomainEdge) {
           for (size_t q = 0; q < g.levels.size(); ++q) {
             const Level &L = g.levels[q];
             const double d = L.h / n;
-            for (PetscInt j = 0; j + 1 < L.N; ++j)
-              for (PetscInt i = 0; i + 1 < L.M; ++i) {
+            for (PetscInt j = 0; j + 1 < L.n[1]; ++j)
+              for (PetscInt i = 0; i + 1 < L.n[0]; ++i) {
                 const double cx0 = L.box[0] + i * L.h, cy0 = L.box[1] + j * L.h;
                 if (g.leafLevelAt(cx0 + 0.5 * L.h, cy0 + 0.5 * L.h) != static_cast<int>(q))
                   continue;
@@ -332,8 +332,8 @@ TEST(GridStencils, ParticleTouchingDomainEdge) {
                   for (int a = 0; a < n; ++a) {
                     const bool edge = (i == 0 && a == 0 && cx0 == D[0]) ||
                                       (j == 0 && b == 0 && cy0 == D[1]) ||
-                                      (i + 2 == L.M && a + 1 == n && L.box[2] == D[2]) ||
-                                      (j + 2 == L.N && b + 1 == n && L.box[3] == D[3]);
+                                      (i + 2 == L.n[0] && a + 1 == n && L.box[2] == D[2]) ||
+                                      (j + 2 == L.n[1] && b + 1 == n && L.box[3] == D[3]);
                     if (!edge) continue;
                     x.push_back(cx0 + (a + 0.5) * d);
                     x.push_back(cy0 + (b + 0.5) * d);

@@ -64,7 +64,7 @@ double Grid::pointShapes(double x, double y, std::vector<std::pair<PetscInt, dou
     const Level &L = levels[q];
     const double eps = 1e-9 * L.h;
     for (PetscInt j = r.j0; j <= r.j1; ++j) {
-      const PetscInt row = L.offset + (j - L.wj0) * L.wnx() - L.wi0;
+      const PetscInt row = L.offset + (j - L.w0[1]) * L.wnx() - L.w0[0];
       for (PetscInt i = r.i0; i <= r.i1; ++i) {
         const PetscInt nd = row + i;
         if (!(flags_[nd] & kActive)) continue;

@@ -32,16 +32,16 @@ std::vector<Grid::CrackedNode> Grid::findCrackedNodes(const Scene &sc) const {
                      loy = std::min(c.points[s][1], c.points[s + 1][1]) - w,
                      hiy = std::max(c.points[s][1], c.points[s + 1][1]) + w;
         const PetscInt i0 = std::max<PetscInt>(0, std::floor((lox - L.box[0]) * L.ih)),
-                       i1 = std::min<PetscInt>(L.M - 1, std::ceil((hix - L.box[0]) * L.ih)),
+                       i1 = std::min<PetscInt>(L.n[0] - 1, std::ceil((hix - L.box[0]) * L.ih)),
                        j0 = std::max<PetscInt>(0, std::floor((loy - L.box[1]) * L.ih)),
-                       j1 = std::min<PetscInt>(L.N - 1, std::ceil((hiy - L.box[1]) * L.ih));
+                       j1 = std::min<PetscInt>(L.n[1] - 1, std::ceil((hiy - L.box[1]) * L.ih));
         for (PetscInt j = j0; j <= j1; ++j)
           for (PetscInt i = i0; i <= i1; ++i) {
-            if (!nodeActive(k, i, j)) continue;
+            if (!nodeActive(k, {i, j})) continue;
             double z[4];
-            zonesOf(k, i, j, z);
-            const double X = x0 + static_cast<double>(L.u0 + i * L.step) * unit,
-                         Y = y0 + static_cast<double>(L.v0 + j * L.step) * unit;
+            zonesOf(k, {i, j}, z);
+            const double X = origin[0] + static_cast<double>(L.lo[0] + i * L.step) * unit,
+                         Y = origin[1] + static_cast<double>(L.lo[1] + j * L.step) * unit;
             const double support[4] = {X - z[0], Y - z[2], X + z[1], Y + z[3]};
             if (cracks::nearCrack(c, support, reach)) out.push_back({k, i, j, 0, 0});
           }
@@ -73,16 +73,16 @@ PetscErrorCode Grid::addCrackFields(MPI_Comm comm, const Scene &sc) {
   for (CrackedNode &c : cracked_) {
     const Level &L = levels[c.k];
     // The rank owning the level-0 cell whose lower-left corner is at or before the node.
-    const double X = x0 + static_cast<double>(L.u0 + c.i * L.step) * unit,
-                 Y = y0 + static_cast<double>(L.v0 + c.j * L.step) * unit;
+    const double X = origin[0] + static_cast<double>(L.lo[0] + c.i * L.step) * unit,
+                 Y = origin[1] + static_cast<double>(L.lo[1] + c.j * L.step) * unit;
     c.owner = ownerOf(X + 0.25 * unit, Y + 0.25 * unit);
     c.ownerPos = crackCount_[c.owner]++;
   }
   for (size_t g = 0; g < cracked_.size(); ++g) {
     const CrackedNode &c = cracked_[g];
     const Level &L = levels[c.k];
-    if (c.i < L.wi0 || c.i >= L.wi1 || c.j < L.wj0 || c.j >= L.wj1) continue;
-    const PetscInt n = L.offset + (c.j - L.wj0) * L.wnx() + (c.i - L.wi0);
+    if (c.i < L.w0[0] || c.i >= L.w1[0] || c.j < L.w0[1] || c.j >= L.w1[1]) continue;
+    const PetscInt n = L.offset + (c.j - L.w0[1]) * L.wnx() + (c.i - L.w0[0]);
     crackSlot[n] = nSlots++;
     slotNode.push_back(n);
     crackedOfSlot_.push_back(static_cast<PetscInt>(g));

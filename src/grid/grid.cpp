@@ -31,8 +31,8 @@ PetscErrorCode Grid::create(MPI_Comm comm, const Scene &sc) {
   PetscCall(DMCompositeCreate(comm, &dm));
   for (int k = 0; k < K; ++k) {
     Level &L = levels[k];
-    PetscCall(DMDACreate2d(comm, DM_BOUNDARY_NONE, DM_BOUNDARY_NONE, DMDA_STENCIL_BOX, L.M, L.N,
-                           PETSC_DECIDE, PETSC_DECIDE, 2, 0, nullptr, nullptr, &da[k]));
+    PetscCall(DMDACreate2d(comm, DM_BOUNDARY_NONE, DM_BOUNDARY_NONE, DMDA_STENCIL_BOX, L.n[0],
+                           L.n[1], PETSC_DECIDE, PETSC_DECIDE, 2, 0, nullptr, nullptr, &da[k]));
     if (k == 0) PetscCall(DMSetFromOptions(da[k])); // -da_processors_x/y choose the rank layout
     PetscCall(DMSetUp(da[k]));
     PetscCall(DMDASetFieldName(da[k], 0, "x"));
@@ -68,27 +68,29 @@ PetscErrorCode Grid::setWindow() {
   PetscCall(DMDAGetCorners(da[0], &xs, &ys, nullptr, &xm, &ym, nullptr));
   // Window: level-0 nodes [xs - 2, xs + xm + 2) in each direction, as lattice units.
   const Level &L0 = levels[0];
-  const std::int64_t wu0 = L0.u0 + std::max<std::int64_t>(xs - 2, 0) * L0.step;
-  const std::int64_t wu1 = L0.u0 + std::min<std::int64_t>(xs + xm + 1, L0.M - 1) * L0.step;
-  const std::int64_t wv0 = L0.v0 + std::max<std::int64_t>(ys - 2, 0) * L0.step;
-  const std::int64_t wv1 = L0.v0 + std::min<std::int64_t>(ys + ym + 1, L0.N - 1) * L0.step;
+  const std::int64_t wu0 = L0.lo[0] + std::max<std::int64_t>(xs - 2, 0) * L0.step;
+  const std::int64_t wu1 = L0.lo[0] + std::min<std::int64_t>(xs + xm + 1, L0.n[0] - 1) * L0.step;
+  const std::int64_t wv0 = L0.lo[1] + std::max<std::int64_t>(ys - 2, 0) * L0.step;
+  const std::int64_t wv1 = L0.lo[1] + std::min<std::int64_t>(ys + ym + 1, L0.n[1] - 1) * L0.step;
   nWindow = 0;
   for (Level &L : levels) {
     auto lo = [&](std::int64_t w, std::int64_t o) {
       return static_cast<PetscInt>(std::max<std::int64_t>(0, (w - o + L.step - 1) / L.step));
     };
-    L.wi0 = std::min(lo(wu0, L.u0), L.M);
-    L.wj0 = std::min(lo(wv0, L.v0), L.N);
-    L.wi1 = wu1 < L.u0
-                ? 0
-                : static_cast<PetscInt>(std::min<std::int64_t>((wu1 - L.u0) / L.step + 1, L.M));
-    L.wj1 = wv1 < L.v0
-                ? 0
-                : static_cast<PetscInt>(std::min<std::int64_t>((wv1 - L.v0) / L.step + 1, L.N));
-    if (L.wi1 < L.wi0) L.wi1 = L.wi0;
-    if (L.wj1 < L.wj0) L.wj1 = L.wj0;
+    L.w0[0] = std::min(lo(wu0, L.lo[0]), L.n[0]);
+    L.w0[1] = std::min(lo(wv0, L.lo[1]), L.n[1]);
+    L.w1[0] =
+        wu1 < L.lo[0]
+            ? 0
+            : static_cast<PetscInt>(std::min<std::int64_t>((wu1 - L.lo[0]) / L.step + 1, L.n[0]));
+    L.w1[1] =
+        wv1 < L.lo[1]
+            ? 0
+            : static_cast<PetscInt>(std::min<std::int64_t>((wv1 - L.lo[1]) / L.step + 1, L.n[1]));
+    if (L.w1[0] < L.w0[0]) L.w1[0] = L.w0[0];
+    if (L.w1[1] < L.w0[1]) L.w1[1] = L.w0[1];
     L.offset = nWindow;
-    nWindow += (L.wi1 - L.wi0) * (L.wj1 - L.wj0);
+    nWindow += (L.w1[0] - L.w0[0]) * (L.w1[1] - L.w0[1]);
   }
 
   return PETSC_SUCCESS;
@@ -105,14 +107,14 @@ void Grid::fillWindowNodes() {
   zone.assign(4 * static_cast<size_t>(nWindow), 0);
   for (int k = 0; k < K; ++k) {
     const Level &L = levels[k];
-    for (PetscInt j = L.wj0; j < L.wj1; ++j)
-      for (PetscInt i = L.wi0; i < L.wi1; ++i) {
-        const PetscInt n = L.offset + (j - L.wj0) * L.wnx() + (i - L.wi0);
-        X[n] = x0 + static_cast<double>(L.u0 + i * L.step) * unit;
-        Y[n] = y0 + static_cast<double>(L.v0 + j * L.step) * unit;
-        active[n] = nodeActive(k, i, j);
+    for (PetscInt j = L.w0[1]; j < L.w1[1]; ++j)
+      for (PetscInt i = L.w0[0]; i < L.w1[0]; ++i) {
+        const PetscInt n = L.offset + (j - L.w0[1]) * L.wnx() + (i - L.w0[0]);
+        X[n] = origin[0] + static_cast<double>(L.lo[0] + i * L.step) * unit;
+        Y[n] = origin[1] + static_cast<double>(L.lo[1] + j * L.step) * unit;
+        active[n] = nodeActive(k, {i, j});
         if (!active[n]) continue;
-        zonesOf(k, i, j, &zone[4 * n]);
+        zonesOf(k, {i, j}, &zone[4 * n]);
         regular[n] = zone[4 * n] == L.h && zone[4 * n + 1] == L.h && zone[4 * n + 2] == L.h &&
                      zone[4 * n + 3] == L.h;
         flags_[n] = static_cast<std::uint8_t>(kActive | (regular[n] ? kRegular : 0));
@@ -124,13 +126,13 @@ void Grid::fillWindowNodes() {
   block3_.assign(nWindow, 0);
   for (int k = 0; k < K; ++k) {
     const Level &L = levels[k];
-    for (PetscInt j = L.wj0; j + 2 < L.wj1; ++j)
-      for (PetscInt i = L.wi0; i + 2 < L.wi1; ++i) {
+    for (PetscInt j = L.w0[1]; j + 2 < L.w1[1]; ++j)
+      for (PetscInt i = L.w0[0]; i + 2 < L.w1[0]; ++i) {
         bool ok = true;
         for (PetscInt b = 0; b < 3; ++b)
           for (PetscInt a = 0; a < 3; ++a)
-            ok = ok && regular[L.offset + (j + b - L.wj0) * L.wnx() + (i + a - L.wi0)];
-        block3_[L.offset + (j - L.wj0) * L.wnx() + (i - L.wi0)] = ok;
+            ok = ok && regular[L.offset + (j + b - L.w0[1]) * L.wnx() + (i + a - L.w0[0])];
+        block3_[L.offset + (j - L.w0[1]) * L.wnx() + (i - L.w0[0])] = ok;
       }
   }
 }
@@ -167,11 +169,11 @@ PetscErrorCode Grid::createScatter(MPI_Comm comm) {
   }
   for (int k = 0; k < K; ++k) {
     const Level &L = levels[k];
-    const PetscInt n = (L.wi1 - L.wi0) * (L.wj1 - L.wj0);
+    const PetscInt n = (L.w1[0] - L.w0[0]) * (L.w1[1] - L.w0[1]);
     std::vector<PetscInt> idx(n);
-    for (PetscInt j = L.wj0; j < L.wj1; ++j)
-      for (PetscInt i = L.wi0; i < L.wi1; ++i)
-        idx[(j - L.wj0) * L.wnx() + (i - L.wi0)] = 2 * (j * L.M + i); // the AO counts dofs
+    for (PetscInt j = L.w0[1]; j < L.w1[1]; ++j)
+      for (PetscInt i = L.w0[0]; i < L.w1[0]; ++i)
+        idx[(j - L.w0[1]) * L.wnx() + (i - L.w0[0])] = 2 * (j * L.n[0] + i); // the AO counts dofs
     AO ao;
     PetscCall(DMDAGetAO(da[k], &ao));
     PetscCall(AOApplicationToPetsc(ao, n, idx.data()));
@@ -217,9 +219,9 @@ PetscErrorCode Grid::toWindow(Vec global, Vec window) const {
 PetscMPIInt Grid::ownerOf(double x, double y) const {
   const Level &L = levels[0];
   const PetscInt ic =
-      std::clamp<PetscInt>(static_cast<PetscInt>(std::floor((x - x0) / L.h)), 0, L.M - 1);
+      std::clamp<PetscInt>(static_cast<PetscInt>(std::floor((x - origin[0]) / L.h)), 0, L.n[0] - 1);
   const PetscInt jc =
-      std::clamp<PetscInt>(static_cast<PetscInt>(std::floor((y - y0) / L.h)), 0, L.N - 1);
+      std::clamp<PetscInt>(static_cast<PetscInt>(std::floor((y - origin[1]) / L.h)), 0, L.n[1] - 1);
   const auto rx = std::upper_bound(ownX_.begin(), ownX_.end(), ic) - ownX_.begin() - 1;
   const auto ry = std::upper_bound(ownY_.begin(), ownY_.end(), jc) - ownY_.begin() - 1;
   return static_cast<PetscMPIInt>(ry * (static_cast<PetscInt>(ownX_.size()) - 1) + rx); // x fastest
@@ -229,10 +231,10 @@ void Grid::ownedBox(PetscMPIInt r, double box[4]) const {
   const Level &L = levels[0];
   const PetscInt nrx = static_cast<PetscInt>(ownX_.size()) - 1, rx = r % nrx, ry = r / nrx;
   const double inf = std::numeric_limits<double>::infinity();
-  box[0] = ownX_[rx] == 0 ? -inf : x0 + ownX_[rx] * L.h;
-  box[1] = ownY_[ry] == 0 ? -inf : y0 + ownY_[ry] * L.h;
-  box[2] = ownX_[rx + 1] >= L.M ? inf : x0 + ownX_[rx + 1] * L.h;
-  box[3] = ownY_[ry + 1] >= L.N ? inf : y0 + ownY_[ry + 1] * L.h;
+  box[0] = ownX_[rx] == 0 ? -inf : origin[0] + ownX_[rx] * L.h;
+  box[1] = ownY_[ry] == 0 ? -inf : origin[1] + ownY_[ry] * L.h;
+  box[2] = ownX_[rx + 1] >= L.n[0] ? inf : origin[0] + ownX_[rx + 1] * L.h;
+  box[3] = ownY_[ry + 1] >= L.n[1] ? inf : origin[1] + ownY_[ry + 1] * L.h;
 }
 
 } // namespace gimp

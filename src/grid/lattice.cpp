@@ -10,9 +10,11 @@ namespace gimp {
 
 namespace {
 
-std::string boxText(const Box &b) {
-  return formatNumber(b[0]) + "," + formatNumber(b[1]) + "," + formatNumber(b[2]) + "," +
-         formatNumber(b[3]);
+template <size_t N> std::string boxText(const std::array<double, N> &b) {
+  std::string s;
+  for (size_t d = 0; d < N; ++d)
+    s += (d ? "," : "") + formatNumber(b[d]);
+  return s;
 }
 
 /// Whether c / d is an integer (relative tolerance 1e-9); if so, m is set to it.
@@ -24,36 +26,45 @@ bool wholeMultiple(double c, double d, std::int64_t &m) {
   return true;
 }
 
+const char *const kAxisName[3] = {"x", "y", "z"};
+
 } // namespace
 
-void Lattice::setGeometry(const Scene &sc) {
-  const size_t K = sc.levels.size();
-  x0 = sc.domain[0];
-  y0 = sc.domain[1];
+template <> void LatticeT<2>::setGeometry(const Scene &sc) {
+  std::vector<LevelBox<2>> boxes;
+  for (size_t k = 0; k < sc.levels.size(); ++k)
+    boxes.push_back({k == 0 ? sc.domain : sc.levels[k].box, k == 0 ? 1 : sc.levels[k].ratio});
+  setLevels(sc.h, boxes);
+}
+
+template <int D> void LatticeT<D>::setLevels(double h0, const std::vector<LevelBox<D>> &boxes) {
+  const size_t K = boxes.size();
+  for (int a = 0; a < D; ++a)
+    origin[a] = boxes[0].box[a];
   // Finest-lattice unit: h0 / (r1 r2 ...). Every node lies on this lattice.
   std::int64_t total = 1;
   for (size_t k = 1; k < K; ++k)
-    total *= sc.levels[k].ratio;
-  unit = sc.h / static_cast<double>(total);
-  levels.assign(K, Level{});
+    total *= boxes[k].ratio;
+  unit = h0 / static_cast<double>(total);
+  levels.assign(K, LevelT<D>{});
   std::int64_t step = total;
-  double h = sc.h;
+  double h = h0;
   for (size_t k = 0; k < K; ++k) {
-    Level &L = levels[k];
+    LevelT<D> &L = levels[k];
     if (k > 0) {
-      step /= sc.levels[k].ratio;
-      h /= sc.levels[k].ratio;
+      step /= boxes[k].ratio;
+      h /= boxes[k].ratio;
     }
     L.h = h;
     L.ih = 1.0 / h;
     L.step = step;
-    L.box = k == 0 ? sc.domain : sc.levels[k].box;
+    L.box = boxes[k].box;
     const std::string opt = "option -gimp_level" + std::to_string(k) + "_box " + boxText(L.box);
-    std::int64_t c[4];
-    for (int d = 0; d < 4; ++d) {
-      const double o = d % 2 == 0 ? x0 : y0;
+    std::int64_t c[2 * D];
+    for (int d = 0; d < 2 * D; ++d) {
+      const double o = origin[d % D];
       // Corners on the parent's grid lines (level 0: whole cells of h0 from the origin).
-      const double parentH = k == 0 ? sc.h : levels[k - 1].h;
+      const double parentH = k == 0 ? h0 : levels[k - 1].h;
       std::int64_t m = 0;
       if (!wholeMultiple(L.box[d] - o, parentH, m))
         throw InputError(opt + ": corner coordinate " + formatNumber(L.box[d]) +
@@ -63,106 +74,132 @@ void Lattice::setGeometry(const Scene &sc) {
     }
     // The box as the lattice has it: a corner accepted within the 1e-9 tolerance above would
     // otherwise put the level's cells (and the weights computed from its corner) off its nodes.
-    for (int d = 0; d < 4; ++d)
-      L.box[d] = (d % 2 == 0 ? x0 : y0) + static_cast<double>(c[d]) * unit;
-    L.u0 = c[0];
-    L.v0 = c[1];
-    L.u1 = c[2];
-    L.v1 = c[3];
-    if (L.u1 <= L.u0 || L.v1 <= L.v0) throw InputError(opt + ": needs x1 > x0 and y1 > y0");
-    if (k > 0) {
-      const Level &P = levels[k - 1];
-      if (L.u0 < P.u0 || L.v0 < P.v0 || L.u1 > P.u1 || L.v1 > P.v1)
-        throw InputError(opt + ": not inside level " + std::to_string(k - 1) + "'s box " +
-                         boxText(P.box) + " (levels must be nested)");
+    for (int d = 0; d < 2 * D; ++d)
+      L.box[d] = origin[d % D] + static_cast<double>(c[d]) * unit;
+    bool empty = false, outside = false;
+    for (int a = 0; a < D; ++a) {
+      L.lo[a] = c[a];
+      L.hi[a] = c[D + a];
+      empty = empty || L.hi[a] <= L.lo[a];
+      if (k > 0) {
+        const LevelT<D> &P = levels[k - 1];
+        outside = outside || L.lo[a] < P.lo[a] || L.hi[a] > P.hi[a];
+      }
     }
-    L.M = static_cast<PetscInt>((L.u1 - L.u0) / L.step) + 1;
-    L.N = static_cast<PetscInt>((L.v1 - L.v0) / L.step) + 1;
+    if (empty)
+      throw InputError(
+          opt + (D == 2 ? ": needs x1 > x0 and y1 > y0" : ": needs x1 > x0, y1 > y0 and z1 > z0"));
+    if (outside)
+      throw InputError(opt + ": not inside level " + std::to_string(k - 1) + "'s box " +
+                       boxText(levels[k - 1].box) + " (levels must be nested)");
+    for (int a = 0; a < D; ++a)
+      L.n[a] = static_cast<PetscInt>((L.hi[a] - L.lo[a]) / L.step) + 1;
   }
 }
 
-int Lattice::leafLevelAt2(std::int64_t a, std::int64_t b) const {
-  const Level &D = levels.front();
-  if (a < 2 * D.u0 || a > 2 * D.u1 || b < 2 * D.v0 || b > 2 * D.v1) return -1;
+template <int D> int LatticeT<D>::leafLevelAt2(const Index &a) const {
+  const LevelT<D> &L0 = levels.front();
+  for (int d = 0; d < D; ++d)
+    if (a[d] < 2 * L0.lo[d] || a[d] > 2 * L0.hi[d]) return -1;
   for (int k = static_cast<int>(levels.size()) - 1; k > 0; --k) {
-    const Level &L = levels[k];
-    if (a > 2 * L.u0 && a < 2 * L.u1 && b > 2 * L.v0 && b < 2 * L.v1) return k;
+    const LevelT<D> &L = levels[k];
+    bool in = true;
+    for (int d = 0; d < D; ++d)
+      in = in && a[d] > 2 * L.lo[d] && a[d] < 2 * L.hi[d];
+    if (in) return k;
   }
   return 0;
 }
 
-int Lattice::leafLevelAt(double x, double y) const {
+template <int D> int LatticeT<D>::leafLevelAt(const double *x) const {
   for (int k = static_cast<int>(levels.size()) - 1; k > 0; --k) {
-    const Box &b = levels[k].box;
-    if (x > b[0] && x < b[2] && y > b[1] && y < b[3]) return k;
+    const BoxOf<D> &b = levels[k].box;
+    bool in = true;
+    for (int d = 0; d < D; ++d)
+      in = in && x[d] > b[d] && x[d] < b[D + d];
+    if (in) return k;
   }
   return 0;
 }
 
-bool Lattice::nodeActive(int k, std::int64_t i, std::int64_t j) const {
-  const Level &L = levels[k];
-  const std::int64_t u = L.u0 + i * L.step, v = L.v0 + j * L.step;
+template <int D> bool LatticeT<D>::nodeActive(int k, const Index &i) const {
+  const LevelT<D> &L = levels[k];
   // The node belongs to the finest level whose closed box contains it.
   for (int q = static_cast<int>(levels.size()) - 1; q > k; --q) {
-    const Level &F = levels[q];
-    if (u >= F.u0 && u <= F.u1 && v >= F.v0 && v <= F.v1) return false;
+    const LevelT<D> &F = levels[q];
+    bool in = true;
+    for (int d = 0; d < D; ++d) {
+      const std::int64_t u = L.at(d, i[d]);
+      in = in && u >= F.lo[d] && u <= F.hi[d];
+    }
+    if (in) return false;
   }
   return true;
 }
 
-void Lattice::zonesOf(int k, std::int64_t i, std::int64_t j, double z[4]) const {
-  const Level &L = levels[k];
-  const std::int64_t a = 2 * (L.u0 + i * L.step), b = 2 * (L.v0 + j * L.step);
-  // Width of the leaf cell containing the point (a + da, b + db), or +inf outside the domain.
-  auto width = [&](int da, int db) {
-    const int q = leafLevelAt2(a + da, b + db);
-    return q < 0 ? std::numeric_limits<double>::infinity() : levels[q].h;
-  };
-  const double side[4][2] = {{width(-1, -1), width(-1, 1)}, // Lx-
-                             {width(1, -1), width(1, 1)},   // Lx+
-                             {width(-1, -1), width(1, -1)}, // Ly-
-                             {width(-1, 1), width(1, 1)}};  // Ly+
-  for (int s = 0; s < 4; ++s) {
-    const double w = std::min(side[s][0], side[s][1]);
-    z[s] = std::isinf(w) ? 0.0 : w;
-  }
+template <int D> void LatticeT<D>::zonesOf(int k, const Index &i, double z[2 * D]) const {
+  const LevelT<D> &L = levels[k];
+  Index a;
+  for (int d = 0; d < D; ++d)
+    a[d] = 2 * L.at(d, i[d]);
+  // On each side of each axis, the smallest width of the 2^(D-1) leaf cells touching the node
+  // there (centres at a + (+-1, ..., +-1) in doubled units, the side's axis fixed); 0 when the
+  // side lies outside the domain.
+  for (int ax = 0; ax < D; ++ax)
+    for (int s = 0; s < 2; ++s) {
+      double w = std::numeric_limits<double>::infinity();
+      for (int c = 0; c < (1 << (D - 1)); ++c) {
+        Index p = a;
+        for (int d = 0, bit = 0; d < D; ++d)
+          p[d] += d == ax ? (s ? 1 : -1) : ((c >> bit++) & 1 ? 1 : -1);
+        const int q = leafLevelAt2(p);
+        w = std::min(w, q < 0 ? std::numeric_limits<double>::infinity() : levels[q].h);
+      }
+      z[2 * ax + s] = std::isinf(w) ? 0.0 : w;
+    }
 }
 
-std::int64_t Lattice::activeNodes(int k) const {
-  const Level &L = levels[k];
+template <int D> std::int64_t LatticeT<D>::activeNodes(int k) const {
   std::int64_t n = 0;
-  for (PetscInt j = 0; j < L.N; ++j)
-    for (PetscInt i = 0; i < L.M; ++i)
-      n += nodeActive(k, i, j);
+  forEachIndex<D>(levels[k].n, [&](const Index &i) { n += nodeActive(k, i); });
   return n;
 }
 
-PetscInt Lattice::lineIndex(int axis, double c) const {
-  const Level &L = levels[0];
-  const double o = axis == 0 ? x0 : y0;
-  const PetscInt n = axis == 0 ? L.M : L.N;
+template <int D> PetscInt LatticeT<D>::lineIndex(int axis, double c) const {
+  const LevelT<D> &L = levels[0];
   std::int64_t i = 0;
-  if (!wholeMultiple(c - o, L.h, i) || i < 0 || i >= n) return -1;
+  if (!wholeMultiple(c - origin[axis], L.h, i) || i < 0 || i >= L.n[axis]) return -1;
   return static_cast<PetscInt>(i);
 }
 
-std::string Lattice::activeNodesCsv() const {
-  std::string out = "level,x,y,Lxm,Lxp,Lym,Lyp\n";
-  char row[256];
-  for (int k = 0; k < static_cast<int>(levels.size()); ++k) {
-    const Level &L = levels[k];
-    for (PetscInt j = 0; j < L.N; ++j)
-      for (PetscInt i = 0; i < L.M; ++i) {
-        if (!nodeActive(k, i, j)) continue;
-        double z[4];
-        zonesOf(k, i, j, z);
-        std::snprintf(row, sizeof(row), "%d,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g\n", k,
-                      x0 + static_cast<double>(L.u0 + i * L.step) * unit,
-                      y0 + static_cast<double>(L.v0 + j * L.step) * unit, z[0], z[1], z[2], z[3]);
-        out += row;
+template <int D> std::string LatticeT<D>::activeNodesCsv() const {
+  std::string out = "level";
+  for (int a = 0; a < D; ++a)
+    out += std::string(",") + kAxisName[a];
+  for (int a = 0; a < D; ++a)
+    out += std::string(",L") + kAxisName[a] + "m,L" + kAxisName[a] + "p";
+  out += "\n";
+  char num[32];
+  for (int k = 0; k < static_cast<int>(levels.size()); ++k)
+    forEachIndex<D>(levels[k].n, [&](const Index &i) {
+      if (!nodeActive(k, i)) return;
+      double z[2 * D];
+      zonesOf(k, i, z);
+      out += std::to_string(k);
+      for (int a = 0; a < D; ++a) {
+        std::snprintf(num, sizeof(num), ",%.17g", nodeCoordinate(k, a, i[a]));
+        out += num;
       }
-  }
+      for (int s = 0; s < 2 * D; ++s) {
+        std::snprintf(num, sizeof(num), ",%.17g", z[s]);
+        out += num;
+      }
+      out += "\n";
+    });
   return out;
 }
+
+template class LatticeT<2>;
+template class LatticeT<3>;
 
 } // namespace gimp

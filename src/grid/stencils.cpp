@@ -24,7 +24,7 @@ inline PetscInt iceil(double v) {
 
 bool Grid::levelReach(int q, double xp, double yp, double lx, double ly, Reach &r) const {
   const Level &L = levels[q];
-  if (L.wi1 <= L.wi0 || L.wj1 <= L.wj0) return false;
+  if (L.w1[0] <= L.w0[0] || L.w1[1] <= L.w0[1]) return false;
   // Inside its box a level's nodes reach a particle by at most h; from outside, its boundary
   // nodes reach out by the coarse cell width (at most h0).
   r.inside = xp >= L.box[0] && xp <= L.box[2] && yp >= L.box[1] && yp <= L.box[3];
@@ -37,14 +37,14 @@ bool Grid::levelReach(int q, double xp, double yp, double lx, double ly, Reach &
   }
   const double ox = L.box[0], oy = L.box[1], ih = L.ih;
   const PetscInt ir = ifloor((ax - ox) * ih) + 1, jr = ifloor((ay - oy) * ih) + 1;
-  r.i0 = std::max(ir, L.wi0);
-  r.i1 = std::min(iceil((bx - ox) * ih) - 1, L.wi1 - 1);
-  r.j0 = std::max(jr, L.wj0);
-  r.j1 = std::min(iceil((by - oy) * ih) - 1, L.wj1 - 1);
+  r.i0 = std::max(ir, L.w0[0]);
+  r.i1 = std::min(iceil((bx - ox) * ih) - 1, L.w1[0] - 1);
+  r.j0 = std::max(jr, L.w0[1]);
+  r.j1 = std::min(iceil((by - oy) * ih) - 1, L.w1[1] - 1);
   if (r.i1 < r.i0 || r.j1 < r.j0) return false;
   r.block3 = r.inside && ir == r.i0 && jr == r.j0 && r.i1 - r.i0 <= 2 && r.j1 - r.j0 <= 2 &&
-             r.i0 + 2 < L.wi1 && r.j0 + 2 < L.wj1 && lx <= 0.5 * L.h && ly <= 0.5 * L.h &&
-             block3_[L.offset + (r.j0 - L.wj0) * L.wnx() + (r.i0 - L.wi0)];
+             r.i0 + 2 < L.w1[0] && r.j0 + 2 < L.w1[1] && lx <= 0.5 * L.h && ly <= 0.5 * L.h &&
+             block3_[L.offset + (r.j0 - L.w0[1]) * L.wnx() + (r.i0 - L.w0[0])];
   return true;
 }
 
@@ -60,7 +60,7 @@ void Grid::appendBlock3(const Level &L, const Reach &r, double xp, double yp, do
   PetscInt *node = s.node.data();
   double *wxs = s.w[0].data(), *wys = s.w[1].data(), *gxs = s.g[0].data(), *gys = s.g[1].data();
   for (PetscInt j = r.j0; j <= r.j1; ++j) {
-    const PetscInt row = L.offset + (j - L.wj0) * L.wnx() - L.wi0;
+    const PetscInt row = L.offset + (j - L.w0[1]) * L.wnx() - L.w0[0];
     for (PetscInt i = r.i0; i <= r.i1; ++i) {
       node[m] = row + i;
       wxs[m] = fwx[i - r.i0];
@@ -89,7 +89,7 @@ void Grid::appendNodes(const Level &L, const Reach &r, double xp, double yp, dou
   PetscInt *node = s.node.data();
   double *wxs = s.w[0].data(), *wys = s.w[1].data(), *gxs = s.g[0].data(), *gys = s.g[1].data();
   for (PetscInt j = r.j0; j <= r.j1; ++j) {
-    const PetscInt row = L.offset + (j - L.wj0) * L.wnx() - L.wi0;
+    const PetscInt row = L.offset + (j - L.w0[1]) * L.wnx() - L.w0[0];
     for (PetscInt i = r.i0; i <= r.i1; ++i) {
       const PetscInt nd = row + i;
       const std::uint8_t f = flags_[nd];
@@ -153,7 +153,8 @@ bool Grid::buildStencils(PetscInt n, const double *x, const double *l, Stencils<
                               (yp - (L.box[1] + r.j0 * L.h)) * L.ih};
         const double lam[2] = {lx * L.ih, ly * L.ih};
         const PetscInt stride[2] = {1, L.wnx()};
-        s.setBlock(k, L.offset + (r.j0 - L.wj0) * L.wnx() + (r.i0 - L.wi0), stride, xi, lam, L.ih);
+        s.setBlock(k, L.offset + (r.j0 - L.w0[1]) * L.wnx() + (r.i0 - L.w0[0]), stride, xi, lam,
+                   L.ih);
         continue;
       }
     }

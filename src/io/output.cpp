@@ -255,7 +255,7 @@ long double Output::frameBytes(PetscInt64 particles) const {
   for (const FieldSpec *fs : writtenFields(sc_))
     components += fs->components;
   for (const Level &L : grid_.levels)
-    nodes += static_cast<long double>(L.M) * L.N;
+    nodes += static_cast<long double>(L.n[0]) * L.n[1];
   return 2 * 8 * (particles * components + 3 * nodes) + (1 << 20);
 }
 
@@ -380,7 +380,7 @@ PetscErrorCode Output::writeGridXdmf(FILE *fg) const {
                  g.c_str(), fr.t);
     for (size_t k = 0; k < grid_.levels.size(); ++k) {
       const Level &L = grid_.levels[k];
-      const long long N = L.N, M = L.M;
+      const long long N = L.n[1], M = L.n[0];
       const std::string ref = "fields.h5:/grid/" + g + "/level_" + std::to_string(k);
       std::fprintf(fg,
                    "  <Grid Name=\"level_%zu\" GridType=\"Uniform\">\n"

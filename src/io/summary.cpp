@@ -82,7 +82,7 @@ void Output::summaryRun(FILE *f, const SummaryReport &r) const {
                  "\"nodes\": [%lld, %lld], \"active_nodes\": %lld}",
                  k ? "," : "", num(L.h).c_str(), k ? sc_.levels[k].ratio : 1, num(L.box[0]).c_str(),
                  num(L.box[1]).c_str(), num(L.box[2]).c_str(), num(L.box[3]).c_str(),
-                 static_cast<long long>(L.M), static_cast<long long>(L.N),
+                 static_cast<long long>(L.n[0]), static_cast<long long>(L.n[1]),
                  static_cast<long long>(grid_.activeNodes(static_cast<int>(k))));
   }
   std::fprintf(f, "],\n");

@@ -102,7 +102,7 @@ std::vector<Seed> collectSeeds(const Scene &sc, const Grid &g, PetscMPIInt rank)
   const int K = static_cast<int>(g.levels.size());
   PetscInt64 maxCells = 0;
   for (const Level &L : g.levels)
-    maxCells = std::max<PetscInt64>(maxCells, static_cast<PetscInt64>(L.M) * L.N);
+    maxCells = std::max<PetscInt64>(maxCells, static_cast<PetscInt64>(L.n[0]) * L.n[1]);
   // Leaf cells of every level: a body's particles take the size of the finest cell there.
   // The rank owning the level-0 cell of a leaf cell's centre seeds it.
   const PetscInt64 slots = bodyIdSlots(g);
@@ -141,9 +141,9 @@ std::vector<Seed> collectSeeds(const Scene &sc, const Grid &g, PetscMPIInt rank)
       const PetscInt j0 =
           std::max<PetscInt>(0, static_cast<PetscInt>(std::floor((body.box[1] - L.box[1]) / h)));
       const PetscInt i1 = std::min<PetscInt>(
-          L.M - 1, static_cast<PetscInt>(std::ceil((body.box[2] - L.box[0]) / h)));
+          L.n[0] - 1, static_cast<PetscInt>(std::ceil((body.box[2] - L.box[0]) / h)));
       const PetscInt j1 = std::min<PetscInt>(
-          L.N - 1, static_cast<PetscInt>(std::ceil((body.box[3] - L.box[1]) / h)));
+          L.n[1] - 1, static_cast<PetscInt>(std::ceil((body.box[3] - L.box[1]) / h)));
       for (PetscInt j = j0; j < j1; ++j)
         for (PetscInt i = i0; i < i1; ++i) {
           const double cx0 = L.box[0] + i * h, cy0 = L.box[1] + j * h;
@@ -163,7 +163,7 @@ std::vector<Seed> collectSeeds(const Scene &sc, const Grid &g, PetscMPIInt rank)
           }
           const int n = static_cast<int>(std::lround(std::sqrt(static_cast<double>(ppc))));
           const double d = h / n;
-          const PetscInt64 cell = static_cast<PetscInt64>(j) * L.M + i;
+          const PetscInt64 cell = static_cast<PetscInt64>(j) * L.n[0] + i;
           for (int b2 = 0; b2 < n; ++b2)
             for (int a = 0; a < n; ++a) {
               const PetscInt64 nx = static_cast<PetscInt64>(i) * n + a,
@@ -193,7 +193,7 @@ std::vector<Seed> collectSeeds(const Scene &sc, const Grid &g, PetscMPIInt rank)
 PetscInt64 bodyIdSlots(const Lattice &g) {
   PetscInt64 cells = 0;
   for (const Level &L : g.levels)
-    cells = std::max<PetscInt64>(cells, static_cast<PetscInt64>(L.M) * L.N);
+    cells = std::max<PetscInt64>(cells, static_cast<PetscInt64>(L.n[0]) * L.n[1]);
   return static_cast<PetscInt64>(g.levels.size()) * cells * 64 * 64;
 }
 

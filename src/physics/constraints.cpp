@@ -11,14 +11,14 @@ std::int64_t constraintLine(const Scene &sc, const Grid &grid, size_t b) {
   const NodeBC &bc = sc.bcs[b];
   const PetscInt line = grid.lineIndex(bc.axis, bc.coord);
   if (line < 0) {
-    const double o = bc.axis == 0 ? grid.x0 : grid.y0;
+    const double o = bc.axis == 0 ? grid.origin[0] : grid.origin[1];
     throw InputError("option -gimp_bc" + std::to_string(b) + (bc.axis == 0 ? "_x " : "_y ") +
                      formatNumber(bc.coord) +
                      ": not on a level-0 grid line inside the domain (lines at " + formatNumber(o) +
                      " + i * " + formatNumber(grid.h0()) + ")");
   }
   const Level &L0 = grid.levels[0];
-  return (bc.axis == 0 ? L0.u0 : L0.v0) + line * L0.step;
+  return (bc.axis == 0 ? L0.lo[0] : L0.lo[1]) + line * L0.step;
 }
 
 } // namespace
@@ -30,10 +30,10 @@ bool constrains(const Scene &sc, const Grid &grid, size_t b, std::int64_t line, 
                 PetscInt j) {
   const NodeBC &bc = sc.bcs[b];
   const Level &L = grid.levels[k];
-  const std::int64_t u = bc.axis == 0 ? L.u0 + i * L.step : L.v0 + j * L.step;
-  if (u != line || !grid.nodeActive(k, i, j)) return false;
-  const double along = bc.axis == 0 ? grid.y0 + (L.v0 + j * L.step) * grid.unit
-                                    : grid.x0 + (L.u0 + i * L.step) * grid.unit;
+  const std::int64_t u = bc.axis == 0 ? L.lo[0] + i * L.step : L.lo[1] + j * L.step;
+  if (u != line || !grid.nodeActive(k, {i, j})) return false;
+  const double along = bc.axis == 0 ? grid.origin[1] + (L.lo[1] + j * L.step) * grid.unit
+                                    : grid.origin[0] + (L.lo[0] + i * L.step) * grid.unit;
   const double tol = 1e-9 * L.h;
   return !bc.hasRange || (along >= bc.range[0] - tol && along <= bc.range[1] + tol);
 }

@@ -125,8 +125,8 @@ PetscErrorCode transferFields(MPI_Comm comm, PetscViewer v, DM sw, bool load) {
 std::vector<double> gridDescription(const Grid &g) {
   std::vector<double> d;
   for (const Level &L : g.levels)
-    d.insert(d.end(), {L.h, L.box[0], L.box[1], L.box[2], L.box[3], static_cast<double>(L.M),
-                       static_cast<double>(L.N)});
+    d.insert(d.end(), {L.h, L.box[0], L.box[1], L.box[2], L.box[3], static_cast<double>(L.n[0]),
+                       static_cast<double>(L.n[1])});
   return d;
 }
 

@@ -103,7 +103,7 @@ PetscErrorCode Solver::sortParticles(std::vector<int> *cls, bool byCell) {
     if (!byCell) return Key{c, 0, k};
     const auto i = static_cast<PetscInt64>(std::floor((p.x[2 * k] - L.box[0]) * L.ih));
     const auto j = static_cast<PetscInt64>(std::floor((p.x[2 * k + 1] - L.box[1]) * L.ih));
-    return Key{c, j * static_cast<PetscInt64>(L.M) + i, p.id[k]};
+    return Key{c, j * static_cast<PetscInt64>(L.n[0]) + i, p.id[k]};
   };
   bool sorted = true;
   for (PetscInt k = 1; k < p.n && sorted; ++k)
