@@ -56,31 +56,39 @@ double quadIntegrals(const double *c, double w[4], double G[8]) {
 
 } // namespace
 
-double Grid::pointShapes(double x, double y, std::vector<std::pair<PetscInt, double>> &out) const {
+template <int D>
+double GridT<D>::pointShapes(const double *x, std::vector<std::pair<PetscInt, double>> &out) const {
   double sum = 0;
+  const double zero[D] = {};
+  const std::vector<double> *coord[3] = {&X, &Y, &Z};
   for (int q = 0; q < static_cast<int>(levels.size()); ++q) {
     Reach r;
-    if (!levelReach(q, x, y, 0.0, 0.0, r)) continue;
+    if (!levelReach(q, x, zero, r)) continue;
     const Level &L = levels[q];
     const double eps = 1e-9 * L.h;
-    for (PetscInt j = r.j0; j <= r.j1; ++j) {
-      const PetscInt row = L.offset + (j - L.w0[1]) * L.wnx() - L.w0[0];
-      for (PetscInt i = r.i0; i <= r.i1; ++i) {
-        const PetscInt nd = row + i;
-        if (!(flags_[nd] & kActive)) continue;
-        const double *z = &zone[4 * nd];
-        const double N =
-            pointTent(x - X[nd], z[0], z[1], eps) * pointTent(y - Y[nd], z[2], z[3], eps);
-        if (N <= 0) continue;
-        out.emplace_back(nd, N);
-        sum += N;
-      }
-    }
+    std::array<PetscInt, D> nn;
+    for (int a = 0; a < D; ++a)
+      nn[a] = r.i1[a] - r.i0[a] + 1;
+    forEachIndex<D>(nn, [&](const Index &b) {
+      PetscInt i[D];
+      for (int a = 0; a < D; ++a)
+        i[a] = r.i0[a] + static_cast<PetscInt>(b[a]);
+      const PetscInt nd = windowSlot(q, i);
+      if (!(flags_[nd] & kActive)) return;
+      const double *z = &zone[2 * D * nd];
+      double N = 1.0;
+      for (int a = 0; a < D; ++a)
+        N *= pointTent(x[a] - (*coord[a])[nd], z[2 * a], z[2 * a + 1], eps);
+      if (N <= 0) return;
+      out.emplace_back(nd, N);
+      sum += N;
+    });
   }
   return sum;
 }
 
-bool Grid::buildPointStencils(PetscInt n, const double *x, Stencils<kDim> &s) const {
+template <int D>
+bool GridT<D>::buildPointStencils(PetscInt n, const double *x, Stencils<D> &s) const {
   s.start.resize(static_cast<size_t>(n) + 1);
   s.general = true;
   s.compact = false;
@@ -89,12 +97,13 @@ bool Grid::buildPointStencils(PetscInt n, const double *x, Stencils<kDim> &s) co
   for (PetscInt k = 0; k < n; ++k) {
     s.start[k] = static_cast<PetscInt>(m);
     pts.clear();
-    const bool ok = std::fabs(pointShapes(x[2 * k], x[2 * k + 1], pts) - 1.0) < 1e-9;
+    const bool ok = std::fabs(pointShapes(x + D * k, pts) - 1.0) < 1e-9;
     s.reserveGeneral(m + pts.size());
     for (const auto &[nd, N] : pts) {
       s.node[m] = nd;
       s.sw[m] = N;
-      s.sg[0][m] = s.sg[1][m] = 0;
+      for (int a = 0; a < D; ++a)
+        s.sg[a][m] = 0;
       ++m;
     }
     if (!ok) {
@@ -106,7 +115,8 @@ bool Grid::buildPointStencils(PetscInt n, const double *x, Stencils<kDim> &s) co
   return true;
 }
 
-const char *Grid::buildCpdiStencils(PetscInt n, const double *corners, Stencils<kDim> &s) const {
+template <>
+const char *GridT<2>::buildCpdiStencils(PetscInt n, const double *corners, Stencils<2> &s) const {
   s.start.resize(static_cast<size_t>(n) + 1);
   s.general = true;
   s.compact = false;
@@ -125,7 +135,7 @@ const char *Grid::buildCpdiStencils(PetscInt n, const double *corners, Stencils<
     const size_t first = m;
     for (int q = 0; q < 4; ++q) {
       pts.clear();
-      const double sum = pointShapes(c[2 * q], c[2 * q + 1], pts);
+      const double sum = pointShapes(&c[2 * q], pts);
       if (!(std::fabs(sum - 1.0) < 1e-9)) {
         s.start[k + 1] = static_cast<PetscInt>(m);
         return "a particle's corner lies outside the grid or this rank's window";
@@ -161,5 +171,12 @@ const char *Grid::buildCpdiStencils(PetscInt n, const double *corners, Stencils<
   s.start[n] = static_cast<PetscInt>(m);
   return nullptr;
 }
+
+template double GridT<2>::pointShapes(const double *,
+                                      std::vector<std::pair<PetscInt, double>> &) const;
+template double GridT<3>::pointShapes(const double *,
+                                      std::vector<std::pair<PetscInt, double>> &) const;
+template bool GridT<2>::buildPointStencils(PetscInt, const double *, Stencils<2> &) const;
+template bool GridT<3>::buildPointStencils(PetscInt, const double *, Stencils<3> &) const;
 
 } // namespace gimp

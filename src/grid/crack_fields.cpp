@@ -18,7 +18,7 @@
 
 namespace gimp {
 
-std::vector<Grid::CrackedNode> Grid::findCrackedNodes(const Scene &sc) const {
+template <> std::vector<GridT<2>::CrackedNode> GridT<2>::findCrackedNodes(const Scene &sc) const {
   std::vector<CrackedNode> out;
   const double reach = h0();
   for (int k = 0; k < static_cast<int>(levels.size()); ++k) {
@@ -58,16 +58,10 @@ std::vector<Grid::CrackedNode> Grid::findCrackedNodes(const Scene &sc) const {
   return out;
 }
 
-PetscErrorCode Grid::addCrackFields(MPI_Comm comm, const Scene &sc) {
-  PetscMPIInt rank = 0, size = 1;
+template <> PetscErrorCode GridT<2>::addCrackFields(MPI_Comm comm, const Scene &sc) {
+  // The window's own slots are set (GridT::build); the second fields come after them.
+  PetscMPIInt rank = 0;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
-  PetscCallMPI(MPI_Comm_size(comm, &size));
-  nSlots = nWindow;
-  slotNode.resize(nWindow);
-  for (PetscInt n = 0; n < nWindow; ++n)
-    slotNode[n] = n;
-  crackSlot.assign(nWindow, -1);
-  crackCount_.assign(size, 0);
   if (sc.cracks.empty()) return PETSC_SUCCESS;
   cracked_ = findCrackedNodes(sc);
   for (CrackedNode &c : cracked_) {

@@ -8,7 +8,7 @@
 
 namespace gimp {
 
-Grid::~Grid() {
+template <int D> GridT<D>::~GridT() {
   for (DM &d : da)
     if (d) (void)DMDestroy(&d);
   for (DM &d : da1)
@@ -19,10 +19,22 @@ Grid::~Grid() {
   if (windowTemplate_) (void)VecDestroy(&windowTemplate_);
 }
 
-PetscErrorCode Grid::create(MPI_Comm comm, const Scene &sc) {
+template <> PetscErrorCode GridT<2>::create(MPI_Comm comm, const Scene &sc) {
   setGeometry(sc);
+  PetscCall(build(comm, &sc));
+  return PETSC_SUCCESS;
+}
 
+template <int D>
+PetscErrorCode GridT<D>::create(MPI_Comm comm, double h0, const std::vector<LevelBox<D>> &boxes) {
+  this->setLevels(h0, boxes);
+  PetscCall(build(comm, nullptr));
+  return PETSC_SUCCESS;
+}
+
+template <int D> PetscErrorCode GridT<D>::build(MPI_Comm comm, const Scene *sc) {
   const int K = static_cast<int>(levels.size());
+  static const char *const axis[3] = {"x", "y", "z"};
 
   // Level 0 decides the rank layout (and owns the particles); finer levels are DMDAs of their
   // own, partitioned by PETSc: the window scatter reaches whatever nodes a rank needs.
@@ -31,72 +43,80 @@ PetscErrorCode Grid::create(MPI_Comm comm, const Scene &sc) {
   PetscCall(DMCompositeCreate(comm, &dm));
   for (int k = 0; k < K; ++k) {
     Level &L = levels[k];
-    PetscCall(DMDACreate2d(comm, DM_BOUNDARY_NONE, DM_BOUNDARY_NONE, DMDA_STENCIL_BOX, L.n[0],
-                           L.n[1], PETSC_DECIDE, PETSC_DECIDE, 2, 0, nullptr, nullptr, &da[k]));
-    if (k == 0) PetscCall(DMSetFromOptions(da[k])); // -da_processors_x/y choose the rank layout
+    if constexpr (D == 2)
+      PetscCall(DMDACreate2d(comm, DM_BOUNDARY_NONE, DM_BOUNDARY_NONE, DMDA_STENCIL_BOX, L.n[0],
+                             L.n[1], PETSC_DECIDE, PETSC_DECIDE, D, 0, nullptr, nullptr, &da[k]));
+    else
+      PetscCall(DMDACreate3d(comm, DM_BOUNDARY_NONE, DM_BOUNDARY_NONE, DM_BOUNDARY_NONE,
+                             DMDA_STENCIL_BOX, L.n[0], L.n[1], L.n[2], PETSC_DECIDE, PETSC_DECIDE,
+                             PETSC_DECIDE, D, 0, nullptr, nullptr, nullptr, &da[k]));
+    if (k == 0) PetscCall(DMSetFromOptions(da[k])); // -da_processors_x/y/z choose the rank layout
     PetscCall(DMSetUp(da[k]));
-    PetscCall(DMDASetFieldName(da[k], 0, "x"));
-    PetscCall(DMDASetFieldName(da[k], 1, "y"));
-    PetscCall(DMDASetUniformCoordinates(da[k], L.box[0], L.box[2], L.box[1], L.box[3], 0, 0));
+    for (int a = 0; a < D; ++a)
+      PetscCall(DMDASetFieldName(da[k], a, axis[a]));
+    PetscCall(DMDASetUniformCoordinates(da[k], L.box[0], L.box[D], L.box[1], L.box[D + 1],
+                                        D == 3 ? L.box[2] : 0, D == 3 ? L.box[D + 2] : 0));
     PetscCall(DMDACreateCompatibleDMDA(da[k], 1, &da1[k]));
     PetscCall(DMCompositeAddDM(dm, da[k]));
   }
   PetscCall(setWindow());
   fillWindowNodes();
-  PetscCall(addCrackFields(comm, sc));
+  // One slot per window node; with cracks (2D), second fields after them.
+  PetscMPIInt size = 1;
+  PetscCallMPI(MPI_Comm_size(comm, &size));
+  nSlots = nWindow;
+  slotNode.resize(nWindow);
+  for (PetscInt n = 0; n < nWindow; ++n)
+    slotNode[n] = n;
+  crackSlot.assign(nWindow, -1);
+  crackCount_.assign(size, 0);
+  if constexpr (D == 2) {
+    if (sc) PetscCall(addCrackFields(comm, *sc));
+  } else {
+    (void)sc;
+  }
   PetscCall(DMSetUp(dm));
   PetscCall(createScatter(comm));
   return PETSC_SUCCESS;
 }
 
-PetscErrorCode Grid::setWindow() {
-  // Level-0 ownership of nodes; a rank owns the cells whose lower-left node it owns.
-  {
-    PetscInt px = 0, py = 0;
-    const PetscInt *lx = nullptr, *ly = nullptr;
-    PetscCall(DMDAGetInfo(da[0], nullptr, nullptr, nullptr, nullptr, &px, &py, nullptr, nullptr,
-                          nullptr, nullptr, nullptr, nullptr, nullptr));
-    PetscCall(DMDAGetOwnershipRanges(da[0], &lx, &ly, nullptr));
-    ownX_.assign(px + 1, 0);
-    ownY_.assign(py + 1, 0);
-    for (PetscInt r = 0; r < px; ++r)
-      ownX_[r + 1] = ownX_[r] + lx[r];
-    for (PetscInt r = 0; r < py; ++r)
-      ownY_[r + 1] = ownY_[r] + ly[r];
-  }
-  PetscInt xs = 0, ys = 0, xm = 0, ym = 0;
-  PetscCall(DMDAGetCorners(da[0], &xs, &ys, nullptr, &xm, &ym, nullptr));
-  // Window: level-0 nodes [xs - 2, xs + xm + 2) in each direction, as lattice units.
+template <int D> PetscErrorCode GridT<D>::setWindow() {
+  // Level-0 ownership of nodes; a rank owns the cells whose lowest node it owns.
+  PetscInt np[3] = {1, 1, 1}, corner[3] = {0, 0, 0}, width[3] = {0, 0, 0};
+  const PetscInt *ranges[3] = {nullptr, nullptr, nullptr};
+  PetscCall(DMDAGetInfo(da[0], nullptr, nullptr, nullptr, nullptr, &np[0], &np[1], &np[2], nullptr,
+                        nullptr, nullptr, nullptr, nullptr, nullptr));
+  PetscCall(DMDAGetOwnershipRanges(da[0], &ranges[0], &ranges[1], &ranges[2]));
+  PetscCall(
+      DMDAGetCorners(da[0], &corner[0], &corner[1], &corner[2], &width[0], &width[1], &width[2]));
+  std::int64_t wlo[D], whi[D];
   const Level &L0 = levels[0];
-  const std::int64_t wu0 = L0.lo[0] + std::max<std::int64_t>(xs - 2, 0) * L0.step;
-  const std::int64_t wu1 = L0.lo[0] + std::min<std::int64_t>(xs + xm + 1, L0.n[0] - 1) * L0.step;
-  const std::int64_t wv0 = L0.lo[1] + std::max<std::int64_t>(ys - 2, 0) * L0.step;
-  const std::int64_t wv1 = L0.lo[1] + std::min<std::int64_t>(ys + ym + 1, L0.n[1] - 1) * L0.step;
+  for (int a = 0; a < D; ++a) {
+    own_[a].assign(np[a] + 1, 0);
+    for (PetscInt r = 0; r < np[a]; ++r)
+      own_[a][r + 1] = own_[a][r] + ranges[a][r];
+    // Window: level-0 nodes [first - 2, last + 2] of the owned ones on each axis, as lattice
+    // units.
+    wlo[a] = L0.lo[a] + std::max<std::int64_t>(corner[a] - 2, 0) * L0.step;
+    whi[a] = L0.lo[a] + std::min<std::int64_t>(corner[a] + width[a] + 1, L0.n[a] - 1) * L0.step;
+  }
   nWindow = 0;
   for (Level &L : levels) {
-    auto lo = [&](std::int64_t w, std::int64_t o) {
-      return static_cast<PetscInt>(std::max<std::int64_t>(0, (w - o + L.step - 1) / L.step));
-    };
-    L.w0[0] = std::min(lo(wu0, L.lo[0]), L.n[0]);
-    L.w0[1] = std::min(lo(wv0, L.lo[1]), L.n[1]);
-    L.w1[0] =
-        wu1 < L.lo[0]
-            ? 0
-            : static_cast<PetscInt>(std::min<std::int64_t>((wu1 - L.lo[0]) / L.step + 1, L.n[0]));
-    L.w1[1] =
-        wv1 < L.lo[1]
-            ? 0
-            : static_cast<PetscInt>(std::min<std::int64_t>((wv1 - L.lo[1]) / L.step + 1, L.n[1]));
-    if (L.w1[0] < L.w0[0]) L.w1[0] = L.w0[0];
-    if (L.w1[1] < L.w0[1]) L.w1[1] = L.w0[1];
+    for (int a = 0; a < D; ++a) {
+      const std::int64_t first = (wlo[a] - L.lo[a] + L.step - 1) / L.step;
+      L.w0[a] = std::min(static_cast<PetscInt>(std::max<std::int64_t>(0, first)), L.n[a]);
+      L.w1[a] = whi[a] < L.lo[a] ? 0
+                                 : static_cast<PetscInt>(std::min<std::int64_t>(
+                                       (whi[a] - L.lo[a]) / L.step + 1, L.n[a]));
+      if (L.w1[a] < L.w0[a]) L.w1[a] = L.w0[a];
+    }
     L.offset = nWindow;
-    nWindow += (L.w1[0] - L.w0[0]) * (L.w1[1] - L.w0[1]);
+    nWindow += L.windowNodes();
   }
-
   return PETSC_SUCCESS;
 }
 
-void Grid::fillWindowNodes() {
+template <int D> void GridT<D>::fillWindowNodes() {
   const int K = static_cast<int>(levels.size());
   // Node data of the window.
   active.assign(nWindow, 0);
@@ -104,40 +124,67 @@ void Grid::fillWindowNodes() {
   flags_.assign(nWindow, 0);
   X.assign(nWindow, 0);
   Y.assign(nWindow, 0);
-  zone.assign(4 * static_cast<size_t>(nWindow), 0);
+  Z.assign(D == 3 ? nWindow : 0, 0);
+  std::vector<double> *coord[3] = {&X, &Y, &Z};
+  zone.assign(2 * D * static_cast<size_t>(nWindow), 0);
   for (int k = 0; k < K; ++k) {
     const Level &L = levels[k];
-    for (PetscInt j = L.w0[1]; j < L.w1[1]; ++j)
-      for (PetscInt i = L.w0[0]; i < L.w1[0]; ++i) {
-        const PetscInt n = L.offset + (j - L.w0[1]) * L.wnx() + (i - L.w0[0]);
-        X[n] = origin[0] + static_cast<double>(L.lo[0] + i * L.step) * unit;
-        Y[n] = origin[1] + static_cast<double>(L.lo[1] + j * L.step) * unit;
-        active[n] = nodeActive(k, {i, j});
-        if (!active[n]) continue;
-        zonesOf(k, {i, j}, &zone[4 * n]);
-        regular[n] = zone[4 * n] == L.h && zone[4 * n + 1] == L.h && zone[4 * n + 2] == L.h &&
-                     zone[4 * n + 3] == L.h;
-        flags_[n] = static_cast<std::uint8_t>(kActive | (regular[n] ? kRegular : 0));
+    std::array<PetscInt, D> wn;
+    for (int a = 0; a < D; ++a)
+      wn[a] = L.wn(a);
+    PetscInt n = L.offset; // window nodes in order, x fastest
+    forEachIndex<D>(wn, [&](const Index &w) {
+      Index i;
+      for (int a = 0; a < D; ++a) {
+        i[a] = w[a] + L.w0[a];
+        (*coord[a])[n] = this->nodeCoordinate(k, a, i[a]);
       }
+      active[n] = this->nodeActive(k, i);
+      if (active[n]) {
+        double *z = &zone[2 * D * n];
+        this->zonesOf(k, i, z);
+        bool reg = true;
+        for (int s = 0; s < 2 * D; ++s)
+          reg = reg && z[s] == L.h;
+        regular[n] = reg;
+        flags_[n] = static_cast<std::uint8_t>(kActive | (reg ? kRegular : 0));
+      }
+      ++n;
+    });
   }
 
-  // block3_[n]: the 3 x 3 block of n's level starting at n (n and the two nodes after it in x
-  // and y) lies in the window and is regular: buildStencils takes its closed-form path there.
+  // block3_[n]: the 3^D block of n's level starting at n (n and the two nodes after it along
+  // every axis) lies in the window and is regular: buildStencils takes its closed-form path
+  // there.
   block3_.assign(nWindow, 0);
   for (int k = 0; k < K; ++k) {
     const Level &L = levels[k];
-    for (PetscInt j = L.w0[1]; j + 2 < L.w1[1]; ++j)
-      for (PetscInt i = L.w0[0]; i + 2 < L.w1[0]; ++i) {
-        bool ok = true;
-        for (PetscInt b = 0; b < 3; ++b)
-          for (PetscInt a = 0; a < 3; ++a)
-            ok = ok && regular[L.offset + (j + b - L.w0[1]) * L.wnx() + (i + a - L.w0[0])];
-        block3_[L.offset + (j - L.w0[1]) * L.wnx() + (i - L.w0[0])] = ok;
-      }
+    std::array<PetscInt, D> wn;
+    bool any = true;
+    for (int a = 0; a < D; ++a) {
+      wn[a] = L.wn(a) - 2;
+      any = any && wn[a] > 0;
+    }
+    if (!any) continue;
+    forEachIndex<D>(wn, [&](const Index &w) {
+      PetscInt i[D];
+      for (int a = 0; a < D; ++a)
+        i[a] = w[a] + L.w0[a];
+      bool ok = true;
+      std::array<PetscInt, D> three;
+      three.fill(3);
+      forEachIndex<D>(three, [&](const Index &b) {
+        PetscInt j[D];
+        for (int a = 0; a < D; ++a)
+          j[a] = i[a] + b[a];
+        ok = ok && regular[windowSlot(k, j)];
+      });
+      block3_[windowSlot(k, i)] = ok;
+    });
   }
 }
 
-PetscErrorCode Grid::createScatter(MPI_Comm comm) {
+template <int D> PetscErrorCode GridT<D>::createScatter(MPI_Comm comm) {
   PetscMPIInt size = 1;
   PetscCallMPI(MPI_Comm_size(comm, &size));
   const int K = static_cast<int>(levels.size());
@@ -152,7 +199,7 @@ PetscErrorCode Grid::createScatter(MPI_Comm comm) {
     PetscCall(VecGetOwnershipRanges(g, &ranges));
     levelStart[k].assign(ranges, ranges + size + 1);
     for (auto &v : levelStart[k])
-      v /= 2;
+      v /= D;
     PetscCall(DMRestoreGlobalVector(da[k], &g));
   }
   std::vector<PetscInt> levelsOwned(size, 0);
@@ -169,16 +216,23 @@ PetscErrorCode Grid::createScatter(MPI_Comm comm) {
   }
   for (int k = 0; k < K; ++k) {
     const Level &L = levels[k];
-    const PetscInt n = (L.w1[0] - L.w0[0]) * (L.w1[1] - L.w0[1]);
+    const PetscInt n = L.windowNodes();
     std::vector<PetscInt> idx(n);
-    for (PetscInt j = L.w0[1]; j < L.w1[1]; ++j)
-      for (PetscInt i = L.w0[0]; i < L.w1[0]; ++i)
-        idx[(j - L.w0[1]) * L.wnx() + (i - L.w0[0])] = 2 * (j * L.n[0] + i); // the AO counts dofs
+    std::array<PetscInt, D> wn;
+    for (int a = 0; a < D; ++a)
+      wn[a] = L.wn(a);
+    PetscInt q = 0;
+    forEachIndex<D>(wn, [&](const Index &w) {
+      PetscInt natural = 0; // the level's natural (x fastest) node number
+      for (int a = D - 1; a >= 0; --a)
+        natural = natural * L.n[a] + (w[a] + L.w0[a]);
+      idx[q++] = D * natural; // the AO counts dofs
+    });
     AO ao;
     PetscCall(DMDAGetAO(da[k], &ao));
     PetscCall(AOApplicationToPetsc(ao, n, idx.data()));
-    for (PetscInt q = 0; q < n; ++q) {
-      const PetscInt p = idx[q] / 2;
+    for (q = 0; q < n; ++q) {
+      const PetscInt p = idx[q] / D;
       const auto r = std::upper_bound(levelStart[k].begin(), levelStart[k].end(), p) -
                      levelStart[k].begin() - 1;
       PetscInt before = 0;
@@ -189,9 +243,9 @@ PetscErrorCode Grid::createScatter(MPI_Comm comm) {
   }
   IS is;
   Vec g;
-  PetscCall(ISCreateBlock(comm, 2, nSlots, blocks.data(), PETSC_COPY_VALUES, &is));
-  PetscCall(VecCreateSeq(PETSC_COMM_SELF, 2 * nSlots, &windowTemplate_));
-  PetscCall(VecSetBlockSize(windowTemplate_, 2));
+  PetscCall(ISCreateBlock(comm, D, nSlots, blocks.data(), PETSC_COPY_VALUES, &is));
+  PetscCall(VecCreateSeq(PETSC_COMM_SELF, D * nSlots, &windowTemplate_));
+  PetscCall(VecSetBlockSize(windowTemplate_, D));
   PetscCall(DMGetGlobalVector(dm, &g));
   PetscCall(VecScatterCreate(g, is, windowTemplate_, nullptr, &scatter_));
   PetscCall(DMRestoreGlobalVector(dm, &g));
@@ -199,42 +253,49 @@ PetscErrorCode Grid::createScatter(MPI_Comm comm) {
   return PETSC_SUCCESS;
 }
 
-PetscErrorCode Grid::createWindowVec(Vec *v) const {
+template <int D> PetscErrorCode GridT<D>::createWindowVec(Vec *v) const {
   PetscCall(VecDuplicate(windowTemplate_, v));
   return PETSC_SUCCESS;
 }
 
-PetscErrorCode Grid::fromWindow(Vec window, Vec global, InsertMode mode) const {
+template <int D>
+PetscErrorCode GridT<D>::fromWindow(Vec window, Vec global, InsertMode mode) const {
   PetscCall(VecScatterBegin(scatter_, window, global, mode, SCATTER_REVERSE));
   PetscCall(VecScatterEnd(scatter_, window, global, mode, SCATTER_REVERSE));
   return PETSC_SUCCESS;
 }
 
-PetscErrorCode Grid::toWindow(Vec global, Vec window) const {
+template <int D> PetscErrorCode GridT<D>::toWindow(Vec global, Vec window) const {
   PetscCall(VecScatterBegin(scatter_, global, window, INSERT_VALUES, SCATTER_FORWARD));
   PetscCall(VecScatterEnd(scatter_, global, window, INSERT_VALUES, SCATTER_FORWARD));
   return PETSC_SUCCESS;
 }
 
-PetscMPIInt Grid::ownerOf(double x, double y) const {
+template <int D> PetscMPIInt GridT<D>::ownerOf(const double *x) const {
   const Level &L = levels[0];
-  const PetscInt ic =
-      std::clamp<PetscInt>(static_cast<PetscInt>(std::floor((x - origin[0]) / L.h)), 0, L.n[0] - 1);
-  const PetscInt jc =
-      std::clamp<PetscInt>(static_cast<PetscInt>(std::floor((y - origin[1]) / L.h)), 0, L.n[1] - 1);
-  const auto rx = std::upper_bound(ownX_.begin(), ownX_.end(), ic) - ownX_.begin() - 1;
-  const auto ry = std::upper_bound(ownY_.begin(), ownY_.end(), jc) - ownY_.begin() - 1;
-  return static_cast<PetscMPIInt>(ry * (static_cast<PetscInt>(ownX_.size()) - 1) + rx); // x fastest
+  PetscInt rank = 0;
+  for (int a = D - 1; a >= 0; --a) { // ranks are numbered x fastest
+    const PetscInt c = std::clamp<PetscInt>(
+        static_cast<PetscInt>(std::floor((x[a] - origin[a]) / L.h)), 0, L.n[a] - 1);
+    const auto r = std::upper_bound(own_[a].begin(), own_[a].end(), c) - own_[a].begin() - 1;
+    rank = rank * (static_cast<PetscInt>(own_[a].size()) - 1) + r;
+  }
+  return static_cast<PetscMPIInt>(rank);
 }
 
-void Grid::ownedBox(PetscMPIInt r, double box[4]) const {
+template <int D> void GridT<D>::ownedBox(PetscMPIInt r, double box[2 * D]) const {
   const Level &L = levels[0];
-  const PetscInt nrx = static_cast<PetscInt>(ownX_.size()) - 1, rx = r % nrx, ry = r / nrx;
   const double inf = std::numeric_limits<double>::infinity();
-  box[0] = ownX_[rx] == 0 ? -inf : origin[0] + ownX_[rx] * L.h;
-  box[1] = ownY_[ry] == 0 ? -inf : origin[1] + ownY_[ry] * L.h;
-  box[2] = ownX_[rx + 1] >= L.n[0] ? inf : origin[0] + ownX_[rx + 1] * L.h;
-  box[3] = ownY_[ry + 1] >= L.n[1] ? inf : origin[1] + ownY_[ry + 1] * L.h;
+  PetscInt rest = r;
+  for (int a = 0; a < D; ++a) {
+    const PetscInt nr = static_cast<PetscInt>(own_[a].size()) - 1, ra = rest % nr;
+    rest /= nr;
+    box[a] = own_[a][ra] == 0 ? -inf : origin[a] + own_[a][ra] * L.h;
+    box[D + a] = own_[a][ra + 1] >= L.n[a] ? inf : origin[a] + own_[a][ra + 1] * L.h;
+  }
 }
+
+template class GridT<2>;
+template class GridT<3>;
 
 } // namespace gimp

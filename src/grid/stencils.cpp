@@ -22,101 +22,177 @@ inline PetscInt iceil(double v) {
 
 } // namespace
 
-bool Grid::levelReach(int q, double xp, double yp, double lx, double ly, Reach &r) const {
+template <int D>
+bool GridT<D>::levelReach(int q, const double *x, const double *l, Reach &r) const {
   const Level &L = levels[q];
-  if (L.w1[0] <= L.w0[0] || L.w1[1] <= L.w0[1]) return false;
+  for (int a = 0; a < D; ++a)
+    if (L.w1[a] <= L.w0[a]) return false;
   // Inside its box a level's nodes reach a particle by at most h; from outside, its boundary
   // nodes reach out by the coarse cell width (at most h0).
-  r.inside = xp >= L.box[0] && xp <= L.box[2] && yp >= L.box[1] && yp <= L.box[3];
-  const double Z = r.inside ? L.h : levels[0].h;
-  const double ax = xp - lx - Z, bx = xp + lx + Z, ay = yp - ly - Z, by = yp + ly + Z;
+  r.inside = true;
+  for (int a = 0; a < D; ++a)
+    r.inside = r.inside && x[a] >= L.box[a] && x[a] <= L.box[D + a];
+  const double Zr = r.inside ? L.h : levels[0].h;
+  double lo[D], hi[D];
+  for (int a = 0; a < D; ++a) {
+    lo[a] = x[a] - l[a] - Zr;
+    hi[a] = x[a] + l[a] + Zr;
+  }
   if (q + 1 < static_cast<int>(levels.size())) {
     // Everything in reach covered by the finer box: no active node of this level.
-    const Box &f = levels[q + 1].box;
-    if (ax >= f[0] && bx <= f[2] && ay >= f[1] && by <= f[3]) return false;
+    const BoxOf<D> &f = levels[q + 1].box;
+    bool covered = true;
+    for (int a = 0; a < D; ++a)
+      covered = covered && lo[a] >= f[a] && hi[a] <= f[D + a];
+    if (covered) return false;
   }
-  const double ox = L.box[0], oy = L.box[1], ih = L.ih;
-  const PetscInt ir = ifloor((ax - ox) * ih) + 1, jr = ifloor((ay - oy) * ih) + 1;
-  r.i0 = std::max(ir, L.w0[0]);
-  r.i1 = std::min(iceil((bx - ox) * ih) - 1, L.w1[0] - 1);
-  r.j0 = std::max(jr, L.w0[1]);
-  r.j1 = std::min(iceil((by - oy) * ih) - 1, L.w1[1] - 1);
-  if (r.i1 < r.i0 || r.j1 < r.j0) return false;
-  r.block3 = r.inside && ir == r.i0 && jr == r.j0 && r.i1 - r.i0 <= 2 && r.j1 - r.j0 <= 2 &&
-             r.i0 + 2 < L.w1[0] && r.j0 + 2 < L.w1[1] && lx <= 0.5 * L.h && ly <= 0.5 * L.h &&
-             block3_[L.offset + (r.j0 - L.w0[1]) * L.wnx() + (r.i0 - L.w0[0])];
+  const double ih = L.ih;
+  bool first = true, small = true;
+  for (int a = 0; a < D; ++a) {
+    const PetscInt ir = ifloor((lo[a] - L.box[a]) * ih) + 1;
+    r.i0[a] = std::max(ir, L.w0[a]);
+    r.i1[a] = std::min(iceil((hi[a] - L.box[a]) * ih) - 1, L.w1[a] - 1);
+    if (r.i1[a] < r.i0[a]) return false;
+    first = first && ir == r.i0[a];
+    small = small && r.i1[a] - r.i0[a] <= 2 && r.i0[a] + 2 < L.w1[a] && l[a] <= 0.5 * L.h;
+  }
+  r.block3 = r.inside && first && small && block3_[windowSlot(q, r.i0)];
   return true;
 }
 
-void Grid::appendBlock3(const Level &L, const Reach &r, double xp, double yp, double lx, double ly,
-                        Stencils<kDim> &s, size_t &m) const {
-  // A regular 3 x 3 block of this level: closed-form weights, the same node set.
-  const double ih = L.ih, ox = L.box[0], oy = L.box[1];
-  double fwx[3], fgx[3], fwy[3], fgy[3];
-  const double lamx = lx * ih, lamy = ly * ih, i2lx = 0.5 / lamx, i2ly = 0.5 / lamy;
-  shape::uniformWeights3((xp - (ox + r.i0 * L.h)) * ih, lamx, i2lx, i2lx * ih, fwx, fgx);
-  shape::uniformWeights3((yp - (oy + r.j0 * L.h)) * ih, lamy, i2ly, i2ly * ih, fwy, fgy);
-  s.reserve(m + 9);
+template <int D>
+void GridT<D>::appendBlock3(int q, const Reach &r, const double *x, const double *l, Stencils<D> &s,
+                            size_t &m) const {
+  // A regular 3^D block of this level: closed-form weights, the same node set.
+  const Level &L = levels[q];
+  const double ih = L.ih;
+  double fw[D][3], fg[D][3];
+  PetscInt n[D];
+  for (int a = 0; a < D; ++a) {
+    const double lam = l[a] * ih, i2l = 0.5 / lam;
+    shape::uniformWeights3((x[a] - (L.box[a] + r.i0[a] * L.h)) * ih, lam, i2l, i2l * ih, fw[a],
+                           fg[a]);
+    n[a] = r.i1[a] - r.i0[a] + 1;
+  }
+  size_t count = 1;
+  for (int a = 0; a < D; ++a)
+    count *= static_cast<size_t>(n[a]);
+  s.reserve(m + count);
   PetscInt *node = s.node.data();
-  double *wxs = s.w[0].data(), *wys = s.w[1].data(), *gxs = s.g[0].data(), *gys = s.g[1].data();
-  for (PetscInt j = r.j0; j <= r.j1; ++j) {
-    const PetscInt row = L.offset + (j - L.w0[1]) * L.wnx() - L.w0[0];
-    for (PetscInt i = r.i0; i <= r.i1; ++i) {
-      node[m] = row + i;
-      wxs[m] = fwx[i - r.i0];
-      gxs[m] = fgx[i - r.i0];
-      wys[m] = fwy[j - r.j0];
-      gys[m] = fgy[j - r.j0];
-      ++m;
+  double *ws[D], *gs[D];
+  for (int a = 0; a < D; ++a) {
+    ws[a] = s.w[a].data();
+    gs[a] = s.g[a].data();
+  }
+  if constexpr (D == 2) {
+    for (PetscInt j = r.i0[1]; j <= r.i1[1]; ++j) {
+      const PetscInt row = L.offset + (j - L.w0[1]) * L.wnx() - L.w0[0];
+      for (PetscInt i = r.i0[0]; i <= r.i1[0]; ++i) {
+        node[m] = row + i;
+        ws[0][m] = fw[0][i - r.i0[0]];
+        gs[0][m] = fg[0][i - r.i0[0]];
+        ws[1][m] = fw[1][j - r.i0[1]];
+        gs[1][m] = fg[1][j - r.i0[1]];
+        ++m;
+      }
     }
+  } else {
+    std::array<PetscInt, D> nn;
+    for (int a = 0; a < D; ++a)
+      nn[a] = n[a];
+    forEachIndex<D>(nn, [&](const Index &b) {
+      PetscInt i[D];
+      for (int a = 0; a < D; ++a) {
+        i[a] = r.i0[a] + b[a];
+        ws[a][m] = fw[a][b[a]];
+        gs[a][m] = fg[a][b[a]];
+      }
+      node[m] = windowSlot(q, i);
+      ++m;
+    });
   }
 }
 
-void Grid::appendNodes(const Level &L, const Reach &r, double xp, double yp, double lx, double ly,
-                       double *scratch, PetscInt maxRange, Stencils<kDim> &s, size_t &m) const {
+template <int D>
+void GridT<D>::appendNodes(int q, const Reach &r, const double *x, const double *l, double *scratch,
+                           PetscInt maxRange, Stencils<D> &s, size_t &m) const {
   // Any range of nodes: 1D weights of a regular stretch for every candidate, replaced by the
   // node's own zones where it is irregular; nodes whose support misses the particle are left out.
-  double *rwx = scratch, *rgx = rwx + maxRange, *rwy = rgx + maxRange, *rgy = rwy + maxRange;
-  const double ox = L.box[0], oy = L.box[1], ih = L.ih;
-  const double i2lx = 0.5 / lx, i2ly = 0.5 / ly;
-  for (PetscInt i = r.i0; i <= r.i1; ++i)
-    shape::weightAndGradientUniform(xp - (ox + i * L.h), lx, L.h, ih, i2lx, rwx[i - r.i0],
-                                    rgx[i - r.i0]);
-  for (PetscInt j = r.j0; j <= r.j1; ++j)
-    shape::weightAndGradientUniform(yp - (oy + j * L.h), ly, L.h, ih, i2ly, rwy[j - r.j0],
-                                    rgy[j - r.j0]);
-  s.reserve(m + static_cast<size_t>((r.i1 - r.i0 + 1) * (r.j1 - r.j0 + 1)));
+  const Level &L = levels[q];
+  const double ih = L.ih;
+  double *rw[D], *rg[D];
+  size_t count = 1;
+  for (int a = 0; a < D; ++a) {
+    rw[a] = scratch + 2 * a * maxRange;
+    rg[a] = rw[a] + maxRange;
+    const double i2l = 0.5 / l[a];
+    for (PetscInt i = r.i0[a]; i <= r.i1[a]; ++i)
+      shape::weightAndGradientUniform(x[a] - (L.box[a] + i * L.h), l[a], L.h, ih, i2l,
+                                      rw[a][i - r.i0[a]], rg[a][i - r.i0[a]]);
+    count *= static_cast<size_t>(r.i1[a] - r.i0[a] + 1);
+  }
+  s.reserve(m + count);
   PetscInt *node = s.node.data();
-  double *wxs = s.w[0].data(), *wys = s.w[1].data(), *gxs = s.g[0].data(), *gys = s.g[1].data();
-  for (PetscInt j = r.j0; j <= r.j1; ++j) {
-    const PetscInt row = L.offset + (j - L.w0[1]) * L.wnx() - L.w0[0];
-    for (PetscInt i = r.i0; i <= r.i1; ++i) {
-      const PetscInt nd = row + i;
-      const std::uint8_t f = flags_[nd];
-      double wx = rwx[i - r.i0], gx = rgx[i - r.i0], wy = rwy[j - r.j0], gy = rgy[j - r.j0];
-      if (!(f & kActive)) continue;
-      if (f != (kActive | kRegular) || !r.inside) {
-        // Outside the box the candidate range is wider than the overlap range.
-        const double dx = xp - X[nd], dy = yp - Y[nd];
-        const double *z = &zone[4 * nd];
-        if (!shape::overlaps(dx, lx, z[0], z[1]) || !shape::overlaps(dy, ly, z[2], z[3])) continue;
-        if (!(f & kRegular)) {
-          shape::weightAndGradient(dx, lx, z[0], z[1], wx, gx);
-          shape::weightAndGradient(dy, ly, z[2], z[3], wy, gy);
-        }
-      }
-      node[m] = nd;
-      wxs[m] = wx;
-      wys[m] = wy;
-      gxs[m] = gx;
-      gys[m] = gy;
-      ++m;
+  double *ws[D], *gs[D];
+  for (int a = 0; a < D; ++a) {
+    ws[a] = s.w[a].data();
+    gs[a] = s.g[a].data();
+  }
+  const std::vector<double> *coord[3] = {&X, &Y, &Z};
+  // One candidate node: window slot nd, offsets c[a] into the 1D tables.
+  auto add = [&](PetscInt nd, const PetscInt *c) {
+    const std::uint8_t f = flags_[nd];
+    if (!(f & kActive)) return;
+    double w[D], g[D];
+    for (int a = 0; a < D; ++a) {
+      w[a] = rw[a][c[a]];
+      g[a] = rg[a][c[a]];
     }
+    if (f != (kActive | kRegular) || !r.inside) {
+      // Outside the box the candidate range is wider than the overlap range.
+      const double *z = &zone[2 * D * nd];
+      double d[D];
+      for (int a = 0; a < D; ++a) {
+        d[a] = x[a] - (*coord[a])[nd];
+        if (!shape::overlaps(d[a], l[a], z[2 * a], z[2 * a + 1])) return;
+      }
+      if (!(f & kRegular))
+        for (int a = 0; a < D; ++a)
+          shape::weightAndGradient(d[a], l[a], z[2 * a], z[2 * a + 1], w[a], g[a]);
+    }
+    node[m] = nd;
+    for (int a = 0; a < D; ++a) {
+      ws[a][m] = w[a];
+      gs[a][m] = g[a];
+    }
+    ++m;
+  };
+  if constexpr (D == 2) {
+    for (PetscInt j = r.i0[1]; j <= r.i1[1]; ++j) {
+      const PetscInt row = L.offset + (j - L.w0[1]) * L.wnx() - L.w0[0];
+      for (PetscInt i = r.i0[0]; i <= r.i1[0]; ++i) {
+        const PetscInt c[2] = {i - r.i0[0], j - r.i0[1]};
+        add(row + i, c);
+      }
+    }
+  } else {
+    std::array<PetscInt, D> nn;
+    for (int a = 0; a < D; ++a)
+      nn[a] = r.i1[a] - r.i0[a] + 1;
+    forEachIndex<D>(nn, [&](const Index &b) {
+      PetscInt i[D], c[D];
+      for (int a = 0; a < D; ++a) {
+        c[a] = static_cast<PetscInt>(b[a]);
+        i[a] = r.i0[a] + c[a];
+      }
+      add(windowSlot(q, i), c);
+    });
   }
 }
 
-bool Grid::buildStencils(PetscInt n, const double *x, const double *l, Stencils<kDim> &s,
-                         bool compact) const {
+template <int D>
+bool GridT<D>::buildStencils(PetscInt n, const double *x, const double *l, Stencils<D> &s,
+                             bool compact) const {
   const int K = static_cast<int>(levels.size());
   s.start.resize(static_cast<size_t>(n) + 1);
   s.general = false;
@@ -131,30 +207,32 @@ bool Grid::buildStencils(PetscInt n, const double *x, const double *l, Stencils<
   // A candidate range spans at most 2 (l + Z) / h + 1 nodes with l, Z <= h0 (l is checked
   // every step): size the scratch for the finest level.
   const PetscInt maxRange = static_cast<PetscInt>(4.0 * levels[0].h / levels.back().h) + 4;
-  std::vector<double> scratch(4 * static_cast<size_t>(maxRange));
+  std::vector<double> scratch(2 * D * static_cast<size_t>(maxRange));
   std::vector<Reach> reach(K);
   std::vector<char> reaches(K);
   for (PetscInt k = 0; k < n; ++k) {
     s.start[k] = static_cast<PetscInt>(m);
-    const double xp = x[2 * k], yp = x[2 * k + 1], lx = l[2 * k], ly = l[2 * k + 1];
+    const double *xp = x + D * k, *lp = l + D * k;
     int nReach = 0, last = -1;
     for (int q = 0; q < K; ++q) {
-      reaches[q] = levelReach(q, xp, yp, lx, ly, reach[q]);
+      reaches[q] = levelReach(q, xp, lp, reach[q]);
       if (reaches[q]) ++nReach, last = q;
     }
     if (compact) {
       s.blockOf[k] = -1;
       if (nReach == 1 && reach[last].block3) {
-        // One level's regular 3 x 3 block: the arguments appendBlock3 gives
+        // One level's regular 3^D block: the arguments appendBlock3 gives
         // shape::uniformWeights3, so the factors are those the rows would hold.
         const Level &L = levels[last];
         const Reach &r = reach[last];
-        const double xi[2] = {(xp - (L.box[0] + r.i0 * L.h)) * L.ih,
-                              (yp - (L.box[1] + r.j0 * L.h)) * L.ih};
-        const double lam[2] = {lx * L.ih, ly * L.ih};
-        const PetscInt stride[2] = {1, L.wnx()};
-        s.setBlock(k, L.offset + (r.j0 - L.w0[1]) * L.wnx() + (r.i0 - L.w0[0]), stride, xi, lam,
-                   L.ih);
+        double xi[D], lam[D];
+        PetscInt stride[D];
+        for (int a = 0; a < D; ++a) {
+          xi[a] = (xp[a] - (L.box[a] + r.i0[a] * L.h)) * L.ih;
+          lam[a] = lp[a] * L.ih;
+          stride[a] = a == 0 ? 1 : stride[a - 1] * L.wn(a - 1);
+        }
+        s.setBlock(k, windowSlot(last, r.i0), stride, xi, lam, L.ih);
         continue;
       }
     }
@@ -162,18 +240,36 @@ bool Grid::buildStencils(PetscInt n, const double *x, const double *l, Stencils<
       if (!reaches[q]) continue;
       const Reach &r = reach[q];
       if (r.block3) {
-        appendBlock3(levels[q], r, xp, yp, lx, ly, s, m);
+        appendBlock3(q, r, xp, lp, s, m);
         continue;
       }
-      if (r.i1 - r.i0 >= maxRange || r.j1 - r.j0 >= maxRange) { // a particle larger than h0
+      bool tooLarge = false; // a particle larger than h0
+      for (int a = 0; a < D; ++a)
+        tooLarge = tooLarge || r.i1[a] - r.i0[a] >= maxRange;
+      if (tooLarge) {
         s.start[k + 1] = static_cast<PetscInt>(m);
         return false;
       }
-      appendNodes(levels[q], r, xp, yp, lx, ly, scratch.data(), maxRange, s, m);
+      appendNodes(q, r, xp, lp, scratch.data(), maxRange, s, m);
     }
   }
   s.start[n] = static_cast<PetscInt>(m);
   return true;
 }
+
+template void GridT<2>::appendBlock3(int, const Reach &, const double *, const double *,
+                                     Stencils<2> &, size_t &) const;
+template void GridT<3>::appendBlock3(int, const Reach &, const double *, const double *,
+                                     Stencils<3> &, size_t &) const;
+template void GridT<2>::appendNodes(int, const Reach &, const double *, const double *, double *,
+                                    PetscInt, Stencils<2> &, size_t &) const;
+template void GridT<3>::appendNodes(int, const Reach &, const double *, const double *, double *,
+                                    PetscInt, Stencils<3> &, size_t &) const;
+template bool GridT<2>::levelReach(int, const double *, const double *, Reach &) const;
+template bool GridT<3>::levelReach(int, const double *, const double *, Reach &) const;
+template bool GridT<2>::buildStencils(PetscInt, const double *, const double *, Stencils<2> &,
+                                      bool) const;
+template bool GridT<3>::buildStencils(PetscInt, const double *, const double *, Stencils<3> &,
+                                      bool) const;
 
 } // namespace gimp

@@ -13,15 +13,23 @@
 #include <petscdmcomposite.h>
 #include <petscdmda.h>
 
+#include <array>
 #include <cstdint>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
 namespace gimp {
 
-class Grid : public Lattice {
+template <int D> class GridT : public LatticeT<D> {
 public:
-  /// A node whose support (widened by a particle's reach) a crack cuts.
+  using Level = LevelT<D>;
+  using Index = LatticeIndex<D>;
+  using LatticeT<D>::levels;
+  using LatticeT<D>::origin;
+  using LatticeT<D>::unit;
+
+  /// A node whose support (widened by a particle's reach) a crack cuts (2D only).
   struct CrackedNode {
     int k;
     PetscInt i, j;
@@ -29,20 +37,22 @@ public:
     PetscInt ownerPos; // its index among the cracked nodes of that owner
   };
 
-  Grid() = default;
-  Grid(const Grid &) = delete;
-  Grid &operator=(const Grid &) = delete;
-  ~Grid();
+  GridT() = default;
+  GridT(const GridT &) = delete;
+  GridT &operator=(const GridT &) = delete;
+  ~GridT();
 
-  /// Build the levels from the scene, the composite DM, this rank's window and its scatter
-  /// (collective).
+  /// Build the levels from the 2D scene, the composite DM, this rank's window and its scatter
+  /// (collective; D = 2, with the scene's cracks).
   PetscErrorCode create(MPI_Comm comm, const Scene &sc);
+  /// The same from level 0's cell size and the level boxes (boxes[0] the domain), no cracks.
+  PetscErrorCode create(MPI_Comm comm, double h0, const std::vector<LevelBox<D>> &boxes);
 
   DM dm = nullptr;         // DMComposite of the level DMDAs (and crackDm, with cracks)
   DM crackDm = nullptr;    // DMShell of the cracked nodes' second fields (dof 2), or null
-  std::vector<DM> da, da1; // per level: the DMDA (dof 2) and its dof-1 twin (scalar output)
+  std::vector<DM> da, da1; // per level: the DMDA (dof D) and its dof-1 twin (scalar output)
 
-  // Window node data (all levels concatenated).
+  // Window node data (all levels concatenated; x fastest within a level).
   PetscInt nWindow = 0;
   // Slots of the window arrays (D values each): the nWindow nodes, then one second velocity
   // field per cracked window node (docs/architecture.md). slotNode[s] is the window node of slot
@@ -50,10 +60,12 @@ public:
   PetscInt nSlots = 0;
   std::vector<PetscInt> slotNode, crackSlot;
   std::vector<std::uint8_t> active, regular;
-  std::vector<double> X, Y;
-  std::vector<double> zone; // 4 per node: Lx-, Lx+, Ly-, Ly+
+  std::vector<double> X, Y, Z; // node coordinates (Z empty in 2D)
+  std::vector<double> zone;    // 2 D per node: Lx-, Lx+, Ly-, Ly+ (, Lz-, Lz+)
+  /// Coordinates of the window nodes along axis a.
+  const std::vector<double> &coordinates(int a) const { return a == 0 ? X : a == 1 ? Y : Z; }
 
-  /// Vectors on the window (sequential, dof 2) and moves between them and a global Vec.
+  /// Vectors on the window (sequential, dof D) and moves between them and a global Vec.
   PetscErrorCode createWindowVec(Vec *v) const;
   PetscErrorCode toWindow(Vec global, Vec window) const; // insert
   /// Window values into the global Vec, combined by `mode`: ADD_VALUES sums every rank's window
@@ -66,16 +78,31 @@ public:
   /// Every cracked node, in the order of the composite's crack part (see crack_fields.cpp).
   const std::vector<CrackedNode> &crackedNodes() const { return cracked_; }
 
-  /// Rank owning the level-0 cell containing (x, y).
-  PetscMPIInt ownerOf(double x, double y) const;
-  /// The region of rank r's level-0 cells [x0, y0, x1, y1] (unbounded at the domain edges).
-  void ownedBox(PetscMPIInt r, double box[4]) const;
+  /// Rank owning the level-0 cell containing the point x (D coordinates).
+  PetscMPIInt ownerOf(const double *x) const;
+  template <int E = D, std::enable_if_t<E == 2, int> = 0>
+  PetscMPIInt ownerOf(double x, double y) const {
+    const double p[2] = {x, y};
+    return ownerOf(p);
+  }
+  /// The region of rank r's level-0 cells: low corner, then high corner (unbounded at the
+  /// domain's faces).
+  void ownedBox(PetscMPIInt r, double box[2 * D]) const;
+
+  /// Window slot of level k's node i (which must lie in this rank's window).
+  PetscInt windowSlot(int k, const PetscInt *i) const {
+    const Level &L = levels[k];
+    PetscInt s = 0;
+    for (int a = D - 1; a >= 0; --a)
+      s = s * L.wn(a) + (i[a] - L.w0[a]);
+    return L.offset + s;
+  }
 
   /// Stencils of n particles (positions x, half-sizes l; D values each). Returns false, with s
   /// unchanged past the particles done, when a particle is larger than a level-0 cell (the
   /// caller reports it collectively). With `compact` a particle inside one level's regular
   /// block keeps a block instead of rows (grid/stencils.hpp).
-  bool buildStencils(PetscInt n, const double *x, const double *l, Stencils<kDim> &s,
+  bool buildStencils(PetscInt n, const double *x, const double *l, Stencils<D> &s,
                      bool compact = false) const;
 
   /// CPDI stencils (Sadeghirad et al. 2011, 2013) of n particles whose domains are the
@@ -84,17 +111,24 @@ public:
   /// the integral of the bilinear map's corner function over the quad, G_c that of its gradient,
   /// A the quad's area, N_i the composite grid's point shape functions. Returns null, or why it
   /// could not (a corner outside the grid or the rank window, a collapsed or inverted domain),
-  /// with s unchanged past the particles done.
-  const char *buildCpdiStencils(PetscInt n, const double *corners, Stencils<kDim> &s) const;
-  /// The point shape functions of the active nodes at (x, y) (the tent functions of Eq. 14, with
-  /// the zones of transition and edge nodes): appends (slot, N) with N > 0 to `out`; returns
-  /// their sum (1 inside the grid and the window).
-  double pointShapes(double x, double y, std::vector<std::pair<PetscInt, double>> &out) const;
+  /// with s unchanged past the particles done. D = 2 only.
+  const char *buildCpdiStencils(PetscInt n, const double *corners, Stencils<D> &s) const;
+  /// The point shape functions of the active nodes at x (D coordinates; the tent functions of
+  /// Eq. 14 with the zones of transition and edge nodes): appends (slot, N) with N > 0 to `out`;
+  /// returns their sum (1 inside the grid and the window).
+  double pointShapes(const double *x, std::vector<std::pair<PetscInt, double>> &out) const;
+  template <int E = D, std::enable_if_t<E == 2, int> = 0>
+  double pointShapes(double x, double y, std::vector<std::pair<PetscInt, double>> &out) const {
+    const double p[2] = {x, y};
+    return pointShapes(p, out);
+  }
   /// Stencils of n points: general entries with the point shape functions as weights (their
   /// gradients are left zero). False when a point lies outside the grid or the window.
-  bool buildPointStencils(PetscInt n, const double *x, Stencils<kDim> &s) const;
+  bool buildPointStencils(PetscInt n, const double *x, Stencils<D> &s) const;
 
 private:
+  /// The DMs, the window, its nodes, the crack fields (sc given, 2D) and the scatter.
+  PetscErrorCode build(MPI_Comm comm, const Scene *sc);
   /// Level-0 ownership and this rank's window of every level.
   PetscErrorCode setWindow();
   /// Every cracked node of the grid, in an order every rank agrees on (collective-free).
@@ -106,28 +140,41 @@ private:
   /// The scatter between the composite global Vec and the window.
   PetscErrorCode createScatter(MPI_Comm comm);
 
-  /// The candidate nodes of one level for one particle: [i0, i1] x [j0, j1] of the window,
+  /// The candidate nodes of one level for one particle: [i0, i1] per axis of the window,
   /// whether the particle's centre is inside the level's box, and whether they form a regular
-  /// 3 x 3 block with closed-form weights.
+  /// 3^D block with closed-form weights.
   struct Reach {
-    PetscInt i0 = 0, i1 = -1, j0 = 0, j1 = -1;
+    PetscInt i0[D] = {}, i1[D] = {};
     bool inside = false, block3 = false;
   };
-  bool levelReach(int q, double xp, double yp, double lx, double ly, Reach &r) const;
-  void appendBlock3(const Level &L, const Reach &r, double xp, double yp, double lx, double ly,
-                    Stencils<kDim> &s, size_t &m) const;
-  void appendNodes(const Level &L, const Reach &r, double xp, double yp, double lx, double ly,
-                   double *scratch, PetscInt maxRange, Stencils<kDim> &s, size_t &m) const;
+  bool levelReach(int q, const double *x, const double *l, Reach &r) const;
+  void appendBlock3(int q, const Reach &r, const double *x, const double *l, Stencils<D> &s,
+                    size_t &m) const;
+  void appendNodes(int q, const Reach &r, const double *x, const double *l, double *scratch,
+                   PetscInt maxRange, Stencils<D> &s, size_t &m) const;
 
   static constexpr std::uint8_t kActive = 1, kRegular = 2;
-  std::vector<std::uint8_t> flags_;     // active and regular in one byte per window node
-  std::vector<std::uint8_t> block3_;    // the 3 x 3 block of one level from this node is regular
-  std::vector<PetscInt> ownX_, ownY_;   // level-0 node ownership: first node of each rank column
-  std::vector<CrackedNode> cracked_;    // every cracked node (empty without cracks)
-  std::vector<PetscInt> crackedOfSlot_; // index into cracked_ of each second-field slot
-  std::vector<PetscInt> crackCount_;    // cracked nodes owned by each rank
+  std::vector<std::uint8_t> flags_;          // active and regular in one byte per window node
+  std::vector<std::uint8_t> block3_;         // the 3^D block of one level from this node is regular
+  std::array<std::vector<PetscInt>, D> own_; // level-0 node ownership: first node of each rank
+                                             // column per axis
+  std::vector<CrackedNode> cracked_;         // every cracked node (empty without cracks)
+  std::vector<PetscInt> crackedOfSlot_;      // index into cracked_ of each second-field slot
+  std::vector<PetscInt> crackCount_;         // cracked nodes owned by each rank
   VecScatter scatter_ = nullptr;
   Vec windowTemplate_ = nullptr;
 };
+
+// The 2D-only members: the scene's grid (with its cracks) and CPDI's quadrilaterals.
+template <> PetscErrorCode GridT<2>::create(MPI_Comm comm, const Scene &sc);
+template <> std::vector<GridT<2>::CrackedNode> GridT<2>::findCrackedNodes(const Scene &sc) const;
+template <> PetscErrorCode GridT<2>::addCrackFields(MPI_Comm comm, const Scene &sc);
+template <>
+const char *GridT<2>::buildCpdiStencils(PetscInt n, const double *corners, Stencils<2> &s) const;
+
+extern template class GridT<2>;
+extern template class GridT<3>;
+
+using Grid = GridT<kDim>;
 
 } // namespace gimp
