@@ -9,6 +9,10 @@
 //   3. strainEnergy: the linear complementary energy equals sigma : eps V / 2 for states whose
 //      strain the test computes independently; the neo-Hookean energy's derivative is the first
 //      Piola-Kirchhoff stress J sigma F^-T (times V0), by central differences.
+//   4. The 3D models: Jaumann's rigid rotation about an oblique axis (first order, trace kept) and
+//      stretch rate (Hooke with lambda), neo-Hookean closed form, frame indifference and small
+//      strain limit, energies as in 3, and the 2D plane-strain models equal to the 3D ones on
+//      in-plane states.
 //
 // Material constants are derived here from E and nu with textbook formulas (plane-stress
 // lambda* = E nu / (1 - nu^2), not the code's 2 mu lambda / (lambda + 2 mu)), so a wrong
@@ -17,6 +21,7 @@
 
 #include "test_util.hpp"
 
+#include <Eigen/LU>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -341,6 +346,215 @@ TEST(StrainEnergy, NeoHookeanDerivativeIsTheStress) {
     worst.update(std::abs(fd - exact) / scale, [&] { return at({{"sample", double(n)}}); });
   }
   EXPECT_WORST_LE(worst, 1e-8);
+}
+
+// ---------------------------------------------------------------------------------------------
+// 4. The 3D models.
+
+using Tensor3 = gimp::Tensor<3>;
+
+/// Rotation by angle t about the unit axis n (Rodrigues).
+Tensor3 rotation3(const Eigen::Vector3d &n, double t) {
+  Tensor3 K;
+  K << 0, -n[2], n[1], n[2], 0, -n[0], -n[1], n[0], 0;
+  return Tensor3::Identity() + std::sin(t) * K + (1 - std::cos(t)) * K * K;
+}
+
+Tensor3 randomTensor3(std::mt19937_64 &rng, double a) {
+  std::uniform_real_distribution<double> U(-a, a);
+  Tensor3 t;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      t(i, j) = U(rng);
+  return t;
+}
+
+Tensor3 neoHookean3(const Material &m, const Tensor3 &F) {
+  Tensor3 s = Tensor3::Zero();
+  gimp::material::neoHookeanStress(m, F, s);
+  return s;
+}
+
+TEST(Material3D, JaumannRigidRotationAboutAnObliqueAxis) {
+  const Material m = material(MaterialModel::Linear, true);
+  const Eigen::Vector3d n = Eigen::Vector3d(1.0, -2.0, 0.5).normalized();
+  const double omega = 3.0, theta = 0.9;
+  Tensor3 W;
+  W << 0, -n[2], n[1], n[2], 0, -n[0], -n[1], n[0], 0;
+  W *= omega;
+  Tensor3 s0;
+  s0 << 2.0e5, -3.0e4, 5.0e4, -3.0e4, -1.0e5, 2.0e4, 5.0e4, 2.0e4, 7.0e4;
+  const Tensor3 exact = rotation3(n, theta) * s0 * rotation3(n, theta).transpose();
+  double err[2];
+  for (int q = 0; q < 2; ++q) {
+    const int N = 2000 << q;
+    const double dt = theta / (omega * N);
+    Tensor3 s = s0;
+    for (int k = 0; k < N; ++k)
+      gimp::material::jaumannUpdate(m, W, dt, s);
+    err[q] = (s - exact).cwiseAbs().maxCoeff() / s0.cwiseAbs().maxCoeff();
+    // tr(W s - s W) = 0 and the stress stays symmetric in every step.
+    EXPECT_NEAR(s.trace(), s0.trace(), 1e-9 * s0.cwiseAbs().maxCoeff());
+    EXPECT_LE((s - s.transpose()).cwiseAbs().maxCoeff(), 1e-9 * s0.cwiseAbs().maxCoeff());
+  }
+  std::printf("  rigid rotation: error %.3g at N = 2000, %.3g at N = 4000 (ratio %.3f)\n", err[0],
+              err[1], err[0] / err[1]);
+  // The explicit update is first order: the error halves with dt, and is small.
+  EXPECT_NEAR(err[0] / err[1], 2.0, 0.05);
+  EXPECT_LT(err[1], 2e-3);
+}
+
+TEST(Material3D, JaumannStretchRateIsHooke) {
+  const Material m = material(MaterialModel::Linear, true);
+  // Lame constants from E and nu by the textbook formulas.
+  const double lam = m.E * m.nu / ((1 + m.nu) * (1 - 2 * m.nu)), mu = m.E / (2 * (1 + m.nu));
+  std::mt19937_64 rng(31);
+  for (int k = 0; k < 20; ++k) {
+    const Tensor3 A = randomTensor3(rng, 1.0);
+    const Tensor3 D = 0.5 * (A + A.transpose());
+    const double dt = 1e-4;
+    Tensor3 s = Tensor3::Zero();
+    gimp::material::jaumannUpdate(m, D, dt, s);
+    const Tensor3 hooke = dt * (lam * D.trace() * Tensor3::Identity() + 2 * mu * D);
+    EXPECT_LE((s - hooke).cwiseAbs().maxCoeff(), 1e-14 * hooke.cwiseAbs().maxCoeff());
+  }
+}
+
+TEST(Material3D, NeoHookean) {
+  const Material m = material(MaterialModel::NeoHookean, true);
+  // Zero stress at F = I and under a rotation.
+  EXPECT_EQ(neoHookean3(m, Tensor3::Identity()).cwiseAbs().maxCoeff(), 0.0);
+  const Tensor3 R = rotation3(Eigen::Vector3d(0.3, 0.4, -0.2).normalized(), 1.1);
+  EXPECT_LE(neoHookean3(m, R).cwiseAbs().maxCoeff(), 1e-8 * m.mu);
+  // Uniaxial stretch F = diag(a, 1, 1): sxx = (lambda ln a + mu (a^2 - 1)) / a, syy = szz =
+  // lambda ln a / a.
+  for (double a : {0.7, 1.3}) {
+    Tensor3 F = Tensor3::Identity();
+    F(0, 0) = a;
+    const Tensor3 s = neoHookean3(m, F);
+    EXPECT_NEAR(s(0, 0), (m.lambda * std::log(a) + m.mu * (a * a - 1)) / a, 1e-9 * m.mu);
+    EXPECT_NEAR(s(1, 1), m.lambda * std::log(a) / a, 1e-9 * m.mu);
+    EXPECT_NEAR(s(2, 2), m.lambda * std::log(a) / a, 1e-9 * m.mu);
+    EXPECT_EQ(s(0, 1), 0.0);
+  }
+  std::mt19937_64 rng(5);
+  Worst frame, small, plane;
+  for (int k = 0; k < 200; ++k) {
+    const Tensor3 F = Tensor3::Identity() + randomTensor3(rng, 0.3);
+    if (F.determinant() < 0.3) continue;
+    // Frame indifference: sigma(R F) = R sigma(F) R^T.
+    const Tensor3 Rk = rotation3(randomTensor3(rng, 1.0).col(0).normalized(), 2.0 * k);
+    frame.update(
+        (neoHookean3(m, Rk * F) - Rk * neoHookean3(m, F) * Rk.transpose()).cwiseAbs().maxCoeff() /
+            (m.lambda + m.mu),
+        [&] {
+          return at({{"sample", double(k)}});
+        });
+    // Small strain: Hooke's law to first order.
+    const Tensor3 G = randomTensor3(rng, 1e-6);
+    const Tensor3 e = 0.5 * (G + G.transpose());
+    const Tensor3 hooke = m.lambda * e.trace() * Tensor3::Identity() + 2 * m.mu * e;
+    small.update((neoHookean3(m, Tensor3::Identity() + G) - hooke).cwiseAbs().maxCoeff() /
+                     hooke.cwiseAbs().maxCoeff(),
+                 [&] {
+                   return at({{"sample", double(k)}});
+                 });
+    // The 2D plane-strain model is the 3D one with F_zz = 1 (szz included).
+    Tensor3 F3 = Tensor3::Identity();
+    F3.block<2, 2>(0, 0) = F.block<2, 2>(0, 0);
+    if (F3.determinant() < 0.3) continue;
+    const Stress s2 = neoHookean(m, F.block<2, 2>(0, 0));
+    const Tensor3 s3 = neoHookean3(m, F3);
+    plane.update(
+        std::max((s2.s - s3.block<2, 2>(0, 0)).cwiseAbs().maxCoeff(), std::abs(s2.szz - s3(2, 2))) /
+            (m.lambda + m.mu),
+        [&] {
+          return at({{"sample", double(k)}});
+        });
+  }
+  EXPECT_WORST_LE(frame, 1e-14);
+  EXPECT_WORST_LE(small, 1e-5);
+  EXPECT_WORST_LE(plane, 1e-15);
+}
+
+TEST(Material3D, StrainEnergies) {
+  const double V0 = 2.0, V = 3.0;
+  {
+    const Material m = material(MaterialModel::Linear, true);
+    const Tensor3 I = Tensor3::Identity();
+    const double E = m.E, nu = m.nu;
+    const double lam = E * nu / ((1 + nu) * (1 - 2 * nu)), mu = E / (2 * (1 + nu));
+    // Uniaxial stress: exx = S / E.
+    Tensor3 s = Tensor3::Zero();
+    s(0, 0) = 1.5e5;
+    double w = gimp::material::strainEnergy(m, s, I, V0, V);
+    EXPECT_NEAR(w, 0.5 * s(0, 0) * s(0, 0) / E * V, 1e-14 * w);
+    // Shear syz = T: eps_yz = T / (2 mu); sigma : eps = 2 T eps_yz.
+    s = Tensor3::Zero();
+    s(1, 2) = s(2, 1) = -7.0e4;
+    w = gimp::material::strainEnergy(m, s, I, V0, V);
+    EXPECT_NEAR(w, 0.5 * 2 * s(1, 2) * s(1, 2) / (2 * mu) * V, 1e-14 * w);
+    // Uniaxial strain e along z: sigma = diag(lam, lam, lam + 2 mu) e, w = (lam + 2 mu) e^2 / 2.
+    const double e = 2e-3;
+    s = lam * e * Tensor3::Identity();
+    s(2, 2) += 2 * mu * e;
+    w = gimp::material::strainEnergy(m, s, I, V0, V);
+    EXPECT_NEAR(w, 0.5 * (lam + 2 * mu) * e * e * V, 1e-13 * w);
+    // A plane-strain state has the 2D model's energy.
+    Tensor2 s2;
+    s2 << 1.0e5, 3.0e4, 3.0e4, -2.0e4;
+    const double szz = 2.5e4;
+    Tensor3 s3 = Tensor3::Zero();
+    s3.block<2, 2>(0, 0) = s2;
+    s3(2, 2) = szz;
+    EXPECT_NEAR(gimp::material::strainEnergy(m, s3, I, V0, V),
+                gimp::material::strainEnergy(m, s2, szz, Tensor2::Identity(), V0, V),
+                1e-14 * gimp::material::strainEnergy(m, s2, szz, Tensor2::Identity(), V0, V));
+  }
+  {
+    // Neo-Hookean: dW = V0 P : dF with P = J sigma F^-T, by central differences.
+    const Material m = material(MaterialModel::NeoHookean, true);
+    auto W = [&](const Tensor3 &F) {
+      return gimp::material::strainEnergy(m, Tensor3::Zero(), F, V0, 0.0);
+    };
+    EXPECT_EQ(W(Tensor3::Identity()), 0.0);
+    std::mt19937_64 rng(91);
+    Worst worst;
+    for (int k = 0; k < 100; ++k) {
+      const Tensor3 F = Tensor3::Identity() + randomTensor3(rng, 0.3);
+      if (F.determinant() < 0.3) continue;
+      const Tensor3 dF = randomTensor3(rng, 0.4);
+      const Tensor3 P = F.determinant() * neoHookean3(m, F) * F.inverse().transpose();
+      const double exact = V0 * P.cwiseProduct(dF).sum();
+      const double eps = 1e-5;
+      const double fd = (W(F + eps * dF) - W(F - eps * dF)) / (2 * eps);
+      worst.update(std::abs(fd - exact) / (V0 * (m.lambda + m.mu) * dF.cwiseAbs().maxCoeff()), [&] {
+        return at({{"sample", double(k)}});
+      });
+    }
+    EXPECT_WORST_LE(worst, 1e-8);
+  }
+}
+
+TEST(Material3D, JaumannPlaneStrainMatches2D) {
+  // An in-plane velocity gradient: the 3D update equals the 2D plane-strain one (szz = s_zz).
+  const Material m = material(MaterialModel::Linear, true);
+  std::mt19937_64 rng(17);
+  for (int k = 0; k < 50; ++k) {
+    const Tensor3 A = randomTensor3(rng, 1.0);
+    Tensor3 L = Tensor3::Zero();
+    L.block<2, 2>(0, 0) = A.block<2, 2>(0, 0);
+    Tensor3 s3 = Tensor3::Zero();
+    s3.block<2, 2>(0, 0) = 1e5 * (A + A.transpose()).block<2, 2>(0, 0);
+    s3(2, 2) = 3e4;
+    Tensor2 s2 = s3.block<2, 2>(0, 0);
+    double szz = s3(2, 2);
+    gimp::material::jaumannUpdate(m, Tensor2(L.block<2, 2>(0, 0)), 1e-3, s2, szz);
+    gimp::material::jaumannUpdate(m, L, 1e-3, s3);
+    EXPECT_LE((s2 - s3.block<2, 2>(0, 0)).cwiseAbs().maxCoeff(), 1e-9);
+    EXPECT_NEAR(szz, s3(2, 2), 1e-9);
+    EXPECT_EQ(s3(0, 2), 0.0);
+  }
 }
 
 } // namespace

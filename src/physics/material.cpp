@@ -41,4 +41,30 @@ double strainEnergy(const Material &m, const Tensor2 &s, double szz, const Tenso
   return w * V;
 }
 
+void jaumannUpdate(const Material &m, const Tensor3 &L, double dt, Eigen::Ref<Tensor3> s) {
+  const Tensor3 Dr = 0.5 * (L + L.transpose());
+  const Tensor3 W = 0.5 * (L - L.transpose());
+  const Tensor3 sigma = s;
+  const Tensor3 spin = product<3>(W, sigma) - product<3>(sigma, W);
+  s += dt * ((m.lambda * Dr.trace()) * Tensor3::Identity() + (2.0 * m.mu) * Dr + spin);
+}
+
+void neoHookeanStress(const Material &m, const Tensor3 &F, Eigen::Ref<Tensor3> s) {
+  const double J = determinant3(F);
+  const double lnJ = std::log(J);
+  const Tensor3 b = product<3>(F, F.transpose());
+  s = ((m.lambda * lnJ) * Tensor3::Identity() + m.mu * (b - Tensor3::Identity())) / J;
+}
+
+double strainEnergy(const Material &m, const Tensor3 &s, const Tensor3 &F, double V0, double V) {
+  if (m.model == MaterialModel::NeoHookean) {
+    const double J = determinant3(F);
+    const double lnJ = std::log(J);
+    const double I1 = F.squaredNorm();
+    return V0 * (0.5 * m.mu * (I1 - 3.0) - m.mu * lnJ + 0.5 * m.lambda * lnJ * lnJ);
+  }
+  const double tr = s.trace();
+  return ((1.0 + m.nu) * s.squaredNorm() - m.nu * tr * tr) / (2.0 * m.E) * V;
+}
+
 } // namespace gimp::material

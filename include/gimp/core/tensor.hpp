@@ -61,4 +61,11 @@ template <class M> inline double determinant2(const M &F) {
   return F(0, 0) * F(1, 1) - F(0, 1) * F(1, 0);
 }
 
+/// det(F) of a 3 x 3 tensor, expanded along the first row (a fixed summation order).
+template <class M> inline double determinant3(const M &F) {
+  return F(0, 0) * (F(1, 1) * F(2, 2) - F(1, 2) * F(2, 1)) -
+         F(0, 1) * (F(1, 0) * F(2, 2) - F(1, 2) * F(2, 0)) +
+         F(0, 2) * (F(1, 0) * F(2, 1) - F(1, 1) * F(2, 0));
+}
+
 } // namespace gimp

@@ -8,6 +8,7 @@
 namespace gimp::material {
 
 using Tensor2 = Tensor<2>;
+using Tensor3 = Tensor<3>;
 
 /// Hypoelastic linear isotropic update with the Jaumann (co-rotational) rate over dt:
 /// sigma += dt (lambda* tr(D) I + 2 mu D + W sigma - sigma W), D and W the symmetric and skew
@@ -25,5 +26,17 @@ void neoHookeanStress(const Material &m, const Tensor2 &F, Eigen::Ref<Tensor2> s
 /// neo-Hookean: the strain energy function.
 double strainEnergy(const Material &m, const Tensor2 &s, double szz, const Tensor2 &F, double V0,
                     double V);
+
+// The same in 3D (no out-of-plane component; lambda itself, never a plane-stress lambda*).
+
+/// sigma += dt (lambda tr(D) I + 2 mu D + W sigma - sigma W).
+void jaumannUpdate(const Material &m, const Tensor3 &L, double dt, Eigen::Ref<Tensor3> s);
+
+/// sigma = (lambda ln J I + mu (F F^T - I)) / J.
+void neoHookeanStress(const Material &m, const Tensor3 &F, Eigen::Ref<Tensor3> s);
+
+/// Linear: ((1 + nu) sigma : sigma - nu tr(sigma)^2) V / (2 E); neo-Hookean:
+/// V0 (mu (tr(F^T F) - 3) / 2 - mu ln J + lambda (ln J)^2 / 2).
+double strainEnergy(const Material &m, const Tensor3 &s, const Tensor3 &F, double V0, double V);
 
 } // namespace gimp::material
