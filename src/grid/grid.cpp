@@ -59,6 +59,25 @@ template <int D> PetscErrorCode GridT<D>::build(MPI_Comm comm, const Scene *sc) 
     PetscCall(DMDACreateCompatibleDMDA(da[k], 1, &da1[k]));
     PetscCall(DMCompositeAddDM(dm, da[k]));
   }
+  // How far each level's nodes reach outside its box: the largest outward zone of its boundary
+  // nodes (the width of the coarser leaf cells next to the box; h0 for level 0, whose box is
+  // the domain).
+  outwardReach_.assign(K, levels[0].h);
+  for (int k = 1; k < K; ++k) {
+    const Level &L = levels[k];
+    double reach = L.h;
+    forEachIndex<D>(L.n, [&](const Index &i) {
+      bool boundary = false;
+      for (int a = 0; a < D; ++a)
+        boundary = boundary || i[a] == 0 || i[a] == L.n[a] - 1;
+      if (!boundary || !this->nodeActive(k, i)) return;
+      double z[2 * D];
+      this->zonesOf(k, i, z);
+      for (int s = 0; s < 2 * D; ++s)
+        reach = std::max(reach, z[s]);
+    });
+    outwardReach_[k] = reach;
+  }
   PetscCall(setWindow());
   fillWindowNodes();
   // One slot per window node; with cracks (2D), second fields after them.

@@ -28,22 +28,23 @@ bool GridT<D>::levelReach(int q, const double *x, const double *l, Reach &r) con
   for (int a = 0; a < D; ++a)
     if (L.w1[a] <= L.w0[a]) return false;
   // Inside its box a level's nodes reach a particle by at most h; from outside, its boundary
-  // nodes reach out by the coarse cell width (at most h0).
+  // nodes reach out by their outward zones (the coarser cell widths next to the box).
   r.inside = true;
   for (int a = 0; a < D; ++a)
     r.inside = r.inside && x[a] >= L.box[a] && x[a] <= L.box[D + a];
-  const double Zr = r.inside ? L.h : levels[0].h;
+  const double Zr = r.inside ? L.h : outwardReach_[q];
   double lo[D], hi[D];
   for (int a = 0; a < D; ++a) {
     lo[a] = x[a] - l[a] - Zr;
     hi[a] = x[a] + l[a] + Zr;
   }
   if (q + 1 < static_cast<int>(levels.size())) {
-    // Everything in reach covered by the finer box: no active node of this level.
+    // A particle inside the finer box (closed): this level's active nodes lie outside that box,
+    // on its lines, so their supports end on the box's boundary at the latest and miss it.
     const BoxOf<D> &f = levels[q + 1].box;
     bool covered = true;
     for (int a = 0; a < D; ++a)
-      covered = covered && lo[a] >= f[a] && hi[a] <= f[D + a];
+      covered = covered && x[a] - l[a] >= f[a] && x[a] + l[a] <= f[D + a];
     if (covered) return false;
   }
   const double ih = L.ih;

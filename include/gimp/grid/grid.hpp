@@ -154,8 +154,9 @@ private:
                    PetscInt maxRange, Stencils<D> &s, size_t &m) const;
 
   static constexpr std::uint8_t kActive = 1, kRegular = 2;
-  std::vector<std::uint8_t> flags_;          // active and regular in one byte per window node
-  std::vector<std::uint8_t> block3_;         // the 3^D block of one level from this node is regular
+  std::vector<std::uint8_t> flags_;  // active and regular in one byte per window node
+  std::vector<std::uint8_t> block3_; // the 3^D block of one level from this node is regular
+  std::vector<double> outwardReach_; // per level: the largest zone of its box's boundary nodes
   std::array<std::vector<PetscInt>, D> own_; // level-0 node ownership: first node of each rank
                                              // column per axis
   std::vector<CrackedNode> cracked_;         // every cracked node (empty without cracks)
