@@ -251,10 +251,32 @@ TEST(Grid3D, OneActiveNodePerLocation) {
           }
       });
     }
-    // Every lattice point on some level's node set is covered exactly once.
-    std::int64_t total = 0;
-    for (int k = 0; k < static_cast<int>(g.levels.size()); ++k)
+    // Every point of every level's node set carries an active node, of the finest level whose
+    // closed box holds it; and activeNodes counts them.
+    std::int64_t total = 0, missing = 0, wrongLevel = 0;
+    for (int k = 0; k < static_cast<int>(g.levels.size()); ++k) {
       total += g.activeNodes(k);
+      const Level3 &L = g.levels[k];
+      gimp::forEachIndex<D>(L.n, [&](const Index &i) {
+        Index u;
+        for (int a = 0; a < D; ++a)
+          u[a] = L.at(a, i[a]);
+        int finest = 0;
+        for (int q = 1; q < static_cast<int>(g.levels.size()); ++q) {
+          bool in = true;
+          for (int a = 0; a < D; ++a)
+            in = in && u[a] >= g.levels[q].lo[a] && u[a] <= g.levels[q].hi[a];
+          if (in) finest = q;
+        }
+        const auto it = owner.find(u);
+        if (it == owner.end())
+          ++missing;
+        else if (it->second != finest)
+          ++wrongLevel;
+      });
+    }
+    EXPECT_EQ(missing, 0) << lay.name << ": node points without an active node";
+    EXPECT_EQ(wrongLevel, 0) << lay.name << ": active node not of the finest level there";
     EXPECT_EQ(total, static_cast<std::int64_t>(owner.size())) << lay.name;
   }
 }
@@ -587,8 +609,10 @@ TEST(Grid3DMpi, RanksGiveTheOneRankAnswer) {
         err = std::max(err, std::abs(vw[D * k + a] - vs[D * mine[k] + a]));
         scale = std::max(scale, std::abs(vs[D * mine[k] + a]));
       }
-    double errAll = 0;
+    double errAll = 0, scaleAll = 0; // (a rank may own no particle)
     MPI_Allreduce(&err, &errAll, 1, MPI_DOUBLE, MPI_MAX, world);
+    MPI_Allreduce(&scale, &scaleAll, 1, MPI_DOUBLE, MPI_MAX, world);
+    scale = scaleAll;
     std::printf("  %s on %d ranks: G2P velocities differ from one rank's by %.3g (scale %.3g); "
                 "momentum %.17g %.17g %.17g\n",
                 lay.name.c_str(), size, errAll, scale, tw[0], tw[1], tw[2]);

@@ -66,16 +66,20 @@ template <int D> PetscErrorCode GridT<D>::build(MPI_Comm comm, const Scene *sc) 
   for (int k = 1; k < K; ++k) {
     const Level &L = levels[k];
     double reach = L.h;
-    forEachIndex<D>(L.n, [&](const Index &i) {
-      bool boundary = false;
-      for (int a = 0; a < D; ++a)
-        boundary = boundary || i[a] == 0 || i[a] == L.n[a] - 1;
-      if (!boundary || !this->nodeActive(k, i)) return;
-      double z[2 * D];
-      this->zonesOf(k, i, z);
-      for (int s = 0; s < 2 * D; ++s)
-        reach = std::max(reach, z[s]);
-    });
+    for (int a = 0; a < D; ++a) // the nodes of the box's two faces across axis a
+      for (const PetscInt side : {PetscInt{0}, L.n[a] - 1}) {
+        std::array<PetscInt, D> face = L.n;
+        face[a] = 1;
+        forEachIndex<D>(face, [&](const Index &f) {
+          Index i = f;
+          i[a] = side;
+          if (!this->nodeActive(k, i)) return;
+          double z[2 * D];
+          this->zonesOf(k, i, z);
+          for (int s = 0; s < 2 * D; ++s)
+            reach = std::max(reach, z[s]);
+        });
+      }
     outwardReach_[k] = reach;
   }
   PetscCall(setWindow());

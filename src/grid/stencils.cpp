@@ -27,14 +27,15 @@ bool GridT<D>::levelReach(int q, const double *x, const double *l, Reach &r) con
   const Level &L = levels[q];
   for (int a = 0; a < D; ++a)
     if (L.w1[a] <= L.w0[a]) return false;
-  // Inside its box a level's nodes reach a particle by at most h; from outside, its boundary
-  // nodes reach out by their outward zones (the coarser cell widths next to the box).
+  // Along an axis where the particle's centre lies within its box's range a level's nodes reach
+  // it by at most h (the side of a node that faces it has zone h or less); along the others its
+  // boundary nodes reach out by their outward zones (the coarser cell widths next to the box).
   r.inside = true;
-  for (int a = 0; a < D; ++a)
-    r.inside = r.inside && x[a] >= L.box[a] && x[a] <= L.box[D + a];
-  const double Zr = r.inside ? L.h : outwardReach_[q];
   double lo[D], hi[D];
   for (int a = 0; a < D; ++a) {
+    const bool within = x[a] >= L.box[a] && x[a] <= L.box[D + a];
+    r.inside = r.inside && within;
+    const double Zr = within ? L.h : outwardReach_[q];
     lo[a] = x[a] - l[a] - Zr;
     hi[a] = x[a] + l[a] + Zr;
   }

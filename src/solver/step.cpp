@@ -71,12 +71,15 @@ PetscErrorCode Solver::migrate() {
   ParticleView p;
   PetscCall(p.get(sw_));
   PetscInt64 moved = 0, any = leaving_;
-  double box[4];
+  double box[2 * kDim];
   grid_.ownedBox(rank_, box);
   for (PetscInt k = 0; k < p.n; ++k) {
-    const double x = p.x[2 * k], y = p.x[2 * k + 1];
-    if (x >= box[0] && x < box[2] && y >= box[1] && y < box[3]) continue; // stays here
-    const PetscMPIInt r = grid_.ownerOf(x, y);
+    const double *x = p.x + kDim * k;
+    bool stays = true;
+    for (int a = 0; a < kDim; ++a)
+      stays = stays && x[a] >= box[a] && x[a] < box[kDim + a];
+    if (stays) continue;
+    const PetscMPIInt r = grid_.ownerOf(x);
     p.rank[k] = r;
     if (r != rank_) ++moved;
   }
@@ -101,9 +104,11 @@ PetscErrorCode Solver::sortParticles(std::vector<int> *cls, bool byCell) {
   auto keyOf = [&](PetscInt k) {
     const PetscInt64 c = cls ? (*cls)[k] : 0;
     if (!byCell) return Key{c, 0, k};
-    const auto i = static_cast<PetscInt64>(std::floor((p.x[2 * k] - L.box[0]) * L.ih));
-    const auto j = static_cast<PetscInt64>(std::floor((p.x[2 * k + 1] - L.box[1]) * L.ih));
-    return Key{c, j * static_cast<PetscInt64>(L.n[0]) + i, p.id[k]};
+    PetscInt64 cell = 0; // the level-0 cell, numbered x fastest
+    for (int a = kDim - 1; a >= 0; --a)
+      cell = cell * static_cast<PetscInt64>(L.n[a]) +
+             static_cast<PetscInt64>(std::floor((p.x[kDim * k + a] - L.box[a]) * L.ih));
+    return Key{c, cell, p.id[k]};
   };
   bool sorted = true;
   for (PetscInt k = 1; k < p.n && sorted; ++k)
