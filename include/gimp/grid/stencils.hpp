@@ -133,6 +133,21 @@ template <int D> struct Stencils {
           gr[1] = b.g[1][j] * b.w[0][i];
           f(b.base + j * b.stride[0] + i, b.w[0][i] * b.w[1][j], gr);
         }
+    } else if constexpr (D == 3) {
+      // Along x innermost, the (y, z) factors of the weight and gradient formed once per row.
+      for (int q = 0; q < nn[2]; ++q)
+        for (int j = 0; j < nn[1]; ++j) {
+          const double wyz = b.w[1][j] * b.w[2][q], gy = b.g[1][j] * b.w[2][q],
+                       gz = b.w[1][j] * b.g[2][q];
+          const PetscInt row = b.base + j * b.stride[0] + q * b.stride[1];
+          for (int i = 0; i < nn[0]; ++i) {
+            Vector<D> gr;
+            gr[0] = b.g[0][i] * wyz;
+            gr[1] = b.w[0][i] * gy;
+            gr[2] = b.w[0][i] * gz;
+            f(row + i, b.w[0][i] * wyz, gr);
+          }
+        }
     } else {
       int idx[D] = {};
       for (;;) {
