@@ -29,7 +29,8 @@ double strainEnergy(const Material &m, const Tensor2 &s, double szz, const Tenso
 
 // The same in 3D (no out-of-plane component; lambda itself, never a plane-stress lambda*).
 
-/// sigma += dt (lambda tr(D) I + 2 mu D + W sigma - sigma W).
+/// sigma += dt (lambda tr(D) I + 2 mu D + W sigma - sigma W), for a symmetric sigma (the result
+/// is symmetric exactly).
 void jaumannUpdate(const Material &m, const Tensor3 &L, double dt, Eigen::Ref<Tensor3> s);
 
 /// sigma = (lambda ln J I + mu (F F^T - I)) / J.
