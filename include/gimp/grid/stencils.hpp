@@ -60,6 +60,7 @@ template <class T> struct UninitAllocator : std::allocator<T> {
 template <class T> using StencilArray = std::vector<T, UninitAllocator<T>>;
 
 template <int D> struct Stencils {
+  static_assert(D == 2 || D == 3, "stencils in 2D or 3D");
   StencilArray<PetscInt> start;
   StencilArray<PetscInt> node;
   std::array<StencilArray<double>, D> w, g;
@@ -133,8 +134,8 @@ template <int D> struct Stencils {
           gr[1] = b.g[1][j] * b.w[0][i];
           f(b.base + j * b.stride[0] + i, b.w[0][i] * b.w[1][j], gr);
         }
-    } else if constexpr (D == 3) {
-      // Along x innermost, the (y, z) factors of the weight and gradient formed once per row.
+    } else {
+      // (3D) Along x innermost, the (y, z) factors of the weight and gradient formed once per row.
       for (int q = 0; q < nn[2]; ++q)
         for (int j = 0; j < nn[1]; ++j) {
           const double wyz = b.w[1][j] * b.w[2][q], gy = b.g[1][j] * b.w[2][q],
@@ -148,29 +149,6 @@ template <int D> struct Stencils {
             f(row + i, b.w[0][i] * wyz, gr);
           }
         }
-    } else {
-      int idx[D] = {};
-      for (;;) {
-        PetscInt s = b.base;
-        double wt = b.w[0][idx[0]];
-        for (int d = 1; d < D; ++d)
-          wt *= b.w[d][idx[d]];
-        Vector<D> gr;
-        for (int a = 0; a < D; ++a) {
-          double v = b.g[a][idx[a]];
-          for (int d = 0; d < D; ++d)
-            if (d != a) v *= b.w[d][idx[d]];
-          gr[a] = v;
-        }
-        s += idx[0];
-        for (int d = 1; d < D; ++d)
-          s += idx[d] * b.stride[d - 1];
-        f(s, wt, gr);
-        int d = 0;
-        while (d < D && ++idx[d] == nn[d])
-          idx[d++] = 0;
-        if (d == D) break;
-      }
     }
   }
   /// Give the memory back (before a frame is written: the next step rebuilds everything).
