@@ -61,7 +61,7 @@ double GridT<D>::pointShapes(const double *x, std::vector<std::pair<PetscInt, do
   double sum = 0;
   const double zero[D] = {};
   const std::vector<double> *coord[3] = {&X, &Y, &Z};
-  for (int q = 0; q < static_cast<int>(levels.size()); ++q) {
+  for (int q = coarsestReaching(x, zero); q < static_cast<int>(levels.size()); ++q) {
     Reach r;
     if (!levelReach(q, x, zero, r)) continue;
     const Level &L = levels[q];

@@ -22,8 +22,23 @@ inline PetscInt iceil(double v) {
 
 } // namespace
 
+template <int D> int GridT<D>::coarsestReaching(const double *x, const double *l) const {
+  // A particle inside a finer box (closed) is out of reach of every coarser level: their active
+  // nodes lie outside that box, on its lines, so their supports end on its boundary at the
+  // latest.
+  for (int q = static_cast<int>(levels.size()) - 1; q > 0; --q) {
+    const BoxOf<D> &f = levels[q].box;
+    bool inside = true;
+    for (int a = 0; a < D; ++a)
+      inside = inside && x[a] - l[a] >= f[a] && x[a] + l[a] <= f[D + a];
+    if (inside) return q;
+  }
+  return 0;
+}
+
 template <int D>
-bool GridT<D>::levelReach(int q, const double *x, const double *l, Reach &r) const {
+GIMP_ALWAYS_INLINE bool GridT<D>::levelReach(int q, const double *x, const double *l,
+                                             Reach &r) const {
   const Level &L = levels[q];
   for (int a = 0; a < D; ++a)
     if (L.w1[a] <= L.w0[a]) return false;
@@ -38,15 +53,6 @@ bool GridT<D>::levelReach(int q, const double *x, const double *l, Reach &r) con
     const double Zr = within ? L.h : outwardReach_[q];
     lo[a] = x[a] - l[a] - Zr;
     hi[a] = x[a] + l[a] + Zr;
-  }
-  if (q + 1 < static_cast<int>(levels.size())) {
-    // A particle inside the finer box (closed): this level's active nodes lie outside that box,
-    // on its lines, so their supports end on the box's boundary at the latest and miss it.
-    const BoxOf<D> &f = levels[q + 1].box;
-    bool covered = true;
-    for (int a = 0; a < D; ++a)
-      covered = covered && x[a] - l[a] >= f[a] && x[a] + l[a] <= f[D + a];
-    if (covered) return false;
   }
   const double ih = L.ih;
   bool first = true, small = true;
@@ -216,8 +222,9 @@ bool GridT<D>::buildStencils(PetscInt n, const double *x, const double *l, Stenc
     s.start[k] = static_cast<PetscInt>(m);
     const double *xp = x + D * k, *lp = l + D * k;
     int nReach = 0, last = -1;
+    const int first = coarsestReaching(xp, lp);
     for (int q = 0; q < K; ++q) {
-      reaches[q] = levelReach(q, xp, lp, reach[q]);
+      reaches[q] = q >= first && levelReach(q, xp, lp, reach[q]);
       if (reaches[q]) ++nReach, last = q;
     }
     if (compact) {
@@ -269,6 +276,8 @@ template void GridT<3>::appendNodes(int, const Reach &, const double *, const do
                                     PetscInt, Stencils<3> &, size_t &) const;
 template bool GridT<2>::levelReach(int, const double *, const double *, Reach &) const;
 template bool GridT<3>::levelReach(int, const double *, const double *, Reach &) const;
+template int GridT<2>::coarsestReaching(const double *, const double *) const;
+template int GridT<3>::coarsestReaching(const double *, const double *) const;
 template bool GridT<2>::buildStencils(PetscInt, const double *, const double *, Stencils<2> &,
                                       bool) const;
 template bool GridT<3>::buildStencils(PetscInt, const double *, const double *, Stencils<3> &,

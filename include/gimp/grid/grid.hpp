@@ -147,6 +147,10 @@ private:
     PetscInt i0[D] = {}, i1[D] = {};
     bool inside = false, block3 = false;
   };
+  /// The coarsest level whose nodes can reach a particle at x with half-sizes l: the finest
+  /// level whose box (closed) holds the particle (0 if none).
+  int coarsestReaching(const double *x, const double *l) const;
+  /// Level q's candidate nodes for the particle (q at least coarsestReaching's level).
   bool levelReach(int q, const double *x, const double *l, Reach &r) const;
   void appendBlock3(int q, const Reach &r, const double *x, const double *l, Stencils<D> &s,
                     size_t &m) const;
