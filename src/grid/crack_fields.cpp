@@ -40,8 +40,7 @@ template <> std::vector<GridT<2>::CrackedNode> GridT<2>::findCrackedNodes(const 
             if (!nodeActive(k, {i, j})) continue;
             double z[4];
             zonesOf(k, {i, j}, z);
-            const double X = origin[0] + static_cast<double>(L.lo[0] + i * L.step) * unit,
-                         Y = origin[1] + static_cast<double>(L.lo[1] + j * L.step) * unit;
+            const double X = nodeCoordinate(k, 0, i), Y = nodeCoordinate(k, 1, j);
             const double support[4] = {X - z[0], Y - z[2], X + z[1], Y + z[3]};
             if (cracks::nearCrack(c, support, reach)) out.push_back({k, i, j, 0, 0});
           }
@@ -65,10 +64,8 @@ template <> PetscErrorCode GridT<2>::addCrackFields(MPI_Comm comm, const Scene &
   if (sc.cracks.empty()) return PETSC_SUCCESS;
   cracked_ = findCrackedNodes(sc);
   for (CrackedNode &c : cracked_) {
-    const Level &L = levels[c.k];
     // The rank owning the level-0 cell whose lower-left corner is at or before the node.
-    const double X = origin[0] + static_cast<double>(L.lo[0] + c.i * L.step) * unit,
-                 Y = origin[1] + static_cast<double>(L.lo[1] + c.j * L.step) * unit;
+    const double X = nodeCoordinate(c.k, 0, c.i), Y = nodeCoordinate(c.k, 1, c.j);
     c.owner = ownerOf(X + 0.25 * unit, Y + 0.25 * unit);
     c.ownerPos = crackCount_[c.owner]++;
   }
@@ -76,7 +73,8 @@ template <> PetscErrorCode GridT<2>::addCrackFields(MPI_Comm comm, const Scene &
     const CrackedNode &c = cracked_[g];
     const Level &L = levels[c.k];
     if (c.i < L.w0[0] || c.i >= L.w1[0] || c.j < L.w0[1] || c.j >= L.w1[1]) continue;
-    const PetscInt n = L.offset + (c.j - L.w0[1]) * L.wnx() + (c.i - L.w0[0]);
+    const PetscInt ij[2] = {c.i, c.j};
+    const PetscInt n = windowSlot(c.k, ij);
     crackSlot[n] = nSlots++;
     slotNode.push_back(n);
     crackedOfSlot_.push_back(static_cast<PetscInt>(g));

@@ -30,10 +30,9 @@ bool constrains(const Scene &sc, const Grid &grid, size_t b, std::int64_t line, 
                 PetscInt j) {
   const NodeBC &bc = sc.bcs[b];
   const Level &L = grid.levels[k];
-  const std::int64_t u = bc.axis == 0 ? L.lo[0] + i * L.step : L.lo[1] + j * L.step;
+  const std::int64_t u = bc.axis == 0 ? L.at(0, i) : L.at(1, j);
   if (u != line || !grid.nodeActive(k, {i, j})) return false;
-  const double along = bc.axis == 0 ? grid.origin[1] + (L.lo[1] + j * L.step) * grid.unit
-                                    : grid.origin[0] + (L.lo[0] + i * L.step) * grid.unit;
+  const double along = bc.axis == 0 ? grid.nodeCoordinate(k, 1, j) : grid.nodeCoordinate(k, 0, i);
   const double tol = 1e-9 * L.h;
   return !bc.hasRange || (along >= bc.range[0] - tol && along <= bc.range[1] + tol);
 }
