@@ -88,7 +88,7 @@ stages() {
 
 # base_opts SUMMARY: options for the baseline run, the memory that does not grow with the
 # particle count: the scene's grid (its level-0 domain from summary.json, the levels from the
-# options file) with body 0 cut down to one level-0 cell at its lower-left corner.
+# options file) with body 0 cut down to one level-0 cell at its lower-left corner (2D or 3D).
 base_opts() {
   local lv h0 dom b0
   lv=$(grep -m 1 '"box": \[' "$1")
@@ -96,9 +96,12 @@ base_opts() {
   dom=$(sed -n 's/.*"box": *\[\([^]]*\)\].*/\1/p' <<<"$lv" | tr -d ' ')
   b0=$(awk '$1 == "-gimp_body0_box" { print $2; exit }' "$OPTS")
   awk -v b="$b0" -v h="$h0" -v d="$dom" 'BEGIN {
-    split(b, c, ",")
-    printf "-gimp_body0_box %.17g,%.17g,%.17g,%.17g -gimp_domain %s -ts_max_steps 10",
-      c[1], c[2], c[1] + h, c[2] + h, d }'
+    if (split(b, c, ",") == 6)  # a 3D scene: boxes of 6 numbers
+      printf "-gimp_body0_box %.17g,%.17g,%.17g,%.17g,%.17g,%.17g -gimp_domain %s -ts_max_steps 10",
+        c[1], c[2], c[3], c[1] + h, c[2] + h, c[3] + h, d
+    else
+      printf "-gimp_body0_box %.17g,%.17g,%.17g,%.17g -gimp_domain %s -ts_max_steps 10",
+        c[1], c[2], c[1] + h, c[2] + h, d }'
 }
 
 printf 'gimp benchmark: %s\n' "$OPTS"

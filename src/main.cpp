@@ -1,8 +1,10 @@
 // gimp: explicit GIMP solid dynamics on a structured grid. See README.md and docs/.
 #include "gimp/solver/solver.hpp"
+#include "gimp/three/solver3.hpp"
 
 #include "gimp/core/interrupt.hpp"
 #include "gimp/input/options_file.hpp"
+#include "gimp/input/validate.hpp"
 
 #include <petscsys.h>
 
@@ -40,7 +42,26 @@ int main(int argc, char **argv) {
   int code = 0;
   try {
     PetscErrorCode ierr;
-    {
+    PetscInt dim = 2;
+    ierr = gimp::readOptionsOneLine([&] {
+      PetscOptionsBegin(PETSC_COMM_WORLD, nullptr, "gimp: dimension", "gimp");
+      PetscCall(PetscOptionsInt("-gimp_dim", "Spatial dimension of the scene: 2 or 3",
+                                "docs/options.md", dim, &dim, nullptr));
+      PetscOptionsEnd();
+      return PETSC_SUCCESS;
+    });
+    if (!ierr && dim != 2 && dim != 3)
+      throw gimp::InputError("option -gimp_dim " + std::to_string(dim) + ": must be 2 or 3");
+    if (ierr) {
+    } else if (dim == 3) {
+      gimp::three::Solver3 sim(PETSC_COMM_WORLD);
+      ierr = sim.setup();
+      if (!ierr) ierr = sim.run();
+      if (!ierr && sim.failed())
+        code = 3;
+      else if (!ierr && sim.interrupted())
+        code = 128 + sim.interrupted();
+    } else {
       gimp::Solver sim(PETSC_COMM_WORLD);
       ierr = sim.setup();
       if (!ierr) ierr = sim.run();

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <functional>
 #include <sstream>
 #include <vector>
 
@@ -154,10 +155,14 @@ PetscErrorCode checkOptionValues() {
 } // namespace
 
 PetscErrorCode readSceneOneLine(MPI_Comm comm, Scene &sc) {
+  return readOptionsOneLine([&] { return readScene(comm, sc); });
+}
+
+PetscErrorCode readOptionsOneLine(const std::function<PetscErrorCode()> &read) {
   PetscBool help = PETSC_FALSE;
   PetscCall(PetscOptionsHasHelp(nullptr, &help));
   if (!help) PetscCall(checkOptionValues());
-  return readOneLine([&] { return readScene(comm, sc); });
+  return readOneLine(read);
 }
 
 void checkSceneCombinations(const Scene &sc) {
@@ -270,6 +275,10 @@ PetscErrorCode checkSeeding(MPI_Comm comm, const Scene &sc, const Grid &grid, co
 }
 
 PetscErrorCode timeStepFromOptions(TS ts, const Scene &sc, const Lattice &grid) {
+  return timeStepFromOptions(ts, sc.maxWaveSpeed(), grid.hMin(), sc.stabilityCheck);
+}
+
+PetscErrorCode timeStepFromOptions(TS ts, double cp, double hMin, bool unstableAllowed) {
   PetscCall(readOneLine([&] { return TSSetFromOptions(ts); }));
   TSType type;
   TSAdapt adapt;
@@ -292,12 +301,12 @@ PetscErrorCode timeStepFromOptions(TS ts, const Scene &sc, const Lattice &grid) 
   if (!(maxTime > 0))
     throw InputError("option -ts_max_time " + formatNumber(maxTime) + ": must be > 0 [s]");
   PetscCall(TSGetTimeStep(ts, &dt));
-  const double cp = sc.maxWaveSpeed(), dtStable = grid.hMin() / cp;
+  const double dtStable = hMin / cp;
   if (!(dt > 0)) throw InputError("option -ts_dt " + formatNumber(dt) + ": must be > 0 [s]");
-  if (dt > dtStable && !sc.stabilityCheck)
-    throw InputError("option -ts_dt " + formatNumber(dt) + ": exceeds the stable limit h / c_p = " +
-                     formatNumber(dtStable) + " s (finest h = " + formatNumber(grid.hMin()) +
-                     " m, c_p = " + formatNumber(cp) +
+  if (dt > dtStable && !unstableAllowed)
+    throw InputError("option -ts_dt " + formatNumber(dt) +
+                     ": exceeds the stable limit h / c_p = " + formatNumber(dtStable) +
+                     " s (finest h = " + formatNumber(hMin) + " m, c_p = " + formatNumber(cp) +
                      " m/s); choose -ts_dt <= " + formatNumber(dtStable));
   return PETSC_SUCCESS;
 }
@@ -318,10 +327,18 @@ PetscErrorCode rejectUnusedOptions() {
     if (!late) unknown = std::string(names[i]) + (values[i] ? std::string(" ") + values[i] : "");
   }
   PetscCall(PetscOptionsLeftRestore(nullptr, &nleft, &names, &values));
-  if (!unknown.empty())
-    throw InputError("option -" + unknown +
-                     ": unknown option (misspelled, or not used by this scene); see -help and "
-                     "docs/options.md");
+  if (unknown.empty()) return PETSC_SUCCESS;
+  // The options that exist for 3D scenes only (-gimp_dim 3; three/scene3.cpp).
+  const std::string name = unknown.substr(0, unknown.find(' '));
+  for (const char *tail : {"_sphere", "_cylinder", "_cylinder_axis", "_hole_spheres",
+                           "_hole_cylinders", "_hole_cylinder_axis", "_disk", "_z", "_uz"})
+    if (name.rfind("gimp_", 0) == 0 && endsWith(name, tail))
+      throw InputError("option -" + unknown +
+                       ": a 3D option, not available in 2D scenes (give -gimp_dim 3 for a 3D "
+                       "scene; docs/options.md)");
+  throw InputError("option -" + unknown +
+                   ": unknown option (misspelled, or not used by this scene); see -help and "
+                   "docs/options.md");
   return PETSC_SUCCESS;
 }
 

@@ -21,7 +21,6 @@ std::string fileError(const std::string &option, const std::string &file, const 
 } // namespace
 
 PetscErrorCode writeParticleDump(MPI_Comm comm, DM sw, const std::string &file) {
-  // Gather id and state on rank 0, sorted by id: rank-independent for comparisons.
   constexpr int kCols = 12;
   ParticleView p;
   PetscCall(p.get(sw));
@@ -43,6 +42,12 @@ PetscErrorCode writeParticleDump(MPI_Comm comm, DM sw, const std::string &file) 
     std::copy(row, row + kCols, &loc[static_cast<size_t>(k) * kCols]);
   }
   PetscCall(p.restore(sw));
+  return writeRowsById(comm, file, "id,x,y,vx,vy,sxx,syy,sxy,szz,V,lx,ly", kCols, loc);
+}
+
+PetscErrorCode writeRowsById(MPI_Comm comm, const std::string &file, const char *header, int cols,
+                             const std::vector<double> &loc) {
+  // Gathered on rank 0 and sorted by id (column 0): rank-independent for comparisons.
   std::vector<double> all;
   PetscCall(gatherToRoot(comm, loc, all));
   PetscMPIInt rank = 0;
@@ -52,17 +57,17 @@ PetscErrorCode writeParticleDump(MPI_Comm comm, DM sw, const std::string &file) 
                             ? fileError("gimp_particle_dump", file, "open", std::strerror(errno))
                             : std::string()));
   if (rank != 0) return agree(comm, "");
-  const size_t n = all.size() / kCols;
+  const size_t n = all.size() / static_cast<size_t>(cols);
   std::vector<size_t> order(n);
   for (size_t i = 0; i < n; ++i)
     order[i] = i;
   std::sort(order.begin(), order.end(),
-            [&](size_t a, size_t b) { return all[a * kCols] < all[b * kCols]; });
-  std::fprintf(f, "id,x,y,vx,vy,sxx,syy,sxy,szz,V,lx,ly\n");
+            [&](size_t a, size_t b) { return all[a * cols] < all[b * cols]; });
+  std::fprintf(f, "%s\n", header);
   for (size_t i : order) {
-    const double *r = &all[i * kCols];
+    const double *r = &all[i * cols];
     std::fprintf(f, "%.0f", r[0]);
-    for (int c = 1; c < kCols; ++c)
+    for (int c = 1; c < cols; ++c)
       std::fprintf(f, ",%.17g", r[c]);
     std::fprintf(f, "\n");
   }

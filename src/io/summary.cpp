@@ -1,19 +1,19 @@
 // summary.json (docs/output.md): strict JSON, written whole or not at all.
+#include "gimp/io/json.hpp"
 #include "gimp/io/output.hpp"
 
 #include <cmath>
 
 namespace gimp {
 
-namespace {
-
-/// A number in summary.json: NaN and inf are not JSON, they are written as null.
-std::string num(double v) {
+std::string jsonNumber(double v) {
   if (!std::isfinite(v)) return "null";
   char b[64];
   std::snprintf(b, sizeof(b), "%.12e", v);
   return b;
 }
+
+namespace {
 
 /// Length of the valid UTF-8 sequence starting at s[i], 0 when it is not one.
 size_t utf8Length(const std::string &s, size_t i) {
@@ -25,8 +25,8 @@ size_t utf8Length(const std::string &s, size_t i) {
   return n;
 }
 
-/// A string as a JSON string: quotes, backslashes and control characters escaped, bytes that
-/// are not UTF-8 replaced by U+FFFD.
+} // namespace
+
 std::string jsonString(const std::string &s) {
   std::string r = "\"";
   for (size_t i = 0; i < s.size();) {
@@ -49,6 +49,8 @@ std::string jsonString(const std::string &s) {
   return r + "\"";
 }
 
+namespace {
+const auto num = jsonNumber;
 } // namespace
 
 PetscErrorCode Output::writeSummary(const SummaryReport &r) {

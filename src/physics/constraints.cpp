@@ -79,7 +79,7 @@ PetscErrorCode nodeConstraints(const Scene &sc, const Grid &grid, Vec bcMask) {
   return PETSC_SUCCESS;
 }
 
-PetscErrorCode massMask(Vec mass, Vec bcMask, double cut, Vec mask, Vec invMass) {
+PetscErrorCode massMask(Vec mass, Vec bcMask, double cut, Vec mask, Vec invMass, int dof) {
   const PetscScalar *m = nullptr, *bc = nullptr;
   PetscScalar *mk = nullptr, *im = nullptr;
   PetscInt nloc = 0;
@@ -88,9 +88,9 @@ PetscErrorCode massMask(Vec mass, Vec bcMask, double cut, Vec mask, Vec invMass)
   PetscCall(VecGetArrayRead(bcMask, &bc));
   PetscCall(VecGetArray(mask, &mk));
   PetscCall(VecGetArray(invMass, &im));
-  for (PetscInt i = 0; i < nloc; i += 2) {
+  for (PetscInt i = 0; i < nloc; i += dof) {
     const bool has = m[i] > cut;
-    for (int c = 0; c < 2; ++c) {
+    for (int c = 0; c < dof; ++c) {
       mk[i + c] = has ? bc[i + c] : 0.0;
       im[i + c] = has && bc[i + c] != 0.0 ? 1.0 / m[i] : 0.0;
     }

@@ -8,7 +8,9 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 }
 
-Skb1d::Skb1d(const Scene &sc) : A(sc.mmsAmplitude), c(std::sqrt(sc.material.E / sc.material.rho)) {}
+Skb1d::Skb1d(const Scene &sc) : Skb1d(sc.mmsAmplitude, sc.material) {}
+
+Skb1d::Skb1d(double amplitude, const Material &m) : A(amplitude), c(std::sqrt(m.E / m.rho)) {}
 
 double Skb1d::u(double X, double t) const {
   return A * std::sin(2 * kPi * X) * std::cos(c * kPi * t);

@@ -8,10 +8,16 @@
 
 #include <petscts.h>
 
+#include <functional>
+
 namespace gimp {
 
 /// readScene, with PETSc's own parse errors (a number that is not one) as one line.
 PetscErrorCode readSceneOneLine(MPI_Comm comm, Scene &sc);
+
+/// Check every option's value (given, finite, in range of PetscInt), then run `read` with PETSc's
+/// option errors turned into one InputError line (readSceneOneLine is this with readScene).
+PetscErrorCode readOptionsOneLine(const std::function<PetscErrorCode()> &read);
 
 /// Combinations readScene cannot judge alone: the model and plane, particle density limits.
 void checkSceneCombinations(const Scene &sc);
@@ -25,6 +31,9 @@ PetscErrorCode checkSeeding(MPI_Comm comm, const Scene &sc, const Grid &grid, co
 /// step checked (explicit euler, fixed dt > 0 and, unless -gimp_stability_check bounds it by the
 /// eigenvalue instead, below the stable h_min / c_p).
 PetscErrorCode timeStepFromOptions(TS ts, const Scene &sc, const Lattice &grid);
+/// The same for any scene: TSSetFromOptions, then -ts_type euler and -ts_adapt_type none only,
+/// -ts_max_steps >= 0, -ts_max_time > 0, 0 < -ts_dt <= hMin / cp unless unstableAllowed.
+PetscErrorCode timeStepFromOptions(TS ts, double cp, double hMin, bool unstableAllowed);
 
 /// Unknown or misspelled options stop the run (options PETSc reads at exit are allowed).
 PetscErrorCode rejectUnusedOptions();

@@ -90,4 +90,9 @@ private:
 /// a failed write removes the partial file and ends every rank with one line.
 PetscErrorCode writeParticleDump(MPI_Comm comm, DM sw, const std::string &file);
 
+/// Rows of `cols` values per particle (this rank's, in `loc`; the id in column 0) as CSV with the
+/// header line, gathered on rank 0 and sorted by id (collective; the failures as above).
+PetscErrorCode writeRowsById(MPI_Comm comm, const std::string &file, const char *header, int cols,
+                             const std::vector<double> &loc);
+
 } // namespace gimp

@@ -11,7 +11,7 @@ namespace gimp::physics {
 PetscErrorCode nodeConstraints(const Scene &sc, const Grid &grid, Vec bcMask);
 
 /// mask = bcMask where the node's mass exceeds `cut`, else 0; invMass = mask / m. The mass sits
-/// in component 0 of each node.
-PetscErrorCode massMask(Vec mass, Vec bcMask, double cut, Vec mask, Vec invMass);
+/// in component 0 of each node's `dof` values (2 in 2D, 3 in 3D).
+PetscErrorCode massMask(Vec mass, Vec bcMask, double cut, Vec mask, Vec invMass, int dof = 2);
 
 } // namespace gimp::physics

@@ -9,6 +9,8 @@ namespace gimp::mms {
 struct Skb1d {
   double A = 0, c = 0;
   Skb1d(const Scene &sc);
+  /// Amplitude A and the material (c = sqrt(E / rho)), for a scene of any dimension.
+  Skb1d(double amplitude, const Material &m);
   double u(double X, double t) const;
   double F(double X, double t) const;         // dx/dX
   double bodyForce(double X, double t) const; // per unit mass

@@ -1,0 +1,219 @@
+#include "gimp/three/particles3.hpp"
+
+#include "gimp/three/scene3.hpp"
+
+#include <cmath>
+#include <utility>
+
+namespace gimp::three {
+
+namespace {
+
+struct Field3 {
+  const char *name;
+  PetscInt components;
+  PetscDataType type;
+  int need; // 0 always, 1 APIC, 2 tractions or penalty conditions
+  void **(*slot)(Particles3 &);
+};
+
+template <typename T> void **slotOf(T *&p) {
+  return reinterpret_cast<void **>(&p);
+}
+
+const std::vector<Field3> &fields3() {
+  static const std::vector<Field3> f = {
+      {"x", 3, PETSC_REAL, 0, [](Particles3 &p) { return slotOf(p.x); }},
+      {"X0", 3, PETSC_REAL, 0, [](Particles3 &p) { return slotOf(p.X0); }},
+      {"v", 3, PETSC_REAL, 0, [](Particles3 &p) { return slotOf(p.v); }},
+      {"m", 1, PETSC_REAL, 0, [](Particles3 &p) { return slotOf(p.m); }},
+      {"V0", 1, PETSC_REAL, 0, [](Particles3 &p) { return slotOf(p.V0); }},
+      {"V", 1, PETSC_REAL, 0, [](Particles3 &p) { return slotOf(p.V); }},
+      {"l", 3, PETSC_REAL, 0, [](Particles3 &p) { return slotOf(p.l); }},
+      {"l0", 3, PETSC_REAL, 0, [](Particles3 &p) { return slotOf(p.l0); }},
+      {"F", 9, PETSC_REAL, 0, [](Particles3 &p) { return slotOf(p.F); }},
+      {"stress", 9, PETSC_REAL, 0, [](Particles3 &p) { return slotOf(p.s); }},
+      {"id", 1, PETSC_INT64, 0, [](Particles3 &p) { return slotOf(p.id); }},
+      {"B", 9, PETSC_REAL, 1, [](Particles3 &p) { return slotOf(p.B); }},
+      {"trac", 3, PETSC_INT, 2, [](Particles3 &p) { return slotOf(p.trac); }},
+      {"dbc", 3, PETSC_INT, 2, [](Particles3 &p) { return slotOf(p.dbc); }},
+  };
+  return f;
+}
+
+bool needed(const Field3 &f, bool affine, bool boundary) {
+  return f.need == 0 || (f.need == 1 && affine) || (f.need == 2 && boundary);
+}
+
+/// Whether the swarm carries the optional field marked `mark` (createSwarm3 marks them).
+PetscErrorCode hasMark(DM sw, const char *mark, bool &yes) {
+  PetscObject o = nullptr;
+  PetscCall(PetscObjectQuery(reinterpret_cast<PetscObject>(sw), mark, &o));
+  yes = o != nullptr;
+  return PETSC_SUCCESS;
+}
+
+} // namespace
+
+PetscErrorCode Particles3::get(DM sw) {
+  PetscCall(hasMark(sw, "gimp3_affine", affine));
+  PetscCall(hasMark(sw, "gimp3_boundary", boundary));
+  PetscCall(DMSwarmGetLocalSize(sw, &n));
+  for (const Field3 &f : fields3())
+    if (needed(f, affine, boundary))
+      PetscCall(DMSwarmGetField(sw, f.name, nullptr, nullptr, f.slot(*this)));
+  PetscCall(DMSwarmGetField(sw, DMSwarmField_rank, nullptr, nullptr, slotOf(rank)));
+  return PETSC_SUCCESS;
+}
+
+PetscErrorCode Particles3::restore(DM sw) {
+  for (const Field3 &f : fields3())
+    if (needed(f, affine, boundary))
+      PetscCall(DMSwarmRestoreField(sw, f.name, nullptr, nullptr, f.slot(*this)));
+  PetscCall(DMSwarmRestoreField(sw, DMSwarmField_rank, nullptr, nullptr, slotOf(rank)));
+  return PETSC_SUCCESS;
+}
+
+PetscErrorCode createSwarm3(MPI_Comm comm, const Scene3 &sc, DM *sw) {
+  const bool affine = sc.transfer == Transfer::Apic;
+  const bool boundary = !sc.tractions.empty() || !sc.dbcs.empty();
+  PetscCall(DMCreate(comm, sw));
+  PetscCall(DMSetType(*sw, DMSWARM));
+  PetscCall(PetscObjectSetName(reinterpret_cast<PetscObject>(*sw), "particles"));
+  PetscCall(DMSetDimension(*sw, 3));
+  PetscCall(DMSwarmSetType(*sw, DMSWARM_BASIC));
+  PetscCall(DMSwarmInitializeFieldRegister(*sw));
+  for (const Field3 &f : fields3())
+    if (needed(f, affine, boundary))
+      PetscCall(DMSwarmRegisterPetscDatatypeField(*sw, f.name, f.components, f.type));
+  PetscCall(DMSwarmFinalizeFieldRegister(*sw));
+  for (const auto &[mark, on] : {std::pair{"gimp3_affine", affine}, {"gimp3_boundary", boundary}}) {
+    if (!on) continue;
+    PetscContainer c;
+    PetscCall(PetscContainerCreate(comm, &c));
+    PetscCall(PetscObjectCompose(reinterpret_cast<PetscObject>(*sw), mark,
+                                 reinterpret_cast<PetscObject>(c)));
+    PetscCall(PetscContainerDestroy(&c));
+  }
+  return PETSC_SUCCESS;
+}
+
+namespace {
+
+/// The face condition (index into `faces`) that particle face (axis a, side n at coordinate
+/// `at`) of body b lies on, or -1.
+/// The part of a traction's face that a particle's face covers (the traction's loaded area).
+double loaded(const Traction3 &t, int a, const double *x, double l) {
+  const int b1 = a == 0 ? 1 : 0, b2 = a == 2 ? 1 : 2;
+  return t.loadedArea(x[b1] - l, x[b1] + l, x[b2] - l, x[b2] + l);
+}
+double loaded(const DisplacementBC3 &, int, const double *, double) {
+  return 1.0;
+}
+
+template <class Faces>
+PetscInt faceCondition(const Faces &faces, const Body3 &body, int b, int a, double n, double at,
+                       const double *x, double l, double tol) {
+  for (size_t q = 0; q < faces.size(); ++q) {
+    const auto &f = faces[q];
+    if (f.body != b || f.axis() != a || f.normal() != n) continue;
+    const double plane = n > 0 ? body.box[3 + a] : body.box[a];
+    if (std::fabs(at - plane) <= tol && f.inRange(x) && loaded(f, a, x, l) > 0)
+      return static_cast<PetscInt>(q);
+  }
+  return -1;
+}
+
+} // namespace
+
+PetscErrorCode seedParticles3(const Scene3 &sc, const GridT<3> &grid, PetscMPIInt rank, DM sw,
+                              int &overlapping) {
+  struct Seed {
+    double x[3], l, V;
+    PetscInt64 id;
+    int body;
+  };
+  std::vector<Seed> seeds;
+  int overlap = 0; // the largest body index whose particle another body also holds
+  // Every rank walks every leaf cell in the same order, so a particle's id does not depend on
+  // the rank count; it keeps the cells whose centre its own level-0 cells hold.
+  PetscInt64 cellBase = 0;
+  for (size_t k = 0; k < grid.levels.size(); ++k) {
+    const LevelT<3> &L = grid.levels[k];
+    std::array<PetscInt, 3> cells;
+    PetscInt64 nc = 1;
+    for (int a = 0; a < 3; ++a) {
+      cells[a] = L.n[a] - 1;
+      nc *= cells[a];
+    }
+    forEachIndex<3>(cells, [&](const LatticeIndex<3> &c) {
+      double centre[3];
+      for (int a = 0; a < 3; ++a)
+        centre[a] = grid.nodeCoordinate(static_cast<int>(k), a, c[a]) + 0.5 * L.h;
+      if (grid.leafLevelAt(centre) != static_cast<int>(k) || grid.ownerOf(centre) != rank) return;
+      const PetscInt64 cell = cellBase + c[0] + cells[0] * (c[1] + cells[1] * c[2]);
+      for (size_t b = 0; b < sc.bodies.size(); ++b) {
+        const Body3 &body = sc.bodies[b];
+        const int n = static_cast<int>(std::lround(std::cbrt(static_cast<double>(body.ppc))));
+        const double d = L.h / n;
+        std::array<PetscInt, 3> sub = {n, n, n};
+        forEachIndex<3>(sub, [&](const LatticeIndex<3> &q) {
+          Seed s;
+          for (int a = 0; a < 3; ++a)
+            s.x[a] = centre[a] - 0.5 * L.h + (q[a] + 0.5) * d;
+          if (!body.inside(s.x)) return;
+          for (size_t o = 0; o < b; ++o) // a point two bodies hold: counted, refused by setup
+            if (sc.bodies[o].inside(s.x)) overlap = std::max(overlap, static_cast<int>(b));
+          s.l = 0.5 * d;
+          s.V = d * d * d;
+          s.body = static_cast<int>(b);
+          s.id = static_cast<PetscInt64>(b) * sc.idSlots + cell * body.ppc + q[0] +
+                 n * (q[1] + n * q[2]);
+          seeds.push_back(s);
+        });
+      }
+    });
+    cellBase += nc;
+  }
+  overlapping = overlap;
+  const PetscInt n = static_cast<PetscInt>(seeds.size());
+  PetscCall(DMSwarmSetLocalSizes(sw, n, 4));
+  Particles3 p;
+  PetscCall(p.get(sw));
+  const double tol = 1e-9 * grid.hMin();
+  for (PetscInt k = 0; k < n; ++k) {
+    const Seed &s = seeds[k];
+    const Body3 &body = sc.bodies[s.body];
+    const Material &mat = sc.oneMaterial ? sc.material : body.material;
+    const double amp = body.sineProfile ? std::sin(body.wavenumber * (s.x[0] - body.box[0])) : 1.0;
+    for (int a = 0; a < 3; ++a) {
+      p.x[3 * k + a] = p.X0[3 * k + a] = s.x[a];
+      p.v[3 * k + a] = body.velocity[a] * amp;
+      p.l[3 * k + a] = p.l0[3 * k + a] = s.l;
+    }
+    p.m[k] = mat.rho * s.V;
+    p.V0[k] = p.V[k] = s.V;
+    for (int i = 0; i < 9; ++i) {
+      p.F[9 * k + i] = i % 4 == 0 ? 1.0 : 0.0;
+      p.s[9 * k + i] = 0.0;
+      if (p.B) p.B[9 * k + i] = 0.0;
+    }
+    p.id[k] = s.id;
+    p.rank[k] = rank;
+    if (!p.boundary) continue;
+    for (int a = 0; a < 3; ++a) {
+      p.trac[3 * k + a] = p.dbc[3 * k + a] = -1;
+      for (double nrm : {-1.0, 1.0}) {
+        const double at = s.x[a] + nrm * s.l;
+        const PetscInt t = faceCondition(sc.tractions, body, s.body, a, nrm, at, s.x, s.l, tol);
+        const PetscInt d = faceCondition(sc.dbcs, body, s.body, a, nrm, at, s.x, s.l, tol);
+        if (t >= 0) p.trac[3 * k + a] = t;
+        if (d >= 0) p.dbc[3 * k + a] = d;
+      }
+    }
+  }
+  PetscCall(p.restore(sw));
+  return PETSC_SUCCESS;
+}
+
+} // namespace gimp::three
