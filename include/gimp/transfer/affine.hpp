@@ -65,6 +65,20 @@ inline Tensor<2> inverseInertia2(double a, double b, double c, double d) {
   return r;
 }
 
+/// The inverse of a symmetric 3 x 3 inertia (xx, yy, zz, xy, xz, yz) by its adjugate, or 0 where
+/// it is singular (the rule of inverseInertiaAbout).
+inline Tensor<3> inverseInertia3(double xx, double yy, double zz, double xy, double xz, double yz) {
+  const double a00 = yy * zz - yz * yz, a01 = xz * yz - xy * zz, a02 = xy * yz - xz * yy;
+  const double det = xx * a00 + xy * a01 + xz * a02;
+  const double third = (xx + yy + zz) / 3.0;
+  if (!(det > 1e-12 * third * third * third)) return Tensor<3>::Zero();
+  const double id = 1.0 / det;
+  const double a11 = xx * zz - xz * xz, a12 = xy * xz - xx * yz, a22 = xx * yy - xy * xy;
+  Tensor<3> r;
+  r << a00 * id, a01 * id, a02 * id, a01 * id, a11 * id, a12 * id, a02 * id, a12 * id, a22 * id;
+  return r;
+}
+
 /// D_p^-1 of particle k about xk. Where D_p is singular (its determinant below 1e-12 of
 /// (trace / D)^D: a particle whose weights all sit on one line of nodes) the inverse is taken as
 /// 0, so C_p = 0 and the particle transfers as in PIC.
@@ -166,6 +180,42 @@ GIMP_ALWAYS_INLINE void particleToGridAffineB(const Stencils<D> &st, PetscInt k,
       }
       return;
     }
+  if constexpr (D == 3)
+    if (st.isBlock(k)) { // the same in 3D: D_k from the three axes' 1D moments, rows along x
+      const Block<3> b = st.block(k);
+      double d[3][3], S[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}; // [axis][node], [axis][moment]
+      const PetscInt step[3] = {1, b.stride[0], b.stride[1]};
+      for (int a = 0; a < 3; ++a)
+        for (int i = 0; i < 3; ++i) {
+          d[a][i] = xs[3 * (b.base + i * step[a]) + a] - xk[a];
+          const double w = b.w[a][i];
+          S[a][0] += w;
+          S[a][1] += w * d[a][i];
+          S[a][2] += w * d[a][i] * d[a][i];
+        }
+      const Tensor<3> Ck =
+          product<3>(Bk, inverseInertia3(S[0][2] * S[1][0] * S[2][0], S[0][0] * S[1][2] * S[2][0],
+                                         S[0][0] * S[1][0] * S[2][2], S[0][1] * S[1][1] * S[2][0],
+                                         S[0][1] * S[1][0] * S[2][1], S[0][0] * S[1][1] * S[2][1]));
+      for (int q = 0; q < 3; ++q)
+        for (int j = 0; j < 3; ++j) {
+          const double mw = mp * b.w[1][j] * b.w[2][q];
+          double r[3], t[3];
+          for (int c = 0; c < 3; ++c) {
+            r[c] = mw * (vk[c] + Ck(c, 1) * d[1][j] + Ck(c, 2) * d[2][q]);
+            t[c] = mw * Ck(c, 0);
+          }
+          const PetscInt row = b.base + j * b.stride[0] + q * b.stride[1];
+          double *mr = mom + 3 * row;
+          for (int i = 0; i < 3; ++i) {
+            const double wx = b.w[0][i], wdx = wx * d[0][i];
+            for (int c = 0; c < 3; ++c)
+              mr[3 * i + c] += wx * r[c] + wdx * t[c];
+            if (mass) mass[3 * (row + i)] += wx * mw;
+          }
+        }
+      return;
+    }
   const Tensor<D> Ck = product<D>(Bk, inverseInertiaAbout<D>(st, k, xk, xs));
   particleToGridAffine<D>(st, k, mp, vk, Ck, xk, xs, mom, mass);
 }
@@ -209,6 +259,34 @@ GIMP_ALWAYS_INLINE void particleFromGridAffine(const Stencils<D> &st, PetscInt k
           vp[c] += b.w[1][j] * t[c];
           Bk(c, 0) += b.w[1][j] * u[c];
           Bk(c, 1) += b.w[1][j] * dy * t[c];
+        }
+      }
+      return;
+    }
+  if constexpr (D == 3)
+    if (st.isBlock(k)) { // row sums along x, then the (y, z) factors
+      const Block<3> b = st.block(k);
+      double dx[3];
+      for (int i = 0; i < 3; ++i)
+        dx[i] = xs[3 * (b.base + i)] - xk[0];
+      for (int q = 0; q < 3; ++q) {
+        const double dz = xs[3 * (b.base + q * b.stride[1]) + 2] - xk[2];
+        for (int j = 0; j < 3; ++j) {
+          const PetscInt r = 3 * (b.base + j * b.stride[0] + q * b.stride[1]);
+          const double dy = xs[r + 1] - xk[1], wyz = b.w[1][j] * b.w[2][q];
+          double t[3] = {0, 0, 0}, u[3] = {0, 0, 0};
+          for (int i = 0; i < 3; ++i)
+            for (int c = 0; c < 3; ++c) {
+              const double wv = b.w[0][i] * vg[r + 3 * i + c];
+              t[c] += wv;
+              u[c] += wv * dx[i];
+            }
+          for (int c = 0; c < 3; ++c) {
+            vp[c] += wyz * t[c];
+            Bk(c, 0) += wyz * u[c];
+            Bk(c, 1) += wyz * dy * t[c];
+            Bk(c, 2) += wyz * dz * t[c];
+          }
         }
       }
       return;
