@@ -180,6 +180,28 @@ template <int D> Tensor<D> velocityGradientAt(const Stencils<D> &st, PetscInt k,
       }
       return Lk;
     }
+  if constexpr (D == 3)
+    if (st.isBlock(k)) { // rows along x: sum_i g_i v_c and sum_i w_i v_c, then the (y, z) factors
+      const Block<3> b = st.block(k);
+      for (int q = 0; q < 3; ++q)
+        for (int j = 0; j < 3; ++j) {
+          const PetscInt r = 3 * (b.base + j * b.stride[0] + q * b.stride[1]);
+          double pg[3] = {0, 0, 0}, qw[3] = {0, 0, 0};
+          for (int i = 0; i < 3; ++i)
+            for (int c = 0; c < 3; ++c) {
+              pg[c] += b.g[0][i] * vg[r + 3 * i + c];
+              qw[c] += b.w[0][i] * vg[r + 3 * i + c];
+            }
+          const double wyz = b.w[1][j] * b.w[2][q], gy = b.g[1][j] * b.w[2][q],
+                       gz = b.w[1][j] * b.g[2][q];
+          for (int c = 0; c < 3; ++c) {
+            Lk(c, 0) += wyz * pg[c];
+            Lk(c, 1) += gy * qw[c];
+            Lk(c, 2) += gz * qw[c];
+          }
+        }
+      return Lk;
+    }
   st.forEach(k, [&](PetscInt nd, double, const Vector<D> &grad) {
     for (int c = 0; c < D; ++c)
       for (int a = 0; a < D; ++a)
