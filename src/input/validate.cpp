@@ -331,7 +331,7 @@ PetscErrorCode rejectUnusedOptions() {
   // The options that exist for 3D scenes only (-gimp_dim 3; three/scene3.cpp).
   const std::string name = unknown.substr(0, unknown.find(' '));
   for (const char *tail : {"_sphere", "_cylinder", "_cylinder_axis", "_hole_spheres",
-                           "_hole_cylinders", "_hole_cylinder_axis", "_disk", "_z", "_uz"})
+                           "_hole_cylinders", "_hole_boxes", "_hole_cylinder_axis", "_disk", "_z", "_uz"})
     if (name.rfind("gimp_", 0) == 0 && endsWith(name, tail))
       throw InputError("option -" + unknown +
                        ": a 3D option, not available in 2D scenes (give -gimp_dim 3 for a 3D "

@@ -28,6 +28,15 @@ bool Round::contains(const double *x) const {
   return d2 <= r * r;
 }
 
+bool Round::strictlyContains(const double *x) const {
+  double d2 = 0;
+  for (int a = 0; a < 3; ++a) {
+    if (kind == BoxHole && !(x[a] > b[a] && x[a] < b[3 + a])) return false;
+    if (kind == Sphere || (kind == Cylinder && a != axis)) d2 += (x[a] - c[a]) * (x[a] - c[a]);
+  }
+  return kind == BoxHole || d2 < r * r;
+}
+
 Box3 Round::box() const {
   Box3 b;
   for (int a = 0; a < 3; ++a) {
@@ -42,12 +51,8 @@ bool Body3::inside(const double *x) const {
   for (int a = 0; a < 3; ++a)
     if (x[a] < box[a] || x[a] > box[3 + a]) return false;
   if (shape == RoundShape && !round.contains(x)) return false;
-  for (const Round &h : holes) { // open: a hole's boundary belongs to the body
-    double d2 = 0;
-    for (int a = 0; a < 3; ++a)
-      if (h.kind == Round::Sphere || a != h.axis) d2 += (x[a] - h.c[a]) * (x[a] - h.c[a]);
-    if (d2 < h.r * h.r) return false;
-  }
+  for (const Round &h : holes) // open: a hole's boundary belongs to the body
+    if (h.strictlyContains(x)) return false;
   return true;
 }
 
@@ -124,7 +129,7 @@ void refuse2dBody(const std::string &p) {
     if (set)
       throw InputError("option " + p + tail +
                        ": a 2D body option, not available with -gimp_dim 3 (3D bodies: box, "
-                       "sphere, cylinder, hole_spheres, hole_cylinders)");
+                       "sphere, cylinder, hole_boxes, hole_spheres, hole_cylinders)");
   }
 }
 
@@ -353,6 +358,17 @@ void readBodies3(MPI_Comm comm, Scene3 &sc) {
       h.c = {hs[i], hs[i + 1], hs[i + 2]};
       h.r = hs[i + 3];
       if (!(h.r > 0)) bad(p + "hole_spheres", fmtList(&hs[i], 4), "needs r > 0 [m]");
+      b.holes.push_back(h);
+    }
+    const std::vector<double> hb =
+        realListOpt(comm, "-" + p + "hole_boxes", "Box holes x0,y0,z0,x1,y1,z1,... [m]", 6,
+                    "groups x0,y0,z0,x1,y1,z1 [m]");
+    for (size_t i = 0; i < hb.size(); i += 6) {
+      Round h;
+      h.kind = Round::BoxHole;
+      std::copy(&hb[i], &hb[i] + 6, h.b.begin());
+      if (!(h.b[0] < h.b[3] && h.b[1] < h.b[4] && h.b[2] < h.b[5]))
+        bad(p + "hole_boxes", fmtList(&hb[i], 6), "needs x0 < x1, y0 < y1 and z0 < z1 [m]");
       b.holes.push_back(h);
     }
     const int haxis = choiceOpt(comm, "-" + p + "hole_cylinder_axis",

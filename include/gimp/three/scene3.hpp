@@ -15,14 +15,19 @@ namespace gimp::three {
 using Vec3 = std::array<double, 3>;
 using Box3 = std::array<double, 6>; // x0, y0, z0, x1, y1, z1
 
-/// A sphere (centre c, radius r) or a cylinder along `axis` (centre c in the other two
-/// coordinates, the axial coordinate ignored; from lo to hi along the axis, unbounded for a hole).
+/// A hole of a body: an open box, an open sphere (centre c, radius r) or an open cylinder along
+/// `axis` through the whole body (centre c in the other two coordinates, the axial one ignored).
+/// A round body's shape is a closed Round (a cylinder from lo to hi along its axis).
 struct Round {
-  enum Kind { Sphere, Cylinder } kind = Sphere;
+  enum Kind { Sphere, Cylinder, BoxHole } kind = Sphere;
   int axis = 2;
   Vec3 c{};
   double r = 0, lo = -1e300, hi = 1e300;
+  Box3 b{}; // BoxHole: its corners
+  /// In the closed shape (a sphere or a cylinder between lo and hi).
   bool contains(const double *x) const;
+  /// Strictly inside (a hole: its surface belongs to the body).
+  bool strictlyContains(const double *x) const;
   Box3 box() const;
 };
 
