@@ -152,6 +152,18 @@ template <class Fn> void withOptions(MPI_Comm comm, const std::string &opt, Fn &
   if (const PetscErrorCode ierr = inner()) throw OptionsFailure{ierr};
 }
 
+/// Whether the option was given.
+bool given(const std::string &opt) {
+  PetscBool set = PETSC_FALSE;
+  (void)PetscOptionsHasName(nullptr, nullptr, opt.c_str(), &set);
+  return set;
+}
+
+/// An option that acts only with another one: refused when given without it.
+void needs(bool has, const std::string &opt, const std::string &what) {
+  if (!has && given(opt)) bad(opt.substr(1), "(given)", "acts only with " + what);
+}
+
 /// An option of n reals (exactly n when given); returns whether it was given.
 bool realsOpt(MPI_Comm comm, const std::string &opt, const char *help, double *v, int n,
               const char *what) {
@@ -402,6 +414,13 @@ void readBodies3(MPI_Comm comm, Scene3 &sc) {
             "uniform, or sine_x: v = velocity sin(k (X - x0)), X - x0 from the box's low x face",
             profiles, 2, 0) == 1;
     b.wavenumber = realOpt(comm, "-" + p + "wavenumber", "k of the sine profile [1/m]", 0.0);
+    if (!sc.help) {
+      needs(b.sineProfile, "-" + p + "wavenumber", "-" + p + "velocity_profile sine_x");
+      needs(given("-" + p + "hole_cylinders"), "-" + p + "hole_cylinder_axis",
+            "-" + p + "hole_cylinders");
+      needs(b.round.kind == Round::Cylinder && b.shape == Body3::RoundShape,
+            "-" + p + "cylinder_axis", "-" + p + "shape cylinder");
+    }
     if (!sc.help && b.sineProfile && !(b.wavenumber > 0))
       bad(p + "wavenumber", formatNumber(b.wavenumber), "must be > 0 [1/m] with the sine profile");
     sc.bodies.push_back(b);
@@ -496,6 +515,8 @@ void readLoads3(MPI_Comm comm, Scene3 &sc) {
         realsOpt(comm, "-" + p + "range",
                  "Rectangle in the plane: from,to along its first axis, then the second [m]",
                  b.range.data(), 4, "4 values a0,a1,b0,b1 [m]");
+    if (b.hasRange && !(b.range[0] < b.range[1] && b.range[2] < b.range[3]))
+      bad(p + "range", fmtList(b.range.data(), 4), "needs a0 < a1 and b0 < b1 [m]");
     sc.bcs.push_back(b);
   }
   for (PetscInt k = 0; k < (help ? 1 : np); ++k) {
@@ -650,6 +671,11 @@ void readScene3Options(MPI_Comm comm, Scene3 &sc) {
   sc.mmsAmplitude = realOpt(comm, "-gimp_mms_amplitude",
                             "Amplitude A of the manufactured solution [m]", sc.mmsAmplitude);
   if (sc.help) return;
+  needs(sc.mms != Mms::None, "-gimp_mms_amplitude", "-gimp_mms skb1d");
+  if (sc.mms != Mms::None && !(sc.mmsAmplitude > 0))
+    bad("gimp_mms_amplitude", formatNumber(sc.mmsAmplitude), "must be > 0 [m]");
+  needs(!sc.dbcs.empty(), "-gimp_penalty", "penalty conditions (-gimp_dbcs)");
+  needs(!sc.dbcs.empty(), "-gimp_penalty_traction", "penalty conditions (-gimp_dbcs)");
   if (sc.mms == Mms::Skb1d &&
       (!sc.oneMaterial || sc.material.model != MaterialModel::NeoHookean || sc.material.nu != 0.0))
     bad("gimp_mms", "skb1d",

@@ -1,6 +1,7 @@
 // The 3D solver: setup and the step's phases (docs/architecture.md, "The 3D solver").
 #include "gimp/three/solver3.hpp"
 
+#include "../input/scene_options.hpp"
 #include "gimp/core/errors.hpp"
 #include "gimp/core/interrupt.hpp"
 #include "gimp/input/validate.hpp"
@@ -107,6 +108,8 @@ PetscErrorCode Solver3::setup() {
     }
     PetscCall(p.restore(sw_));
   }
+  external_ =
+      !sc_.tractions.empty() || !sc_.dbcs.empty() || sc_.gravity != Vec3{} || sc_.mms != Mms::None;
   // The window coordinates of every slot (APIC's moments, the face forces).
   slotX_.resize(3 * static_cast<size_t>(grid_.nSlots));
   for (PetscInt s = 0; s < grid_.nSlots; ++s)
@@ -220,6 +223,7 @@ PetscErrorCode Solver3::nodeConstraints() {
   }
   const int K = static_cast<int>(grid_.levels.size());
   std::vector<Vec> sub(K);
+  std::vector<PetscInt64> hits(sc_.bcs.size(), 0); // the nodes each constraint fixes
   PetscCall(DMCompositeGetAccessArray(grid_.dm, bcMask_, K, nullptr, sub.data()));
   for (int k = 0; k < K; ++k) {
     const LevelT<3> &L = grid_.levels[k];
@@ -245,6 +249,7 @@ PetscErrorCode Solver3::nodeConstraints() {
               ++r;
             }
             if (!in) continue;
+            ++hits[b];
             for (int c = 0; c < 3; ++c)
               if (bc.fix[c]) mk[q][j][i][c] = 0.0;
           }
@@ -252,6 +257,13 @@ PetscErrorCode Solver3::nodeConstraints() {
     PetscCall(DMDAVecRestoreArrayDOF(grid_.da[k], sub[k], &mk));
   }
   PetscCall(DMCompositeRestoreAccessArray(grid_.dm, bcMask_, K, nullptr, sub.data()));
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, hits.data(), static_cast<int>(hits.size()), MPI_INT64_T,
+                             MPI_SUM, comm_));
+  for (size_t b = 0; b < hits.size(); ++b)
+    if (hits[b] == 0)
+      throw InputError("option -gimp_bc" + std::to_string(b) + "_range " +
+                       input::fmtList(sc_.bcs[b].range.data(), 4) +
+                       ": no active grid node of the plane lies in the range");
   return PETSC_SUCCESS;
 }
 
@@ -299,8 +311,7 @@ PetscErrorCode Solver3::step() {
   PetscCall(gridUpdate());
   PetscCall(gridToParticles(p, c));
   // The work of the external and damping forces over the step (as Solver::work in 2D).
-  if (!sc_.tractions.empty() || !sc_.dbcs.empty() || sc_.gravity != Vec3{} ||
-      sc_.mms != Mms::None) {
+  if (external_) {
     PetscScalar fv = 0;
     PetscCall(VecDot(fext_, vel_, &fv));
     workExt_ += 0.5 * c.kick * c.dt * (powerExt0_ + fv);
@@ -363,8 +374,8 @@ PetscErrorCode Solver3::particlesToGrid(const Particles3 &p) {
   PetscCall(VecZeroEntries(mass_));
   PetscCall(grid_.addFromWindow(massW_, mass_));
   // The mask: constrained components and nodes lighter than the cut-off take no force.
-  PetscCall(physics::massMask(mass_, bcMask_, sc_.massCutoff * meanParticleMass_, mask_, invMass_,
-                              3));
+  PetscCall(
+      physics::massMask(mass_, bcMask_, sc_.massCutoff * meanParticleMass_, mask_, invMass_, 3));
   PetscCall(VecPointwiseMult(P_, P_, mask_));
   PetscCall(VecPointwiseMult(vel_, P_, invMass_));
   return PETSC_SUCCESS;
@@ -372,22 +383,26 @@ PetscErrorCode Solver3::particlesToGrid(const Particles3 &p) {
 
 PetscErrorCode Solver3::forces(const Particles3 &p, const Clock &c) {
   PetscCall(PetscLogStagePush(stages_.forces));
-  PetscScalar *f = nullptr, *fe = nullptr;
+  // f = f_int + f_ext; the external part alone (fext_) for the step's work.
+  PetscScalar *f = nullptr;
   PetscCall(VecZeroEntries(sumW_));
-  PetscCall(VecZeroEntries(extW_));
   PetscCall(VecGetArray(sumW_, &f));
-  PetscCall(VecGetArray(extW_, &fe));
   physics::internalForce<3>(st_, p.n, p.V, p.s, f);
-  externalForces(p, c.t, fe);
-  for (PetscInt i = 0; i < 3 * grid_.nSlots; ++i)
-    f[i] += fe[i];
-  PetscCall(VecRestoreArray(extW_, &fe));
+  if (external_) {
+    PetscScalar *fe = nullptr;
+    PetscCall(VecZeroEntries(extW_));
+    PetscCall(VecGetArray(extW_, &fe));
+    externalForces(p, c.t, fe);
+    for (PetscInt i = 0; i < 3 * grid_.nSlots; ++i)
+      f[i] += fe[i];
+    PetscCall(VecRestoreArray(extW_, &fe));
+    PetscCall(VecZeroEntries(fext_));
+    PetscCall(grid_.addFromWindow(extW_, fext_));
+    PetscCall(VecDot(fext_, vel_, &powerExt0_));
+  }
   PetscCall(VecRestoreArray(sumW_, &f));
-  PetscCall(VecZeroEntries(fext_));
-  PetscCall(grid_.addFromWindow(extW_, fext_));
   PetscCall(VecZeroEntries(f_));
   PetscCall(grid_.addFromWindow(sumW_, f_));
-  PetscCall(VecDot(fext_, vel_, &powerExt0_));
   if (sc_.damping > 0) {
     PetscScalar pv = 0;
     PetscCall(VecDot(P_, vel_, &pv));
@@ -511,9 +526,11 @@ PetscErrorCode Solver3::gridUpdate() {
   PetscCall(PetscLogStagePush(stages_.grid));
   PetscCall(TSStep(ts_));
   PetscCall(VecPointwiseMult(vel_, P_, invMass_));
-  PetscCall(VecPointwiseMult(acc_, rhs_, invMass_));
   PetscCall(grid_.toWindow(vel_, velW_));
-  PetscCall(grid_.toWindow(acc_, accW_));
+  if (sc_.transfer == Transfer::Flip) { // APIC's G2P reads the velocity only
+    PetscCall(VecPointwiseMult(acc_, rhs_, invMass_));
+    PetscCall(grid_.toWindow(acc_, accW_));
+  }
   PetscCall(PetscLogStagePop());
   return PETSC_SUCCESS;
 }
@@ -747,6 +764,7 @@ PetscErrorCode Solver3::report(PetscInt step, double t, bool last) {
   if (step % sc_.historyInterval == 0 || last) PetscCall(writeHistory(step, t));
   if ((sc_.outputInterval > 0 && step % sc_.outputInterval == 0) || last)
     PetscCall(writeFields(step, t));
+  PetscCall(TSMonitor(ts_, step, t, P_));
   if (sc_.monitorInterval > 0 && step % sc_.monitorInterval == 0) {
     Energies3 e;
     PetscCall(energies(e));
@@ -768,6 +786,7 @@ PetscErrorCode Solver3::run() {
   PetscCall(TSGetMaxTime(ts_, &maxTime));
   PetscCall(writeHistory(0, 0.0));
   PetscCall(writeFields(0, 0.0));
+  PetscCall(TSMonitor(ts_, 0, 0.0, P_));
   while (steps < maxSteps && t < maxTime && !failed_ && !interrupt_) {
     PetscCall(step());
     PetscCall(TSGetStepNumber(ts_, &steps));
@@ -776,6 +795,8 @@ PetscErrorCode Solver3::run() {
     // An unstable step's state is not written: the outputs keep what the run had written.
     if (!failed_) PetscCall(report(steps, t, last));
   }
+  if (steps >= maxSteps || t >= maxTime) interrupt_ = 0; // the run was complete anyway
+  PetscCall(TSViewFromOptions(ts_, nullptr, "-ts_view"));
   if (!sc_.particleDump.empty() && !failed_) PetscCall(writeParticleDump());
   PetscCall(writeSummary(failed_      ? "unstable"
                          : interrupt_ ? "interrupted"

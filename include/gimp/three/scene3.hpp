@@ -94,7 +94,7 @@ struct Probe3 {
 struct Scene3 {
   std::string name = "scene", outputDir;
   std::string particleDump; // final particles as CSV (-gimp_particle_dump)
-  int outputInterval = 0, historyInterval = 10, monitorInterval = 0, sortInterval = 50;
+  int outputInterval = 0, historyInterval = 10, monitorInterval = 0;
   Box3 domain{};
   double h = 0;
   bool domainGiven = false;

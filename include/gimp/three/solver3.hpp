@@ -97,9 +97,10 @@ private:
   Vec P_ = nullptr, mass_ = nullptr, vel_ = nullptr, acc_ = nullptr, f_ = nullptr, fext_ = nullptr,
       rhs_ = nullptr, bcMask_ = nullptr, mask_ = nullptr, invMass_ = nullptr;
   Vec sumW_ = nullptr, massW_ = nullptr, velW_ = nullptr, accW_ = nullptr, extW_ = nullptr;
-  std::vector<double> slotX_, L_;
-  double alpha_ = 0;                      // penalty of Eq. 9 [Pa/m]
-  std::vector<double> reactionsLocal_;    // this rank's part of each penalty condition's force
+  std::vector<double> slotX_;          // window coordinates of every slot (APIC, face forces)
+  bool external_ = false;              // the scene has body forces, tractions or penalty conditions
+  double alpha_ = 0;                   // penalty of Eq. 9 [Pa/m]
+  std::vector<double> reactionsLocal_; // this rank's part of each penalty condition's force
   double powerExt0_ = 0, powerDamp0_ = 0; // external and damping power at the step's start
   double workExt_ = 0, workDamp_ = 0;
   std::vector<PetscInt64> probeIds_;
