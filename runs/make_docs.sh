@@ -119,6 +119,15 @@ step dcb_study "$py" "$root/runs/study_dcb.py" --gimp "$gimp" --work "$work/dcb_
 step dcb_large sh -c "cd '$root/options' && '$gimp' -options_file dcb_large.opts \
   -gimp_output_dir '$work/dcb_large' >/dev/null && '$py' '$root/tools/plot_dcb_large.py' '$work/dcb_large'"
 
+# 3D scenes (docs/validation.md, *3D scenes*; docs/img/halfspace3d.png).
+for t in bar3d patch3d mms3d thin_plate3d mpi3d shapes3d; do
+  step "$t" "$py" "$root/tests/check_$t.py" --gimp "$gimp" --root "$root" --work "$work/$t" \
+    --mpiexec "$mpiexec"
+done
+step halfspace3d "$py" "$root/tests/check_halfspace3d.py" --gimp "$gimp" --root "$root" \
+  --work "$work/halfspace3d" --mpiexec "$mpiexec"
+step plot_halfspace3d "$py" "$root/tools/plot_halfspace3d.py" "$work/halfspace3d"
+
 # Scenes report (docs/scenes.md: indentation, plate and slab studies), the plate maps, the
 # speed-against-error figure and table (docs/performance.md) and the throughput benchmark.
 step scenes "$root/runs/scenes_report.sh" "$work/scenes"
@@ -130,5 +139,11 @@ step speed_error_multirate "$py" "$root/runs/speed_error_multirate.py" --gimp "$
 step bench_multirate env GIMP_BUILD_DIR="$(dirname "$gimp")" GIMP_BENCH_NOBUILD=1 \
   "$root/bench/multirate.sh"
 step bench env GIMP_BUILD_DIR="$(dirname "$gimp")" GIMP_BENCH_NOBUILD=1 "$root/bench/run_bench.sh"
+for o in block3d block3d_levels; do
+  for t in flip apic; do
+    step "bench_${o}_$t" env GIMP_BUILD_DIR="$(dirname "$gimp")" GIMP_BENCH_NOBUILD=1 \
+      GIMP_BENCH_OPTS="$root/bench/$o.opts" "$root/bench/run_bench.sh" -gimp_transfer "$t"
+  done
+done
 
 echo "make_docs: all steps done in $((SECONDS - start_all)) s; tables in $work/logs/, figures in $root/docs/img/"

@@ -284,11 +284,15 @@ PetscErrorCode Solver3::writeSummary(const std::string &status, PetscInt steps, 
       std::fprintf(f, "  \"levels\": [");
       for (size_t k = 0; k < grid_.levels.size(); ++k) {
         const LevelT<3> &L = grid_.levels[k];
-        std::fprintf(f, "%s{\"h\": %s, \"box\": [", k ? ", " : "", jsonNumber(L.h).c_str());
+        // One level per line, as in 2D (bench/run_bench.sh reads level 0's line).
+        std::fprintf(f, "%s\n    {\"h\": %s, \"ratio\": %d, \"box\": [", k ? "," : "",
+                     jsonNumber(L.h).c_str(), sc_.levels[k].ratio);
         for (int a = 0; a < 6; ++a)
           std::fprintf(f, "%s%s", a ? ", " : "", jsonNumber(L.box[a]).c_str());
-        std::fprintf(f, "], \"nodes\": [%lld, %lld, %lld]}", static_cast<long long>(L.n[0]),
-                     static_cast<long long>(L.n[1]), static_cast<long long>(L.n[2]));
+        std::fprintf(f, "], \"nodes\": [%lld, %lld, %lld], \"active_nodes\": %lld}",
+                     static_cast<long long>(L.n[0]), static_cast<long long>(L.n[1]),
+                     static_cast<long long>(L.n[2]),
+                     static_cast<long long>(grid_.activeNodes(static_cast<int>(k))));
       }
       std::fprintf(f,
                    "],\n  \"energy\": {\"kinetic\": %s, \"strain\": %s, \"external_work\": %s, "
