@@ -4,17 +4,19 @@ circular load, independent of nu):
 
     sigma_z(z) = -p (1 - z^3 / (a^2 + z^2)^(3/2)).
 
-The axis value is read from the particles as a user would read the field: at depth z0, the
-particles of the two layers whose centres straddle z0 (at z0 -+ half the finest particle
-spacing, within one spacing of z0) and lie within r < a / 2 of the axis, fitted by least squares with
-s0 + s1 r^2 + s2 (z - z0) (the field is even in r and smooth in z); s0 is sigma_z on the axis.
+The axis value is read from the particles as a user would read the field
+(tests/halfspace_axis.py): at depth z0, the particles of the two layers whose centres straddle
+z0 (within one finest particle spacing of it) and lie within r < a / 2 of the axis, fitted by
+least squares with s0 + s1 r^2 + s2 (z - z0) (the field is even in r and smooth in z); s0 is
+sigma_z on the axis.
+
 Checked (measured in brackets): |s0 / exact - 1| within 3 % at z = a and z = 2a (the issue's
-figure) [0.26 %, 0.19 %], and within 3 % at every depth a / 2 .. 2.75 a on the curve (inside the finest level)
-[max 2.3 %, at a / 2]; the run ends at rest (kinetic below 1e-6 of the strain energy). The curve is
-written to <work>/halfspace3d_axis.csv."""
-import math
+figure) [0.26 %, 0.19 %], and within 3 % at every depth a / 2 .. 2.75 a on the curve, inside the
+finest level [max 2.3 %, at a / 2]; the run ends at rest (kinetic below 1e-6 of the strain
+energy). The curve is written to <work>/halfspace3d_axis.csv."""
 import os
 import gimptest
+import halfspace_axis
 
 args = gimptest.parse_args()
 p, a = 1000.0, 1.0
@@ -24,36 +26,11 @@ out = gimptest.run(args, "options/halfspace3d.opts", ["-gimp_particle_dump", dum
 d = gimptest.read_csv(dump)
 
 
-def exact(z):
-    return -p * (1 - z ** 3 / (a * a + z * z) ** 1.5)
-
-
-def solve3(A, b):
-    """Least squares by the normal equations (3 unknowns), Gaussian elimination."""
-    M = [[sum(r[i] * r[j] for r in A) for j in range(3)] + [sum(r[i] * y for r, y in zip(A, b))]
-         for i in range(3)]
-    for i in range(3):
-        piv = max(range(i, 3), key=lambda k: abs(M[k][i]))
-        M[i], M[piv] = M[piv], M[i]
-        for k in range(i + 1, 3):
-            f = M[k][i] / M[i][i]
-            M[k] = [x - f * y for x, y in zip(M[k], M[i])]
-    x = [0.0] * 3
-    for i in (2, 1, 0):
-        x[i] = (M[i][3] - sum(M[i][j] * x[j] for j in range(i + 1, 3))) / M[i][i]
-    return x
-
-
 def axis_value(z0):
-    rows, vals = [], []
-    for x, y, z, s in zip(d["x"], d["y"], d["z"], d["szz"]):
-        r2, dz = x * x + y * y, -z - z0
-        if r2 < (0.5 * a) ** 2 and abs(dz) < spacing:
-            rows.append((1.0, r2, dz))
-            vals.append(s)
-    return solve3(rows, vals)[0], len(rows)
+    return halfspace_axis.axis_value(d, z0, spacing, 0.5 * a)
 
 
+exact = halfspace_axis.exact
 c = gimptest.Checks()
 worst = 0.0
 with open(os.path.join(args.work, "halfspace3d_axis.csv"), "w") as f:
