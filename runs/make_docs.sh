@@ -120,7 +120,7 @@ step dcb_large sh -c "cd '$root/options' && '$gimp' -options_file dcb_large.opts
   -gimp_output_dir '$work/dcb_large' >/dev/null && '$py' '$root/tools/plot_dcb_large.py' '$work/dcb_large'"
 
 # 3D scenes (docs/validation.md, *3D scenes*; docs/img/halfspace3d.png).
-for t in bar3d patch3d mms3d thin_plate3d mpi3d shapes3d; do
+for t in bar3d patch3d penalty3d mms3d thin_plate3d mpi3d shapes3d; do
   step "$t" "$py" "$root/tests/check_$t.py" --gimp "$gimp" --root "$root" --work "$work/$t" \
     --mpiexec "$mpiexec"
 done
