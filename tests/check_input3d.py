@@ -50,6 +50,8 @@ cases = [
      "-gimp_level1_box 0.2,0,0.8,0.4: needs 6 values"),
     ("level off grid lines", ["-gimp_levels", "2", "-gimp_level1_box", "0.25,0,0,0.8,0.4,0.4"],
      "-gimp_level1_box"),
+    ("probe name with a comma", ["-gimp_probes", "1", "-gimp_probe0_name", "a,b",
+                                 "-gimp_probe0_x", "0.5,0.2,0.2"], "-gimp_probe0_name a,b"),
     ("unstable dt", ["-ts_dt", "1"], "-ts_dt 1: exceeds the stable limit"),
     ("other TS type", ["-ts_type", "rk"], "-ts_type rk"),
     ("negative max time", ["-ts_max_time", "-1"], "-ts_max_time -1"),
@@ -66,6 +68,11 @@ cases = [
     ("corner tracking in 3D", ["-gimp_tracking", "corners"], "-gimp_tracking corners: 3D scenes take"),
     ("xpic in 3D", ["-gimp_transfer", "xpic"], "-gimp_transfer xpic: 3D scenes take"),
     ("restart in 3D", ["-gimp_restart", "x.h5"], "-gimp_restart: not available with -gimp_dim 3"),
+    ("cut cells in 3D", ["-gimp_cut_cells", "false"], "-gimp_cut_cells: not available"),
+    ("stability check in 3D", ["-gimp_stability_check", "true"], "-gimp_stability_check: not"),
+    ("hole measure in 3D", ["-gimp_hole_measure", "0.5,0.2,0.1"], "-gimp_hole_measure: not"),
+    ("usf in 3D", ["-gimp_update", "usf"], "-gimp_update usf: 3D scenes take"),
+    ("cpdi in 3D", ["-gimp_tracking", "cpdi"], "-gimp_tracking cpdi: 3D scenes take"),
 ]
 for name, extra, needle in cases:
     p = gimptest.run(args, "options/patch3d.opts", extra + ["-ts_max_steps", "1"],

@@ -135,9 +135,16 @@ PetscErrorCode createSwarm(MPI_Comm comm, OptionalFields optional, DM *sw) {
 PetscErrorCode permuteSwarm(DM sw, const std::vector<PetscInt> &order) {
   OptionalFields optional;
   PetscCall(swarmOptionalFields(sw, optional));
-  std::vector<const char *> names = {DMSwarmField_pid, DMSwarmField_rank};
+  std::vector<const char *> names;
   for (const FieldSpec &f : particleFields())
     if (optional.has(f.need)) names.push_back(f.name);
+  return permuteSwarmFields(sw, order, names);
+}
+
+PetscErrorCode permuteSwarmFields(DM sw, const std::vector<PetscInt> &order,
+                                  std::vector<const char *> names) {
+  names.push_back(DMSwarmField_pid);
+  names.push_back(DMSwarmField_rank);
   std::vector<char> scratch;
   const size_t n = order.size();
   for (const char *name : names) {

@@ -1,5 +1,6 @@
 #include "gimp/three/particles3.hpp"
 
+#include "gimp/particles/swarm.hpp"
 #include "gimp/three/scene3.hpp"
 
 #include <cmath>
@@ -72,6 +73,16 @@ PetscErrorCode Particles3::restore(DM sw) {
       PetscCall(DMSwarmRestoreField(sw, f.name, nullptr, nullptr, f.slot(*this)));
   PetscCall(DMSwarmRestoreField(sw, DMSwarmField_rank, nullptr, nullptr, slotOf(rank)));
   return PETSC_SUCCESS;
+}
+
+PetscErrorCode permuteSwarm3(DM sw, const std::vector<PetscInt> &order) {
+  bool affine = false, boundary = false;
+  PetscCall(hasMark(sw, "gimp3_affine", affine));
+  PetscCall(hasMark(sw, "gimp3_boundary", boundary));
+  std::vector<const char *> names;
+  for (const Field3 &f : fields3())
+    if (needed(f, affine, boundary)) names.push_back(f.name);
+  return permuteSwarmFields(sw, order, names);
 }
 
 PetscErrorCode createSwarm3(MPI_Comm comm, const Scene3 &sc, DM *sw) {

@@ -107,7 +107,7 @@ void refuse2dOnly() {
                                       "-gimp_stability_interval",
                                       "-gimp_allow_unstable_dt",
                                       "-gimp_separation_threshold",
-                                      "-gimp_sort_interval",
+
                                       "-gimp_memory_limit"};
   for (const char *o : exact) {
     PetscBool set = PETSC_FALSE;
@@ -527,6 +527,10 @@ void readLoads3(MPI_Comm comm, Scene3 &sc) {
                   3, "3 values x,y,z [m]") &&
         !help)
       bad(p + "x", "(missing)", "each probe needs its point x,y,z [m]");
+    if (!help && (q.name.empty() || q.name.find_first_of(",\" \t") != std::string::npos))
+      bad(p + "name", q.name, "a probe name is a non-empty word without commas, quotes or spaces");
+    for (const Probe3 &o : sc.probes)
+      if (!help && o.name == q.name) bad(p + "name", q.name, "another probe has this name");
     sc.probes.push_back(q);
   }
 }
@@ -578,6 +582,9 @@ void readScene3Options(MPI_Comm comm, Scene3 &sc) {
                               "Write the final particles as CSV (sorted by id) to this file", "");
   sc.historyInterval =
       static_cast<int>(intOpt(comm, "-gimp_history_interval", "Steps between history rows", 10));
+  sc.sortInterval = static_cast<int>(
+      intOpt(comm, "-gimp_sort_interval",
+             "Steps between orderings of each rank's particles by level-0 cell (0: never)", 50));
   sc.monitorInterval =
       static_cast<int>(intOpt(comm, "-gimp_monitor_interval", "Steps between monitor lines", 0));
   if (!sc.help) {
@@ -587,6 +594,8 @@ void readScene3Options(MPI_Comm comm, Scene3 &sc) {
       bad("gimp_history_interval", std::to_string(sc.historyInterval), "must be >= 1");
     if (sc.monitorInterval < 0)
       bad("gimp_monitor_interval", std::to_string(sc.monitorInterval), "must be >= 0");
+    if (sc.sortInterval < 0)
+      bad("gimp_sort_interval", std::to_string(sc.sortInterval), "must be >= 0");
   }
   bool own = false;
   sc.material = readMaterial3(comm, "gimp_", Material{}, own);

@@ -298,6 +298,7 @@ PetscErrorCode Solver3::step() {
   Particles3 p;
   PetscCall(PetscLogStagePush(stages_.p2g));
   PetscCall(migrate());
+  if (sc_.sortInterval > 0 && c.step % sc_.sortInterval == 0) PetscCall(sortParticles());
   PetscCall(p.get(sw_));
   // The checks after every step keep each particle within the grid and its rank's window; a
   // failure here joins those checks (kernels then see no particle on this rank).
@@ -355,6 +356,36 @@ PetscErrorCode Solver3::migrate() {
   migrated_ += any;
   leaving_ = -1;
   return PETSC_SUCCESS;
+}
+
+PetscErrorCode Solver3::sortParticles() {
+  // P2G and G2P then walk the nodal arrays in order, whatever the seeding and the migrations;
+  // nothing is allocated when the particles are in order already.
+  Particles3 p;
+  PetscCall(p.get(sw_));
+  const LevelT<3> &L = grid_.levels[0];
+  using Key = std::pair<PetscInt64, PetscInt64>;
+  auto keyOf = [&](PetscInt k) {
+    PetscInt64 cell = 0;
+    for (int a = 2; a >= 0; --a)
+      cell = cell * static_cast<PetscInt64>(L.n[a]) +
+             static_cast<PetscInt64>(std::floor((p.x[3 * k + a] - L.box[a]) * L.ih));
+    return Key{cell, p.id[k]};
+  };
+  bool sorted = true;
+  for (PetscInt k = 1; k < p.n && sorted; ++k)
+    sorted = keyOf(k - 1) < keyOf(k);
+  if (sorted) return p.restore(sw_);
+  st_.release(); // the last step's stencils: room for the keys and the permutation buffer
+  std::vector<std::pair<Key, PetscInt>> key(static_cast<size_t>(p.n));
+  for (PetscInt k = 0; k < p.n; ++k)
+    key[k] = {keyOf(k), k};
+  PetscCall(p.restore(sw_));
+  std::sort(key.begin(), key.end());
+  std::vector<PetscInt> order(static_cast<size_t>(p.n));
+  for (PetscInt k = 0; k < p.n; ++k)
+    order[k] = key[k].second;
+  return permuteSwarm3(sw_, order);
 }
 
 PetscErrorCode Solver3::particlesToGrid(const Particles3 &p) {

@@ -85,6 +85,10 @@ PetscErrorCode swarmOptionalFields(DM sw, OptionalFields &optional);
 /// Reorder this rank's particles: particle k becomes the former particle order[k], in every
 /// field (gimp's and DMSwarm's own). Not collective.
 PetscErrorCode permuteSwarm(DM sw, const std::vector<PetscInt> &order);
+/// The same for the named fields (a swarm of another field table: the 3D one); DMSwarm's own
+/// pid and rank fields are permuted along.
+PetscErrorCode permuteSwarmFields(DM sw, const std::vector<PetscInt> &order,
+                                  std::vector<const char *> names);
 
 struct Scene;
 /// The optional fields a scene needs (its tracking and transfer).

@@ -32,6 +32,10 @@ struct Particles3 {
   PetscErrorCode restore(DM sw);
 };
 
+/// Reorder this rank's particles: particle k becomes the former particle order[k] (not
+/// collective).
+PetscErrorCode permuteSwarm3(DM sw, const std::vector<PetscInt> &order);
+
 /// Create the 3D swarm with the fields the scene needs (collective).
 PetscErrorCode createSwarm3(MPI_Comm comm, const Scene3 &sc, DM *sw);
 

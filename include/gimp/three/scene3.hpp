@@ -95,6 +95,7 @@ struct Scene3 {
   std::string name = "scene", outputDir;
   std::string particleDump; // final particles as CSV (-gimp_particle_dump)
   int outputInterval = 0, historyInterval = 10, monitorInterval = 0;
+  int sortInterval = 50; // steps between orderings of each rank's particles by cell (0: never)
   Box3 domain{};
   double h = 0;
   bool domainGiven = false;

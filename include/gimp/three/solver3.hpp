@@ -60,6 +60,8 @@ private:
   PetscErrorCode nodeConstraints();
   PetscErrorCode step();
   PetscErrorCode migrate();
+  /// Order this rank's particles by level-0 cell (x fastest), then id, as the 2D step does.
+  PetscErrorCode sortParticles();
   PetscErrorCode particlesToGrid(const Particles3 &p);
   PetscErrorCode forces(const Particles3 &p, const Clock &c);
   PetscErrorCode gridUpdate();

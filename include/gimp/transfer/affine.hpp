@@ -86,13 +86,12 @@ template <int D>
 Tensor<D> inverseInertiaAbout(const Stencils<D> &st, PetscInt k, const double *xk,
                               const double *xs) {
   const Tensor<D> Dp = inertiaAbout<D>(st, k, xk, xs);
-  if constexpr (D == 2) { // closed form: no pow, no general inverse in the per-particle loop
+  // Closed forms: no pow, no general inverse in the per-particle loop (D_p is symmetric: its
+  // (a, b) and (b, a) sums are the same products in the same order).
+  if constexpr (D == 2)
     return inverseInertia2(Dp(0, 0), Dp(0, 1), Dp(1, 0), Dp(1, 1));
-  } else {
-    const double scale = std::pow(Dp.trace() / D, D);
-    if (!(Dp.determinant() > 1e-12 * scale)) return Tensor<D>::Zero();
-    return Dp.inverse();
-  }
+  else
+    return inverseInertia3(Dp(0, 0), Dp(1, 1), Dp(2, 2), Dp(0, 1), Dp(0, 2), Dp(1, 2));
 }
 
 /// D_p^-1 of particle k about its centre in xc.
