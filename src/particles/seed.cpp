@@ -1,6 +1,9 @@
 // Seeding: each body's cells filled with particles at the body's density.
 #include "gimp/particles/seed.hpp"
+
 #include "gimp/particles/cut_cell.hpp"
+#include <limits>
+#include <string>
 
 #include <algorithm>
 #include <cmath>
@@ -197,7 +200,27 @@ PetscInt64 bodyIdSlots(const Lattice &g) {
   return static_cast<PetscInt64>(g.levels.size()) * cells * 64 * 64;
 }
 
+PetscErrorCode LoadConflict::agree(MPI_Comm comm) const {
+  PetscInt64 mine = code < 0 ? std::numeric_limits<PetscInt64>::max() : code, all = mine;
+  PetscCallMPI(MPI_Allreduce(&mine, &all, 1, MPI_INT64_T, MPI_MIN, comm));
+  if (all == std::numeric_limits<PetscInt64>::max()) return PETSC_SUCCESS;
+  const bool traction = (all >> 40) == 0;
+  const PetscInt64 second = (all >> 20) & 0xfffff, first = all & 0xfffff;
+  const std::string name = traction ? "gimp_traction" : "gimp_dbc";
+  throw InputError("option -" + name + std::to_string(second) +
+                   "_side: particles on it also lie on -" + name + std::to_string(first) +
+                   "'s, on the same axis; a particle carries one " +
+                   (traction ? "traction" : "penalty condition") +
+                   " per axis (a body one particle thick loaded on both sides, or overlapping "
+                   "ranges): make the body thicker or the ranges disjoint");
+}
+
 PetscErrorCode seedParticles(const Scene &sc, const Grid &g, DM sw) {
+  LoadConflict unused;
+  return seedParticles(sc, g, sw, unused);
+}
+
+PetscErrorCode seedParticles(const Scene &sc, const Grid &g, DM sw, LoadConflict &conflict) {
   PetscMPIInt rank = 0;
   PetscCallMPI(MPI_Comm_rank(PetscObjectComm(reinterpret_cast<PetscObject>(sw)), &rank));
   const std::vector<Seed> seeds = collectSeeds(sc, g, rank);
@@ -248,11 +271,17 @@ PetscErrorCode seedParticles(const Scene &sc, const Grid &g, DM sw) {
       p.dbc[2 * k] = p.dbc[2 * k + 1] = -1;
     }
     for (size_t t = 0; t < sc.tractions.size(); ++t)
-      if (onSegment(sc, sc.tractions[t], s.body, s.x, s.y, s.l, tol))
-        p.trac[2 * k + sc.tractions[t].axis()] = static_cast<PetscInt>(t);
+      if (onSegment(sc, sc.tractions[t], s.body, s.x, s.y, s.l, tol)) {
+        PetscInt &slot = p.trac[2 * k + sc.tractions[t].axis()];
+        if (slot >= 0) conflict.note(0, slot, static_cast<PetscInt64>(t));
+        slot = static_cast<PetscInt>(t);
+      }
     for (size_t t = 0; t < sc.dbcs.size(); ++t)
-      if (onSegment(sc, sc.dbcs[t], s.body, s.x, s.y, s.l, tol))
-        p.dbc[2 * k + sc.dbcs[t].axis()] = static_cast<PetscInt>(t);
+      if (onSegment(sc, sc.dbcs[t], s.body, s.x, s.y, s.l, tol)) {
+        PetscInt &slot = p.dbc[2 * k + sc.dbcs[t].axis()];
+        if (slot >= 0) conflict.note(1, slot, static_cast<PetscInt64>(t));
+        slot = static_cast<PetscInt>(t);
+      }
   }
   PetscCall(p.restore(sw));
   return PETSC_SUCCESS;

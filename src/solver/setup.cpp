@@ -134,7 +134,9 @@ PetscErrorCode Solver::writeGridDump() {
 
 PetscErrorCode Solver::createParticles() {
   PetscCall(createSwarm(comm_, optionalFieldsOf(sc_), &sw_));
-  PetscCall(seedParticles(sc_, grid_, sw_));
+  LoadConflict conflict;
+  PetscCall(seedParticles(sc_, grid_, sw_, conflict));
+  PetscCall(conflict.agree(comm_));
   ParticleView p;
   PetscCall(p.get(sw_));
   PetscCall(checkSeeding(comm_, sc_, grid_, p, nParticles_, meanParticleMass_));

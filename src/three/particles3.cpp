@@ -1,5 +1,6 @@
 #include "gimp/three/particles3.hpp"
 
+#include "gimp/particles/seed.hpp"
 #include "gimp/particles/swarm.hpp"
 #include "gimp/three/scene3.hpp"
 
@@ -122,23 +123,29 @@ double loaded(const DisplacementBC3 &, int, const double *, double) {
   return 1.0;
 }
 
+/// The face condition (index into `faces`, of load kind `kind`) that particle face (axis a, side
+/// n at coordinate `at`) of body b lies on, or -1; a second one on the same face is noted.
 template <class Faces>
-PetscInt faceCondition(const Faces &faces, const Body3 &body, int b, int a, double n, double at,
-                       const double *x, double l, double tol) {
+PetscInt faceCondition(const Faces &faces, int kind, const Body3 &body, int b, int a, double n,
+                       double at, const double *x, double l, double tol, LoadConflict &conflict) {
+  PetscInt found = -1;
   for (size_t q = 0; q < faces.size(); ++q) {
     const auto &f = faces[q];
     if (f.body != b || f.axis() != a || f.normal() != n) continue;
     const double plane = n > 0 ? body.box[3 + a] : body.box[a];
-    if (std::fabs(at - plane) <= tol && f.inRange(x) && loaded(f, a, x, l) > 0)
-      return static_cast<PetscInt>(q);
+    if (!(std::fabs(at - plane) <= tol && f.inRange(x) && loaded(f, a, x, l) > 0)) continue;
+    if (found >= 0)
+      conflict.note(kind, found, static_cast<PetscInt64>(q));
+    else
+      found = static_cast<PetscInt>(q);
   }
-  return -1;
+  return found;
 }
 
 } // namespace
 
 PetscErrorCode seedParticles3(const Scene3 &sc, const GridT<3> &grid, PetscMPIInt rank, DM sw,
-                              int &overlapping) {
+                              int &overlapping, LoadConflict &conflict) {
   struct Seed {
     double x[3], l, V;
     PetscInt64 id;
@@ -216,8 +223,12 @@ PetscErrorCode seedParticles3(const Scene3 &sc, const GridT<3> &grid, PetscMPIIn
       p.trac[3 * k + a] = p.dbc[3 * k + a] = -1;
       for (double nrm : {-1.0, 1.0}) {
         const double at = s.x[a] + nrm * s.l;
-        const PetscInt t = faceCondition(sc.tractions, body, s.body, a, nrm, at, s.x, s.l, tol);
-        const PetscInt d = faceCondition(sc.dbcs, body, s.body, a, nrm, at, s.x, s.l, tol);
+        const PetscInt t =
+            faceCondition(sc.tractions, 0, body, s.body, a, nrm, at, s.x, s.l, tol, conflict);
+        const PetscInt d =
+            faceCondition(sc.dbcs, 1, body, s.body, a, nrm, at, s.x, s.l, tol, conflict);
+        if (t >= 0 && p.trac[3 * k + a] >= 0) conflict.note(0, p.trac[3 * k + a], t);
+        if (d >= 0 && p.dbc[3 * k + a] >= 0) conflict.note(1, p.dbc[3 * k + a], d);
         if (t >= 0) p.trac[3 * k + a] = t;
         if (d >= 0) p.dbc[3 * k + a] = d;
       }

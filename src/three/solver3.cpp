@@ -5,6 +5,7 @@
 #include "gimp/core/errors.hpp"
 #include "gimp/core/interrupt.hpp"
 #include "gimp/input/validate.hpp"
+#include "gimp/particles/seed.hpp"
 #include "gimp/physics/constraints.hpp"
 #include "gimp/physics/internal_force.hpp"
 #include "gimp/physics/material.hpp"
@@ -49,7 +50,9 @@ PetscErrorCode Solver3::setup() {
   // The particles, and the checks that every body and every face condition got some.
   PetscCall(createSwarm3(comm_, sc_, &sw_));
   int overlap = 0, anyOverlap = 0;
-  PetscCall(seedParticles3(sc_, grid_, rank_, sw_, overlap));
+  LoadConflict conflict;
+  PetscCall(seedParticles3(sc_, grid_, rank_, sw_, overlap, conflict));
+  PetscCall(conflict.agree(comm_));
   PetscCallMPI(MPI_Allreduce(&overlap, &anyOverlap, 1, MPI_INT, MPI_MAX, comm_));
   if (anyOverlap > 0)
     throw InputError("option -gimp_body" + std::to_string(anyOverlap) + "_" +

@@ -10,6 +10,10 @@
 
 #include <vector>
 
+namespace gimp {
+struct LoadConflict;
+}
+
 namespace gimp::three {
 
 struct Scene3;
@@ -44,8 +48,8 @@ PetscErrorCode createSwarm3(MPI_Comm comm, const Scene3 &sc, DM *sw);
 /// in a hole); this rank seeds the leaf cells whose centre lies in its own level-0 cells. Ids are
 /// body * idSlots plus the particle's index in a numbering that every rank count shares.
 /// `overlapping` is the largest index of a body with a particle centre that an earlier body also
-/// holds on this rank (0: none).
+/// holds on this rank (0: none); `conflict` notes two loads of one kind on one particle face axis.
 PetscErrorCode seedParticles3(const Scene3 &sc, const GridT<3> &grid, PetscMPIInt rank, DM sw,
-                              int &overlapping);
+                              int &overlapping, LoadConflict &conflict);
 
 } // namespace gimp::three
