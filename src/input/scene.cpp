@@ -22,6 +22,13 @@ std::string fmtList(const double *v, PetscInt n) {
   throw InputError("option -" + opt + " " + value + ": " + valid);
 }
 
+void checkRunIntervals(int output, int history, int monitor, int sort) {
+  if (output < 0) bad("gimp_output_interval", std::to_string(output), "must be >= 0");
+  if (history < 1) bad("gimp_history_interval", std::to_string(history), "must be >= 1");
+  if (monitor < 0) bad("gimp_monitor_interval", std::to_string(monitor), "must be >= 0");
+  if (sort < 0) bad("gimp_sort_interval", std::to_string(sort), "must be >= 0");
+}
+
 bool isPerfectSquare(int n) {
   const int r = static_cast<int>(std::lround(std::sqrt(static_cast<double>(n))));
   return n > 0 && r * r == n;
@@ -393,14 +400,8 @@ void checkRunOptions(const Scene &sc, const RunOptions &o) {
         "must lie in [0.1, 0.8] (fraction of the particle size)");
   if (!(sc.separationThreshold > 0))
     bad("gimp_separation_threshold", formatNumber(sc.separationThreshold), "must be > 0");
-  if (sc.outputInterval < 0)
-    bad("gimp_output_interval", std::to_string(sc.outputInterval), "must be >= 0");
-  if (sc.historyInterval < 1)
-    bad("gimp_history_interval", std::to_string(sc.historyInterval), "must be >= 1");
-  if (sc.monitorInterval < 0)
-    bad("gimp_monitor_interval", std::to_string(sc.monitorInterval), "must be >= 0");
-  if (sc.sortInterval < 0)
-    bad("gimp_sort_interval", std::to_string(sc.sortInterval), "must be >= 0");
+  input::checkRunIntervals(sc.outputInterval, sc.historyInterval, sc.monitorInterval,
+                           sc.sortInterval);
   if (sc.checkpointInterval < 0)
     bad("gimp_checkpoint_interval", std::to_string(sc.checkpointInterval),
         "must be >= 0 (0: none)");

@@ -15,6 +15,10 @@ std::string fmtList(const double *v, PetscInt n);
 
 bool isPerfectSquare(int n);
 
+/// The run's intervals in steps (-gimp_output_interval >= 0, -gimp_history_interval >= 1,
+/// -gimp_monitor_interval >= 0, -gimp_sort_interval >= 0), 2D and 3D alike.
+void checkRunIntervals(int output, int history, int monitor, int sort);
+
 /// PETSc's EList stops with a trace on an unknown value; check it first and say it in one line.
 PetscErrorCode checkChoice(const std::string &opt, const char *const *list, int n);
 

@@ -44,12 +44,7 @@ PetscErrorCode Solver::setup() {
   PetscCall(PetscTime(&wall0_));
   PetscCallMPI(MPI_Comm_rank(comm_, &rank_));
   PetscCallMPI(MPI_Comm_size(comm_, &size_));
-  PetscCall(PetscLogStageRegister("P2G", &stages_.p2g));
-  PetscCall(PetscLogStageRegister("Forces", &stages_.forces));
-  PetscCall(PetscLogStageRegister("Grid update", &stages_.grid));
-  PetscCall(PetscLogStageRegister("G2P", &stages_.g2p));
-  PetscCall(PetscLogStageRegister("Stress", &stages_.stress));
-  PetscCall(PetscLogStageRegister("Output", &stages_.output));
+  PetscCall(stages_.registerAll());
 
   PetscCall(readSceneOneLine(comm_, sc_));
   if (sc_.help) { // list the time stepper's options too, then stop

@@ -16,16 +16,7 @@
 namespace gimp {
 
 PetscErrorCode Solver::clockOf(TS ts, const Scene &sc, StepClock &c) {
-  PetscReal t = 0, dt = 0;
-  PetscCall(TSGetStepNumber(ts, &c.step));
-  PetscCall(TSGetTime(ts, &t));
-  PetscCall(TSGetTimeStep(ts, &dt));
-  c.t = t;
-  c.dt = dt;
-  // Leapfrog start: the first step kicks by half the force, so particle velocities stand at
-  // half steps and the update x += dt v, v += dt a is second order in time.
-  c.kick = c.step == 0 && sc.halfStepStart ? 0.5 : 1.0;
-  return PETSC_SUCCESS;
+  return readStepClock(ts, sc.halfStepStart, c);
 }
 
 PetscErrorCode Solver::step() {

@@ -69,9 +69,7 @@ PetscErrorCode Solver3::writeHistory(PetscInt step, double t) {
   Energies3 e;
   std::vector<ProbeState3> pr;
   std::vector<double> rf;
-  PetscCall(energies(e));
-  PetscCall(probes(pr));
-  PetscCall(reactions(rf));
+  PetscCall(reportState(e, pr, rf));
   double linf = 0, rms = 0;
   PetscCall(mmsErrors(t, linf, rms));
   std::string error;
@@ -256,9 +254,7 @@ PetscErrorCode Solver3::writeSummary(const std::string &status, PetscInt steps, 
   Energies3 e;
   std::vector<ProbeState3> pr;
   std::vector<double> rf;
-  PetscCall(energies(e));
-  PetscCall(probes(pr));
-  PetscCall(reactions(rf));
+  PetscCall(reportState(e, pr, rf));
   PetscLogDouble wall = 0;
   PetscCall(PetscTime(&wall));
   PetscReal dt = 0;

@@ -587,16 +587,9 @@ void readScene3Options(MPI_Comm comm, Scene3 &sc) {
              "Steps between orderings of each rank's particles by level-0 cell (0: never)", 50));
   sc.monitorInterval =
       static_cast<int>(intOpt(comm, "-gimp_monitor_interval", "Steps between monitor lines", 0));
-  if (!sc.help) {
-    if (sc.outputInterval < 0)
-      bad("gimp_output_interval", std::to_string(sc.outputInterval), "must be >= 0");
-    if (sc.historyInterval < 1)
-      bad("gimp_history_interval", std::to_string(sc.historyInterval), "must be >= 1");
-    if (sc.monitorInterval < 0)
-      bad("gimp_monitor_interval", std::to_string(sc.monitorInterval), "must be >= 0");
-    if (sc.sortInterval < 0)
-      bad("gimp_sort_interval", std::to_string(sc.sortInterval), "must be >= 0");
-  }
+  if (!sc.help)
+    input::checkRunIntervals(sc.outputInterval, sc.historyInterval, sc.monitorInterval,
+                             sc.sortInterval);
   bool own = false;
   sc.material = readMaterial3(comm, "gimp_", Material{}, own);
   bool sceneE = false, sceneRho = false;

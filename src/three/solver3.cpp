@@ -36,12 +36,7 @@ PetscErrorCode Solver3::setup() {
   PetscCall(readOptionsOneLine([&] { return readScene3(comm_, sc_); }));
   if (sc_.help) return PETSC_SUCCESS;
   PetscCall(PetscTime(&wall0_));
-  PetscCall(PetscLogStageRegister("P2G", &stages_.p2g));
-  PetscCall(PetscLogStageRegister("Forces", &stages_.forces));
-  PetscCall(PetscLogStageRegister("Grid update", &stages_.grid));
-  PetscCall(PetscLogStageRegister("G2P", &stages_.g2p));
-  PetscCall(PetscLogStageRegister("Stress", &stages_.stress));
-  PetscCall(PetscLogStageRegister("Output", &stages_.output));
+  PetscCall(stages_.registerAll());
   std::vector<LevelBox<3>> boxes = sc_.levels;
   std::copy(sc_.domain.begin(), sc_.domain.end(), boxes[0].box.begin());
   PetscCall(grid_.create(comm_, sc_.h, boxes));
@@ -270,23 +265,11 @@ PetscErrorCode Solver3::nodeConstraints() {
   return PETSC_SUCCESS;
 }
 
-PetscErrorCode Solver3::clock(Clock &c) const {
-  PetscReal t = 0, dt = 0;
-  PetscCall(TSGetStepNumber(ts_, &c.step));
-  PetscCall(TSGetTime(ts_, &t));
-  PetscCall(TSGetTimeStep(ts_, &dt));
-  c.t = t;
-  c.dt = dt;
-  c.kick = c.step == 0 && sc_.halfStepStart ? 0.5 : 1.0;
-  return PETSC_SUCCESS;
-}
-
 PetscErrorCode Solver3::rhs(TS ts, PetscReal, Vec X, Vec F, void *ctx) {
   // F = kick * mask * (f - d p), as in 2D (Solver::rhs).
-  (void)ts;
   const Solver3 *s = static_cast<const Solver3 *>(ctx);
-  Clock c;
-  PetscCall(s->clock(c));
+  StepClock c;
+  PetscCall(readStepClock(ts, s->sc_.halfStepStart, c));
   PetscCall(VecCopy(s->f_, F));
   if (s->sc_.damping > 0) PetscCall(VecAXPY(F, -s->sc_.damping, X));
   PetscCall(VecPointwiseMult(F, F, s->mask_));
@@ -296,8 +279,8 @@ PetscErrorCode Solver3::rhs(TS ts, PetscReal, Vec X, Vec F, void *ctx) {
 }
 
 PetscErrorCode Solver3::step() {
-  Clock c;
-  PetscCall(clock(c));
+  StepClock c;
+  PetscCall(readStepClock(ts_, sc_.halfStepStart, c));
   Particles3 p;
   PetscCall(PetscLogStagePush(stages_.p2g));
   PetscCall(migrate());
@@ -415,7 +398,7 @@ PetscErrorCode Solver3::particlesToGrid(const Particles3 &p) {
   return PETSC_SUCCESS;
 }
 
-PetscErrorCode Solver3::forces(const Particles3 &p, const Clock &c) {
+PetscErrorCode Solver3::forces(const Particles3 &p, const StepClock &c) {
   PetscCall(PetscLogStagePush(stages_.forces));
   // f = f_int + f_ext; the external part alone (fext_) for the step's work.
   PetscScalar *f = nullptr;
@@ -569,7 +552,7 @@ PetscErrorCode Solver3::gridUpdate() {
   return PETSC_SUCCESS;
 }
 
-PetscErrorCode Solver3::gridToParticles(Particles3 &p, const Clock &c) {
+PetscErrorCode Solver3::gridToParticles(Particles3 &p, const StepClock &c) {
   // G2P; with MUSL each particle's new momentum goes back to the grid with the same stencil in
   // the same pass, and that re-projected velocity drives the stress update.
   PetscCall(PetscLogStagePush(stages_.g2p));
@@ -782,6 +765,13 @@ PetscErrorCode Solver3::mmsErrors(double t, double &linf, double &rms) {
   mmsMax_[0] = std::max(mmsMax_[0], linf);
   mmsMax_[1] = std::max(mmsMax_[1], rms);
   return PETSC_SUCCESS;
+}
+
+PetscErrorCode Solver3::reportState(Energies3 &e, std::vector<ProbeState3> &pr,
+                                    std::vector<double> &rf) {
+  PetscCall(energies(e));
+  PetscCall(probes(pr));
+  return reactions(rf);
 }
 
 PetscErrorCode Solver3::reactions(std::vector<double> &force) {

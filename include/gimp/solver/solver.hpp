@@ -22,6 +22,7 @@
 #include "gimp/solver/nodal.hpp"
 #include "gimp/solver/rate_classes.hpp"
 #include "gimp/solver/scheme.hpp"
+#include "gimp/solver/step_common.hpp"
 #include "gimp/stability/stability.hpp"
 
 #include <petscts.h>
@@ -32,13 +33,6 @@
 #include <vector>
 
 namespace gimp {
-
-/// Where a step stands: its index and time at the start, the time step, and the fraction of
-/// the force it applies (0.5 on a leapfrog start, else 1).
-struct StepClock {
-  PetscInt step = 0;
-  double t = 0, dt = 0, kick = 1;
-};
 
 /// Power of the external and damping forces at the start of a step, for the step's work.
 struct StartPower {
@@ -192,9 +186,7 @@ private:
   PetscInt64 nParticles_ = 0;
   double meanParticleMass_ = 0;
   std::unique_ptr<Output> out_;
-  struct Stages {
-    PetscLogStage p2g = 0, forces = 0, grid = 0, g2p = 0, stress = 0, output = 0;
-  } stages_;
+  StepStages stages_;
   PetscLogDouble wall0_ = 0;
   bool failed_ = false;
   double dtCritical_ = NAN;  // smallest critical step computed (-gimp_stability_check)

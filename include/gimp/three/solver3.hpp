@@ -11,6 +11,7 @@
 #pragma once
 
 #include "gimp/grid/grid.hpp"
+#include "gimp/solver/step_common.hpp"
 #include "gimp/three/particles3.hpp"
 #include "gimp/three/scene3.hpp"
 
@@ -50,12 +51,7 @@ public:
   int interrupted() const { return interrupt_; }
 
 private:
-  struct Clock {
-    PetscInt step = 0;
-    double t = 0, dt = 0, kick = 1;
-  };
   static PetscErrorCode rhs(TS ts, PetscReal t, Vec X, Vec F, void *ctx);
-  PetscErrorCode clock(Clock &c) const;
   PetscErrorCode createNodal();
   PetscErrorCode nodeConstraints();
   PetscErrorCode step();
@@ -63,9 +59,9 @@ private:
   /// Order this rank's particles by level-0 cell (x fastest), then id, as the 2D step does.
   PetscErrorCode sortParticles();
   PetscErrorCode particlesToGrid(const Particles3 &p);
-  PetscErrorCode forces(const Particles3 &p, const Clock &c);
+  PetscErrorCode forces(const Particles3 &p, const StepClock &c);
   PetscErrorCode gridUpdate();
-  PetscErrorCode gridToParticles(Particles3 &p, const Clock &c);
+  PetscErrorCode gridToParticles(Particles3 &p, const StepClock &c);
   PetscErrorCode stress(Particles3 &p, double dt);
   /// Tractions, gravity and the penalty conditions (Eq. 9) into the window array fe.
   void externalForces(const Particles3 &p, double t, double *fe);
@@ -74,6 +70,8 @@ private:
   PetscErrorCode energies(Energies3 &e);
   PetscErrorCode probes(std::vector<ProbeState3> &out);
   PetscErrorCode reactions(std::vector<double> &force);
+  /// What a history row and the summary report: energies, probes and reactions (collective).
+  PetscErrorCode reportState(Energies3 &e, std::vector<ProbeState3> &pr, std::vector<double> &rf);
   /// The displacement error against the manufactured solution (-gimp_mms) at time t; keeps the
   /// largest of each norm in mmsMax_.
   PetscErrorCode mmsErrors(double t, double &linf, double &rms);
@@ -123,9 +121,7 @@ private:
   std::vector<Frame> frames_;
   FILE *history_ = nullptr;
   PetscLogDouble wall0_ = 0;
-  struct Stages {
-    PetscLogStage p2g = 0, forces = 0, grid = 0, g2p = 0, stress = 0, output = 0;
-  } stages_;
+  StepStages stages_;
 };
 
 } // namespace gimp::three

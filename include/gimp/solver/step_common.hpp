@@ -1,0 +1,29 @@
+// What the 2D and 3D steps share around their phases: the clock a step reads from TS and the
+// -log_view stages its phases run in.
+#pragma once
+
+#include "gimp/core/petsc_compat.hpp"
+
+#include <petscts.h>
+
+namespace gimp {
+
+/// Where a step stands: its index and time at the start, the time step, and the fraction of
+/// the force it applies (0.5 on a leapfrog start, else 1).
+struct StepClock {
+  PetscInt step = 0;
+  double t = 0, dt = 0, kick = 1;
+};
+
+/// The clock of the step TS is about to take; with `halfStepStart` the first step kicks by half
+/// the force, so particle velocities stand at half steps and x += dt v, v += dt a is second
+/// order in time.
+PetscErrorCode readStepClock(TS ts, bool halfStepStart, StepClock &c);
+
+/// The step's -log_view stages: P2G, Forces, Grid update, G2P, Stress, Output.
+struct StepStages {
+  PetscLogStage p2g = 0, forces = 0, grid = 0, g2p = 0, stress = 0, output = 0;
+  PetscErrorCode registerAll();
+};
+
+} // namespace gimp
