@@ -21,7 +21,9 @@ Checks:
   * a finer box sharing an edge with its parent runs (its edge nodes reach the grandparent's
     cells);
   * bad input: the limits of the coarse step and the combinations it is not built for (cracks,
-    corner and CPDI tracking, XPIC, USF, a run to rest) are refused in one line.
+    corner and CPDI tracking, XPIC, USF, a run to rest with the impulse rule) are refused in one
+    line, as are -gimp_multirate_forces without the option and a bad value of it. The node rule
+    is checked by check_multirate_rest.py.
 """
 import csv
 import math
@@ -187,13 +189,22 @@ cases = [
     ("usf", "bench/block3.opts", ["-gimp_update", "usf"],
      "option -gimp_multirate true: not built with -gimp_update usf"),
     ("a run to rest", "options/plate_static.opts", [],
-     "option -gimp_multirate true: not for a run to rest (-gimp_static_tol"),
+     "option -gimp_multirate_forces impulse: not for a run to rest (-gimp_static_tol"),
+    ("-gimp_multirate_forces bad value", "bench/block3.opts", ["-gimp_multirate_forces", "nodes"],
+     "option -gimp_multirate_forces nodes: must be one of impulse, node"),
 ]
 for name, opts, extra, needle in cases:
     p = gimptest.run(args, opts, extra + MR, expect_ok=False, outdir=os.path.join(W, "bad"))
     lines = [l for l in p.stderr.splitlines() if l.strip()]
     c.check("refused: " + name, p.returncode == 2 and len(lines) == 1 and needle in lines[0],
             "exit %d: %s" % (p.returncode, lines[0] if lines else "(no message)"))
+p = gimptest.run(args, "bench/block3.opts", ["-gimp_multirate_forces", "node"], expect_ok=False,
+                 outdir=os.path.join(W, "bad"))
+lines = [l for l in p.stderr.splitlines() if l.strip()]
+c.check("refused: -gimp_multirate_forces without -gimp_multirate",
+        p.returncode == 2 and len(lines) == 1 and
+        "option -gimp_multirate_forces node: acts only with -gimp_multirate true" in lines[0],
+        "exit %d: %s" % (p.returncode, lines[0] if lines else "(no message)"))
 p = gimptest.run(args, "options/drift3.opts", ["-gimp_restart", ck], expect_ok=False,
                  outdir=os.path.join(W, "bad"))
 lines = [l for l in p.stderr.splitlines() if l.strip()]

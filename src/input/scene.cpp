@@ -192,6 +192,7 @@ const char *const kUpdates[] = {"usf", "usl", "musl"};
 const char *const kTransfers[] = {"flip", "apic", "xpic"};
 const char *const kTrackings[] = {"none", "strain", "stretch", "corners", "cpdi", "cpdi2"};
 const char *const kMms[] = {"none", "skb1d"};
+const char *const kRateForces[] = {"impulse", "node"};
 
 /// Outputs, monitors and measures.
 PetscErrorCode readOutputOptions(MPI_Comm comm, Scene &sc, RunOptions &o) {
@@ -277,6 +278,8 @@ PetscErrorCode readMethodOptions(MPI_Comm comm, Scene &sc, RunOptions &o) {
   const char *const *updates = kUpdates, *const *trackings = kTrackings;
   PetscCall(checkChoice("-gimp_update", kUpdates, 3));
   PetscCall(checkChoice("-gimp_tracking", kTrackings, 6));
+  PetscInt rule = sc.multirateNodeRule ? 1 : 0; // -gimp_multirate_forces
+  PetscBool setRule = PETSC_FALSE;
   PetscOptionsBegin(comm, nullptr, "gimp scene: grid and method", "gimp");
   PetscCall(PetscOptionsReal("-gimp_h", "Cell size of the background grid [m]", "docs/options.md",
                              sc.h, &sc.h, &setH));
@@ -343,6 +346,14 @@ PetscErrorCode readMethodOptions(MPI_Comm comm, Scene &sc, RunOptions &o) {
                              "finest step (-ts_dt)",
                              "docs/options.md", multirate, &multirate, nullptr));
   sc.multirate = multirate;
+  PetscCall(checkChoice("-gimp_multirate_forces", kRateForces, 2));
+  PetscCall(PetscOptionsEList("-gimp_multirate_forces",
+                              "How the rate classes' forces reach the nodes with -gimp_multirate: "
+                              "impulse (each class's at its own start) or node (at the start of "
+                              "each node's level step; exact at a static state)",
+                              "docs/options.md", kRateForces, 2, kRateForces[rule], &rule,
+                              &setRule));
+  sc.multirateNodeRule = rule == 1;
   PetscBool allow = sc.allowUnstableDt ? PETSC_TRUE : PETSC_FALSE;
   PetscCall(PetscOptionsBool("-gimp_allow_unstable_dt",
                              "Accept a -ts_dt above the critical step (for stability studies)",
@@ -356,6 +367,8 @@ PetscErrorCode readMethodOptions(MPI_Comm comm, Scene &sc, RunOptions &o) {
                              "nodes it runs on); larger problems are refused before allocating",
                              "docs/options.md", sc.memoryLimit, &sc.memoryLimit, nullptr));
   PetscOptionsEnd();
+  if (setRule && !sc.multirate)
+    bad("gimp_multirate_forces", kRateForces[rule], "acts only with -gimp_multirate true");
   return PETSC_SUCCESS;
 }
 

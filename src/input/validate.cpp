@@ -176,12 +176,13 @@ void checkSceneCombinations(const Scene &sc) {
     throw InputError("option -gimp_multirate true: not built with corner or CPDI tracking "
                      "(-gimp_tracking corners, cpdi, cpdi2); use none, strain or stretch, or "
                      "-gimp_multirate false");
-  if (sc.multirate && sc.staticTol > 0)
-    throw InputError("option -gimp_multirate true: not for a run to rest (-gimp_static_tol " +
+  if (sc.multirate && !sc.multirateNodeRule && sc.staticTol > 0)
+    throw InputError("option -gimp_multirate_forces impulse: not for a run to rest "
+                     "(-gimp_static_tol " +
                      formatNumber(sc.staticTol) +
                      "): at a static state the impulses of the slower classes keep the nodes "
-                     "they share with faster ones oscillating, so the run does not come to rest "
-                     "(docs/method.md); use -gimp_multirate false");
+                     "they share with faster ones oscillating (docs/method.md); use "
+                     "-gimp_multirate_forces node");
   if (sc.multirate && sc.update == Update::USF)
     throw InputError("option -gimp_multirate true: not built with -gimp_update usf (its stress "
                      "update before the impulses grows at level interfaces); use musl or usl, or "
@@ -330,8 +331,9 @@ PetscErrorCode rejectUnusedOptions() {
   if (unknown.empty()) return PETSC_SUCCESS;
   // The options that exist for 3D scenes only (-gimp_dim 3; three/scene3.cpp).
   const std::string name = unknown.substr(0, unknown.find(' '));
-  for (const char *tail : {"_sphere", "_cylinder", "_cylinder_axis", "_hole_spheres",
-                           "_hole_cylinders", "_hole_boxes", "_hole_cylinder_axis", "_disk", "_z", "_uz"})
+  for (const char *tail :
+       {"_sphere", "_cylinder", "_cylinder_axis", "_hole_spheres", "_hole_cylinders", "_hole_boxes",
+        "_hole_cylinder_axis", "_disk", "_z", "_uz"})
     if (name.rfind("gimp_", 0) == 0 && endsWith(name, tail))
       throw InputError("option -" + unknown +
                        ": a 3D option, not available in 2D scenes (give -gimp_dim 3 for a 3D "

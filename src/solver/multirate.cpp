@@ -21,10 +21,10 @@
 namespace gimp {
 
 RateClasses::~RateClasses() {
-  for (std::vector<Vec> *vs : {&mass, &mom, &inc, &vsum, &fext})
+  for (std::vector<Vec> *vs : {&mass, &mom, &inc, &vsum, &force, &base, &fext, &baseExt})
     for (Vec &v : *vs)
       (void)VecDestroy(&v);
-  for (Vec *v : {&taken, &field, &corr, &corrSum, &fieldW, &meanW, &forceW})
+  for (Vec *v : {&nodeRate, &taken, &field, &corr, &corrSum, &fieldW, &meanW, &forceW})
     (void)VecDestroy(v);
 }
 
@@ -39,19 +39,35 @@ PetscErrorCode RateClasses::create(const Grid &grid, Vec like, bool external) {
   st.resize(n);
   start.assign(n, 0);
   live.assign(n, 0);
-  for (std::vector<Vec> *vs : {&mass, &mom, &inc, &vsum}) {
+  for (std::vector<Vec> *vs : {&mass, &mom, &inc, &vsum, &force, &base}) {
     vs->assign(n, nullptr);
     for (Vec &v : *vs)
       PetscCall(VecDuplicate(like, &v));
   }
-  if (external) {
-    fext.assign(n, nullptr);
-    for (Vec &v : fext)
-      PetscCall(VecDuplicate(like, &v));
+  if (external)
+    for (std::vector<Vec> *vs : {&fext, &baseExt}) {
+      vs->assign(n, nullptr);
+      for (Vec &v : *vs)
+        PetscCall(VecDuplicate(like, &v));
+    }
+  // Each node's rate: the step of its level. The classes that reach a level-q node are q and
+  // finer, so every class's step divides the rate of every node it reaches.
+  PetscCall(VecDuplicate(like, &nodeRate));
+  {
+    Vec w = nullptr;
+    PetscCall(grid.createWindowVec(&w));
+    PetscScalar *a = nullptr;
+    PetscCall(VecGetArray(w, &a));
+    for (int q = 0; q < n; ++q) {
+      const PetscInt end = q + 1 < n ? grid.levels[q + 1].offset : grid.nSlots;
+      for (PetscInt s = grid.levels[q].offset; s < end; ++s)
+        for (int d = 0; d < kDim; ++d)
+          a[kDim * s + d] = static_cast<double>(every[q]);
+    }
+    PetscCall(VecRestoreArray(w, &a));
+    PetscCall(grid.fromWindow(w, nodeRate, INSERT_VALUES));
+    PetscCall(VecDestroy(&w));
   }
-  startPower.assign(n, 0.0);
-  postPower.assign(n, 0.0);
-  kick.assign(n, 1.0);
   PetscCall(VecDuplicate(like, &taken));
   PetscCall(VecDuplicate(like, &field));
   PetscCall(VecDuplicate(like, &corr));
@@ -129,10 +145,6 @@ PetscErrorCode Solver::coarseStep() {
     StartPower power;
     PetscCall(classForces(p, c, j, power));
     PetscCall(gridUpdate(false));
-    if (boundary_.active()) // the starting classes' external power right after their impulse
-      for (int k = 0; k < rate_.n; ++k)
-        if (rate_.size[k] > 0 && j % rate_.every[k] == 0)
-          PetscCall(VecDot(rate_.fext[k], nodal_.vel, &rate_.postPower[k]));
     PetscCall(accumulate(c, j));
     PetscCall(endClasses(p, c, j, power));
   }
@@ -275,13 +287,22 @@ PetscErrorCode Solver::startClasses(ParticleView &p, PetscInt j) {
 
 PetscErrorCode Solver::classForces(const ParticleView &p, const StepClock &c, PetscInt j,
                                    StartPower &power) {
-  // Each starting class's forces as one impulse over its step: m_c times its force.
+  // Each starting class's force f_c (internal and external), and the sub-step's nodal force
+  // from the classes' forces by the node rule (docs/method.md): a node of rate m_i takes, at the
+  // start of each of its own steps, m_i times the force of every class that reaches it; at a
+  // later start of a faster class c inside that step, m_c times the change of c's force since.
+  // Over a class's step each node gets exactly m_c dt f_c, and where the classes' forces balance
+  // at the start of a node's step, no node moves.
   PetscCall(PetscLogStagePush(stages_.forces));
   RateClasses &r = rate_;
-  PetscCall(VecZeroEntries(nodal_.sumW));
+  const bool external = boundary_.active();
   std::vector<double> V; // the volumes of a class with particles that switched class
   // (Boundary keeps the penalty reactions of its last call: the penalty particles are all in the
   // finest class, which comes last here, and it starts at every sub-step.)
+  PetscCall(VecZeroEntries(nodal_.f));
+  if (external) PetscCall(VecZeroEntries(nodal_.fext));
+  PetscInt nloc = 0;
+  PetscCall(VecGetLocalSize(nodal_.P, &nloc));
   for (int k = 0; k < r.n; ++k) {
     if (r.size[k] == 0 || j % r.every[k] != 0) continue;
     ParticleView q = p.slice(r.begin[k], r.begin[k + 1]);
@@ -293,27 +314,73 @@ PetscErrorCode Solver::classForces(const ParticleView &p, const StepClock &c, Pe
       q.V = V.data();
       scale = r.kickScale.data() + r.begin[k];
     }
-    const double w = static_cast<double>(r.every[k]);
-    PetscScalar *f = nullptr;
+    PetscScalar *w = nullptr;
     PetscCall(VecZeroEntries(r.forceW));
-    PetscCall(VecGetArray(r.forceW, &f));
-    physics::internalForce<kDim>(r.st[k], q.n, q.V, q.s, f);
-    PetscCall(VecRestoreArray(r.forceW, &f));
-    PetscCall(VecAXPY(nodal_.sumW, w, r.forceW));
-    if (boundary_.active()) {
+    PetscCall(VecGetArray(r.forceW, &w));
+    physics::internalForce<kDim>(r.st[k], q.n, q.V, q.s, w);
+    PetscCall(VecRestoreArray(r.forceW, &w));
+    PetscCall(VecZeroEntries(r.force[k]));
+    PetscCall(grid_.addFromWindow(r.forceW, r.force[k]));
+    if (external) {
       PetscCall(VecZeroEntries(r.forceW));
-      PetscCall(VecGetArray(r.forceW, &f));
-      boundary_.externalForces(sc_, grid_, r.st[k], q, c.t, f, scale);
-      PetscCall(VecRestoreArray(r.forceW, &f));
-      PetscCall(VecAXPY(nodal_.sumW, w, r.forceW));
-      // Its power at the start, for its work at its end (Solver::endClasses).
+      PetscCall(VecGetArray(r.forceW, &w));
+      boundary_.externalForces(sc_, grid_, r.st[k], q, c.t, w, scale);
+      PetscCall(VecRestoreArray(r.forceW, &w));
       PetscCall(VecZeroEntries(r.fext[k]));
       PetscCall(grid_.addFromWindow(r.forceW, r.fext[k]));
-      PetscCall(VecDot(r.fext[k], nodal_.vel, &r.startPower[k]));
-      r.kick[k] = c.kick;
+      PetscCall(VecAXPY(r.force[k], 1.0, r.fext[k]));
     }
+    // The node rule. The forces carry this step's kick weight (the half step that starts a run
+    // lasts a whole class step for a slow class); the RHS multiplies by the sub-step's kick.
+    const double mk = static_cast<double>(r.every[k]), toKick = c.kick;
+    const bool nodeRule = sc_.multirateNodeRule;
+    const PetscScalar *rate = nullptr;
+    PetscScalar *fk = nullptr, *bk = nullptr, *f = nullptr;
+    PetscCall(VecGetArrayRead(r.nodeRate, &rate));
+    PetscCall(VecGetArray(r.force[k], &fk));
+    PetscCall(VecGetArray(r.base[k], &bk));
+    PetscCall(VecGetArray(nodal_.f, &f));
+    auto deliver = [&](PetscScalar *fc, PetscScalar *bc, PetscScalar *out) {
+      for (PetscInt i = 0; i < nloc; ++i) {
+        fc[i] *= toKick; // (exact: the kick weight is 1 or 1/2)
+        if (!nodeRule) {
+          out[i] += mk * fc[i];
+        } else if (j % static_cast<PetscInt>(rate[i]) == 0) {
+          out[i] += rate[i] * fc[i];
+          bc[i] = fc[i];
+        } else {
+          out[i] += mk * (fc[i] - bc[i]);
+        }
+      }
+    };
+    deliver(fk, bk, f);
+    if (external) {
+      PetscScalar *ek = nullptr, *be = nullptr, *fe = nullptr;
+      PetscCall(VecGetArray(r.fext[k], &ek));
+      PetscCall(VecGetArray(r.baseExt[k], &be));
+      PetscCall(VecGetArray(nodal_.fext, &fe));
+      deliver(ek, be, fe);
+      PetscCall(VecRestoreArray(nodal_.fext, &fe));
+      PetscCall(VecRestoreArray(r.baseExt[k], &be));
+      PetscCall(VecRestoreArray(r.fext[k], &ek));
+    }
+    PetscCall(VecRestoreArray(nodal_.f, &f));
+    PetscCall(VecRestoreArray(r.base[k], &bk));
+    PetscCall(VecRestoreArray(r.force[k], &fk));
+    PetscCall(VecRestoreArrayRead(r.nodeRate, &rate));
   }
-  PetscCall(globalForces(power, false)); // (the external work is each class's: endClasses)
+  // The RHS applies the sub-step's kick weight again: undo it here.
+  if (c.kick != 1.0) {
+    PetscCall(VecScale(nodal_.f, 1.0 / c.kick));
+    if (external) PetscCall(VecScale(nodal_.fext, 1.0 / c.kick));
+  }
+  // The power of the damping and of the delivered external force at the sub-step's start.
+  if (sc_.damping > 0) {
+    PetscScalar pv = 0;
+    PetscCall(VecDot(nodal_.P, nodal_.vel, &pv));
+    power.damping = sc_.damping * pv;
+  }
+  if (external) PetscCall(VecDot(nodal_.fext, nodal_.vel, &power.external));
   PetscCall(PetscLogStagePop());
   return PETSC_SUCCESS;
 }
@@ -401,7 +468,6 @@ PetscErrorCode Solver::endClasses(ParticleView &p, const StepClock &c, PetscInt 
       present.push_back(k);
       if ((j + 1) % r.every[k] == 0) ending.push_back(k);
     }
-  std::vector<PetscScalar> endPower(ending.size(), 0.0);
   PetscInt nloc = 0;
   PetscCall(VecGetLocalSize(nodal_.P, &nloc));
   PetscCall(PetscLogStagePush(stages_.g2p));
@@ -478,7 +544,6 @@ PetscErrorCode Solver::endClasses(ParticleView &p, const StepClock &c, PetscInt 
       PetscCall(VecCopy(r.field, r.taken));
     else
       PetscCall(VecAXPY(r.taken, 1.0, r.field));
-    endPower[e] = r.postPower[k]; // the class's external power after its impulse
     // The stress from the mean grid velocity over the class's step (what moved it); with MUSL
     // plus the class's own re-projection correction (its new momenta minus what it took, over
     // the nodal mass): with one class MUSL's velocity, with several each class's share of it.
@@ -507,28 +572,15 @@ PetscErrorCode Solver::endClasses(ParticleView &p, const StepClock &c, PetscInt 
       PetscCall(VecRestoreArrayRead(r.field, &t));
       PetscCall(grid_.toWindow(nodal_.f, r.meanW));
       w = r.meanW;
-      if (boundary_.active()) { // ... plus the class's own correction
-        PetscScalar fc = 0;
-        PetscCall(VecDot(r.fext[k], r.corr, &fc));
-        endPower[e] += fc;
-      }
     }
     PetscCall(stress(r.st[k], q, w, every * c.dt));
   }
   PetscCall(PetscLogStagePop());
-  // Work: damping every sub-step, with MUSL's velocity at the end (the grid velocity plus the
-  // ending classes' corrections), as in step(). A class's external impulse m_c dt f_c does work
-  // with the mean of the grid velocities just before and just after it (where faster classes
-  // share the nodes, the velocity moves on after the impulse), plus with MUSL the class's own
-  // correction at its end: with one class, the single-rate ledger.
+  // Work of the damping and of the delivered external force every sub-step, with MUSL's
+  // velocity at the end (the grid velocity plus the ending classes' corrections), as in step().
   const bool corrected = musl && !ending.empty(); // (USF is refused with -gimp_multirate)
   if (corrected) PetscCall(VecAXPY(nodal_.vel, 1.0, r.corrSum));
-  PetscCall(work(c, power, false));
-  for (size_t e = 0; e < ending.size() && boundary_.active(); ++e) {
-    const int k = ending[e];
-    work_.external +=
-        0.5 * r.kick[k] * static_cast<double>(r.every[k]) * c.dt * (r.startPower[k] + endPower[e]);
-  }
+  PetscCall(work(c, power));
   // The ending classes leave the nodes; at the coarse end every class does and the next coarse
   // step starts from P = 0, so P keeps the nodal momentum for the monitor and the frames.
   if (!ending.empty() && j + 1 < stride()) PetscCall(VecAXPY(nodal_.P, -1.0, r.taken));

@@ -189,12 +189,13 @@ struct Scene {
   /// *Small-mass cut-off and constraints*).
   static double defaultMassCutoff(Transfer t) { return t == Transfer::Apic ? 1e-14 : 1e-8; }
   double cfl = 0.3;
-  bool multirate = false;       // a time step per level (-gimp_multirate, solver/multirate.cpp)
-  bool stabilityCheck = false;  // critical step from the largest eigenvalue of M^-1 K (SLEPc)
-  bool allowUnstableDt = false; // accept a -ts_dt above the critical step
-  int stabilityInterval = 0;    // steps between re-checks of the critical step (0: at start)
-  double staticTol = 0;         // stop when kinetic < staticTol * strain energy (0: never)
-  double staticTime = 0;        // ... but not before this time [s]
+  bool multirate = false;         // a time step per level (-gimp_multirate, solver/multirate.cpp)
+  bool multirateNodeRule = false; // -gimp_multirate_forces node (else impulse)
+  bool stabilityCheck = false;    // critical step from the largest eigenvalue of M^-1 K (SLEPc)
+  bool allowUnstableDt = false;   // accept a -ts_dt above the critical step
+  int stabilityInterval = 0;      // steps between re-checks of the critical step (0: at start)
+  double staticTol = 0;           // stop when kinetic < staticTol * strain energy (0: never)
+  double staticTime = 0;          // ... but not before this time [s]
   std::vector<Probe> probes;
   std::vector<Crack> cracks; // explicit cracks, ends classified as tips or mouths
   double crackJRadius = 0;   // J-integral domain radius [m] (0: 5 finest cells)

@@ -24,10 +24,11 @@ struct RateClasses {
   // Global, per class (dof layout of the momentum): its mass (component 0) and momentum at its
   // start, the sum of the grid velocity increments and of the grid velocities since.
   std::vector<Vec> mass, mom, inc, vsum;
-  // With external forces: each class's external force at its start (not times its step), and
-  // its power and kick there; the class's external work is taken at its end.
-  std::vector<Vec> fext;
-  std::vector<double> startPower, postPower, kick; // f.v before and after its impulse
+  // Global, per class: its force at its last start (internal and external, times that step's
+  // kick weight), and that force at the start of each node's own step (base: the node's rate
+  // below). With external forces the external part again, on its own, and its base.
+  std::vector<Vec> force, base, fext, baseExt;
+  Vec nodeRate = nullptr; // global: each node's rate, its level's step levels[q].step (both dofs)
   Vec taken = nullptr, field = nullptr;  // global scratch: what the ending classes took, a field
   Vec corr = nullptr, corrSum = nullptr; // MUSL: a class's re-projection correction, their sum
   Vec fieldW = nullptr, meanW = nullptr, forceW = nullptr; // window scratch
