@@ -22,7 +22,7 @@ Checks:
     cells);
   * bad input: the limits of the coarse step and the combinations it is not built for (cracks,
     corner and CPDI tracking, XPIC, USF, a run to rest with the impulse rule) are refused in one
-    line, as are -gimp_multirate_forces without the option and a bad value of it. The node rule
+    line, as are -gimp_multirate_forces without the option, with MUSL and a bad value of it. The node rule
     is checked by check_multirate_rest.py.
 """
 import csv
@@ -190,6 +190,8 @@ cases = [
      "option -gimp_multirate true: not built with -gimp_update usf"),
     ("a run to rest", "options/plate_static.opts", [],
      "option -gimp_multirate_forces impulse: not for a run to rest (-gimp_static_tol"),
+    ("the node rule with musl", "bench/block3.opts", ["-gimp_multirate_forces", "node"],
+     "option -gimp_multirate_forces node: needs -gimp_update usl"),
     ("-gimp_multirate_forces bad value", "bench/block3.opts", ["-gimp_multirate_forces", "nodes"],
      "option -gimp_multirate_forces nodes: must be one of impulse, node"),
 ]

@@ -349,8 +349,9 @@ PetscErrorCode readMethodOptions(MPI_Comm comm, Scene &sc, RunOptions &o) {
   PetscCall(checkChoice("-gimp_multirate_forces", kRateForces, 2));
   PetscCall(PetscOptionsEList("-gimp_multirate_forces",
                               "How the rate classes' forces reach the nodes with -gimp_multirate: "
-                              "impulse (each class's at its own start) or node (at the start of "
-                              "each node's level step; exact at a static state)",
+                              "impulse (each class's at its own start; for waves) or node (at "
+                              "the start of each node's slowest class's step; exact at a static "
+                              "state; needs -gimp_update usl)",
                               "docs/options.md", kRateForces, 2, kRateForces[rule], &rule,
                               &setRule));
   sc.multirateNodeRule = rule == 1;

@@ -50,24 +50,7 @@ PetscErrorCode RateClasses::create(const Grid &grid, Vec like, bool external) {
       for (Vec &v : *vs)
         PetscCall(VecDuplicate(like, &v));
     }
-  // Each node's rate: the step of its level. The classes that reach a level-q node are q and
-  // finer, so every class's step divides the rate of every node it reaches.
   PetscCall(VecDuplicate(like, &nodeRate));
-  {
-    Vec w = nullptr;
-    PetscCall(grid.createWindowVec(&w));
-    PetscScalar *a = nullptr;
-    PetscCall(VecGetArray(w, &a));
-    for (int q = 0; q < n; ++q) {
-      const PetscInt end = q + 1 < n ? grid.levels[q + 1].offset : grid.nSlots;
-      for (PetscInt s = grid.levels[q].offset; s < end; ++s)
-        for (int d = 0; d < kDim; ++d)
-          a[kDim * s + d] = static_cast<double>(every[q]);
-    }
-    PetscCall(VecRestoreArray(w, &a));
-    PetscCall(grid.fromWindow(w, nodeRate, INSERT_VALUES));
-    PetscCall(VecDestroy(&w));
-  }
   PetscCall(VecDuplicate(like, &taken));
   PetscCall(VecDuplicate(like, &field));
   PetscCall(VecDuplicate(like, &corr));
@@ -288,11 +271,12 @@ PetscErrorCode Solver::startClasses(ParticleView &p, PetscInt j) {
 PetscErrorCode Solver::classForces(const ParticleView &p, const StepClock &c, PetscInt j,
                                    StartPower &power) {
   // Each starting class's force f_c (internal and external), and the sub-step's nodal force
-  // from the classes' forces by the node rule (docs/method.md): a node of rate m_i takes, at the
-  // start of each of its own steps, m_i times the force of every class that reaches it; at a
-  // later start of a faster class c inside that step, m_c times the change of c's force since.
-  // Over a class's step each node gets exactly m_c dt f_c, and where the classes' forces balance
-  // at the start of a node's step, no node moves.
+  // from it by the rule of -gimp_multirate_forces (docs/method.md). Impulse: m_c f_c at the
+  // class's start. Node: a node of rate m_i takes, at the start of each of its own steps, m_i
+  // times the force of every class that reaches it; at a later start of a faster class c inside
+  // that step, m_c times the change of c's force since. Either way each node gets exactly
+  // m_c dt f_c over a class's step; with the node rule, where the classes' forces balance at the
+  // start of a node's step, no node moves.
   PetscCall(PetscLogStagePush(stages_.forces));
   RateClasses &r = rate_;
   const bool external = boundary_.active();
@@ -303,6 +287,26 @@ PetscErrorCode Solver::classForces(const ParticleView &p, const StepClock &c, Pe
   if (external) PetscCall(VecZeroEntries(nodal_.fext));
   PetscInt nloc = 0;
   PetscCall(VecGetLocalSize(nodal_.P, &nloc));
+  if (sc_.multirateNodeRule) {
+    // Each node's rate: the step of the slowest class whose mass is on it now (its anchor; 1 on
+    // an empty node). The anchor stays on the node through its own step, so the changes of the
+    // faster classes' forces always find mass there.
+    PetscScalar *rate = nullptr;
+    PetscCall(VecGetArray(r.nodeRate, &rate));
+    std::fill(rate, rate + nloc, 1.0);
+    for (int k = 0; k < r.n; ++k) {
+      if (r.size[k] == 0) continue;
+      const PetscScalar *mk = nullptr;
+      PetscCall(VecGetArrayRead(r.mass[k], &mk));
+      const double every = static_cast<double>(r.every[k]);
+      for (PetscInt i = 0; i < nloc; i += kDim)
+        if (mk[i] > 0)
+          for (int d = 0; d < kDim; ++d)
+            rate[i + d] = std::max(rate[i + d], every);
+      PetscCall(VecRestoreArrayRead(r.mass[k], &mk));
+    }
+    PetscCall(VecRestoreArray(r.nodeRate, &rate));
+  }
   for (int k = 0; k < r.n; ++k) {
     if (r.size[k] == 0 || j % r.every[k] != 0) continue;
     ParticleView q = p.slice(r.begin[k], r.begin[k + 1]);

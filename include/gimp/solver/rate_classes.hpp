@@ -25,10 +25,12 @@ struct RateClasses {
   // start, the sum of the grid velocity increments and of the grid velocities since.
   std::vector<Vec> mass, mom, inc, vsum;
   // Global, per class: its force at its last start (internal and external, times that step's
-  // kick weight), and that force at the start of each node's own step (base: the node's rate
-  // below). With external forces the external part again, on its own, and its base.
+  // kick weight), and with the node rule that force at the start of each node's anchor step
+  // (base). With external forces the external part again, on its own, and its base.
   std::vector<Vec> force, base, fext, baseExt;
-  Vec nodeRate = nullptr; // global: each node's rate, its level's step levels[q].step (both dofs)
+  // Node rule, global: each node's rate, the step of the slowest class whose mass is on it now
+  // (its anchor; both dofs), set every sub-step.
+  Vec nodeRate = nullptr;
   Vec taken = nullptr, field = nullptr;  // global scratch: what the ending classes took, a field
   Vec corr = nullptr, corrSum = nullptr; // MUSL: a class's re-projection correction, their sum
   Vec fieldW = nullptr, meanW = nullptr, forceW = nullptr; // window scratch
