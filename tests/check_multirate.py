@@ -3,7 +3,8 @@ level"; docs/validation.md, "Multi-rate steps").
 
 Checks:
   * one level (R = 1): the multi-rate step is the single-rate step, to round-off, for USL and
-    MUSL with APIC, FLIP, PIC and a FLIP/PIC blend;
+    MUSL with APIC, FLIP, PIC and a FLIP/PIC blend, and with a crack (the double cantilever beam
+    on one level, PIC, MUSL and USL);
   * momentum: a free elastic block drifting through three levels (options/drift3.opts, ratios 2
     and 3: R = 6, its particles change class on the way) keeps its momentum to round-off with
     every transfer and update scheme (mass cutoff 0: the cutoff drops the momentum of nodes
@@ -20,8 +21,8 @@ Checks:
     fine steps;
   * a finer box sharing an edge with its parent runs (its edge nodes reach the grandparent's
     cells);
-  * bad input: the limits of the coarse step and the combinations it is not built for (cracks,
-    corner and CPDI tracking, XPIC, USF, a run to rest with the impulse rule) are refused in one
+  * bad input: the limits of the coarse step and the combinations it is not built for (cracks
+    with FLIP, corner and CPDI tracking, XPIC, USF, a run to rest with the impulse rule) are refused in one
     line, as are -gimp_multirate_forces without the option, with MUSL and a bad value of it. The node rule
     is checked by check_multirate_rest.py.
 """
@@ -80,6 +81,19 @@ for update, transfer in (("musl", ["apic"]), ("usl", ["apic"]), ("musl", ["flip"
     c.check("R = 1 equals single-rate (%s, %s)" % (update, " ".join(transfer)), d <= 1e-12,
             "%d particles after 60 steps: largest difference relative to the largest value "
             "%.1e" % (len(a), d))
+# The same with a crack (the double cantilever beam on one 2 mm level, PIC): crack fields,
+# faces and contact in the classes' sub-steps.
+CRACK = ["-gimp_h", "2e-3", "-gimp_static_tol", "0", "-ts_max_steps", "300",
+         "-gimp_history_interval", "300"]
+for update, transfer in (("musl", ["flip", "-gimp_flip", "0"]), ("usl", ["flip", "-gimp_flip", "0"])):
+    extra = CRACK + ["-gimp_update", update, "-gimp_transfer"] + transfer
+    tag = "crack_" + update
+    _, a = dump_run("one_" + tag, "options/dcb_uniform.opts", extra)
+    _, b = dump_run("one_mr_" + tag, "options/dcb_uniform.opts", extra + MR)
+    d = worst(a, b)
+    c.check("R = 1 with a crack equals single-rate (%s, %s)" % (update, " ".join(transfer)),
+            d <= 1e-12, "%d particles after 300 steps: largest difference relative to the "
+            "largest value %.1e" % (len(a), d))
 
 # Momentum to round-off with particles crossing levels (the traction set to zero).
 FREE = ["-gimp_traction0_value", "0,0", "-gimp_mass_cutoff", "0", "-ts_max_steps", "798",
@@ -180,8 +194,9 @@ cases = [
      "option -ts_max_steps 10: with -gimp_multirate true it must be a multiple"),
     ("time limit inside a coarse step", "options/wave_interface.opts",
      ["-ts_max_time", "0.0849"], "option -ts_max_time 0.0849"),
-    ("cracks", "options/dcb.opts", [], "option -gimp_multirate true: not built for scenes with "
-                                       "cracks"),
+    ("cracks with FLIP", "options/dcb.opts", ["-gimp_flip", "1"],
+     "option -gimp_flip 1: with cracks and -gimp_multirate true the velocities must be PIC or "
+     "APIC"),
     ("corner tracking", "bench/block3.opts", ["-gimp_tracking", "corners"],
      "option -gimp_multirate true: not built with corner or CPDI tracking"),
     ("xpic", "bench/block3.opts", ["-gimp_transfer", "xpic"],

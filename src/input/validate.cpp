@@ -166,12 +166,13 @@ PetscErrorCode readOptionsOneLine(const std::function<PetscErrorCode()> &read) {
 }
 
 void checkSceneCombinations(const Scene &sc) {
-  // -gimp_multirate is built for tensor-product GIMP weights on crack-free grids with the FLIP/PIC
-  // blend or APIC (docs/method.md, "Multi-rate time steps per level").
-  if (sc.multirate && !sc.cracks.empty())
-    throw InputError(
-        "option -gimp_multirate true: not built for scenes with cracks (-gimp_cracks " +
-        std::to_string(sc.cracks.size()) + "); use false");
+  // -gimp_multirate is built for tensor-product GIMP weights with the FLIP/PIC blend or APIC, and
+  // with cracks for PIC or APIC (docs/method.md, "Multi-rate time steps per level").
+  if (sc.multirate && !sc.cracks.empty() && sc.transfer == Transfer::Flip && sc.flip > 0)
+    throw InputError("option -gimp_flip " + formatNumber(sc.flip) +
+                     ": with cracks and -gimp_multirate true the velocities must be PIC or APIC "
+                     "(-gimp_flip 0 or -gimp_transfer apic): crack contact changes the nodal "
+                     "velocities, which the FLIP shares of the rate classes do not follow");
   if (sc.multirate && (tracksCorners(sc.tracking) || usesCpdi(sc.tracking)))
     throw InputError("option -gimp_multirate true: not built with corner or CPDI tracking "
                      "(-gimp_tracking corners, cpdi, cpdi2); use none, strain or stretch, or "

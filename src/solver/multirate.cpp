@@ -8,6 +8,7 @@
 // (the summed velocity increments, the end velocity, the mean velocity that moves it), its stress
 // over m_c dt, and the removal of the momentum its particles took. Between its start and end its
 // mass and momentum ride on the nodes with every other class's, so mass and momentum are exact.
+#include "gimp/cracks/fields.hpp"
 #include "gimp/physics/constraints.hpp"
 #include "gimp/physics/internal_force.hpp"
 #include "gimp/solver/solver.hpp"
@@ -95,16 +96,17 @@ int classOf(const Grid &g, const std::vector<std::array<double, 4>> &zones, cons
   return 0;
 }
 
-/// The largest window slot particle k's stencil reaches (levels are concatenated in the window,
-/// coarse to fine, so this tells the finest level it reaches).
-PetscInt maxSlot(const Stencils<kDim> &st, PetscInt k) {
+/// The largest window node particle k's stencil reaches (levels are concatenated in the window,
+/// coarse to fine, so this tells the finest level it reaches); a crack's second-field slot counts
+/// as its node.
+PetscInt maxSlot(const Grid &g, const Stencils<kDim> &st, PetscInt k) {
   if (st.isBlock(k)) {
     const Block<kDim> &b = st.block(k);
     return b.base + 2 * b.stride[0] + 2;
   }
   PetscInt s = -1;
   for (PetscInt e = st.start[k]; e < st.start[k + 1]; ++e)
-    s = std::max(s, st.node[e]);
+    s = std::max(s, g.slotNode[st.node[e]]);
   return s;
 }
 
@@ -125,9 +127,32 @@ PetscErrorCode Solver::coarseStep() {
     StepClock c;
     PetscCall(clockOf(ts_, sc_, c));
     PetscCall(startClasses(p, j));
+    if (!sc_.cracks.empty()) { // the classes' crack faces, contact on the momentum
+      PetscCall(crackFaces(p));
+      PetscCall(contactOnMomentum(c));
+    }
     StartPower power;
     PetscCall(classForces(p, c, j, power));
-    PetscCall(gridUpdate(false));
+    PetscCall(gridUpdate(!sc_.cracks.empty()));
+    if (!sc_.cracks.empty()) { // contact on the new velocities; the momentum follows them
+      PetscCall(VecCopy(nodal_.vel, rate_.field));
+      PetscCall(crackContact(c, nodal_.velW, nodal_.vel, nodal_.accW, nodal_.acc));
+      PetscInt nloc = 0;
+      PetscCall(VecGetLocalSize(nodal_.P, &nloc));
+      const PetscScalar *m = nullptr, *v = nullptr, *was = nullptr;
+      PetscScalar *P = nullptr;
+      PetscCall(VecGetArrayRead(nodal_.mass, &m));
+      PetscCall(VecGetArrayRead(nodal_.vel, &v));
+      PetscCall(VecGetArrayRead(rate_.field, &was));
+      PetscCall(VecGetArray(nodal_.P, &P));
+      for (PetscInt i = 0; i < nloc; i += kDim)
+        for (int d = 0; d < kDim; ++d)
+          P[i + d] += m[i] * (v[i + d] - was[i + d]);
+      PetscCall(VecRestoreArray(nodal_.P, &P));
+      PetscCall(VecRestoreArrayRead(rate_.field, &was));
+      PetscCall(VecRestoreArrayRead(nodal_.vel, &v));
+      PetscCall(VecRestoreArrayRead(nodal_.mass, &m));
+    }
     PetscCall(accumulate(c, j));
     PetscCall(endClasses(p, c, j, power));
   }
@@ -190,16 +215,17 @@ PetscErrorCode Solver::startClasses(ParticleView &p, PetscInt j) {
   for (int k = 0; k < r.n; ++k) {
     if (r.size[k] == 0 || j % r.every[k] != 0) continue;
     const ParticleView q = p.slice(r.begin[k], r.begin[k + 1]);
-    if (!grid_.buildStencils(q.n, q.x, q.l, r.st[k], true)) {
+    if (!grid_.buildStencils(q.n, q.x, q.l, r.st[k], sc_.cracks.empty())) {
       // (a particle that went bad inside the coarse step: the check at its end reports it; the
       // class reaches no node until then)
       localFailure_ = "a particle is larger than a level-0 cell (its half-size exceeds -gimp_h)";
       r.st[k].compact = false;
       r.st[k].start.assign(static_cast<size_t>(q.n) + 1, 0);
     }
+    cracks::assignFields(grid_, sc_.cracks, q.n, q.x, r.st[k]); // (no-op without cracks)
     if (k + 1 < r.n) // the class's margin kept it off the finer levels' nodes
       for (PetscInt i = 0; i < q.n; ++i)
-        if (maxSlot(r.st[k], i) >= grid_.levels[k + 1].offset) {
+        if (maxSlot(grid_, r.st[k], i) >= grid_.levels[k + 1].offset) {
           localFailure_ = "a particle of level " + std::to_string(k) +
                           "'s rate class reached level " + std::to_string(k + 1) +
                           "'s nodes within a coarse step (it moved more than one finest cell; "
