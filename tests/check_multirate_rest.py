@@ -20,7 +20,8 @@ Checks:
     with APIC, FLIP and PIC. (With a fixed rate per level instead of the anchor class, a force
     correction could fall due at a node every particle had left and was lost: up to 1.6e-8.);
   * 2 ranks give the 1-rank answer to round-off on the drift (the body migrates across the ranks)
-    and on the double cantilever beam of options/dcb.opts (a crack with contact; 3000 steps).
+    and on the double cantilever beam of options/dcb.opts (a crack with contact; 3000 steps);
+  * a restart from a checkpoint equals the straight run exactly.
 The beam at rest against the single-rate run is the long-label check check_dcb_multirate.py.
 """
 import csv
@@ -136,6 +137,27 @@ d = worst(a, b)
 c.check("np = 2 equals np = 1", d < 1e-12 and migrated > 0,
         "%d particles after 798 steps (%d migrations): largest difference relative to the "
         "largest value %.1e" % (len(a), migrated, d))
+# Restart from a checkpoint written at a coarse end (step 792): the node rule keeps nothing from
+# one coarse step to the next (every class and every anchor starts at sub-step 0).
+full_out = os.path.join(W, "ck_full")
+gimptest.run(args, "options/drift3.opts", NODE + ["-ts_max_steps", "798",
+                                                  "-gimp_checkpoint_interval", "396",
+                                                  "-gimp_particle_dump",
+                                                  os.path.join(W, "ck_full.csv")],
+             outdir=full_out)
+ck = os.path.join(W, "ck.h5")
+os.replace(os.path.join(full_out, "checkpoint.h5"), ck)
+gimptest.run(args, "options/drift3.opts", NODE + ["-ts_max_steps", "798", "-gimp_restart", ck,
+                                                  "-gimp_particle_dump",
+                                                  os.path.join(W, "ck_again.csv")],
+             outdir=os.path.join(W, "ck_again"))
+rows = []
+for name in ("ck_full", "ck_again"):
+    with open(os.path.join(W, name + ".csv")) as f:
+        rows.append(sorted(csv.DictReader(f), key=lambda p: int(p["id"])))
+d = worst(*rows)
+c.check("restart equals the straight run", d == 0.0, "largest difference %.1e" % d)
+
 dumps = []
 for n in (1, 2):
     dump = os.path.join(W, "dcb_np%d.csv" % n)
