@@ -45,11 +45,10 @@ void Contact::setup(const Grid &g, const std::vector<Crack> &cracks) {
 }
 
 void Contact::faces(const Grid &g, const Stencils<kDim> &st, PetscInt n, const double *x,
-                    const double *X0, const double *m, double *face, bool add) {
+                    const double *X0, const double *m, double *face) {
   fresh_ = true;
-  if (!add)
-    for (PetscInt s = 0; s < g.nSlots; ++s)
-      face[2 * s] = 0.0;
+  for (PetscInt s = 0; s < g.nSlots; ++s)
+    face[2 * s] = 0.0;
   if (g.nSlots == g.nWindow) return;
   for (PetscInt k = 0; k < n; ++k) {
     const double ux = m[k] * (x[2 * k] - X0[2 * k]), uy = m[k] * (x[2 * k + 1] - X0[2 * k + 1]);

@@ -178,12 +178,11 @@ void checkSceneCombinations(const Scene &sc) {
                      "(-gimp_tracking corners, cpdi, cpdi2); use none, strain or stretch, or "
                      "-gimp_multirate false");
   if (sc.multirate && !sc.multirateNodeRule && sc.staticTol > 0)
-    throw InputError("option -gimp_multirate_forces impulse: not for a run to rest "
-                     "(-gimp_static_tol " +
-                     formatNumber(sc.staticTol) +
-                     "): at a static state the impulses of the slower classes keep the nodes "
-                     "they share with faster ones oscillating (docs/method.md); use "
-                     "-gimp_multirate_forces node");
+    throw InputError("option -gimp_static_tol " + formatNumber(sc.staticTol) +
+                     ": a run to rest with -gimp_multirate true needs -gimp_multirate_forces "
+                     "node and -gimp_update usl; with the impulse rule (the default) the nodes "
+                     "that slower and faster classes share keep oscillating at a static state "
+                     "(docs/method.md)");
   if (sc.multirate && sc.multirateNodeRule && sc.update != Update::USL)
     throw InputError("option -gimp_multirate_forces node: needs -gimp_update usl (with musl each "
                      "rate class updates its stress with its own share of the re-projection, "

@@ -22,14 +22,14 @@
 namespace gimp {
 
 RateClasses::~RateClasses() {
-  for (std::vector<Vec> *vs : {&mass, &mom, &inc, &vsum, &force, &base, &fext, &baseExt})
+  for (std::vector<Vec> *vs : {&mass, &mom, &inc, &vsum, &force, &base, &fext, &baseExt, &faces})
     for (Vec &v : *vs)
       (void)VecDestroy(&v);
   for (Vec *v : {&nodeRate, &taken, &field, &corr, &corrSum, &fieldW, &meanW, &forceW})
     (void)VecDestroy(v);
 }
 
-PetscErrorCode RateClasses::create(const Grid &grid, Vec like, bool external) {
+PetscErrorCode RateClasses::create(const Grid &grid, Vec like, bool external, bool nodeRule) {
   n = static_cast<int>(grid.levels.size());
   every.resize(n);
   for (int c = 0; c < n; ++c)
@@ -40,18 +40,17 @@ PetscErrorCode RateClasses::create(const Grid &grid, Vec like, bool external) {
   st.resize(n);
   start.assign(n, 0);
   live.assign(n, 0);
-  for (std::vector<Vec> *vs : {&mass, &mom, &inc, &vsum, &force, &base}) {
+  std::vector<std::vector<Vec> *> perClass = {&mass, &mom, &inc, &vsum};
+  if (nodeRule) { // the node rule's forces, bases and rates (the impulse rule sums on the window)
+    perClass.insert(perClass.end(), {&force, &base});
+    if (external) perClass.insert(perClass.end(), {&fext, &baseExt});
+    PetscCall(VecDuplicate(like, &nodeRate));
+  }
+  for (std::vector<Vec> *vs : perClass) {
     vs->assign(n, nullptr);
     for (Vec &v : *vs)
       PetscCall(VecDuplicate(like, &v));
   }
-  if (external)
-    for (std::vector<Vec> *vs : {&fext, &baseExt}) {
-      vs->assign(n, nullptr);
-      for (Vec &v : *vs)
-        PetscCall(VecDuplicate(like, &v));
-    }
-  PetscCall(VecDuplicate(like, &nodeRate));
   PetscCall(VecDuplicate(like, &taken));
   PetscCall(VecDuplicate(like, &field));
   PetscCall(VecDuplicate(like, &corr));
@@ -245,6 +244,14 @@ PetscErrorCode Solver::startClasses(ParticleView &p, PetscInt j) {
     PetscCall(VecZeroEntries(r.mass[k]));
     PetscCall(grid_.addFromWindow(nodal_.massW, r.mass[k]));
     PetscCall(VecAXPY(nodal_.P, 1.0, r.mom[k]));
+    if (!sc_.cracks.empty()) { // the class's crack faces, until its end
+      if (r.faces.empty()) r.faces.assign(r.n, nullptr);
+      if (!r.faces[k]) PetscCall(grid_.createWindowVec(&r.faces[k]));
+      PetscScalar *f = nullptr;
+      PetscCall(VecGetArray(r.faces[k], &f));
+      contact_.faces(grid_, r.st[k], q.n, q.x, q.X0, q.m, f);
+      PetscCall(VecRestoreArray(r.faces[k], &f));
+    }
     r.start[k] = j;
     r.live[k] = 0;
   }
@@ -309,11 +316,14 @@ PetscErrorCode Solver::classForces(const ParticleView &p, const StepClock &c, Pe
   std::vector<double> V; // the volumes of a class with particles that switched class
   // (Boundary keeps the penalty reactions of its last call: the penalty particles are all in the
   // finest class, which comes last here, and it starts at every sub-step.)
+  const bool nodeRule = sc_.multirateNodeRule;
   PetscCall(VecZeroEntries(nodal_.f));
   if (external) PetscCall(VecZeroEntries(nodal_.fext));
+  if (!nodeRule) PetscCall(VecZeroEntries(nodal_.sumW));
+  if (!nodeRule && external) PetscCall(VecZeroEntries(nodal_.extW));
   PetscInt nloc = 0;
   PetscCall(VecGetLocalSize(nodal_.P, &nloc));
-  if (sc_.multirateNodeRule) {
+  if (nodeRule) {
     // Each node's rate: the step of the slowest class whose mass is on it now (its anchor; 1 on
     // an empty node). The anchor stays on the node through its own step, so the changes of the
     // faster classes' forces always find mass there.
@@ -344,11 +354,24 @@ PetscErrorCode Solver::classForces(const ParticleView &p, const StepClock &c, Pe
       q.V = V.data();
       scale = r.kickScale.data() + r.begin[k];
     }
+    const double mk = static_cast<double>(r.every[k]);
     PetscScalar *w = nullptr;
     PetscCall(VecZeroEntries(r.forceW));
     PetscCall(VecGetArray(r.forceW, &w));
     physics::internalForce<kDim>(r.st[k], q.n, q.V, q.s, w);
     PetscCall(VecRestoreArray(r.forceW, &w));
+    if (!nodeRule) { // the impulse m_c f_c, summed on the window
+      PetscCall(VecAXPY(nodal_.sumW, mk, r.forceW));
+      if (external) {
+        PetscCall(VecZeroEntries(r.forceW));
+        PetscCall(VecGetArray(r.forceW, &w));
+        boundary_.externalForces(sc_, grid_, r.st[k], q, c.t, w, scale);
+        PetscCall(VecRestoreArray(r.forceW, &w));
+        PetscCall(VecAXPY(nodal_.sumW, mk, r.forceW));
+        PetscCall(VecAXPY(nodal_.extW, mk, r.forceW));
+      }
+      continue;
+    }
     PetscCall(VecZeroEntries(r.force[k]));
     PetscCall(grid_.addFromWindow(r.forceW, r.force[k]));
     if (external) {
@@ -361,9 +384,9 @@ PetscErrorCode Solver::classForces(const ParticleView &p, const StepClock &c, Pe
       PetscCall(VecAXPY(r.force[k], 1.0, r.fext[k]));
     }
     // The node rule. The forces carry this step's kick weight (the half step that starts a run
-    // lasts a whole class step for a slow class); the RHS multiplies by the sub-step's kick.
-    const double mk = static_cast<double>(r.every[k]), toKick = c.kick;
-    const bool nodeRule = sc_.multirateNodeRule;
+    // lasts a whole class step for a slow class); the RHS multiplies by the sub-step's kick, so
+    // the sum is divided by it below.
+    const double toKick = c.kick;
     const PetscScalar *rate = nullptr;
     PetscScalar *fk = nullptr, *bk = nullptr, *f = nullptr;
     PetscCall(VecGetArrayRead(r.nodeRate, &rate));
@@ -373,9 +396,7 @@ PetscErrorCode Solver::classForces(const ParticleView &p, const StepClock &c, Pe
     auto deliver = [&](PetscScalar *fc, PetscScalar *bc, PetscScalar *out) {
       for (PetscInt i = 0; i < nloc; ++i) {
         fc[i] *= toKick; // (exact: the kick weight is 1 or 1/2)
-        if (!nodeRule) {
-          out[i] += mk * fc[i];
-        } else if (j % static_cast<PetscInt>(rate[i]) == 0) {
+        if (j % static_cast<PetscInt>(rate[i]) == 0) {
           out[i] += rate[i] * fc[i];
           bc[i] = fc[i];
         } else {
@@ -399,8 +420,10 @@ PetscErrorCode Solver::classForces(const ParticleView &p, const StepClock &c, Pe
     PetscCall(VecRestoreArray(r.force[k], &fk));
     PetscCall(VecRestoreArrayRead(r.nodeRate, &rate));
   }
-  // The RHS applies the sub-step's kick weight again: undo it here.
-  if (c.kick != 1.0) {
+  if (!nodeRule) {
+    PetscCall(grid_.addFromWindow(nodal_.sumW, nodal_.f));
+    if (external) PetscCall(grid_.addFromWindow(nodal_.extW, nodal_.fext));
+  } else if (c.kick != 1.0) { // the RHS applies the sub-step's kick weight again: undo it here
     PetscCall(VecScale(nodal_.f, 1.0 / c.kick));
     if (external) PetscCall(VecScale(nodal_.fext, 1.0 / c.kick));
   }
@@ -601,6 +624,10 @@ PetscErrorCode Solver::endClasses(ParticleView &p, const StepClock &c, PetscInt 
       PetscCall(VecRestoreArrayRead(nodal_.invMass, &im));
       PetscCall(VecRestoreArrayRead(r.field, &t));
       PetscCall(grid_.toWindow(nodal_.f, r.meanW));
+      // The re-projected fields of a cracked node may approach each other again: the same
+      // contact as the single-rate step's (Solver::reproject), or the strain would see the faces
+      // interpenetrate.
+      if (!sc_.cracks.empty()) PetscCall(crackContact(c, r.meanW, nodal_.f, nullptr, nullptr));
       w = r.meanW;
     }
     PetscCall(stress(r.st[k], q, w, every * c.dt));

@@ -86,7 +86,8 @@ PetscErrorCode Solver::setup() {
   PetscCall(TSGetTimeStep(ts_, &dt));
   // With -gimp_stability_check the penalty bounds and the step come from the eigenvalues.
   PetscCall(boundary_.setup(comm_, sc_, grid_, dt, !sc_.stabilityCheck));
-  if (sc_.multirate) PetscCall(rate_.create(grid_, nodal_.P, boundary_.active()));
+  if (sc_.multirate)
+    PetscCall(rate_.create(grid_, nodal_.P, boundary_.active(), sc_.multirateNodeRule));
   if (sc_.stabilityCheck) PetscCall(stabilityAtStart());
   if (sc_.multirate) PetscCall(checkCoarseTimeLimit());
   PetscCall(rejectUnusedOptions());

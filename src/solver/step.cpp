@@ -205,20 +205,17 @@ PetscErrorCode Solver::crackFaces(const ParticleView &p) {
   // sum runs over the rate classes, each with its stencils from its last start.
   PetscCall(grid_.toWindow(nodal_.mass, nodal_.massW));
   PetscCall(grid_.toWindow(nodal_.mask, nodal_.maskW));
-  PetscScalar *f = nullptr;
-  PetscCall(VecGetArray(nodal_.faceW, &f));
   if (!sc_.multirate) {
+    PetscScalar *f = nullptr;
+    PetscCall(VecGetArray(nodal_.faceW, &f));
     contact_.faces(grid_, st_, p.n, p.x, p.X0, p.m, f);
-  } else {
-    bool first = true;
-    for (int k = 0; k < rate_.n; ++k) {
-      if (rate_.size[k] == 0) continue;
-      const ParticleView q = p.slice(rate_.begin[k], rate_.begin[k + 1]);
-      contact_.faces(grid_, rate_.st[k], q.n, q.x, q.X0, q.m, f, !first);
-      first = false;
-    }
+    PetscCall(VecRestoreArray(nodal_.faceW, &f));
+  } else { // the classes' faces from their starts (Solver::startClasses)
+    contact_.newStep();
+    PetscCall(VecZeroEntries(nodal_.faceW));
+    for (int k = 0; k < rate_.n; ++k)
+      if (rate_.size[k] > 0) PetscCall(VecAXPY(nodal_.faceW, 1.0, rate_.faces[k]));
   }
-  PetscCall(VecRestoreArray(nodal_.faceW, &f));
   PetscCall(VecSet(nodal_.face, 0.0));
   PetscCall(grid_.fromWindow(nodal_.faceW, nodal_.face, ADD_VALUES));
   PetscCall(grid_.toWindow(nodal_.face, nodal_.faceW));

@@ -24,10 +24,13 @@ public:
 
   /// Each field's mass-weighted displacement along d at every cracked node, into the window
   /// array `face` (component 0 of each slot, sum over particles of m w (x - X0).d; initialised
-  /// to 0 here unless `add`, so ranks combine by ADD, and the rate classes of -gimp_multirate add
-  /// theirs). Also starts a new step's contact set (see apply).
+  /// to 0 here, so ranks combine by ADD). Also starts a new step's contact set (see apply).
   void faces(const Grid &g, const Stencils<kDim> &st, PetscInt n, const double *x, const double *X0,
-             const double *m, double *face, bool add = false);
+             const double *m, double *face);
+
+  /// Starts a new step's contact set without faces() (the rate classes of -gimp_multirate keep
+  /// their faces from their starts and sum them).
+  void newStep() { fresh_ = true; }
 
   /// Frictionless contact where both fields carry mass (> cut) and their faces touch: when the
   /// fields approach each other along d, both take the normal velocity of their common centre

@@ -24,9 +24,9 @@ struct RateClasses {
   // Global, per class (dof layout of the momentum): its mass (component 0) and momentum at its
   // start, the sum of the grid velocity increments and of the grid velocities since.
   std::vector<Vec> mass, mom, inc, vsum;
-  // Global, per class: its force at its last start (internal and external, times that step's
-  // kick weight), and with the node rule that force at the start of each node's anchor step
-  // (base). With external forces the external part again, on its own, and its base.
+  // Node rule only, global, per class: its force at its last start (internal and external, times
+  // that step's kick weight) and that force at the start of each node's anchor step (base); with
+  // external forces the external part again, on its own, and its base.
   std::vector<Vec> force, base, fext, baseExt;
   // Node rule, global: each node's rate, the step of the slowest class whose mass is on it now
   // (its anchor; both dofs), set every sub-step.
@@ -34,12 +34,16 @@ struct RateClasses {
   Vec taken = nullptr, field = nullptr;  // global scratch: what the ending classes took, a field
   Vec corr = nullptr, corrSum = nullptr; // MUSL: a class's re-projection correction, their sum
   Vec fieldW = nullptr, meanW = nullptr, forceW = nullptr; // window scratch
+  // With cracks, per class on the window: its crack faces from its start (Contact::faces; its
+  // stencils and positions do not change until its end).
+  std::vector<Vec> faces;
 
   RateClasses() = default;
   RateClasses(const RateClasses &) = delete;
   RateClasses &operator=(const RateClasses &) = delete;
   ~RateClasses();
-  PetscErrorCode create(const Grid &grid, Vec like, bool external);
+  /// With `nodeRule` the vectors of -gimp_multirate_forces node (force, base, nodeRate, ...).
+  PetscErrorCode create(const Grid &grid, Vec like, bool external, bool nodeRule);
 };
 
 } // namespace gimp
