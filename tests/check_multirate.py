@@ -215,22 +215,21 @@ cases = [
     ("-gimp_multirate_forces bad value", "bench/block3.opts", ["-gimp_multirate_forces", "nodes"],
      "option -gimp_multirate_forces nodes: must be one of impulse, node"),
 ]
-for name, opts, extra, needle in cases:
-    p = gimptest.run(args, opts, extra + MR, expect_ok=False, outdir=os.path.join(W, "bad"))
+
+
+def refused(name, opts, extra, needle):
+    """The run stops with exit 2 and one error line that holds needle."""
+    p = gimptest.run(args, opts, extra, expect_ok=False, outdir=os.path.join(W, "bad"))
     lines = [l for l in p.stderr.splitlines() if l.strip()]
     c.check("refused: " + name, p.returncode == 2 and len(lines) == 1 and needle in lines[0],
             "exit %d: %s" % (p.returncode, lines[0] if lines else "(no message)"))
-p = gimptest.run(args, "bench/block3.opts", ["-gimp_multirate_forces", "node"], expect_ok=False,
-                 outdir=os.path.join(W, "bad"))
-lines = [l for l in p.stderr.splitlines() if l.strip()]
-c.check("refused: -gimp_multirate_forces without -gimp_multirate",
-        p.returncode == 2 and len(lines) == 1 and
-        "option -gimp_multirate_forces node: acts only with -gimp_multirate true" in lines[0],
-        "exit %d: %s" % (p.returncode, lines[0] if lines else "(no message)"))
-p = gimptest.run(args, "options/drift3.opts", ["-gimp_restart", ck], expect_ok=False,
-                 outdir=os.path.join(W, "bad"))
-lines = [l for l in p.stderr.splitlines() if l.strip()]
-c.check("refused: a multi-rate checkpoint without -gimp_multirate",
-        p.returncode == 2 and len(lines) == 1 and "carry the field rate" in lines[0],
-        "exit %d: %s" % (p.returncode, lines[0] if lines else "(no message)"))
+
+
+for name, opts, extra, needle in cases:
+    refused(name, opts, extra + MR, needle)
+refused("-gimp_multirate_forces without -gimp_multirate", "bench/block3.opts",
+        ["-gimp_multirate_forces", "node"],
+        "option -gimp_multirate_forces node: acts only with -gimp_multirate true")
+refused("a multi-rate checkpoint without -gimp_multirate", "options/drift3.opts",
+        ["-gimp_restart", ck], "carry the field rate")
 c.done()

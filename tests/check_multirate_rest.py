@@ -42,13 +42,27 @@ T = 1e-4
 FLIP = ["-gimp_transfer", "flip"]
 
 
-def rest_run(tag, extra):
+def dump_run(tag, opts, extra, ranks=1):
+    """Run opts with extra, dumping the particles; the summary and the dump ordered by id."""
     dump = os.path.join(W, tag + ".csv")
-    out = gimptest.run(args, "options/rest_tension.opts", extra + ["-gimp_particle_dump", dump],
+    out = gimptest.run(args, opts, extra + ["-gimp_particle_dump", dump], ranks=ranks,
                        outdir=os.path.join(W, tag))
     with open(dump) as f:
         rows = sorted(csv.DictReader(f), key=lambda p: int(p["id"]))
     return gimptest.summary(out), rows
+
+
+def rest_run(tag, extra):
+    return dump_run(tag, "options/rest_tension.opts", extra)
+
+
+def worst(a, b):
+    """The largest difference of each quantity relative to its largest value (dumps by id)."""
+    out = float("inf") if [p["id"] for p in a] != [q["id"] for q in b] else 0.0
+    for k in ("x", "y", "vx", "vy", "sxx", "syy", "sxy", "V", "lx", "ly"):
+        scale = max(abs(float(p[k])) for p in a) or 1.0
+        out = max(out, max(abs(float(p[k]) - float(q[k])) for p, q in zip(a, b)) / scale)
+    return out
 
 
 for name, extra in (("flip", FLIP), ("apic", ["-gimp_transfer", "apic"]),
@@ -116,62 +130,28 @@ for name, extra in (("apic", ["-gimp_transfer", "apic"]), ("flip", FLIP),
     c.check("momentum at coarse ends after the load (%s)" % name, err < 1e-12,
             "largest change of the momentum over %d rows %.1e of it; strain energy %.3g J at "
             "the end" % (len(rows), err, h["strain"][-1]))
-dumps = []
-for n in (1, 2):
-    dump = os.path.join(W, "np%d.csv" % n)
-    out = gimptest.run(args, "options/drift3.opts", NODE + ["-ts_max_steps", "798",
-                                                            "-gimp_particle_dump", dump],
-                       ranks=n, outdir=os.path.join(W, "np%d" % n))
-    with open(dump) as f:
-        dumps.append(sorted(csv.DictReader(f), key=lambda p: int(p["id"])))
-    if n == 2:
-        migrated = gimptest.summary(out)["measures"]["particles_migrated"]
-
-
-def worst(a, b):
-    out = float("inf") if [p["id"] for p in a] != [q["id"] for q in b] else 0.0
-    for k in ("x", "y", "vx", "vy", "sxx", "syy", "sxy", "V", "lx", "ly"):
-        scale = max(abs(float(p[k])) for p in a) or 1.0
-        out = max(out, max(abs(float(p[k]) - float(q[k])) for p, q in zip(a, b)) / scale)
-    return out
-
-
-a, b = dumps
-d = worst(a, b)
+DRIFT = NODE + ["-ts_max_steps", "798"]
+_, one = dump_run("np1", "options/drift3.opts", DRIFT)
+s2, two = dump_run("np2", "options/drift3.opts", DRIFT, ranks=2)
+migrated = s2["measures"]["particles_migrated"]
+d = worst(one, two)
 c.check("np = 2 equals np = 1", d < 1e-12 and migrated > 0,
         "%d particles after 798 steps (%d migrations): largest difference relative to the "
-        "largest value %.1e" % (len(a), migrated, d))
+        "largest value %.1e" % (len(one), migrated, d))
 # Restart from a checkpoint written at a coarse end (step 792): the node rule keeps nothing from
 # one coarse step to the next (every class and every anchor starts at sub-step 0).
-full_out = os.path.join(W, "ck_full")
-gimptest.run(args, "options/drift3.opts", NODE + ["-ts_max_steps", "798",
-                                                  "-gimp_checkpoint_interval", "396",
-                                                  "-gimp_particle_dump",
-                                                  os.path.join(W, "ck_full.csv")],
-             outdir=full_out)
+_, full = dump_run("ck_full", "options/drift3.opts", DRIFT + ["-gimp_checkpoint_interval", "396"])
 ck = os.path.join(W, "ck.h5")
-os.replace(os.path.join(full_out, "checkpoint.h5"), ck)
-gimptest.run(args, "options/drift3.opts", NODE + ["-ts_max_steps", "798", "-gimp_restart", ck,
-                                                  "-gimp_particle_dump",
-                                                  os.path.join(W, "ck_again.csv")],
-             outdir=os.path.join(W, "ck_again"))
-rows = []
-for name in ("ck_full", "ck_again"):
-    with open(os.path.join(W, name + ".csv")) as f:
-        rows.append(sorted(csv.DictReader(f), key=lambda p: int(p["id"])))
-d = worst(*rows)
+os.replace(os.path.join(W, "ck_full", "checkpoint.h5"), ck)
+_, again = dump_run("ck_again", "options/drift3.opts", DRIFT + ["-gimp_restart", ck])
+d = worst(full, again)
 c.check("restart equals the straight run", d == 0.0, "largest difference %.1e" % d)
 
-dumps = []
-for n in (1, 2):
-    dump = os.path.join(W, "dcb_np%d.csv" % n)
-    gimptest.run(args, "options/dcb.opts", NODE + ["-gimp_static_tol", "0", "-ts_max_steps",
-                                                   "3000", "-gimp_particle_dump", dump],
-                 ranks=n, outdir=os.path.join(W, "dcb_np%d" % n))
-    with open(dump) as f:
-        dumps.append(sorted(csv.DictReader(f), key=lambda p: int(p["id"])))
-d = worst(*dumps)
+BEAM = NODE + ["-gimp_static_tol", "0", "-ts_max_steps", "3000"]
+_, one = dump_run("dcb_np1", "options/dcb.opts", BEAM)
+_, two = dump_run("dcb_np2", "options/dcb.opts", BEAM, ranks=2)
+d = worst(one, two)
 c.check("np = 2 equals np = 1 with a crack", d < 1e-12,
         "%d particles after 3000 steps: largest difference relative to the largest value %.1e"
-        % (len(dumps[0]), d))
+        % (len(one), d))
 c.done()

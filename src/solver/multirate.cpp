@@ -259,21 +259,34 @@ PetscErrorCode Solver::startClasses(ParticleView &p, PetscInt j) {
   for (int k = 0; k < r.n; ++k)
     started = started || (r.size[k] > 0 && j % r.every[k] == 0);
   // The mass of every class (each from its last start), the masks and the velocity (unchanged
-  // when no class starts: the nodes kept them).
+  // when no class starts: the nodes kept them). With the node rule also each node's rate: the
+  // step of the slowest class whose mass is on it now (its anchor; 1 on an empty node). The
+  // anchor stays on the node through its own step, so the changes of the faster classes' forces
+  // (Solver::classForces) always find mass there.
   if (started) {
     PetscInt nloc = 0;
     PetscCall(VecGetLocalSize(nodal_.mass, &nloc));
-    PetscScalar *m = nullptr;
+    PetscScalar *m = nullptr, *rate = nullptr;
     PetscCall(VecGetArray(nodal_.mass, &m));
     std::fill(m, m + nloc, 0.0);
+    if (sc_.multirateNodeRule) {
+      PetscCall(VecGetArray(r.nodeRate, &rate));
+      std::fill(rate, rate + nloc, 1.0);
+    }
     for (int k = 0; k < r.n; ++k) {
       if (r.size[k] == 0) continue;
       const PetscScalar *mk = nullptr;
       PetscCall(VecGetArrayRead(r.mass[k], &mk));
-      for (PetscInt i = 0; i < nloc; i += 2)
+      const double every = static_cast<double>(r.every[k]);
+      for (PetscInt i = 0; i < nloc; i += kDim) {
         m[i] += mk[i];
+        if (rate && mk[i] > 0)
+          for (int d = 0; d < kDim; ++d)
+            rate[i + d] = std::max(rate[i + d], every);
+      }
       PetscCall(VecRestoreArrayRead(r.mass[k], &mk));
     }
+    if (rate) PetscCall(VecRestoreArray(r.nodeRate, &rate));
     PetscCall(VecRestoreArray(nodal_.mass, &m));
   }
   if (started)
@@ -305,11 +318,11 @@ PetscErrorCode Solver::classForces(const ParticleView &p, const StepClock &c, Pe
                                    StartPower &power) {
   // Each starting class's force f_c (internal and external), and the sub-step's nodal force
   // from it by the rule of -gimp_multirate_forces (docs/method.md). Impulse: m_c f_c at the
-  // class's start. Node: a node of rate m_i takes, at the start of each of its own steps, m_i
-  // times the force of every class that reaches it; at a later start of a faster class c inside
-  // that step, m_c times the change of c's force since. Either way each node gets exactly
-  // m_c dt f_c over a class's step; with the node rule, where the classes' forces balance at the
-  // start of a node's step, no node moves.
+  // class's start. Node: a node of rate m_i (its anchor's step, Solver::startClasses) takes, at the
+  // start of each of its own steps, m_i times the force of every class that reaches it; at a later
+  // start of a faster class c inside that step, m_c times the change of c's force since. Either way
+  // each node gets exactly m_c dt f_c over a class's step; with the node rule, where the classes'
+  // forces balance at the start of a node's step, no node moves.
   PetscCall(PetscLogStagePush(stages_.forces));
   RateClasses &r = rate_;
   const bool external = boundary_.active();
@@ -323,26 +336,6 @@ PetscErrorCode Solver::classForces(const ParticleView &p, const StepClock &c, Pe
   if (!nodeRule && external) PetscCall(VecZeroEntries(nodal_.extW));
   PetscInt nloc = 0;
   PetscCall(VecGetLocalSize(nodal_.P, &nloc));
-  if (nodeRule) {
-    // Each node's rate: the step of the slowest class whose mass is on it now (its anchor; 1 on
-    // an empty node). The anchor stays on the node through its own step, so the changes of the
-    // faster classes' forces always find mass there.
-    PetscScalar *rate = nullptr;
-    PetscCall(VecGetArray(r.nodeRate, &rate));
-    std::fill(rate, rate + nloc, 1.0);
-    for (int k = 0; k < r.n; ++k) {
-      if (r.size[k] == 0) continue;
-      const PetscScalar *mk = nullptr;
-      PetscCall(VecGetArrayRead(r.mass[k], &mk));
-      const double every = static_cast<double>(r.every[k]);
-      for (PetscInt i = 0; i < nloc; i += kDim)
-        if (mk[i] > 0)
-          for (int d = 0; d < kDim; ++d)
-            rate[i + d] = std::max(rate[i + d], every);
-      PetscCall(VecRestoreArrayRead(r.mass[k], &mk));
-    }
-    PetscCall(VecRestoreArray(r.nodeRate, &rate));
-  }
   for (int k = 0; k < r.n; ++k) {
     if (r.size[k] == 0 || j % r.every[k] != 0) continue;
     ParticleView q = p.slice(r.begin[k], r.begin[k + 1]);

@@ -29,7 +29,7 @@ struct RateClasses {
   // external forces the external part again, on its own, and its base.
   std::vector<Vec> force, base, fext, baseExt;
   // Node rule, global: each node's rate, the step of the slowest class whose mass is on it now
-  // (its anchor; both dofs), set every sub-step.
+  // (its anchor; both dofs), set where a class starts (Solver::startClasses).
   Vec nodeRate = nullptr;
   Vec taken = nullptr, field = nullptr;  // global scratch: what the ending classes took, a field
   Vec corr = nullptr, corrSum = nullptr; // MUSL: a class's re-projection correction, their sum
