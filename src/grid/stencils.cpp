@@ -69,6 +69,33 @@ GIMP_ALWAYS_INLINE bool GridT<D>::levelReach(int q, const double *x, const doubl
 }
 
 template <int D>
+GIMP_ALWAYS_INLINE bool GridT<D>::soleBlock(int q, const double *x, const double *l,
+                                            PetscInt *i0) const {
+  // levelReach's conditions for a block, in its own arithmetic: the centre inside the box (so
+  // the reach is h), l <= h / 2, the candidates [ir, i1] within the window and at most 3 wide.
+  const Level &L = levels[q];
+  for (int a = 0; a < D; ++a) {
+    if (!(x[a] >= L.box[a] && x[a] <= L.box[D + a] && l[a] <= 0.5 * L.h)) return false;
+    const PetscInt ir = ifloor((x[a] - l[a] - L.h - L.box[a]) * L.ih) + 1;
+    const PetscInt i1 = iceil((x[a] + l[a] + L.h - L.box[a]) * L.ih) - 1;
+    if (ir < L.w0[a] || ir + 2 >= L.w1[a] || i1 - ir > 2) return false;
+    i0[a] = ir;
+  }
+  if (!block3_[windowSlot(q, i0)]) return false;
+  // No finer level reaches it: along some axis its reach (with half a cell to spare) misses the
+  // finer box, so levelReach finds no candidate there. Coarser levels never reach it.
+  for (int f = q + 1; f < static_cast<int>(levels.size()); ++f) {
+    const Level &F = levels[f];
+    const double Z = std::max(F.h, outwardReach_[f]) + 0.5 * F.h;
+    bool misses = false;
+    for (int a = 0; a < D; ++a)
+      misses = misses || x[a] + l[a] + Z < F.box[a] || x[a] - l[a] - Z > F.box[D + a];
+    if (!misses) return false;
+  }
+  return true;
+}
+
+template <int D>
 void GridT<D>::appendBlock3(int q, const Reach &r, const double *x, const double *l, Stencils<D> &s,
                             size_t &m) const {
   // A regular 3^D block of this level: closed-form weights, the same node set.
@@ -199,6 +226,22 @@ void GridT<D>::appendNodes(int q, const Reach &r, const double *x, const double 
 }
 
 template <int D>
+GIMP_ALWAYS_INLINE void GridT<D>::setBlock(int q, const PetscInt *i0, const double *x,
+                                           const double *l, Stencils<D> &s, PetscInt k) const {
+  // One level's regular 3^D block from node i0: the arguments appendBlock3 gives
+  // shape::uniformWeights3, so the factors are those the rows would hold.
+  const Level &L = levels[q];
+  double xi[D], lam[D];
+  PetscInt stride[D];
+  for (int a = 0; a < D; ++a) {
+    xi[a] = (x[a] - (L.box[a] + i0[a] * L.h)) * L.ih;
+    lam[a] = l[a] * L.ih;
+    stride[a] = a == 0 ? 1 : stride[a - 1] * L.wn(a - 1);
+  }
+  s.setBlock(k, windowSlot(q, i0), stride, xi, lam, L.ih);
+}
+
+template <int D>
 bool GridT<D>::buildStencils(PetscInt n, const double *x, const double *l, Stencils<D> &s,
                              bool compact) const {
   const int K = static_cast<int>(levels.size());
@@ -207,6 +250,7 @@ bool GridT<D>::buildStencils(PetscInt n, const double *x, const double *l, Stenc
   s.compact = compact;
   if (compact) {
     s.blockOf.resize(static_cast<size_t>(n));
+    s.reserveBlocks();
     s.nBlocks = 0;
   }
   size_t m = 0;
@@ -221,29 +265,23 @@ bool GridT<D>::buildStencils(PetscInt n, const double *x, const double *l, Stenc
   for (PetscInt k = 0; k < n; ++k) {
     s.start[k] = static_cast<PetscInt>(m);
     const double *xp = x + D * k, *lp = l + D * k;
-    int nReach = 0, last = -1;
     const int first = coarsestReaching(xp, lp);
+    if (compact) {
+      s.blockOf[k] = -1;
+      PetscInt i0[D];
+      if (soleBlock(first, xp, lp, i0)) { // the common case, in a few comparisons
+        setBlock(first, i0, xp, lp, s, k);
+        continue;
+      }
+    }
+    int nReach = 0, last = -1;
     for (int q = 0; q < K; ++q) {
       reaches[q] = q >= first && levelReach(q, xp, lp, reach[q]);
       if (reaches[q]) ++nReach, last = q;
     }
-    if (compact) {
-      s.blockOf[k] = -1;
-      if (nReach == 1 && reach[last].block3) {
-        // One level's regular 3^D block: the arguments appendBlock3 gives
-        // shape::uniformWeights3, so the factors are those the rows would hold.
-        const Level &L = levels[last];
-        const Reach &r = reach[last];
-        double xi[D], lam[D];
-        PetscInt stride[D];
-        for (int a = 0; a < D; ++a) {
-          xi[a] = (xp[a] - (L.box[a] + r.i0[a] * L.h)) * L.ih;
-          lam[a] = lp[a] * L.ih;
-          stride[a] = a == 0 ? 1 : stride[a - 1] * L.wn(a - 1);
-        }
-        s.setBlock(k, windowSlot(last, r.i0), stride, xi, lam, L.ih);
-        continue;
-      }
+    if (compact && nReach == 1 && reach[last].block3) {
+      setBlock(last, reach[last].i0, xp, lp, s, k);
+      continue;
     }
     for (int q = 0; q < K; ++q) {
       if (!reaches[q]) continue;
@@ -276,6 +314,12 @@ template void GridT<3>::appendNodes(int, const Reach &, const double *, const do
                                     PetscInt, Stencils<3> &, size_t &) const;
 template bool GridT<2>::levelReach(int, const double *, const double *, Reach &) const;
 template bool GridT<3>::levelReach(int, const double *, const double *, Reach &) const;
+template bool GridT<2>::soleBlock(int, const double *, const double *, PetscInt *) const;
+template bool GridT<3>::soleBlock(int, const double *, const double *, PetscInt *) const;
+template void GridT<2>::setBlock(int, const PetscInt *, const double *, const double *,
+                                 Stencils<2> &, PetscInt) const;
+template void GridT<3>::setBlock(int, const PetscInt *, const double *, const double *,
+                                 Stencils<3> &, PetscInt) const;
 template int GridT<2>::coarsestReaching(const double *, const double *) const;
 template int GridT<3>::coarsestReaching(const double *, const double *) const;
 template bool GridT<2>::buildStencils(PetscInt, const double *, const double *, Stencils<2> &,

@@ -4,18 +4,6 @@
 
 namespace gimp::material {
 
-void jaumannUpdate(const Material &m, const Tensor2 &L, double dt, Eigen::Ref<Tensor2> s,
-                   double &szz) {
-  const Tensor2 Dr = 0.5 * (L + L.transpose());
-  const double w = 0.5 * (L(0, 1) - L(1, 0)); // W_xy
-  const double tr = Dr.trace();
-  // W sigma - sigma W for a symmetric sigma in 2D, in closed form.
-  Tensor2 spin;
-  spin << 2.0 * w * s(0, 1), w * (s(1, 1) - s(0, 0)), w * (s(1, 1) - s(0, 0)), -2.0 * w * s(0, 1);
-  s += dt * ((m.lambdaStar * tr) * Tensor2::Identity() + (2.0 * m.mu) * Dr + spin);
-  if (m.planeStrain) szz += dt * m.lambda * tr;
-}
-
 void neoHookeanStress(const Material &m, const Tensor2 &F, Eigen::Ref<Tensor2> s, double &szz) {
   const double J = determinant2(F);
   const double lnJ = std::log(J);

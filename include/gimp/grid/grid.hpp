@@ -152,6 +152,14 @@ private:
   int coarsestReaching(const double *x, const double *l) const;
   /// Level q's candidate nodes for the particle (q at least coarsestReaching's level).
   bool levelReach(int q, const double *x, const double *l, Reach &r) const;
+  /// The block of level q (coarsestReaching's level) of a particle that no other level reaches
+  /// and whose candidates there form a regular 3^D block: true, with its first node in i0; false
+  /// where that cannot be settled in a few comparisons (levelReach decides then). Where it is
+  /// true, buildStencils' general path gives the same block.
+  bool soleBlock(int q, const double *x, const double *l, PetscInt *i0) const;
+  /// Particle k keeps level q's block from node i0.
+  void setBlock(int q, const PetscInt *i0, const double *x, const double *l, Stencils<D> &s,
+                PetscInt k) const;
   void appendBlock3(int q, const Reach &r, const double *x, const double *l, Stencils<D> &s,
                     size_t &m) const;
   void appendNodes(int q, const Reach &r, const double *x, const double *l, double *scratch,

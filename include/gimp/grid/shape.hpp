@@ -6,6 +6,8 @@
 // A zone of zero on one side (a node on the domain edge) makes that side empty.
 #pragma once
 
+#include "gimp/core/pair.hpp"
+
 #include <algorithm>
 #include <cmath>
 
@@ -83,15 +85,18 @@ inline void weightAndGradientUniform(double d, double l, double h, double ih, do
 /// grid (zones h) for a particle of half-size l <= h/2 whose left end lies in [x_i0, x_i0 + h):
 /// xi = (x_p - x_i0) / h, lam = l / h, i2l = h / (2 l), i2lh = 1 / (2 l). The same values as
 /// weightAndGradient on each node, in one pass (the common case of every level's interior).
-inline void uniformWeights3(double xi, double lam, double i2l, double i2lh, double *w, double *g) {
-  const double a = xi - lam, b = xi + lam; // particle ends relative to node i0, in cells
-  const double bb = std::min(b, 1.0), c = std::max(b - 1.0, 0.0);
-  const double ua = 1.0 - a, ub = 1.0 - bb;
+/// T is double, or simd::Pair for two axes at once (lane a of every argument and result is
+/// axis a; the same operations in the same order, so the same values).
+template <class T> inline void uniformWeights3(T xi, T lam, T i2l, T i2lh, T *w, T *g) {
+  const T one = simd::broadcast<T>(1.0), zero = simd::broadcast<T>(0.0);
+  const T a = xi - lam, b = xi + lam; // particle ends relative to node i0, in cells
+  const T bb = simd::minOf(one, b), c = simd::maxOf(zero, b - 1.0);
+  const T ua = 1.0 - a, ub = 1.0 - bb;
   w[0] = 0.5 * (ua - ub) * (ua + ub) * i2l;
   w[1] = (0.5 * (bb - a) * (bb + a) + c - 0.5 * c * c) * i2l;
   w[2] = 0.5 * c * c * i2l;
   g[0] = (ub - ua) * i2lh;
-  g[1] = (1.0 - std::fabs(b - 1.0) - a) * i2lh;
+  g[1] = (1.0 - simd::abs(b - 1.0) - a) * i2lh;
   g[2] = c * i2lh;
 }
 

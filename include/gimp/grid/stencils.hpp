@@ -101,13 +101,30 @@ template <int D> struct Stencils {
   bool isBlock(PetscInt k) const { return compact && blockOf[k] >= 0; }
   /// The 1D factors of block particle k (isBlock(k)).
   const Block<D> &block(PetscInt k) const { return blocks[blockOf[k]]; }
+  /// Room for a block per particle (untouched room costs no memory); before setBlock.
+  void reserveBlocks() {
+    if (blocks.size() < blockOf.size()) blocks.resize(blockOf.size());
+  }
   /// Make particle k a block: base slot, strides, and per axis the particle's left end in the
   /// block's first cell xi[d], its half-size in cells lam[d] and 1 / h of its level.
   void setBlock(PetscInt k, PetscInt base, const PetscInt *stride, const double *xi,
                 const double *lam, double ih) {
-    if (blocks.size() < blockOf.size()) blocks.resize(blockOf.size()); // (untouched room)
     blockOf[k] = nBlocks;
     Block<D> &b = blocks[nBlocks++];
+    if constexpr (D == 2) { // both axes at once
+      using simd::Pair;
+      const Pair x2 = {xi[0], xi[1]}, l2 = {lam[0], lam[1]}, i2l = 0.5 / l2;
+      Pair w[3], g[3];
+      shape::uniformWeights3(x2, l2, i2l, i2l * ih, w, g);
+      for (int i = 0; i < 3; ++i)
+        for (int d = 0; d < 2; ++d) {
+          b.w[d][i] = w[i][d];
+          b.g[d][i] = g[i][d];
+        }
+      b.stride[0] = stride[1];
+      b.base = base;
+      return;
+    }
     for (int d = 0; d < D; ++d) {
       const double i2l = 0.5 / lam[d];
       shape::uniformWeights3(xi[d], lam[d], i2l, i2l * ih, b.w[d], b.g[d]);

@@ -13,9 +13,18 @@ using Tensor3 = Tensor<3>;
 /// Hypoelastic linear isotropic update with the Jaumann (co-rotational) rate over dt:
 /// sigma += dt (lambda* tr(D) I + 2 mu D + W sigma - sigma W), D and W the symmetric and skew
 /// parts of L. Plane strain carries szz += dt lambda tr(D); plane stress keeps szz = 0 with the
-/// reduced lambda*.
-void jaumannUpdate(const Material &m, const Tensor2 &L, double dt, Eigen::Ref<Tensor2> s,
-                   double &szz);
+/// reduced lambda*. (Inline: it runs once per particle and step.)
+inline void jaumannUpdate(const Material &m, const Tensor2 &L, double dt, Eigen::Ref<Tensor2> s,
+                          double &szz) {
+  const Tensor2 Dr = 0.5 * (L + L.transpose());
+  const double w = 0.5 * (L(0, 1) - L(1, 0)); // W_xy
+  const double tr = Dr.trace();
+  // W sigma - sigma W for a symmetric sigma in 2D, in closed form.
+  Tensor2 spin;
+  spin << 2.0 * w * s(0, 1), w * (s(1, 1) - s(0, 0)), w * (s(1, 1) - s(0, 0)), -2.0 * w * s(0, 1);
+  s += dt * ((m.lambdaStar * tr) * Tensor2::Identity() + (2.0 * m.mu) * Dr + spin);
+  if (m.planeStrain) szz += dt * m.lambda * tr;
+}
 
 /// Compressible neo-Hookean Cauchy stress from F (plane strain, Fzz = 1):
 /// sigma = (lambda ln J I + mu (F F^T - I)) / J, szz = lambda ln J / J.

@@ -8,6 +8,7 @@
 // crack reach and the output read), the weights come from the corners (Grid::buildCpdiStencils).
 #pragma once
 
+#include "gimp/core/pair.hpp"
 #include "gimp/cracks/geometry.hpp"
 #include "gimp/grid/grid.hpp"
 #include "gimp/particles/swarm.hpp"
@@ -73,10 +74,10 @@ inline void updateDomain(const Scene &sc, ParticleView &p, PetscInt k, const Ten
       p.l[2 * k + a] = (1.0 + p.eps[2 * k + a]) * p.l0[2 * k + a];
     }
     return;
-  case Tracking::Stretch: {
-    const auto F = tensorAt<2>(p.F, k);
-    for (int a = 0; a < 2; ++a)
-      p.l[2 * k + a] = std::sqrt(F(0, a) * F(0, a) + F(1, a) * F(1, a)) * p.l0[2 * k + a];
+  case Tracking::Stretch: { // l_a = |F e_a| l0_a, both axes at once
+    using simd::Pair;
+    const Pair r0 = simd::load(&p.F[4 * k]), r1 = simd::load(&p.F[4 * k + 2]); // F's rows
+    simd::store(&p.l[2 * k], simd::sqrt(r0 * r0 + r1 * r1) * simd::load(&p.l0[2 * k]));
     return;
   }
   case Tracking::Cpdi: { // the volume stays det(F) V0

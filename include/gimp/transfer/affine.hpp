@@ -8,6 +8,7 @@
 // level, at transition nodes and at cracked slots alike.
 #pragma once
 
+#include "gimp/core/pair.hpp"
 #include "gimp/grid/stencils.hpp"
 #include "gimp/transfer/transfer.hpp"
 
@@ -148,34 +149,44 @@ GIMP_ALWAYS_INLINE void particleToGridAffineB(const Stencils<D> &st, PetscInt k,
                                               double *mass) {
   if constexpr (D == 2)
     if (st.isBlock(k)) {
-      const Block<2> b = st.block(k); // a copy: stores to nodal arrays cannot alias it
-      double dx[3], dy[3], Sx[3] = {0, 0, 0}, Sy[3] = {0, 0, 0};
+      // Everything read before the first store (which the compiler cannot tell from the block).
+      const Block<2> &b = st.block(k);
+      double wx[3], wy[3], dx[3], dy[3], Sx[3] = {0, 0, 0}, Sy[3] = {0, 0, 0};
+      PetscInt row[3];
+      for (int i = 0; i < 3; ++i) {
+        wx[i] = b.w[0][i];
+        wy[i] = b.w[1][i];
+        row[i] = 2 * (b.base + i * b.stride[0]);
+      }
       for (int i = 0; i < 3; ++i) {
         dx[i] = xs[2 * (b.base + i)] - xk[0];
-        Sx[0] += b.w[0][i];
-        Sx[1] += b.w[0][i] * dx[i];
-        Sx[2] += b.w[0][i] * dx[i] * dx[i];
+        Sx[0] += wx[i];
+        Sx[1] += wx[i] * dx[i];
+        Sx[2] += wx[i] * dx[i] * dx[i];
       }
       for (int j = 0; j < 3; ++j) {
-        dy[j] = xs[2 * (b.base + j * b.stride[0]) + 1] - xk[1];
-        Sy[0] += b.w[1][j];
-        Sy[1] += b.w[1][j] * dy[j];
-        Sy[2] += b.w[1][j] * dy[j] * dy[j];
+        dy[j] = xs[row[j] + 1] - xk[1];
+        Sy[0] += wy[j];
+        Sy[1] += wy[j] * dy[j];
+        Sy[2] += wy[j] * dy[j] * dy[j];
       }
       const double dxy = Sx[1] * Sy[1];
       const Tensor<2> Ck = product<2>(Bk, inverseInertia2(Sx[2] * Sy[0], dxy, dxy, Sx[0] * Sy[2]));
+      using simd::Pair; // both components at once
+      const Pair v = {vk[0], vk[1]}, C0 = {Ck(0, 0), Ck(1, 0)}, C1 = {Ck(0, 1), Ck(1, 1)};
+      Pair w2[3], wdx[3];
+      for (int i = 0; i < 3; ++i) {
+        w2[i] = simd::splat(wx[i]);
+        wdx[i] = simd::splat(wx[i] * dx[i]);
+      }
       for (int j = 0; j < 3; ++j) {
-        const double mw = mp * b.w[1][j];
-        const double r0 = mw * (vk[0] + Ck(0, 1) * dy[j]), r1 = mw * (vk[1] + Ck(1, 1) * dy[j]);
-        const double s0 = mw * Ck(0, 0), s1 = mw * Ck(1, 0);
-        double *row = mom + 2 * (b.base + j * b.stride[0]);
-        double *mrow = mass ? mass + 2 * (b.base + j * b.stride[0]) : nullptr;
-        for (int i = 0; i < 3; ++i) {
-          const double wx = b.w[0][i], wdx = wx * dx[i];
-          row[2 * i] += wx * r0 + wdx * s0;
-          row[2 * i + 1] += wx * r1 + wdx * s1;
-          if (mrow) mrow[2 * i] += wx * mw;
-        }
+        const double mw = mp * wy[j];
+        const Pair r = mw * (v + C1 * dy[j]), t = mw * C0;
+        for (int i = 0; i < 3; ++i)
+          simd::addTo(mom + row[j] + 2 * i, w2[i] * r + wdx[i] * t);
+        if (mass)
+          for (int i = 0; i < 3; ++i)
+            mass[row[j] + 2 * i] += wx[i] * mw;
       }
       return;
     }
@@ -239,27 +250,25 @@ GIMP_ALWAYS_INLINE void particleFromGridAffine(const Stencils<D> &st, PetscInt k
     vp[c] = 0.0;
   Bk = Tensor<D>::Zero();
   if constexpr (D == 2)
-    if (st.isBlock(k)) {              // row sums along x, then along y
-      const Block<2> b = st.block(k); // a copy: stores to nodal arrays cannot alias it
+    if (st.isBlock(k)) { // row sums along x, then along y; both components at once
+      using simd::Pair;
+      const Block<2> &b = st.block(k);
       double dx[3];
       for (int i = 0; i < 3; ++i)
         dx[i] = xs[2 * (b.base + i)] - xk[0];
+      Pair v = {0, 0}, B0 = {0, 0}, B1 = {0, 0};
       for (int j = 0; j < 3; ++j) {
         const PetscInt r = 2 * (b.base + j * b.stride[0]);
         const double dy = xs[r + 1] - xk[1];
-        double t[2] = {0, 0}, u[2] = {0, 0};
-        for (int i = 0; i < 3; ++i)
-          for (int c = 0; c < 2; ++c) {
-            const double wv = b.w[0][i] * vg[r + 2 * i + c];
-            t[c] += wv;
-            u[c] += wv * dx[i];
-          }
-        for (int c = 0; c < 2; ++c) {
-          vp[c] += b.w[1][j] * t[c];
-          Bk(c, 0) += b.w[1][j] * u[c];
-          Bk(c, 1) += b.w[1][j] * dy * t[c];
-        }
+        const Pair wv0 = b.w[0][0] * simd::load(vg + r), wv1 = b.w[0][1] * simd::load(vg + r + 2),
+                   wv2 = b.w[0][2] * simd::load(vg + r + 4);
+        const Pair t = wv0 + wv1 + wv2, u = wv0 * dx[0] + wv1 * dx[1] + wv2 * dx[2];
+        v += b.w[1][j] * t;
+        B0 += b.w[1][j] * u;
+        B1 += b.w[1][j] * dy * t;
       }
+      simd::store(vp, v);
+      Bk << B0[0], B1[0], B0[1], B1[1];
       return;
     }
   if constexpr (D == 3)

@@ -6,6 +6,7 @@
 // arrays are those of a ParticleView. No kernel knows about PETSc objects, levels or ranks.
 #pragma once
 
+#include "gimp/core/pair.hpp"
 #include "gimp/grid/stencils.hpp"
 
 namespace gimp::transfer {
@@ -19,17 +20,28 @@ GIMP_ALWAYS_INLINE void particleToGrid(const Stencils<D> &st, PetscInt k, double
   for (int c = 0; c < D; ++c)
     pk[c] = mp * vk[c];
   if constexpr (D == 2)
-    if (st.isBlock(k)) {              // a sum along x for each row of nodes
-      const Block<2> b = st.block(k); // a copy: stores to nodal arrays cannot alias it
+    if (st.isBlock(k)) { // a sum along x for each row of nodes, both components at once
+      using simd::Pair;
+      // Everything read before the first store (which the compiler cannot tell from the block).
+      const Block<2> &b = st.block(k);
+      const Pair p2 = {pk[0], pk[1]};
+      double wx[3], wy[3];
+      Pair w2[3];
+      PetscInt row[3];
+      for (int i = 0; i < 3; ++i) {
+        wx[i] = b.w[0][i];
+        wy[i] = b.w[1][i];
+        w2[i] = simd::splat(wx[i]);
+        row[i] = 2 * (b.base + i * b.stride[0]);
+      }
       for (int j = 0; j < 3; ++j) {
-        const double wy = b.w[1][j], a0 = wy * pk[0], a1 = wy * pk[1], am = wy * mp;
-        double *row = mom + 2 * (b.base + j * b.stride[0]);
-        double *mrow = mass ? mass + 2 * (b.base + j * b.stride[0]) : nullptr;
-        for (int i = 0; i < 3; ++i) {
-          row[2 * i] += b.w[0][i] * a0;
-          row[2 * i + 1] += b.w[0][i] * a1;
-          if (mrow) mrow[2 * i] += b.w[0][i] * am;
-        }
+        const double am = wy[j] * mp;
+        const Pair a = wy[j] * p2;
+        for (int i = 0; i < 3; ++i)
+          simd::addTo(mom + row[j] + 2 * i, w2[i] * a);
+        if (mass)
+          for (int i = 0; i < 3; ++i)
+            mass[row[j] + 2 * i] += wx[i] * am;
       }
       return;
     }
@@ -56,21 +68,21 @@ GIMP_ALWAYS_INLINE void particleFromGrid(const Stencils<D> &st, PetscInt k, cons
   for (int c = 0; c < D; ++c)
     vp[c] = ap[c] = 0.0;
   if constexpr (D == 2)
-    if (st.isBlock(k)) {
-      const Block<2> b = st.block(k); // a copy: stores to nodal arrays cannot alias it
+    if (st.isBlock(k)) { // both components at once
+      using simd::Pair;
+      const Block<2> &b = st.block(k);
+      Pair v = {0, 0}, a = {0, 0};
       for (int j = 0; j < 3; ++j) {
         const PetscInt r = 2 * (b.base + j * b.stride[0]);
-        double tv[2] = {0, 0}, ta[2] = {0, 0};
-        for (int i = 0; i < 3; ++i)
-          for (int c = 0; c < 2; ++c) {
-            tv[c] += b.w[0][i] * vg[r + 2 * i + c];
-            ta[c] += b.w[0][i] * ag[r + 2 * i + c];
-          }
-        for (int c = 0; c < 2; ++c) {
-          vp[c] += b.w[1][j] * tv[c];
-          ap[c] += b.w[1][j] * ta[c];
-        }
+        const Pair tv = b.w[0][0] * simd::load(vg + r) + b.w[0][1] * simd::load(vg + r + 2) +
+                        b.w[0][2] * simd::load(vg + r + 4);
+        const Pair ta = b.w[0][0] * simd::load(ag + r) + b.w[0][1] * simd::load(ag + r + 2) +
+                        b.w[0][2] * simd::load(ag + r + 4);
+        v += b.w[1][j] * tv;
+        a += b.w[1][j] * ta;
       }
+      simd::store(vp, v);
+      simd::store(ap, a);
       return;
     }
   st.forEach(k, [&](PetscInt nd, double w, const Vector<D> &) {
@@ -108,17 +120,16 @@ GIMP_ALWAYS_INLINE void interpolateAt(const Stencils<D> &st, PetscInt k, const d
   for (int c = 0; c < D; ++c)
     fp[c] = 0.0;
   if constexpr (D == 2)
-    if (st.isBlock(k)) {
-      const Block<2> b = st.block(k);
+    if (st.isBlock(k)) { // both components at once
+      using simd::Pair;
+      const Block<2> &b = st.block(k);
+      Pair f = {0, 0};
       for (int j = 0; j < 3; ++j) {
         const PetscInt r = 2 * (b.base + j * b.stride[0]);
-        double t[2] = {0, 0};
-        for (int i = 0; i < 3; ++i)
-          for (int c = 0; c < 2; ++c)
-            t[c] += b.w[0][i] * fg[r + 2 * i + c];
-        for (int c = 0; c < 2; ++c)
-          fp[c] += b.w[1][j] * t[c];
+        f += b.w[1][j] * (b.w[0][0] * simd::load(fg + r) + b.w[0][1] * simd::load(fg + r + 2) +
+                          b.w[0][2] * simd::load(fg + r + 4));
       }
+      simd::store(fp, f);
       return;
     }
   st.forEach(k, [&](PetscInt nd, double w, const Vector<D> &) {
@@ -164,20 +175,18 @@ template <int D> Tensor<D> velocityGradientAt(const Stencils<D> &st, PetscInt k,
   Tensor<D> Lk = Tensor<D>::Zero();
   if constexpr (D == 2)
     if (st.isBlock(k)) { // L(c, 0) = sum_j w_j sum_i g_i v_c, L(c, 1) = sum_j g_j sum_i w_i v_c
-      const Block<2> b = st.block(k); // a copy: stores to nodal arrays cannot alias it
+      using simd::Pair;  // (both components c at once)
+      const Block<2> &b = st.block(k);
+      Pair L0 = {0, 0}, L1 = {0, 0};
       for (int j = 0; j < 3; ++j) {
-        const PetscInt r = 2 * (b.base + j * b.stride[0]);
-        double pg[2] = {0, 0}, qw[2] = {0, 0};
-        for (int i = 0; i < 3; ++i)
-          for (int c = 0; c < 2; ++c) {
-            pg[c] += b.g[0][i] * vg[r + 2 * i + c];
-            qw[c] += b.w[0][i] * vg[r + 2 * i + c];
-          }
-        for (int c = 0; c < 2; ++c) {
-          Lk(c, 0) += b.w[1][j] * pg[c];
-          Lk(c, 1) += b.g[1][j] * qw[c];
-        }
+        const double *r = vg + 2 * (b.base + j * b.stride[0]);
+        const Pair v0 = simd::load(r), v1 = simd::load(r + 2), v2 = simd::load(r + 4);
+        const Pair pg = b.g[0][0] * v0 + b.g[0][1] * v1 + b.g[0][2] * v2;
+        const Pair qw = b.w[0][0] * v0 + b.w[0][1] * v1 + b.w[0][2] * v2;
+        L0 += b.w[1][j] * pg;
+        L1 += b.g[1][j] * qw;
       }
+      Lk << L0[0], L1[0], L0[1], L1[1];
       return Lk;
     }
   if constexpr (D == 3)
