@@ -23,6 +23,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <random>
 #include <string>
 #include <utility>
@@ -471,3 +472,46 @@ TEST(ShapeRefinedMesh, PartitionOfUnityAndReproduction) {
 }
 
 } // namespace
+
+// The two-lane form of the closed-form block weights (both axes at once) and the lane
+// operations it uses give the scalar values bit for bit, also at the edges of the inputs (the
+// particle's end exactly on a node, -0, NaN).
+TEST(ShapeExact, PairLanesAreTheScalarValues) {
+  using gimp::simd::Pair;
+  auto same = [](double a, double b) { // equal bits (NaN with NaN)
+    return std::memcmp(&a, &b, sizeof a) == 0 || (std::isnan(a) && std::isnan(b));
+  };
+  const double edge[] = {0.0, -0.0, 1.0, -1.0, 0.5, 1e-300, std::nan(""), INFINITY, -INFINITY};
+  for (double a : edge)
+    for (double b : edge) {
+      const Pair x = {a, b}, y = {b, a};
+      EXPECT_TRUE(same(gimp::simd::minOf(x, y)[0], gimp::simd::minOf(a, b))) << a << " " << b;
+      EXPECT_TRUE(same(gimp::simd::maxOf(x, y)[0], gimp::simd::maxOf(a, b))) << a << " " << b;
+      EXPECT_TRUE(same(gimp::simd::minOf(a, b), std::min(b, a))) << a << " " << b;
+      EXPECT_TRUE(same(gimp::simd::maxOf(a, b), std::max(b, a))) << a << " " << b;
+      EXPECT_TRUE(same(gimp::simd::abs(x)[1], std::fabs(b))) << b;
+      if (b >= 0) EXPECT_TRUE(same(gimp::simd::sqrt(x)[1], std::sqrt(b))) << b;
+    }
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> U(0.0, 1.0);
+  for (int t = 0; t < 20000; ++t) {
+    // Half-sizes up to h/2 with the left end in the first cell; every tenth on a node exactly.
+    double xi[2], lam[2];
+    for (int d = 0; d < 2; ++d) {
+      lam[d] = 0.5 * U(rng) + 1e-3;
+      xi[d] = lam[d] + (t % 10 == 0 ? 0.0 : U(rng));
+    }
+    const Pair x2 = {xi[0], xi[1]}, l2 = {lam[0], lam[1]}, i2l = 0.5 / l2;
+    Pair w[3], g[3];
+    gimp::shape::uniformWeights3(x2, l2, i2l, i2l * 64.0, w, g);
+    for (int d = 0; d < 2; ++d) {
+      double ws[3], gs[3];
+      const double i2ls = 0.5 / lam[d];
+      gimp::shape::uniformWeights3(xi[d], lam[d], i2ls, i2ls * 64.0, ws, gs);
+      for (int i = 0; i < 3; ++i) {
+        ASSERT_TRUE(same(w[i][d], ws[i])) << t << " " << d << " " << i;
+        ASSERT_TRUE(same(g[i][d], gs[i])) << t << " " << d << " " << i;
+      }
+    }
+  }
+}
