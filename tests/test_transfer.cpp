@@ -71,10 +71,12 @@ struct Particles {
 
 /// n random particles over cells [2, 12] x [1.5, 10.5] (all three levels and their borders):
 /// half-sizes between 0.05 and 0.5 of their leaf cell, masses in [0.5, 2], velocities in [-3, 3].
-Particles randomParticles(const Grid &g, PetscInt n, unsigned seed) {
+/// n particles of half-sizes between lmin and lmax of their leaf cell.
+Particles randomParticles(const Grid &g, PetscInt n, unsigned seed, double lmin = 0.05,
+                          double lmax = 0.5) {
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> X(kX0 + 2 * kH0, kX0 + 12 * kH0),
-      Y(kY0 + 1.5 * kH0, kY0 + 10.5 * kH0), frac(0.05, 0.5), mass(0.5, 2.0), vel(-3.0, 3.0);
+      Y(kY0 + 1.5 * kH0, kY0 + 10.5 * kH0), frac(lmin, lmax), mass(0.5, 2.0), vel(-3.0, 3.0);
   Particles p;
   p.n = n;
   for (PetscInt k = 0; k < n; ++k) {
@@ -94,10 +96,10 @@ struct Fixture {
   Stencils st;
   long straddling = 0, transitionEntries = 0;
 
-  explicit Fixture(unsigned seed) {
+  explicit Fixture(unsigned seed, double lmin = 0.05, double lmax = 0.5) {
     EXPECT_EQ(static_cast<int>(g.create(PETSC_COMM_SELF, scene())), 0);
     EXPECT_EQ(g.levels.size(), 3u);
-    p = randomParticles(g, 3000, seed);
+    p = randomParticles(g, 3000, seed, lmin, lmax);
     EXPECT_TRUE(g.buildStencils(p.n, p.x.data(), p.l.data(), st));
     // The sample is not vacuous: particles cross level borders and reach transition nodes.
     for (PetscInt k = 0; k < p.n; ++k) {
@@ -427,16 +429,21 @@ TEST(Transfer, ApicConservesAngularMomentum) {
   EXPECT_GT(std::abs(orbital - L0) / scale, 1e-4); // the spin term matters in this sample
 }
 
-TEST(Transfer, BlocksGiveTheRowsResults) {
-  Fixture f(8);
+/// Every kernel gives the rows' results with the blocks of buildStencils(compact), for
+/// particles of half-sizes between lmin and lmax of their cell; side: the blocks expected
+/// (3: up to h/2, 4: beyond).
+void blocksGiveTheRowsResults(unsigned seed, double lmin, double lmax, int side) {
+  Fixture f(seed, lmin, lmax);
   Stencils blocks;
   ASSERT_TRUE(f.g.buildStencils(f.p.n, f.p.x.data(), f.p.l.data(), blocks, true));
   // Both kinds are present: blocks inside the levels, rows at their borders.
   PetscInt nBlocks = 0;
   for (PetscInt k = 0; k < f.p.n; ++k) {
-    nBlocks += blocks.isBlock(k);
-    if (!blocks.isBlock(k)) continue;
-    // A block's entries are the rows' entries (a third node of weight 0 may be left out).
+    EXPECT_FALSE(side == 3 ? blocks.isBlock4(k) : blocks.isBlock(k)) << k;
+    const bool block = blocks.isBlock(k) || blocks.isBlock4(k);
+    nBlocks += block;
+    if (!block) continue;
+    // A block's entries are the rows' entries (a last node of weight 0 may be left out).
     std::vector<std::pair<PetscInt, double>> a, b;
     blocks.forEach(k, [&](PetscInt s, double w, const gimp::Vector<2> &) { a.push_back({s, w}); });
     f.st.forEach(k, [&](PetscInt s, double w, const gimp::Vector<2> &) { b.push_back({s, w}); });
@@ -533,5 +540,10 @@ TEST(Transfer, BlocksGiveTheRowsResults) {
     EXPECT_LT(rel(o2, o1), tol);
   }
 }
+
+TEST(Transfer, BlocksGiveTheRowsResults) { blocksGiveTheRowsResults(8, 0.05, 0.5, 3); }
+
+// Particles stretched past half a cell (up to a whole one) keep 4-node blocks.
+TEST(Transfer, FourNodeBlocksGiveTheRowsResults) { blocksGiveTheRowsResults(9, 0.5, 1.0, 4); }
 
 } // namespace

@@ -179,32 +179,37 @@ template <int D> void GridT<D>::fillWindowNodes() {
   // block3_[n]: the 3^D block of n's level starting at n (n and the two nodes after it along
   // every axis) lies in the window and is regular: buildStencils takes its closed-form path
   // there.
-  block3_.assign(nWindow, 0);
-  for (int k = 0; k < K; ++k) {
-    const Level &L = levels[k];
-    std::array<PetscInt, D> wn;
-    bool any = true;
-    for (int a = 0; a < D; ++a) {
-      wn[a] = L.wn(a) - 2;
-      any = any && wn[a] > 0;
-    }
-    if (!any) continue;
-    forEachIndex<D>(wn, [&](const Index &w) {
-      PetscInt i[D];
-      for (int a = 0; a < D; ++a)
-        i[a] = w[a] + L.w0[a];
-      bool ok = true;
-      std::array<PetscInt, D> three;
-      three.fill(3);
-      forEachIndex<D>(three, [&](const Index &b) {
-        PetscInt j[D];
+  // block4_ the same for the 4^D block (2D: particles of half-size up to h).
+  auto regularBlocks = [&](PetscInt side, std::vector<std::uint8_t> &flag) {
+    flag.assign(nWindow, 0);
+    for (int k = 0; k < K; ++k) {
+      const Level &L = levels[k];
+      std::array<PetscInt, D> wn;
+      bool any = true;
+      for (int a = 0; a < D; ++a) {
+        wn[a] = L.wn(a) - (side - 1);
+        any = any && wn[a] > 0;
+      }
+      if (!any) continue;
+      forEachIndex<D>(wn, [&](const Index &w) {
+        PetscInt i[D];
         for (int a = 0; a < D; ++a)
-          j[a] = i[a] + b[a];
-        ok = ok && regular[windowSlot(k, j)];
+          i[a] = w[a] + L.w0[a];
+        bool ok = true;
+        std::array<PetscInt, D> block;
+        block.fill(side);
+        forEachIndex<D>(block, [&](const Index &b) {
+          PetscInt j[D];
+          for (int a = 0; a < D; ++a)
+            j[a] = i[a] + b[a];
+          ok = ok && regular[windowSlot(k, j)];
+        });
+        flag[windowSlot(k, i)] = ok;
       });
-      block3_[windowSlot(k, i)] = ok;
-    });
-  }
+    }
+  };
+  regularBlocks(3, block3_);
+  if (D == 2) regularBlocks(4, block4_);
 }
 
 template <int D> PetscErrorCode GridT<D>::createScatter(MPI_Comm comm) {

@@ -55,7 +55,7 @@ GIMP_ALWAYS_INLINE bool GridT<D>::levelReach(int q, const double *x, const doubl
     hi[a] = x[a] + l[a] + Zr;
   }
   const double ih = L.ih;
-  bool first = true, small = true;
+  bool first = true, small = true, four = D == 2;
   for (int a = 0; a < D; ++a) {
     const PetscInt ir = ifloor((lo[a] - L.box[a]) * ih) + 1;
     r.i0[a] = std::max(ir, L.w0[a]);
@@ -63,25 +63,33 @@ GIMP_ALWAYS_INLINE bool GridT<D>::levelReach(int q, const double *x, const doubl
     if (r.i1[a] < r.i0[a]) return false;
     first = first && ir == r.i0[a];
     small = small && r.i1[a] - r.i0[a] <= 2 && r.i0[a] + 2 < L.w1[a] && l[a] <= 0.5 * L.h;
+    four = four && r.i1[a] - r.i0[a] <= 3 && r.i0[a] + 3 < L.w1[a] && l[a] <= L.h;
   }
   r.block3 = r.inside && first && small && block3_[windowSlot(q, r.i0)];
+  r.block4 = !r.block3 && r.inside && first && four && block4_[windowSlot(q, r.i0)];
   return true;
 }
 
 template <int D>
-GIMP_ALWAYS_INLINE bool GridT<D>::soleBlock(int q, const double *x, const double *l,
-                                            PetscInt *i0) const {
+GIMP_ALWAYS_INLINE int GridT<D>::soleBlock(int q, const double *x, const double *l,
+                                           PetscInt *i0) const {
   // levelReach's conditions for a block, in its own arithmetic: the centre inside the box (so
-  // the reach is h), l <= h / 2, the candidates [ir, i1] within the window and at most 3 wide.
+  // the reach is h), l <= h / 2 (3 nodes) or, in 2D, l <= h on every axis and more than h / 2
+  // on one (4 nodes), the candidates [ir, i1] within the window and at most that wide.
   const Level &L = levels[q];
+  int side = 3;
   for (int a = 0; a < D; ++a) {
-    if (!(x[a] >= L.box[a] && x[a] <= L.box[D + a] && l[a] <= 0.5 * L.h)) return false;
+    if (!(x[a] >= L.box[a] && x[a] <= L.box[D + a] && l[a] <= L.h)) return 0;
+    if (!(l[a] <= 0.5 * L.h)) side = 4;
+  }
+  if (D == 3 && side == 4) return 0;
+  for (int a = 0; a < D; ++a) {
     const PetscInt ir = ifloor((x[a] - l[a] - L.h - L.box[a]) * L.ih) + 1;
     const PetscInt i1 = iceil((x[a] + l[a] + L.h - L.box[a]) * L.ih) - 1;
-    if (ir < L.w0[a] || ir + 2 >= L.w1[a] || i1 - ir > 2) return false;
+    if (ir < L.w0[a] || ir + side - 1 >= L.w1[a] || i1 - ir > side - 1) return 0;
     i0[a] = ir;
   }
-  if (!block3_[windowSlot(q, i0)]) return false;
+  if (!(side == 3 ? block3_ : block4_)[windowSlot(q, i0)]) return 0;
   // No finer level reaches it: along some axis its reach (with half a cell to spare) misses the
   // finer box, so levelReach finds no candidate there. Coarser levels never reach it.
   for (int f = q + 1; f < static_cast<int>(levels.size()); ++f) {
@@ -90,9 +98,9 @@ GIMP_ALWAYS_INLINE bool GridT<D>::soleBlock(int q, const double *x, const double
     bool misses = false;
     for (int a = 0; a < D; ++a)
       misses = misses || x[a] + l[a] + Z < F.box[a] || x[a] - l[a] - Z > F.box[D + a];
-    if (!misses) return false;
+    if (!misses) return 0;
   }
-  return true;
+  return side;
 }
 
 template <int D>
@@ -242,6 +250,29 @@ GIMP_ALWAYS_INLINE void GridT<D>::setBlock(int q, const PetscInt *i0, const doub
 }
 
 template <int D>
+GIMP_ALWAYS_INLINE void GridT<D>::setBlock4(int q, const PetscInt *i0, const double *x,
+                                            const double *l, Stencils<D> &s, PetscInt k) const {
+  // The 1D weights appendNodes gives a regular node with the particle inside its level's box.
+  if constexpr (D == 2) { // both axes at once
+    using simd::Pair;
+    const Level &L = levels[q];
+    const Pair x2 = {x[0], x[1]}, l2 = {l[0], l[1]}, box = {L.box[0], L.box[1]},
+               h = simd::splat(L.h), ih = simd::splat(L.ih), i2l = 0.5 / l2;
+    double w[2][4], g[2][4];
+    for (int i = 0; i < 4; ++i) {
+      const Pair node = {static_cast<double>(i0[0] + i), static_cast<double>(i0[1] + i)};
+      Pair wi, gi;
+      shape::weightAndGradientUniform(x2 - (box + node * h), l2, h, ih, i2l, wi, gi);
+      for (int a = 0; a < 2; ++a) {
+        w[a][i] = wi[a];
+        g[a][i] = gi[a];
+      }
+    }
+    s.setBlock4(k, windowSlot(q, i0), L.wn(0), w, g);
+  }
+}
+
+template <int D>
 bool GridT<D>::buildStencils(PetscInt n, const double *x, const double *l, Stencils<D> &s,
                              bool compact) const {
   const int K = static_cast<int>(levels.size());
@@ -252,6 +283,7 @@ bool GridT<D>::buildStencils(PetscInt n, const double *x, const double *l, Stenc
     s.blockOf.resize(static_cast<size_t>(n));
     s.reserveBlocks();
     s.nBlocks = 0;
+    s.nBlocks4 = 0;
   }
   size_t m = 0;
   // Rows: room for the previous step's entries (or 10 per particle); grows below if needed.
@@ -269,8 +301,13 @@ bool GridT<D>::buildStencils(PetscInt n, const double *x, const double *l, Stenc
     if (compact) {
       s.blockOf[k] = -1;
       PetscInt i0[D];
-      if (soleBlock(first, xp, lp, i0)) { // the common case, in a few comparisons
+      const int side = soleBlock(first, xp, lp, i0); // the common case, in a few comparisons
+      if (side == 3) {
         setBlock(first, i0, xp, lp, s, k);
+        continue;
+      }
+      if (side == 4) {
+        setBlock4(first, i0, xp, lp, s, k);
         continue;
       }
     }
@@ -281,6 +318,10 @@ bool GridT<D>::buildStencils(PetscInt n, const double *x, const double *l, Stenc
     }
     if (compact && nReach == 1 && reach[last].block3) {
       setBlock(last, reach[last].i0, xp, lp, s, k);
+      continue;
+    }
+    if (compact && nReach == 1 && reach[last].block4) {
+      setBlock4(last, reach[last].i0, xp, lp, s, k);
       continue;
     }
     for (int q = 0; q < K; ++q) {
@@ -314,8 +355,12 @@ template void GridT<3>::appendNodes(int, const Reach &, const double *, const do
                                     PetscInt, Stencils<3> &, size_t &) const;
 template bool GridT<2>::levelReach(int, const double *, const double *, Reach &) const;
 template bool GridT<3>::levelReach(int, const double *, const double *, Reach &) const;
-template bool GridT<2>::soleBlock(int, const double *, const double *, PetscInt *) const;
-template bool GridT<3>::soleBlock(int, const double *, const double *, PetscInt *) const;
+template int GridT<2>::soleBlock(int, const double *, const double *, PetscInt *) const;
+template int GridT<3>::soleBlock(int, const double *, const double *, PetscInt *) const;
+template void GridT<2>::setBlock4(int, const PetscInt *, const double *, const double *,
+                                  Stencils<2> &, PetscInt) const;
+template void GridT<3>::setBlock4(int, const PetscInt *, const double *, const double *,
+                                  Stencils<3> &, PetscInt) const;
 template void GridT<2>::setBlock(int, const PetscInt *, const double *, const double *,
                                  Stencils<2> &, PetscInt) const;
 template void GridT<3>::setBlock(int, const PetscInt *, const double *, const double *,

@@ -103,6 +103,10 @@ PetscInt maxSlot(const Grid &g, const Stencils<kDim> &st, PetscInt k) {
     const Block<kDim> &b = st.block(k);
     return b.base + 2 * b.stride[0] + 2;
   }
+  if (st.isBlock4(k)) {
+    const Block<kDim, 4> &b = st.block4(k);
+    return b.base + 3 * b.stride[0] + 3;
+  }
   PetscInt s = -1;
   for (PetscInt e = st.start[k]; e < st.start[k + 1]; ++e)
     s = std::max(s, g.slotNode[st.node[e]]);

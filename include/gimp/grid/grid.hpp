@@ -145,7 +145,7 @@ private:
   /// 3^D block with closed-form weights.
   struct Reach {
     PetscInt i0[D] = {}, i1[D] = {};
-    bool inside = false, block3 = false;
+    bool inside = false, block3 = false, block4 = false; // block4: 2D, a regular 4^D block
   };
   /// The coarsest level whose nodes can reach a particle at x with half-sizes l: the finest
   /// level whose box (closed) holds the particle (0 if none).
@@ -153,13 +153,17 @@ private:
   /// Level q's candidate nodes for the particle (q at least coarsestReaching's level).
   bool levelReach(int q, const double *x, const double *l, Reach &r) const;
   /// The block of level q (coarsestReaching's level) of a particle that no other level reaches
-  /// and whose candidates there form a regular 3^D block: true, with its first node in i0; false
-  /// where that cannot be settled in a few comparisons (levelReach decides then). Where it is
-  /// true, buildStencils' general path gives the same block.
-  bool soleBlock(int q, const double *x, const double *l, PetscInt *i0) const;
-  /// Particle k keeps level q's block from node i0.
+  /// and whose candidates there form a regular block: its side (3, or 4 in 2D for a half-size
+  /// between h/2 and h), with its first node in i0; 0 where that cannot be settled in a few
+  /// comparisons (levelReach decides then). Where it is not 0, buildStencils' general path gives
+  /// the same block.
+  int soleBlock(int q, const double *x, const double *l, PetscInt *i0) const;
+  /// Particle k keeps level q's 3-node block from node i0.
   void setBlock(int q, const PetscInt *i0, const double *x, const double *l, Stencils<D> &s,
                 PetscInt k) const;
+  /// Particle k keeps level q's 4-node block from node i0 (2D): the weights of appendNodes.
+  void setBlock4(int q, const PetscInt *i0, const double *x, const double *l, Stencils<D> &s,
+                 PetscInt k) const;
   void appendBlock3(int q, const Reach &r, const double *x, const double *l, Stencils<D> &s,
                     size_t &m) const;
   void appendNodes(int q, const Reach &r, const double *x, const double *l, double *scratch,
@@ -168,6 +172,7 @@ private:
   static constexpr std::uint8_t kActive = 1, kRegular = 2;
   std::vector<std::uint8_t> flags_;  // active and regular in one byte per window node
   std::vector<std::uint8_t> block3_; // the 3^D block of one level from this node is regular
+  std::vector<std::uint8_t> block4_; // the same for the 4^D block (2D)
   std::vector<double> outwardReach_; // per level: the largest zone of its box's boundary nodes
   std::array<std::vector<PetscInt>, D> own_; // level-0 node ownership: first node of each rank
                                              // column per axis

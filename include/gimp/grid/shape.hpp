@@ -67,17 +67,18 @@ inline void weightAndGradient(double d, double l, double Lm, double Lp, double &
 
 /// Weight and gradient for equal zones h on both sides (every node away from level and domain
 /// boundaries), with the reciprocals ih = 1/h and i2l = 1/(2l) given: the same values as
-/// weightAndGradient(d, l, h, h), without divisions or branches in the hot loop.
-inline void weightAndGradientUniform(double d, double l, double h, double ih, double i2l, double &w,
-                                     double &g) {
-  const double A = d - l, B = d + l;
-  const double pl = std::min(B + h, h), ql = std::max(A + h, 0.0);
-  const double pr = std::min(h - A, h), qr = std::max(h - B, 0.0);
-  const double left = std::max(pl - ql, 0.0) * (pl + ql);
-  const double right = std::max(pr - qr, 0.0) * (pr + qr);
+/// weightAndGradient(d, l, h, h), without divisions or branches in the hot loop. T is double, or
+/// simd::Pair for two axes at once (the same operations in the same order in every lane).
+template <class T> inline void weightAndGradientUniform(T d, T l, T h, T ih, T i2l, T &w, T &g) {
+  const T zero = simd::broadcast<T>(0.0);
+  const T A = d - l, B = d + l;
+  const T pl = simd::minOf(h, B + h), ql = simd::maxOf(zero, A + h);
+  const T pr = simd::minOf(h, h - A), qr = simd::maxOf(zero, h - B);
+  const T left = simd::maxOf(zero, pl - ql) * (pl + ql);
+  const T right = simd::maxOf(zero, pr - qr) * (pr + qr);
   w = 0.5 * ih * (left + right) * i2l;
-  const double tB = std::max(1.0 - std::fabs(B) * ih, 0.0),
-               tA = std::max(1.0 - std::fabs(A) * ih, 0.0);
+  const T tB = simd::maxOf(zero, 1.0 - simd::abs(B) * ih),
+          tA = simd::maxOf(zero, 1.0 - simd::abs(A) * ih);
   g = (tB - tA) * i2l;
 }
 

@@ -35,12 +35,14 @@
 
 namespace gimp {
 
-/// The 1D factors of a block particle: the weights w[d][i] and derivatives g[d][i] of the 3
-/// nodes along axis d (the third is 0 where the particle does not reach it); node (i, j, ...)
-/// is slot base + i + j stride[0] + k stride[1] .... Kernels with a tensor-product form use it
-/// directly (sums along one axis, then the other). 104 bytes in 2D.
-template <int D> struct Block {
-  double w[D][3], g[D][3];
+/// The 1D factors of a block particle: the weights w[d][i] and derivatives g[d][i] of the N
+/// nodes along axis d (the last ones are 0 where the particle does not reach them); node
+/// (i, j, ...) is slot base + i + j stride[0] + k stride[1] .... Kernels with a tensor-product
+/// form use it directly (sums along one axis, then the other). N = 3 for particles of half-size
+/// up to h/2 (104 bytes in 2D); N = 4 (2D only) for half-sizes up to h, a particle stretched
+/// past h/2 (136 bytes, against 36 per row entry and 12 to 16 entries).
+template <int D, int N = 3> struct Block {
+  double w[D][N], g[D][N];
   PetscInt base;
   PetscInt stride[D - 1];
 };
@@ -71,9 +73,11 @@ template <int D> struct Stencils {
   // Blocks (see above). levelIh[q] = 1 / h of level q, levelStride[D q + d] the slot distance
   // of one node along axis d on level q's window.
   bool compact = false;
-  StencilArray<PetscInt> blockOf; // per particle: its block in `blocks`, or -1 (rows)
-  PetscInt nBlocks = 0;
-  StencilArray<Block<D>> blocks; // the blocks, in particle order
+  // Per particle: its block in `blocks` (>= 0), -1 (rows), or -2 - its block in `blocks4`.
+  StencilArray<PetscInt> blockOf;
+  PetscInt nBlocks = 0, nBlocks4 = 0;
+  StencilArray<Block<D>> blocks;     // the 3-node blocks, in particle order
+  StencilArray<Block<D, 4>> blocks4; // the 4-node blocks (2D), in particle order
 
   double weight(PetscInt e) const {
     if (general) return sw[e];
@@ -97,13 +101,32 @@ template <int D> struct Stencils {
     }
     return r;
   }
-  /// True when particle k keeps a block instead of rows.
+  /// True when particle k keeps a 3-node block instead of rows.
   bool isBlock(PetscInt k) const { return compact && blockOf[k] >= 0; }
+  /// True when particle k keeps a 4-node block (2D).
+  bool isBlock4(PetscInt k) const { return compact && blockOf[k] <= -2; }
   /// The 1D factors of block particle k (isBlock(k)).
   const Block<D> &block(PetscInt k) const { return blocks[blockOf[k]]; }
+  /// The 1D factors of 4-node block particle k (isBlock4(k)).
+  const Block<D, 4> &block4(PetscInt k) const { return blocks4[-2 - blockOf[k]]; }
   /// Room for a block per particle (untouched room costs no memory); before setBlock.
   void reserveBlocks() {
     if (blocks.size() < blockOf.size()) blocks.resize(blockOf.size());
+    if (D == 2 && blocks4.size() < blockOf.size()) blocks4.resize(blockOf.size());
+  }
+  /// Make particle k a 4-node block (2D): base slot, row stride, and the 1D weights and
+  /// derivatives of its 4 nodes along x and along y.
+  void setBlock4(PetscInt k, PetscInt base, PetscInt stride, const double (*w)[4],
+                 const double (*g)[4]) {
+    blockOf[k] = -2 - nBlocks4;
+    Block<D, 4> &b = blocks4[nBlocks4++];
+    for (int d = 0; d < D; ++d)
+      for (int i = 0; i < 4; ++i) {
+        b.w[d][i] = w[d][i];
+        b.g[d][i] = g[d][i];
+      }
+    b.base = base;
+    b.stride[0] = stride;
   }
   /// Make particle k a block: base slot, strides, and per axis the particle's left end in the
   /// block's first cell xi[d], its half-size in cells lam[d] and 1 / h of its level.
@@ -132,8 +155,29 @@ template <int D> struct Stencils {
     }
     b.base = base;
   }
+  /// f(slot, weight, gradient) for the first nn[0] x nn[1] nodes of a 2D block.
+  template <int N, class F> static void forEachNode(const Block<2, N> &b, const int *nn, F &f) {
+    for (int j = 0; j < nn[1]; ++j)
+      for (int i = 0; i < nn[0]; ++i) {
+        Vector<2> gr;
+        gr[0] = b.g[0][i] * b.w[1][j];
+        gr[1] = b.g[1][j] * b.w[0][i];
+        f(b.base + j * b.stride[0] + i, b.w[0][i] * b.w[1][j], gr);
+      }
+  }
   /// f(slot, weight, gradient) for every entry of particle k.
   template <class F> void forEach(PetscInt k, F &&f) const {
+    if constexpr (D == 2)
+      if (isBlock4(k)) {
+        const Block<2, 4> b = block4(k); // a copy: f's stores cannot alias it
+        int nn[2]; // the nodes up to the last one the particle reaches (a weight or slope)
+        for (int d = 0; d < 2; ++d) {
+          nn[d] = 4;
+          while (nn[d] > 2 && b.w[d][nn[d] - 1] == 0.0 && b.g[d][nn[d] - 1] == 0.0)
+            --nn[d];
+        }
+        return forEachNode(b, nn, f);
+      }
     if (!isBlock(k)) {
       for (PetscInt e = start[k]; e < start[k + 1]; ++e)
         f(node[e], weight(e), gradient(e));
@@ -144,13 +188,7 @@ template <int D> struct Stencils {
     for (int d = 0; d < D; ++d)
       nn[d] = b.g[d][2] > 0.0 ? 3 : 2;
     if constexpr (D == 2) {
-      for (int j = 0; j < nn[1]; ++j)
-        for (int i = 0; i < nn[0]; ++i) {
-          Vector<D> gr;
-          gr[0] = b.g[0][i] * b.w[1][j];
-          gr[1] = b.g[1][j] * b.w[0][i];
-          f(b.base + j * b.stride[0] + i, b.w[0][i] * b.w[1][j], gr);
-        }
+      forEachNode(b, nn, f);
     } else {
       // (3D) Along x innermost, the (y, z) factors of the weight and gradient formed once per row.
       for (int q = 0; q < nn[2]; ++q)

@@ -43,20 +43,20 @@ inline double edgeShape(const Grid &g, const Stencils<2> &st, PetscInt e, int a,
 /// fe.
 inline void spreadEdgeForce(const Grid &g, const Stencils<2> &st, PetscInt k, int a, double n,
                             double edge, const double force[2], double *fe) {
-  if (st.isBlock(k)) { // the same shape from the block's 1D factors (regular nodes, no cracks)
-    const Block<2> b = st.block(k);
-    const int nx = b.g[0][2] > 0.0 ? 3 : 2, ny = b.g[1][2] > 0.0 ? 3 : 2; // as forEach
-    for (int j = 0; j < ny; ++j)
-      for (int i = 0; i < nx; ++i) {
-        const PetscInt nd = b.base + j * b.stride[0] + i;
-        const double *z = &g.zone[4 * nd];
-        const double w = a == 0 ? shape::tent(edge - g.X[nd], z[0], z[1]) * b.w[1][j]
-                                : b.w[0][i] * shape::tent(edge - g.Y[nd], z[2], z[3]);
-        fe[2 * nd] += w * force[0];
-        fe[2 * nd + 1] += w * force[1];
-      }
-    return;
-  }
+  // A block: the same shape from its 1D factors (regular nodes, no cracks), over the nodes
+  // forEach visits.
+  auto block = [&](const auto &b) {
+    st.forEach(k, [&](PetscInt nd, double, const Vector<2> &) {
+      const PetscInt off = nd - b.base, j = off / b.stride[0], i = off - j * b.stride[0];
+      const double *z = &g.zone[4 * nd];
+      const double w = a == 0 ? shape::tent(edge - g.X[nd], z[0], z[1]) * b.w[1][j]
+                              : b.w[0][i] * shape::tent(edge - g.Y[nd], z[2], z[3]);
+      fe[2 * nd] += w * force[0];
+      fe[2 * nd + 1] += w * force[1];
+    });
+  };
+  if (st.isBlock(k)) return block(st.block(k));
+  if (st.isBlock4(k)) return block(st.block4(k));
   for (PetscInt e = st.start[k]; e < st.start[k + 1]; ++e) {
     const double w = edgeShape(g, st, e, a, n, edge);
     fe[2 * st.node[e]] += w * force[0];

@@ -8,8 +8,8 @@
 // level, at transition nodes and at cracked slots alike.
 #pragma once
 
-#include "gimp/core/pair.hpp"
 #include "gimp/grid/stencils.hpp"
+#include "gimp/transfer/block2.hpp"
 #include "gimp/transfer/transfer.hpp"
 
 #include <Eigen/LU>
@@ -53,17 +53,6 @@ Tensor<D> inertiaAbout(const Stencils<D> &st, PetscInt k, const double *xk, cons
 template <int D>
 Tensor<D> inertia(const Stencils<D> &st, PetscInt k, const double *xc, const double *xs) {
   return inertiaAbout<D>(st, k, xc + D * k, xs);
-}
-
-/// The inverse of a 2 x 2 inertia (a, b; c, d), or 0 where it is singular (see below).
-inline Tensor<2> inverseInertia2(double a, double b, double c, double d) {
-  const double det = a * d - b * c;
-  const double half = 0.5 * (a + d);
-  if (!(det > 1e-12 * half * half)) return Tensor<2>::Zero();
-  const double id = 1.0 / det;
-  Tensor<2> r;
-  r << d * id, -b * id, -c * id, a * id;
-  return r;
 }
 
 /// The inverse of a symmetric 3 x 3 inertia (xx, yy, zz, xy, xz, yz) by its adjugate, or 0 where
@@ -147,49 +136,10 @@ GIMP_ALWAYS_INLINE void particleToGridAffineB(const Stencils<D> &st, PetscInt k,
                                               const double *vk, const Tensor<D> &Bk,
                                               const double *xk, const double *xs, double *mom,
                                               double *mass) {
-  if constexpr (D == 2)
-    if (st.isBlock(k)) {
-      // Everything read before the first store (which the compiler cannot tell from the block).
-      const Block<2> &b = st.block(k);
-      double wx[3], wy[3], dx[3], dy[3], Sx[3] = {0, 0, 0}, Sy[3] = {0, 0, 0};
-      PetscInt row[3];
-      for (int i = 0; i < 3; ++i) {
-        wx[i] = b.w[0][i];
-        wy[i] = b.w[1][i];
-        row[i] = 2 * (b.base + i * b.stride[0]);
-      }
-      for (int i = 0; i < 3; ++i) {
-        dx[i] = xs[2 * (b.base + i)] - xk[0];
-        Sx[0] += wx[i];
-        Sx[1] += wx[i] * dx[i];
-        Sx[2] += wx[i] * dx[i] * dx[i];
-      }
-      for (int j = 0; j < 3; ++j) {
-        dy[j] = xs[row[j] + 1] - xk[1];
-        Sy[0] += wy[j];
-        Sy[1] += wy[j] * dy[j];
-        Sy[2] += wy[j] * dy[j] * dy[j];
-      }
-      const double dxy = Sx[1] * Sy[1];
-      const Tensor<2> Ck = product<2>(Bk, inverseInertia2(Sx[2] * Sy[0], dxy, dxy, Sx[0] * Sy[2]));
-      using simd::Pair; // both components at once
-      const Pair v = {vk[0], vk[1]}, C0 = {Ck(0, 0), Ck(1, 0)}, C1 = {Ck(0, 1), Ck(1, 1)};
-      Pair w2[3], wdx[3];
-      for (int i = 0; i < 3; ++i) {
-        w2[i] = simd::splat(wx[i]);
-        wdx[i] = simd::splat(wx[i] * dx[i]);
-      }
-      for (int j = 0; j < 3; ++j) {
-        const double mw = mp * wy[j];
-        const Pair r = mw * (v + C1 * dy[j]), t = mw * C0;
-        for (int i = 0; i < 3; ++i)
-          simd::addTo(mom + row[j] + 2 * i, w2[i] * r + wdx[i] * t);
-        if (mass)
-          for (int i = 0; i < 3; ++i)
-            mass[row[j] + 2 * i] += wx[i] * mw;
-      }
-      return;
-    }
+  if constexpr (D == 2) {
+    if (st.isBlock(k)) return block2::affineToGrid(st.block(k), mp, vk, Bk, xk, xs, mom, mass);
+    if (st.isBlock4(k)) return block2::affineToGrid(st.block4(k), mp, vk, Bk, xk, xs, mom, mass);
+  }
   if constexpr (D == 3)
     if (st.isBlock(k)) { // the same in 3D: D_k from the three axes' 1D moments, rows along x
       const Block<3> b = st.block(k);
@@ -249,28 +199,10 @@ GIMP_ALWAYS_INLINE void particleFromGridAffine(const Stencils<D> &st, PetscInt k
   for (int c = 0; c < D; ++c)
     vp[c] = 0.0;
   Bk = Tensor<D>::Zero();
-  if constexpr (D == 2)
-    if (st.isBlock(k)) { // row sums along x, then along y; both components at once
-      using simd::Pair;
-      const Block<2> &b = st.block(k);
-      double dx[3];
-      for (int i = 0; i < 3; ++i)
-        dx[i] = xs[2 * (b.base + i)] - xk[0];
-      Pair v = {0, 0}, B0 = {0, 0}, B1 = {0, 0};
-      for (int j = 0; j < 3; ++j) {
-        const PetscInt r = 2 * (b.base + j * b.stride[0]);
-        const double dy = xs[r + 1] - xk[1];
-        const Pair wv0 = b.w[0][0] * simd::load(vg + r), wv1 = b.w[0][1] * simd::load(vg + r + 2),
-                   wv2 = b.w[0][2] * simd::load(vg + r + 4);
-        const Pair t = wv0 + wv1 + wv2, u = wv0 * dx[0] + wv1 * dx[1] + wv2 * dx[2];
-        v += b.w[1][j] * t;
-        B0 += b.w[1][j] * u;
-        B1 += b.w[1][j] * dy * t;
-      }
-      simd::store(vp, v);
-      Bk << B0[0], B1[0], B0[1], B1[1];
-      return;
-    }
+  if constexpr (D == 2) { // row sums along x, then along y; both components at once
+    if (st.isBlock(k)) return block2::affineFromGrid(st.block(k), vg, xk, xs, vp, Bk);
+    if (st.isBlock4(k)) return block2::affineFromGrid(st.block4(k), vg, xk, xs, vp, Bk);
+  }
   if constexpr (D == 3)
     if (st.isBlock(k)) { // row sums along x, then the (y, z) factors
       const Block<3> b = st.block(k);

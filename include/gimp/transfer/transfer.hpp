@@ -6,8 +6,8 @@
 // arrays are those of a ParticleView. No kernel knows about PETSc objects, levels or ranks.
 #pragma once
 
-#include "gimp/core/pair.hpp"
 #include "gimp/grid/stencils.hpp"
+#include "gimp/transfer/block2.hpp"
 
 namespace gimp::transfer {
 
@@ -19,32 +19,10 @@ GIMP_ALWAYS_INLINE void particleToGrid(const Stencils<D> &st, PetscInt k, double
   double pk[D];
   for (int c = 0; c < D; ++c)
     pk[c] = mp * vk[c];
-  if constexpr (D == 2)
-    if (st.isBlock(k)) { // a sum along x for each row of nodes, both components at once
-      using simd::Pair;
-      // Everything read before the first store (which the compiler cannot tell from the block).
-      const Block<2> &b = st.block(k);
-      const Pair p2 = {pk[0], pk[1]};
-      double wx[3], wy[3];
-      Pair w2[3];
-      PetscInt row[3];
-      for (int i = 0; i < 3; ++i) {
-        wx[i] = b.w[0][i];
-        wy[i] = b.w[1][i];
-        w2[i] = simd::splat(wx[i]);
-        row[i] = 2 * (b.base + i * b.stride[0]);
-      }
-      for (int j = 0; j < 3; ++j) {
-        const double am = wy[j] * mp;
-        const Pair a = wy[j] * p2;
-        for (int i = 0; i < 3; ++i)
-          simd::addTo(mom + row[j] + 2 * i, w2[i] * a);
-        if (mass)
-          for (int i = 0; i < 3; ++i)
-            mass[row[j] + 2 * i] += wx[i] * am;
-      }
-      return;
-    }
+  if constexpr (D == 2) { // sums along x for each row of nodes, both components at once
+    if (st.isBlock(k)) return block2::toGrid(st.block(k), mp, pk, mom, mass);
+    if (st.isBlock4(k)) return block2::toGrid(st.block4(k), mp, pk, mom, mass);
+  }
   st.forEach(k, [&](PetscInt nd, double w, const Vector<D> &) {
     for (int c = 0; c < D; ++c)
       mom[D * nd + c] += w * pk[c];
@@ -67,24 +45,10 @@ GIMP_ALWAYS_INLINE void particleFromGrid(const Stencils<D> &st, PetscInt k, cons
                                          const double *ag, double *vp, double *ap) {
   for (int c = 0; c < D; ++c)
     vp[c] = ap[c] = 0.0;
-  if constexpr (D == 2)
-    if (st.isBlock(k)) { // both components at once
-      using simd::Pair;
-      const Block<2> &b = st.block(k);
-      Pair v = {0, 0}, a = {0, 0};
-      for (int j = 0; j < 3; ++j) {
-        const PetscInt r = 2 * (b.base + j * b.stride[0]);
-        const Pair tv = b.w[0][0] * simd::load(vg + r) + b.w[0][1] * simd::load(vg + r + 2) +
-                        b.w[0][2] * simd::load(vg + r + 4);
-        const Pair ta = b.w[0][0] * simd::load(ag + r) + b.w[0][1] * simd::load(ag + r + 2) +
-                        b.w[0][2] * simd::load(ag + r + 4);
-        v += b.w[1][j] * tv;
-        a += b.w[1][j] * ta;
-      }
-      simd::store(vp, v);
-      simd::store(ap, a);
-      return;
-    }
+  if constexpr (D == 2) {
+    if (st.isBlock(k)) return block2::fromGrid(st.block(k), vg, ag, vp, ap);
+    if (st.isBlock4(k)) return block2::fromGrid(st.block4(k), vg, ag, vp, ap);
+  }
   st.forEach(k, [&](PetscInt nd, double w, const Vector<D> &) {
     for (int c = 0; c < D; ++c) {
       vp[c] += w * vg[D * nd + c];
@@ -119,19 +83,10 @@ GIMP_ALWAYS_INLINE void interpolateAt(const Stencils<D> &st, PetscInt k, const d
                                       double *fp) {
   for (int c = 0; c < D; ++c)
     fp[c] = 0.0;
-  if constexpr (D == 2)
-    if (st.isBlock(k)) { // both components at once
-      using simd::Pair;
-      const Block<2> &b = st.block(k);
-      Pair f = {0, 0};
-      for (int j = 0; j < 3; ++j) {
-        const PetscInt r = 2 * (b.base + j * b.stride[0]);
-        f += b.w[1][j] * (b.w[0][0] * simd::load(fg + r) + b.w[0][1] * simd::load(fg + r + 2) +
-                          b.w[0][2] * simd::load(fg + r + 4));
-      }
-      simd::store(fp, f);
-      return;
-    }
+  if constexpr (D == 2) {
+    if (st.isBlock(k)) return block2::interpolate(st.block(k), fg, fp);
+    if (st.isBlock4(k)) return block2::interpolate(st.block4(k), fg, fp);
+  }
   st.forEach(k, [&](PetscInt nd, double w, const Vector<D> &) {
     for (int c = 0; c < D; ++c)
       fp[c] += w * fg[D * nd + c];
@@ -173,22 +128,10 @@ void gridToParticlesProjected(const Stencils<D> &st, PetscInt n, const double *v
 /// Velocity gradient of particle k, L = sum_i v_i (x) grad S_ip.
 template <int D> Tensor<D> velocityGradientAt(const Stencils<D> &st, PetscInt k, const double *vg) {
   Tensor<D> Lk = Tensor<D>::Zero();
-  if constexpr (D == 2)
-    if (st.isBlock(k)) { // L(c, 0) = sum_j w_j sum_i g_i v_c, L(c, 1) = sum_j g_j sum_i w_i v_c
-      using simd::Pair;  // (both components c at once)
-      const Block<2> &b = st.block(k);
-      Pair L0 = {0, 0}, L1 = {0, 0};
-      for (int j = 0; j < 3; ++j) {
-        const double *r = vg + 2 * (b.base + j * b.stride[0]);
-        const Pair v0 = simd::load(r), v1 = simd::load(r + 2), v2 = simd::load(r + 4);
-        const Pair pg = b.g[0][0] * v0 + b.g[0][1] * v1 + b.g[0][2] * v2;
-        const Pair qw = b.w[0][0] * v0 + b.w[0][1] * v1 + b.w[0][2] * v2;
-        L0 += b.w[1][j] * pg;
-        L1 += b.g[1][j] * qw;
-      }
-      Lk << L0[0], L1[0], L0[1], L1[1];
-      return Lk;
-    }
+  if constexpr (D == 2) {
+    if (st.isBlock(k)) return block2::gradient(st.block(k), vg);
+    if (st.isBlock4(k)) return block2::gradient(st.block4(k), vg);
+  }
   if constexpr (D == 3)
     if (st.isBlock(k)) { // rows along x: sum_i g_i v_c and sum_i w_i v_c, then the (y, z) factors
       const Block<3> b = st.block(k);

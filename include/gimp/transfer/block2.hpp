@@ -1,0 +1,215 @@
+// The 2D kernels of a block particle (grid/stencils.hpp, Block<2, N>) in tensor-product form:
+// sums along x for each row of nodes, then along y; a node's x and y values as one SSE2 pair
+// (core/pair.hpp). N = 3 for half-sizes up to h/2, N = 4 up to h. The rows along y stop at the
+// last one the particle reaches (rowsReached); along x all N nodes are summed (the ones it does
+// not reach have weight and slope 0). The kernels of transfer.hpp, affine.hpp and
+// physics/internal_force.hpp call these for their block particles.
+#pragma once
+
+#include "gimp/core/pair.hpp"
+#include "gimp/core/tensor.hpp"
+#include "gimp/grid/stencils.hpp"
+
+namespace gimp::transfer {
+
+/// The inverse of a 2 x 2 inertia (a, b; c, d), or 0 where it is singular (see below).
+inline Tensor<2> inverseInertia2(double a, double b, double c, double d) {
+  const double det = a * d - b * c;
+  const double half = 0.5 * (a + d);
+  if (!(det > 1e-12 * half * half)) return Tensor<2>::Zero();
+  const double id = 1.0 / det;
+  Tensor<2> r;
+  r << d * id, -b * id, -c * id, a * id;
+  return r;
+}
+
+namespace block2 {
+
+using simd::Pair;
+
+/// The rows of nodes along y to visit: all 3 of a 3-node block (its third may be 0); of a 4-node
+/// block those up to the last with a weight or slope (at least 2).
+template <int N> GIMP_ALWAYS_INLINE int rowsReached(const Block<2, N> &b) {
+  if constexpr (N == 3) {
+    return 3;
+  } else {
+    int n = N;
+    while (n > 2 && b.w[1][n - 1] == 0.0 && b.g[1][n - 1] == 0.0)
+      --n;
+    return n;
+  }
+}
+
+/// sum_i c_i f_i over the N pairs at f, f + 2, ... (in order).
+template <int N> GIMP_ALWAYS_INLINE Pair rowSum(const double *c, const double *f) {
+  Pair t = c[0] * simd::load(f);
+  for (int i = 1; i < N; ++i)
+    t += c[i] * simd::load(f + 2 * i);
+  return t;
+}
+
+/// P2G: S_ip p into mom (p = m_p v_p) and, with mass, S_ip m_p into component 0 of mass.
+template <int N>
+GIMP_ALWAYS_INLINE void toGrid(const Block<2, N> &b, double mp, const double *pk, double *mom,
+                               double *mass) {
+  // Everything read before the first store (which the compiler cannot tell from the block).
+  const int ny = rowsReached(b);
+  const Pair p2 = {pk[0], pk[1]};
+  double wx[N], wy[N];
+  Pair w2[N];
+  PetscInt row[N];
+  for (int i = 0; i < N; ++i) {
+    wx[i] = b.w[0][i];
+    wy[i] = b.w[1][i];
+    w2[i] = simd::splat(wx[i]);
+    row[i] = 2 * (b.base + i * b.stride[0]);
+  }
+  for (int j = 0; j < ny; ++j) {
+    const double am = wy[j] * mp;
+    const Pair a = wy[j] * p2;
+    for (int i = 0; i < N; ++i)
+      simd::addTo(mom + row[j] + 2 * i, w2[i] * a);
+    if (mass)
+      for (int i = 0; i < N; ++i)
+        mass[row[j] + 2 * i] += wx[i] * am;
+  }
+}
+
+/// G2P: the grid velocity vp and acceleration ap at the particle.
+template <int N>
+GIMP_ALWAYS_INLINE void fromGrid(const Block<2, N> &b, const double *vg, const double *ag,
+                                 double *vp, double *ap) {
+  const int ny = rowsReached(b);
+  Pair v = {0, 0}, a = {0, 0};
+  for (int j = 0; j < ny; ++j) {
+    const PetscInt r = 2 * (b.base + j * b.stride[0]);
+    v += b.w[1][j] * rowSum<N>(b.w[0], vg + r);
+    a += b.w[1][j] * rowSum<N>(b.w[0], ag + r);
+  }
+  simd::store(vp, v);
+  simd::store(ap, a);
+}
+
+/// The nodal field f at the particle.
+template <int N>
+GIMP_ALWAYS_INLINE void interpolate(const Block<2, N> &b, const double *fg, double *fp) {
+  const int ny = rowsReached(b);
+  Pair f = {0, 0};
+  for (int j = 0; j < ny; ++j)
+    f += b.w[1][j] * rowSum<N>(b.w[0], fg + 2 * (b.base + j * b.stride[0]));
+  simd::store(fp, f);
+}
+
+/// L = sum_i v_i (x) grad S_ip: L(c, 0) = sum_j w_j sum_i g_i v_c, L(c, 1) = sum_j g_j sum_i w_i
+/// v_c (both components c at once).
+template <int N> GIMP_ALWAYS_INLINE Tensor<2> gradient(const Block<2, N> &b, const double *vg) {
+  const int ny = rowsReached(b);
+  Pair L0 = {0, 0}, L1 = {0, 0};
+  for (int j = 0; j < ny; ++j) {
+    const double *r = vg + 2 * (b.base + j * b.stride[0]);
+    L0 += b.w[1][j] * rowSum<N>(b.g[0], r);
+    L1 += b.g[1][j] * rowSum<N>(b.w[0], r);
+  }
+  Tensor<2> Lk;
+  Lk << L0[0], L1[0], L0[1], L1[1];
+  return Lk;
+}
+
+/// Internal force: f_ij += A (g_i w_j, w_i g_j) with A = -V_p sigma_p.
+template <int N>
+GIMP_ALWAYS_INLINE void internalForce(const Block<2, N> &b, const Tensor<2> &A, double *f) {
+  // Everything read before the first store (which the compiler cannot tell from the block).
+  const int ny = rowsReached(b);
+  const Pair A0 = {A(0, 0), A(1, 0)}, A1 = {A(0, 1), A(1, 1)};
+  Pair gx[N], wx[N], a[N], c[N];
+  PetscInt row[N];
+  for (int i = 0; i < N; ++i) {
+    gx[i] = simd::splat(b.g[0][i]);
+    wx[i] = simd::splat(b.w[0][i]);
+    a[i] = A0 * b.w[1][i];
+    c[i] = A1 * b.g[1][i];
+    row[i] = 2 * (b.base + i * b.stride[0]);
+  }
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < N; ++i)
+      simd::addTo(f + row[j] + 2 * i, gx[i] * a[j] + wx[i] * c[j]);
+}
+
+/// APIC P2G with C = B D^-1 formed from the block: D from the 1D moments of each axis about
+/// the particle xk, the momentum of node (i, j) m w_j [w_i (v + C e_y dy_j) + w_i dx_i C e_x]
+/// (xs: slot coordinates).
+template <int N>
+GIMP_ALWAYS_INLINE void affineToGrid(const Block<2, N> &b, double mp, const double *vk,
+                                     const Tensor<2> &Bk, const double *xk, const double *xs,
+                                     double *mom, double *mass) {
+  // Everything read before the first store (which the compiler cannot tell from the block).
+  const int ny = rowsReached(b);
+  double wx[N], wy[N], dx[N], dy[N], Sx[3] = {0, 0, 0}, Sy[3] = {0, 0, 0};
+  PetscInt row[N];
+  for (int i = 0; i < N; ++i) {
+    wx[i] = b.w[0][i];
+    wy[i] = b.w[1][i];
+    row[i] = 2 * (b.base + i * b.stride[0]);
+  }
+  for (int i = 0; i < N; ++i) {
+    dx[i] = xs[2 * (b.base + i)] - xk[0];
+    Sx[0] += wx[i];
+    Sx[1] += wx[i] * dx[i];
+    Sx[2] += wx[i] * dx[i] * dx[i];
+  }
+  for (int j = 0; j < ny; ++j) {
+    dy[j] = xs[row[j] + 1] - xk[1];
+    Sy[0] += wy[j];
+    Sy[1] += wy[j] * dy[j];
+    Sy[2] += wy[j] * dy[j] * dy[j];
+  }
+  const double dxy = Sx[1] * Sy[1];
+  const Tensor<2> Ck = product<2>(Bk, inverseInertia2(Sx[2] * Sy[0], dxy, dxy, Sx[0] * Sy[2]));
+  const Pair v = {vk[0], vk[1]}, C0 = {Ck(0, 0), Ck(1, 0)}, C1 = {Ck(0, 1), Ck(1, 1)};
+  Pair w2[N], wdx[N];
+  for (int i = 0; i < N; ++i) {
+    w2[i] = simd::splat(wx[i]);
+    wdx[i] = simd::splat(wx[i] * dx[i]);
+  }
+  for (int j = 0; j < ny; ++j) {
+    const double mw = mp * wy[j];
+    const Pair r = mw * (v + C1 * dy[j]), t = mw * C0;
+    for (int i = 0; i < N; ++i)
+      simd::addTo(mom + row[j] + 2 * i, w2[i] * r + wdx[i] * t);
+    if (mass)
+      for (int i = 0; i < N; ++i)
+        mass[row[j] + 2 * i] += wx[i] * mw;
+  }
+}
+
+/// APIC G2P: v_p = sum S v and B_p = sum S v (x_i - x_p)^T about xk.
+template <int N>
+GIMP_ALWAYS_INLINE void affineFromGrid(const Block<2, N> &b, const double *vg, const double *xk,
+                                       const double *xs, double *vp, Tensor<2> &Bk) {
+  const int ny = rowsReached(b);
+  double dx[N];
+  for (int i = 0; i < N; ++i)
+    dx[i] = xs[2 * (b.base + i)] - xk[0];
+  Pair v = {0, 0}, B0 = {0, 0}, B1 = {0, 0};
+  for (int j = 0; j < ny; ++j) {
+    const PetscInt r = 2 * (b.base + j * b.stride[0]);
+    const double dy = xs[r + 1] - xk[1];
+    Pair wv[N];
+    for (int i = 0; i < N; ++i)
+      wv[i] = b.w[0][i] * simd::load(vg + r + 2 * i);
+    Pair t = wv[0], u = wv[0] * dx[0];
+    for (int i = 1; i < N; ++i) {
+      t += wv[i];
+      u += wv[i] * dx[i];
+    }
+    v += b.w[1][j] * t;
+    B0 += b.w[1][j] * u;
+    B1 += b.w[1][j] * dy * t;
+  }
+  simd::store(vp, v);
+  Bk << B0[0], B1[0], B0[1], B1[1];
+}
+
+} // namespace block2
+
+} // namespace gimp::transfer
