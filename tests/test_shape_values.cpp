@@ -515,3 +515,38 @@ TEST(ShapeExact, PairLanesAreTheScalarValues) {
     }
   }
 }
+
+// The closed form of a 4-node block (half-sizes up to h, the left end in the first cell) gives
+// weightAndGradientUniform's values at each node to round-off, for both lanes of a pair.
+TEST(ShapeExact, FourNodeClosedForm) {
+  using gimp::simd::Pair;
+  std::mt19937_64 rng(6);
+  std::uniform_real_distribution<double> U(0.0, 1.0);
+  const double h = 0.25, ih = 1.0 / h;
+  double worst = 0;
+  for (int t = 0; t < 20000; ++t) {
+    double xi[2], lam[2];
+    for (int d = 0; d < 2; ++d) {
+      lam[d] = 0.02 + 0.98 * U(rng); // a small particle too: its last nodes get 0
+      xi[d] = lam[d] + (t % 10 == 0 ? 0.0 : 0.999999 * U(rng));
+    }
+    const Pair x2 = {xi[0], xi[1]}, l2 = {lam[0], lam[1]}, i2l = 0.5 / l2;
+    Pair w[4], g[4];
+    gimp::shape::uniformWeights4(x2, l2, i2l, i2l * ih, w, g);
+    for (int d = 0; d < 2; ++d) {
+      double sum = 0, slope = 0;
+      for (int i = 0; i < 4; ++i) {
+        double we = 0, ge = 0;
+        gimp::shape::weightAndGradientUniform((xi[d] - i) * h, lam[d] * h, h, ih,
+                                              0.5 / (lam[d] * h), we, ge);
+        worst = std::max({worst, std::abs(w[i][d] - we), std::abs(g[i][d] - ge) * h});
+        sum += w[i][d];
+        slope += g[i][d];
+      }
+      EXPECT_NEAR(sum, 1.0, 1e-14) << t;   // partition of unity
+      EXPECT_NEAR(slope, 0.0, 1e-13) << t; // and its derivative
+    }
+  }
+  std::printf("  largest difference from the per-node formula: %.3g\n", worst);
+  EXPECT_LT(worst, 1e-14);
+}

@@ -252,22 +252,22 @@ GIMP_ALWAYS_INLINE void GridT<D>::setBlock(int q, const PetscInt *i0, const doub
 template <int D>
 GIMP_ALWAYS_INLINE void GridT<D>::setBlock4(int q, const PetscInt *i0, const double *x,
                                             const double *l, Stencils<D> &s, PetscInt k) const {
-  // The 1D weights appendNodes gives a regular node with the particle inside its level's box.
-  if constexpr (D == 2) { // both axes at once
+  // The 1D weights of the 4 nodes in closed form (shape::uniformWeights4): the values
+  // appendNodes gives a regular node with the particle inside its level's box, to round-off.
+  if constexpr (D == 2) { // both axes at once, in closed form
     using simd::Pair;
     const Level &L = levels[q];
-    const Pair x2 = {x[0], x[1]}, l2 = {l[0], l[1]}, box = {L.box[0], L.box[1]},
-               h = simd::splat(L.h), ih = simd::splat(L.ih), i2l = 0.5 / l2;
+    const Pair x2 = {x[0], x[1]}, l2 = {l[0], l[1]},
+               corner = {L.box[0] + i0[0] * L.h, L.box[1] + i0[1] * L.h};
+    const Pair xi = (x2 - corner) * L.ih, lam = l2 * L.ih, i2l = 0.5 / lam;
+    Pair wp[4], gp[4];
+    shape::uniformWeights4(xi, lam, i2l, i2l * L.ih, wp, gp);
     double w[2][4], g[2][4];
-    for (int i = 0; i < 4; ++i) {
-      const Pair node = {static_cast<double>(i0[0] + i), static_cast<double>(i0[1] + i)};
-      Pair wi, gi;
-      shape::weightAndGradientUniform(x2 - (box + node * h), l2, h, ih, i2l, wi, gi);
+    for (int i = 0; i < 4; ++i)
       for (int a = 0; a < 2; ++a) {
-        w[a][i] = wi[a];
-        g[a][i] = gi[a];
+        w[a][i] = wp[i][a];
+        g[a][i] = gp[i][a];
       }
-    }
     s.setBlock4(k, windowSlot(q, i0), L.wn(0), w, g);
   }
 }

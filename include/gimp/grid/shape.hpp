@@ -101,4 +101,28 @@ template <class T> inline void uniformWeights3(T xi, T lam, T i2l, T i2lh, T *w,
   g[2] = c * i2lh;
 }
 
+/// The same for the four nodes i0 .. i0+3 of a particle of half-size l <= h whose left end lies
+/// in [x_i0, x_i0 + h) (so its right end lies before x_i0 + 3h): with Phi the integral of the
+/// unit tent T, w_n = (Phi(b - n) - Phi(a - n)) h / (2 l) and g_n = (T(b - n) - T(a - n)) / (2 l)
+/// for the particle's ends a, b in cells from node i0. The range of a fixes its side's terms;
+/// b - n is clamped to the tent's support. The values of weightAndGradientUniform to round-off.
+template <class T> inline void uniformWeights4(T xi, T lam, T i2l, T i2lh, T *w, T *g) {
+  const T one = simd::broadcast<T>(1.0), mone = simd::broadcast<T>(-1.0);
+  const T a = xi - lam, b = xi + lam; // a in [0, 1): Phi(a) = 1 - ua^2 / 2, Phi(a - 1) = a^2 / 2
+  const T ua = 1.0 - a;
+  const T vb = 1.0 - simd::minOf(one, b);         // Phi(b) = 1 - vb^2 / 2
+  const T u1 = simd::minOf(one, b - 1.0);         // b - 1 in [-1, 1]
+  const T u2 = simd::maxOf(mone, b - 2.0);        // b - 2 in [-1, 1)
+  const T u3 = simd::maxOf(mone, b - 3.0) + 1.0;  // Phi(b - 3) = u3^2 / 2
+  const T a1 = simd::abs(u1), a2 = simd::abs(u2); // Phi(u) = 1/2 + u - u |u| / 2
+  w[0] = 0.5 * (ua - vb) * (ua + vb) * i2l;
+  w[1] = (0.5 + u1 - 0.5 * u1 * a1 - 0.5 * a * a) * i2l;
+  w[2] = (0.5 + u2 - 0.5 * u2 * a2) * i2l;
+  w[3] = 0.5 * u3 * u3 * i2l;
+  g[0] = (vb - ua) * i2lh;
+  g[1] = (1.0 - a1 - a) * i2lh;
+  g[2] = (1.0 - a2) * i2lh;
+  g[3] = u3 * i2lh;
+}
+
 } // namespace gimp::shape
