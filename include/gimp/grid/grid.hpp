@@ -161,7 +161,8 @@ private:
   /// Particle k keeps level q's 3-node block from node i0.
   void setBlock(int q, const PetscInt *i0, const double *x, const double *l, Stencils<D> &s,
                 PetscInt k) const;
-  /// Particle k keeps level q's 4-node block from node i0 (2D): the weights of appendNodes.
+  /// Particle k keeps level q's 4-node block from node i0 (2D): the weights of appendNodes to
+  /// round-off (shape::uniformWeights4).
   void setBlock4(int q, const PetscInt *i0, const double *x, const double *l, Stencils<D> &s,
                  PetscInt k) const;
   void appendBlock3(int q, const Reach &r, const double *x, const double *l, Stencils<D> &s,

@@ -12,8 +12,10 @@
 // (zones h), keeps no entries but its 1D factors (Block: 2 or 3 nodes per axis, their weights and
 // derivatives from the closed form shape::uniformWeights3, the first slot and the slot strides):
 // 104 bytes in 2D (blocks, in particle order; blockOf[k] finds particle k's) instead of 36 per
-// entry (4 to 9 entries), the same values the rows would hold. Kernels with a tensor-product form
-// sum along one axis, then the other.
+// entry (4 to 9 entries), the same values the rows would hold. In 2D a particle of half-size up
+// to h that reaches 4 nodes along an axis (l > h/2, or ends on nodes) keeps a 4-node block
+// (Block<2, 4>, 136 bytes, shape::uniformWeights4: the rows' values to round-off) instead of 6 to
+// 16 entries. Kernels with a tensor-product form sum along one axis, then the other.
 //
 // forEach(k, f) calls f(slot, weight, gradient) for every entry of particle k in either form; it
 // is the way kernels read stencils. The arrays keep their capacity between steps: only the first
@@ -39,8 +41,8 @@ namespace gimp {
 /// nodes along axis d (the last ones are 0 where the particle does not reach them); node
 /// (i, j, ...) is slot base + i + j stride[0] + k stride[1] .... Kernels with a tensor-product
 /// form use it directly (sums along one axis, then the other). N = 3 for particles of half-size
-/// up to h/2 (104 bytes in 2D); N = 4 (2D only) for half-sizes up to h, a particle stretched
-/// past h/2 (136 bytes, against 36 per row entry and 12 to 16 entries).
+/// up to h/2 (104 bytes in 2D); N = 4 (2D only) for half-sizes up to h that reach 4 nodes along
+/// an axis (136 bytes, against 36 per row entry and 6 to 16 entries).
 template <int D, int N = 3> struct Block {
   double w[D][N], g[D][N];
   PetscInt base;
