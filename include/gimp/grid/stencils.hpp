@@ -157,6 +157,14 @@ template <int D> struct Stencils {
     }
     b.base = base;
   }
+  /// The nodes along axis d of a 4-node block up to the last one the particle reaches (with a
+  /// weight or a slope): 2 to 4.
+  static int nodesReached(const Block<2, 4> &b, int d) {
+    int n = 4;
+    while (n > 2 && b.w[d][n - 1] == 0.0 && b.g[d][n - 1] == 0.0)
+      --n;
+    return n;
+  }
   /// f(slot, weight, gradient) for the first nn[0] x nn[1] nodes of a 2D block.
   template <int N, class F> static void forEachNode(const Block<2, N> &b, const int *nn, F &f) {
     for (int j = 0; j < nn[1]; ++j)
@@ -172,12 +180,7 @@ template <int D> struct Stencils {
     if constexpr (D == 2)
       if (isBlock4(k)) {
         const Block<2, 4> b = block4(k); // a copy: f's stores cannot alias it
-        int nn[2]; // the nodes up to the last one the particle reaches (a weight or slope)
-        for (int d = 0; d < 2; ++d) {
-          nn[d] = 4;
-          while (nn[d] > 2 && b.w[d][nn[d] - 1] == 0.0 && b.g[d][nn[d] - 1] == 0.0)
-            --nn[d];
-        }
+        const int nn[2] = {nodesReached(b, 0), nodesReached(b, 1)};
         return forEachNode(b, nn, f);
       }
     if (!isBlock(k)) {

@@ -30,14 +30,10 @@ using simd::Pair;
 /// The rows of nodes along y to visit: all 3 of a 3-node block (its third may be 0); of a 4-node
 /// block those up to the last with a weight or slope (at least 2).
 template <int N> GIMP_ALWAYS_INLINE int rowsReached(const Block<2, N> &b) {
-  if constexpr (N == 3) {
+  if constexpr (N == 3)
     return 3;
-  } else {
-    int n = N;
-    while (n > 2 && b.w[1][n - 1] == 0.0 && b.g[1][n - 1] == 0.0)
-      --n;
-    return n;
-  }
+  else
+    return Stencils<2>::nodesReached(b, 1);
 }
 
 /// sum_i c_i f_i over the N pairs at f, f + 2, ... (in order).
