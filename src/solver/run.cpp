@@ -1,6 +1,7 @@
 // The run loop, the checks after each step and the reports (history, rest criterion, fields,
 // monitor lines, summary).
 #include "gimp/core/interrupt.hpp"
+#include "gimp/core/pair.hpp"
 #include "gimp/solver/solver.hpp"
 
 #include <cmath>
@@ -61,14 +62,18 @@ PetscErrorCode Solver::checks(const ParticleView &p, PetscInt step, double t) {
   PetscInt64 leaving = 0;
   double box[4] = {-INFINITY, -INFINITY, INFINITY, INFINITY};
   if (size_ > 1) grid_.ownedBox(rank_, box);
+  // Both axes at once.
+  using simd::Pair;
+  const Pair lo = {d[0], d[1]}, hi = {d[2], d[3]}, own0 = {box[0], box[1]}, own1 = {box[2], box[3]},
+             hmax = simd::splat(h0), zero = {0, 0};
   for (PetscInt k = 0; k < p.n; ++k) {
-    const double x = p.x[2 * k], y = p.x[2 * k + 1], lx = p.l[2 * k], ly = p.l[2 * k + 1];
-    leaving += !(x >= box[0] && x < box[2] && y >= box[1] && y < box[3]);
+    const Pair X = simd::load(p.x + 2 * k), l = simd::load(p.l + 2 * k);
+    if (size_ > 1) leaving += !(simd::bothLe(own0, X) && simd::bothLt(X, own1));
     if (bad >= 0) continue;
     const double s = p.s[4 * k] + p.s[4 * k + 3] + p.s[4 * k + 1];
     // NaN fails every comparison: the test is written so that it lands in the bad branch.
-    const bool ok = std::isfinite(x + y + s) && x - lx >= d[0] && x + lx <= d[2] &&
-                    y - ly >= d[1] && y + ly <= d[3] && lx > 0 && ly > 0 && lx <= h0 && ly <= h0;
+    const bool ok = std::isfinite(X[0] + X[1] + s) && simd::bothLe(lo, X - l) &&
+                    simd::bothLe(X + l, hi) && simd::bothLt(zero, l) && simd::bothLe(l, hmax);
     if (!ok) bad = k;
   }
   if (bad >= 0) {

@@ -87,4 +87,20 @@ inline Pair abs(Pair a) {
 #endif
 }
 
+/// a <= b and a < b in both lanes (false where either lane is NaN).
+inline bool bothLe(Pair a, Pair b) {
+#if defined(__SSE2__)
+  return _mm_movemask_pd(_mm_cmple_pd(a, b)) == 3;
+#else
+  return a[0] <= b[0] && a[1] <= b[1];
+#endif
+}
+inline bool bothLt(Pair a, Pair b) {
+#if defined(__SSE2__)
+  return _mm_movemask_pd(_mm_cmplt_pd(a, b)) == 3;
+#else
+  return a[0] < b[0] && a[1] < b[1];
+#endif
+}
+
 } // namespace gimp::simd

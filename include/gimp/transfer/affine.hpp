@@ -269,8 +269,18 @@ void gridToParticlesAffineProjected(const Stencils<D> &st, PetscInt n, const dou
   for (PetscInt k = 0; k < n; ++k) {
     double vp[D];
     Tensor<D> Bk;
-    particleFromGridAffine<D>(st, k, vg, xc + D * k, xs, vp, Bk);
-    particleToGridAffineB<D>(st, k, m[k], vp, Bk, xc + D * k, xs, mom, nullptr);
+    bool done = false;
+    if constexpr (D == 2) { // a block's offsets and D_p^-1 formed once for both
+      if (st.isBlock(k))
+        block2::affineFromAndToGrid(st.block(k), m[k], vg, xc + D * k, xs, vp, Bk, mom);
+      else if (st.isBlock4(k))
+        block2::affineFromAndToGrid(st.block4(k), m[k], vg, xc + D * k, xs, vp, Bk, mom);
+      done = st.isBlock(k) || st.isBlock4(k);
+    }
+    if (!done) {
+      particleFromGridAffine<D>(st, k, vg, xc + D * k, xs, vp, Bk);
+      particleToGridAffineB<D>(st, k, m[k], vp, Bk, xc + D * k, xs, mom, nullptr);
+    }
     tensorAt<D>(B, k) = Bk;
     for (int c = 0; c < D; ++c) {
       v[D * k + c] = vp[c];

@@ -131,41 +131,66 @@ GIMP_ALWAYS_INLINE void internalForce(const Block<2, N> &b, const Tensor<2> &A, 
       simd::addTo(f + row[j] + 2 * i, gx[i] * a[j] + wx[i] * c[j]);
 }
 
-/// APIC P2G with C = B D^-1 formed from the block: D from the 1D moments of each axis about
-/// the particle xk, the momentum of node (i, j) m w_j [w_i (v + C e_y dy_j) + w_i dx_i C e_x]
-/// (xs: slot coordinates).
+/// The offsets of a block's node lines from the particle xk (dx along x, dy along y; xs: slot
+/// coordinates) and the inverse of its inertia D from the 1D moments of each axis,
+/// D = (Sx2 Sy0, Sx1 Sy1; Sx1 Sy1, Sx0 Sy2) with Sa_m = sum_i w_i d_i^m.
 template <int N>
-GIMP_ALWAYS_INLINE void affineToGrid(const Block<2, N> &b, double mp, const double *vk,
-                                     const Tensor<2> &Bk, const double *xk, const double *xs,
-                                     double *mom, double *mass) {
-  // Everything read before the first store (which the compiler cannot tell from the block).
+GIMP_ALWAYS_INLINE Tensor<2> offsetsAndInverseInertia(const Block<2, N> &b, const double *xk,
+                                                      const double *xs, double *dx, double *dy) {
+  if constexpr (N == 3) { // both axes at once, each lane in the scalar order
+    const Pair xp = {xk[0], xk[1]};
+    Pair S0 = {0, 0}, S1 = {0, 0}, S2 = {0, 0};
+    for (int i = 0; i < 3; ++i) {
+      const Pair d = Pair{xs[2 * (b.base + i)], xs[2 * (b.base + i * b.stride[0]) + 1]} - xp;
+      const Pair W = {b.w[0][i], b.w[1][i]};
+      dx[i] = d[0];
+      dy[i] = d[1];
+      const Pair t = W * d;
+      S0 += W;
+      S1 += t;
+      S2 += t * d;
+    }
+    const Pair a = S2 * Pair{S0[1], S0[0]}; // (Sx2 Sy0, Sy2 Sx0)
+    const double dxy = S1[0] * S1[1];
+    return inverseInertia2(a[0], dxy, dxy, S0[0] * S2[1]);
+  } else {
+    const int ny = rowsReached(b);
+    double Sx[3] = {0, 0, 0}, Sy[3] = {0, 0, 0};
+    for (int i = 0; i < N; ++i) {
+      dx[i] = xs[2 * (b.base + i)] - xk[0];
+      Sx[0] += b.w[0][i];
+      Sx[1] += b.w[0][i] * dx[i];
+      Sx[2] += b.w[0][i] * dx[i] * dx[i];
+    }
+    for (int j = 0; j < ny; ++j) {
+      dy[j] = xs[2 * (b.base + j * b.stride[0]) + 1] - xk[1];
+      Sy[0] += b.w[1][j];
+      Sy[1] += b.w[1][j] * dy[j];
+      Sy[2] += b.w[1][j] * dy[j] * dy[j];
+    }
+    const double dxy = Sx[1] * Sy[1];
+    return inverseInertia2(Sx[2] * Sy[0], dxy, dxy, Sx[0] * Sy[2]);
+  }
+}
+
+/// APIC P2G of the affine velocity C about the particle (dx, dy from offsetsAndInverseInertia):
+/// the momentum of node (i, j) m w_j [w_i (v + C e_y dy_j) + w_i dx_i C e_x] into mom and, with
+/// mass, m w_i w_j into component 0 of mass.
+template <int N>
+GIMP_ALWAYS_INLINE void affineScatter(const Block<2, N> &b, double mp, const double *vk,
+                                      const Tensor<2> &Ck, const double *dx, const double *dy,
+                                      double *mom, double *mass) {
   const int ny = rowsReached(b);
-  double wx[N], wy[N], dx[N], dy[N], Sx[3] = {0, 0, 0}, Sy[3] = {0, 0, 0};
+  const Pair v = {vk[0], vk[1]}, C0 = {Ck(0, 0), Ck(1, 0)}, C1 = {Ck(0, 1), Ck(1, 1)};
+  double wx[N], wy[N];
+  Pair w2[N], wdx[N];
   PetscInt row[N];
   for (int i = 0; i < N; ++i) {
     wx[i] = b.w[0][i];
     wy[i] = b.w[1][i];
-    row[i] = 2 * (b.base + i * b.stride[0]);
-  }
-  for (int i = 0; i < N; ++i) {
-    dx[i] = xs[2 * (b.base + i)] - xk[0];
-    Sx[0] += wx[i];
-    Sx[1] += wx[i] * dx[i];
-    Sx[2] += wx[i] * dx[i] * dx[i];
-  }
-  for (int j = 0; j < ny; ++j) {
-    dy[j] = xs[row[j] + 1] - xk[1];
-    Sy[0] += wy[j];
-    Sy[1] += wy[j] * dy[j];
-    Sy[2] += wy[j] * dy[j] * dy[j];
-  }
-  const double dxy = Sx[1] * Sy[1];
-  const Tensor<2> Ck = product<2>(Bk, inverseInertia2(Sx[2] * Sy[0], dxy, dxy, Sx[0] * Sy[2]));
-  const Pair v = {vk[0], vk[1]}, C0 = {Ck(0, 0), Ck(1, 0)}, C1 = {Ck(0, 1), Ck(1, 1)};
-  Pair w2[N], wdx[N];
-  for (int i = 0; i < N; ++i) {
     w2[i] = simd::splat(wx[i]);
     wdx[i] = simd::splat(wx[i] * dx[i]);
+    row[i] = 2 * (b.base + i * b.stride[0]);
   }
   for (int j = 0; j < ny; ++j) {
     const double mw = mp * wy[j];
@@ -178,18 +203,25 @@ GIMP_ALWAYS_INLINE void affineToGrid(const Block<2, N> &b, double mp, const doub
   }
 }
 
-/// APIC G2P: v_p = sum S v and B_p = sum S v (x_i - x_p)^T about xk.
+/// APIC P2G with C = B D^-1 formed from the block (xs: slot coordinates).
 template <int N>
-GIMP_ALWAYS_INLINE void affineFromGrid(const Block<2, N> &b, const double *vg, const double *xk,
-                                       const double *xs, double *vp, Tensor<2> &Bk) {
+GIMP_ALWAYS_INLINE void affineToGrid(const Block<2, N> &b, double mp, const double *vk,
+                                     const Tensor<2> &Bk, const double *xk, const double *xs,
+                                     double *mom, double *mass) {
+  double dx[N], dy[N];
+  const Tensor<2> Ck = product<2>(Bk, offsetsAndInverseInertia(b, xk, xs, dx, dy));
+  affineScatter(b, mp, vk, Ck, dx, dy, mom, mass);
+}
+
+/// APIC G2P with the offsets dx, dy of the node lines: v_p = sum S v and
+/// B_p = sum S v (x_i - x_p)^T.
+template <int N>
+GIMP_ALWAYS_INLINE void affineGather(const Block<2, N> &b, const double *vg, const double *dx,
+                                     const double *dy, double *vp, Tensor<2> &Bk) {
   const int ny = rowsReached(b);
-  double dx[N];
-  for (int i = 0; i < N; ++i)
-    dx[i] = xs[2 * (b.base + i)] - xk[0];
   Pair v = {0, 0}, B0 = {0, 0}, B1 = {0, 0};
   for (int j = 0; j < ny; ++j) {
     const PetscInt r = 2 * (b.base + j * b.stride[0]);
-    const double dy = xs[r + 1] - xk[1];
     Pair wv[N];
     for (int i = 0; i < N; ++i)
       wv[i] = b.w[0][i] * simd::load(vg + r + 2 * i);
@@ -200,10 +232,35 @@ GIMP_ALWAYS_INLINE void affineFromGrid(const Block<2, N> &b, const double *vg, c
     }
     v += b.w[1][j] * t;
     B0 += b.w[1][j] * u;
-    B1 += b.w[1][j] * dy * t;
+    B1 += b.w[1][j] * dy[j] * t;
   }
   simd::store(vp, v);
   Bk << B0[0], B1[0], B0[1], B1[1];
+}
+
+/// APIC G2P: v_p = sum S v and B_p = sum S v (x_i - x_p)^T about xk.
+template <int N>
+GIMP_ALWAYS_INLINE void affineFromGrid(const Block<2, N> &b, const double *vg, const double *xk,
+                                       const double *xs, double *vp, Tensor<2> &Bk) {
+  const int ny = rowsReached(b);
+  double dx[N], dy[N];
+  for (int i = 0; i < N; ++i)
+    dx[i] = xs[2 * (b.base + i)] - xk[0];
+  for (int j = 0; j < ny; ++j)
+    dy[j] = xs[2 * (b.base + j * b.stride[0]) + 1] - xk[1];
+  affineGather(b, vg, dx, dy, vp, Bk);
+}
+
+/// APIC G2P and the re-projection of the new v_p, B_p with the same block (no mass): the
+/// offsets and D^-1 formed once for both.
+template <int N>
+GIMP_ALWAYS_INLINE void affineFromAndToGrid(const Block<2, N> &b, double mp, const double *vg,
+                                            const double *xk, const double *xs, double *vp,
+                                            Tensor<2> &Bk, double *mom) {
+  double dx[N], dy[N];
+  const Tensor<2> Di = offsetsAndInverseInertia(b, xk, xs, dx, dy);
+  affineGather(b, vg, dx, dy, vp, Bk);
+  affineScatter(b, mp, vp, product<2>(Bk, Di), dx, dy, mom, nullptr);
 }
 
 } // namespace block2

@@ -126,7 +126,9 @@ void gridToParticlesProjected(const Stencils<D> &st, PetscInt n, const double *v
 }
 
 /// Velocity gradient of particle k, L = sum_i v_i (x) grad S_ip.
-template <int D> Tensor<D> velocityGradientAt(const Stencils<D> &st, PetscInt k, const double *vg) {
+template <int D>
+GIMP_ALWAYS_INLINE Tensor<D> velocityGradientAt(const Stencils<D> &st, PetscInt k,
+                                                const double *vg) {
   Tensor<D> Lk = Tensor<D>::Zero();
   if constexpr (D == 2) {
     if (st.isBlock(k)) return block2::gradient(st.block(k), vg);
