@@ -67,4 +67,47 @@ bool CornerMotion::move(const Grid &g, const std::vector<Crack> &cracks, double 
   return true;
 }
 
+void updateTrackedDomain(const Scene &sc, ParticleView &p, PetscInt k, const Tensor<2> &L,
+                         double dt) {
+  switch (sc.tracking) {
+  case Tracking::None:
+  case Tracking::Strain:
+  case Tracking::Stretch:
+    return updateDomain(sc, p, k, L, dt);
+  case Tracking::Cpdi: { // the volume stays det(F) V0
+    double c[8];
+    cpdiParallelogram(p, k, c);
+    cornerReach(p, k, c);
+    return;
+  }
+  case Tracking::Cpdi2: // the corners moved in G2P; the volume follows the quad's area
+    cornerReach(p, k, &p.corners[8 * k]);
+    p.V[k] = volumeOfCorners(p, k, &p.corners[8 * k]);
+    return;
+  case Tracking::Corners:
+    break;
+  }
+  p.eps[2 * k] += dt * L(0, 0);
+  p.eps[2 * k + 1] += dt * L(1, 1);
+  double *c = &p.corners[8 * k];
+  // Exterior corners of a particle on a loaded edge follow its strain (the paper, 4.2).
+  for (int a = 0; a < 2 && p.trac; ++a) {
+    if (p.trac[2 * k + a] < 0) continue;
+    const double n = sc.tractions[p.trac[2 * k + a]].normal();
+    for (int q = 0; q < 4; ++q) {
+      const double sx = (q == 1 || q == 2) ? 1.0 : -1.0, sy = q >= 2 ? 1.0 : -1.0;
+      if ((a == 0 ? sx : sy) != n) continue;
+      c[2 * q] = p.x[2 * k] + sx * (1.0 + p.eps[2 * k]) * p.l0[2 * k];
+      c[2 * q + 1] = p.x[2 * k + 1] + sy * (1.0 + p.eps[2 * k + 1]) * p.l0[2 * k + 1];
+    }
+  }
+  // The particle is the axis-aligned rectangle spanned by its corners; its volume is the area
+  // of the quadrilateral they form.
+  const double xmin = std::min({c[0], c[2], c[4], c[6]}), xmax = std::max({c[0], c[2], c[4], c[6]});
+  const double ymin = std::min({c[1], c[3], c[5], c[7]}), ymax = std::max({c[1], c[3], c[5], c[7]});
+  p.l[2 * k] = 0.5 * (xmax - xmin);
+  p.l[2 * k + 1] = 0.5 * (ymax - ymin);
+  p.V[k] = volumeOfCorners(p, k, c);
+}
+
 } // namespace gimp::tracking

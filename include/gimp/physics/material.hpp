@@ -2,6 +2,7 @@
 // D x D; the out-of-plane stress szz of the 2D models is a separate scalar).
 #pragma once
 
+#include "gimp/core/pair.hpp"
 #include "gimp/core/tensor.hpp"
 #include "gimp/input/scene.hpp"
 
@@ -16,13 +17,20 @@ using Tensor3 = Tensor<3>;
 /// reduced lambda*. (Inline: it runs once per particle and step.)
 inline void jaumannUpdate(const Material &m, const Tensor2 &L, double dt, Eigen::Ref<Tensor2> s,
                           double &szz) {
-  const Tensor2 Dr = 0.5 * (L + L.transpose());
+  // Row by row as pairs, each entry the scalar expression
+  // s += dt ((lambda* tr) I + 2 mu D + spin) in its order (D = (L + L^T) / 2).
+  using simd::Pair;
+  const Pair Lr0 = {L(0, 0), L(0, 1)}, Lr1 = {L(1, 0), L(1, 1)}; // rows of L and of L^T
+  const Pair Lc0 = {L(0, 0), L(1, 0)}, Lc1 = {L(0, 1), L(1, 1)};
+  const Pair D0 = 0.5 * (Lr0 + Lc0), D1 = 0.5 * (Lr1 + Lc1);
   const double w = 0.5 * (L(0, 1) - L(1, 0)); // W_xy
-  const double tr = Dr.trace();
+  const double tr = D0[0] + D1[1];
   // W sigma - sigma W for a symmetric sigma in 2D, in closed form.
-  Tensor2 spin;
-  spin << 2.0 * w * s(0, 1), w * (s(1, 1) - s(0, 0)), w * (s(1, 1) - s(0, 0)), -2.0 * w * s(0, 1);
-  s += dt * ((m.lambdaStar * tr) * Tensor2::Identity() + (2.0 * m.mu) * Dr + spin);
+  const double a = 2.0 * w * s(0, 1), b = w * (s(1, 1) - s(0, 0)), c = -2.0 * w * s(0, 1);
+  const double lt = m.lambdaStar * tr, mu2 = 2.0 * m.mu;
+  const Pair r0 = simd::load(&s(0, 0)), r1 = simd::load(&s(1, 0));
+  simd::store(&s(0, 0), r0 + dt * (lt * Pair{1.0, 0.0} + mu2 * D0 + Pair{a, b}));
+  simd::store(&s(1, 0), r1 + dt * (lt * Pair{0.0, 1.0} + mu2 * D1 + Pair{b, c}));
   if (m.planeStrain) szz += dt * m.lambda * tr;
 }
 

@@ -61,6 +61,10 @@ inline double volumeOfCorners(const ParticleView &p, PetscInt k, const double *c
 /// or the tracked corners (cpdi2).
 const double *cpdiCorners(const Scene &sc, const ParticleView &p, std::vector<double> &scratch);
 
+/// Particle k's domain by cpdi, cpdi2 or corner tracking (updateDomain's other cases).
+void updateTrackedDomain(const Scene &sc, ParticleView &p, PetscInt k, const Tensor<2> &L,
+                         double dt);
+
 /// Particle k's domain after its deformation gradient F (already updated) and velocity
 /// gradient L over dt: half-sizes l, and with corners also the volume.
 inline void updateDomain(const Scene &sc, ParticleView &p, PetscInt k, const Tensor<2> &L,
@@ -80,40 +84,9 @@ inline void updateDomain(const Scene &sc, ParticleView &p, PetscInt k, const Ten
     simd::store(&p.l[2 * k], simd::sqrt(r0 * r0 + r1 * r1) * simd::load(&p.l0[2 * k]));
     return;
   }
-  case Tracking::Cpdi: { // the volume stays det(F) V0
-    double c[8];
-    cpdiParallelogram(p, k, c);
-    cornerReach(p, k, c);
-    return;
+  default:
+    updateTrackedDomain(sc, p, k, L, dt);
   }
-  case Tracking::Cpdi2: // the corners moved in G2P; the volume follows the quad's area
-    cornerReach(p, k, &p.corners[8 * k]);
-    p.V[k] = volumeOfCorners(p, k, &p.corners[8 * k]);
-    return;
-  case Tracking::Corners:
-    break;
-  }
-  p.eps[2 * k] += dt * L(0, 0);
-  p.eps[2 * k + 1] += dt * L(1, 1);
-  double *c = &p.corners[8 * k];
-  // Exterior corners of a particle on a loaded edge follow its strain (the paper, 4.2).
-  for (int a = 0; a < 2 && p.trac; ++a) {
-    if (p.trac[2 * k + a] < 0) continue;
-    const double n = sc.tractions[p.trac[2 * k + a]].normal();
-    for (int q = 0; q < 4; ++q) {
-      const double sx = (q == 1 || q == 2) ? 1.0 : -1.0, sy = q >= 2 ? 1.0 : -1.0;
-      if ((a == 0 ? sx : sy) != n) continue;
-      c[2 * q] = p.x[2 * k] + sx * (1.0 + p.eps[2 * k]) * p.l0[2 * k];
-      c[2 * q + 1] = p.x[2 * k + 1] + sy * (1.0 + p.eps[2 * k + 1]) * p.l0[2 * k + 1];
-    }
-  }
-  // The particle is the axis-aligned rectangle spanned by its corners; its volume is the area
-  // of the quadrilateral they form.
-  const double xmin = std::min({c[0], c[2], c[4], c[6]}), xmax = std::max({c[0], c[2], c[4], c[6]});
-  const double ymin = std::min({c[1], c[3], c[5], c[7]}), ymax = std::max({c[1], c[3], c[5], c[7]});
-  p.l[2 * k] = 0.5 * (xmax - xmin);
-  p.l[2 * k + 1] = 0.5 * (ymax - ymin);
-  p.V[k] = volumeOfCorners(p, k, c);
 }
 
 /// Where each particle's weights are centred: the material point, or with corner tracking the
