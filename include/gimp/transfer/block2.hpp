@@ -86,6 +86,39 @@ GIMP_ALWAYS_INLINE void fromGrid(const Block<2, N> &b, const double *vg, const d
   simd::store(ap, a);
 }
 
+/// FLIP/PIC G2P and the re-projection of the new momentum with the same block (no mass): the
+/// grid velocity vp and acceleration ap at the particle, vk <- flip (vk + dt ap) + (1 - flip) vp,
+/// xk += dt vp, then m_p vk into mom. The block is read once, before the first store.
+template <int N>
+GIMP_ALWAYS_INLINE void fromAndToGrid(const Block<2, N> &b, const double *vg, const double *ag,
+                                      double dt, double flip, double mp, double *vk, double *xk,
+                                      double *mom) {
+  const int ny = rowsReached(b);
+  double wx[N], wy[N];
+  Pair w2[N];
+  PetscInt row[N];
+  for (int i = 0; i < N; ++i) {
+    wx[i] = b.w[0][i];
+    wy[i] = b.w[1][i];
+    w2[i] = simd::splat(wx[i]);
+    row[i] = 2 * (b.base + i * b.stride[0]);
+  }
+  Pair v = {0, 0}, a = {0, 0};
+  for (int j = 0; j < ny; ++j) {
+    v += wy[j] * rowSum<N>(wx, vg + row[j]);
+    a += wy[j] * rowSum<N>(wx, ag + row[j]);
+  }
+  const Pair vn = flip * (simd::load(vk) + dt * a) + (1.0 - flip) * v;
+  simd::store(vk, vn);
+  simd::store(xk, simd::load(xk) + dt * v);
+  const Pair p2 = mp * vn;
+  for (int j = 0; j < ny; ++j) {
+    const Pair t = wy[j] * p2;
+    for (int i = 0; i < N; ++i)
+      simd::addTo(mom + row[j] + 2 * i, w2[i] * t);
+  }
+}
+
 /// The nodal field f at the particle.
 template <int N>
 GIMP_ALWAYS_INLINE void interpolate(const Block<2, N> &b, const double *fg, double *fp) {

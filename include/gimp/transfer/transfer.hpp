@@ -115,6 +115,16 @@ void gridToParticlesProjected(const Stencils<D> &st, PetscInt n, const double *v
                               double dt, double flip, const double *m, double *v, double *x,
                               double *mom) {
   for (PetscInt k = 0; k < n; ++k) {
+    if constexpr (D == 2) { // a block read once for both
+      if (st.isBlock(k)) {
+        block2::fromAndToGrid(st.block(k), vg, ag, dt, flip, m[k], v + 2 * k, x + 2 * k, mom);
+        continue;
+      }
+      if (st.isBlock4(k)) {
+        block2::fromAndToGrid(st.block4(k), vg, ag, dt, flip, m[k], v + 2 * k, x + 2 * k, mom);
+        continue;
+      }
+    }
     double vp[D], ap[D];
     particleFromGrid<D>(st, k, vg, ag, vp, ap);
     for (int c = 0; c < D; ++c) {
