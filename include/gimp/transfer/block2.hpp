@@ -44,31 +44,40 @@ template <int N> GIMP_ALWAYS_INLINE Pair rowSum(const double *c, const double *f
   return t;
 }
 
+/// A block's weights (those along x also as pairs) and the first slot (times 2) of each row of
+/// its nodes, read into locals before a kernel's first store: the compiler cannot tell the block
+/// from the nodal arrays the kernel writes.
+template <int N> struct BlockLocals {
+  double wx[N], wy[N];
+  Pair w2[N];
+  PetscInt row[N];
+  GIMP_ALWAYS_INLINE explicit BlockLocals(const Block<2, N> &b) {
+    for (int i = 0; i < N; ++i) {
+      wx[i] = b.w[0][i];
+      wy[i] = b.w[1][i];
+      w2[i] = simd::splat(wx[i]);
+      row[i] = 2 * (b.base + i * b.stride[0]);
+    }
+  }
+  /// S_ip p2 into mom over the first ny rows and, with mass, S_ip mp into component 0 of mass.
+  GIMP_ALWAYS_INLINE void scatter(int ny, Pair p2, double mp, double *mom, double *mass) const {
+    for (int j = 0; j < ny; ++j) {
+      const double am = wy[j] * mp;
+      const Pair a = wy[j] * p2;
+      for (int i = 0; i < N; ++i)
+        simd::addTo(mom + row[j] + 2 * i, w2[i] * a);
+      if (mass)
+        for (int i = 0; i < N; ++i)
+          mass[row[j] + 2 * i] += wx[i] * am;
+    }
+  }
+};
+
 /// P2G: S_ip p into mom (p = m_p v_p) and, with mass, S_ip m_p into component 0 of mass.
 template <int N>
 GIMP_ALWAYS_INLINE void toGrid(const Block<2, N> &b, double mp, const double *pk, double *mom,
                                double *mass) {
-  // Everything read before the first store (which the compiler cannot tell from the block).
-  const int ny = rowsReached(b);
-  const Pair p2 = {pk[0], pk[1]};
-  double wx[N], wy[N];
-  Pair w2[N];
-  PetscInt row[N];
-  for (int i = 0; i < N; ++i) {
-    wx[i] = b.w[0][i];
-    wy[i] = b.w[1][i];
-    w2[i] = simd::splat(wx[i]);
-    row[i] = 2 * (b.base + i * b.stride[0]);
-  }
-  for (int j = 0; j < ny; ++j) {
-    const double am = wy[j] * mp;
-    const Pair a = wy[j] * p2;
-    for (int i = 0; i < N; ++i)
-      simd::addTo(mom + row[j] + 2 * i, w2[i] * a);
-    if (mass)
-      for (int i = 0; i < N; ++i)
-        mass[row[j] + 2 * i] += wx[i] * am;
-  }
+  BlockLocals<N>(b).scatter(rowsReached(b), Pair{pk[0], pk[1]}, mp, mom, mass);
 }
 
 /// G2P: the grid velocity vp and acceleration ap at the particle.
@@ -94,29 +103,16 @@ GIMP_ALWAYS_INLINE void fromAndToGrid(const Block<2, N> &b, const double *vg, co
                                       double dt, double flip, double mp, double *vk, double *xk,
                                       double *mom) {
   const int ny = rowsReached(b);
-  double wx[N], wy[N];
-  Pair w2[N];
-  PetscInt row[N];
-  for (int i = 0; i < N; ++i) {
-    wx[i] = b.w[0][i];
-    wy[i] = b.w[1][i];
-    w2[i] = simd::splat(wx[i]);
-    row[i] = 2 * (b.base + i * b.stride[0]);
-  }
+  const BlockLocals<N> L(b);
   Pair v = {0, 0}, a = {0, 0};
   for (int j = 0; j < ny; ++j) {
-    v += wy[j] * rowSum<N>(wx, vg + row[j]);
-    a += wy[j] * rowSum<N>(wx, ag + row[j]);
+    v += L.wy[j] * rowSum<N>(L.wx, vg + L.row[j]);
+    a += L.wy[j] * rowSum<N>(L.wx, ag + L.row[j]);
   }
   const Pair vn = flip * (simd::load(vk) + dt * a) + (1.0 - flip) * v;
   simd::store(vk, vn);
   simd::store(xk, simd::load(xk) + dt * v);
-  const Pair p2 = mp * vn;
-  for (int j = 0; j < ny; ++j) {
-    const Pair t = wy[j] * p2;
-    for (int i = 0; i < N; ++i)
-      simd::addTo(mom + row[j] + 2 * i, w2[i] * t);
-  }
+  L.scatter(ny, mp * vn, mp, mom, nullptr);
 }
 
 /// The nodal field f at the particle.
@@ -215,24 +211,18 @@ GIMP_ALWAYS_INLINE void affineScatter(const Block<2, N> &b, double mp, const dou
                                       double *mom, double *mass) {
   const int ny = rowsReached(b);
   const Pair v = {vk[0], vk[1]}, C0 = {Ck(0, 0), Ck(1, 0)}, C1 = {Ck(0, 1), Ck(1, 1)};
-  double wx[N], wy[N];
-  Pair w2[N], wdx[N];
-  PetscInt row[N];
-  for (int i = 0; i < N; ++i) {
-    wx[i] = b.w[0][i];
-    wy[i] = b.w[1][i];
-    w2[i] = simd::splat(wx[i]);
-    wdx[i] = simd::splat(wx[i] * dx[i]);
-    row[i] = 2 * (b.base + i * b.stride[0]);
-  }
+  const BlockLocals<N> L(b);
+  Pair wdx[N];
+  for (int i = 0; i < N; ++i)
+    wdx[i] = simd::splat(L.wx[i] * dx[i]);
   for (int j = 0; j < ny; ++j) {
-    const double mw = mp * wy[j];
+    const double mw = mp * L.wy[j];
     const Pair r = mw * (v + C1 * dy[j]), t = mw * C0;
     for (int i = 0; i < N; ++i)
-      simd::addTo(mom + row[j] + 2 * i, w2[i] * r + wdx[i] * t);
+      simd::addTo(mom + L.row[j] + 2 * i, L.w2[i] * r + wdx[i] * t);
     if (mass)
       for (int i = 0; i < N; ++i)
-        mass[row[j] + 2 * i] += wx[i] * mw;
+        mass[L.row[j] + 2 * i] += L.wx[i] * mw;
   }
 }
 
