@@ -241,6 +241,22 @@ GIMP_ALWAYS_INLINE void particleFromGridAffine(const Stencils<D> &st, PetscInt k
   });
 }
 
+/// APIC G2P of particle k (particleFromGridAffine) and the re-projection of its new v_p, B_p
+/// into mom (particleToGridAffineB, no mass); a 2D block's offsets formed once for both.
+template <int D>
+GIMP_ALWAYS_INLINE void particleFromAndToGridAffine(const Stencils<D> &st, PetscInt k, double mp,
+                                                    const double *vg, const double *xk,
+                                                    const double *xs, double *vp, Tensor<D> &Bk,
+                                                    double *mom) {
+  if constexpr (D == 2) {
+    if (st.isBlock(k)) return block2::affineFromAndToGrid(st.block(k), mp, vg, xk, xs, vp, Bk, mom);
+    if (st.isBlock4(k))
+      return block2::affineFromAndToGrid(st.block4(k), mp, vg, xk, xs, vp, Bk, mom);
+  }
+  particleFromGridAffine<D>(st, k, vg, xk, xs, vp, Bk);
+  particleToGridAffineB<D>(st, k, mp, vp, Bk, xk, xs, mom, nullptr);
+}
+
 /// APIC G2P: v_p = sum_i S_ip v_i, B_p = sum_i S_ip v_i (x_i - x_p)^T, and the particle moves by
 /// dt v_p. x may be the array xc points to: each particle reads its own centre before it moves;
 /// with x null the particles stay (the caller moves them).
@@ -269,18 +285,7 @@ void gridToParticlesAffineProjected(const Stencils<D> &st, PetscInt n, const dou
   for (PetscInt k = 0; k < n; ++k) {
     double vp[D];
     Tensor<D> Bk;
-    bool done = false;
-    if constexpr (D == 2) { // a block's offsets and D_p^-1 formed once for both
-      if (st.isBlock(k))
-        block2::affineFromAndToGrid(st.block(k), m[k], vg, xc + D * k, xs, vp, Bk, mom);
-      else if (st.isBlock4(k))
-        block2::affineFromAndToGrid(st.block4(k), m[k], vg, xc + D * k, xs, vp, Bk, mom);
-      done = st.isBlock(k) || st.isBlock4(k);
-    }
-    if (!done) {
-      particleFromGridAffine<D>(st, k, vg, xc + D * k, xs, vp, Bk);
-      particleToGridAffineB<D>(st, k, m[k], vp, Bk, xc + D * k, xs, mom, nullptr);
-    }
+    particleFromAndToGridAffine<D>(st, k, m[k], vg, xc + D * k, xs, vp, Bk, mom);
     tensorAt<D>(B, k) = Bk;
     for (int c = 0; c < D; ++c) {
       v[D * k + c] = vp[c];

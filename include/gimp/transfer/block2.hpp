@@ -102,17 +102,14 @@ template <int N>
 GIMP_ALWAYS_INLINE void fromAndToGrid(const Block<2, N> &b, const double *vg, const double *ag,
                                       double dt, double flip, double mp, double *vk, double *xk,
                                       double *mom) {
-  const int ny = rowsReached(b);
   const BlockLocals<N> L(b);
-  Pair v = {0, 0}, a = {0, 0};
-  for (int j = 0; j < ny; ++j) {
-    v += L.wy[j] * rowSum<N>(L.wx, vg + L.row[j]);
-    a += L.wy[j] * rowSum<N>(L.wx, ag + L.row[j]);
-  }
-  const Pair vn = flip * (simd::load(vk) + dt * a) + (1.0 - flip) * v;
+  double vp[2], ap[2];
+  fromGrid(b, vg, ag, vp, ap);
+  const Pair v = simd::load(vp);
+  const Pair vn = flip * (simd::load(vk) + dt * simd::load(ap)) + (1.0 - flip) * v;
   simd::store(vk, vn);
   simd::store(xk, simd::load(xk) + dt * v);
-  L.scatter(ny, mp * vn, mp, mom, nullptr);
+  L.scatter(rowsReached(b), mp * vn, mp, mom, nullptr);
 }
 
 /// The nodal field f at the particle.
@@ -160,8 +157,19 @@ GIMP_ALWAYS_INLINE void internalForce(const Block<2, N> &b, const Tensor<2> &A, 
       simd::addTo(f + row[j] + 2 * i, gx[i] * a[j] + wx[i] * c[j]);
 }
 
-/// The offsets of a block's node lines from the particle xk (dx along x, dy along y; xs: slot
-/// coordinates) and the inverse of its inertia D from the 1D moments of each axis,
+/// The offsets of a block's node lines from the particle xk: dx along x, dy along y for the rows
+/// it reaches (xs: slot coordinates).
+template <int N>
+GIMP_ALWAYS_INLINE void offsets(const Block<2, N> &b, const double *xk, const double *xs,
+                                double *dx, double *dy) {
+  for (int i = 0; i < N; ++i)
+    dx[i] = xs[2 * (b.base + i)] - xk[0];
+  for (int j = 0; j < rowsReached(b); ++j)
+    dy[j] = xs[2 * (b.base + j * b.stride[0]) + 1] - xk[1];
+}
+
+/// The offsets of a block's node lines from the particle xk (as offsets()) and the inverse of
+/// its inertia D from the 1D moments of each axis,
 /// D = (Sx2 Sy0, Sx1 Sy1; Sx1 Sy1, Sx0 Sy2) with Sa_m = sum_i w_i d_i^m.
 template <int N>
 GIMP_ALWAYS_INLINE Tensor<2> offsetsAndInverseInertia(const Block<2, N> &b, const double *xk,
@@ -183,16 +191,14 @@ GIMP_ALWAYS_INLINE Tensor<2> offsetsAndInverseInertia(const Block<2, N> &b, cons
     const double dxy = S1[0] * S1[1];
     return inverseInertia2(a[0], dxy, dxy, S0[0] * S2[1]);
   } else {
-    const int ny = rowsReached(b);
+    offsets(b, xk, xs, dx, dy);
     double Sx[3] = {0, 0, 0}, Sy[3] = {0, 0, 0};
     for (int i = 0; i < N; ++i) {
-      dx[i] = xs[2 * (b.base + i)] - xk[0];
       Sx[0] += b.w[0][i];
       Sx[1] += b.w[0][i] * dx[i];
       Sx[2] += b.w[0][i] * dx[i] * dx[i];
     }
-    for (int j = 0; j < ny; ++j) {
-      dy[j] = xs[2 * (b.base + j * b.stride[0]) + 1] - xk[1];
+    for (int j = 0; j < rowsReached(b); ++j) {
       Sy[0] += b.w[1][j];
       Sy[1] += b.w[1][j] * dy[j];
       Sy[2] += b.w[1][j] * dy[j] * dy[j];
@@ -265,12 +271,8 @@ GIMP_ALWAYS_INLINE void affineGather(const Block<2, N> &b, const double *vg, con
 template <int N>
 GIMP_ALWAYS_INLINE void affineFromGrid(const Block<2, N> &b, const double *vg, const double *xk,
                                        const double *xs, double *vp, Tensor<2> &Bk) {
-  const int ny = rowsReached(b);
   double dx[N], dy[N];
-  for (int i = 0; i < N; ++i)
-    dx[i] = xs[2 * (b.base + i)] - xk[0];
-  for (int j = 0; j < ny; ++j)
-    dy[j] = xs[2 * (b.base + j * b.stride[0]) + 1] - xk[1];
+  offsets(b, xk, xs, dx, dy);
   affineGather(b, vg, dx, dy, vp, Bk);
 }
 
