@@ -216,6 +216,12 @@ PetscErrorCode readOutputOptions(MPI_Comm comm, Scene &sc, RunOptions &o) {
                             "Steps between orderings of each rank's particles by level-0 cell "
                             "(0: never)",
                             "docs/options.md", sc.sortInterval, &sc.sortInterval, nullptr));
+  PetscBool lanes = sc.lanes ? PETSC_TRUE : PETSC_FALSE;
+  PetscCall(PetscOptionsBool("-gimp_lanes",
+                             "Run the 2D kernels of block particles four at a time (AVX2, where "
+                             "the processor has it; bit for bit the same results)",
+                             "docs/options.md", lanes, &lanes, nullptr));
+  sc.lanes = lanes;
   PetscCall(PetscOptionsInt("-gimp_monitor_interval",
                             "Steps between energy/momentum monitor lines (0: off)",
                             "docs/options.md", sc.monitorInterval, &sc.monitorInterval, nullptr));

@@ -6,6 +6,7 @@
 #include "gimp/physics/material.hpp"
 #include "gimp/physics/mms.hpp"
 #include "gimp/solver/solver.hpp"
+#include "gimp/transfer/lanes2.hpp"
 
 #include <cerrno>
 #include <cstring>
@@ -55,6 +56,10 @@ PetscErrorCode Solver::setup() {
   checkSceneCombinations(sc_);
   PetscCall(checkProblemSize(comm_, sc_, itemBytes(sc_)));
   scheme_ = schemeFor(sc_.update);
+  lanes_ = sc_.lanes && transfer::lanes2::available();
+  PetscCall(
+      PetscInfo(nullptr, "2D block kernels in lanes of four particles: %s\n",
+                lanes_ ? "yes" : (sc_.lanes ? "no (no AVX2 here)" : "no (-gimp_lanes false)")));
   PetscCall(grid_.create(comm_, sc_));
   sc_.idSlots = bodyIdSlots(grid_);
   if (!sc_.gridDump.empty()) PetscCall(writeGridDump());

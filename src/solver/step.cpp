@@ -5,6 +5,7 @@
 #include "gimp/physics/deformation.hpp"
 #include "gimp/physics/internal_force.hpp"
 #include "gimp/solver/solver.hpp"
+#include "gimp/transfer/lanes2.hpp"
 #include "gimp/transfer/transfer.hpp"
 
 #include <algorithm>
@@ -150,7 +151,10 @@ PetscErrorCode Solver::forces(const ParticleView &p, const StepClock &c, StartPo
   PetscScalar *f = nullptr;
   PetscCall(VecZeroEntries(nodal_.sumW));
   PetscCall(VecGetArray(nodal_.sumW, &f));
-  physics::internalForce<kDim>(st_, p.n, p.V, p.s, f);
+  if (lanes_)
+    transfer::lanes2::internalForce(st_, p.n, p.V, p.s, f);
+  else
+    physics::internalForce<kDim>(st_, p.n, p.V, p.s, f);
   if (boundary_.active()) {
     PetscScalar *fe = nullptr;
     PetscCall(VecZeroEntries(nodal_.extW));
@@ -307,8 +311,11 @@ PetscErrorCode Solver::stress(const Stencils<kDim> &st, ParticleView &p, Vec vel
   PetscCall(VecGetArrayRead(velocityWindow, &vg));
   for (PetscInt k0 = 0; k0 < p.n; k0 += kChunk) {
     const PetscInt k1 = std::min(p.n, k0 + kChunk);
-    for (PetscInt k = k0; k < k1; ++k)
-      tensorAt<kDim>(L_.data(), k - k0) = transfer::velocityGradientAt<kDim>(st, k, vg);
+    if (lanes_)
+      transfer::lanes2::velocityGradients(st, k0, k1, vg, L_.data());
+    else
+      for (PetscInt k = k0; k < k1; ++k)
+        tensorAt<kDim>(L_.data(), k - k0) = transfer::velocityGradientAt<kDim>(st, k, vg);
     physics::updateDeformation(sc_, p, L_.data(), dt, k0, k1);
   }
   PetscCall(VecRestoreArrayRead(velocityWindow, &vg));

@@ -7,6 +7,7 @@
 #include "gimp/physics/constraints.hpp"
 #include "gimp/solver/solver.hpp"
 #include "gimp/transfer/affine.hpp"
+#include "gimp/transfer/lanes2.hpp"
 #include "gimp/transfer/transfer.hpp"
 
 #include <algorithm>
@@ -50,8 +51,12 @@ void Solver::projectMomentum(const Stencils<kDim> &st, const ParticleView &p, co
     return;
   }
   // C_p = B_p D_p^-1 per particle from its stencil, at the step's P2G and at the re-projection.
-  transfer::particlesToGridAffineB<kDim>(st, p.n, p.m, p.v, p.B, centres, slotCoordinates(), mom,
-                                         mass);
+  if (lanes_)
+    transfer::lanes2::particlesToGridAffineB(st, p.n, p.m, p.v, p.B, centres, slotCoordinates(),
+                                             mom, mass);
+  else
+    transfer::particlesToGridAffineB<kDim>(st, p.n, p.m, p.v, p.B, centres, slotCoordinates(), mom,
+                                           mass);
 }
 
 PetscErrorCode Solver::particlesToGrid(const ParticleView &p, const double *centres) {
@@ -119,7 +124,10 @@ PetscErrorCode Solver::gridToParticles(ParticleView &p, const StepClock &c, cons
     PetscCall(VecZeroEntries(nodal_.sumW));
     PetscCall(VecGetArray(nodal_.sumW, &mom));
   }
-  if (sc_.transfer == Transfer::Apic && fused) {
+  if (sc_.transfer == Transfer::Apic && fused && lanes_) {
+    transfer::lanes2::gridToParticlesAffineProjected(st_, p.n, vg, centres, slotCoordinates(), c.dt,
+                                                     p.m, p.v, p.B, p.x, mom);
+  } else if (sc_.transfer == Transfer::Apic && fused) {
     transfer::gridToParticlesAffineProjected<kDim>(st_, p.n, vg, centres, slotCoordinates(), c.dt,
                                                    p.m, p.v, p.B, p.x, mom);
   } else if (sc_.transfer == Transfer::Apic) {

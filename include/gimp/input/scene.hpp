@@ -208,7 +208,8 @@ struct Scene {
   std::string gridDump;
   int checkpointInterval = 0; // steps between checkpoints (0: none, but on an interrupt)
   int sortInterval = 50;      // steps between orderings of the particles by cell (0: never)
-  std::string restart;        // checkpoint to continue from (empty: a fresh run)
+  bool lanes = true;   // -gimp_lanes: 2D block particles four at a time (AVX2) where the CPU has it
+  std::string restart; // checkpoint to continue from (empty: a fresh run)
   bool help = false;
 };
 

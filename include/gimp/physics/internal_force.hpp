@@ -6,12 +6,12 @@
 
 namespace gimp::physics {
 
-/// Accumulates the internal force into the window array f (D values per slot). stress is the
-/// particles' row-major D x D Cauchy stress, V their current volumes.
+/// Accumulates the internal force of particles k0 .. k1-1 into the window array f (D values per
+/// slot). stress is the particles' row-major D x D Cauchy stress, V their current volumes.
 template <int D>
-void internalForce(const Stencils<D> &st, PetscInt n, const double *V, const double *stress,
-                   double *f) {
-  for (PetscInt k = 0; k < n; ++k) {
+void internalForce(const Stencils<D> &st, PetscInt k0, PetscInt k1, const double *V,
+                   const double *stress, double *f) {
+  for (PetscInt k = k0; k < k1; ++k) {
     const Tensor<D> A = -V[k] * tensorAt<D>(stress, k);
     if constexpr (D == 2) { // f_ij = A (g_i w_j, w_i g_j), both components at once
       if (st.isBlock(k)) {
@@ -32,6 +32,13 @@ void internalForce(const Stencils<D> &st, PetscInt n, const double *V, const dou
       }
     });
   }
+}
+
+/// The same for every particle.
+template <int D>
+void internalForce(const Stencils<D> &st, PetscInt n, const double *V, const double *stress,
+                   double *f) {
+  internalForce<D>(st, 0, n, V, stress, f);
 }
 
 } // namespace gimp::physics

@@ -189,6 +189,7 @@ private:
   StepStages stages_;
   PetscLogDouble wall0_ = 0;
   bool failed_ = false;
+  bool lanes_ = false;       // -gimp_lanes on a processor with AVX2 (transfer/lanes2.hpp)
   double dtCritical_ = NAN;  // smallest critical step computed (-gimp_stability_check)
   int interrupt_ = 0;        // SIGINT or SIGTERM received on some rank, agreed by checks()
   std::string localFailure_; // a failure found on this rank inside the step, reported by checks()

@@ -1,0 +1,47 @@
+// The 2D step's particle loops with four block particles at a time (AVX2), for the phases that
+// cost most per particle: APIC's P2G, the internal force, APIC's G2P with its re-projection, and
+// the velocity gradient of the stress update (docs/method.md, *Lanes of four particles*).
+//
+// Each loop takes the particles in runs of four consecutive 3-node block particles
+// (Stencils::isBlock) and does the per-particle arithmetic of the scalar kernel of
+// transfer/block2.hpp in four lanes of a 256-bit register, each lane evaluating the scalar
+// expression in its order (no fused multiply-add); the other particles, and the tail, go
+// through the scalar kernels. Scatters add each particle's contributions to the nodes in
+// particle order, as the scalar loop does, so the results are bit for bit the scalar ones
+// (tests/check_lanes.py compares every scene kind with -gimp_lanes false).
+//
+// The functions are compiled for AVX2 whatever the build's flags; call them only when
+// available() is true (the processor and the operating system support AVX2). On other
+// processors, or other architectures, available() is false and the scalar loops run.
+#pragma once
+
+#include "gimp/grid/stencils.hpp"
+
+#include <petscsys.h>
+
+namespace gimp::transfer::lanes2 {
+
+/// True when the lane kernels can run here (x86-64 with AVX2 enabled by the OS).
+bool available();
+
+/// particlesToGridAffineB<2> (transfer/affine.hpp): APIC P2G with C_p = B_p D_p^-1.
+void particlesToGridAffineB(const Stencils<2> &st, PetscInt n, const double *m, const double *v,
+                            const double *B, const double *xc, const double *xs, double *mom,
+                            double *mass);
+
+/// physics::internalForce<2> (physics/internal_force.hpp): f_i -= V_p sigma_p grad S_ip.
+void internalForce(const Stencils<2> &st, PetscInt n, const double *V, const double *stress,
+                   double *f);
+
+/// gridToParticlesAffineProjected<2> (transfer/affine.hpp): APIC G2P, the re-projection of the
+/// new affine momenta into mom, and the move by dt v_p (x may be xc).
+void gridToParticlesAffineProjected(const Stencils<2> &st, PetscInt n, const double *vg,
+                                    const double *xc, const double *xs, double dt, const double *m,
+                                    double *v, double *B, double *x, double *mom);
+
+/// The velocity gradients of particles k0 .. k1-1 into L (row-major 2 x 2 from L[0]), as
+/// transfer::velocityGradientAt<2>.
+void velocityGradients(const Stencils<2> &st, PetscInt k0, PetscInt k1, const double *vg,
+                       double *L);
+
+} // namespace gimp::transfer::lanes2

@@ -1,0 +1,507 @@
+// Lanes of four 2D block particles (AVX2): see transfer/lanes2.hpp. Every lane expression below
+// is the scalar one of transfer/block2.hpp (named next to it) in the same order; the build has
+// no floating-point contraction (-ffp-contract=off) and these functions no FMA target, so each
+// lane rounds as the scalar code does.
+#include "gimp/transfer/lanes2.hpp"
+
+#include "gimp/physics/internal_force.hpp"
+#include "gimp/transfer/affine.hpp"
+#include "gimp/transfer/transfer.hpp"
+
+#include <cstddef>
+
+#if defined(__x86_64__) && defined(__GNUC__)
+#define GIMP_HAVE_LANES 1
+#include <immintrin.h>
+#else
+#define GIMP_HAVE_LANES 0
+#endif
+
+namespace gimp::transfer::lanes2 {
+
+#if GIMP_HAVE_LANES
+
+bool available() {
+  __builtin_cpu_init();
+  return __builtin_cpu_supports("avx2");
+}
+
+namespace {
+
+#define GIMP_LANES __attribute__((target("avx2")))
+#define GIMP_LANES_INLINE inline __attribute__((target("avx2"), always_inline))
+
+using V4 = __m256d;
+
+// The factors of a block read as three rows of four doubles: w[0][0..2] w[1][0] | w[1][1..2]
+// g[0][0..1] | g[0][2] g[1][0..2].
+static_assert(offsetof(Block<2>, w) == 0 && offsetof(Block<2>, g) == 6 * sizeof(double),
+              "Block<2> holds w then g, 12 doubles");
+
+GIMP_LANES_INLINE V4 splat(double a) {
+  return _mm256_set1_pd(a);
+}
+
+/// Rows r0..r3 (four doubles each) as columns: c[i] = (r0[i], r1[i], r2[i], r3[i]).
+GIMP_LANES_INLINE void transpose(V4 r0, V4 r1, V4 r2, V4 r3, V4 *c) {
+  const V4 t0 = _mm256_unpacklo_pd(r0, r1), t1 = _mm256_unpackhi_pd(r0, r1);
+  const V4 t2 = _mm256_unpacklo_pd(r2, r3), t3 = _mm256_unpackhi_pd(r2, r3);
+  c[0] = _mm256_permute2f128_pd(t0, t2, 0x20);
+  c[1] = _mm256_permute2f128_pd(t1, t3, 0x20);
+  c[2] = _mm256_permute2f128_pd(t0, t2, 0x31);
+  c[3] = _mm256_permute2f128_pd(t1, t3, 0x31);
+}
+
+/// The four row-major 2 x 2 tensors at a + 4 k .. as their entries xx, xy, yx, yy in lanes.
+GIMP_LANES_INLINE void loadTensors(const double *a, PetscInt k, V4 *c) {
+  const double *p = a + 4 * k;
+  transpose(_mm256_loadu_pd(p), _mm256_loadu_pd(p + 4), _mm256_loadu_pd(p + 8),
+            _mm256_loadu_pd(p + 12), c);
+}
+GIMP_LANES_INLINE void storeTensors(double *a, PetscInt k, const V4 *c) {
+  V4 r[4];
+  transpose(c[0], c[1], c[2], c[3], r);
+  double *p = a + 4 * k;
+  for (int q = 0; q < 4; ++q)
+    _mm256_storeu_pd(p + 4 * q, r[q]);
+}
+
+/// The four 2-vectors at a + 2 k .. as their x and y in lanes.
+GIMP_LANES_INLINE void loadVectors(const double *a, PetscInt k, V4 &X, V4 &Y) {
+  const double *p = a + 2 * k;
+  const V4 u = _mm256_loadu2_m128d(p + 4, p), w = _mm256_loadu2_m128d(p + 6, p + 2);
+  X = _mm256_unpacklo_pd(u, w);
+  Y = _mm256_unpackhi_pd(u, w);
+}
+GIMP_LANES_INLINE void storeVectors(double *a, PetscInt k, V4 X, V4 Y) {
+  double *p = a + 2 * k;
+  const V4 lo = _mm256_unpacklo_pd(X, Y), hi = _mm256_unpackhi_pd(X, Y);
+  _mm256_storeu2_m128d(p + 4, p, lo);
+  _mm256_storeu2_m128d(p + 6, p + 2, hi);
+}
+
+/// The nodal pairs at the same offset o from four row pointers, as x and y in lanes.
+GIMP_LANES_INLINE void gatherPairs(const double *const *r, PetscInt o, V4 &X, V4 &Y) {
+  const V4 u = _mm256_loadu2_m128d(r[2] + o, r[0] + o), w = _mm256_loadu2_m128d(r[3] + o, r[1] + o);
+  X = _mm256_unpacklo_pd(u, w);
+  Y = _mm256_unpackhi_pd(u, w);
+}
+
+/// A run of four block particles: their 1D factors in lanes and the first slot (times 2) of
+/// each particle's rows of nodes (BlockLocals::row).
+struct Run {
+  V4 wx[3], wy[3], gx[3], gy[3];
+  alignas(16) PetscInt row[3][4]; // row[j][q]: particle q's row j
+  const Block<2> *b[4];
+};
+
+/// True when particles k .. k+3 are 3-node blocks.
+inline bool isRun(const Stencils<2> &st, PetscInt k) {
+  const PetscInt *o = st.blockOf.data() + k;
+  return o[0] >= 0 && o[1] >= 0 && o[2] >= 0 && o[3] >= 0;
+}
+
+template <bool Slopes> GIMP_LANES_INLINE void loadRun(const Stencils<2> &st, PetscInt k, Run &R) {
+  for (int q = 0; q < 4; ++q)
+    R.b[q] = &st.blocks[st.blockOf[k + q]];
+  if constexpr (sizeof(PetscInt) == 4) { // the four (base, stride) as two vectors of 32-bit lanes
+    static_assert(offsetof(Block<2>, stride) == offsetof(Block<2>, base) + sizeof(PetscInt));
+    const __m128i p01 = _mm_unpacklo_epi64(_mm_loadl_epi64((const __m128i *)&R.b[0]->base),
+                                           _mm_loadl_epi64((const __m128i *)&R.b[1]->base));
+    const __m128i p23 = _mm_unpacklo_epi64(_mm_loadl_epi64((const __m128i *)&R.b[2]->base),
+                                           _mm_loadl_epi64((const __m128i *)&R.b[3]->base));
+    // (b0 s0 b1 s1), (b2 s2 b3 s3) -> bases (b0 b1 b2 b3), strides (s0 s1 s2 s3), both times 2
+    const __m128 f01 = _mm_castsi128_ps(p01), f23 = _mm_castsi128_ps(p23);
+    const __m128i base2 = _mm_slli_epi32(_mm_castps_si128(_mm_shuffle_ps(f01, f23, 0x88)), 1);
+    const __m128i step2 = _mm_slli_epi32(_mm_castps_si128(_mm_shuffle_ps(f01, f23, 0xDD)), 1);
+    const __m128i r1 = _mm_add_epi32(base2, step2);
+    _mm_store_si128((__m128i *)R.row[0], base2);
+    _mm_store_si128((__m128i *)R.row[1], r1);
+    _mm_store_si128((__m128i *)R.row[2], _mm_add_epi32(r1, step2));
+  } else {
+    for (int q = 0; q < 4; ++q)
+      for (int j = 0; j < 3; ++j)
+        R.row[j][q] = 2 * (R.b[q]->base + j * R.b[q]->stride[0]);
+  }
+  V4 c[4];
+  transpose(_mm256_loadu_pd(&R.b[0]->w[0][0]), _mm256_loadu_pd(&R.b[1]->w[0][0]),
+            _mm256_loadu_pd(&R.b[2]->w[0][0]), _mm256_loadu_pd(&R.b[3]->w[0][0]), c);
+  R.wx[0] = c[0];
+  R.wx[1] = c[1];
+  R.wx[2] = c[2];
+  R.wy[0] = c[3];
+  transpose(_mm256_loadu_pd(&R.b[0]->w[1][1]), _mm256_loadu_pd(&R.b[1]->w[1][1]),
+            _mm256_loadu_pd(&R.b[2]->w[1][1]), _mm256_loadu_pd(&R.b[3]->w[1][1]), c);
+  R.wy[1] = c[0];
+  R.wy[2] = c[1];
+  if constexpr (Slopes) {
+    R.gx[0] = c[2];
+    R.gx[1] = c[3];
+    transpose(_mm256_loadu_pd(&R.b[0]->g[0][2]), _mm256_loadu_pd(&R.b[1]->g[0][2]),
+              _mm256_loadu_pd(&R.b[2]->g[0][2]), _mm256_loadu_pd(&R.b[3]->g[0][2]), c);
+    R.gx[2] = c[0];
+    R.gy[0] = c[1];
+    R.gy[1] = c[2];
+    R.gy[2] = c[3];
+  }
+}
+
+/// block2::offsetsAndInverseInertia (N = 3): the offsets dx, dy of the run's node lines from
+/// the centres (XP, YP) and D^-1 (xx, xy, yx, yy), 0 where D is singular (inverseInertia2).
+GIMP_LANES_INLINE void offsetsAndInverseInertia(const Run &R, V4 XP, V4 YP, const double *xs,
+                                                V4 *dx, V4 *dy, V4 *Di) {
+  V4 S0x = splat(0), S1x = splat(0), S2x = splat(0), S0y = splat(0), S1y = splat(0), S2y = splat(0);
+  for (int i = 0; i < 3; ++i) {
+    const PetscInt o = 2 * i;
+    dx[i] = _mm256_set_pd(xs[R.row[0][3] + o], xs[R.row[0][2] + o], xs[R.row[0][1] + o],
+                          xs[R.row[0][0] + o]) -
+            XP;
+    dy[i] = _mm256_set_pd(xs[R.row[i][3] + 1], xs[R.row[i][2] + 1], xs[R.row[i][1] + 1],
+                          xs[R.row[i][0] + 1]) -
+            YP;
+    const V4 tx = R.wx[i] * dx[i], ty = R.wy[i] * dy[i];
+    S0x = S0x + R.wx[i];
+    S0y = S0y + R.wy[i];
+    S1x = S1x + tx;
+    S1y = S1y + ty;
+    S2x = S2x + tx * dx[i];
+    S2y = S2y + ty * dy[i];
+  }
+  // inverseInertia2(a, b, b, d) with a = Sx2 Sy0, b = Sx1 Sy1, d = Sx0 Sy2
+  const V4 a = S2x * S0y, b = S1x * S1y, d = S0x * S2y;
+  const V4 det = a * d - b * b;
+  const V4 half = splat(0.5) * (a + d);
+  const V4 ok = _mm256_cmp_pd(det, splat(1e-12) * half * half, _CMP_GT_OQ);
+  const V4 id = splat(1.0) / det;
+  const V4 nb = _mm256_xor_pd(b, splat(-0.0));
+  Di[0] = _mm256_and_pd(ok, d * id);
+  Di[1] = _mm256_and_pd(ok, nb * id);
+  Di[2] = _mm256_and_pd(ok, nb * id);
+  Di[3] = _mm256_and_pd(ok, a * id);
+}
+
+/// product<2>(B, Di).
+GIMP_LANES_INLINE void product(const V4 *B, const V4 *Di, V4 *C) {
+  C[0] = B[0] * Di[0] + B[1] * Di[2];
+  C[1] = B[0] * Di[1] + B[1] * Di[3];
+  C[2] = B[2] * Di[0] + B[3] * Di[2];
+  C[3] = B[2] * Di[1] + B[3] * Di[3];
+}
+
+/// A run's contributions to its 3 x 3 nodes: pairs (X, Y) and masses M, four particles each.
+struct NodeValues {
+  V4 X[3][3], Y[3][3], M[3][3];
+};
+
+/// Lane q of pairs unpacked as lo = (0, 2), hi = (1, 3); lane q of M as the low double.
+template <int Q> GIMP_LANES_INLINE __m128d pairOf(V4 lo, V4 hi) {
+  if constexpr (Q == 0) return _mm256_castpd256_pd128(lo);
+  if constexpr (Q == 1) return _mm256_castpd256_pd128(hi);
+  if constexpr (Q == 2) return _mm256_extractf128_pd(lo, 1);
+  if constexpr (Q == 3) return _mm256_extractf128_pd(hi, 1);
+}
+template <int Q> GIMP_LANES_INLINE __m128d scalarOf(V4 M) {
+  const __m128d h = Q < 2 ? _mm256_castpd256_pd128(M) : _mm256_extractf128_pd(M, 1);
+  return Q % 2 == 0 ? h : _mm_unpackhi_pd(h, h);
+}
+
+/// Particles Q0 .. Q1-1 of a run, which share one block: at each node, loaded once, their
+/// contributions added in particle order, stored once.
+template <int Q0, int Q1, bool Mass>
+GIMP_LANES_INLINE void addSegment(const Run &R, const NodeValues &N, double *f, double *mass) {
+  for (int j = 0; j < 3; ++j)
+    for (int i = 0; i < 3; ++i) {
+      const V4 lo = _mm256_unpacklo_pd(N.X[j][i], N.Y[j][i]),
+               hi = _mm256_unpackhi_pd(N.X[j][i], N.Y[j][i]);
+      double *r = f + R.row[j][Q0] + 2 * i;
+      __m128d a = _mm_loadu_pd(r);
+      a = _mm_add_pd(a, pairOf<Q0>(lo, hi));
+      if constexpr (Q0 + 1 < Q1) a = _mm_add_pd(a, pairOf<Q0 + 1>(lo, hi));
+      if constexpr (Q0 + 2 < Q1) a = _mm_add_pd(a, pairOf<Q0 + 2>(lo, hi));
+      if constexpr (Q0 + 3 < Q1) a = _mm_add_pd(a, pairOf<Q0 + 3>(lo, hi));
+      _mm_storeu_pd(r, a);
+      if constexpr (Mass) {
+        double *s = mass + R.row[j][Q0] + 2 * i;
+        __m128d b = _mm_add_sd(_mm_load_sd(s), scalarOf<Q0>(N.M[j][i]));
+        if constexpr (Q0 + 1 < Q1) b = _mm_add_sd(b, scalarOf<Q0 + 1>(N.M[j][i]));
+        if constexpr (Q0 + 2 < Q1) b = _mm_add_sd(b, scalarOf<Q0 + 2>(N.M[j][i]));
+        if constexpr (Q0 + 3 < Q1) b = _mm_add_sd(b, scalarOf<Q0 + 3>(N.M[j][i]));
+        _mm_store_sd(s, b);
+      }
+    }
+}
+
+/// The first particle after Q0 that starts a new block (bit q - 1 of Split set), or 4.
+constexpr int segmentEnd(int split, int q0) {
+  int q = q0 + 1;
+  while (q < 4 && !((split >> (q - 1)) & 1))
+    ++q;
+  return q;
+}
+template <int Split, bool Mass, int Q0 = 0>
+GIMP_LANES_INLINE void addSegments(const Run &R, const NodeValues &N, double *f, double *mass) {
+  if constexpr (Q0 < 4) {
+    constexpr int Q1 = segmentEnd(Split, Q0);
+    addSegment<Q0, Q1, Mass>(R, N, f, mass);
+    addSegments<Split, Mass, Q1>(R, N, f, mass);
+  }
+}
+
+/// Adds a run's contributions to the nodes so that every node receives them in particle order,
+/// as the scalar loop does (it adds particle k's to all its nodes, then particle k+1's): the run
+/// is cut where a particle's block differs from the one before it, and each piece adds all its
+/// nodes before the next (two particles with different blocks may reach one node at different
+/// (j, i)). The common case, one block for all four, loads and stores each node once.
+template <bool Mass>
+GIMP_LANES_INLINE void addToNodes(const Run &R, const NodeValues &N, double *f, double *mass) {
+  const auto differs = [&](int q) {
+    return (R.row[0][q] != R.row[0][q - 1] || R.row[1][q] != R.row[1][q - 1]) ? 1 : 0;
+  };
+  switch (differs(1) | differs(2) << 1 | differs(3) << 2) {
+  case 0:
+    return addSegments<0, Mass>(R, N, f, mass);
+  case 1:
+    return addSegments<1, Mass>(R, N, f, mass);
+  case 2:
+    return addSegments<2, Mass>(R, N, f, mass);
+  case 3:
+    return addSegments<3, Mass>(R, N, f, mass);
+  case 4:
+    return addSegments<4, Mass>(R, N, f, mass);
+  case 5:
+    return addSegments<5, Mass>(R, N, f, mass);
+  case 6:
+    return addSegments<6, Mass>(R, N, f, mass);
+  default:
+    return addSegments<7, Mass>(R, N, f, mass);
+  }
+}
+
+/// block2::affineScatter: node (i, j) gets m w_j [w_i (v + C e_y dy_j) + w_i dx_i C e_x] and, with
+/// mass, m w_i w_j.
+GIMP_LANES_INLINE void affineScatter(const Run &R, V4 mp, V4 VX, V4 VY, const V4 *C, const V4 *dx,
+                                     const V4 *dy, double *mom, double *mass) {
+  NodeValues N;
+  V4 wdx[3];
+  for (int i = 0; i < 3; ++i)
+    wdx[i] = R.wx[i] * dx[i];
+  for (int j = 0; j < 3; ++j) {
+    const V4 mw = mp * R.wy[j];
+    const V4 rx = mw * (VX + C[1] * dy[j]), ry = mw * (VY + C[3] * dy[j]);
+    const V4 tx = mw * C[0], ty = mw * C[2];
+    for (int i = 0; i < 3; ++i) {
+      N.X[j][i] = R.wx[i] * rx + wdx[i] * tx;
+      N.Y[j][i] = R.wx[i] * ry + wdx[i] * ty;
+      N.M[j][i] = R.wx[i] * mw;
+    }
+  }
+  if (mass)
+    addToNodes<true>(R, N, mom, mass);
+  else
+    addToNodes<false>(R, N, mom, nullptr);
+}
+
+} // namespace
+
+GIMP_LANES void particlesToGridAffineB(const Stencils<2> &st, PetscInt n, const double *m,
+                                       const double *v, const double *B, const double *xc,
+                                       const double *xs, double *mom, double *mass) {
+  PetscInt k = 0;
+  for (; st.compact && k + 4 <= n;) {
+    if (!isRun(st, k)) {
+      particleToGridAffineB<2>(st, k, m[k], v + 2 * k, tensorAt<2>(B, k), xc + 2 * k, xs, mom,
+                               mass);
+      ++k;
+      continue;
+    }
+    Run R;
+    loadRun<false>(st, k, R);
+    V4 XP, YP, VX, VY, Bk[4], Di[4], C[4], dx[3], dy[3];
+    loadVectors(xc, k, XP, YP);
+    loadVectors(v, k, VX, VY);
+    loadTensors(B, k, Bk);
+    offsetsAndInverseInertia(R, XP, YP, xs, dx, dy, Di);
+    product(Bk, Di, C);
+    affineScatter(R, _mm256_loadu_pd(m + k), VX, VY, C, dx, dy, mom, mass);
+    k += 4;
+  }
+  for (; k < n; ++k)
+    particleToGridAffineB<2>(st, k, m[k], v + 2 * k, tensorAt<2>(B, k), xc + 2 * k, xs, mom, mass);
+}
+
+GIMP_LANES void internalForce(const Stencils<2> &st, PetscInt n, const double *V,
+                              const double *stress, double *f) {
+  PetscInt k = 0;
+  for (; st.compact && k + 4 <= n;) {
+    if (!isRun(st, k)) {
+      physics::internalForce<2>(st, k, k + 1, V, stress, f);
+      ++k;
+      continue;
+    }
+    Run R;
+    loadRun<true>(st, k, R);
+    V4 S[4];
+    loadTensors(stress, k, S);
+    const V4 nV = _mm256_xor_pd(_mm256_loadu_pd(V + k), splat(-0.0));
+    const V4 A00 = nV * S[0], A01 = nV * S[1], A10 = nV * S[2], A11 = nV * S[3];
+    // block2::internalForce: f_ij += g_i (A0 w_j) + w_i (A1 g_j), A0 = (A00, A10), A1 = (A01, A11)
+    NodeValues N;
+    for (int j = 0; j < 3; ++j) {
+      const V4 ax = A00 * R.wy[j], ay = A10 * R.wy[j], cx = A01 * R.gy[j], cy = A11 * R.gy[j];
+      for (int i = 0; i < 3; ++i) {
+        N.X[j][i] = R.gx[i] * ax + R.wx[i] * cx;
+        N.Y[j][i] = R.gx[i] * ay + R.wx[i] * cy;
+      }
+    }
+    addToNodes<false>(R, N, f, nullptr);
+    k += 4;
+  }
+  if (k < n) physics::internalForce<2>(st, k, n, V, stress, f);
+}
+
+GIMP_LANES void gridToParticlesAffineProjected(const Stencils<2> &st, PetscInt n, const double *vg,
+                                               const double *xc, const double *xs, double dt,
+                                               const double *m, double *v, double *B, double *x,
+                                               double *mom) {
+  const auto one = [&](PetscInt k) {
+    double vp[2];
+    Tensor<2> Bk;
+    particleFromAndToGridAffine<2>(st, k, m[k], vg, xc + 2 * k, xs, vp, Bk, mom);
+    tensorAt<2>(B, k) = Bk;
+    for (int c = 0; c < 2; ++c) {
+      v[2 * k + c] = vp[c];
+      x[2 * k + c] += dt * vp[c];
+    }
+  };
+  PetscInt k = 0;
+  for (; st.compact && k + 4 <= n;) {
+    if (!isRun(st, k)) {
+      one(k);
+      ++k;
+      continue;
+    }
+    Run R;
+    loadRun<false>(st, k, R);
+    V4 XP, YP, Di[4], dx[3], dy[3];
+    loadVectors(xc, k, XP, YP);
+    offsetsAndInverseInertia(R, XP, YP, xs, dx, dy, Di);
+    // block2::affineGather: v = sum_j w_j t_j, B0 = sum_j w_j u_j, B1 = sum_j (w_j dy_j) t_j with
+    // t_j = sum_i w_i v_ij, u_j = sum_i (w_i v_ij) dx_i
+    V4 vx = splat(0), vy = splat(0), B0x = splat(0), B0y = splat(0), B1x = splat(0), B1y = splat(0);
+    for (int j = 0; j < 3; ++j) {
+      const double *r[4] = {vg + R.row[j][0], vg + R.row[j][1], vg + R.row[j][2], vg + R.row[j][3]};
+      V4 tx, ty, ux, uy;
+      for (int i = 0; i < 3; ++i) {
+        V4 gx, gy;
+        gatherPairs(r, 2 * i, gx, gy);
+        const V4 wvx = R.wx[i] * gx, wvy = R.wx[i] * gy;
+        if (i == 0) {
+          tx = wvx;
+          ty = wvy;
+          ux = wvx * dx[0];
+          uy = wvy * dx[0];
+        } else {
+          tx = tx + wvx;
+          ty = ty + wvy;
+          ux = ux + wvx * dx[i];
+          uy = uy + wvy * dx[i];
+        }
+      }
+      const V4 wdy = R.wy[j] * dy[j];
+      vx = vx + R.wy[j] * tx;
+      vy = vy + R.wy[j] * ty;
+      B0x = B0x + R.wy[j] * ux;
+      B0y = B0y + R.wy[j] * uy;
+      B1x = B1x + wdy * tx;
+      B1y = B1y + wdy * ty;
+    }
+    const V4 Bk[4] = {B0x, B1x, B0y, B1y};
+    V4 C[4];
+    product(Bk, Di, C);
+    affineScatter(R, _mm256_loadu_pd(m + k), vx, vy, C, dx, dy, mom, nullptr);
+    storeTensors(B, k, Bk);
+    storeVectors(v, k, vx, vy);
+    // x may be xc: every centre of the run was read above
+    V4 X, Y;
+    loadVectors(x, k, X, Y);
+    const V4 dtv = splat(dt);
+    storeVectors(x, k, X + dtv * vx, Y + dtv * vy);
+    k += 4;
+  }
+  for (; k < n; ++k)
+    one(k);
+}
+
+GIMP_LANES void velocityGradients(const Stencils<2> &st, PetscInt k0, PetscInt k1, const double *vg,
+                                  double *L) {
+  PetscInt k = k0;
+  for (; st.compact && k + 4 <= k1;) {
+    if (!isRun(st, k)) {
+      tensorAt<2>(L, k - k0) = velocityGradientAt<2>(st, k, vg);
+      ++k;
+      continue;
+    }
+    Run R;
+    loadRun<true>(st, k, R);
+    // block2::gradient: L0 = sum_j w_j sum_i g_i v_ij, L1 = sum_j g_j sum_i w_i v_ij
+    V4 L0x = splat(0), L0y = splat(0), L1x = splat(0), L1y = splat(0);
+    for (int j = 0; j < 3; ++j) {
+      const double *r[4] = {vg + R.row[j][0], vg + R.row[j][1], vg + R.row[j][2], vg + R.row[j][3]};
+      V4 px, py, sx, sy;
+      for (int i = 0; i < 3; ++i) {
+        V4 gx, gy;
+        gatherPairs(r, 2 * i, gx, gy);
+        if (i == 0) {
+          px = R.gx[0] * gx;
+          py = R.gx[0] * gy;
+          sx = R.wx[0] * gx;
+          sy = R.wx[0] * gy;
+        } else {
+          px = px + R.gx[i] * gx;
+          py = py + R.gx[i] * gy;
+          sx = sx + R.wx[i] * gx;
+          sy = sy + R.wx[i] * gy;
+        }
+      }
+      L0x = L0x + R.wy[j] * px;
+      L0y = L0y + R.wy[j] * py;
+      L1x = L1x + R.gy[j] * sx;
+      L1y = L1y + R.gy[j] * sy;
+    }
+    const V4 Lk[4] = {L0x, L1x, L0y, L1y};
+    storeTensors(L, k - k0, Lk);
+    k += 4;
+  }
+  for (; k < k1; ++k)
+    tensorAt<2>(L, k - k0) = velocityGradientAt<2>(st, k, vg);
+}
+
+#else // no lanes on this architecture: the scalar loops
+
+bool available() {
+  return false;
+}
+
+void particlesToGridAffineB(const Stencils<2> &st, PetscInt n, const double *m, const double *v,
+                            const double *B, const double *xc, const double *xs, double *mom,
+                            double *mass) {
+  transfer::particlesToGridAffineB<2>(st, n, m, v, B, xc, xs, mom, mass);
+}
+void internalForce(const Stencils<2> &st, PetscInt n, const double *V, const double *stress,
+                   double *f) {
+  physics::internalForce<2>(st, 0, n, V, stress, f);
+}
+void gridToParticlesAffineProjected(const Stencils<2> &st, PetscInt n, const double *vg,
+                                    const double *xc, const double *xs, double dt, const double *m,
+                                    double *v, double *B, double *x, double *mom) {
+  transfer::gridToParticlesAffineProjected<2>(st, n, vg, xc, xs, dt, m, v, B, x, mom);
+}
+void velocityGradients(const Stencils<2> &st, PetscInt k0, PetscInt k1, const double *vg,
+                       double *L) {
+  for (PetscInt k = k0; k < k1; ++k)
+    tensorAt<2>(L, k - k0) = velocityGradientAt<2>(st, k, vg);
+}
+
+#endif
+
+} // namespace gimp::transfer::lanes2
