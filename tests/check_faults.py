@@ -128,6 +128,18 @@ value_cases = [
     ("ppc beyond PetscInt", patch("-gimp_body0_ppc", "99999999999"),
      ["-gimp_body0_ppc 99999999999"]),
     ("unstable dt names dt", patch("-ts_dt", "1"), ["-ts_dt 1", "stable limit"]),
+    ("a word in a box", patch("-gimp_body0_box", "0,0,abc,0.4"),
+     ["-gimp_body0_box 0,0,abc,0.4", "element 3 (abc)"]),
+    ("a word in gravity", patch("-gimp_gravity", "0,x"), ["-gimp_gravity 0,x", "element 2"]),
+    ("a word in a level box", patch("-gimp_levels", "2", "-gimp_level1_box", "0,0,0.5,0.4x"),
+     ["-gimp_level1_box 0,0,0.5,0.4x", "element 4"]),
+    ("an empty element in a box", patch("-gimp_body0_box", "0,0,,1,0.4"),
+     ["-gimp_body0_box 0,0,,1,0.4", "element 3 is empty"]),
+    ("a trailing comma", patch("-gimp_body0_box", "0,0,1,0.4,"),
+     ["-gimp_body0_box 0,0,1,0.4,", "element 5 is empty"]),
+    ("gravity a comma", patch("-gimp_gravity", ","), ["-gimp_gravity ,", "element 1 is empty"]),
+    ("interpolated final time", patch("-ts_exact_final_time", "interpolate", "-ts_max_time",
+                                      "0.01"), ["-ts_exact_final_time interpolate", "matchstep"]),
 ]
 expect_all(value_cases)
 
@@ -296,6 +308,28 @@ try:
             "exit %s, status %s" % (rc, s["status"]))
 except (OSError, ValueError) as e:
     c.check("summary.json of a failed run is strict JSON", False, "exit %s: %s" % (rc, e))
+
+# A time step below h / c_p (accepted) but above the critical step of the patch test (7.87e-4 s
+# with its damping, by -gimp_stability_check): the run blows up and damping freezes it in a wrong
+# state with every value finite. The energy it created stops it, on one and on two ranks: one
+# error line, exit 3, status unstable, the history up to the failure and a frame of it kept.
+for ranks in (1, 2):
+    out = os.path.join(W, "unstable_dt_%d" % ranks)
+    rc, err, _ = gimp(["-options_file", PATCH, "-ts_dt", "7.95e-4", "-ts_max_steps", "3000"],
+                      ranks=ranks, outdir=out)
+    lines = [l for l in err.splitlines() if l.strip()]
+    ok = rc == 3 and len(lines) == 1 and "energy balance" in lines[0] and "unstable" in lines[0]
+    try:
+        with open(os.path.join(out, "summary.json")) as f:
+            s = json.load(f)
+        rows = gimptest.history(out)["step"]
+        ok = ok and s["status"] == "unstable" and s["steps"] < 3000 and rows[-1] == s["steps"]
+        detail = "exit %s, status %s at step %s, history to step %s: %s" % (
+            rc, s["status"], s["steps"], rows[-1], lines[0][:110] if lines else "(no line)")
+    except (OSError, ValueError, KeyError) as e:
+        ok, detail = False, "exit %s: %s" % (rc, e)
+    c.check("a finite blow-up stops on its created energy (%d rank%s)" % (ranks, "s" * (ranks > 1)),
+            ok, detail)
 
 c.check("run time", True, "%.1f s" % (time.time() - t_start))
 c.done()

@@ -127,6 +127,32 @@ bool allFinite(const std::string &value) {
   return true;
 }
 
+/// In a comma-separated list of numbers, the first element that is empty or not a number (PETSc
+/// drops empty elements and names no option for a bad one): "" when every element is a number,
+/// or when none is (a list of words, which may not have an empty element either).
+std::string badListElement(const std::string &value) {
+  if (value.find(',') == std::string::npos) return "";
+  std::vector<std::string> tokens;
+  size_t at = 0;
+  while (at <= value.size()) {
+    const size_t comma = std::min(value.find(',', at), value.size());
+    tokens.push_back(value.substr(at, comma - at));
+    at = comma + 1;
+  }
+  const auto isNumber = [](const std::string &t) {
+    char *end = nullptr;
+    (void)std::strtod(t.c_str(), &end);
+    return !t.empty() && end != t.c_str() && *end == '\0';
+  };
+  for (size_t i = 0; i < tokens.size(); ++i)
+    if (tokens[i].empty()) return "element " + std::to_string(i + 1) + " is empty";
+  if (std::none_of(tokens.begin(), tokens.end(), isNumber)) return "";
+  for (size_t i = 0; i < tokens.size(); ++i)
+    if (!isNumber(tokens[i]))
+      return "element " + std::to_string(i + 1) + " (" + tokens[i] + ") is not a number";
+  return "";
+}
+
 /// Before anything is read: every gimp option and the time stepper's step, end time and step
 /// count have a value (PETSc would silently keep the default of an option given alone), and
 /// every number in them is finite (a NaN passes checks written as x < 0).
@@ -143,6 +169,9 @@ PetscErrorCode checkOptionValues() {
       error = "option -" + name + ": needs a value after it (see -help and docs/options.md)";
     else if (!isWord(name) && !allFinite(value))
       error = "option -" + name + " " + value + ": the values must be finite numbers";
+    else if (const std::string bad = isWord(name) ? "" : badListElement(value); !bad.empty())
+      error = "option -" + name + " " + value + ": " + bad +
+              " (a list of numbers separated by commas; see docs/options.md)";
     else if (isInteger(name) && overflowsPetscInt(value))
       error = "option -" + name + " " + value + ": must be an integer from " +
               std::to_string(PETSC_MIN_INT) + " to " + std::to_string(PETSC_MAX_INT);
@@ -265,18 +294,35 @@ PetscErrorCode checkSeeding(MPI_Comm comm, const Scene &sc, const Grid &grid, co
   }
   meanMass = mtot / static_cast<double>(count);
   PetscCall(checkSegmentsReached(comm, sc, p));
-  PetscInt64 outside = INT64_MAX, gOutside = INT64_MAX;
+  // Inside; on the edge is warned of: a particle whose domain ends on the grid's edge deforms
+  // past it (where there are no nodes) within a few hundred steps of any deformation, even on a
+  // roller there.
+  const double margin = 1e-6 * sc.h;
+  PetscInt64 outside = INT64_MAX, gOutside = INT64_MAX, onEdge = INT64_MAX, gOnEdge = INT64_MAX;
   for (PetscInt k = 0; k < p.n; ++k) {
-    const double x = p.x[2 * k], y = p.x[2 * k + 1];
-    if (x - p.l[2 * k] < sc.domain[0] || x + p.l[2 * k] > sc.domain[2] ||
-        y - p.l[2 * k + 1] < sc.domain[1] || y + p.l[2 * k + 1] > sc.domain[3])
+    const double x = p.x[2 * k], y = p.x[2 * k + 1], lx = p.l[2 * k], ly = p.l[2 * k + 1];
+    const Box &d = sc.domain;
+    if (x - lx < d[0] || x + lx > d[2] || y - ly < d[1] || y + ly > d[3])
       outside = std::min(outside, p.id[k]);
+    else if (x - lx < d[0] + margin || x + lx > d[2] - margin || y - ly < d[1] + margin ||
+             y + ly > d[3] - margin)
+      onEdge = std::min(onEdge, p.id[k]);
   }
   PetscCallMPI(MPI_Allreduce(&outside, &gOutside, 1, MPI_INT64_T, MPI_MIN, comm));
+  PetscCallMPI(MPI_Allreduce(&onEdge, &gOnEdge, 1, MPI_INT64_T, MPI_MIN, comm));
   if (gOutside != INT64_MAX)
     throw InputError("option -gimp_domain " + boxText(sc.domain) + ": particle " +
                      std::to_string(gOutside) + " of body " + std::to_string(gOutside / slots) +
                      " is not inside the grid; enlarge the domain or -gimp_pad");
+  if (gOnEdge != INT64_MAX) // (a body at rest may fill the grid: the paper's Fig. 2)
+    PetscCall(PetscPrintf(comm,
+                          "gimp: warning: -gimp_domain %s: body %lld reaches the grid's edge "
+                          "(particle %lld): if it deforms it will pass the edge, where there are "
+                          "no nodes, and stop the run; leave at least a cell between the bodies "
+                          "and the domain's edges (a symmetry roller goes on the body's edge "
+                          "inside the domain; the default domain pads -gimp_pad cells)\n",
+                          boxText(sc.domain).c_str(), static_cast<long long>(gOnEdge / slots),
+                          static_cast<long long>(gOnEdge)));
   return PETSC_SUCCESS;
 }
 
@@ -292,6 +338,12 @@ PetscErrorCode timeStepFromOptions(TS ts, double cp, double hMin, bool unstableA
   PetscCall(TSGetType(ts, &type));
   PetscCall(TSGetAdapt(ts, &adapt));
   PetscCall(TSAdaptGetType(adapt, &atype));
+  TSExactFinalTimeOption exact;
+  PetscCall(TSGetExactFinalTime(ts, &exact));
+  if (exact == TS_EXACTFINALTIME_INTERPOLATE)
+    throw InputError("option -ts_exact_final_time interpolate: not available (the particles "
+                     "cannot be interpolated back to -ts_max_time); use matchstep (the last step "
+                     "shortened to end on -ts_max_time) or stepover (the default)");
   if (std::string(type) != TSEULER)
     throw InputError("option -ts_type " + std::string(type) +
                      ": gimp advances the nodal momentum with euler (Eq. 16); use -ts_type euler");

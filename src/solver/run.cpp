@@ -4,6 +4,7 @@
 #include "gimp/core/pair.hpp"
 #include "gimp/solver/solver.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <csignal>
 #include <sys/resource.h>
@@ -18,6 +19,7 @@ PetscErrorCode Solver::run() {
     HistoryRow row;
     PetscCall(historyRow(0, 0.0, row));
     PetscCall(out_->writeHistory(row));
+    energyCheck(0, 0.0, row.energy); // the reference of the energy balance
     PetscCall(PetscLogStagePop());
   }
   PetscInt steps = 0, maxSteps = 0;
@@ -64,15 +66,19 @@ PetscErrorCode Solver::checks(const ParticleView &p, PetscInt step, double t) {
   if (size_ > 1) grid_.ownedBox(rank_, box);
   // Both axes at once.
   using simd::Pair;
-  const Pair lo = {d[0], d[1]}, hi = {d[2], d[3]}, own0 = {box[0], box[1]}, own1 = {box[2], box[3]},
-             hmax = simd::splat(h0), zero = {0, 0};
+  // A body flush with the domain's edge (on a symmetry roller, say) moves its edge particles'
+  // domains past it by round-off (1e-18 m): a margin of 1e-8 h0 tells that from leaving.
+  const double margin = 1e-8 * h0;
+  const Pair lo = {d[0] - margin, d[1] - margin}, hi = {d[2] + margin, d[3] + margin},
+             own0 = {box[0], box[1]}, own1 = {box[2], box[3]}, hmax = simd::splat(h0),
+             zero = {0, 0};
   for (PetscInt k = 0; k < p.n; ++k) {
     const Pair X = simd::load(p.x + 2 * k), l = simd::load(p.l + 2 * k);
     if (size_ > 1) leaving += !(simd::bothLe(own0, X) && simd::bothLt(X, own1));
     if (bad >= 0) continue;
     const double s = p.s[4 * k] + p.s[4 * k + 3] + p.s[4 * k + 1];
     // NaN fails every comparison: the test is written so that it lands in the bad branch.
-    const bool ok = std::isfinite(X[0] + X[1] + s) && simd::bothLe(lo, X - l) &&
+    const bool ok = std::isfinite(X[0] + X[1] + s) && p.V[k] > 0 && simd::bothLe(lo, X - l) &&
                     simd::bothLe(X + l, hi) && simd::bothLt(zero, l) && simd::bothLe(l, hmax);
     if (!ok) bad = k;
   }
@@ -82,8 +88,14 @@ PetscErrorCode Solver::checks(const ParticleView &p, PetscInt step, double t) {
     std::string why;
     if (!std::isfinite(x) || !std::isfinite(y) || !tensorAt<2>(p.s, k).allFinite())
       why = "its position or stress is not finite: the run went unstable (reduce -ts_dt)";
-    else if (x - lx < d[0] || x + lx > d[2] || y - ly < d[1] || y + ly > d[3])
-      why = "it left the grid domain (enlarge -gimp_domain or -gimp_pad)";
+    else if (!(p.V[k] > 0))
+      why = "its volume " + formatNumber(p.V[k]) +
+            " m^2 is not positive: the particle is inverted (det F <= 0): the run went unstable "
+            "(reduce -ts_dt)";
+    else if (x - lx < d[0] - margin || x + lx > d[2] + margin || y - ly < d[1] - margin ||
+             y + ly > d[3] + margin)
+      why = "it left the grid domain (enlarge -gimp_domain or -gimp_pad: a body on the domain's "
+            "edge deforms past it)";
     else
       why = "its half-size (" + formatNumber(lx) + ", " + formatNumber(ly) +
             ") is not in (0, h0]: the particle is inverted or stretched beyond one level-0 cell";
@@ -129,6 +141,11 @@ PetscErrorCode Solver::report(PetscInt step, double t) {
     PetscCall(historyRow(step, t, row));
     PetscCall(out_->writeHistory(row));
     if (sc_.staticTol > 0 && t >= sc_.staticTime) PetscCall(restCriterion(step, t, row.energy));
+    energyCheck(step, t, row.energy);
+    if (failed_) { // the row that shows it is written; finish() writes the frame
+      PetscCall(PetscLogStagePop());
+      return PETSC_SUCCESS;
+    }
   }
   if (dueIn(from, step + 1, sc_.outputInterval)) {
     st_.release(); // not needed until the next step: the frame's buffers take its place
@@ -174,6 +191,35 @@ PetscErrorCode Solver::crackTips(std::vector<cracks::TipMeasure> &tips) {
   PetscCall(cracks::measureTips(comm_, sc_, grid_, p, sc_.crackJRadius, tips));
   PetscCall(p.restore(sw_));
   return PETSC_SUCCESS;
+}
+
+void Solver::energyCheck(PetscInt step, double t, const Energies &e) {
+  // A run can go unstable and stay finite: damping or a stiffening material stops the growth,
+  // and it ends in a wrong state with every value finite. What it cannot hide is the energy it
+  // created: the balance kinetic + strain - external work + damping is constant for the exact
+  // motion, and the step's numerical dissipation only lowers it. So a rise of the balance by
+  // more than kGain of the largest energy the run has shown (kinetic + strain, external work,
+  // damping, the balance itself) stops the run, at a history row. Every scene in options/ stays
+  // below 0.02 (docs/validation.md, *Unstable runs*). The floor, 1e-12 M c_p^2 (the strain
+  // energy of a uniform strain of 1.4e-6), keeps round-off of a body at rest from counting.
+  // The energies are sums over all ranks: every rank decides the same.
+  constexpr double kGain = 0.25;
+  const double balance = e.total();
+  if (std::isnan(energyRef_)) energyRef_ = balance;
+  energyScale_ = std::max({energyScale_, std::fabs(energyRef_), e.kinetic + e.strain,
+                           std::fabs(e.externalWork), std::fabs(e.damping)});
+  const double c = sc_.maxWaveSpeed();
+  const double floor = 1e-12 * meanParticleMass_ * static_cast<double>(nParticles_) * c * c;
+  const double gained = balance - energyRef_;
+  if (!(gained > kGain * energyScale_ && gained > floor)) return;
+  failed_ = true;
+  PetscCallVoid(
+      PetscFPrintf(comm_, PETSC_STDERR,
+                   "gimp: error: step %" PetscInt_FMT " t %.9g s: the energy balance "
+                   "(kinetic + strain - external work + damping) rose by %.6g J, %.3g "
+                   "of the run's largest energy %.6g J: the run went unstable (reduce "
+                   "-ts_dt or -gimp_cfl; -gimp_stability_check gives the critical step)\n",
+                   step, t, gained, gained / energyScale_, energyScale_));
 }
 
 PetscErrorCode Solver::restCriterion(PetscInt step, double t, const Energies &e) {

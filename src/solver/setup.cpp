@@ -166,7 +166,7 @@ PetscErrorCode Solver::createParticles() {
 }
 
 PetscErrorCode Solver::checkCoarseTimeLimit() {
-  // A time limit that TS must meet exactly (matchstep, interpolate) has to fall on a coarse-step
+  // A time limit that TS must meet exactly (matchstep) has to fall on a coarse-step
   // end: every class's impulses of a coarse step are taken with the full fine step.
   TSExactFinalTimeOption exact;
   PetscReal maxTime = 0, dt = 0;

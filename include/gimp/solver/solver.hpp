@@ -152,6 +152,7 @@ private:
   PetscErrorCode historyRow(PetscInt step, double t, HistoryRow &row);
   PetscErrorCode finish(PetscInt steps, double t);
   PetscErrorCode restCriterion(PetscInt step, double t, const Energies &e);
+  void energyCheck(PetscInt step, double t, const Energies &e);
   PetscErrorCode monitorLine(PetscInt step, double t);
   PetscErrorCode crackTips(std::vector<cracks::TipMeasure> &tips);
 
@@ -198,6 +199,8 @@ private:
   bool atRest_ = false;   // stopped by the rest criterion (-gimp_static_tol)
   int restRows_ = 0;      // consecutive history rows that meet it
   double restStrain_ = 0; // strain energy at the first of them
+  double energyRef_ = NAN; // the energy balance at the first history row of this process
+  double energyScale_ = 0; // the largest energy of the run's history rows so far
 };
 
 } // namespace gimp
