@@ -18,6 +18,9 @@ cases = [
     ("ppc not a cube", ["-gimp_body0_ppc", "4"], "-gimp_body0_ppc 4: must be a perfect cube"),
     ("2D velocity", ["-gimp_body0_velocity", "1,0"], "-gimp_body0_velocity 1,0: needs 3 values"),
     ("2D gravity", ["-gimp_gravity", "0,-9.8"], "-gimp_gravity 0,-9.8: needs 3 values"),
+    # a 3D option the 3D scene does not use (the body is a box): unused, not "a 3D option"
+    ("sphere of a box body", ["-gimp_body0_sphere", "0.5,0.2,0.2,0.1"],
+     "-gimp_body0_sphere 0.5,0.2,0.2,0.1: unknown option (misspelled, or not used by this scene)"),
     ("sphere radius", ["-gimp_bodies", "2", "-gimp_body1_shape", "sphere", "-gimp_body1_sphere",
                        "2,0.2,0.2,0"], "-gimp_body1_sphere 2,0.2,0.2,0: needs r > 0"),
     ("sphere missing", ["-gimp_bodies", "2", "-gimp_body1_shape", "sphere"],

@@ -7,7 +7,8 @@ equality. The cases cover what decides which particles run in lanes and how thei
 ordered: one level with APIC (every kernel in lanes), three levels (block particles next to
 rows at level borders), the plate with a hole (cut particles, tractions, penalty conditions),
 a crack (cracked nodes keep rows), FLIP (force and gradient in lanes, transfers scalar), corner
-tracking (stencil centres other than the positions), and two ranks.
+tracking (stencil centres other than the positions), two ranks, and for the stress update two
+materials, a neo-Hookean one (scalar) and plane stress without domain tracking.
 
 When the processor has no AVX2 the lanes do not run and the comparison is trivial; the script
 says so (gimp -info reports which kernels ran).
@@ -33,6 +34,12 @@ CASES = [
     ("patch_corners", "options/patch.opts", ["-ts_max_steps", "60", "-gimp_tracking", "corners"],
      1),
     ("block3_2ranks", "bench/block3.opts", ["-ts_max_steps", "20"], 2),
+    ("bimaterial", "options/bimaterial.opts", ["-ts_max_steps", "60"], 1),
+    ("block_neohookean", "bench/block.opts",
+     ["-gimp_h", "0.03125", "-ts_max_steps", "60", "-gimp_material", "neohookean"], 1),
+    ("block_no_tracking", "bench/block.opts",
+     ["-gimp_h", "0.03125", "-ts_max_steps", "60", "-gimp_tracking", "none", "-gimp_plane",
+      "stress"], 1),
 ]
 
 

@@ -1,5 +1,6 @@
 // Stencils of particles on the composite grid: for each particle the active nodes whose support
 // overlaps it, with the 1D GIMP weights and gradients of Eq. 15 along x and y.
+#include "gimp/core/lanes.hpp"
 #include "gimp/grid/grid.hpp"
 #include "gimp/grid/shape.hpp"
 
@@ -272,9 +273,112 @@ GIMP_ALWAYS_INLINE void GridT<D>::setBlock4(int q, const PetscInt *i0, const dou
   }
 }
 
+#if GIMP_HAVE_LANES
+namespace {
+/// GridT<2>::blockRun's particles of level q in lanes: soleBlock and setBlock for four particles,
+/// each lane their scalar arithmetic in its order (no FMA: this function alone is compiled for
+/// AVX2, and the build has no contraction).
+GIMP_LANES bool blockRunLanes(const GridT<2> &grid, int q, const std::uint8_t *block3,
+                              const double *outwardReach, PetscInt k, const double *x,
+                              const double *l, Stencils<2> &s) {
+  using lanes::V4;
+  const LevelT<2> &L = grid.levels[q];
+  // x and y of the four particles (and of their half-sizes) in lanes
+  V4 X[2], Lh[2];
+  lanes::loadXY(x + 2 * k, X[0], X[1]);
+  lanes::loadXY(l + 2 * k, Lh[0], Lh[1]);
+  const V4 h = _mm256_set1_pd(L.h), ih = _mm256_set1_pd(L.ih), halfH = _mm256_set1_pd(0.5 * L.h);
+  // soleBlock: the centre inside the box, l <= h / 2 (3 nodes), candidates [ir, i1] in the
+  // window and at most 3 wide
+  V4 ok = _mm256_castsi256_pd(_mm256_set1_epi64x(-1)), fi[2];
+  for (int a = 0; a < 2; ++a) {
+    const V4 b0 = _mm256_set1_pd(L.box[a]), b1 = _mm256_set1_pd(L.box[2 + a]);
+    ok = _mm256_and_pd(ok, _mm256_cmp_pd(X[a], b0, _CMP_GE_OQ));
+    ok = _mm256_and_pd(ok, _mm256_cmp_pd(X[a], b1, _CMP_LE_OQ));
+    ok = _mm256_and_pd(ok, _mm256_cmp_pd(Lh[a], halfH, _CMP_LE_OQ));
+    const V4 ir = _mm256_floor_pd((X[a] - Lh[a] - h - b0) * ih) + 1.0;
+    const V4 i1 = _mm256_ceil_pd((X[a] + Lh[a] + h - b0) * ih) - 1.0;
+    ok = _mm256_and_pd(ok, _mm256_cmp_pd(ir, _mm256_set1_pd(L.w0[a]), _CMP_GE_OQ));
+    ok = _mm256_and_pd(ok, _mm256_cmp_pd(ir + 2.0, _mm256_set1_pd(L.w1[a]), _CMP_LT_OQ));
+    ok = _mm256_and_pd(ok, _mm256_cmp_pd(i1 - ir, _mm256_set1_pd(2.0), _CMP_LE_OQ));
+    fi[a] = ir;
+  }
+  // no finer level reaches it (soleBlock's test, per level)
+  for (int f = q + 1; f < static_cast<int>(grid.levels.size()); ++f) {
+    const LevelT<2> &F = grid.levels[f];
+    const V4 Z = _mm256_set1_pd(std::max(F.h, outwardReach[f]) + 0.5 * F.h);
+    V4 misses = _mm256_setzero_pd();
+    for (int a = 0; a < 2; ++a) {
+      misses = _mm256_or_pd(misses,
+                            _mm256_cmp_pd(X[a] + Lh[a] + Z, _mm256_set1_pd(F.box[a]), _CMP_LT_OQ));
+      misses = _mm256_or_pd(
+          misses, _mm256_cmp_pd(X[a] - Lh[a] - Z, _mm256_set1_pd(F.box[2 + a]), _CMP_GT_OQ));
+    }
+    ok = _mm256_and_pd(ok, misses);
+  }
+  if (_mm256_movemask_pd(ok) != 15) return false;
+  alignas(16) int i0[2][4];
+  _mm_store_si128(reinterpret_cast<__m128i *>(i0[0]), _mm256_cvttpd_epi32(fi[0]));
+  _mm_store_si128(reinterpret_cast<__m128i *>(i0[1]), _mm256_cvttpd_epi32(fi[1]));
+  PetscInt base[4];
+  for (int j = 0; j < 4; ++j) {
+    const PetscInt c[2] = {i0[0][j], i0[1][j]};
+    base[j] = grid.windowSlot(q, c);
+    if (!block3[base[j]]) return false;
+  }
+  // setBlock: xi = (x - (box + i0 h)) / h, lam = l / h, then shape::uniformWeights3 per axis
+  V4 w[2][3], g[2][3];
+  const V4 one = _mm256_set1_pd(1.0), zero = _mm256_setzero_pd(), half = _mm256_set1_pd(0.5);
+  for (int a = 0; a < 2; ++a) {
+    const V4 xi = (X[a] - (_mm256_set1_pd(L.box[a]) + fi[a] * h)) * ih, lam = Lh[a] * ih;
+    const V4 i2l = half / lam, i2lh = i2l * ih;
+    const V4 A = xi - lam, B = xi + lam;
+    const V4 bb = _mm256_min_pd(one, B), c = _mm256_max_pd(zero, B - 1.0);
+    const V4 ua = 1.0 - A, ub = 1.0 - bb;
+    w[a][0] = 0.5 * (ua - ub) * (ua + ub) * i2l;
+    w[a][1] = (0.5 * (bb - A) * (bb + A) + c - 0.5 * c * c) * i2l;
+    w[a][2] = 0.5 * c * c * i2l;
+    g[a][0] = (ub - ua) * i2lh;
+    g[a][1] = (1.0 - _mm256_andnot_pd(_mm256_set1_pd(-0.0), B - 1.0) - A) * i2lh;
+    g[a][2] = c * i2lh;
+  }
+  // The four blocks: rows of 4 doubles of each (w[0][0..2] w[1][0] | w[1][1..2] g[0][0..1] |
+  // g[0][2] g[1][0..2]) from the lanes by 4 x 4 transposes.
+  V4 r0[4], r1[4], r2[4];
+  lanes::transpose(w[0][0], w[0][1], w[0][2], w[1][0], r0);
+  lanes::transpose(w[1][1], w[1][2], g[0][0], g[0][1], r1);
+  lanes::transpose(g[0][2], g[1][0], g[1][1], g[1][2], r2);
+  for (int j = 0; j < 4; ++j) {
+    s.blockOf[k + j] = s.nBlocks;
+    Block<2> &b = s.blocks[s.nBlocks++];
+    _mm256_storeu_pd(&b.w[0][0], r0[j]);
+    _mm256_storeu_pd(&b.w[1][1], r1[j]);
+    _mm256_storeu_pd(&b.g[0][2], r2[j]);
+    b.stride[0] = L.wn(0);
+    b.base = base[j];
+  }
+  return true;
+}
+} // namespace
+#endif
+
+template <int D>
+bool GridT<D>::blockRun(PetscInt k, const double *x, const double *l, Stencils<D> &s) const {
+#if GIMP_HAVE_LANES
+  if constexpr (D == 2) {
+    const int q = coarsestReaching(x + 2 * k, l + 2 * k);
+    for (int j = 1; j < 4; ++j)
+      if (coarsestReaching(x + 2 * (k + j), l + 2 * (k + j)) != q) return false;
+    return blockRunLanes(*this, q, block3_.data(), outwardReach_.data(), k, x, l, s);
+  }
+#endif
+  (void)k, (void)x, (void)l, (void)s;
+  return false;
+}
+
 template <int D>
 bool GridT<D>::buildStencils(PetscInt n, const double *x, const double *l, Stencils<D> &s,
-                             bool compact) const {
+                             bool compact, bool lanes) const {
   const int K = static_cast<int>(levels.size());
   s.start.resize(static_cast<size_t>(n) + 1);
   s.general = false;
@@ -295,6 +399,13 @@ bool GridT<D>::buildStencils(PetscInt n, const double *x, const double *l, Stenc
   std::vector<Reach> reach(K);
   std::vector<char> reaches(K);
   for (PetscInt k = 0; k < n; ++k) {
+    if constexpr (D == 2)
+      if (compact && lanes && k + 4 <= n && blockRun(k, x, l, s)) {
+        for (int q = 0; q < 4; ++q)
+          s.start[k + q] = static_cast<PetscInt>(m);
+        k += 3;
+        continue;
+      }
     s.start[k] = static_cast<PetscInt>(m);
     const double *xp = x + D * k, *lp = l + D * k;
     const int first = coarsestReaching(xp, lp);
@@ -366,10 +477,12 @@ template void GridT<2>::setBlock(int, const PetscInt *, const double *, const do
 template void GridT<3>::setBlock(int, const PetscInt *, const double *, const double *,
                                  Stencils<3> &, PetscInt) const;
 template int GridT<2>::coarsestReaching(const double *, const double *) const;
+template bool GridT<2>::blockRun(PetscInt, const double *, const double *, Stencils<2> &) const;
+template bool GridT<3>::blockRun(PetscInt, const double *, const double *, Stencils<3> &) const;
 template int GridT<3>::coarsestReaching(const double *, const double *) const;
-template bool GridT<2>::buildStencils(PetscInt, const double *, const double *, Stencils<2> &,
+template bool GridT<2>::buildStencils(PetscInt, const double *, const double *, Stencils<2> &, bool,
                                       bool) const;
-template bool GridT<3>::buildStencils(PetscInt, const double *, const double *, Stencils<3> &,
+template bool GridT<3>::buildStencils(PetscInt, const double *, const double *, Stencils<3> &, bool,
                                       bool) const;
 
 } // namespace gimp

@@ -369,7 +369,7 @@ PetscErrorCode timeStepFromOptions(TS ts, double cp, double hMin, bool unstableA
   return PETSC_SUCCESS;
 }
 
-PetscErrorCode rejectUnusedOptions() {
+PetscErrorCode rejectUnusedOptions(int dim) {
   PetscInt nleft = 0;
   char **names = nullptr, **values = nullptr;
   PetscCall(PetscOptionsLeftGet(nullptr, &nleft, &names, &values));
@@ -388,10 +388,12 @@ PetscErrorCode rejectUnusedOptions() {
   if (unknown.empty()) return PETSC_SUCCESS;
   // The options that exist for 3D scenes only (-gimp_dim 3; three/scene3.cpp).
   const std::string name = unknown.substr(0, unknown.find(' '));
+  // (In a 3D scene such an option is unused because its shape or family member is not the
+  // scene's: the generic line below.)
   for (const char *tail :
        {"_sphere", "_cylinder", "_cylinder_axis", "_hole_spheres", "_hole_cylinders", "_hole_boxes",
         "_hole_cylinder_axis", "_disk", "_z", "_uz"})
-    if (name.rfind("gimp_", 0) == 0 && endsWith(name, tail))
+    if (dim == 2 && name.rfind("gimp_", 0) == 0 && endsWith(name, tail))
       throw InputError("option -" + unknown +
                        ": a 3D option, not available in 2D scenes (give -gimp_dim 3 for a 3D "
                        "scene; docs/options.md)");

@@ -95,7 +95,7 @@ PetscErrorCode Solver::setup() {
     PetscCall(rate_.create(grid_, nodal_.P, boundary_.active(), sc_.multirateNodeRule));
   if (sc_.stabilityCheck) PetscCall(stabilityAtStart());
   if (sc_.multirate) PetscCall(checkCoarseTimeLimit());
-  PetscCall(rejectUnusedOptions());
+  PetscCall(rejectUnusedOptions(2));
   out_ = std::make_unique<Output>(comm_, sc_, grid_);
   if (sc_.restart.empty()) {
     PetscCall(out_->open());

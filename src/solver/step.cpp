@@ -138,7 +138,7 @@ PetscErrorCode Solver::buildStencils(const ParticleView &p, const double *centre
   } else {
     // Blocks for every particle that one level's regular nodes alone reach, unless cracks
     // re-address entries (assignFields).
-    if (!grid_.buildStencils(p.n, centres, p.l, st_, sc_.cracks.empty()))
+    if (!grid_.buildStencils(p.n, centres, p.l, st_, sc_.cracks.empty(), lanes_))
       localFailure_ = "a particle is larger than a level-0 cell (its half-size exceeds -gimp_h)";
   }
   cracks::assignFields(grid_, sc_.cracks, p.n, centres, st_);
@@ -316,7 +316,10 @@ PetscErrorCode Solver::stress(const Stencils<kDim> &st, ParticleView &p, Vec vel
     else
       for (PetscInt k = k0; k < k1; ++k)
         tensorAt<kDim>(L_.data(), k - k0) = transfer::velocityGradientAt<kDim>(st, k, vg);
-    physics::updateDeformation(sc_, p, L_.data(), dt, k0, k1);
+    if (lanes_)
+      transfer::lanes2::updateDeformation(sc_, p, L_.data(), dt, k0, k1);
+    else
+      physics::updateDeformation(sc_, p, L_.data(), dt, k0, k1);
   }
   PetscCall(VecRestoreArrayRead(velocityWindow, &vg));
   PetscCall(PetscLogStagePop());

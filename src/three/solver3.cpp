@@ -180,7 +180,7 @@ PetscErrorCode Solver3::setup() {
     }
     PetscCall(p.restore(sw_));
   }
-  PetscCall(rejectUnusedOptions());
+  PetscCall(rejectUnusedOptions(3));
   PetscCall(openOutput());
   PetscCall(PetscPrintf(comm_,
                         "gimp: 3D scene %s: %" PetscInt64_FMT " particles, %zu levels, h_min = "

@@ -4,18 +4,15 @@
 // lane rounds as the scalar code does.
 #include "gimp/transfer/lanes2.hpp"
 
+#include "gimp/physics/deformation.hpp"
 #include "gimp/physics/internal_force.hpp"
+#include "gimp/physics/material.hpp"
 #include "gimp/transfer/affine.hpp"
 #include "gimp/transfer/transfer.hpp"
 
 #include <cstddef>
 
-#if defined(__x86_64__) && defined(__GNUC__)
-#define GIMP_HAVE_LANES 1
-#include <immintrin.h>
-#else
-#define GIMP_HAVE_LANES 0
-#endif
+#include "gimp/core/lanes.hpp"
 
 namespace gimp::transfer::lanes2 {
 
@@ -28,10 +25,8 @@ bool available() {
 
 namespace {
 
-#define GIMP_LANES __attribute__((target("avx2")))
-#define GIMP_LANES_INLINE inline __attribute__((target("avx2"), always_inline))
-
-using V4 = __m256d;
+using lanes::transpose;
+using lanes::V4;
 
 // The factors of a block read as three rows of four doubles: w[0][0..2] w[1][0] | w[1][1..2]
 // g[0][0..1] | g[0][2] g[1][0..2].
@@ -40,16 +35,6 @@ static_assert(offsetof(Block<2>, w) == 0 && offsetof(Block<2>, g) == 6 * sizeof(
 
 GIMP_LANES_INLINE V4 splat(double a) {
   return _mm256_set1_pd(a);
-}
-
-/// Rows r0..r3 (four doubles each) as columns: c[i] = (r0[i], r1[i], r2[i], r3[i]).
-GIMP_LANES_INLINE void transpose(V4 r0, V4 r1, V4 r2, V4 r3, V4 *c) {
-  const V4 t0 = _mm256_unpacklo_pd(r0, r1), t1 = _mm256_unpackhi_pd(r0, r1);
-  const V4 t2 = _mm256_unpacklo_pd(r2, r3), t3 = _mm256_unpackhi_pd(r2, r3);
-  c[0] = _mm256_permute2f128_pd(t0, t2, 0x20);
-  c[1] = _mm256_permute2f128_pd(t1, t3, 0x20);
-  c[2] = _mm256_permute2f128_pd(t0, t2, 0x31);
-  c[3] = _mm256_permute2f128_pd(t1, t3, 0x31);
 }
 
 /// The four row-major 2 x 2 tensors at a + 4 k .. as their entries xx, xy, yx, yy in lanes.
@@ -66,18 +51,12 @@ GIMP_LANES_INLINE void storeTensors(double *a, PetscInt k, const V4 *c) {
     _mm256_storeu_pd(p + 4 * q, r[q]);
 }
 
-/// The four 2-vectors at a + 2 k .. as their x and y in lanes.
+/// The four 2-vectors at a + 2 k .. as their x and y in lanes, and back.
 GIMP_LANES_INLINE void loadVectors(const double *a, PetscInt k, V4 &X, V4 &Y) {
-  const double *p = a + 2 * k;
-  const V4 u = _mm256_loadu2_m128d(p + 4, p), w = _mm256_loadu2_m128d(p + 6, p + 2);
-  X = _mm256_unpacklo_pd(u, w);
-  Y = _mm256_unpackhi_pd(u, w);
+  lanes::loadXY(a + 2 * k, X, Y);
 }
 GIMP_LANES_INLINE void storeVectors(double *a, PetscInt k, V4 X, V4 Y) {
-  double *p = a + 2 * k;
-  const V4 lo = _mm256_unpacklo_pd(X, Y), hi = _mm256_unpackhi_pd(X, Y);
-  _mm256_storeu2_m128d(p + 4, p, lo);
-  _mm256_storeu2_m128d(p + 6, p + 2, hi);
+  lanes::storeXY(a + 2 * k, X, Y);
 }
 
 /// The nodal pairs at the same offset o from four row pointers, as x and y in lanes.
@@ -476,6 +455,55 @@ GIMP_LANES void velocityGradients(const Stencils<2> &st, PetscInt k0, PetscInt k
     tensorAt<2>(L, k - k0) = velocityGradientAt<2>(st, k, vg);
 }
 
+GIMP_LANES void updateDeformation(const Scene &sc, ParticleView &p, const double *L, double dt,
+                                  PetscInt k0, PetscInt k1) {
+  const bool stretch = sc.tracking == Tracking::Stretch;
+  const bool lanes = stretch || sc.tracking == Tracking::None;
+  const V4 DT = splat(dt), HALF = splat(0.5), ONE = splat(1.0), ZERO = splat(0.0), TWO = splat(2.0),
+           MTWO = splat(-2.0);
+  PetscInt k = k0;
+  while (lanes && k + 4 <= k1) {
+    const Material &mat = sc.materialOf(p.id[k]);
+    if (mat.model != MaterialModel::Linear || &sc.materialOf(p.id[k + 1]) != &mat ||
+        &sc.materialOf(p.id[k + 2]) != &mat || &sc.materialOf(p.id[k + 3]) != &mat) {
+      physics::updateDeformation(sc, p, L + 4 * (k - k0), dt, k, k + 1);
+      ++k;
+      continue;
+    }
+    V4 Lk[4], F[4], S[4];
+    loadTensors(L, k - k0, Lk);
+    loadTensors(p.F, k, F);
+    // physics::updateDeformation: F += dt L F, entry (i, j) dt (L_i0 F_0j + L_i1 F_1j)
+    const V4 Fn[4] = {
+        F[0] + DT * (Lk[0] * F[0] + Lk[1] * F[2]), F[1] + DT * (Lk[0] * F[1] + Lk[1] * F[3]),
+        F[2] + DT * (Lk[2] * F[0] + Lk[3] * F[2]), F[3] + DT * (Lk[2] * F[1] + Lk[3] * F[3])};
+    storeTensors(p.F, k, Fn);
+    _mm256_storeu_pd(p.V + k, (Fn[0] * Fn[3] - Fn[1] * Fn[2]) * _mm256_loadu_pd(p.V0 + k));
+    // material::jaumannUpdate: D = (L + L^T) / 2, w = W_xy, the spin in closed form
+    const V4 D00 = HALF * (Lk[0] + Lk[0]), D01 = HALF * (Lk[1] + Lk[2]),
+             D10 = HALF * (Lk[2] + Lk[1]), D11 = HALF * (Lk[3] + Lk[3]);
+    const V4 w = HALF * (Lk[1] - Lk[2]);
+    const V4 tr = D00 + D11;
+    loadTensors(p.s, k, S);
+    const V4 a = TWO * w * S[1], b = w * (S[3] - S[0]), c = MTWO * w * S[1];
+    const V4 lt = splat(mat.lambdaStar) * tr, mu2 = splat(2.0 * mat.mu);
+    const V4 Sn[4] = {
+        S[0] + DT * (lt * ONE + mu2 * D00 + a), S[1] + DT * (lt * ZERO + mu2 * D01 + b),
+        S[2] + DT * (lt * ZERO + mu2 * D10 + b), S[3] + DT * (lt * ONE + mu2 * D11 + c)};
+    storeTensors(p.s, k, Sn);
+    if (mat.planeStrain)
+      _mm256_storeu_pd(p.szz + k, _mm256_loadu_pd(p.szz + k) + DT * splat(mat.lambda) * tr);
+    if (stretch) { // tracking::updateDomain: l_a = |F e_a| l0_a
+      V4 L0x, L0y;
+      loadVectors(p.l0, k, L0x, L0y);
+      storeVectors(p.l, k, _mm256_sqrt_pd(Fn[0] * Fn[0] + Fn[2] * Fn[2]) * L0x,
+                   _mm256_sqrt_pd(Fn[1] * Fn[1] + Fn[3] * Fn[3]) * L0y);
+    }
+    k += 4;
+  }
+  if (k < k1) physics::updateDeformation(sc, p, L + 4 * (k - k0), dt, k, k1);
+}
+
 #else // no lanes on this architecture: the scalar loops
 
 bool available() {
@@ -500,6 +528,10 @@ void velocityGradients(const Stencils<2> &st, PetscInt k0, PetscInt k1, const do
                        double *L) {
   for (PetscInt k = k0; k < k1; ++k)
     tensorAt<2>(L, k - k0) = velocityGradientAt<2>(st, k, vg);
+}
+void updateDeformation(const Scene &sc, ParticleView &p, const double *L, double dt, PetscInt k0,
+                       PetscInt k1) {
+  physics::updateDeformation(sc, p, L, dt, k0, k1);
 }
 
 #endif

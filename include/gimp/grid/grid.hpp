@@ -103,7 +103,7 @@ public:
   /// caller reports it collectively). With `compact` a particle inside one level's regular
   /// block keeps a block instead of rows (grid/stencils.hpp).
   bool buildStencils(PetscInt n, const double *x, const double *l, Stencils<D> &s,
-                     bool compact = false) const;
+                     bool compact = false, bool lanes = false) const;
 
   /// CPDI stencils (Sadeghirad et al. 2011, 2013) of n particles whose domains are the
   /// quadrilaterals of their corners (8 values each, counter-clockwise from (-, -)): general
@@ -158,6 +158,10 @@ private:
   /// comparisons (levelReach decides then). Where it is not 0, buildStencils' general path gives
   /// the same block.
   int soleBlock(int q, const double *x, const double *l, PetscInt *i0) const;
+  /// (2D, with lanes: transfer/lanes2.hpp) Particles k .. k+3 as 3-node blocks of one level,
+  /// when soleBlock gives each of them side 3 on the same level: their blocks set as setBlock
+  /// sets them, in four lanes (AVX2), bit for bit. False, with nothing written, otherwise.
+  bool blockRun(PetscInt k, const double *x, const double *l, Stencils<D> &s) const;
   /// Particle k keeps level q's 3-node block from node i0.
   void setBlock(int q, const PetscInt *i0, const double *x, const double *l, Stencils<D> &s,
                 PetscInt k) const;

@@ -35,7 +35,8 @@ PetscErrorCode timeStepFromOptions(TS ts, const Scene &sc, const Lattice &grid);
 /// -ts_max_steps >= 0, -ts_max_time > 0, 0 < -ts_dt <= hMin / cp unless unstableAllowed.
 PetscErrorCode timeStepFromOptions(TS ts, double cp, double hMin, bool unstableAllowed);
 
-/// Unknown or misspelled options stop the run (options PETSc reads at exit are allowed).
-PetscErrorCode rejectUnusedOptions();
+/// Unknown or misspelled options stop the run (options PETSc reads at exit are allowed); in a 2D
+/// scene (dim 2) an option of 3D scenes says so.
+PetscErrorCode rejectUnusedOptions(int dim);
 
 } // namespace gimp

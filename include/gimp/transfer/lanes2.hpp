@@ -1,6 +1,7 @@
 // The 2D step's particle loops with four block particles at a time (AVX2), for the phases that
-// cost most per particle: APIC's P2G, the internal force, APIC's G2P with its re-projection, and
-// the velocity gradient of the stress update (docs/method.md, *Lanes of four particles*).
+// cost most per particle: APIC's P2G, the internal force, APIC's G2P with its re-projection, the
+// velocity gradient and the linear-elastic stress update (docs/method.md, *Lanes of four
+// particles*; the stencils' blocks are built four at a time by GridT::blockRun).
 //
 // Each loop takes the particles in runs of four consecutive 3-node block particles
 // (Stencils::isBlock) and does the per-particle arithmetic of the scalar kernel of
@@ -16,6 +17,8 @@
 #pragma once
 
 #include "gimp/grid/stencils.hpp"
+#include "gimp/input/scene.hpp"
+#include "gimp/particles/swarm.hpp"
 
 #include <petscsys.h>
 
@@ -43,5 +46,12 @@ void gridToParticlesAffineProjected(const Stencils<2> &st, PetscInt n, const dou
 /// transfer::velocityGradientAt<2>.
 void velocityGradients(const Stencils<2> &st, PetscInt k0, PetscInt k1, const double *vg,
                        double *L);
+
+/// physics::updateDeformation (2D) for particles k0 .. k1-1 with their velocity gradients L (from
+/// L[0]): runs of four particles of one linear material, with stretch tracking or none, in lanes
+/// (F += dt L F, V, the Jaumann update of material::jaumannUpdate, l = |F e_a| l0); the others
+/// through the scalar update.
+void updateDeformation(const Scene &sc, ParticleView &p, const double *L, double dt, PetscInt k0,
+                       PetscInt k1);
 
 } // namespace gimp::transfer::lanes2

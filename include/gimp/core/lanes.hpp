@@ -1,0 +1,47 @@
+// Four doubles in one 256-bit register (AVX2) for the 2D kernels that run four particles at a
+// time (transfer/lanes2.hpp, GridT::blockRun): the shuffles they share. Every helper here is
+// compiled for AVX2 whatever the build's flags, so it may be called only from functions that are
+// too (GIMP_LANES), and those only where transfer::lanes2::available() is true. No fused
+// multiply-add: the lane arithmetic rounds as the scalar code does.
+#pragma once
+
+#if defined(__x86_64__) && defined(__GNUC__)
+#define GIMP_HAVE_LANES 1
+#include <immintrin.h>
+
+#define GIMP_LANES __attribute__((target("avx2")))
+#define GIMP_LANES_INLINE inline __attribute__((target("avx2"), always_inline))
+
+namespace gimp::lanes {
+
+using V4 = __m256d;
+
+/// Rows r0..r3 (four doubles each) as columns: c[i] = (r0[i], r1[i], r2[i], r3[i]).
+GIMP_LANES_INLINE void transpose(V4 r0, V4 r1, V4 r2, V4 r3, V4 *c) {
+  const V4 t0 = _mm256_unpacklo_pd(r0, r1), t1 = _mm256_unpackhi_pd(r0, r1);
+  const V4 t2 = _mm256_unpacklo_pd(r2, r3), t3 = _mm256_unpackhi_pd(r2, r3);
+  c[0] = _mm256_permute2f128_pd(t0, t2, 0x20);
+  c[1] = _mm256_permute2f128_pd(t1, t3, 0x20);
+  c[2] = _mm256_permute2f128_pd(t0, t2, 0x31);
+  c[3] = _mm256_permute2f128_pd(t1, t3, 0x31);
+}
+
+/// The four 2-vectors at p (x, y, x, y, ...) as their x and y in lanes.
+GIMP_LANES_INLINE void loadXY(const double *p, V4 &X, V4 &Y) {
+  const V4 u = _mm256_loadu2_m128d(p + 4, p), w = _mm256_loadu2_m128d(p + 6, p + 2);
+  X = _mm256_unpacklo_pd(u, w);
+  Y = _mm256_unpackhi_pd(u, w);
+}
+
+/// The inverse of loadXY.
+GIMP_LANES_INLINE void storeXY(double *p, V4 X, V4 Y) {
+  const V4 lo = _mm256_unpacklo_pd(X, Y), hi = _mm256_unpackhi_pd(X, Y);
+  _mm256_storeu2_m128d(p + 4, p, lo);
+  _mm256_storeu2_m128d(p + 6, p + 2, hi);
+}
+
+} // namespace gimp::lanes
+
+#else
+#define GIMP_HAVE_LANES 0
+#endif
