@@ -7,7 +7,8 @@
 #   (directories holding a built gimp; e.g. a worktree of the older commit, built with
 #   tools/setup.sh or cmake)
 # Environment: GIMP_COMPARE_SCENES (default "block block3"), GIMP_COMPARE_TRANSFERS (default
-# "apic flip"), GIMP_BENCH_RANKS (default "1 2").
+# "apic flip"), GIMP_BENCH_RANKS (default "1 2"), GIMP_COMPARE_EXTRA (gimp options added to
+# every run, e.g. "-ts_max_steps 300" for more, shorter rounds).
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 A=$1 B=$2 N=${3:-3}
@@ -25,7 +26,7 @@ for scene in $SCENES; do
         [[ $which == after ]] && dir=$B
         out=$(GIMP_BUILD_DIR=$dir GIMP_BENCH_NOBUILD=1 GIMP_BENCH_REPEAT=1 \
           GIMP_BENCH_OUT="$dir/bench-compare" GIMP_BENCH_OPTS="$ROOT/bench/$scene.opts" \
-          bash "$ROOT/bench/run_bench.sh" -gimp_transfer "$transfer" 2>/dev/null)
+          bash "$ROOT/bench/run_bench.sh" -gimp_transfer "$transfer" ${GIMP_COMPARE_EXTRA:-} 2>/dev/null)
         while read -r ranks mps bpp; do
           key="$which $ranks"
           RUNS[$key]="${RUNS[$key]:-} $mps"

@@ -78,9 +78,8 @@ PetscErrorCode Solver::checks(const ParticleView &p, PetscInt step, double t) {
     if (bad >= 0) continue;
     const double s = p.s[4 * k] + p.s[4 * k + 3] + p.s[4 * k + 1];
     // NaN fails every comparison: the test is written so that it lands in the bad branch.
-    // (& rather than &&: every test is cheap, and one branch per particle is cheaper than six)
-    const bool ok = std::isfinite(X[0] + X[1] + s) & (p.V[k] > 0) & simd::bothLe(lo, X - l) &
-                    simd::bothLe(X + l, hi) & simd::bothLt(zero, l) & simd::bothLe(l, hmax);
+    const bool ok = std::isfinite(X[0] + X[1] + s) && p.V[k] > 0 && simd::bothLe(lo, X - l) &&
+                    simd::bothLe(X + l, hi) && simd::bothLt(zero, l) && simd::bothLe(l, hmax);
     if (!ok) bad = k;
   }
   if (bad >= 0) {
