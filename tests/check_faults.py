@@ -140,6 +140,8 @@ value_cases = [
     ("gravity a comma", patch("-gimp_gravity", ","), ["-gimp_gravity ,", "element 1 is empty"]),
     ("interpolated final time", patch("-ts_exact_final_time", "interpolate", "-ts_max_time",
                                       "0.01"), ["-ts_exact_final_time interpolate", "matchstep"]),
+    ("one file for both dumps", patch("-gimp_particle_dump", "d.csv", "-gimp_grid_dump", "d.csv"),
+     ["-gimp_grid_dump d.csv", "-gimp_particle_dump"]),
 ]
 expect_all(value_cases)
 

@@ -190,6 +190,13 @@ for name, extra in (("another grid", ["-gimp_h", "0.025", "-ts_dt", "1e-4"]),
     c.check("restart refused: " + name, p.returncode == 2 and len(lines) == 1 and
             lines[0].startswith("gimp: error: option -gimp_restart"),
             "exit %d: %s" % (p.returncode, p.stderr.strip()[:160]))
+# A restart that would do nothing (-ts_max_steps counts from step 0) is refused in one line.
+p = run(CRACK, "crack_refused", ["-ts_max_steps", "20", "-gimp_restart",
+                                 os.path.join(args.work, "crack_np1_step30.h5")], expect_ok=False)
+lines = p.stderr.strip().splitlines()
+c.check("restart refused: -ts_max_steps below the checkpoint's step",
+        p.returncode == 2 and len(lines) == 1 and "-ts_max_steps 20" in lines[0] and
+        "at step 30" in lines[0], "exit %d: %s" % (p.returncode, p.stderr.strip()[:160]))
 
 
 def children(pid):

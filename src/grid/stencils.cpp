@@ -398,13 +398,19 @@ bool GridT<D>::buildStencils(PetscInt n, const double *x, const double *l, Stenc
   std::vector<double> scratch(2 * D * static_cast<size_t>(maxRange));
   std::vector<Reach> reach(K);
   std::vector<char> reaches(K);
+  // Runs of four blocks in lanes; after a run that is not one, its four particles go one by one
+  // (a particle that is no block would otherwise fail four runs).
+  PetscInt laneFrom = 0;
   for (PetscInt k = 0; k < n; ++k) {
     if constexpr (D == 2)
-      if (compact && lanes && k + 4 <= n && blockRun(k, x, l, s)) {
-        for (int q = 0; q < 4; ++q)
-          s.start[k + q] = static_cast<PetscInt>(m);
-        k += 3;
-        continue;
+      if (compact && lanes && k >= laneFrom && k + 4 <= n) {
+        if (blockRun(k, x, l, s)) {
+          for (int q = 0; q < 4; ++q)
+            s.start[k + q] = static_cast<PetscInt>(m);
+          k += 3;
+          continue;
+        }
+        laneFrom = k + 4;
       }
     s.start[k] = static_cast<PetscInt>(m);
     const double *xp = x + D * k, *lp = l + D * k;

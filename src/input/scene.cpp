@@ -547,6 +547,8 @@ PetscErrorCode readScene(MPI_Comm comm, Scene &sc) {
   sc.outputDir = o.outdir[0] ? o.outdir : "output/" + sc.name;
   sc.particleDump = o.pdump;
   sc.gridDump = o.gdump;
+  if (!sc.gridDump.empty() && sc.gridDump == sc.particleDump)
+    bad("gimp_grid_dump", sc.gridDump, "is the -gimp_particle_dump file too: give two files");
   sc.restart = o.restart;
   sc.holeMeasure = o.setHm;
   std::copy(o.hm, o.hm + 3, sc.hole);

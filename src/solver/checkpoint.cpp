@@ -390,6 +390,19 @@ PetscErrorCode Solver::loadCheckpoint(Output::Resume &resume) {
   PetscCall(TSSetStepNumber(ts_, static_cast<PetscInt>(s[1])));
   PetscCall(TSSetTime(ts_, s[2]));
   PetscCall(TSSetTimeStep(ts_, s[3])); // the step of the run that wrote it, to the last bit
+  // A run that would end before its checkpoint is refused (every rank read the same one); one
+  // that ends on it runs no step and reports that step again.
+  PetscInt maxSteps = 0;
+  PetscReal maxTime = 0;
+  PetscCall(TSGetMaxSteps(ts_, &maxSteps));
+  PetscCall(TSGetMaxTime(ts_, &maxTime));
+  if (maxSteps < static_cast<PetscInt>(s[1]))
+    throw InputError("option -ts_max_steps " + std::to_string(maxSteps) + ": the checkpoint " +
+                     sc_.restart + " is at step " + std::to_string(static_cast<PetscInt>(s[1])) +
+                     ", past the run's end; -ts_max_steps counts from step 0");
+  if (maxTime < s[2])
+    throw InputError("option -ts_max_time " + formatNumber(maxTime) + ": the checkpoint " +
+                     sc_.restart + " is at t = " + formatNumber(s[2]) + " s, past the run's end");
   meanParticleMass_ = s[6];
   work_.external = s[7];
   work_.damping = s[8];

@@ -1,7 +1,7 @@
 // Lanes of four 2D block particles (AVX2): see transfer/lanes2.hpp. Every lane expression below
-// is the scalar one of transfer/block2.hpp (named next to it) in the same order; the build has
-// no floating-point contraction (-ffp-contract=off) and these functions no FMA target, so each
-// lane rounds as the scalar code does.
+// is the scalar one of transfer/block2.hpp (named next to it) in the same order; these functions
+// have no FMA target and the build no floating-point contraction (-ffp-contract=off, which also
+// holds in a build for a processor with FMA), so each lane rounds as the scalar code does.
 #include "gimp/transfer/lanes2.hpp"
 
 #include "gimp/physics/deformation.hpp"
@@ -151,7 +151,9 @@ GIMP_LANES_INLINE void offsetsAndInverseInertia(const Run &R, V4 XP, V4 YP, cons
   const V4 det = a * d - b * b;
   const V4 half = splat(0.5) * (a + d);
   const V4 ok = _mm256_cmp_pd(det, splat(1e-12) * half * half, _CMP_GT_OQ);
-  const V4 id = splat(1.0) / det;
+  // (1 / det only where D is regular: no division by 0 in the other lanes, which -fp_trap would
+  // stop on where the scalar code never divides)
+  const V4 id = splat(1.0) / _mm256_blendv_pd(splat(1.0), det, ok);
   const V4 nb = _mm256_xor_pd(b, splat(-0.0));
   Di[0] = _mm256_and_pd(ok, d * id);
   Di[1] = _mm256_and_pd(ok, nb * id);

@@ -5,7 +5,10 @@
 // multiply-add: the lane arithmetic rounds as the scalar code does.
 #pragma once
 
-#if defined(__x86_64__) && defined(__GNUC__)
+// GCC and Clang only: the build turns contraction off for them (-ffp-contract=off), which the
+// lanes' bit-for-bit results rest on; other compilers that define __GNUC__ run the scalar code.
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__INTEL_LLVM_COMPILER) &&                 \
+    !defined(__NVCOMPILER) && !defined(__INTEL_COMPILER)
 #define GIMP_HAVE_LANES 1
 #include <immintrin.h>
 
