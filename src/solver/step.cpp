@@ -311,15 +311,14 @@ PetscErrorCode Solver::stress(const Stencils<kDim> &st, ParticleView &p, Vec vel
   PetscCall(VecGetArrayRead(velocityWindow, &vg));
   for (PetscInt k0 = 0; k0 < p.n; k0 += kChunk) {
     const PetscInt k1 = std::min(p.n, k0 + kChunk);
-    if (lanes_)
+    if (lanes_) {
       transfer::lanes2::velocityGradients(st, k0, k1, vg, L_.data());
-    else
-      for (PetscInt k = k0; k < k1; ++k)
-        tensorAt<kDim>(L_.data(), k - k0) = transfer::velocityGradientAt<kDim>(st, k, vg);
-    if (lanes_)
       transfer::lanes2::updateDeformation(sc_, p, L_.data(), dt, k0, k1);
-    else
-      physics::updateDeformation(sc_, p, L_.data(), dt, k0, k1);
+      continue;
+    }
+    for (PetscInt k = k0; k < k1; ++k)
+      tensorAt<kDim>(L_.data(), k - k0) = transfer::velocityGradientAt<kDim>(st, k, vg);
+    physics::updateDeformation(sc_, p, L_.data(), dt, k0, k1);
   }
   PetscCall(VecRestoreArrayRead(velocityWindow, &vg));
   PetscCall(PetscLogStagePop());
