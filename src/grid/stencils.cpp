@@ -348,6 +348,10 @@ GIMP_LANES bool blockRunLanes(const GridT<2> &grid, int q, const std::uint8_t *b
   lanes::transpose(w[0][0], w[0][1], w[0][2], w[1][0], r0);
   lanes::transpose(w[1][1], w[1][2], g[0][0], g[0][1], r1);
   lanes::transpose(g[0][2], g[1][0], g[1][1], g[1][2], r2);
+  std::uint8_t group = Stencils<2>::kLaneGroup;
+  for (int j = 1; j < 4; ++j)
+    if (base[j] != base[j - 1]) group |= static_cast<std::uint8_t>(1u << (j - 1));
+  s.laneGroup[k / 4] = group;
   for (int j = 0; j < 4; ++j) {
     s.blockOf[k + j] = s.nBlocks;
     Block<2> &b = s.blocks[s.nBlocks++];
@@ -389,6 +393,9 @@ bool GridT<D>::buildStencils(PetscInt n, const double *x, const double *l, Stenc
     s.nBlocks = 0;
     s.nBlocks4 = 0;
   }
+  // Lane groups (2D): each aligned group of four tries blockRun, which marks the groups it builds.
+  lanes = lanes && compact && D == 2;
+  s.laneGroup.assign(lanes ? static_cast<size_t>(n / 4) : 0, 0);
   size_t m = 0;
   // Rows: room for the previous step's entries (or 10 per particle); grows below if needed.
   if (!compact) s.reserve(10 * static_cast<size_t>(n));
@@ -398,19 +405,14 @@ bool GridT<D>::buildStencils(PetscInt n, const double *x, const double *l, Stenc
   std::vector<double> scratch(2 * D * static_cast<size_t>(maxRange));
   std::vector<Reach> reach(K);
   std::vector<char> reaches(K);
-  // Runs of four blocks in lanes; after a run that is not one, its four particles go one by one
-  // (a particle that is no block would otherwise fail four runs).
-  PetscInt laneFrom = 0;
+  // Aligned groups of four blocks in lanes; a group that is not one goes one by one.
   for (PetscInt k = 0; k < n; ++k) {
     if constexpr (D == 2)
-      if (compact && lanes && k >= laneFrom && k + 4 <= n) {
-        if (blockRun(k, x, l, s)) {
-          for (int q = 0; q < 4; ++q)
-            s.start[k + q] = static_cast<PetscInt>(m);
-          k += 3;
-          continue;
-        }
-        laneFrom = k + 4;
+      if (lanes && k % 4 == 0 && k + 4 <= n && blockRun(k, x, l, s)) {
+        for (int q = 0; q < 4; ++q)
+          s.start[k + q] = static_cast<PetscInt>(m);
+        k += 3;
+        continue;
       }
     s.start[k] = static_cast<PetscInt>(m);
     const double *xp = x + D * k, *lp = l + D * k;

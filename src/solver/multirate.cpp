@@ -218,7 +218,7 @@ PetscErrorCode Solver::startClasses(ParticleView &p, PetscInt j) {
   for (int k = 0; k < r.n; ++k) {
     if (r.size[k] == 0 || j % r.every[k] != 0) continue;
     const ParticleView q = p.slice(r.begin[k], r.begin[k + 1]);
-    if (!grid_.buildStencils(q.n, q.x, q.l, r.st[k], sc_.cracks.empty())) {
+    if (!grid_.buildStencils(q.n, q.x, q.l, r.st[k], sc_.cracks.empty(), lanes_)) {
       // (a particle that went bad inside the coarse step: the check at its end reports it; the
       // class reaches no node until then)
       localFailure_ = "a particle is larger than a level-0 cell (its half-size exceeds -gimp_h)";

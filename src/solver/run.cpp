@@ -3,6 +3,7 @@
 #include "gimp/core/interrupt.hpp"
 #include "gimp/core/pair.hpp"
 #include "gimp/solver/solver.hpp"
+#include "gimp/transfer/lanes2.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -72,7 +73,13 @@ PetscErrorCode Solver::checks(const ParticleView &p, PetscInt step, double t) {
   const Pair lo = {d[0] - margin, d[1] - margin}, hi = {d[2] + margin, d[3] + margin},
              own0 = {box[0], box[1]}, own1 = {box[2], box[3]}, hmax = simd::splat(h0),
              zero = {0, 0};
-  for (PetscInt k = 0; k < p.n; ++k) {
+  PetscInt k0 = 0; // the first particles in lanes of four (the same test)
+  if (lanes_) {
+    const double lo2[2] = {lo[0], lo[1]}, hi2[2] = {hi[0], hi[1]};
+    k0 = transfer::lanes2::checkParticles(p.n, p.x, p.l, p.s, p.V, lo2, hi2, h0, box, box + 2,
+                                          size_ > 1, bad, leaving);
+  }
+  for (PetscInt k = k0; k < p.n; ++k) {
     const Pair X = simd::load(p.x + 2 * k), l = simd::load(p.l + 2 * k);
     if (size_ > 1) leaving += !(simd::bothLe(own0, X) && simd::bothLt(X, own1));
     if (bad >= 0) continue;

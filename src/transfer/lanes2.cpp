@@ -66,23 +66,42 @@ GIMP_LANES_INLINE void gatherPairs(const double *const *r, PetscInt o, V4 &X, V4
   Y = _mm256_unpackhi_pd(u, w);
 }
 
-/// A run of four block particles: their 1D factors in lanes and the first slot (times 2) of
-/// each particle's rows of nodes (BlockLocals::row).
+/// A run of four block particles (a lane group of the stencils): their 1D factors in lanes, the
+/// first slot (times 2) of each particle's rows of nodes (BlockLocals::row) and the group's
+/// pattern of block changes (bit q-1: particle q's block is not particle q-1's).
 struct Run {
   V4 wx[3], wy[3], gx[3], gy[3];
   alignas(16) PetscInt row[3][4]; // row[j][q]: particle q's row j
   const Block<2> *b[4];
+  int split;
 };
 
-/// True when particles k .. k+3 are 3-node blocks.
-inline bool isRun(const Stencils<2> &st, PetscInt k) {
-  const PetscInt *o = st.blockOf.data() + k;
-  return o[0] >= 0 && o[1] >= 0 && o[2] >= 0 && o[3] >= 0;
+/// Lane(k, group) for each lane group k .. k+3 of [k0, k1) (k0 a multiple of 4), one(k) for
+/// every other particle, in particle order.
+template <class Lane, class One>
+GIMP_LANES_INLINE void forGroups(const Stencils<2> &st, PetscInt k0, PetscInt k1, Lane &&lane,
+                                 One &&one) {
+  PetscInt k = k0;
+  if (st.compact)
+    for (; k + 4 <= k1; k += 4) {
+      const std::uint8_t group = st.laneGroupOf(k / 4);
+      if (group) {
+        lane(k, group);
+        continue;
+      }
+      for (int q = 0; q < 4; ++q)
+        one(k + q);
+    }
+  for (; k < k1; ++k)
+    one(k);
 }
 
-template <bool Slopes> GIMP_LANES_INLINE void loadRun(const Stencils<2> &st, PetscInt k, Run &R) {
+template <bool Slopes>
+GIMP_LANES_INLINE void loadRun(const Stencils<2> &st, PetscInt k, std::uint8_t group, Run &R) {
+  R.split = group & 7;
+  const Block<2> *b0 = &st.blocks[st.blockOf[k]]; // the group's blocks are consecutive
   for (int q = 0; q < 4; ++q)
-    R.b[q] = &st.blocks[st.blockOf[k + q]];
+    R.b[q] = b0 + q;
   if constexpr (sizeof(PetscInt) == 4) { // the four (base, stride) as two vectors of 32-bit lanes
     static_assert(offsetof(Block<2>, stride) == offsetof(Block<2>, base) + sizeof(PetscInt));
     const __m128i p01 = _mm_unpacklo_epi64(_mm_loadl_epi64((const __m128i *)&R.b[0]->base),
@@ -235,10 +254,7 @@ GIMP_LANES_INLINE void addSegments(const Run &R, const NodeValues &N, double *f,
 /// (j, i)). The common case, one block for all four, loads and stores each node once.
 template <bool Mass>
 GIMP_LANES_INLINE void addToNodes(const Run &R, const NodeValues &N, double *f, double *mass) {
-  const auto differs = [&](int q) {
-    return (R.row[0][q] != R.row[0][q - 1] || R.row[1][q] != R.row[1][q - 1]) ? 1 : 0;
-  };
-  switch (differs(1) | differs(2) << 1 | differs(3) << 2) {
+  switch (R.split) {
   case 0:
     return addSegments<0, Mass>(R, N, f, mass);
   case 1:
@@ -287,16 +303,9 @@ GIMP_LANES_INLINE void affineScatter(const Run &R, V4 mp, V4 VX, V4 VY, const V4
 GIMP_LANES void particlesToGridAffineB(const Stencils<2> &st, PetscInt n, const double *m,
                                        const double *v, const double *B, const double *xc,
                                        const double *xs, double *mom, double *mass) {
-  PetscInt k = 0;
-  for (; st.compact && k + 4 <= n;) {
-    if (!isRun(st, k)) {
-      particleToGridAffineB<2>(st, k, m[k], v + 2 * k, tensorAt<2>(B, k), xc + 2 * k, xs, mom,
-                               mass);
-      ++k;
-      continue;
-    }
+  const auto lane = [&](PetscInt k, std::uint8_t group) GIMP_LANES_LAMBDA {
     Run R;
-    loadRun<false>(st, k, R);
+    loadRun<false>(st, k, group, R);
     V4 XP, YP, VX, VY, Bk[4], Di[4], C[4], dx[3], dy[3];
     loadVectors(xc, k, XP, YP);
     loadVectors(v, k, VX, VY);
@@ -304,23 +313,17 @@ GIMP_LANES void particlesToGridAffineB(const Stencils<2> &st, PetscInt n, const 
     offsetsAndInverseInertia(R, XP, YP, xs, dx, dy, Di);
     product(Bk, Di, C);
     affineScatter(R, _mm256_loadu_pd(m + k), VX, VY, C, dx, dy, mom, mass);
-    k += 4;
-  }
-  for (; k < n; ++k)
+  };
+  forGroups(st, 0, n, lane, [&](PetscInt k) {
     particleToGridAffineB<2>(st, k, m[k], v + 2 * k, tensorAt<2>(B, k), xc + 2 * k, xs, mom, mass);
+  });
 }
 
 GIMP_LANES void internalForce(const Stencils<2> &st, PetscInt n, const double *V,
                               const double *stress, double *f) {
-  PetscInt k = 0;
-  for (; st.compact && k + 4 <= n;) {
-    if (!isRun(st, k)) {
-      physics::internalForce<2>(st, k, k + 1, V, stress, f);
-      ++k;
-      continue;
-    }
+  const auto lane = [&](PetscInt k, std::uint8_t group) GIMP_LANES_LAMBDA {
     Run R;
-    loadRun<true>(st, k, R);
+    loadRun<true>(st, k, group, R);
     V4 S[4];
     loadTensors(stress, k, S);
     const V4 nV = _mm256_xor_pd(_mm256_loadu_pd(V + k), splat(-0.0));
@@ -335,9 +338,9 @@ GIMP_LANES void internalForce(const Stencils<2> &st, PetscInt n, const double *V
       }
     }
     addToNodes<false>(R, N, f, nullptr);
-    k += 4;
-  }
-  if (k < n) physics::internalForce<2>(st, k, n, V, stress, f);
+  };
+  forGroups(st, 0, n, lane,
+            [&](PetscInt k) { physics::internalForce<2>(st, k, k + 1, V, stress, f); });
 }
 
 GIMP_LANES void gridToParticlesAffineProjected(const Stencils<2> &st, PetscInt n, const double *vg,
@@ -354,15 +357,9 @@ GIMP_LANES void gridToParticlesAffineProjected(const Stencils<2> &st, PetscInt n
       x[2 * k + c] += dt * vp[c];
     }
   };
-  PetscInt k = 0;
-  for (; st.compact && k + 4 <= n;) {
-    if (!isRun(st, k)) {
-      one(k);
-      ++k;
-      continue;
-    }
+  const auto lane = [&](PetscInt k, std::uint8_t group) GIMP_LANES_LAMBDA {
     Run R;
-    loadRun<false>(st, k, R);
+    loadRun<false>(st, k, group, R);
     V4 XP, YP, Di[4], dx[3], dy[3];
     loadVectors(xc, k, XP, YP);
     offsetsAndInverseInertia(R, XP, YP, xs, dx, dy, Di);
@@ -407,23 +404,15 @@ GIMP_LANES void gridToParticlesAffineProjected(const Stencils<2> &st, PetscInt n
     loadVectors(x, k, X, Y);
     const V4 dtv = splat(dt);
     storeVectors(x, k, X + dtv * vx, Y + dtv * vy);
-    k += 4;
-  }
-  for (; k < n; ++k)
-    one(k);
+  };
+  forGroups(st, 0, n, lane, one);
 }
 
 GIMP_LANES void velocityGradients(const Stencils<2> &st, PetscInt k0, PetscInt k1, const double *vg,
                                   double *L) {
-  PetscInt k = k0;
-  for (; st.compact && k + 4 <= k1;) {
-    if (!isRun(st, k)) {
-      tensorAt<2>(L, k - k0) = velocityGradientAt<2>(st, k, vg);
-      ++k;
-      continue;
-    }
+  const auto lane = [&](PetscInt k, std::uint8_t group) GIMP_LANES_LAMBDA {
     Run R;
-    loadRun<true>(st, k, R);
+    loadRun<true>(st, k, group, R);
     // block2::gradient: L0 = sum_j w_j sum_i g_i v_ij, L1 = sum_j g_j sum_i w_i v_ij
     V4 L0x = splat(0), L0y = splat(0), L1x = splat(0), L1y = splat(0);
     for (int j = 0; j < 3; ++j) {
@@ -451,10 +440,9 @@ GIMP_LANES void velocityGradients(const Stencils<2> &st, PetscInt k0, PetscInt k
     }
     const V4 Lk[4] = {L0x, L1x, L0y, L1y};
     storeTensors(L, k - k0, Lk);
-    k += 4;
-  }
-  for (; k < k1; ++k)
-    tensorAt<2>(L, k - k0) = velocityGradientAt<2>(st, k, vg);
+  };
+  forGroups(st, k0, k1, lane,
+            [&](PetscInt k) { tensorAt<2>(L, k - k0) = velocityGradientAt<2>(st, k, vg); });
 }
 
 GIMP_LANES void updateDeformation(const Scene &sc, ParticleView &p, const double *L, double dt,
@@ -506,6 +494,44 @@ GIMP_LANES void updateDeformation(const Scene &sc, ParticleView &p, const double
   if (k < k1) physics::updateDeformation(sc, p, L + 4 * (k - k0), dt, k, k1);
 }
 
+GIMP_LANES PetscInt checkParticles(PetscInt n, const double *x, const double *l, const double *s,
+                                   const double *V, const double *lo, const double *hi, double hmax,
+                                   const double *own0, const double *own1, bool count,
+                                   PetscInt &bad, PetscInt64 &leaving) {
+  const PetscInt n4 = n / 4 * 4;
+  const V4 lox = splat(lo[0]), loy = splat(lo[1]), hix = splat(hi[0]), hiy = splat(hi[1]),
+           hm = splat(hmax), zero = splat(0.0), inf = splat(INFINITY), sign = splat(-0.0),
+           o0x = splat(own0[0]), o0y = splat(own0[1]), o1x = splat(own1[0]), o1y = splat(own1[1]);
+  bad = -1;
+  for (PetscInt k = 0; k < n4; k += 4) {
+    V4 X, Y, LX, LY, S[4];
+    loadVectors(x, k, X, Y);
+    if (count) { // !(own0 <= x && x < own1), both axes
+      const V4 in = _mm256_and_pd(
+          _mm256_and_pd(_mm256_cmp_pd(o0x, X, _CMP_LE_OQ), _mm256_cmp_pd(o0y, Y, _CMP_LE_OQ)),
+          _mm256_and_pd(_mm256_cmp_pd(X, o1x, _CMP_LT_OQ), _mm256_cmp_pd(Y, o1y, _CMP_LT_OQ)));
+      leaving += 4 - __builtin_popcount(static_cast<unsigned>(_mm256_movemask_pd(in)));
+    }
+    if (bad >= 0) continue;
+    loadVectors(l, k, LX, LY);
+    loadTensors(s, k, S);
+    const V4 sum = X + Y + (S[0] + S[3] + S[1]);
+    V4 ok = _mm256_cmp_pd(_mm256_andnot_pd(sign, sum), inf, _CMP_LT_OQ); // finite
+    ok = _mm256_and_pd(ok, _mm256_cmp_pd(_mm256_loadu_pd(V + k), zero, _CMP_GT_OQ));
+    ok = _mm256_and_pd(ok, _mm256_cmp_pd(lox, X - LX, _CMP_LE_OQ));
+    ok = _mm256_and_pd(ok, _mm256_cmp_pd(loy, Y - LY, _CMP_LE_OQ));
+    ok = _mm256_and_pd(ok, _mm256_cmp_pd(X + LX, hix, _CMP_LE_OQ));
+    ok = _mm256_and_pd(ok, _mm256_cmp_pd(Y + LY, hiy, _CMP_LE_OQ));
+    ok = _mm256_and_pd(ok, _mm256_cmp_pd(zero, LX, _CMP_LT_OQ));
+    ok = _mm256_and_pd(ok, _mm256_cmp_pd(zero, LY, _CMP_LT_OQ));
+    ok = _mm256_and_pd(ok, _mm256_cmp_pd(LX, hm, _CMP_LE_OQ));
+    ok = _mm256_and_pd(ok, _mm256_cmp_pd(LY, hm, _CMP_LE_OQ));
+    const unsigned fails = ~static_cast<unsigned>(_mm256_movemask_pd(ok)) & 15u;
+    if (fails) bad = k + __builtin_ctz(fails);
+  }
+  return n4;
+}
+
 #else // no lanes on this architecture: the scalar loops
 
 bool available() {
@@ -534,6 +560,12 @@ void velocityGradients(const Stencils<2> &st, PetscInt k0, PetscInt k1, const do
 void updateDeformation(const Scene &sc, ParticleView &p, const double *L, double dt, PetscInt k0,
                        PetscInt k1) {
   physics::updateDeformation(sc, p, L, dt, k0, k1);
+}
+PetscInt checkParticles(PetscInt, const double *, const double *, const double *, const double *,
+                        const double *, const double *, double, const double *, const double *,
+                        bool, PetscInt &bad, PetscInt64 &) {
+  bad = -1;
+  return 0;
 }
 
 #endif

@@ -14,6 +14,9 @@
 
 #define GIMP_LANES __attribute__((target("avx2")))
 #define GIMP_LANES_INLINE inline __attribute__((target("avx2"), always_inline))
+// A lambda's call operator is a function of its own: one that uses lanes says so after its
+// parameter list, [&](int k) GIMP_LANES_LAMBDA { ... }.
+#define GIMP_LANES_LAMBDA __attribute__((target("avx2"), always_inline))
 
 namespace gimp::lanes {
 

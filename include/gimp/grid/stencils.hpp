@@ -80,6 +80,16 @@ template <int D> struct Stencils {
   PetscInt nBlocks = 0, nBlocks4 = 0;
   StencilArray<Block<D>> blocks;     // the 3-node blocks, in particle order
   StencilArray<Block<D, 4>> blocks4; // the 4-node blocks (2D), in particle order
+  // Groups of four particles for the lane kernels (2D, GridT::buildStencils with lanes): for
+  // particles 4g .. 4g+3, kLaneGroup when the four are 3-node blocks of one level, built in lanes
+  // (blocks[blockOf[4g]] .. +3, consecutive), ored with bit q-1 when particle q's first slot
+  // differs from particle q-1's; 0 otherwise. Empty without lanes: then no group is one.
+  static constexpr std::uint8_t kLaneGroup = 0x80;
+  StencilArray<std::uint8_t> laneGroup;
+  /// The lane group byte of group g (0 when the stencils were built without lanes).
+  std::uint8_t laneGroupOf(PetscInt g) const {
+    return static_cast<size_t>(g) < laneGroup.size() ? laneGroup[g] : 0;
+  }
 
   double weight(PetscInt e) const {
     if (general) return sw[e];

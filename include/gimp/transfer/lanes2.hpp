@@ -54,4 +54,14 @@ void velocityGradients(const Stencils<2> &st, PetscInt k0, PetscInt k1, const do
 void updateDeformation(const Scene &sc, ParticleView &p, const double *L, double dt, PetscInt k0,
                        PetscInt k1);
 
+/// Solver::checks' test of each particle, for the first 4 floor(n / 4) particles in lanes of
+/// four: finite position and stress (x + y + s_xx + s_yy + s_xy), V > 0, the domain
+/// [x - l, x + l] inside [lo, hi], 0 < l <= hmax. Returns how many particles it tested; `bad` is
+/// the first of them that fails (-1 for none) and, with `count`, `leaving` is increased by those
+/// outside [own0, own1) (the next step's migration).
+PetscInt checkParticles(PetscInt n, const double *x, const double *l, const double *s,
+                        const double *V, const double *lo, const double *hi, double hmax,
+                        const double *own0, const double *own1, bool count, PetscInt &bad,
+                        PetscInt64 &leaving);
+
 } // namespace gimp::transfer::lanes2
