@@ -128,6 +128,15 @@ value_cases = [
     ("ppc beyond PetscInt", patch("-gimp_body0_ppc", "99999999999"),
      ["-gimp_body0_ppc 99999999999"]),
     ("unstable dt names dt", patch("-ts_dt", "1"), ["-ts_dt 1", "stable limit"]),
+    # options that would do nothing: refused, not dropped
+    ("hole measure load without the measure", patch("-gimp_hole_measure_load", "1e4"),
+     ["-gimp_hole_measure_load 10000", "no effect without -gimp_hole_measure"]),
+    ("wavenumber without sine_x", patch("-gimp_body0_wavenumber", "3"),
+     ["-gimp_body0_wavenumber 3", "no effect without -gimp_body0_velocity_profile sine_x"]),
+    ("penalty without penalty conditions", patch("-gimp_penalty", "1e9"),
+     ["-gimp_penalty 1000000000", "no effect without penalty conditions"]),
+    ("penalty traction without penalty conditions", patch("-gimp_penalty_traction", "false"),
+     ["-gimp_penalty_traction false", "no effect without penalty conditions"]),
     ("a word in a box", patch("-gimp_body0_box", "0,0,abc,0.4"),
      ["-gimp_body0_box 0,0,abc,0.4", "element 3 (abc)"]),
     ("a word in gravity", patch("-gimp_gravity", "0,x"), ["-gimp_gravity 0,x", "element 2"]),
@@ -315,10 +324,8 @@ except (OSError, ValueError) as e:
 # with its damping, by -gimp_stability_check): the run blows up and damping freezes it in a wrong
 # state with every value finite. The energy it created stops it, on one and on two ranks: one
 # error line, exit 3, status unstable, the history up to the failure and a frame of it kept.
-for ranks in (1, 2):
-    out = os.path.join(W, "unstable_dt_%d" % ranks)
-    rc, err, _ = gimp(["-options_file", PATCH, "-ts_dt", "7.95e-4", "-ts_max_steps", "3000"],
-                      ranks=ranks, outdir=out)
+def expect_energy_stop(name, opts, out, ranks=1):
+    rc, err, _ = gimp(opts, ranks=ranks, outdir=out)
     lines = [l for l in err.splitlines() if l.strip()]
     ok = rc == 3 and len(lines) == 1 and "energy balance" in lines[0] and "unstable" in lines[0]
     try:
@@ -330,8 +337,27 @@ for ranks in (1, 2):
             rc, s["status"], s["steps"], rows[-1], lines[0][:110] if lines else "(no line)")
     except (OSError, ValueError, KeyError) as e:
         ok, detail = False, "exit %s: %s" % (rc, e)
-    c.check("a finite blow-up stops on its created energy (%d rank%s)" % (ranks, "s" * (ranks > 1)),
-            ok, detail)
+    c.check(name, ok, detail)
+
+
+for ranks in (1, 2):
+    expect_energy_stop(
+        "a finite blow-up stops on its created energy (%d rank%s)" % (ranks, "s" * (ranks > 1)),
+        ["-options_file", PATCH, "-ts_dt", "7.95e-4", "-ts_max_steps", "3000"],
+        os.path.join(W, "unstable_dt_%d" % ranks), ranks)
+
+# The same in 3D: the bar with damping 2 / s at dt = 0.0999 s, below h / c_p = 0.1 s but above
+# the damped critical step (2 / omega) (sqrt(1 + xi^2) - xi) = 0.095 s (omega = 2 c_p / h,
+# xi = d / (2 omega)).
+expect_energy_stop("a finite blow-up stops on its created energy (3D)",
+                   ["-options_file", os.path.join(args.root, "options", "bar3d.opts"), "-ts_dt",
+                    "0.0999", "-gimp_damping", "2", "-ts_max_steps", "3000"],
+                   os.path.join(W, "unstable_dt_3d"))
+# ... and at dt = 0.09 s it runs to the end.
+rc, err, _ = gimp(["-options_file", os.path.join(args.root, "options", "bar3d.opts"), "-ts_dt",
+                   "0.09", "-gimp_damping", "2", "-ts_max_steps", "600"],
+                  outdir=os.path.join(W, "stable_dt_3d"))
+c.check("the damped 3D bar below its critical step completes", rc == 0, "exit %s: %s" % (rc, err[-200:]))
 
 c.check("run time", True, "%.1f s" % (time.time() - t_start))
 c.done()

@@ -185,7 +185,7 @@ struct RunOptions {
   PetscInt ndom = 5, nhm = 4, pad = 2, update = 2, tracking = 2, mms = 0, stabilityInterval = 0;
   PetscInt transfer = 1, xpicOrder = 2;
   PetscBool setDom = PETSC_FALSE, setH = PETSC_FALSE, setFlip = PETSC_FALSE, setHm = PETSC_FALSE,
-            setCutoff = PETSC_FALSE;
+            setCutoff = PETSC_FALSE, setHoleLoad = PETSC_FALSE, setStaticTime = PETSC_FALSE;
 };
 
 const char *const kUpdates[] = {"usf", "usl", "musl"};
@@ -235,7 +235,7 @@ PetscErrorCode readOutputOptions(MPI_Comm comm, Scene &sc, RunOptions &o) {
                                   "docs/options.md", hm, &nhm, &setHm));
   PetscCall(PetscOptionsReal("-gimp_hole_measure_load",
                              "Remote stress p that normalises the hoop stress (load along x) [Pa]",
-                             "docs/options.md", sc.holeLoad, &sc.holeLoad, nullptr));
+                             "docs/options.md", sc.holeLoad, &sc.holeLoad, &o.setHoleLoad));
   PetscCall(PetscOptionsString("-gimp_particle_dump",
                                "Write the final particles as CSV (sorted by id) to this file",
                                "docs/options.md", pdump, pdump, sizeof(o.pdump), nullptr));
@@ -336,7 +336,7 @@ PetscErrorCode readMethodOptions(MPI_Comm comm, Scene &sc, RunOptions &o) {
                              "docs/options.md", sc.staticTol, &sc.staticTol, nullptr));
   PetscCall(PetscOptionsReal("-gimp_static_min_time",
                              "Earliest time the rest criterion may stop the run [s]",
-                             "docs/options.md", sc.staticTime, &sc.staticTime, nullptr));
+                             "docs/options.md", sc.staticTime, &sc.staticTime, &o.setStaticTime));
   PetscCall(PetscOptionsReal("-gimp_cfl",
                              "Default time step as a fraction of h / c_p, or of the critical "
                              "step with -gimp_stability_check [-]",
@@ -415,6 +415,7 @@ void checkRunOptions(const Scene &sc, const RunOptions &o) {
     bad("gimp_static_tol", formatNumber(sc.staticTol), "must lie in [0, 1) (0: off)");
   if (!(sc.staticTime >= 0))
     bad("gimp_static_min_time", formatNumber(sc.staticTime), "must be >= 0 [s]");
+
   if (!(sc.cornerSize >= 0.1 && sc.cornerSize <= 0.8))
     bad("gimp_corner_size", formatNumber(sc.cornerSize),
         "must lie in [0.1, 0.8] (fraction of the particle size)");
@@ -554,6 +555,9 @@ PetscErrorCode readScene(MPI_Comm comm, Scene &sc) {
   std::copy(o.hm, o.hm + 3, sc.hole);
   if (!sc.help && o.setHm && (o.nhm != 3 || !(o.hm[2] > 0)))
     bad("gimp_hole_measure", fmtList(o.hm, o.nhm), "needs cx,cy,r with r > 0 [m]");
+  if (!sc.help && o.setHoleLoad && !o.setHm)
+    bad("gimp_hole_measure_load", formatNumber(sc.holeLoad),
+        "has no effect without -gimp_hole_measure cx,cy,r");
   if (!sc.help && o.setHm && sc.holeLoad == 0)
     bad("gimp_hole_measure_load", "0", "the hole measure needs the remote stress p != 0 [Pa]");
   sc.update = static_cast<Update>(o.update);
@@ -571,6 +575,12 @@ PetscErrorCode readScene(MPI_Comm comm, Scene &sc) {
     return readCracks(comm, sc);
   }
   checkRunOptions(sc, o);
+  // (A warning, not an error: a file that includes another may turn its rest criterion off.)
+  if (o.setStaticTime && sc.staticTol == 0)
+    PetscCall(PetscPrintf(comm,
+                          "gimp: warning: -gimp_static_min_time %s has no effect: the rest "
+                          "criterion is off (-gimp_static_tol 0)\n",
+                          formatNumber(sc.staticTime).c_str()));
   setDomain(sc, o);
   PetscCall(readLevels(comm, sc));
   checkBodies(sc);

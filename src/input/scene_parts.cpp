@@ -391,7 +391,7 @@ PetscErrorCode readBodies(MPI_Comm comm, Scene &sc) {
     const std::string p = "-gimp_body" + std::to_string(k) + "_";
     PetscReal holes[301] = {0}, vel[3] = {0, 0, 0};
     PetscInt nholes = 301, nvel = 3, ppc = 4, hppc = 0;
-    PetscBool setHoles = PETSC_FALSE;
+    PetscBool setHoles = PETSC_FALSE, setK0 = PETSC_FALSE;
     const char *profiles[] = {"uniform", "sine_x"};
     PetscInt profile = 0;
     PetscReal band = 0, k0 = 0, spin = 0;
@@ -417,7 +417,7 @@ PetscErrorCode readBodies(MPI_Comm comm, Scene &sc) {
                                 "v = velocity sin(k (X - x0))",
                                 "docs/options.md", profiles, 2, profiles[0], &profile, nullptr));
     PetscCall(PetscOptionsReal((p + "wavenumber").c_str(), "Wavenumber k of sine_x [1/m]",
-                               "docs/options.md", k0, &k0, nullptr));
+                               "docs/options.md", k0, &k0, &setK0));
     PetscCall(PetscOptionsReal((p + "spin").c_str(),
                                "Initial rigid rotation about the box's centre, added to the "
                                "velocity: omega x (X - centre) [rad/s]",
@@ -458,6 +458,9 @@ PetscErrorCode readBodies(MPI_Comm comm, Scene &sc) {
     if (profile == 1 && !(k0 != 0))
       bad(q + "wavenumber", formatNumber(k0),
           "velocity_profile sine_x needs a non-zero wavenumber [1/m]");
+    if (profile != 1 && setK0)
+      bad(q + "wavenumber", formatNumber(k0),
+          "has no effect without -" + q + "velocity_profile sine_x");
     b.sineProfile = profile == 1;
     b.wavenumber = k0;
     b.spin = spin;
@@ -649,7 +652,8 @@ PetscErrorCode readLoads(MPI_Comm comm, Scene &sc) {
   PetscInt nt = 0, nbc = 0, np = 0, ndbc = 0;
   PetscReal g[3] = {0, 0, 0};
   PetscInt ng = 3;
-  PetscBool setG = PETSC_FALSE;
+  PetscBool setG = PETSC_FALSE, setPenalty = PETSC_FALSE, setPtrac = PETSC_FALSE;
+  PetscBool ptrac = sc.penaltyTraction ? PETSC_TRUE : PETSC_FALSE;
   PetscOptionsBegin(comm, nullptr, "Loads and constraints", "gimp");
   PetscCall(PetscOptionsRealArray("-gimp_gravity", "Body force per unit mass gx,gy [m/s^2]",
                                   "docs/options.md", g, &ng, &setG));
@@ -663,13 +667,12 @@ PetscErrorCode readLoads(MPI_Comm comm, Scene &sc) {
   PetscCall(PetscOptionsReal("-gimp_penalty",
                              "Penalty alpha of Eq. 9 [Pa/m] (0: 100 M / h_min, capped for "
                              "stability at rho h_min / (2 dt^2); M the P-wave modulus)",
-                             "docs/options.md", sc.penalty, &sc.penalty, nullptr));
+                             "docs/options.md", sc.penalty, &sc.penalty, &setPenalty));
   PetscCall(PetscOptionsInt("-gimp_probes", "Number of probes -gimp_probeK_*", "docs/options.md",
                             np, &np, nullptr));
-  PetscBool ptrac = sc.penaltyTraction ? PETSC_TRUE : PETSC_FALSE;
   PetscCall(PetscOptionsBool("-gimp_penalty_traction",
                              "Include the traction term sigma_p n of Eq. 9 (false: pure penalty)",
-                             "docs/options.md", ptrac, &ptrac, nullptr));
+                             "docs/options.md", ptrac, &ptrac, &setPtrac));
   sc.penaltyTraction = ptrac;
   PetscOptionsEnd();
   if (!sc.help && setG && ng != 2)
@@ -682,6 +685,12 @@ PetscErrorCode readLoads(MPI_Comm comm, Scene &sc) {
     if (ndbc < 0) bad("gimp_dbcs", std::to_string(ndbc), "must be >= 0");
     if (sc.penalty < 0)
       bad("gimp_penalty", formatNumber(sc.penalty), "must be >= 0 [Pa/m] (0: automatic)");
+    if (ndbc == 0 && setPenalty)
+      bad("gimp_penalty", formatNumber(sc.penalty),
+          "has no effect without penalty conditions (-gimp_dbcs > 0)");
+    if (ndbc == 0 && setPtrac)
+      bad("gimp_penalty_traction", ptrac ? "true" : "false",
+          "has no effect without penalty conditions (-gimp_dbcs > 0)");
   }
   for (PetscInt k = 0; k < (sc.help ? 1 : nt); ++k)
     PetscCall(readTraction(comm, k, sc));

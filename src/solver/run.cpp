@@ -201,35 +201,14 @@ PetscErrorCode Solver::crackTips(std::vector<cracks::TipMeasure> &tips) {
 }
 
 void Solver::energyCheck(PetscInt step, double t, const Energies &e) {
-  // A run can go unstable and stay finite: damping or a stiffening material stops the growth,
-  // and it ends in a wrong state with every value finite. What it cannot hide is the energy it
-  // created: the balance kinetic + strain - external work + damping is constant for the exact
-  // motion, and the step's numerical dissipation only lowers it. So a rise of the balance by
-  // more than kGain of the largest energy the run has shown (kinetic + strain, external work,
-  // damping, the balance itself) stops the run, at a history row. Every scene in options/ stays
-  // below 0.02 at its history rows; within the first steps the leapfrog start (a half kick)
-  // makes the balance of a suddenly loaded body rise by up to 0.25, so those are not tested
-  // (docs/validation.md, *Unstable runs*). The floor, 1e-20 M c_p^2 (the strain energy of a
-  // uniform strain of 1.4e-10), keeps round-off of a body at rest from counting.
-  // The energies are sums over all ranks: every rank decides the same.
-  constexpr double kGain = 0.5;
-  constexpr PetscInt kStartSteps = 10;
-  const double balance = e.total();
-  if (std::isnan(energyRef_)) energyRef_ = balance;
-  energyScale_ = std::max({energyScale_, std::fabs(energyRef_), e.kinetic + e.strain,
-                           std::fabs(e.externalWork), std::fabs(e.damping)});
+  // The balance watched for growth (diagnostics/energy_watch.hpp), on sums over all ranks.
   const double c = sc_.maxWaveSpeed();
   const double floor = 1e-20 * meanParticleMass_ * static_cast<double>(nParticles_) * c * c;
-  const double gained = balance - energyRef_;
-  if (step < kStartSteps || !(gained > kGain * energyScale_ && gained > floor)) return;
+  if (!energyWatch_.rose(step, e.kinetic, e.strain, e.externalWork, e.damping, floor)) return;
   failed_ = true;
-  PetscCallVoid(
-      PetscFPrintf(comm_, PETSC_STDERR,
-                   "gimp: error: step %" PetscInt_FMT " t %.9g s: the energy balance "
-                   "(kinetic + strain - external work + damping) rose by %.6g J, %.3g "
-                   "of the run's largest energy %.6g J: the run went unstable (reduce "
-                   "-ts_dt or -gimp_cfl; -gimp_stability_check gives the critical step)\n",
-                   step, t, gained, gained / energyScale_, energyScale_));
+  PetscCallVoid(PetscFPrintf(comm_, PETSC_STDERR,
+                             "gimp: error: step %" PetscInt_FMT " t %.9g s: %s\n", step, t,
+                             energyWatch_.why().c_str()));
 }
 
 PetscErrorCode Solver::restCriterion(PetscInt step, double t, const Energies &e) {

@@ -92,6 +92,16 @@ PetscErrorCode Solver3::writeHistory(PetscInt step, double t) {
               std::strerror(errno) + ")";
   }
   PetscCall(agree(comm_, error));
+  // The balance watched for growth (diagnostics/energy_watch.hpp): the row that shows it is
+  // written, and the run stops as unstable.
+  const double c = sc_.maxWaveSpeed();
+  if (!failed_ && energyWatch_.rose(step, e.kinetic, e.strain, e.externalWork, e.damping,
+                                    1e-20 * e.mass * c * c)) {
+    failed_ = true;
+    failure_ =
+        "step " + std::to_string(step) + " t " + formatNumber(t) + " s: " + energyWatch_.why();
+    PetscCall(PetscFPrintf(comm_, PETSC_STDERR, "gimp: error: %s\n", failure_.c_str()));
+  }
   return PETSC_SUCCESS;
 }
 

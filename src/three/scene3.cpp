@@ -435,9 +435,15 @@ void readLoads3(MPI_Comm comm, Scene3 &sc) {
       intOpt(comm, "-gimp_dbcs", "Number of penalty conditions (Eq. 9) -gimp_dbcK_*", 0);
   const PetscInt nb = intOpt(comm, "-gimp_bcs", "Number of grid-node constraints -gimp_bcK_*", 0);
   const PetscInt np = intOpt(comm, "-gimp_probes", "Number of probes -gimp_probeK_*", 0);
-  sc.penalty = realOpt(comm, "-gimp_penalty", "Penalty alpha of Eq. 9 [Pa/m] (0: automatic)", 0.0);
-  sc.penaltyTraction =
-      boolOpt(comm, "-gimp_penalty_traction", "Include the traction term sigma_p n of Eq. 9", true);
+  // The penalty options only with penalty conditions (otherwise unused, and refused as such).
+  sc.penalty = 0.0;
+  sc.penaltyTraction = true;
+  if (nd > 0 || sc.help) {
+    sc.penalty =
+        realOpt(comm, "-gimp_penalty", "Penalty alpha of Eq. 9 [Pa/m] (0: automatic)", 0.0);
+    sc.penaltyTraction = boolOpt(comm, "-gimp_penalty_traction",
+                                 "Include the traction term sigma_p n of Eq. 9", true);
+  }
   // -help lists one of each family.
   const bool help = sc.help;
   if (!help) {

@@ -625,7 +625,7 @@ PetscErrorCode Solver3::checks(const Particles3 &p, PetscInt step, double t) {
   PetscInt64 leaving = 0;
   for (PetscInt k = 0; k < p.n; ++k) {
     const double *x = p.x + 3 * k, *l = p.l + 3 * k;
-    bool mine = true, ok = std::isfinite(p.V[k]) && tensorAt<3>(p.s, k).allFinite();
+    bool mine = true, ok = p.V[k] > 0 && std::isfinite(p.V[k]) && tensorAt<3>(p.s, k).allFinite();
     for (int a = 0; a < 3; ++a) {
       mine = mine && x[a] >= box[a] && x[a] < box[3 + a];
       // NaN fails every comparison: written so that it lands in the bad branch.
@@ -646,6 +646,10 @@ PetscErrorCode Solver3::checks(const Particles3 &p, PetscInt step, double t) {
     }
     const std::string why =
         !finite ? "its position or stress is not finite: the run went unstable (reduce -ts_dt)"
+        : !(p.V[k] > 0)
+            ? "its volume " + formatNumber(p.V[k]) +
+                  " m^3 is not positive: the particle is inverted (det F <= 0): the run went "
+                  "unstable (reduce -ts_dt)"
         : !inside
             ? "it left the grid domain (enlarge -gimp_domain or -gimp_pad)"
             : "its half-size (" + formatNumber(l[0]) + ", " + formatNumber(l[1]) + ", " +
@@ -689,9 +693,10 @@ PetscErrorCode Solver3::checks(const Particles3 &p, PetscInt step, double t) {
 PetscErrorCode Solver3::energies(Energies3 &e) {
   Particles3 p;
   PetscCall(p.get(sw_));
-  double s[5] = {0, 0, 0, 0, 0};
+  double s[6] = {0, 0, 0, 0, 0, 0};
   for (PetscInt k = 0; k < p.n; ++k) {
     const Material &mat = sc_.materialOf(p.id[k]);
+    s[5] += p.m[k];
     double v2 = 0;
     for (int a = 0; a < 3; ++a) {
       v2 += p.v[3 * k + a] * p.v[3 * k + a];
@@ -702,7 +707,8 @@ PetscErrorCode Solver3::energies(Energies3 &e) {
                                    Tensor<3>(tensorAt<3>(p.F, k)), p.V0[k], p.V[k]);
   }
   PetscCall(p.restore(sw_));
-  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, s, 5, MPI_DOUBLE, MPI_SUM, comm_));
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, s, 6, MPI_DOUBLE, MPI_SUM, comm_));
+  e.mass = s[5];
   e.kinetic = s[0];
   e.strain = s[1];
   for (int a = 0; a < 3; ++a)

@@ -13,6 +13,7 @@
 
 #include "gimp/cracks/fields.hpp"
 #include "gimp/diagnostics/energies.hpp"
+#include "gimp/diagnostics/energy_watch.hpp"
 #include "gimp/diagnostics/measures.hpp"
 #include "gimp/grid/grid.hpp"
 #include "gimp/io/output.hpp"
@@ -199,8 +200,7 @@ private:
   bool atRest_ = false;   // stopped by the rest criterion (-gimp_static_tol)
   int restRows_ = 0;      // consecutive history rows that meet it
   double restStrain_ = 0; // strain energy at the first of them
-  double energyRef_ = NAN; // the energy balance at the first history row of this process
-  double energyScale_ = 0; // the largest energy of the run's history rows so far
+  EnergyWatch energyWatch_; // the energy balance at the history rows (energyCheck)
 };
 
 } // namespace gimp

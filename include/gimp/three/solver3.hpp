@@ -10,6 +10,7 @@
 // with RHS = kick * mask * (f_int + f_ext - d p), as in 2D.
 #pragma once
 
+#include "gimp/diagnostics/energy_watch.hpp"
 #include "gimp/grid/grid.hpp"
 #include "gimp/solver/step_common.hpp"
 #include "gimp/three/particles3.hpp"
@@ -27,6 +28,7 @@ namespace gimp::three {
 struct Energies3 {
   double kinetic = 0, strain = 0, externalWork = 0, damping = 0;
   double momentum[3] = {0, 0, 0};
+  double mass = 0; // of all particles
   double total() const { return kinetic + strain - externalWork + damping; }
 };
 
@@ -113,6 +115,7 @@ private:
   int interrupt_ = 0;
   PetscInt64 leaving_ = -1; // particles outside their rank's cells at the last check (-1: unknown)
   std::string failure_;
+  EnergyWatch energyWatch_; // the energy balance at the history rows (writeHistory)
   struct Frame {
     PetscInt step;
     double t;
