@@ -5,6 +5,8 @@
 #include "gimp/grid/shape.hpp"
 
 #include <algorithm>
+#include <cstddef>
+#include <cstring>
 #include <vector>
 
 namespace gimp {
@@ -278,15 +280,32 @@ namespace {
 /// GridT<2>::blockRun's particles of level q in lanes: soleBlock and setBlock for four particles,
 /// each lane their scalar arithmetic in its order (no FMA: this function alone is compiled for
 /// AVX2, and the build has no contraction).
-GIMP_LANES bool blockRunLanes(const GridT<2> &grid, int q, const std::uint8_t *block3,
+GIMP_LANES bool blockRunLanes(const GridT<2> &grid, const std::uint8_t *block3,
                               const double *outwardReach, PetscInt k, const double *x,
                               const double *l, Stencils<2> &s) {
   using lanes::V4;
-  const LevelT<2> &L = grid.levels[q];
   // x and y of the four particles (and of their half-sizes) in lanes
   V4 X[2], Lh[2];
   lanes::loadXY(x + 2 * k, X[0], X[1]);
   lanes::loadXY(l + 2 * k, Lh[0], Lh[1]);
+  // coarsestReaching: the finest level whose box holds the particle's domain, the same for all
+  // four (or the run is not one)
+  int q = 0;
+  for (int f = static_cast<int>(grid.levels.size()) - 1; f > 0; --f) {
+    const BoxOf<2> &b = grid.levels[f].box;
+    V4 in = _mm256_castsi256_pd(_mm256_set1_epi64x(-1));
+    for (int a = 0; a < 2; ++a) {
+      in = _mm256_and_pd(in, _mm256_cmp_pd(X[a] - Lh[a], _mm256_set1_pd(b[a]), _CMP_GE_OQ));
+      in = _mm256_and_pd(in, _mm256_cmp_pd(X[a] + Lh[a], _mm256_set1_pd(b[2 + a]), _CMP_LE_OQ));
+    }
+    const int mask = _mm256_movemask_pd(in);
+    if (mask == 15) {
+      q = f;
+      break;
+    }
+    if (mask != 0) return false; // some of the four on level f, some coarser
+  }
+  const LevelT<2> &L = grid.levels[q];
   const V4 h = _mm256_set1_pd(L.h), ih = _mm256_set1_pd(L.ih), halfH = _mm256_set1_pd(0.5 * L.h);
   // soleBlock: the centre inside the box, l <= h / 2 (3 nodes), candidates [ir, i1] in the
   // window and at most 3 wide
@@ -317,15 +336,24 @@ GIMP_LANES bool blockRunLanes(const GridT<2> &grid, int q, const std::uint8_t *b
     ok = _mm256_and_pd(ok, misses);
   }
   if (_mm256_movemask_pd(ok) != 15) return false;
-  alignas(16) int i0[2][4];
-  _mm_store_si128(reinterpret_cast<__m128i *>(i0[0]), _mm256_cvttpd_epi32(fi[0]));
-  _mm_store_si128(reinterpret_cast<__m128i *>(i0[1]), _mm256_cvttpd_epi32(fi[1]));
-  PetscInt base[4];
-  for (int j = 0; j < 4; ++j) {
-    const PetscInt c[2] = {i0[0][j], i0[1][j]};
-    base[j] = grid.windowSlot(q, c);
-    if (!block3[base[j]]) return false;
+  alignas(16) PetscInt base[4];
+  if constexpr (sizeof(PetscInt) == 4) { // windowSlot, four at a time
+    const __m128i ix = _mm256_cvttpd_epi32(fi[0]), iy = _mm256_cvttpd_epi32(fi[1]);
+    const __m128i row =
+        _mm_mullo_epi32(_mm_sub_epi32(iy, _mm_set1_epi32(L.w0[1])), _mm_set1_epi32(L.wn(0)));
+    _mm_store_si128(reinterpret_cast<__m128i *>(base),
+                    _mm_add_epi32(_mm_set1_epi32(L.offset),
+                                  _mm_add_epi32(row, _mm_sub_epi32(ix, _mm_set1_epi32(L.w0[0])))));
+  } else {
+    alignas(16) int i0[2][4];
+    _mm_store_si128(reinterpret_cast<__m128i *>(i0[0]), _mm256_cvttpd_epi32(fi[0]));
+    _mm_store_si128(reinterpret_cast<__m128i *>(i0[1]), _mm256_cvttpd_epi32(fi[1]));
+    for (int j = 0; j < 4; ++j) {
+      const PetscInt c[2] = {i0[0][j], i0[1][j]};
+      base[j] = grid.windowSlot(q, c);
+    }
   }
+  if (!(block3[base[0]] && block3[base[1]] && block3[base[2]] && block3[base[3]])) return false;
   // setBlock: xi = (x - (box + i0 h)) / h, lam = l / h, then shape::uniformWeights3 per axis
   V4 w[2][3], g[2][3];
   const V4 one = _mm256_set1_pd(1.0), zero = _mm256_setzero_pd(), half = _mm256_set1_pd(0.5);
@@ -342,25 +370,25 @@ GIMP_LANES bool blockRunLanes(const GridT<2> &grid, int q, const std::uint8_t *b
     g[a][1] = (1.0 - _mm256_andnot_pd(_mm256_set1_pd(-0.0), B - 1.0) - A) * i2lh;
     g[a][2] = c * i2lh;
   }
-  // The four blocks: rows of 4 doubles of each (w[0][0..2] w[1][0] | w[1][1..2] g[0][0..1] |
-  // g[0][2] g[1][0..2]) from the lanes by 4 x 4 transposes.
-  V4 r0[4], r1[4], r2[4];
-  lanes::transpose(w[0][0], w[0][1], w[0][2], w[1][0], r0);
-  lanes::transpose(w[1][1], w[1][2], g[0][0], g[0][1], r1);
-  lanes::transpose(g[0][2], g[1][0], g[1][1], g[1][2], r2);
+  // The four blocks, factor-major in the room of four (LaneBlocks2).
   std::uint8_t group = Stencils<2>::kLaneGroup;
   for (int j = 1; j < 4; ++j)
     if (base[j] != base[j - 1]) group |= static_cast<std::uint8_t>(1u << (j - 1));
   s.laneGroup[k / 4] = group;
-  for (int j = 0; j < 4; ++j) {
-    s.blockOf[k + j] = s.nBlocks;
-    Block<2> &b = s.blocks[s.nBlocks++];
-    _mm256_storeu_pd(&b.w[0][0], r0[j]);
-    _mm256_storeu_pd(&b.w[1][1], r1[j]);
-    _mm256_storeu_pd(&b.g[0][2], r2[j]);
-    b.stride[0] = L.wn(0);
-    b.base = base[j];
+  for (int j = 0; j < 4; ++j)
+    s.blockOf[k + j] = (s.nBlocks + j) | Stencils<2>::kLaneBlock;
+  s.nBlocks += 4;
+  unsigned char *r = s.laneBlocks(k / 4);
+  double *f = reinterpret_cast<double *>(r + offsetof(LaneBlocks2, f));
+  for (int i = 0; i < 3; ++i) {
+    _mm256_storeu_pd(f + 4 * i, w[0][i]);
+    _mm256_storeu_pd(f + 4 * (3 + i), w[1][i]);
+    _mm256_storeu_pd(f + 4 * (6 + i), g[0][i]);
+    _mm256_storeu_pd(f + 4 * (9 + i), g[1][i]);
   }
+  const PetscInt stride[4] = {L.wn(0), L.wn(0), L.wn(0), L.wn(0)};
+  std::memcpy(r + offsetof(LaneBlocks2, base), base, sizeof(base));
+  std::memcpy(r + offsetof(LaneBlocks2, stride), stride, sizeof(stride));
   return true;
 }
 } // namespace
@@ -369,12 +397,8 @@ GIMP_LANES bool blockRunLanes(const GridT<2> &grid, int q, const std::uint8_t *b
 template <int D>
 bool GridT<D>::blockRun(PetscInt k, const double *x, const double *l, Stencils<D> &s) const {
 #if GIMP_HAVE_LANES
-  if constexpr (D == 2) {
-    const int q = coarsestReaching(x + 2 * k, l + 2 * k);
-    for (int j = 1; j < 4; ++j)
-      if (coarsestReaching(x + 2 * (k + j), l + 2 * (k + j)) != q) return false;
-    return blockRunLanes(*this, q, block3_.data(), outwardReach_.data(), k, x, l, s);
-  }
+  if constexpr (D == 2)
+    return blockRunLanes(*this, block3_.data(), outwardReach_.data(), k, x, l, s);
 #endif
   (void)k, (void)x, (void)l, (void)s;
   return false;

@@ -11,6 +11,7 @@
 #include "gimp/transfer/transfer.hpp"
 
 #include <cstddef>
+#include <cstring>
 
 #include "gimp/core/lanes.hpp"
 
@@ -27,11 +28,6 @@ namespace {
 
 using lanes::transpose;
 using lanes::V4;
-
-// The factors of a block read as three rows of four doubles: w[0][0..2] w[1][0] | w[1][1..2]
-// g[0][0..1] | g[0][2] g[1][0..2].
-static_assert(offsetof(Block<2>, w) == 0 && offsetof(Block<2>, g) == 6 * sizeof(double),
-              "Block<2> holds w then g, 12 doubles");
 
 GIMP_LANES_INLINE V4 splat(double a) {
   return _mm256_set1_pd(a);
@@ -72,7 +68,6 @@ GIMP_LANES_INLINE void gatherPairs(const double *const *r, PetscInt o, V4 &X, V4
 struct Run {
   V4 wx[3], wy[3], gx[3], gy[3];
   alignas(16) PetscInt row[3][4]; // row[j][q]: particle q's row j
-  const Block<2> *b[4];
   int split;
 };
 
@@ -99,48 +94,33 @@ GIMP_LANES_INLINE void forGroups(const Stencils<2> &st, PetscInt k0, PetscInt k1
 template <bool Slopes>
 GIMP_LANES_INLINE void loadRun(const Stencils<2> &st, PetscInt k, std::uint8_t group, Run &R) {
   R.split = group & 7;
-  const Block<2> *b0 = &st.blocks[st.blockOf[k]]; // the group's blocks are consecutive
-  for (int q = 0; q < 4; ++q)
-    R.b[q] = b0 + q;
-  if constexpr (sizeof(PetscInt) == 4) { // the four (base, stride) as two vectors of 32-bit lanes
-    static_assert(offsetof(Block<2>, stride) == offsetof(Block<2>, base) + sizeof(PetscInt));
-    const __m128i p01 = _mm_unpacklo_epi64(_mm_loadl_epi64((const __m128i *)&R.b[0]->base),
-                                           _mm_loadl_epi64((const __m128i *)&R.b[1]->base));
-    const __m128i p23 = _mm_unpacklo_epi64(_mm_loadl_epi64((const __m128i *)&R.b[2]->base),
-                                           _mm_loadl_epi64((const __m128i *)&R.b[3]->base));
-    // (b0 s0 b1 s1), (b2 s2 b3 s3) -> bases (b0 b1 b2 b3), strides (s0 s1 s2 s3), both times 2
-    const __m128 f01 = _mm_castsi128_ps(p01), f23 = _mm_castsi128_ps(p23);
-    const __m128i base2 = _mm_slli_epi32(_mm_castps_si128(_mm_shuffle_ps(f01, f23, 0x88)), 1);
-    const __m128i step2 = _mm_slli_epi32(_mm_castps_si128(_mm_shuffle_ps(f01, f23, 0xDD)), 1);
+  // The group's blocks are factor-major (LaneBlocks2): a factor of the four in one load.
+  const unsigned char *r = st.laneBlocks(k / 4);
+  const double *f = reinterpret_cast<const double *>(r + offsetof(LaneBlocks2, f));
+  for (int i = 0; i < 3; ++i) {
+    R.wx[i] = _mm256_loadu_pd(f + 4 * i);
+    R.wy[i] = _mm256_loadu_pd(f + 4 * (3 + i));
+    if constexpr (Slopes) {
+      R.gx[i] = _mm256_loadu_pd(f + 4 * (6 + i));
+      R.gy[i] = _mm256_loadu_pd(f + 4 * (9 + i));
+    }
+  }
+  if constexpr (sizeof(PetscInt) == 4) { // the rows' first slots, times 2, four at a time
+    const __m128i base2 =
+        _mm_slli_epi32(_mm_loadu_si128((const __m128i *)(r + offsetof(LaneBlocks2, base))), 1);
+    const __m128i step2 =
+        _mm_slli_epi32(_mm_loadu_si128((const __m128i *)(r + offsetof(LaneBlocks2, stride))), 1);
     const __m128i r1 = _mm_add_epi32(base2, step2);
     _mm_store_si128((__m128i *)R.row[0], base2);
     _mm_store_si128((__m128i *)R.row[1], r1);
     _mm_store_si128((__m128i *)R.row[2], _mm_add_epi32(r1, step2));
   } else {
+    PetscInt base[4], stride[4];
+    std::memcpy(base, r + offsetof(LaneBlocks2, base), sizeof(base));
+    std::memcpy(stride, r + offsetof(LaneBlocks2, stride), sizeof(stride));
     for (int q = 0; q < 4; ++q)
       for (int j = 0; j < 3; ++j)
-        R.row[j][q] = 2 * (R.b[q]->base + j * R.b[q]->stride[0]);
-  }
-  V4 c[4];
-  transpose(_mm256_loadu_pd(&R.b[0]->w[0][0]), _mm256_loadu_pd(&R.b[1]->w[0][0]),
-            _mm256_loadu_pd(&R.b[2]->w[0][0]), _mm256_loadu_pd(&R.b[3]->w[0][0]), c);
-  R.wx[0] = c[0];
-  R.wx[1] = c[1];
-  R.wx[2] = c[2];
-  R.wy[0] = c[3];
-  transpose(_mm256_loadu_pd(&R.b[0]->w[1][1]), _mm256_loadu_pd(&R.b[1]->w[1][1]),
-            _mm256_loadu_pd(&R.b[2]->w[1][1]), _mm256_loadu_pd(&R.b[3]->w[1][1]), c);
-  R.wy[1] = c[0];
-  R.wy[2] = c[1];
-  if constexpr (Slopes) {
-    R.gx[0] = c[2];
-    R.gx[1] = c[3];
-    transpose(_mm256_loadu_pd(&R.b[0]->g[0][2]), _mm256_loadu_pd(&R.b[1]->g[0][2]),
-              _mm256_loadu_pd(&R.b[2]->g[0][2]), _mm256_loadu_pd(&R.b[3]->g[0][2]), c);
-    R.gx[2] = c[0];
-    R.gy[0] = c[1];
-    R.gy[1] = c[2];
-    R.gy[2] = c[3];
+        R.row[j][q] = 2 * (base[q] + j * stride[q]);
   }
 }
 

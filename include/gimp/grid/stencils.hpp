@@ -30,7 +30,9 @@
 
 #include <algorithm>
 #include <array>
+#include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <memory>
 #include <utility>
 #include <vector>
@@ -48,6 +50,17 @@ template <int D, int N = 3> struct Block {
   PetscInt base;
   PetscInt stride[D - 1];
 };
+
+/// A lane group's four 3-node blocks (2D) as the lane kernels read them, in the room of the four
+/// Block<2> they replace: factor c of particle q at f[c][q] (factor-major: one load gives a factor
+/// of all four), the factors in the order w[0][0..2], w[1][0..2], g[0][0..2], g[1][0..2]; then the
+/// four first slots and row strides.
+struct LaneBlocks2 {
+  double f[12][4];
+  PetscInt base[4], stride[4];
+};
+static_assert(sizeof(LaneBlocks2) == 4 * sizeof(Block<2>),
+              "a lane group's blocks take the room of four blocks");
 
 /// An allocator that leaves new elements uninitialised (resize() of a vector of doubles does not
 /// write them): the stencil arrays grow with room to spare, and untouched room costs no resident
@@ -75,16 +88,21 @@ template <int D> struct Stencils {
   // Blocks (see above). levelIh[q] = 1 / h of level q, levelStride[D q + d] the slot distance
   // of one node along axis d on level q's window.
   bool compact = false;
-  // Per particle: its block in `blocks` (>= 0), -1 (rows), or -2 - its block in `blocks4`.
+  // Per particle: its block in `blocks` (>= 0; with kLaneBlock set in a lane group), -1 (rows), or
+  // -2 - its block in `blocks4`.
   StencilArray<PetscInt> blockOf;
   PetscInt nBlocks = 0, nBlocks4 = 0;
   StencilArray<Block<D>> blocks;     // the 3-node blocks, in particle order
   StencilArray<Block<D, 4>> blocks4; // the 4-node blocks (2D), in particle order
   // Groups of four particles for the lane kernels (2D, GridT::buildStencils with lanes): for
   // particles 4g .. 4g+3, kLaneGroup when the four are 3-node blocks of one level, built in lanes
-  // (blocks[blockOf[4g]] .. +3, consecutive), ored with bit q-1 when particle q's first slot
-  // differs from particle q-1's; 0 otherwise. Empty without lanes: then no group is one.
+  // (their blocks in the room of blocks[blockOf[4g]] .. +3, factor-major: LaneBlocks2), ored with
+  // bit q-1 when particle q's first slot differs from particle q-1's; 0 otherwise. Empty without
+  // lanes: then no group is one.
   static constexpr std::uint8_t kLaneGroup = 0x80;
+  // blockOf of a lane group's particle: its slot in `blocks` with this bit set (block() reads the
+  // factor-major room then; a rank holds far fewer than 2^30 particles).
+  static constexpr PetscInt kLaneBlock = PetscInt(1) << (8 * sizeof(PetscInt) - 2);
   StencilArray<std::uint8_t> laneGroup;
   /// The lane group byte of group g (0 when the stencils were built without lanes).
   std::uint8_t laneGroupOf(PetscInt g) const {
@@ -117,8 +135,36 @@ template <int D> struct Stencils {
   bool isBlock(PetscInt k) const { return compact && blockOf[k] >= 0; }
   /// True when particle k keeps a 4-node block (2D).
   bool isBlock4(PetscInt k) const { return compact && blockOf[k] <= -2; }
-  /// The 1D factors of block particle k (isBlock(k)).
-  const Block<D> &block(PetscInt k) const { return blocks[blockOf[k]]; }
+  /// The 1D factors of block particle k (isBlock(k)), also of a lane group's (a copy).
+  Block<D> block(PetscInt k) const {
+    const PetscInt o = blockOf[k];
+    if constexpr (D == 2)
+      if (o & kLaneBlock) return laneBlock(k);
+    return blocks[o];
+  }
+  /// The room of lane group g's blocks (laneGroupOf(g) != 0), read as LaneBlocks2.
+  const unsigned char *laneBlocks(PetscInt g) const {
+    return reinterpret_cast<const unsigned char *>(blocks.data() + (blockOf[4 * g] & ~kLaneBlock));
+  }
+  unsigned char *laneBlocks(PetscInt g) {
+    return reinterpret_cast<unsigned char *>(blocks.data() + (blockOf[4 * g] & ~kLaneBlock));
+  }
+  /// Particle k's block out of its lane group's factor-major room (2D).
+  Block<2> laneBlock(PetscInt k) const {
+    const unsigned char *r = laneBlocks(k / 4);
+    const size_t q = static_cast<size_t>(k % 4), d = sizeof(double), i = sizeof(PetscInt);
+    const auto factor = [&](size_t c) { return r + offsetof(LaneBlocks2, f) + (4 * c + q) * d; };
+    Block<2> b;
+    for (size_t c = 0; c < 3; ++c) {
+      std::memcpy(&b.w[0][c], factor(c), d);
+      std::memcpy(&b.w[1][c], factor(3 + c), d);
+      std::memcpy(&b.g[0][c], factor(6 + c), d);
+      std::memcpy(&b.g[1][c], factor(9 + c), d);
+    }
+    std::memcpy(&b.base, r + offsetof(LaneBlocks2, base) + q * i, i);
+    std::memcpy(&b.stride[0], r + offsetof(LaneBlocks2, stride) + q * i, i);
+    return b;
+  }
   /// The 1D factors of 4-node block particle k (isBlock4(k)).
   const Block<D, 4> &block4(PetscInt k) const { return blocks4[-2 - blockOf[k]]; }
   /// Room for a block per particle (untouched room costs no memory); before setBlock.
