@@ -15,7 +15,9 @@
 // entry (4 to 9 entries), the same values the rows would hold. In 2D a particle of half-size up
 // to h that reaches 4 nodes along an axis (l > h/2, or ends on nodes) keeps a 4-node block
 // (Block<2, 4>, 136 bytes, shape::uniformWeights4: the rows' values to round-off) instead of 6 to
-// 16 entries. Kernels with a tensor-product form sum along one axis, then the other.
+// 16 entries. Kernels with a tensor-product form sum along one axis, then the other. With lanes
+// (2D), aligned groups of four block particles keep their four blocks factor-major in the same
+// room (LaneBlocks2, laneGroup); block(k) reads either form.
 //
 // forEach(k, f) calls f(slot, weight, gradient) for every entry of particle k in either form; it
 // is the way kernels read stencils. The arrays keep their capacity between steps: only the first
