@@ -127,6 +127,10 @@ bad_file("not a number", "x,y,V\n0.5,abc,1e-4\n", "line 2: 'abc' is not a number
 bad_file("NaN", "x,y,V\n0.5,0.5,1e-4\n0.5,nan,1e-4\n", "line 3: the values must be finite")
 bad_file("short row", "x,y,V\n0.5,0.5\n", "line 2 has 2 values for 3 columns")
 bad_file("zero half-size", "x,y,lx,ly\n0.5,0.5,0,0.01\n", "lx and ly must be > 0")
+bad_file("subnormal half-size", "x,y,lx,ly\n0.5,0.5,1e-310,0.01\n",
+         "line 2: the particle's size is too small to represent")
+bad_file("subnormal volume", "x,y,V\n0.5,0.5,1e-320\n",
+         "line 2: the particle's size is too small to represent")
 bad_file("no particles", "x,y,V\n", "holds no particle")
 bad_file("outside the grid", "x,y,V\n0.5,0.5,1e-4\n1.2,0.5,1e-4\n",
          "particle 1 (data row 2, at 1.2,0.5) is not inside the grid domain")

@@ -87,6 +87,11 @@ std::string parse(const std::string &path, double thickness, ParticleFile &out) 
     } else {
       p.lx = p.ly = 0.5 * std::sqrt(p.area);
     }
+    // A size so small that its area or a half-size is not a normal double (below 2.2e-308)
+    // would give the particle no mass, and the run would fail later for another reason.
+    if (!std::isnormal(p.area) || !std::isnormal(p.lx) || !std::isnormal(p.ly))
+      return where + ": the particle's size is too small to represent (its area " +
+             formatNumber(p.area) + " m^2 or a half-size is below 2.2e-308)";
     if (out.hasVelocity) {
       p.vx = v[at["vx"]];
       p.vy = v[at["vy"]];
