@@ -7,7 +7,8 @@ equality. The cases cover what decides which particles run in lanes and how thei
 ordered: one level with APIC (every kernel in lanes), three levels (block particles next to
 rows at level borders), the plate with a hole (cut particles, tractions, penalty conditions),
 a crack (cracked nodes keep rows), FLIP (force and gradient in lanes, transfers scalar), corner
-tracking (stencil centres other than the positions), two ranks, and for the stress update two
+tracking (stencil centres other than the positions), two ranks, a step per level (each rate
+class's stencils), and for the stress update two
 materials, a neo-Hookean one (scalar) and plane stress without domain tracking.
 
 When the processor has no AVX2 the lanes do not run and the comparison is trivial; the script
@@ -34,6 +35,10 @@ CASES = [
     ("patch_corners", "options/patch.opts", ["-ts_max_steps", "60", "-gimp_tracking", "corners"],
      1),
     ("block3_2ranks", "bench/block3.opts", ["-ts_max_steps", "20"], 2),
+    # a step per level: each rate class's stencils have lane groups of their own
+    ("block3_multirate", "bench/block3_tenth.opts",
+     ["-gimp_h", "0.03125", "-gimp_level1_box", "0.375,0.375,0.625,0.625", "-gimp_level2_box",
+      "0.4375,0.4375,0.5625,0.5625", "-gimp_multirate", "true", "-ts_max_steps", "32"], 1),
     ("bimaterial", "options/bimaterial.opts", ["-ts_max_steps", "60"], 1),
     ("block_neohookean", "bench/block.opts",
      ["-gimp_h", "0.03125", "-ts_max_steps", "60", "-gimp_material", "neohookean"], 1),

@@ -477,8 +477,13 @@ bool GridT<D>::buildStencils(PetscInt n, const double *x, const double *l, Stenc
       bool tooLarge = false; // a particle larger than h0
       for (int a = 0; a < D; ++a)
         tooLarge = tooLarge || r.i1[a] - r.i0[a] >= maxRange;
-      if (tooLarge) {
-        s.start[k + 1] = static_cast<PetscInt>(m);
+      if (tooLarge) { // the rest keep no entries (the step fails at its check)
+        for (PetscInt j = k + 1; j <= n; ++j)
+          s.start[j] = static_cast<PetscInt>(m);
+        if (compact)
+          for (PetscInt j = k + 1; j < n; ++j)
+            s.blockOf[j] = -1;
+        s.laneGroup.clear();
         return false;
       }
       appendNodes(q, r, xp, lp, scratch.data(), maxRange, s, m);

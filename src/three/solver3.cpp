@@ -792,6 +792,10 @@ PetscErrorCode Solver3::reactions(std::vector<double> &force) {
 PetscErrorCode Solver3::report(PetscInt step, double t, bool last) {
   PetscCall(PetscLogStagePush(stages_.output));
   if (step % sc_.historyInterval == 0 || last) PetscCall(writeHistory(step, t));
+  if (failed_) { // the energy balance rose: the row shows it, the unstable state is not written
+    PetscCall(PetscLogStagePop());
+    return PETSC_SUCCESS;
+  }
   if ((sc_.outputInterval > 0 && step % sc_.outputInterval == 0) || last)
     PetscCall(writeFields(step, t));
   PetscCall(TSMonitor(ts_, step, t, P_));

@@ -77,6 +77,8 @@ template <class Lane, class One>
 GIMP_LANES_INLINE void forGroups(const Stencils<2> &st, PetscInt k0, PetscInt k1, Lane &&lane,
                                  One &&one) {
   PetscInt k = k0;
+  for (; k % 4 != 0 && k < k1; ++k) // (callers start at a group)
+    one(k);
   if (st.compact)
     for (; k + 4 <= k1; k += 4) {
       const std::uint8_t group = st.laneGroupOf(k / 4);

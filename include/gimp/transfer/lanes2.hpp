@@ -3,8 +3,10 @@
 // velocity gradient and the linear-elastic stress update (docs/method.md, *Lanes of four
 // particles*; the stencils' blocks are built four at a time by GridT::blockRun).
 //
-// Each loop takes the particles in runs of four consecutive 3-node block particles
-// (Stencils::isBlock) and does the per-particle arithmetic of the scalar kernel of
+// Each loop takes the stencils' lane groups, aligned groups of four 3-node block particles that
+// the stencil build (GridT::buildStencils with lanes) made in lanes and marked in
+// Stencils::laneGroup (stencils built without lanes have none, and everything runs scalar), and
+// does the per-particle arithmetic of the scalar kernel of
 // transfer/block2.hpp in four lanes of a 256-bit register, each lane evaluating the scalar
 // expression in its order (no fused multiply-add); the other particles, and the tail, go
 // through the scalar kernels. Scatters add each particle's contributions to the nodes in
@@ -43,7 +45,7 @@ void gridToParticlesAffineProjected(const Stencils<2> &st, PetscInt n, const dou
                                     double *v, double *B, double *x, double *mom);
 
 /// The velocity gradients of particles k0 .. k1-1 into L (row-major 2 x 2 from L[0]), as
-/// transfer::velocityGradientAt<2>.
+/// transfer::velocityGradientAt<2>; k0 a multiple of 4 (the lane groups are aligned).
 void velocityGradients(const Stencils<2> &st, PetscInt k0, PetscInt k1, const double *vg,
                        double *L);
 
