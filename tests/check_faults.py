@@ -359,5 +359,31 @@ rc, err, _ = gimp(["-options_file", os.path.join(args.root, "options", "bar3d.op
                   outdir=os.path.join(W, "stable_dt_3d"))
 c.check("the damped 3D bar below its critical step completes", rc == 0, "exit %s: %s" % (rc, err[-200:]))
 
+
+
+# Damping lowers the explicit step's limit to (h / c_p)(sqrt(1 + xi^2) - xi), xi = d h / (4 c_p):
+# a -ts_dt above it (but below h / c_p) gets a warning before the run, one below it none.
+def damped_warning(opts):
+    p = subprocess.run([args.gimp] + opts + ["-ts_max_steps", "1", "-gimp_output_dir",
+                                             os.path.join(W, "damped_warning")],
+                       cwd=W, env=ENV, capture_output=True, text=True, timeout=TIMEOUT)
+    return p.returncode, "stable limit of the damped step" in p.stdout
+
+
+BAR3D = os.path.join(args.root, "options", "bar3d.opts")
+for name, opts, expected in (
+        ("3D bar, d = 2, dt 0.0999 (limit 0.0951)",
+         ["-options_file", BAR3D, "-ts_dt", "0.0999", "-gimp_damping", "2"], True),
+        ("3D bar, d = 2, dt 0.09", ["-options_file", BAR3D, "-ts_dt", "0.09", "-gimp_damping", "2"],
+         False),
+        ("patch, d = 400, dt 7.95e-4 (limit 7.91e-4)", ["-options_file", PATCH, "-ts_dt", "7.95e-4"],
+         True),
+        ("patch, d = 400, dt 7.8e-4", ["-options_file", PATCH, "-ts_dt", "7.8e-4"], False),
+        ("patch, no damping, dt 7.95e-4",
+         ["-options_file", PATCH, "-ts_dt", "7.95e-4", "-gimp_damping", "0"], False)):
+    rc, warned = damped_warning(opts)
+    c.check("damped step limit warning: %s" % name, rc == 0 and warned == expected,
+            "exit %s, warned %s (expected %s)" % (rc, warned, expected))
+
 c.check("run time", True, "%.1f s" % (time.time() - t_start))
 c.done()

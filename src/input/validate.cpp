@@ -327,10 +327,11 @@ PetscErrorCode checkSeeding(MPI_Comm comm, const Scene &sc, const Grid &grid, co
 }
 
 PetscErrorCode timeStepFromOptions(TS ts, const Scene &sc, const Lattice &grid) {
-  return timeStepFromOptions(ts, sc.maxWaveSpeed(), grid.hMin(), sc.stabilityCheck);
+  return timeStepFromOptions(ts, sc.maxWaveSpeed(), grid.hMin(), sc.stabilityCheck, sc.damping);
 }
 
-PetscErrorCode timeStepFromOptions(TS ts, double cp, double hMin, bool unstableAllowed) {
+PetscErrorCode timeStepFromOptions(TS ts, double cp, double hMin, bool unstableAllowed,
+                                   double damping) {
   PetscCall(readOneLine([&] { return TSSetFromOptions(ts); }));
   TSType type;
   TSAdapt adapt;
@@ -366,6 +367,21 @@ PetscErrorCode timeStepFromOptions(TS ts, double cp, double hMin, bool unstableA
                      ": exceeds the stable limit h / c_p = " + formatNumber(dtStable) +
                      " s (finest h = " + formatNumber(hMin) + " m, c_p = " + formatNumber(cp) +
                      " m/s); choose -ts_dt <= " + formatNumber(dtStable));
+  // Damping lowers the limit: the leapfrog step with the force -d p on the momentum keeps a mode
+  // of frequency w = 2 c_p / h stable for dt < (2 / w)(sqrt(1 + xi^2) - xi), xi = d / (2 w)
+  // (docs/validation.md, *Unstable runs*). A warning, as this bound is only as sharp as w (GIMP's
+  // highest frequency can lie below 2 c_p / h); in 2D -gimp_stability_check gives the step's own.
+  const double xi = damping * hMin / (4.0 * cp);
+  const double dtDamped = dtStable * (std::sqrt(1.0 + xi * xi) - xi);
+  if (damping > 0 && dt > dtDamped && !unstableAllowed)
+    PetscCall(PetscPrintf(PetscObjectComm(reinterpret_cast<PetscObject>(ts)),
+                          "gimp: warning: -ts_dt %s s exceeds the stable limit of the damped "
+                          "step, (h / c_p)(sqrt(1 + xi^2) - xi) = %s s with xi = d h / (4 c_p) = "
+                          "%s (-gimp_damping %s): the run will likely go unstable; choose -ts_dt "
+                          "<= %s\n",
+                          formatNumber(dt).c_str(), formatNumber(dtDamped).c_str(),
+                          formatNumber(xi).c_str(), formatNumber(damping).c_str(),
+                          formatNumber(dtDamped).c_str()));
   return PETSC_SUCCESS;
 }
 

@@ -123,7 +123,7 @@ PetscErrorCode Solver3::setup() {
   PetscCall(TSSetMaxSteps(ts_, 1000));
   PetscCall(TSSetMaxTime(ts_, 1e300));
   PetscCall(TSSetExactFinalTime(ts_, TS_EXACTFINALTIME_STEPOVER));
-  PetscCall(timeStepFromOptions(ts_, cp, grid_.hMin(), false));
+  PetscCall(timeStepFromOptions(ts_, cp, grid_.hMin(), false, sc_.damping));
   PetscReal dt = 0;
   PetscCall(TSGetTimeStep(ts_, &dt));
   PetscCall(TSSetSolution(ts_, P_));

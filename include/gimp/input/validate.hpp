@@ -33,7 +33,8 @@ PetscErrorCode checkSeeding(MPI_Comm comm, const Scene &sc, const Grid &grid, co
 PetscErrorCode timeStepFromOptions(TS ts, const Scene &sc, const Lattice &grid);
 /// The same for any scene: TSSetFromOptions, then -ts_type euler and -ts_adapt_type none only,
 /// -ts_max_steps >= 0, -ts_max_time > 0, 0 < -ts_dt <= hMin / cp unless unstableAllowed.
-PetscErrorCode timeStepFromOptions(TS ts, double cp, double hMin, bool unstableAllowed);
+PetscErrorCode timeStepFromOptions(TS ts, double cp, double hMin, bool unstableAllowed,
+                                   double damping = 0);
 
 /// Unknown or misspelled options stop the run (options PETSc reads at exit are allowed); in a 2D
 /// scene (dim 2) an option of 3D scenes says so.
