@@ -32,7 +32,8 @@ PetscErrorCode checkSeeding(MPI_Comm comm, const Scene &sc, const Grid &grid, co
 /// eigenvalue instead, below the stable h_min / c_p).
 PetscErrorCode timeStepFromOptions(TS ts, const Scene &sc, const Lattice &grid);
 /// The same for any scene: TSSetFromOptions, then -ts_type euler and -ts_adapt_type none only,
-/// -ts_max_steps >= 0, -ts_max_time > 0, 0 < -ts_dt <= hMin / cp unless unstableAllowed.
+/// -ts_max_steps >= 0, -ts_max_time > 0, 0 < -ts_dt <= hMin / cp unless unstableAllowed; with
+/// damping (1/s) a warning above the damped step's bound (hMin / cp)(sqrt(1 + xi^2) - xi).
 PetscErrorCode timeStepFromOptions(TS ts, double cp, double hMin, bool unstableAllowed,
                                    double damping = 0);
 
