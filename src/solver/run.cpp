@@ -202,9 +202,9 @@ PetscErrorCode Solver::crackTips(std::vector<cracks::TipMeasure> &tips) {
 
 void Solver::energyCheck(PetscInt step, double t, const Energies &e) {
   // The balance watched for growth (diagnostics/energy_watch.hpp), on sums over all ranks.
-  const double c = sc_.maxWaveSpeed();
-  const double floor = 1e-20 * meanParticleMass_ * static_cast<double>(nParticles_) * c * c;
-  if (!energyWatch_.rose(step, e.kinetic, e.strain, e.externalWork, e.damping, floor)) return;
+  if (!energyWatch_.rose(step, e.kinetic, e.strain, e.externalWork, e.damping,
+                         meanParticleMass_ * static_cast<double>(nParticles_), sc_.maxWaveSpeed()))
+    return;
   failed_ = true;
   PetscCallVoid(PetscFPrintf(comm_, PETSC_STDERR,
                              "gimp: error: step %" PetscInt_FMT " t %.9g s: %s\n", step, t,

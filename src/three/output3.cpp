@@ -94,9 +94,8 @@ PetscErrorCode Solver3::writeHistory(PetscInt step, double t) {
   PetscCall(agree(comm_, error));
   // The balance watched for growth (diagnostics/energy_watch.hpp): the row that shows it is
   // written, and the run stops as unstable.
-  const double c = sc_.maxWaveSpeed();
-  if (!failed_ && energyWatch_.rose(step, e.kinetic, e.strain, e.externalWork, e.damping,
-                                    1e-20 * e.mass * c * c)) {
+  if (!failed_ && energyWatch_.rose(step, e.kinetic, e.strain, e.externalWork, e.damping, e.mass,
+                                    sc_.maxWaveSpeed())) {
     failed_ = true;
     failure_ =
         "step " + std::to_string(step) + " t " + formatNumber(t) + " s: " + energyWatch_.why();

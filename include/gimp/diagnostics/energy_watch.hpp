@@ -24,12 +24,14 @@ class EnergyWatch {
 public:
   static constexpr double kGain = 0.5;
   static constexpr PetscInt kStartSteps = 10;
+  static constexpr double kFloor = 1e-20; // of M c_p^2
 
-  /// The energies of the history row at `step` (the first row sets the reference); `floor` is
-  /// 1e-20 M c_p^2 of the run. True when the balance rose beyond the limit: gained() and scale()
-  /// then say by how much, against what.
+  /// The energies of the history row at `step` (the first row sets the reference), with the
+  /// run's total mass M and largest wave speed c_p for the floor. True when the balance rose
+  /// beyond the limit: gained() and scale() then say by how much, against what.
   bool rose(PetscInt step, double kinetic, double strain, double externalWork, double damping,
-            double floor) {
+            double mass, double cp) {
+    const double floor = kFloor * mass * cp * cp;
     const double balance = kinetic + strain - externalWork + damping;
     if (std::isnan(ref_)) ref_ = balance;
     scale_ = std::max(
