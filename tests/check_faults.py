@@ -385,5 +385,41 @@ for name, opts, expected in (
     c.check("damped step limit warning: %s" % name, rc == 0 and warned == expected,
             "exit %s, warned %s (expected %s)" % (rc, warned, expected))
 
+# With -gimp_multirate the damping acts on every node at every sub-step of dt. Over a level's step
+# of m dt its momentum is scaled by a^m (a = 1 - d dt), and the leapfrog's bound becomes
+# (w m dt)^2 <= 2 u coth(u / 2), u = d m dt, which is at least the undamped 4: damping does not
+# tighten a coarse level's bound, and the finest level's damped bound (the warning's) binds.
+# bench/block3.opts: h0 = 4 h_min, c_p = 1160.24 m/s, dt = 3.03e-6 s = 0.9 h_min / c_p.
+BLOCK3 = os.path.join(args.root, "bench", "block3.opts")
+coarse = os.path.join(W, "block3_coarse.opts") # the same block on its level 0 alone
+with open(BLOCK3) as f, open(coarse, "w") as g:
+    g.writelines(l for l in f if "level" not in l)
+# d = 59404 / s: xi = d h / (4 c_p) is 0.05 on the finest level, 0.2 on the coarsest. The coarse
+# level alone, stepping 4 dt, is above its damped bound (0.82 h0 / c_p) and blows up; under
+# -gimp_multirate, where it also steps 4 dt, it does not, and no warning is given.
+expect_energy_stop("damped level 0 alone at 4 dt, above its damped bound, blows up",
+                   ["-options_file", coarse, "-gimp_damping", "59404", "-ts_dt", "1.212e-5",
+                    "-ts_max_steps", "400", "-gimp_history_interval", "4"],
+                   os.path.join(W, "damped_coarse"))
+for d, stable in (("59404", True), ("142570", False)):
+    out = os.path.join(W, "damped_multirate_" + d)
+    p = subprocess.run([args.gimp, "-options_file", BLOCK3, "-gimp_multirate", "true",
+                        "-gimp_damping", d, "-ts_dt", "3.03e-6", "-ts_max_steps", "400",
+                        "-gimp_history_interval", "4", "-gimp_output_dir", out],
+                       cwd=W, env=ENV, capture_output=True, text=True, timeout=TIMEOUT)
+    warned = "stable limit of the damped step" in p.stdout
+    try:
+        with open(os.path.join(out, "summary.json")) as f:
+            status = json.load(f)["status"]
+    except (OSError, ValueError, KeyError) as e:
+        status = "no summary (%s)" % e
+    if stable: # finest xi 0.05: below the bound (0.951 h_min / c_p)
+        ok = p.returncode == 0 and not warned and status == "completed"
+    else: # finest xi 0.12: the bound is 0.887 h_min / c_p, below dt
+        ok = p.returncode == 3 and warned and status == "unstable"
+    c.check("multi-rate, d = %s / s: %s" % (d, "coarse level stable at 4 dt, no warning" if stable
+                                             else "finest level's damped bound: warned, stops"),
+            ok, "exit %s, warned %s, status %s" % (p.returncode, warned, status))
+
 c.check("run time", True, "%.1f s" % (time.time() - t_start))
 c.done()
