@@ -386,9 +386,9 @@ for name, opts, expected in (
             "exit %s, warned %s (expected %s)" % (rc, warned, expected))
 
 # With -gimp_multirate the damping acts on every node at every sub-step of dt. Over a level's step
-# of m dt its momentum is scaled by a^m (a = 1 - d dt), and the leapfrog's bound becomes
-# (w m dt)^2 <= 2 u coth(u / 2), u = d m dt, which is at least the undamped 4: damping does not
-# tighten a coarse level's bound, and the finest level's damped bound (the warning's) binds.
+# of m dt its momentum is scaled by a^m (a = 1 - d dt), and the step's bound becomes
+# (w m dt)^2 <= 2 u (1 + a^m) / (1 - a^m), u = d m dt, never tighter on dt than the finest
+# level's (w_min dt)^2 <= 4 - 2 d dt: the finest level's damped bound (the warning's) binds.
 # bench/block3.opts: h0 = 4 h_min, c_p = 1160.24 m/s, dt = 3.03e-6 s = 0.9 h_min / c_p.
 BLOCK3 = os.path.join(args.root, "bench", "block3.opts")
 coarse = os.path.join(W, "block3_coarse.opts") # the same block on its level 0 alone
