@@ -7,7 +7,8 @@
 #   GIMP_BENCH_RANKS  rank counts to run (default: "1 2")
 #   GIMP_BENCH_OUT    scratch directory for outputs and logs (default: <build>/bench-out)
 #   GIMP_BENCH_REPEAT runs per rank count; the one with the shortest stepping time is reported
-#                     (default: 1; use 3 or more on a machine shared with other work)
+#                     (default: 1; use 3 or more on a machine shared with other work); bytes per
+#                     particle are the median over the runs minus the median of as many baselines
 #   GIMP_BENCH_MPIEXEC_ARGS  extra mpiexec arguments, e.g. "--bind-to none"
 #   GIMP_BENCH_NOBUILD=1  skip the cmake configure/build step
 #   GIMP_BENCH_OPTS   scene (default: bench/block.opts; bench/block3.opts is the 3-level grid)
@@ -74,6 +75,12 @@ rss_kb() {
   cat "$OUT/$1"/rss.* 2>/dev/null | awk '/^[0-9]+$/ { s += $1; n++ } END { if (n) print s }'
 }
 
+# The median of its numeric arguments, or empty.
+median() {
+  printf '%s\n' "$@" | awk '/^[0-9]+$/' | sort -n |
+    awk '{ v[NR] = $1 } END { if (NR) print (NR % 2 ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2) }'
+}
+
 json_num() { sed -n 's/.*"'"$2"'": *\([-0-9.eE+]*\).*/\1/p' "$1" | head -n 1; }
 
 # Stage times (average over ranks) from the -log_view "Summary of Stages": NAME<TAB>seconds.
@@ -111,9 +118,10 @@ printf '%-6s %10s %7s %9s %11s %11s %12s %11s %12s %9s\n' ranks particles steps 
 declare -A STAGE_REPORT
 for n in $RANKS; do
   # Best of REPEAT runs: the shortest sum of the stepping stages.
-  best="" best_s=""
+  best="" best_s="" rss_runs=""
   for r in $(seq "$REPEAT"); do
     run "block-n$n-r$r" "$n" "$@"
+    rss_runs+="$(rss_kb "block-n$n-r$r") "
     s=$(stages "$OUT/block-n$n-r$r/log_view.txt" |
       awk -F'\t' '$1 ~ /^(P2G|Forces|Grid update|G2P|Stress)$/ { s += $2 } END { print s }')
     if [[ -z "$best" ]] || awk -v a="$s" -v b="$best_s" 'BEGIN { exit !(a < b) }'; then
@@ -123,16 +131,23 @@ for n in $RANKS; do
   done
   sum="$OUT/$best/summary.json"
   read -r -a BASE_OPTS <<<"$(base_opts "$sum")"
-  run "base-n$n" "$n" "${BASE_OPTS[@]}"
+  # The baseline as often as the block: the MPI runtime's resident memory varies by 1 to 2 MB
+  # per rank between runs, which is tens of bytes per particle on these blocks at 2 ranks; the
+  # medians of both sets are subtracted.
+  rss_base=""
+  for r in $(seq "$REPEAT"); do
+    run "base-n$n-r$r" "$n" "${BASE_OPTS[@]}"
+    rss_base+="$(rss_kb "base-n$n-r$r") "
+  done
   np=$(json_num "$sum" particles)
   steps=$(json_num "$sum" steps)
   wall=$(json_num "$sum" wall_seconds)
-  npb=$(json_num "$OUT/base-n$n/summary.json" particles)
+  npb=$(json_num "$OUT/base-n$n-r1/summary.json" particles)
   st=$(stages "$OUT/$best/log_view.txt")
   STAGE_REPORT[$n]="$st"
   step_s=$best_s
-  r1=$(rss_kb "$best")
-  r0=$(rss_kb "base-n$n")
+  r1=$(median $rss_runs)
+  r0=$(median $rss_base)
   bpp=n/a
   if [[ -n "$r1" && -n "$r0" ]]; then
     bpp=$(awk -v a="$r1" -v b="$r0" -v n="$np" -v m="$npb" 'BEGIN { printf "%.0f", (a - b) * 1024 / (n - m) }')
@@ -157,4 +172,4 @@ done
 echo
 echo "Mps/s: million particle-steps per second; step_s: sum of the stepping stages; wall_s:"
 echo "summary.json wall_seconds (setup, output and stepping). B/particle: peak RSS minus a"
-echo "4-particle run on the same grid, per particle. Logs: $OUT"
+echo "4-particle run on the same grid, per particle (medians over the repeats). Logs: $OUT"
