@@ -131,8 +131,8 @@ for n in $RANKS; do
   done
   sum="$OUT/$best/summary.json"
   read -r -a BASE_OPTS <<<"$(base_opts "$sum")"
-  # The baseline as often as the block: the MPI runtime's resident memory varies by 1 to 2 MB
-  # per rank between runs, which is tens of bytes per particle on these blocks at 2 ranks; the
+  # The baseline as often as the block: at 2 ranks its resident memory varies by up to 3 to 5 MB
+  # (summed over the ranks) between runs, up to 50 to 120 bytes per particle on these blocks; the
   # medians of both sets are subtracted.
   rss_base=""
   for r in $(seq "$REPEAT"); do

@@ -285,8 +285,9 @@ GIMP_LANES bool blockRunLanes(const GridT<2> &grid, const std::uint8_t *block3,
                               const double *outwardReach, PetscInt k, const double *x,
                               const double *l, Stencils<2> &s) {
   using lanes::V4;
-  // The room this run's record will take 8 runs on, asked for with the intent to write: the
-  // record's stores otherwise wait for its lines to come from memory.
+  // The room this run's record will take 8 runs on is asked for now (a read prefetch; the line
+  // then needs no fetch when it is written): the record's stores otherwise wait for its lines to
+  // come from memory.
   if (const size_t ahead = static_cast<size_t>(s.nBlocks) + 4 * 8; ahead + 4 <= s.blocks.size()) {
     const std::uintptr_t r = reinterpret_cast<std::uintptr_t>(s.blocks.data() + ahead);
     for (std::uintptr_t b = r & ~std::uintptr_t(63); b < r + sizeof(LaneBlocks2); b += 64)
