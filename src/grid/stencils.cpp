@@ -289,9 +289,10 @@ GIMP_LANES bool blockRunLanes(const GridT<2> &grid, const std::uint8_t *block3,
   // then needs no fetch when it is written): the record's stores otherwise wait for its lines to
   // come from memory.
   if (const size_t ahead = static_cast<size_t>(s.nBlocks) + 4 * 8; ahead + 4 <= s.blocks.size()) {
-    const std::uintptr_t r = reinterpret_cast<std::uintptr_t>(s.blocks.data() + ahead);
-    for (std::uintptr_t b = r & ~std::uintptr_t(63); b < r + sizeof(LaneBlocks2); b += 64)
-      __builtin_prefetch(reinterpret_cast<const void *>(b), 1, 3);
+    const char *r = reinterpret_cast<const char *>(s.blocks.data() + ahead);
+    for (int b = 0; b < 7; ++b) // the lines of its first 448 bytes and of its last one
+      __builtin_prefetch(r + 64 * b, 1, 3);
+    __builtin_prefetch(r + sizeof(LaneBlocks2) - 1, 1, 3);
   }
   // x and y of the four particles (and of their half-sizes) in lanes
   V4 X[2], Lh[2];

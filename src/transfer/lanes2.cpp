@@ -80,10 +80,13 @@ constexpr PetscInt kAhead = 8;
 GIMP_LANES_INLINE void prefetchAhead(const Stencils<2> &st, PetscInt g) {
   const PetscInt a = g + kAhead;
   if (!st.laneGroupOf(a)) return;
-  // every 64-byte line the record touches (7 or 8 of them, as it need not start on a line)
-  const std::uintptr_t r = reinterpret_cast<std::uintptr_t>(st.laneBlocks(a));
-  for (std::uintptr_t b = r & ~std::uintptr_t(63); b < r + sizeof(LaneBlocks2); b += 64)
-    _mm_prefetch(reinterpret_cast<const char *>(b), _MM_HINT_T0);
+  // Every 64-byte line the record touches: 7 or 8, as it need not start on a line, so lines at
+  // 64 B steps from its first byte and the line of its last (unrolled: no loop per group).
+  const char *r = reinterpret_cast<const char *>(st.laneBlocks(a));
+  static_assert(sizeof(LaneBlocks2) > 6 * 64 && sizeof(LaneBlocks2) <= 7 * 64);
+  for (int b = 0; b < 7; ++b)
+    _mm_prefetch(r + 64 * b, _MM_HINT_T0);
+  _mm_prefetch(r + sizeof(LaneBlocks2) - 1, _MM_HINT_T0);
 }
 
 /// Lane(k, group) for each lane group k .. k+3 of [k0, k1) (k0 a multiple of 4), one(k) for
