@@ -294,6 +294,8 @@ GIMP_LANES bool blockRunLanes(const GridT<2> &grid, const std::uint8_t *block3,
       __builtin_prefetch(r + 64 * b, 1, 3);
     __builtin_prefetch(r + sizeof(LaneBlocks2) - 1, 1, 3);
   }
+  lanes::prefetchFields(k, static_cast<long>(s.start.size()) - 1, lanes::Field<2>{x},
+                        lanes::Field<2>{l}); // (start has n + 1 entries)
   // x and y of the four particles (and of their half-sizes) in lanes
   V4 X[2], Lh[2];
   lanes::loadXY(x + 2 * k, X[0], X[1]);

@@ -27,6 +27,8 @@ bool available() {
 
 namespace {
 
+using lanes::Field;
+using lanes::prefetchFields;
 using lanes::transpose;
 using lanes::V4;
 
@@ -305,6 +307,7 @@ GIMP_LANES void particlesToGridAffineB(const Stencils<2> &st, PetscInt n, const 
                                        const double *v, const double *B, const double *xc,
                                        const double *xs, double *mom, double *mass) {
   const auto lane = [&](PetscInt k, std::uint8_t group) GIMP_LANES_LAMBDA {
+    prefetchFields(k, n, Field<2>{xc}, Field<2>{v}, Field<4>{B}, Field<1>{m});
     Run R;
     loadRun<false>(st, k, group, R);
     V4 XP, YP, VX, VY, Bk[4], Di[4], C[4], dx[3], dy[3];
@@ -323,6 +326,7 @@ GIMP_LANES void particlesToGridAffineB(const Stencils<2> &st, PetscInt n, const 
 GIMP_LANES void internalForce(const Stencils<2> &st, PetscInt n, const double *V,
                               const double *stress, double *f) {
   const auto lane = [&](PetscInt k, std::uint8_t group) GIMP_LANES_LAMBDA {
+    prefetchFields(k, n, Field<4>{stress}, Field<1>{V});
     Run R;
     loadRun<true>(st, k, group, R);
     V4 S[4];
@@ -359,6 +363,7 @@ GIMP_LANES void gridToParticlesAffineProjected(const Stencils<2> &st, PetscInt n
     }
   };
   const auto lane = [&](PetscInt k, std::uint8_t group) GIMP_LANES_LAMBDA {
+    prefetchFields(k, n, Field<2>{xc}, Field<1>{m}, Field<4>{B}, Field<2>{v}, Field<2>{x});
     Run R;
     loadRun<false>(st, k, group, R);
     V4 XP, YP, Di[4], dx[3], dy[3];
@@ -461,6 +466,9 @@ GIMP_LANES void updateDeformation(const Scene &sc, ParticleView &p, const double
       ++k;
       continue;
     }
+    prefetchFields(k, p.n, Field<4>{p.F}, Field<4>{p.s}, Field<1>{p.V}, Field<1>{p.V0});
+    if (mat.planeStrain) prefetchFields(k, p.n, Field<1>{p.szz});
+    if (stretch) prefetchFields(k, p.n, Field<2>{p.l0}, Field<2>{p.l});
     V4 Lk[4], F[4], S[4];
     loadTensors(L, k - k0, Lk);
     loadTensors(p.F, k, F);
@@ -505,6 +513,7 @@ GIMP_LANES PetscInt checkParticles(PetscInt n, const double *x, const double *l,
            o0x = splat(own0[0]), o0y = splat(own0[1]), o1x = splat(own1[0]), o1y = splat(own1[1]);
   bad = -1;
   for (PetscInt k = 0; k < n4; k += 4) {
+    prefetchFields(k, n, Field<2>{x}, Field<2>{l}, Field<4>{s}, Field<1>{V});
     V4 X, Y, LX, LY, S[4];
     loadVectors(x, k, X, Y);
     if (count) { // !(own0 <= x && x < own1), both axes
