@@ -11,7 +11,6 @@
 #include "gimp/transfer/transfer.hpp"
 
 #include <cstddef>
-#include <cstdint>
 #include <cstring>
 
 #include "gimp/core/lanes.hpp"
@@ -27,10 +26,9 @@ bool available() {
 
 namespace {
 
-using lanes::Field;
-using lanes::prefetchFields;
 using lanes::transpose;
 using lanes::V4;
+using prefetch::Field;
 
 GIMP_LANES_INLINE V4 splat(double a) {
   return _mm256_set1_pd(a);
@@ -74,23 +72,6 @@ struct Run {
   int split;
 };
 
-/// Asks for the cache lines of the record of lane group g + kAhead, if it is one, so that the
-/// lane loops do not wait for the stencil build's output to come back from memory (the loops are
-/// otherwise compute-bound; the record is 416 B, 7 or 8 lines, per four particles). No effect on
-/// any result.
-constexpr PetscInt kAhead = 8;
-GIMP_LANES_INLINE void prefetchAhead(const Stencils<2> &st, PetscInt g) {
-  const PetscInt a = g + kAhead;
-  if (!st.laneGroupOf(a)) return;
-  // Every 64-byte line the record touches: 7 or 8, as it need not start on a line, so lines at
-  // 64 B steps from its first byte and the line of its last (unrolled: no loop per group).
-  const char *r = reinterpret_cast<const char *>(st.laneBlocks(a));
-  static_assert(sizeof(LaneBlocks2) > 6 * 64 && sizeof(LaneBlocks2) <= 7 * 64);
-  for (int b = 0; b < 7; ++b)
-    _mm_prefetch(r + 64 * b, _MM_HINT_T0);
-  _mm_prefetch(r + sizeof(LaneBlocks2) - 1, _MM_HINT_T0);
-}
-
 /// Lane(k, group) for each lane group k .. k+3 of [k0, k1) (k0 a multiple of 4), one(k) for
 /// every other particle, in particle order.
 template <class Lane, class One>
@@ -103,7 +84,7 @@ GIMP_LANES_INLINE void forGroups(const Stencils<2> &st, PetscInt k0, PetscInt k1
     for (; k + 4 <= k1; k += 4) {
       const std::uint8_t group = st.laneGroupOf(k / 4);
       if (group) {
-        prefetchAhead(st, k / 4);
+        st.prefetchGroup(k / 4 + prefetch::kAheadGroups); // the record 8 groups on
         lane(k, group);
         continue;
       }
@@ -307,7 +288,7 @@ GIMP_LANES void particlesToGridAffineB(const Stencils<2> &st, PetscInt n, const 
                                        const double *v, const double *B, const double *xc,
                                        const double *xs, double *mom, double *mass) {
   const auto lane = [&](PetscInt k, std::uint8_t group) GIMP_LANES_LAMBDA {
-    prefetchFields(k, n, Field<2>{xc}, Field<2>{v}, Field<4>{B}, Field<1>{m});
+    prefetch::fields(k, n, Field<2>{xc}, Field<2>{v}, Field<4>{B}, Field<1>{m});
     Run R;
     loadRun<false>(st, k, group, R);
     V4 XP, YP, VX, VY, Bk[4], Di[4], C[4], dx[3], dy[3];
@@ -326,7 +307,7 @@ GIMP_LANES void particlesToGridAffineB(const Stencils<2> &st, PetscInt n, const 
 GIMP_LANES void internalForce(const Stencils<2> &st, PetscInt n, const double *V,
                               const double *stress, double *f) {
   const auto lane = [&](PetscInt k, std::uint8_t group) GIMP_LANES_LAMBDA {
-    prefetchFields(k, n, Field<4>{stress}, Field<1>{V});
+    prefetch::fields(k, n, Field<4>{stress}, Field<1>{V});
     Run R;
     loadRun<true>(st, k, group, R);
     V4 S[4];
@@ -363,7 +344,7 @@ GIMP_LANES void gridToParticlesAffineProjected(const Stencils<2> &st, PetscInt n
     }
   };
   const auto lane = [&](PetscInt k, std::uint8_t group) GIMP_LANES_LAMBDA {
-    prefetchFields(k, n, Field<2>{xc}, Field<1>{m}, Field<4>{B}, Field<2>{v}, Field<2>{x});
+    prefetch::fields(k, n, Field<2>{xc}, Field<1>{m}, Field<4>{B}, Field<2>{v}, Field<2>{x});
     Run R;
     loadRun<false>(st, k, group, R);
     V4 XP, YP, Di[4], dx[3], dy[3];
@@ -466,9 +447,9 @@ GIMP_LANES void updateDeformation(const Scene &sc, ParticleView &p, const double
       ++k;
       continue;
     }
-    prefetchFields(k, p.n, Field<4>{p.F}, Field<4>{p.s}, Field<1>{p.V}, Field<1>{p.V0});
-    if (mat.planeStrain) prefetchFields(k, p.n, Field<1>{p.szz});
-    if (stretch) prefetchFields(k, p.n, Field<2>{p.l0}, Field<2>{p.l});
+    prefetch::fields(k, p.n, Field<4>{p.F}, Field<4>{p.s}, Field<1>{p.V}, Field<1>{p.V0});
+    if (mat.planeStrain) prefetch::fields(k, p.n, Field<1>{p.szz});
+    if (stretch) prefetch::fields(k, p.n, Field<2>{p.l0}, Field<2>{p.l});
     V4 Lk[4], F[4], S[4];
     loadTensors(L, k - k0, Lk);
     loadTensors(p.F, k, F);
@@ -513,7 +494,7 @@ GIMP_LANES PetscInt checkParticles(PetscInt n, const double *x, const double *l,
            o0x = splat(own0[0]), o0y = splat(own0[1]), o1x = splat(own1[0]), o1y = splat(own1[1]);
   bad = -1;
   for (PetscInt k = 0; k < n4; k += 4) {
-    prefetchFields(k, n, Field<2>{x}, Field<2>{l}, Field<4>{s}, Field<1>{V});
+    prefetch::fields(k, n, Field<2>{x}, Field<2>{l}, Field<4>{s}, Field<1>{V});
     V4 X, Y, LX, LY, S[4];
     loadVectors(x, k, X, Y);
     if (count) { // !(own0 <= x && x < own1), both axes

@@ -46,30 +46,6 @@ GIMP_LANES_INLINE void storeXY(double *p, V4 X, V4 Y) {
   _mm256_storeu2_m128d(p + 6, p + 2, hi);
 }
 
-/// A particle field for prefetchFields: D doubles per particle from a.
-template <int D> struct Field { const double *a; };
-
-/// How many particles ahead prefetchFields asks for (8 groups of four).
-constexpr long kAheadParticles = 32;
-
-/// Asks for the lines of the entries of particles k .. k+3 of f (32 D bytes): at 64-byte steps
-/// from the first and the line of the last.
-template <int D> GIMP_LANES_INLINE void prefetchField(long k, Field<D> f) {
-  const char *r = reinterpret_cast<const char *>(f.a + static_cast<long>(D) * k);
-  for (int b = 0; b < 32 * D; b += 64)
-    _mm_prefetch(r + b, _MM_HINT_T0);
-  _mm_prefetch(r + 32 * D - 1, _MM_HINT_T0);
-}
-
-/// Asks for the fields' entries of the four particles kAheadParticles after k, if there are n:
-/// the lane loops stream their particle fields, and (on the machine they were measured on) the
-/// hardware's own prefetching left them waiting for each group's (docs/performance.md,
-/// *Prefetching the stencil records*). No effect on any result.
-template <class... F> GIMP_LANES_INLINE void prefetchFields(long k, long n, F... f) {
-  if (k + kAheadParticles + 4 > n) return;
-  (prefetchField(k + kAheadParticles, f), ...);
-}
-
 } // namespace gimp::lanes
 
 #else

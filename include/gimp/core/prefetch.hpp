@@ -1,0 +1,40 @@
+// Software prefetch for the loops that stream particle data (docs/performance.md, *Prefetching
+// the stencil records*): on the machine they were measured on, the hardware's own prefetching
+// left those loops waiting for each group's data. Hints only: no effect on any result; a no-op
+// for compilers without __builtin_prefetch.
+#pragma once
+
+namespace gimp::prefetch {
+
+/// How many groups of four particles ahead the loops ask for their data.
+constexpr long kAheadGroups = 8;
+constexpr long kAheadParticles = 4 * kAheadGroups;
+
+/// Asks for the cache line holding p.
+inline void line(const void *p) {
+#if defined(__GNUC__)
+  __builtin_prefetch(p, 0, 3);
+#else
+  (void)p;
+#endif
+}
+
+/// A particle field for fields(): D doubles per particle from a.
+template <int D> struct Field { const double *a; };
+
+/// The lines of the entries of particles k .. k+3 of f (32 D bytes): at 64-byte steps from the
+/// first byte and the line of the last.
+template <int D> inline void field(long k, Field<D> f) {
+  const char *r = reinterpret_cast<const char *>(f.a + static_cast<long>(D) * k);
+  for (int b = 0; b < 32 * D; b += 64)
+    line(r + b);
+  line(r + 32 * D - 1);
+}
+
+/// The fields' entries of the four particles kAheadParticles after k, if there are n.
+template <class... F> inline void fields(long k, long n, F... f) {
+  if (k + kAheadParticles + 4 > n) return;
+  (field(k + kAheadParticles, f), ...);
+}
+
+} // namespace gimp::prefetch
