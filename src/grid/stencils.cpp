@@ -289,12 +289,8 @@ GIMP_LANES bool blockRunLanes(const GridT<2> &grid, const std::uint8_t *block3,
   // then needs no fetch when it is written): the record's stores otherwise wait for its lines to
   // come from memory.
   if (const size_t ahead = static_cast<size_t>(s.nBlocks + 4 * prefetch::kAheadGroups);
-      ahead + 4 <= s.blocks.size()) {
-    const char *r = reinterpret_cast<const char *>(s.blocks.data() + ahead);
-    for (int b = 0; b < 7; ++b) // the lines of its first 448 bytes and of its last one
-      __builtin_prefetch(r + 64 * b, 1, 3);
-    __builtin_prefetch(r + sizeof(LaneBlocks2) - 1, 1, 3);
-  }
+      ahead + 4 <= s.blocks.size())
+    prefetch::span<sizeof(LaneBlocks2), true>(s.blocks.data() + ahead);
   prefetch::fields(k, static_cast<long>(s.start.size()) - 1, prefetch::Field<2>{x},
                    prefetch::Field<2>{l}); // (start has n + 1 entries)
   // x and y of the four particles (and of their half-sizes) in lanes

@@ -18,25 +18,30 @@ namespace gimp::prefetch {
 constexpr long kAheadGroups = 8;
 constexpr long kAheadParticles = 4 * kAheadGroups;
 
-/// Asks for the cache line holding p.
-GIMP_PREFETCH_INLINE void line(const void *p) {
+/// Asks for the cache line holding p (Write: with the intent to write it).
+template <bool Write = false> GIMP_PREFETCH_INLINE void line(const void *p) {
 #if defined(__GNUC__)
-  __builtin_prefetch(p, 0, 3);
+  __builtin_prefetch(p, Write ? 1 : 0, 3);
 #else
   (void)p;
 #endif
 }
 
+/// Every line of the Bytes bytes from p: at 64-byte steps from the first byte and the line of the
+/// last (p need not start a line). Unrolled: no loop is left per call.
+template <long Bytes, bool Write = false> GIMP_PREFETCH_INLINE void span(const void *p) {
+  const char *r = static_cast<const char *>(p);
+  for (long b = 0; b < Bytes; b += 64)
+    line<Write>(r + b);
+  line<Write>(r + Bytes - 1);
+}
+
 /// A particle field for fields(): D doubles per particle from a.
 template <int D> struct Field { const double *a; };
 
-/// The lines of the entries of particles k .. k+3 of f (32 D bytes): at 64-byte steps from the
-/// first byte and the line of the last.
+/// The entries of particles k .. k+3 of f (32 D bytes).
 template <int D> GIMP_PREFETCH_INLINE void field(long k, Field<D> f) {
-  const char *r = reinterpret_cast<const char *>(f.a + static_cast<long>(D) * k);
-  for (int b = 0; b < 32 * D; b += 64)
-    line(r + b);
-  line(r + 32 * D - 1);
+  span<32 * D>(f.a + static_cast<long>(D) * k);
 }
 
 /// The fields' entries of the four particles kAheadParticles after k, if there are n.

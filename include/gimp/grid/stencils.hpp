@@ -152,17 +152,10 @@ template <int D> struct Stencils {
   unsigned char *laneBlocks(PetscInt g) {
     return reinterpret_cast<unsigned char *>(blocks.data() + (blockOf[4 * g] & ~kLaneBlock));
   }
-  /// Asks for the cache lines of lane group g's room (2D), if g is a lane group: the 7 or 8 lines
-  /// of its first 448 bytes and of its last byte (unrolled: no loop per group).
+  /// Asks for the cache lines of lane group g's room (2D), if g is a lane group.
   void prefetchGroup(PetscInt g) const {
-    if constexpr (D == 2) {
-      if (!laneGroupOf(g)) return;
-      const unsigned char *r = laneBlocks(g);
-      static_assert(sizeof(LaneBlocks2) > 6 * 64 && sizeof(LaneBlocks2) <= 7 * 64);
-      for (int b = 0; b < 7; ++b)
-        prefetch::line(r + 64 * b);
-      prefetch::line(r + sizeof(LaneBlocks2) - 1);
-    }
+    if constexpr (D == 2)
+      if (laneGroupOf(g)) prefetch::span<sizeof(LaneBlocks2)>(laneBlocks(g));
   }
   /// Particle k's block out of its lane group's factor-major room (2D).
   Block<2> laneBlock(PetscInt k) const {
