@@ -4,7 +4,8 @@ kernels: every scene kind must give the same bits.
 Each case runs twice, with -gimp_lanes true and false, and compares the last frame of
 fields.h5 (every particle field, every particle) and every column of history.csv for exact
 equality. The cases cover what decides which particles run in lanes and how their sums are
-ordered: one level with APIC (every kernel in lanes), three levels (block particles next to
+ordered: one level with APIC (every kernel in lanes), USL and USF (APIC's G2P without the
+re-projection), three levels (block particles next to
 rows at level borders), the plate with a hole (cut particles, tractions, penalty conditions),
 a crack (cracked nodes keep rows), FLIP (force and gradient in lanes, transfers scalar), corner
 tracking (stencil centres other than the positions), two ranks, a step per level (each rate
@@ -30,6 +31,11 @@ CASES = [
     ("block3", "bench/block3.opts", ["-ts_max_steps", "20"], 1),
     ("plate", "options/plate.opts", ["-ts_max_steps", "40"], 1),
     ("dcb", "options/dcb.opts", ["-ts_max_steps", "40"], 1),
+    # USL and USF: APIC's G2P without its re-projection
+    ("block_usl", "bench/block.opts",
+     ["-gimp_h", "0.03125", "-ts_max_steps", "60", "-gimp_update", "usl"], 1),
+    ("indentation_usf", "options/indentation_a.opts", ["-ts_max_steps", "40", "-gimp_update", "usf"],
+     1),
     ("block_flip", "bench/block.opts",
      ["-gimp_h", "0.03125", "-ts_max_steps", "60", "-gimp_transfer", "flip"], 1),
     ("patch_corners", "options/patch.opts", ["-ts_max_steps", "60", "-gimp_tracking", "corners"],

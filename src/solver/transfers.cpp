@@ -130,6 +130,9 @@ PetscErrorCode Solver::gridToParticles(ParticleView &p, const StepClock &c, cons
   } else if (sc_.transfer == Transfer::Apic && fused) {
     transfer::gridToParticlesAffineProjected<kDim>(st_, p.n, vg, centres, slotCoordinates(), c.dt,
                                                    p.m, p.v, p.B, p.x, mom);
+  } else if (sc_.transfer == Transfer::Apic && lanes_) {
+    transfer::lanes2::gridToParticlesAffine(st_, p.n, vg, centres, slotCoordinates(), c.dt, p.v,
+                                            p.B, p.x);
   } else if (sc_.transfer == Transfer::Apic) {
     transfer::gridToParticlesAffine<kDim>(st_, p.n, vg, centres, slotCoordinates(), c.dt, p.v, p.B,
                                           p.x);

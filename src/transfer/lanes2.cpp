@@ -128,11 +128,8 @@ GIMP_LANES_INLINE void loadRun(const Stencils<2> &st, PetscInt k, std::uint8_t g
   }
 }
 
-/// block2::offsetsAndInverseInertia (N = 3): the offsets dx, dy of the run's node lines from
-/// the centres (XP, YP) and D^-1 (xx, xy, yx, yy), 0 where D is singular (inverseInertia2).
-GIMP_LANES_INLINE void offsetsAndInverseInertia(const Run &R, V4 XP, V4 YP, const double *xs,
-                                                V4 *dx, V4 *dy, V4 *Di) {
-  V4 S0x = splat(0), S1x = splat(0), S2x = splat(0), S0y = splat(0), S1y = splat(0), S2y = splat(0);
+/// block2::offsets for a run: the offsets dx, dy of its node lines from the centres (XP, YP).
+GIMP_LANES_INLINE void offsets(const Run &R, V4 XP, V4 YP, const double *xs, V4 *dx, V4 *dy) {
   for (int i = 0; i < 3; ++i) {
     const PetscInt o = 2 * i;
     dx[i] = _mm256_set_pd(xs[R.row[0][3] + o], xs[R.row[0][2] + o], xs[R.row[0][1] + o],
@@ -141,6 +138,16 @@ GIMP_LANES_INLINE void offsetsAndInverseInertia(const Run &R, V4 XP, V4 YP, cons
     dy[i] = _mm256_set_pd(xs[R.row[i][3] + 1], xs[R.row[i][2] + 1], xs[R.row[i][1] + 1],
                           xs[R.row[i][0] + 1]) -
             YP;
+  }
+}
+
+/// block2::offsetsAndInverseInertia (N = 3): the offsets dx, dy of the run's node lines from
+/// the centres (XP, YP) and D^-1 (xx, xy, yx, yy), 0 where D is singular (inverseInertia2).
+GIMP_LANES_INLINE void offsetsAndInverseInertia(const Run &R, V4 XP, V4 YP, const double *xs,
+                                                V4 *dx, V4 *dy, V4 *Di) {
+  offsets(R, XP, YP, xs, dx, dy);
+  V4 S0x = splat(0), S1x = splat(0), S2x = splat(0), S0y = splat(0), S1y = splat(0), S2y = splat(0);
+  for (int i = 0; i < 3; ++i) {
     const V4 tx = R.wx[i] * dx[i], ty = R.wy[i] * dy[i];
     S0x = S0x + R.wx[i];
     S0y = S0y + R.wy[i];
@@ -329,14 +336,62 @@ GIMP_LANES void internalForce(const Stencils<2> &st, PetscInt n, const double *V
             [&](PetscInt k) { physics::internalForce<2>(st, k, k + 1, V, stress, f); });
 }
 
-GIMP_LANES void gridToParticlesAffineProjected(const Stencils<2> &st, PetscInt n, const double *vg,
-                                               const double *xc, const double *xs, double dt,
-                                               const double *m, double *v, double *B, double *x,
-                                               double *mom) {
+namespace {
+
+/// block2::affineGather for a run: v_p = sum_j w_j t_j, B0 = sum_j w_j u_j, B1 = sum_j (w_j dy_j)
+/// t_j with t_j = sum_i w_i v_ij, u_j = sum_i (w_i v_ij) dx_i; B_p = (B0x, B1x; B0y, B1y).
+GIMP_LANES_INLINE void affineGather(const Run &R, const double *vg, const V4 *dx, const V4 *dy,
+                                    V4 &vx, V4 &vy, V4 *Bk) {
+  V4 B0x = splat(0), B0y = splat(0), B1x = splat(0), B1y = splat(0);
+  vx = splat(0);
+  vy = splat(0);
+  for (int j = 0; j < 3; ++j) {
+    const double *r[4] = {vg + R.row[j][0], vg + R.row[j][1], vg + R.row[j][2], vg + R.row[j][3]};
+    V4 tx, ty, ux, uy;
+    for (int i = 0; i < 3; ++i) {
+      V4 gx, gy;
+      gatherPairs(r, 2 * i, gx, gy);
+      const V4 wvx = R.wx[i] * gx, wvy = R.wx[i] * gy;
+      if (i == 0) {
+        tx = wvx;
+        ty = wvy;
+        ux = wvx * dx[0];
+        uy = wvy * dx[0];
+      } else {
+        tx = tx + wvx;
+        ty = ty + wvy;
+        ux = ux + wvx * dx[i];
+        uy = uy + wvy * dx[i];
+      }
+    }
+    const V4 wdy = R.wy[j] * dy[j];
+    vx = vx + R.wy[j] * tx;
+    vy = vy + R.wy[j] * ty;
+    B0x = B0x + R.wy[j] * ux;
+    B0y = B0y + R.wy[j] * uy;
+    B1x = B1x + wdy * tx;
+    B1y = B1y + wdy * ty;
+  }
+  Bk[0] = B0x;
+  Bk[1] = B1x;
+  Bk[2] = B0y;
+  Bk[3] = B1y;
+}
+
+/// APIC G2P of every particle, the move by dt v_p and, with Project, the re-projection of the
+/// new affine momenta into mom (x may be xc: every centre of a run is read before it moves).
+template <bool Project>
+GIMP_LANES_INLINE void gridToParticlesAffineRuns(const Stencils<2> &st, PetscInt n,
+                                                 const double *vg, const double *xc,
+                                                 const double *xs, double dt, const double *m,
+                                                 double *v, double *B, double *x, double *mom) {
   const auto one = [&](PetscInt k) {
     double vp[2];
     Tensor<2> Bk;
-    particleFromAndToGridAffine<2>(st, k, m[k], vg, xc + 2 * k, xs, vp, Bk, mom);
+    if constexpr (Project)
+      particleFromAndToGridAffine<2>(st, k, m[k], vg, xc + 2 * k, xs, vp, Bk, mom);
+    else
+      particleFromGridAffine<2>(st, k, vg, xc + 2 * k, xs, vp, Bk);
     tensorAt<2>(B, k) = Bk;
     for (int c = 0; c < 2; ++c) {
       v[2 * k + c] = vp[c];
@@ -344,55 +399,47 @@ GIMP_LANES void gridToParticlesAffineProjected(const Stencils<2> &st, PetscInt n
     }
   };
   const auto lane = [&](PetscInt k, std::uint8_t group) GIMP_LANES_LAMBDA {
-    prefetch::fields(k, n, Field<2>{xc}, Field<1>{m}, Field<4>{B}, Field<2>{v}, Field<2>{x});
+    if constexpr (Project)
+      prefetch::fields(k, n, Field<2>{xc}, Field<1>{m}, Field<4>{B}, Field<2>{v}, Field<2>{x});
+    else
+      prefetch::fields(k, n, Field<2>{xc}, Field<4>{B}, Field<2>{v}, Field<2>{x});
     Run R;
     loadRun<false>(st, k, group, R);
-    V4 XP, YP, Di[4], dx[3], dy[3];
+    V4 XP, YP, dx[3], dy[3], vx, vy, Bk[4];
     loadVectors(xc, k, XP, YP);
-    offsetsAndInverseInertia(R, XP, YP, xs, dx, dy, Di);
-    // block2::affineGather: v = sum_j w_j t_j, B0 = sum_j w_j u_j, B1 = sum_j (w_j dy_j) t_j with
-    // t_j = sum_i w_i v_ij, u_j = sum_i (w_i v_ij) dx_i
-    V4 vx = splat(0), vy = splat(0), B0x = splat(0), B0y = splat(0), B1x = splat(0), B1y = splat(0);
-    for (int j = 0; j < 3; ++j) {
-      const double *r[4] = {vg + R.row[j][0], vg + R.row[j][1], vg + R.row[j][2], vg + R.row[j][3]};
-      V4 tx, ty, ux, uy;
-      for (int i = 0; i < 3; ++i) {
-        V4 gx, gy;
-        gatherPairs(r, 2 * i, gx, gy);
-        const V4 wvx = R.wx[i] * gx, wvy = R.wx[i] * gy;
-        if (i == 0) {
-          tx = wvx;
-          ty = wvy;
-          ux = wvx * dx[0];
-          uy = wvy * dx[0];
-        } else {
-          tx = tx + wvx;
-          ty = ty + wvy;
-          ux = ux + wvx * dx[i];
-          uy = uy + wvy * dx[i];
-        }
-      }
-      const V4 wdy = R.wy[j] * dy[j];
-      vx = vx + R.wy[j] * tx;
-      vy = vy + R.wy[j] * ty;
-      B0x = B0x + R.wy[j] * ux;
-      B0y = B0y + R.wy[j] * uy;
-      B1x = B1x + wdy * tx;
-      B1y = B1y + wdy * ty;
+    if constexpr (Project) {
+      V4 Di[4], C[4];
+      offsetsAndInverseInertia(R, XP, YP, xs, dx, dy, Di);
+      affineGather(R, vg, dx, dy, vx, vy, Bk);
+      product(Bk, Di, C);
+      affineScatter(R, _mm256_loadu_pd(m + k), vx, vy, C, dx, dy, mom, nullptr);
+    } else {
+      offsets(R, XP, YP, xs, dx, dy);
+      affineGather(R, vg, dx, dy, vx, vy, Bk);
     }
-    const V4 Bk[4] = {B0x, B1x, B0y, B1y};
-    V4 C[4];
-    product(Bk, Di, C);
-    affineScatter(R, _mm256_loadu_pd(m + k), vx, vy, C, dx, dy, mom, nullptr);
     storeTensors(B, k, Bk);
     storeVectors(v, k, vx, vy);
-    // x may be xc: every centre of the run was read above
     V4 X, Y;
     loadVectors(x, k, X, Y);
     const V4 dtv = splat(dt);
     storeVectors(x, k, X + dtv * vx, Y + dtv * vy);
   };
   forGroups(st, 0, n, lane, one);
+}
+
+} // namespace
+
+GIMP_LANES void gridToParticlesAffineProjected(const Stencils<2> &st, PetscInt n, const double *vg,
+                                               const double *xc, const double *xs, double dt,
+                                               const double *m, double *v, double *B, double *x,
+                                               double *mom) {
+  gridToParticlesAffineRuns<true>(st, n, vg, xc, xs, dt, m, v, B, x, mom);
+}
+
+GIMP_LANES void gridToParticlesAffine(const Stencils<2> &st, PetscInt n, const double *vg,
+                                      const double *xc, const double *xs, double dt, double *v,
+                                      double *B, double *x) {
+  gridToParticlesAffineRuns<false>(st, n, vg, xc, xs, dt, nullptr, v, B, x, nullptr);
 }
 
 GIMP_LANES void velocityGradients(const Stencils<2> &st, PetscInt k0, PetscInt k1, const double *vg,
@@ -542,6 +589,10 @@ void gridToParticlesAffineProjected(const Stencils<2> &st, PetscInt n, const dou
                                     const double *xc, const double *xs, double dt, const double *m,
                                     double *v, double *B, double *x, double *mom) {
   transfer::gridToParticlesAffineProjected<2>(st, n, vg, xc, xs, dt, m, v, B, x, mom);
+}
+void gridToParticlesAffine(const Stencils<2> &st, PetscInt n, const double *vg, const double *xc,
+                           const double *xs, double dt, double *v, double *B, double *x) {
+  transfer::gridToParticlesAffine<2>(st, n, vg, xc, xs, dt, v, B, x);
 }
 void velocityGradients(const Stencils<2> &st, PetscInt k0, PetscInt k1, const double *vg,
                        double *L) {

@@ -1,7 +1,7 @@
 // The 2D step's particle loops with four block particles at a time (AVX2), for the phases that
-// cost most per particle: APIC's P2G, the internal force, APIC's G2P with its re-projection, the
-// velocity gradient and the linear-elastic stress update (docs/method.md, *Lanes of four
-// particles*; the stencils' blocks are built four at a time by GridT::blockRun).
+// cost most per particle: APIC's P2G, the internal force, APIC's G2P (with its re-projection or
+// without), the velocity gradient and the linear-elastic stress update (docs/method.md, *Lanes of
+// four particles*; the stencils' blocks are built four at a time by GridT::blockRun).
 //
 // Each loop takes the stencils' lane groups, aligned groups of four 3-node block particles that
 // the stencil build (GridT::buildStencils with lanes) made in lanes and marked in
@@ -43,6 +43,11 @@ void internalForce(const Stencils<2> &st, PetscInt n, const double *V, const dou
 void gridToParticlesAffineProjected(const Stencils<2> &st, PetscInt n, const double *vg,
                                     const double *xc, const double *xs, double dt, const double *m,
                                     double *v, double *B, double *x, double *mom);
+
+/// gridToParticlesAffine<2> (transfer/affine.hpp): APIC G2P and the move by dt v_p, without a
+/// re-projection (USL and USF); x may be xc and must not be null.
+void gridToParticlesAffine(const Stencils<2> &st, PetscInt n, const double *vg, const double *xc,
+                           const double *xs, double dt, double *v, double *B, double *x);
 
 /// The velocity gradients of particles k0 .. k1-1 into L (row-major 2 x 2 from L[0]), as
 /// transfer::velocityGradientAt<2>; k0 a multiple of 4 (the lane groups are aligned).
