@@ -26,6 +26,7 @@ if [[ "${GIMP_BENCH_NOBUILD:-0}" != 1 ]]; then
 fi
 OUT=$(mktemp -d)
 trap 'rm -rf "$OUT"' EXIT
+bash "$ROOT/bench/machine.sh"
 printf '%-6s %10s %10s %8s\n' round lean gimp ratio
 for ((i = 1; i <= ROUNDS; ++i)); do
   lean=$("$BUILD/bench/lean_step" -steps "$STEPS" | sed -n 's/.* \([0-9.]*\) M particle-steps\/s.*/\1/p')

@@ -10,6 +10,7 @@
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 export GIMP_BENCH_REPEAT="${GIMP_BENCH_REPEAT:-3}"
+bash "$ROOT/bench/machine.sh"
 printf '%-12s %-9s %6s %10s %12s %12s %11s\n' scene step ranks particles 'Mps/s' 'Mps/s/core' 'B/particle'
 for scene in block block3; do
   for step in musl/apic musl/flip usl/apic; do

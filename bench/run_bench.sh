@@ -112,7 +112,7 @@ base_opts() {
 }
 
 printf 'gimp benchmark: %s\n' "$OPTS"
-printf 'machine: %s, %s cores\n' "$(lscpu | sed -n 's/^Model name: *//p' | head -n 1)" "$(nproc)"
+bash "$ROOT/bench/machine.sh"
 printf '%-6s %10s %7s %9s %11s %11s %12s %11s %12s %9s\n' ranks particles steps \
   step_s wall_s 'Mps/s' 'Mps/s/core' 'Mps/s(wall)' 'Mps/s/core' 'B/particle'
 declare -A STAGE_REPORT
