@@ -124,45 +124,71 @@ struct Rows {
   }
 };
 
+/// std::llround(v) (halves away from zero) without the library call: exact for |v| < 2^52, where
+/// v - trunc(v) is exact; elsewhere (and for NaN) the library's.
+inline long long roundKey(double v) {
+  if (!(std::fabs(v) < 4503599627370496.0)) return std::llround(v);
+  const long long t = static_cast<long long>(v);
+  const double f = v - static_cast<double>(t);
+  return t + (f >= 0.5) - (f <= -0.5);
+}
+
+/// A lattice point's key (step q): y first, so that rows of the lattice are runs of the keys, as
+/// the particles are stored (by cell, x fastest).
+inline Key keyOf(double x, double y, double q) {
+  return {roundKey(y / q), roundKey(x / q)};
+}
+
 /// The rows sorted by their X0 lattice key (step q), for lookups.
 std::vector<std::pair<Key, size_t>> keyed(const Rows &rows, double q) {
   std::vector<std::pair<Key, size_t>> at(rows.n);
   double r[kCols];
   for (size_t i = 0; i < rows.n; ++i) {
     rows.row(i, r);
-    at[i] = {{std::llround(r[0] / q), std::llround(r[1] / q)}, i};
+    at[i] = {keyOf(r[0], r[1], q), i};
   }
   std::sort(at.begin(), at.end());
   return at;
 }
 
-/// The row whose X0 is at (x, y), or -1.
-long long findAt(const std::vector<std::pair<Key, size_t>> &at, double q, double x, double y) {
-  const Key k{std::llround(x / q), std::llround(y / q)};
+/// The position in `at` of the first row whose X0 is at (x, y), or -1. The position `hint` is
+/// tried first: on a lattice, walking the rows in key order, each neighbour lies one past the
+/// previous row's (the same answer as a search, in one comparison).
+long long findAt(const std::vector<std::pair<Key, size_t>> &at, double q, double x, double y,
+                 size_t hint) {
+  const Key k = keyOf(x, y, q);
+  if (hint < at.size() && at[hint].first == k && (hint == 0 || at[hint - 1].first != k))
+    return static_cast<long long>(hint);
   const auto it = std::lower_bound(at.begin(), at.end(), std::make_pair(k, size_t{0}));
-  return it != at.end() && it->first == k ? static_cast<long long>(it->second) : -1;
+  return it != at.end() && it->first == k ? static_cast<long long>(it - at.begin()) : -1;
 }
 
 /// Over the rows: the largest gap between a particle and its former +x or +y neighbour found
 /// among the same rows (into worst); with `open`, which rows miss a neighbour on either side
-/// (a neighbour that may be another rank's particle).
+/// (a neighbour that may be another rank's particle). The rows are visited in key order, so
+/// that each lookup starts where the previous row's found its neighbour.
 void gapsOfRows(const Rows &rows, double q, const std::vector<Crack> &cracks, double &worst,
                 std::vector<char> *open) {
   const auto at = keyed(rows, q);
   if (open) open->assign(rows.n, 0);
   double r[kCols], o[kCols];
-  for (size_t i = 0; i < rows.n; ++i) {
+  size_t last[2][2] = {{0, 0}, {0, 0}}; // [axis][side]: where the previous row's neighbour was
+  for (size_t s = 0; s < at.size(); ++s) {
+    const size_t i = at[s].second;
     rows.row(i, r);
     for (int d = 0; d < 2; ++d)
       for (int side = -1; side <= 1; side += 2) {
-        const long long j =
-            findAt(at, q, r[0] + (d == 0) * side * 2 * r[6], r[1] + (d == 1) * side * 2 * r[7]);
-        if (j < 0) {
+        if (side < 0 && !open) continue; // only `open` needs the lower neighbours
+        size_t &hint = last[d][side > 0];
+        const long long js = findAt(at, q, r[0] + (d == 0) * side * 2 * r[6],
+                                    r[1] + (d == 1) * side * 2 * r[7], hint + 1);
+        if (js < 0) {
           if (open) (*open)[i] = 1;
           continue;
         }
+        hint = static_cast<size_t>(js);
         if (side < 0) continue; // each pair once: from its lower particle
-        rows.row(static_cast<size_t>(j), o);
+        rows.row(at[hint].second, o);
         if (o[6 + d] != r[6 + d]) continue; // neighbours of another size (another level)
         if (std::any_of(cracks.begin(), cracks.end(), [&](const Crack &c) {
               return cracks::crossing(c, r[0], r[1], o[0], o[1]) != 0;
