@@ -173,6 +173,7 @@ void gapsOfRows(const Rows &rows, double q, const std::vector<Crack> &cracks, do
   if (open) open->assign(rows.n, 0);
   double r[kCols], o[kCols];
   size_t last[2][2] = {{0, 0}, {0, 0}}; // [axis][side]: where the previous row's neighbour was
+  double w = worst;                     // (in a register, not through the reference)
   for (size_t s = 0; s < at.size(); ++s) {
     const size_t i = at[s].second;
     rows.row(i, r);
@@ -194,9 +195,10 @@ void gapsOfRows(const Rows &rows, double q, const std::vector<Crack> &cracks, do
               return cracks::crossing(c, r[0], r[1], o[0], o[1]) != 0;
             }))
           continue; // a crack between them
-        worst = std::max(worst, ((o[2 + d] - o[4 + d]) - (r[2 + d] + r[4 + d])) / (2.0 * r[6 + d]));
+        w = std::max(w, ((o[2 + d] - o[4 + d]) - (r[2 + d] + r[4 + d])) / (2.0 * r[6 + d]));
       }
   }
+  worst = w;
 }
 
 } // namespace
