@@ -398,11 +398,15 @@ GIMP_LANES_INLINE void gridToParticlesAffineRuns(const Stencils<2> &st, PetscInt
       x[2 * k + c] += dt * vp[c];
     }
   };
+  // With weights centred on the positions (x == xc) the centres read first are the positions
+  // the run moves: neither fetched nor loaded twice.
+  const bool centredOnX = x == xc;
   const auto lane = [&](PetscInt k, std::uint8_t group) GIMP_LANES_LAMBDA {
     if constexpr (Project)
-      prefetch::fields(k, n, Field<2>{xc}, Field<1>{m}, Field<4>{B}, Field<2>{v}, Field<2>{x});
+      prefetch::fields(k, n, Field<2>{xc}, Field<1>{m}, Field<4>{B}, Field<2>{v});
     else
-      prefetch::fields(k, n, Field<2>{xc}, Field<4>{B}, Field<2>{v}, Field<2>{x});
+      prefetch::fields(k, n, Field<2>{xc}, Field<4>{B}, Field<2>{v});
+    if (!centredOnX) prefetch::fields(k, n, Field<2>{x});
     Run R;
     loadRun<false>(st, k, group, R);
     V4 XP, YP, dx[3], dy[3], vx, vy, Bk[4];
@@ -419,8 +423,8 @@ GIMP_LANES_INLINE void gridToParticlesAffineRuns(const Stencils<2> &st, PetscInt
     }
     storeTensors(B, k, Bk);
     storeVectors(v, k, vx, vy);
-    V4 X, Y;
-    loadVectors(x, k, X, Y);
+    V4 X = XP, Y = YP;
+    if (!centredOnX) loadVectors(x, k, X, Y);
     const V4 dtv = splat(dt);
     storeVectors(x, k, X + dtv * vx, Y + dtv * vy);
   };
