@@ -33,7 +33,7 @@ struct Options {
 };
 
 template <int D> struct Bench {
-  gimp::GridT<D> grid;
+  gimp::Grid<D> grid;
   std::vector<double> x, l, v, m, V, s, B, L, xs, mom, mass, f, vg, ag;
   gimp::Stencils<D> st;
 
@@ -59,7 +59,7 @@ template <int D> struct Bench {
     PetscCall(grid.create(PETSC_COMM_SELF, h0, boxes));
     // Particles filling the leaf cells inside [h0, 1 - h0]^D (a margin of one level-0 cell).
     for (int k = 0; k < static_cast<int>(grid.levels.size()); ++k) {
-      const gimp::LevelT<D> &Lv = grid.levels[k];
+      const gimp::Level<D> &Lv = grid.levels[k];
       std::array<PetscInt, D> cells;
       for (int a = 0; a < D; ++a)
         cells[a] = Lv.n[a] - 1;

@@ -10,8 +10,8 @@ Each scene (options/*.opts, or the --only names) runs with
     -gimp_output_interval 0
 from the scenes directory (scenes include others by relative name). The outputs compared:
 
-summary.json  every leaf, recursively. Keys 'wall_seconds' and 'version' are skipped. Strings
-    and nulls must be equal (else difference = inf). Numbers are compared within a *family*:
+summary.json  every leaf, recursively. Keys 'wall_seconds', 'cpu_seconds',
+    'particle_steps_per_second' (timings) and 'version' are skipped. Strings and nulls must be equal (else difference = inf). Numbers are compared within a *family*:
     the leaf's path with list indices and digits removed (levels[2].box[1] -> levels[].box,
     probes.tip.stress[3] -> probes.tip.stress, measures.hoop_45 -> measures.hoop_), and the
     members of "energy" form one family (all in J). The difference of a leaf is
@@ -27,7 +27,9 @@ history.csv   rows matched by step (by position if there is no step column), col
     name; per column the same normalised maximum as for the particles.
 
 A failing run (non-zero exit) is reported (exit code, last stderr line) and fails the scene
-unless both binaries exit with the same code; existing outputs are still compared. Caveat: a
+unless both binaries exit with the same code; existing outputs are still compared. A scene
+that both binaries refuse (the same non-zero code, no outputs) passes when the last lines of
+their stderr agree (a fragment that other scenes include, say). Caveat: a
 quantity that is physically zero up to round-off (history momentum_x of patch, ~1e-14) is
 normalised by its own round-off scale and shows O(1) differences as soon as the summation
 order changes; compare.json has the absolute differences and scales. Exit 0 iff all within --tol.
@@ -41,7 +43,7 @@ import subprocess
 import sys
 import time
 
-SKIP_KEYS = {"wall_seconds", "version"}
+SKIP_KEYS = {"wall_seconds", "cpu_seconds", "particle_steps_per_second", "version"}
 SHARED_UNIT_DICTS = {"energy"}
 
 
@@ -223,6 +225,10 @@ def main():
         r["particles"] = compare_table(*files("particles.csv"), "id")
         r["history"] = compare_table(*files("history.csv"), "step")
         worst = max(r["summary"]["worst"], r["particles"]["worst"], r["history"]["worst"])
+        refused = rb["rc"] == ra["rc"] != 0 and not any(
+            os.path.exists(f) for f in files("summary.json") + files("history.csv"))
+        if refused:
+            worst = 0.0 if rb["stderr"] == ra["stderr"] else math.inf
         r["pass"] = runs_ok and worst <= args.tol
         ok_all &= r["pass"]
         print(f"{name:22} {r['run_status']:10} {steps:5d} {rb['seconds']:6.1f} "

@@ -56,8 +56,8 @@ inline Scene plainScene(const Box &domain, double h, const std::vector<LevelSpec
   return sc;
 }
 
-inline std::unique_ptr<Grid> makeGrid(const Scene &sc) {
-  auto g = std::make_unique<Grid>();
+inline std::unique_ptr<Grid<2>> makeGrid(const Scene &sc) {
+  auto g = std::make_unique<Grid<2>>();
   EXPECT_EQ(static_cast<int>(g->create(PETSC_COMM_SELF, sc)), 0);
   return g;
 }
@@ -99,7 +99,7 @@ inline std::vector<Layout> threeLevelLayouts() {
 
 /// The particle lies inside the domain, clear of its edges by at least 1e-9 h0. (A particle whose
 /// edge lies exactly on the domain edge: GridStencils.ParticleTouchingDomainEdge.)
-inline bool insideDomain(const Grid &g, double x, double y, double lx, double ly) {
+inline bool insideDomain(const Grid<2> &g, double x, double y, double lx, double ly) {
   const Box &D = g.levels[0].box;
   const double m = 1e-9 * g.h0();
   return x - lx >= D[0] + m && x + lx <= D[2] - m && y - ly >= D[1] + m && y + ly <= D[3] - m;
@@ -112,7 +112,7 @@ inline bool insideDomain(const Grid &g, double x, double y, double lx, double ly
 /// particle lies in the domain.
 class Sampler {
 public:
-  Sampler(const Grid &g, std::uint64_t seed) : g_(g), rng_(seed) {
+  Sampler(const Grid<2> &g, std::uint64_t seed) : g_(g), rng_(seed) {
     for (size_t k = 1; k < g.levels.size(); ++k) {
       const Box &b = g.levels[k].box;
       edges_.push_back({0, b[0], b[1], b[3]});
@@ -143,7 +143,7 @@ public:
       if (U() < 0.3) {
         lx = lmax * (0.5 + 0.5 * U());
       } else {
-        const Level &L = g_.levels[std::min(K - 1, static_cast<int>(U() * K))];
+        const Level<2> &L = g_.levels[std::min(K - 1, static_cast<int>(U() * K))];
         lx = L.h * (0.05 + 0.95 * U());
       }
       ly = U() < 0.5 ? lx : lx * std::exp(std::log(2.0) * (2.0 * U() - 1.0));
@@ -154,7 +154,7 @@ public:
         // One of n x n particles filling a leaf cell.
         x = D[0] + U() * (D[2] - D[0]);
         y = D[1] + U() * (D[3] - D[1]);
-        const Level &L = g_.levels[g_.leafLevelAt(x, y)];
+        const Level<2> &L = g_.levels[g_.leafLevelAt(x, y)];
         const int n = 1 + static_cast<int>(3 * U());
         const double hc = L.h / n;
         x = L.box[0] + (std::floor((x - L.box[0]) / hc) + 0.5) * hc;
@@ -202,7 +202,7 @@ public:
   }
 
 private:
-  const Grid &g_;
+  const Grid<2> &g_;
   std::mt19937_64 rng_;
   std::uniform_real_distribution<double> uni_{0.0, 1.0};
   std::vector<std::array<double, 4>> edges_; // axis (0: line x = c), c, from, to

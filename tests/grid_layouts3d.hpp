@@ -16,8 +16,8 @@
 namespace gimp::test3d {
 
 constexpr int D = 3;
-using Lattice3 = LatticeT<D>;
-using Level3 = LevelT<D>;
+using Lattice3 = Lattice<D>;
+using Level3 = Level<D>;
 using Box3 = BoxOf<D>;
 
 // Domain origin and level-0 cell size that are not binary fractions, so node coordinates carry

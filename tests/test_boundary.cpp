@@ -49,7 +49,7 @@ using gimp::Traction;
 using gimp::physics::Boundary;
 using gimp::test::at;
 using gimp::test::Worst;
-using Stencils = gimp::Stencils<gimp::kDim>;
+using Stencils = gimp::Stencils<2>;
 
 constexpr double kX0 = -1.3, kY0 = 0.7, kH0 = 0.37;
 constexpr double kThickness = 0.25;
@@ -134,7 +134,7 @@ struct Particles {
 };
 
 /// Leaf cells inside B (on level-0 grid lines) split into n x n particles, shifted by (sx, sy).
-Particles tile(const Grid &g, const Box &B, int n, double sx, double sy) {
+Particles tile(const Grid<2> &g, const Box &B, int n, double sx, double sy) {
   Particles p;
   const auto lat = [&](double c, double o) {
     return static_cast<std::int64_t>(std::llround((c - o) / g.unit));
@@ -142,7 +142,7 @@ Particles tile(const Grid &g, const Box &B, int n, double sx, double sy) {
   const std::int64_t bu0 = lat(B[0], g.origin[0]), bu1 = lat(B[2], g.origin[0]);
   const std::int64_t bv0 = lat(B[1], g.origin[1]), bv1 = lat(B[3], g.origin[1]);
   for (int q = 0; q < static_cast<int>(g.levels.size()); ++q) {
-    const Level &L = g.levels[q];
+    const Level<2> &L = g.levels[q];
     for (PetscInt j = 0; j + 1 < L.n[1]; ++j)
       for (PetscInt i = 0; i + 1 < L.n[0]; ++i) {
         const std::int64_t u = L.lo[0] + i * L.step, v = L.lo[1] + j * L.step;
@@ -167,7 +167,7 @@ Box shifted(Box B, double sx, double sy) {
   return B;
 }
 
-int levelOf(const Grid &g, PetscInt nd) {
+int levelOf(const Grid<2> &g, PetscInt nd) {
   int k = 0;
   while (k + 1 < static_cast<int>(g.levels.size()) && nd >= g.levels[k + 1].offset)
     ++k;
@@ -201,7 +201,7 @@ TEST(Boundary, TractionResultants) {
   Scene sc = scene();
   sc.tractions = {traction(Side::Left, -3.0e3, 1.1e3), traction(Side::Right, 2.5e3, -0.7e3),
                   traction(Side::Bottom, 0.4e3, -1.9e3), traction(Side::Top, -0.6e3, 2.2e3)};
-  Grid g;
+  Grid<2> g;
   ASSERT_EQ(static_cast<int>(g.create(PETSC_COMM_SELF, sc)), 0);
   ASSERT_EQ(g.levels.size(), 3u);
   Boundary bd;
@@ -266,7 +266,7 @@ TEST(Boundary, TractionResultants) {
 
 TEST(Boundary, EdgeShapeIsAPartitionOfUnity) {
   const Scene sc = scene();
-  Grid g;
+  Grid<2> g;
   ASSERT_EQ(static_cast<int>(g.create(PETSC_COMM_SELF, sc)), 0);
   Worst onSide, centre;
   for (const Case &c : kCases) {
@@ -315,7 +315,7 @@ struct PenaltyResult {
 
 /// The body's particles with the left side constrained (dbc index 0), displaced by delta in x,
 /// or stretched in x by e about the left side; every particle carries the stress s.
-PenaltyResult penalty(const Scene &sc, const Grid &g, Boundary &bd, const Case &c, double delta,
+PenaltyResult penalty(const Scene &sc, const Grid<2> &g, Boundary &bd, const Case &c, double delta,
                       double e, const double stress[3]) {
   Particles P = tile(g, sc.bodies[0].box, c.n, c.sx(), c.sy());
   const double xl = sc.bodies[0].box[0] + c.sx(); // the fixed side's initial position
@@ -362,7 +362,7 @@ TEST(Boundary, PenaltyForce) {
   d.side = Side::Left; // u_bar = 0 in both components (empty tables)
   sc.dbcs = {d};
   sc.penalty = 2.0e9; // [Pa/m], within the bounds for dt = 1e-5 (test 4)
-  Grid g;
+  Grid<2> g;
   ASSERT_EQ(static_cast<int>(g.create(PETSC_COMM_SELF, sc)), 0);
   const double L = sc.bodies[0].box[3] - sc.bodies[0].box[1]; // the left side's length
   const double stress[3] = {-2.0e4, 7.0e3, 5.0e3};            // sxx, syy, sxy
@@ -418,7 +418,7 @@ TEST(Boundary, PenaltySetupBounds) {
   DisplacementBC d;
   d.side = Side::Left;
   sc.dbcs = {d};
-  Grid g;
+  Grid<2> g;
   ASSERT_EQ(static_cast<int>(g.create(PETSC_COMM_SELF, sc)), 0);
   const double h = g.hMin(), rho = sc.material.rho, dt = 1.0e-5;
   const double M = sc.material.lambda + 2.0 * sc.material.mu;

@@ -46,7 +46,7 @@ using gimp::test::Sampler;
 using gimp::test::sceneOf;
 using gimp::test::threeLevelLayouts;
 using gimp::test::Worst;
-using Stencils = gimp::Stencils<gimp::kDim>;
+using Stencils = gimp::Stencils<2>;
 
 /// A random domain around (x, y) of half-sizes (lx, ly): F = R(theta) (I + shear) diag(stretch),
 /// theta 45 degrees for a third of them; cpdi2 perturbs the parallelogram's corners.
@@ -73,7 +73,7 @@ void randomQuad(std::mt19937_64 &rng, double x, double y, double lx, double ly, 
   }
 }
 
-bool insideDomain(const Grid &g, const double *c) {
+bool insideDomain(const Grid<2> &g, const double *c) {
   const gimp::Box &D = g.levels[0].box;
   const double m = 1e-9 * g.h0();
   for (int q = 0; q < 4; ++q)
@@ -102,7 +102,7 @@ template <class F> void onRandomQuads(bool quad, int perLayout, F &&f) {
   std::mt19937_64 rng(quad ? 2013 : 2011);
   for (const auto &lay : threeLevelLayouts()) {
     const auto gp = makeGrid(sceneOf(lay));
-    const Grid &g = *gp;
+    const Grid<2> &g = *gp;
     Sampler sample(g, rng());
     std::vector<double> c;
     while (static_cast<int>(c.size()) < 8 * perLayout) {
@@ -118,7 +118,8 @@ template <class F> void onRandomQuads(bool quad, int perLayout, F &&f) {
 void identities(bool quad) {
   Worst unity, repro, gradSum, gradRepro, node;
   onRandomQuads(
-      quad, 300, [&](const Grid &g, const std::string &name, const std::vector<double> &c, int n) {
+      quad, 300,
+      [&](const Grid<2> &g, const std::string &name, const std::vector<double> &c, int n) {
         Stencils s;
         ASSERT_EQ(g.buildCpdiStencils(n, c.data(), s), nullptr) << name;
         const double h0 = g.h0();
@@ -174,7 +175,8 @@ TEST(Cpdi, ApicMomentsAboutTheWeightCentroidReadAnAffineField) {
   const double A[4] = {0.3, -0.7, 0.5, 0.2}, b[2] = {1.0, -0.6};
   Worst atCentroid, atMean;
   onRandomQuads(
-      true, 200, [&](const Grid &g, const std::string &name, const std::vector<double> &c, int n) {
+      true, 200,
+      [&](const Grid<2> &g, const std::string &name, const std::vector<double> &c, int n) {
         Stencils s;
         ASSERT_EQ(g.buildCpdiStencils(n, c.data(), s), nullptr) << name;
         std::vector<double> xs(2 * g.nWindow), vg(2 * g.nWindow);
@@ -224,7 +226,7 @@ TEST(Cpdi, QuadrilateralIdentities) {
 
 /// Every tent of the grid is smooth (bilinear) over the quad c: no node line or zone end of a node
 /// near any corner lies within `gap` of the corners' range.
-bool oneCell(const Grid &g, const double *c, double gap) {
+bool oneCell(const Grid<2> &g, const double *c, double gap) {
   std::vector<std::pair<PetscInt, double>> pts;
   for (int q = 0; q < 4; ++q)
     g.pointShapes(c[2 * q], c[2 * q + 1], pts);
@@ -250,46 +252,46 @@ TEST(Cpdi, GradientIsTheTranslationDerivative) {
     const bool quad = false;
     Worst fd;
     long used = 0;
-    onRandomQuads(quad, 400,
-                  [&](const Grid &g, const std::string &name, const std::vector<double> &c, int n) {
-                    const double eps = 1e-6 * g.h0();
-                    for (int k = 0; k < n; ++k) {
-                      const double *ck = &c[8 * k];
-                      if (!oneCell(g, ck, 4 * eps)) continue;
-                      ++used;
-                      Stencils s;
-                      ASSERT_EQ(g.buildCpdiStencils(1, ck, s), nullptr);
-                      double gmax = 0;
-                      for (PetscInt e = 0; e < s.start[1]; ++e)
-                        gmax =
-                            std::max(gmax, std::abs(s.gradient(e)[0]) + std::abs(s.gradient(e)[1]));
-                      for (int d = 0; d < 2; ++d) {
-                        std::map<PetscInt, double> plus, minus;
-                        for (int sg : {1, -1}) {
-                          double m[8];
-                          for (int q = 0; q < 8; ++q)
-                            m[q] = ck[q] + (q % 2 == d ? sg * eps : 0.0);
-                          Stencils t;
-                          ASSERT_EQ(g.buildCpdiStencils(1, m, t), nullptr);
-                          for (PetscInt e = 0; e < t.start[1]; ++e)
-                            (sg > 0 ? plus : minus)[t.node[e]] = t.weight(e);
-                        }
-                        std::map<PetscInt, double> grad;
-                        for (PetscInt e = 0; e < s.start[1]; ++e)
-                          grad[s.node[e]] = s.gradient(e)[d];
-                        for (const auto &pr : plus)
-                          grad.emplace(pr.first, 0.0);
-                        for (const auto &pr : minus)
-                          grad.emplace(pr.first, 0.0);
-                        for (const auto &[nd, gv] : grad) {
-                          const double f = (plus[nd] - minus[nd]) / (2 * eps);
-                          fd.update(std::abs(f - gv) / gmax, [&] {
-                            return name + " " + at({{"k", double(k)}, {"node", double(nd)}});
-                          });
-                        }
-                      }
-                    }
-                  });
+    onRandomQuads(
+        quad, 400,
+        [&](const Grid<2> &g, const std::string &name, const std::vector<double> &c, int n) {
+          const double eps = 1e-6 * g.h0();
+          for (int k = 0; k < n; ++k) {
+            const double *ck = &c[8 * k];
+            if (!oneCell(g, ck, 4 * eps)) continue;
+            ++used;
+            Stencils s;
+            ASSERT_EQ(g.buildCpdiStencils(1, ck, s), nullptr);
+            double gmax = 0;
+            for (PetscInt e = 0; e < s.start[1]; ++e)
+              gmax = std::max(gmax, std::abs(s.gradient(e)[0]) + std::abs(s.gradient(e)[1]));
+            for (int d = 0; d < 2; ++d) {
+              std::map<PetscInt, double> plus, minus;
+              for (int sg : {1, -1}) {
+                double m[8];
+                for (int q = 0; q < 8; ++q)
+                  m[q] = ck[q] + (q % 2 == d ? sg * eps : 0.0);
+                Stencils t;
+                ASSERT_EQ(g.buildCpdiStencils(1, m, t), nullptr);
+                for (PetscInt e = 0; e < t.start[1]; ++e)
+                  (sg > 0 ? plus : minus)[t.node[e]] = t.weight(e);
+              }
+              std::map<PetscInt, double> grad;
+              for (PetscInt e = 0; e < s.start[1]; ++e)
+                grad[s.node[e]] = s.gradient(e)[d];
+              for (const auto &pr : plus)
+                grad.emplace(pr.first, 0.0);
+              for (const auto &pr : minus)
+                grad.emplace(pr.first, 0.0);
+              for (const auto &[nd, gv] : grad) {
+                const double f = (plus[nd] - minus[nd]) / (2 * eps);
+                fd.update(std::abs(f - gv) / gmax, [&] {
+                  return name + " " + at({{"k", double(k)}, {"node", double(nd)}});
+                });
+              }
+            }
+          }
+        });
     // Central differences of a piecewise-linear function away from its kinks: round-off only
     // (weights of order 1 over 2 eps = 2e-6 h0).
     EXPECT_WORST_LE(fd, 1e-7);
@@ -303,7 +305,7 @@ TEST(Cpdi, RotatedSquareInOneCellAveragesOverItsTrueArea) {
   // polynomial whose average the corner values give exactly. The reference is a brute-force
   // midpoint rule of N_i over the rotated square (M x M sub-squares).
   const auto gp = makeGrid(sceneOf({"uniform", 6, 5, {}}));
-  const Grid &g = *gp;
+  const Grid<2> &g = *gp;
   const double h = g.h0();
   std::mt19937_64 rng(45);
   std::uniform_real_distribution<double> U(0.0, 1.0);
@@ -364,7 +366,7 @@ bool meets(const double R[4], double x, double y, const double e1[2], const doub
 
 TEST(Cpdi, RotatedSquareWeightsLiveOnItsTrueArea) {
   const auto gp = makeGrid(sceneOf({"uniform", 6, 5, {}}));
-  const Grid &g = *gp;
+  const Grid<2> &g = *gp;
   const double h = g.h0();
   const gimp::Box &D = g.levels[0].box;
   std::mt19937_64 rng(4545);
@@ -404,7 +406,7 @@ TEST(Cpdi, RotatedSquareWeightsLiveOnItsTrueArea) {
 
 TEST(Cpdi, CornerOutsideTheGridOrInvertedQuadIsReported) {
   const auto gp = makeGrid(sceneOf({"uniform", 6, 5, {}}));
-  const Grid &g = *gp;
+  const Grid<2> &g = *gp;
   const gimp::Box &D = g.levels[0].box;
   const double h = g.h0(), x = D[0] + 0.1 * h, y = D[1] + 2.5 * h;
   const double out[8] = {x - 0.2 * h, y - 0.2 * h, x + 0.2 * h, y - 0.2 * h,
@@ -424,7 +426,7 @@ TEST(Cpdi, CornerOutsideTheGridOrInvertedQuadIsReported) {
 TEST(Cpdi, RotatedPatchUnderUniformStressIsInEquilibrium) {
   // 3 levels: the block straddles the level boxes, so interior nodes include transition nodes.
   const auto gp = makeGrid(sceneOf({"3 levels", 10, 8, {{2, 2, 8, 6, 2}, {3.5, 3, 6, 5, 4}}}));
-  const Grid &g = *gp;
+  const Grid<2> &g = *gp;
   const gimp::Box &D = g.levels[0].box;
   const double h = g.h0(), a = 0.3 * h, th = M_PI / 4;
   const double ox = D[0] + 5.0 * h, oy = D[1] + 1.2 * h; // the block's lowest corner

@@ -53,7 +53,7 @@ using gimp::test3d::Level3;
 using gimp::test3d::threeLevelLayouts;
 using gimp::test3d::twoLevelLayouts;
 using Index = gimp::LatticeIndex<D>;
-using Grid3 = gimp::GridT<D>;
+using Grid3 = gimp::Grid<D>;
 using Stencils3 = gimp::Stencils<D>;
 
 /// The lattice's nodes as tables per level: activity, coordinates and zones (what the grid's

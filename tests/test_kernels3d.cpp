@@ -40,7 +40,7 @@ using gimp::test3d::D;
 using gimp::test3d::kH0;
 using gimp::test3d::Layout;
 using gimp::test3d::threeLevelLayouts;
-using Grid3 = gimp::GridT<D>;
+using Grid3 = gimp::Grid<D>;
 using Stencils3 = gimp::Stencils<D>;
 using Index = gimp::LatticeIndex<D>;
 
@@ -54,7 +54,7 @@ struct Particles {
 Particles tile(const Grid3 &g, const std::array<double, 6> &B, int n, const double *shift) {
   Particles p;
   for (int k = 0; k < static_cast<int>(g.levels.size()); ++k) {
-    const gimp::LevelT<D> &L = g.levels[k];
+    const gimp::Level<D> &L = g.levels[k];
     std::array<PetscInt, D> cells;
     for (int a = 0; a < D; ++a)
       cells[a] = L.n[a] - 1;

@@ -44,7 +44,7 @@ using gimp::Level;
 using gimp::Scene;
 
 /// Level of window node n.
-int levelOf(const Grid &g, PetscInt n) {
+int levelOf(const Grid<2> &g, PetscInt n) {
   int k = 0;
   while (k + 1 < static_cast<int>(g.levels.size()) && n >= g.levels[k + 1].offset)
     ++k;
@@ -52,13 +52,13 @@ int levelOf(const Grid &g, PetscInt n) {
 }
 
 /// Window index of level k's node (i, j).
-PetscInt windowIndex(const Grid &g, int k, PetscInt i, PetscInt j) {
-  const Level &L = g.levels[k];
+PetscInt windowIndex(const Grid<2> &g, int k, PetscInt i, PetscInt j) {
+  const Level<2> &L = g.levels[k];
   return L.offset + (j - L.w0[1]) * L.wnx() + (i - L.w0[0]);
 }
 
 /// Active window nodes at (x, y).
-std::vector<PetscInt> activeAt(const Grid &g, double x, double y) {
+std::vector<PetscInt> activeAt(const Grid<2> &g, double x, double y) {
   std::vector<PetscInt> v;
   const double tol = 1e-9 * g.hMin();
   for (PetscInt n = 0; n < g.nWindow; ++n)
@@ -71,11 +71,11 @@ std::vector<PetscInt> activeAt(const Grid &g, double x, double y) {
 
 /// The single active node at (x, y) has level k and zones z (checked in the window data and by
 /// the pure-geometry zonesOf).
-void expectNode(const Grid &g, double x, double y, int k, std::array<double, 4> z) {
+void expectNode(const Grid<2> &g, double x, double y, int k, std::array<double, 4> z) {
   const std::vector<PetscInt> n = activeAt(g, x, y);
   ASSERT_EQ(n.size(), 1u) << "active nodes at (" << x << ", " << y << ")";
   EXPECT_EQ(levelOf(g, n[0]), k) << "(" << x << ", " << y << ")";
-  const Level &L = g.levels[k];
+  const Level<2> &L = g.levels[k];
   const auto i = static_cast<PetscInt>(std::llround((x - L.box[0]) / L.h));
   const auto j = static_cast<PetscInt>(std::llround((y - L.box[1]) / L.h));
   EXPECT_TRUE(g.nodeActive(k, {i, j}));
@@ -176,10 +176,10 @@ TEST(GridNodes, OneActiveNodePerLocation) {
     std::map<std::pair<std::int64_t, std::int64_t>, int> activeCount;
     std::int64_t activeTotal = 0;
     std::set<double> widths;
-    for (const Level &L : g->levels)
+    for (const Level<2> &L : g->levels)
       widths.insert(L.h);
     for (int k = 0; k < K; ++k) {
-      const Level &L = g->levels[k];
+      const Level<2> &L = g->levels[k];
       ASSERT_EQ(L.wnx() * (L.w1[1] - L.w0[1]),
                 L.n[0] * L.n[1]); // one rank: the window is everything
       for (PetscInt j = 0; j < L.n[1]; ++j)
@@ -192,7 +192,7 @@ TEST(GridNodes, OneActiveNodePerLocation) {
             // An inactive node lies in the closed box of a finer level.
             bool covered = false;
             for (int q = k + 1; q < K; ++q) {
-              const Level &F = g->levels[q];
+              const Level<2> &F = g->levels[q];
               covered = covered || (key.first >= F.lo[0] && key.first <= F.hi[0] &&
                                     key.second >= F.lo[1] && key.second <= F.hi[1]);
             }
@@ -232,7 +232,7 @@ TEST(GridNodes, OneActiveNodePerLocation) {
 /// The scene is rejected; the message is one line, names `option` and contains `reason`.
 void expectRejected(const Scene &sc, const char *what, const std::string &option,
                     const char *reason) {
-  Grid g;
+  Grid<2> g;
   try {
     g.setGeometry(sc);
     ADD_FAILURE() << what << ": accepted";
@@ -294,7 +294,7 @@ TEST(GridLayout, BadLayoutsRejected) {
   for (const std::vector<Layout> &family : {twoLevelLayouts(), threeLevelLayouts()})
     for (const Layout &lay : family) {
       ++tried;
-      Grid g;
+      Grid<2> g;
       try {
         g.setGeometry(sceneOf(lay));
         ++accepted;

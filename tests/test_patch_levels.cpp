@@ -59,7 +59,7 @@ using gimp::Grid;
 using gimp::Level;
 using gimp::LevelSpec;
 using gimp::Scene;
-using Stencils = gimp::Stencils<gimp::kDim>;
+using Stencils = gimp::Stencils<2>;
 using gimp::shape::tent;
 using gimp::shape::tentIntegral;
 
@@ -133,14 +133,14 @@ struct Particles {
 
 /// Every leaf cell inside the block split into n x n particles of its size, then translated by
 /// (sx, sy). The block lies on level-0 grid lines, so its leaf cells tile it.
-Particles tile(const Grid &g, const CellBox &blk, int n, double sx, double sy) {
+Particles tile(const Grid<2> &g, const CellBox &blk, int n, double sx, double sy) {
   Particles p;
   const std::int64_t total = g.levels[0].step; // finest-lattice units per level-0 cell
   const auto lat = [&](double c) { return static_cast<std::int64_t>(std::llround(c * total)); };
   const std::int64_t bu0 = g.levels[0].lo[0] + lat(blk.i0), bu1 = g.levels[0].lo[0] + lat(blk.i1);
   const std::int64_t bv0 = g.levels[0].lo[1] + lat(blk.j0), bv1 = g.levels[0].lo[1] + lat(blk.j1);
   for (int q = 0; q < static_cast<int>(g.levels.size()); ++q) {
-    const Level &L = g.levels[q];
+    const Level<2> &L = g.levels[q];
     for (PetscInt j = 0; j + 1 < L.n[1]; ++j)
       for (PetscInt i = 0; i + 1 < L.n[0]; ++i) {
         const std::int64_t u = L.lo[0] + i * L.step, v = L.lo[1] + j * L.step;
@@ -164,7 +164,7 @@ Particles tile(const Grid &g, const CellBox &blk, int n, double sx, double sy) {
 
 /// f_i = - sum_p V_p sigma . grad w_ip for sigma = (sxx, syy, sxy), 2 per window node: the
 /// solver's own internal-force kernel (physics::internalForce) on these particles.
-std::vector<double> internalForces(const Grid &g, const Particles &p, const Stencils &s,
+std::vector<double> internalForces(const Grid<2> &g, const Particles &p, const Stencils &s,
                                    const std::array<double, 3> &sig) {
   std::vector<double> f(2 * static_cast<size_t>(g.nWindow), 0.0);
   const std::vector<double> stress = [&] {
@@ -176,7 +176,7 @@ std::vector<double> internalForces(const Grid &g, const Particles &p, const Sten
     }
     return t;
   }();
-  gimp::physics::internalForce<gimp::kDim>(s, p.size(), p.V.data(), stress.data(), f.data());
+  gimp::physics::internalForce<2>(s, p.size(), p.V.data(), stress.data(), f.data());
   return f;
 }
 
@@ -185,7 +185,7 @@ constexpr double kNormal[4][2] = {{-1, 0}, {1, 0}, {0, -1}, {0, 1}};
 const char *const kSide[4] = {"left", "right", "bottom", "top"};
 
 /// Integral of node n's point shape function along each edge of the block [a, b] x [c, d].
-std::array<double, 4> edgeIntegrals(const Grid &g, PetscInt n, const Box &B) {
+std::array<double, 4> edgeIntegrals(const Grid<2> &g, PetscInt n, const Box &B) {
   const double X = g.X[n], Y = g.Y[n];
   const double *z = &g.zone[4 * n];
   const double alongY = tentIntegral(B[1] - Y, B[3] - Y, z[2], z[3]);
@@ -196,7 +196,7 @@ std::array<double, 4> edgeIntegrals(const Grid &g, PetscInt n, const Box &B) {
 
 /// The node's shape function vanishes on the boundary of B and outside it: its support lies in
 /// B, and a zero zone (domain edge) does not sit on an edge of B.
-bool interior(const Grid &g, PetscInt n, const Box &B) {
+bool interior(const Grid<2> &g, PetscInt n, const Box &B) {
   const double tol = 1e-9 * g.hMin();
   const double X = g.X[n], Y = g.Y[n];
   const double *z = &g.zone[4 * n];
@@ -215,7 +215,7 @@ struct CaseResult {
   std::string sideWhere; // worst edge of the per-side check
 };
 
-int levelOf(const Grid &g, PetscInt n) {
+int levelOf(const Grid<2> &g, PetscInt n) {
   int k = 0;
   while (k + 1 < static_cast<int>(g.levels.size()) && n >= g.levels[k + 1].offset)
     ++k;
@@ -226,7 +226,7 @@ int levelOf(const Grid &g, PetscInt n) {
 /// each. One function on purpose (longer than 80 lines): the identities share the forces, the
 /// node classification and the exact edge integrals computed once at its start, and read best
 /// in the order the file comment lists them.
-CaseResult runCase(const Grid &g, const PatchLayout &lay, int n, bool shifted) {
+CaseResult runCase(const Grid<2> &g, const PatchLayout &lay, int n, bool shifted) {
   CaseResult r;
   const double sx = shifted ? 0.4137 * kH0 : 0.0, sy = shifted ? 0.2719 * kH0 : 0.0;
   const Particles p = tile(g, lay.block, n, sx, sy);
@@ -344,7 +344,7 @@ TEST(PatchLevels, InternalForcesOnThreeLevels) {
               "particles", "interior", "trans.", "boundary", "interior", "sum", "node", "side",
               "unity");
   for (const PatchLayout &lay : layouts()) {
-    Grid g;
+    Grid<2> g;
     ASSERT_EQ(static_cast<int>(g.create(PETSC_COMM_SELF, sceneOf(lay))), 0) << lay.name;
     ASSERT_EQ(g.levels.size(), 3u);
     for (int n : {1, 2, 3})

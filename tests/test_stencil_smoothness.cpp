@@ -38,7 +38,7 @@ using gimp::test::twoLevelLayouts;
 
 using gimp::Box;
 using gimp::Grid;
-using Stencils = gimp::Stencils<gimp::kDim>;
+using Stencils = gimp::Stencils<2>;
 
 // ---------------------------------------------------------------------------------------------
 // 1. The gradient is the derivative of the weight: move the particle by +-eps in x and in y,
@@ -75,7 +75,7 @@ TEST(GridStencils, GradientMatchesFiniteDifference) {
   std::uint64_t seed = 0x6a1d3001;
   for (const Layout &lay : layouts) {
     const auto gp = makeGrid(sceneOf(lay));
-    const Grid &g = *gp;
+    const Grid<2> &g = *gp;
     const double hmin = g.hMin();
     Sampler sample(g, seed++);
     const long np = 20000 / static_cast<long>(layouts.size());
@@ -176,7 +176,7 @@ TEST(GridContinuity, TransitionNodesAreC1) {
   std::mt19937_64 rng(0x6a1d4001);
   for (const Layout &lay : layouts) {
     const auto gp = makeGrid(sceneOf(lay));
-    const Grid &g = *gp;
+    const Grid<2> &g = *gp;
     const double h0 = g.h0(), hmin = g.hMin(), delta = 1e-9 * hmin;
     const Box &D = g.levels[0].box;
     // Transition nodes: active, zones other than their level's h, not on the domain edge.

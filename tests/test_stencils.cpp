@@ -49,7 +49,7 @@ using gimp::Box;
 using gimp::Grid;
 using gimp::InputError;
 using gimp::Level;
-using Stencils = gimp::Stencils<gimp::kDim>;
+using Stencils = gimp::Stencils<2>;
 using gimp::shape::tent;
 
 // ---------------------------------------------------------------------------------------------
@@ -81,7 +81,7 @@ struct Identities {
 void checkLayout(const Layout &lay, long np, std::uint64_t seed, Identities &id,
                  double lmax = 0.0) {
   const auto gp = makeGrid(sceneOf(lay));
-  const Grid &g = *gp;
+  const Grid<2> &g = *gp;
   const double h0 = g.h0();
   Sampler sample(g, seed);
   std::vector<double> x(2 * np), l(2 * np);
@@ -267,7 +267,7 @@ TEST(GridStencils, DeepRefinementLayouts) {
     std::string msg;
     bool threw = false;
     {
-      Grid probe;
+      Grid<2> probe;
       try {
         probe.setGeometry(sceneOf(c.lay));
       } catch (const InputError &e) {
@@ -316,12 +316,12 @@ TEST(GridStencils, ParticleTouchingDomainEdge) {
       for (const Layout &lay :
            {Layout{"uniform", 6, 5, {}}, Layout{"domain edge r=2", 6, 5, {{0, 2, 3, 5, 2}}}}) {
         const auto gp = makeGrid(sceneOf(lay, x0, x0, h0));
-        const Grid &g = *gp;
+        const Grid<2> &g = *gp;
         const Box &D = g.levels[0].box;
         std::vector<double> x, l;
         for (int n : {1, 2, 3})
           for (size_t q = 0; q < g.levels.size(); ++q) {
-            const Level &L = g.levels[q];
+            const Level<2> &L = g.levels[q];
             const double d = L.h / n;
             for (PetscInt j = 0; j + 1 < L.n[1]; ++j)
               for (PetscInt i = 0; i + 1 < L.n[0]; ++i) {
@@ -405,7 +405,7 @@ TEST(GridPointShape, PartitionOfUnityAndLinearReproduction) {
   std::uint64_t seed = 0x6a1d2001;
   for (const Layout &lay : layouts) {
     const auto gp = makeGrid(sceneOf(lay));
-    const Grid &g = *gp;
+    const Grid<2> &g = *gp;
     const double h0 = g.h0();
     const Box &D = g.levels[0].box;
     Sampler sample(g, seed++);

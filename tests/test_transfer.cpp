@@ -46,7 +46,7 @@ using gimp::LevelSpec;
 using gimp::Scene;
 using gimp::test::at;
 using gimp::test::Worst;
-using Stencils = gimp::Stencils<gimp::kDim>;
+using Stencils = gimp::Stencils<2>;
 
 // Domain origin and level-0 cell size that are not binary fractions (as in test_grid).
 constexpr double kX0 = -1.3, kY0 = 0.7, kH0 = 0.37;
@@ -72,7 +72,7 @@ struct Particles {
 /// n random particles over cells [2, 12] x [1.5, 10.5] (all three levels and their borders):
 /// half-sizes between 0.05 and 0.5 of their leaf cell, masses in [0.5, 2], velocities in [-3, 3].
 /// n particles of half-sizes between lmin and lmax of their leaf cell.
-Particles randomParticles(const Grid &g, PetscInt n, unsigned seed, double lmin = 0.05,
+Particles randomParticles(const Grid<2> &g, PetscInt n, unsigned seed, double lmin = 0.05,
                           double lmax = 0.5) {
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> X(kX0 + 2 * kH0, kX0 + 12 * kH0),
@@ -91,7 +91,7 @@ Particles randomParticles(const Grid &g, PetscInt n, unsigned seed, double lmin 
 }
 
 struct Fixture {
-  Grid g;
+  Grid<2> g;
   Particles p;
   Stencils st;
   long straddling = 0, transitionEntries = 0;
@@ -315,7 +315,7 @@ TEST(Transfer, PicConservesMomentum) {
 }
 
 /// The window's node coordinates, D per slot (no cracks: slot = node).
-std::vector<double> slotCoordinates(const Grid &g) {
+std::vector<double> slotCoordinates(const Grid<2> &g) {
   std::vector<double> xs(2 * g.nSlots);
   for (PetscInt s = 0; s < g.nSlots; ++s) {
     xs[2 * s] = g.X[g.slotNode[s]];

@@ -5,8 +5,8 @@
 
 namespace gimp::cracks {
 
-void assignFields(const Grid &g, const std::vector<Crack> &cracks, PetscInt n, const double *x,
-                  Stencils<kDim> &st) {
+void assignFields(const Grid<2> &g, const std::vector<Crack> &cracks, PetscInt n, const double *x,
+                  Stencils<2> &st) {
   if (g.nSlots == g.nWindow) return; // no cracked node in this window
   PetscInt *node = st.node.data();
   for (PetscInt k = 0; k < n; ++k)
@@ -21,7 +21,7 @@ void assignFields(const Grid &g, const std::vector<Crack> &cracks, PetscInt n, c
     }
 }
 
-void Contact::setup(const Grid &g, const std::vector<Crack> &cracks) {
+void Contact::setup(const Grid<2> &g, const std::vector<Crack> &cracks) {
   dir_.assign(2 * static_cast<size_t>(g.nSlots - g.nWindow), 0.0);
   for (PetscInt s = g.nWindow; s < g.nSlots; ++s) {
     const PetscInt n = g.slotNode[s];
@@ -44,7 +44,7 @@ void Contact::setup(const Grid &g, const std::vector<Crack> &cracks) {
   }
 }
 
-void Contact::faces(const Grid &g, const Stencils<kDim> &st, PetscInt n, const double *x,
+void Contact::faces(const Grid<2> &g, const Stencils<2> &st, PetscInt n, const double *x,
                     const double *X0, const double *m, double *face) {
   fresh_ = true;
   for (PetscInt s = 0; s < g.nSlots; ++s)
@@ -52,7 +52,7 @@ void Contact::faces(const Grid &g, const Stencils<kDim> &st, PetscInt n, const d
   if (g.nSlots == g.nWindow) return;
   for (PetscInt k = 0; k < n; ++k) {
     const double ux = m[k] * (x[2 * k] - X0[2 * k]), uy = m[k] * (x[2 * k + 1] - X0[2 * k + 1]);
-    st.forEach(k, [&](PetscInt s, double w, const Vector<kDim> &) {
+    st.forEach(k, [&](PetscInt s, double w, const Vector<2> &) {
       const PetscInt c = s >= g.nWindow ? s : g.crackSlot[s];
       if (c < 0) return;
       const double *d = &dir_[2 * (c - g.nWindow)];
@@ -61,7 +61,7 @@ void Contact::faces(const Grid &g, const Stencils<kDim> &st, PetscInt n, const d
   }
 }
 
-PetscInt Contact::apply(const Grid &g, double cut, double dt, const double *mass,
+PetscInt Contact::apply(const Grid<2> &g, double cut, double dt, const double *mass,
                         const double *face, double *vel, double *acc) {
   PetscInt touching = 0;
   if (fresh_) touch_.assign(static_cast<size_t>(g.nSlots - g.nWindow), 0);

@@ -154,7 +154,7 @@ void addDomainIntegrals(const Material &mat, const ParticleView &p, const double
   }
 }
 
-PetscErrorCode measureTips(MPI_Comm comm, const Scene &sc, const Grid &g, const ParticleView &p,
+PetscErrorCode measureTips(MPI_Comm comm, const Scene &sc, const Grid<2> &g, const ParticleView &p,
                            double jRadius, std::vector<TipMeasure> &tips) {
   tips = tipsOf(sc);
   const size_t T = tips.size();

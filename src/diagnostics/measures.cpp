@@ -203,7 +203,7 @@ void gapsOfRows(const Rows &rows, double q, const std::vector<Crack> &cracks, do
 
 } // namespace
 
-PetscErrorCode separation(MPI_Comm comm, const Lattice &grid, DM sw,
+PetscErrorCode separation(MPI_Comm comm, const Lattice<2> &grid, DM sw,
                           const std::vector<Crack> &cracks, double &gap, double &strain) {
   // Each rank measures the pairs it holds; the particles missing a neighbour on some side (at a
   // rank's border, or on a body's edge) go to rank 0, which measures the pairs among them. The

@@ -57,14 +57,14 @@ double quadIntegrals(const double *c, double w[4], double G[8]) {
 } // namespace
 
 template <int D>
-double GridT<D>::pointShapes(const double *x, std::vector<std::pair<PetscInt, double>> &out) const {
+double Grid<D>::pointShapes(const double *x, std::vector<std::pair<PetscInt, double>> &out) const {
   double sum = 0;
   const double zero[D] = {};
   const std::vector<double> *coord[3] = {&X, &Y, &Z};
   for (int q = coarsestReaching(x, zero); q < static_cast<int>(levels.size()); ++q) {
     Reach r;
     if (!levelReach(q, x, zero, r)) continue;
-    const Level &L = levels[q];
+    const Level<D> &L = levels[q];
     const double eps = 1e-9 * L.h;
     std::array<PetscInt, D> nn;
     for (int a = 0; a < D; ++a)
@@ -88,7 +88,7 @@ double GridT<D>::pointShapes(const double *x, std::vector<std::pair<PetscInt, do
 }
 
 template <int D>
-bool GridT<D>::buildPointStencils(PetscInt n, const double *x, Stencils<D> &s) const {
+bool Grid<D>::buildPointStencils(PetscInt n, const double *x, Stencils<D> &s) const {
   s.start.resize(static_cast<size_t>(n) + 1);
   s.general = true;
   s.compact = false;
@@ -116,7 +116,7 @@ bool GridT<D>::buildPointStencils(PetscInt n, const double *x, Stencils<D> &s) c
 }
 
 template <>
-const char *GridT<2>::buildCpdiStencils(PetscInt n, const double *corners, Stencils<2> &s) const {
+const char *Grid<2>::buildCpdiStencils(PetscInt n, const double *corners, Stencils<2> &s) const {
   s.start.resize(static_cast<size_t>(n) + 1);
   s.general = true;
   s.compact = false;
@@ -172,11 +172,11 @@ const char *GridT<2>::buildCpdiStencils(PetscInt n, const double *corners, Stenc
   return nullptr;
 }
 
-template double GridT<2>::pointShapes(const double *,
-                                      std::vector<std::pair<PetscInt, double>> &) const;
-template double GridT<3>::pointShapes(const double *,
-                                      std::vector<std::pair<PetscInt, double>> &) const;
-template bool GridT<2>::buildPointStencils(PetscInt, const double *, Stencils<2> &) const;
-template bool GridT<3>::buildPointStencils(PetscInt, const double *, Stencils<3> &) const;
+template double Grid<2>::pointShapes(const double *,
+                                     std::vector<std::pair<PetscInt, double>> &) const;
+template double Grid<3>::pointShapes(const double *,
+                                     std::vector<std::pair<PetscInt, double>> &) const;
+template bool Grid<2>::buildPointStencils(PetscInt, const double *, Stencils<2> &) const;
+template bool Grid<3>::buildPointStencils(PetscInt, const double *, Stencils<3> &) const;
 
 } // namespace gimp

@@ -18,11 +18,11 @@
 
 namespace gimp {
 
-template <> std::vector<GridT<2>::CrackedNode> GridT<2>::findCrackedNodes(const Scene &sc) const {
+template <> std::vector<Grid<2>::CrackedNode> Grid<2>::findCrackedNodes(const Scene &sc) const {
   std::vector<CrackedNode> out;
   const double reach = h0();
   for (int k = 0; k < static_cast<int>(levels.size()); ++k) {
-    const Level &L = levels[k];
+    const Level<2> &L = levels[k];
     for (const Crack &c : sc.cracks)
       for (size_t s = 0; s + 1 < c.points.size(); ++s) {
         // Nodes of level k whose support, widened by the reach, may meet this segment.
@@ -57,7 +57,7 @@ template <> std::vector<GridT<2>::CrackedNode> GridT<2>::findCrackedNodes(const 
   return out;
 }
 
-template <> PetscErrorCode GridT<2>::addCrackFields(MPI_Comm comm, const Scene &sc) {
+template <> PetscErrorCode Grid<2>::addCrackFields(MPI_Comm comm, const Scene &sc) {
   // The window's own slots are set (GridT::build); the second fields come after them.
   PetscMPIInt rank = 0;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
@@ -71,7 +71,7 @@ template <> PetscErrorCode GridT<2>::addCrackFields(MPI_Comm comm, const Scene &
   }
   for (size_t g = 0; g < cracked_.size(); ++g) {
     const CrackedNode &c = cracked_[g];
-    const Level &L = levels[c.k];
+    const Level<2> &L = levels[c.k];
     if (c.i < L.w0[0] || c.i >= L.w1[0] || c.j < L.w0[1] || c.j >= L.w1[1]) continue;
     const PetscInt ij[2] = {c.i, c.j};
     const PetscInt n = windowSlot(c.k, ij);

@@ -8,7 +8,7 @@
 
 namespace gimp {
 
-template <int D> GridT<D>::~GridT() {
+template <int D> Grid<D>::~Grid() {
   for (DM &d : da)
     if (d) (void)DMDestroy(&d);
   for (DM &d : da1)
@@ -19,20 +19,20 @@ template <int D> GridT<D>::~GridT() {
   if (windowTemplate_) (void)VecDestroy(&windowTemplate_);
 }
 
-template <> PetscErrorCode GridT<2>::create(MPI_Comm comm, const Scene &sc) {
+template <> PetscErrorCode Grid<2>::create(MPI_Comm comm, const Scene &sc) {
   setGeometry(sc);
   PetscCall(build(comm, &sc));
   return PETSC_SUCCESS;
 }
 
 template <int D>
-PetscErrorCode GridT<D>::create(MPI_Comm comm, double h0, const std::vector<LevelBox<D>> &boxes) {
+PetscErrorCode Grid<D>::create(MPI_Comm comm, double h0, const std::vector<LevelBox<D>> &boxes) {
   this->setLevels(h0, boxes);
   PetscCall(build(comm, nullptr));
   return PETSC_SUCCESS;
 }
 
-template <int D> PetscErrorCode GridT<D>::build(MPI_Comm comm, const Scene *sc) {
+template <int D> PetscErrorCode Grid<D>::build(MPI_Comm comm, const Scene *sc) {
   const int K = static_cast<int>(levels.size());
   static const char *const axis[3] = {"x", "y", "z"};
 
@@ -42,7 +42,7 @@ template <int D> PetscErrorCode GridT<D>::build(MPI_Comm comm, const Scene *sc) 
   da1.assign(K, nullptr);
   PetscCall(DMCompositeCreate(comm, &dm));
   for (int k = 0; k < K; ++k) {
-    Level &L = levels[k];
+    Level<D> &L = levels[k];
     if constexpr (D == 2)
       PetscCall(DMDACreate2d(comm, DM_BOUNDARY_NONE, DM_BOUNDARY_NONE, DMDA_STENCIL_BOX, L.n[0],
                              L.n[1], PETSC_DECIDE, PETSC_DECIDE, D, 0, nullptr, nullptr, &da[k]));
@@ -64,7 +64,7 @@ template <int D> PetscErrorCode GridT<D>::build(MPI_Comm comm, const Scene *sc) 
   // the domain).
   outwardReach_.assign(K, levels[0].h);
   for (int k = 1; k < K; ++k) {
-    const Level &L = levels[k];
+    const Level<D> &L = levels[k];
     double reach = L.h;
     for (int a = 0; a < D; ++a) // the nodes of the box's two faces across axis a
       for (const PetscInt side : {PetscInt{0}, L.n[a] - 1}) {
@@ -103,7 +103,7 @@ template <int D> PetscErrorCode GridT<D>::build(MPI_Comm comm, const Scene *sc) 
   return PETSC_SUCCESS;
 }
 
-template <int D> PetscErrorCode GridT<D>::setWindow() {
+template <int D> PetscErrorCode Grid<D>::setWindow() {
   // Level-0 ownership of nodes; a rank owns the cells whose lowest node it owns.
   PetscInt np[3] = {1, 1, 1}, corner[3] = {0, 0, 0}, width[3] = {0, 0, 0};
   const PetscInt *ranges[3] = {nullptr, nullptr, nullptr};
@@ -113,7 +113,7 @@ template <int D> PetscErrorCode GridT<D>::setWindow() {
   PetscCall(
       DMDAGetCorners(da[0], &corner[0], &corner[1], &corner[2], &width[0], &width[1], &width[2]));
   std::int64_t wlo[D], whi[D];
-  const Level &L0 = levels[0];
+  const Level<D> &L0 = levels[0];
   for (int a = 0; a < D; ++a) {
     own_[a].assign(np[a] + 1, 0);
     for (PetscInt r = 0; r < np[a]; ++r)
@@ -124,7 +124,7 @@ template <int D> PetscErrorCode GridT<D>::setWindow() {
     whi[a] = L0.lo[a] + std::min<std::int64_t>(corner[a] + width[a] + 1, L0.n[a] - 1) * L0.step;
   }
   nWindow = 0;
-  for (Level &L : levels) {
+  for (Level<D> &L : levels) {
     for (int a = 0; a < D; ++a) {
       const std::int64_t first = (wlo[a] - L.lo[a] + L.step - 1) / L.step;
       L.w0[a] = std::min(static_cast<PetscInt>(std::max<std::int64_t>(0, first)), L.n[a]);
@@ -139,7 +139,7 @@ template <int D> PetscErrorCode GridT<D>::setWindow() {
   return PETSC_SUCCESS;
 }
 
-template <int D> void GridT<D>::fillWindowNodes() {
+template <int D> void Grid<D>::fillWindowNodes() {
   const int K = static_cast<int>(levels.size());
   // Node data of the window.
   active.assign(nWindow, 0);
@@ -151,7 +151,7 @@ template <int D> void GridT<D>::fillWindowNodes() {
   std::vector<double> *coord[3] = {&X, &Y, &Z};
   zone.assign(2 * D * static_cast<size_t>(nWindow), 0);
   for (int k = 0; k < K; ++k) {
-    const Level &L = levels[k];
+    const Level<D> &L = levels[k];
     std::array<PetscInt, D> wn;
     for (int a = 0; a < D; ++a)
       wn[a] = L.wn(a);
@@ -183,7 +183,7 @@ template <int D> void GridT<D>::fillWindowNodes() {
   auto regularBlocks = [&](PetscInt side, std::vector<std::uint8_t> &flag) {
     flag.assign(nWindow, 0);
     for (int k = 0; k < K; ++k) {
-      const Level &L = levels[k];
+      const Level<D> &L = levels[k];
       std::array<PetscInt, D> wn;
       bool any = true;
       for (int a = 0; a < D; ++a) {
@@ -212,7 +212,7 @@ template <int D> void GridT<D>::fillWindowNodes() {
   if (D == 2) regularBlocks(4, block4_);
 }
 
-template <int D> PetscErrorCode GridT<D>::createScatter(MPI_Comm comm) {
+template <int D> PetscErrorCode Grid<D>::createScatter(MPI_Comm comm) {
   PetscMPIInt size = 1;
   PetscCallMPI(MPI_Comm_size(comm, &size));
   const int K = static_cast<int>(levels.size());
@@ -243,7 +243,7 @@ template <int D> PetscErrorCode GridT<D>::createScatter(MPI_Comm comm) {
     blocks[s] = compStart[c.owner] + levelsOwned[c.owner] + c.ownerPos;
   }
   for (int k = 0; k < K; ++k) {
-    const Level &L = levels[k];
+    const Level<D> &L = levels[k];
     const PetscInt n = L.windowNodes();
     std::vector<PetscInt> idx(n);
     std::array<PetscInt, D> wn;
@@ -281,26 +281,25 @@ template <int D> PetscErrorCode GridT<D>::createScatter(MPI_Comm comm) {
   return PETSC_SUCCESS;
 }
 
-template <int D> PetscErrorCode GridT<D>::createWindowVec(Vec *v) const {
+template <int D> PetscErrorCode Grid<D>::createWindowVec(Vec *v) const {
   PetscCall(VecDuplicate(windowTemplate_, v));
   return PETSC_SUCCESS;
 }
 
-template <int D>
-PetscErrorCode GridT<D>::fromWindow(Vec window, Vec global, InsertMode mode) const {
+template <int D> PetscErrorCode Grid<D>::fromWindow(Vec window, Vec global, InsertMode mode) const {
   PetscCall(VecScatterBegin(scatter_, window, global, mode, SCATTER_REVERSE));
   PetscCall(VecScatterEnd(scatter_, window, global, mode, SCATTER_REVERSE));
   return PETSC_SUCCESS;
 }
 
-template <int D> PetscErrorCode GridT<D>::toWindow(Vec global, Vec window) const {
+template <int D> PetscErrorCode Grid<D>::toWindow(Vec global, Vec window) const {
   PetscCall(VecScatterBegin(scatter_, global, window, INSERT_VALUES, SCATTER_FORWARD));
   PetscCall(VecScatterEnd(scatter_, global, window, INSERT_VALUES, SCATTER_FORWARD));
   return PETSC_SUCCESS;
 }
 
-template <int D> PetscMPIInt GridT<D>::ownerOf(const double *x) const {
-  const Level &L = levels[0];
+template <int D> PetscMPIInt Grid<D>::ownerOf(const double *x) const {
+  const Level<D> &L = levels[0];
   PetscInt rank = 0;
   for (int a = D - 1; a >= 0; --a) { // ranks are numbered x fastest
     const PetscInt c = std::clamp<PetscInt>(
@@ -311,8 +310,8 @@ template <int D> PetscMPIInt GridT<D>::ownerOf(const double *x) const {
   return static_cast<PetscMPIInt>(rank);
 }
 
-template <int D> void GridT<D>::ownedBox(PetscMPIInt r, double box[2 * D]) const {
-  const Level &L = levels[0];
+template <int D> void Grid<D>::ownedBox(PetscMPIInt r, double box[2 * D]) const {
+  const Level<D> &L = levels[0];
   const double inf = std::numeric_limits<double>::infinity();
   PetscInt rest = r;
   for (int a = 0; a < D; ++a) {
@@ -323,7 +322,7 @@ template <int D> void GridT<D>::ownedBox(PetscMPIInt r, double box[2 * D]) const
   }
 }
 
-template class GridT<2>;
-template class GridT<3>;
+template class Grid<2>;
+template class Grid<3>;
 
 } // namespace gimp

@@ -30,14 +30,14 @@ const char *const kAxisName[3] = {"x", "y", "z"};
 
 } // namespace
 
-template <> void LatticeT<2>::setGeometry(const Scene &sc) {
+template <> void Lattice<2>::setGeometry(const Scene &sc) {
   std::vector<LevelBox<2>> boxes;
   for (size_t k = 0; k < sc.levels.size(); ++k)
     boxes.push_back({k == 0 ? sc.domain : sc.levels[k].box, k == 0 ? 1 : sc.levels[k].ratio});
   setLevels(sc.h, boxes);
 }
 
-template <int D> void LatticeT<D>::setLevels(double h0, const std::vector<LevelBox<D>> &boxes) {
+template <int D> void Lattice<D>::setLevels(double h0, const std::vector<LevelBox<D>> &boxes) {
   const size_t K = boxes.size();
   for (int a = 0; a < D; ++a)
     origin[a] = boxes[0].box[a];
@@ -46,11 +46,11 @@ template <int D> void LatticeT<D>::setLevels(double h0, const std::vector<LevelB
   for (size_t k = 1; k < K; ++k)
     total *= boxes[k].ratio;
   unit = h0 / static_cast<double>(total);
-  levels.assign(K, LevelT<D>{});
+  levels.assign(K, Level<D>{});
   std::int64_t step = total;
   double h = h0;
   for (size_t k = 0; k < K; ++k) {
-    LevelT<D> &L = levels[k];
+    Level<D> &L = levels[k];
     if (k > 0) {
       step /= boxes[k].ratio;
       h /= boxes[k].ratio;
@@ -82,7 +82,7 @@ template <int D> void LatticeT<D>::setLevels(double h0, const std::vector<LevelB
       L.hi[a] = c[D + a];
       empty = empty || L.hi[a] <= L.lo[a];
       if (k > 0) {
-        const LevelT<D> &P = levels[k - 1];
+        const Level<D> &P = levels[k - 1];
         outside = outside || L.lo[a] < P.lo[a] || L.hi[a] > P.hi[a];
       }
     }
@@ -97,12 +97,12 @@ template <int D> void LatticeT<D>::setLevels(double h0, const std::vector<LevelB
   }
 }
 
-template <int D> int LatticeT<D>::leafLevelAt2(const Index &a) const {
-  const LevelT<D> &L0 = levels.front();
+template <int D> int Lattice<D>::leafLevelAt2(const Index &a) const {
+  const Level<D> &L0 = levels.front();
   for (int d = 0; d < D; ++d)
     if (a[d] < 2 * L0.lo[d] || a[d] > 2 * L0.hi[d]) return -1;
   for (int k = static_cast<int>(levels.size()) - 1; k > 0; --k) {
-    const LevelT<D> &L = levels[k];
+    const Level<D> &L = levels[k];
     bool in = true;
     for (int d = 0; d < D; ++d)
       in = in && a[d] > 2 * L.lo[d] && a[d] < 2 * L.hi[d];
@@ -111,7 +111,7 @@ template <int D> int LatticeT<D>::leafLevelAt2(const Index &a) const {
   return 0;
 }
 
-template <int D> int LatticeT<D>::leafLevelAt(const double *x) const {
+template <int D> int Lattice<D>::leafLevelAt(const double *x) const {
   for (int k = static_cast<int>(levels.size()) - 1; k > 0; --k) {
     const BoxOf<D> &b = levels[k].box;
     bool in = true;
@@ -122,11 +122,11 @@ template <int D> int LatticeT<D>::leafLevelAt(const double *x) const {
   return 0;
 }
 
-template <int D> bool LatticeT<D>::nodeActive(int k, const Index &i) const {
-  const LevelT<D> &L = levels[k];
+template <int D> bool Lattice<D>::nodeActive(int k, const Index &i) const {
+  const Level<D> &L = levels[k];
   // The node belongs to the finest level whose closed box contains it.
   for (int q = static_cast<int>(levels.size()) - 1; q > k; --q) {
-    const LevelT<D> &F = levels[q];
+    const Level<D> &F = levels[q];
     bool in = true;
     for (int d = 0; d < D; ++d) {
       const std::int64_t u = L.at(d, i[d]);
@@ -137,8 +137,8 @@ template <int D> bool LatticeT<D>::nodeActive(int k, const Index &i) const {
   return true;
 }
 
-template <int D> void LatticeT<D>::zonesOf(int k, const Index &i, double z[2 * D]) const {
-  const LevelT<D> &L = levels[k];
+template <int D> void Lattice<D>::zonesOf(int k, const Index &i, double z[2 * D]) const {
+  const Level<D> &L = levels[k];
   Index a;
   for (int d = 0; d < D; ++d)
     a[d] = 2 * L.at(d, i[d]);
@@ -159,20 +159,20 @@ template <int D> void LatticeT<D>::zonesOf(int k, const Index &i, double z[2 * D
     }
 }
 
-template <int D> std::int64_t LatticeT<D>::activeNodes(int k) const {
+template <int D> std::int64_t Lattice<D>::activeNodes(int k) const {
   std::int64_t n = 0;
   forEachIndex<D>(levels[k].n, [&](const Index &i) { n += nodeActive(k, i); });
   return n;
 }
 
-template <int D> PetscInt LatticeT<D>::lineIndex(int axis, double c) const {
-  const LevelT<D> &L = levels[0];
+template <int D> PetscInt Lattice<D>::lineIndex(int axis, double c) const {
+  const Level<D> &L = levels[0];
   std::int64_t i = 0;
   if (!wholeMultiple(c - origin[axis], L.h, i) || i < 0 || i >= L.n[axis]) return -1;
   return static_cast<PetscInt>(i);
 }
 
-template <int D> std::string LatticeT<D>::activeNodesCsv() const {
+template <int D> std::string Lattice<D>::activeNodesCsv() const {
   std::string out = "level";
   for (int a = 0; a < D; ++a)
     out += std::string(",") + kAxisName[a];
@@ -199,7 +199,7 @@ template <int D> std::string LatticeT<D>::activeNodesCsv() const {
   return out;
 }
 
-template class LatticeT<2>;
-template class LatticeT<3>;
+template class Lattice<2>;
+template class Lattice<3>;
 
 } // namespace gimp

@@ -26,7 +26,7 @@ inline PetscInt iceil(double v) {
 
 } // namespace
 
-template <int D> int GridT<D>::coarsestReaching(const double *x, const double *l) const {
+template <int D> int Grid<D>::coarsestReaching(const double *x, const double *l) const {
   // A particle inside a finer box (closed) is out of reach of every coarser level: their active
   // nodes lie outside that box, on its lines, so their supports end on its boundary at the
   // latest.
@@ -41,9 +41,9 @@ template <int D> int GridT<D>::coarsestReaching(const double *x, const double *l
 }
 
 template <int D>
-GIMP_ALWAYS_INLINE bool GridT<D>::levelReach(int q, const double *x, const double *l,
-                                             Reach &r) const {
-  const Level &L = levels[q];
+GIMP_ALWAYS_INLINE bool Grid<D>::levelReach(int q, const double *x, const double *l,
+                                            Reach &r) const {
+  const Level<D> &L = levels[q];
   for (int a = 0; a < D; ++a)
     if (L.w1[a] <= L.w0[a]) return false;
   // Along an axis where the particle's centre lies within its box's range a level's nodes reach
@@ -75,12 +75,12 @@ GIMP_ALWAYS_INLINE bool GridT<D>::levelReach(int q, const double *x, const doubl
 }
 
 template <int D>
-GIMP_ALWAYS_INLINE int GridT<D>::soleBlock(int q, const double *x, const double *l,
-                                           PetscInt *i0) const {
+GIMP_ALWAYS_INLINE int Grid<D>::soleBlock(int q, const double *x, const double *l,
+                                          PetscInt *i0) const {
   // levelReach's conditions for a block, in its own arithmetic: the centre inside the box (so
   // the reach is h), l <= h / 2 (3 nodes) or, in 2D, l <= h on every axis and more than h / 2
   // on one (4 nodes), the candidates [ir, i1] within the window and at most that wide.
-  const Level &L = levels[q];
+  const Level<D> &L = levels[q];
   int side = 3;
   for (int a = 0; a < D; ++a) {
     if (!(x[a] >= L.box[a] && x[a] <= L.box[D + a] && l[a] <= L.h)) return 0;
@@ -97,7 +97,7 @@ GIMP_ALWAYS_INLINE int GridT<D>::soleBlock(int q, const double *x, const double 
   // No finer level reaches it: along some axis its reach (with half a cell to spare) misses the
   // finer box, so levelReach finds no candidate there. Coarser levels never reach it.
   for (int f = q + 1; f < static_cast<int>(levels.size()); ++f) {
-    const Level &F = levels[f];
+    const Level<D> &F = levels[f];
     const double Z = std::max(F.h, outwardReach_[f]) + 0.5 * F.h;
     bool misses = false;
     for (int a = 0; a < D; ++a)
@@ -108,10 +108,10 @@ GIMP_ALWAYS_INLINE int GridT<D>::soleBlock(int q, const double *x, const double 
 }
 
 template <int D>
-void GridT<D>::appendBlock3(int q, const Reach &r, const double *x, const double *l, Stencils<D> &s,
-                            size_t &m) const {
+void Grid<D>::appendBlock3(int q, const Reach &r, const double *x, const double *l, Stencils<D> &s,
+                           size_t &m) const {
   // A regular 3^D block of this level: closed-form weights, the same node set.
-  const Level &L = levels[q];
+  const Level<D> &L = levels[q];
   const double ih = L.ih;
   double fw[D][3], fg[D][3];
   PetscInt n[D];
@@ -161,11 +161,11 @@ void GridT<D>::appendBlock3(int q, const Reach &r, const double *x, const double
 }
 
 template <int D>
-void GridT<D>::appendNodes(int q, const Reach &r, const double *x, const double *l, double *scratch,
-                           PetscInt maxRange, Stencils<D> &s, size_t &m) const {
+void Grid<D>::appendNodes(int q, const Reach &r, const double *x, const double *l, double *scratch,
+                          PetscInt maxRange, Stencils<D> &s, size_t &m) const {
   // Any range of nodes: 1D weights of a regular stretch for every candidate, replaced by the
   // node's own zones where it is irregular; nodes whose support misses the particle are left out.
-  const Level &L = levels[q];
+  const Level<D> &L = levels[q];
   const double ih = L.ih;
   double *rw[D], *rg[D];
   size_t count = 1;
@@ -238,11 +238,11 @@ void GridT<D>::appendNodes(int q, const Reach &r, const double *x, const double 
 }
 
 template <int D>
-GIMP_ALWAYS_INLINE void GridT<D>::setBlock(int q, const PetscInt *i0, const double *x,
-                                           const double *l, Stencils<D> &s, PetscInt k) const {
+GIMP_ALWAYS_INLINE void Grid<D>::setBlock(int q, const PetscInt *i0, const double *x,
+                                          const double *l, Stencils<D> &s, PetscInt k) const {
   // One level's regular 3^D block from node i0: the arguments appendBlock3 gives
   // shape::uniformWeights3, so the factors are those the rows would hold.
-  const Level &L = levels[q];
+  const Level<D> &L = levels[q];
   double xi[D], lam[D];
   PetscInt stride[D];
   for (int a = 0; a < D; ++a) {
@@ -254,13 +254,13 @@ GIMP_ALWAYS_INLINE void GridT<D>::setBlock(int q, const PetscInt *i0, const doub
 }
 
 template <int D>
-GIMP_ALWAYS_INLINE void GridT<D>::setBlock4(int q, const PetscInt *i0, const double *x,
-                                            const double *l, Stencils<D> &s, PetscInt k) const {
+GIMP_ALWAYS_INLINE void Grid<D>::setBlock4(int q, const PetscInt *i0, const double *x,
+                                           const double *l, Stencils<D> &s, PetscInt k) const {
   // The 1D weights of the 4 nodes in closed form (shape::uniformWeights4): the values
   // appendNodes gives a regular node with the particle inside its level's box, to round-off.
   if constexpr (D == 2) { // both axes at once, in closed form
     using simd::Pair;
-    const Level &L = levels[q];
+    const Level<D> &L = levels[q];
     const Pair x2 = {x[0], x[1]}, l2 = {l[0], l[1]},
                corner = {L.box[0] + i0[0] * L.h, L.box[1] + i0[1] * L.h};
     const Pair xi = (x2 - corner) * L.ih, lam = l2 * L.ih, i2l = 0.5 / lam;
@@ -281,7 +281,7 @@ namespace {
 /// GridT<2>::blockRun's particles of level q in lanes: soleBlock and setBlock for four particles,
 /// each lane their scalar arithmetic in its order (no FMA: this function alone is compiled for
 /// AVX2, and the build has no contraction).
-GIMP_LANES bool blockRunLanes(const GridT<2> &grid, const std::uint8_t *block3,
+GIMP_LANES bool blockRunLanes(const Grid<2> &grid, const std::uint8_t *block3,
                               const double *outwardReach, PetscInt k, const double *x,
                               const double *l, Stencils<2> &s) {
   using lanes::V4;
@@ -314,7 +314,7 @@ GIMP_LANES bool blockRunLanes(const GridT<2> &grid, const std::uint8_t *block3,
     }
     if (mask != 0) return false; // some of the four on level f, some coarser
   }
-  const LevelT<2> &L = grid.levels[q];
+  const Level<2> &L = grid.levels[q];
   const V4 h = _mm256_set1_pd(L.h), ih = _mm256_set1_pd(L.ih), halfH = _mm256_set1_pd(0.5 * L.h);
   // soleBlock: the centre inside the box, l <= h / 2 (3 nodes), candidates [ir, i1] in the
   // window and at most 3 wide
@@ -333,7 +333,7 @@ GIMP_LANES bool blockRunLanes(const GridT<2> &grid, const std::uint8_t *block3,
   }
   // no finer level reaches it (soleBlock's test, per level)
   for (int f = q + 1; f < static_cast<int>(grid.levels.size()); ++f) {
-    const LevelT<2> &F = grid.levels[f];
+    const Level<2> &F = grid.levels[f];
     const V4 Z = _mm256_set1_pd(std::max(F.h, outwardReach[f]) + 0.5 * F.h);
     V4 misses = _mm256_setzero_pd();
     for (int a = 0; a < 2; ++a) {
@@ -404,7 +404,7 @@ GIMP_LANES bool blockRunLanes(const GridT<2> &grid, const std::uint8_t *block3,
 #endif
 
 template <int D>
-bool GridT<D>::blockRun(PetscInt k, const double *x, const double *l, Stencils<D> &s) const {
+bool Grid<D>::blockRun(PetscInt k, const double *x, const double *l, Stencils<D> &s) const {
 #if GIMP_HAVE_LANES
   if constexpr (D == 2)
     return blockRunLanes(*this, block3_.data(), outwardReach_.data(), k, x, l, s);
@@ -414,8 +414,8 @@ bool GridT<D>::blockRun(PetscInt k, const double *x, const double *l, Stencils<D
 }
 
 template <int D>
-bool GridT<D>::buildStencils(PetscInt n, const double *x, const double *l, Stencils<D> &s,
-                             bool compact, bool lanes) const {
+bool Grid<D>::buildStencils(PetscInt n, const double *x, const double *l, Stencils<D> &s,
+                            bool compact, bool lanes) const {
   const int K = static_cast<int>(levels.size());
   s.start.resize(static_cast<size_t>(n) + 1);
   s.general = false;
@@ -502,33 +502,33 @@ bool GridT<D>::buildStencils(PetscInt n, const double *x, const double *l, Stenc
   return true;
 }
 
-template void GridT<2>::appendBlock3(int, const Reach &, const double *, const double *,
-                                     Stencils<2> &, size_t &) const;
-template void GridT<3>::appendBlock3(int, const Reach &, const double *, const double *,
-                                     Stencils<3> &, size_t &) const;
-template void GridT<2>::appendNodes(int, const Reach &, const double *, const double *, double *,
-                                    PetscInt, Stencils<2> &, size_t &) const;
-template void GridT<3>::appendNodes(int, const Reach &, const double *, const double *, double *,
-                                    PetscInt, Stencils<3> &, size_t &) const;
-template bool GridT<2>::levelReach(int, const double *, const double *, Reach &) const;
-template bool GridT<3>::levelReach(int, const double *, const double *, Reach &) const;
-template int GridT<2>::soleBlock(int, const double *, const double *, PetscInt *) const;
-template int GridT<3>::soleBlock(int, const double *, const double *, PetscInt *) const;
-template void GridT<2>::setBlock4(int, const PetscInt *, const double *, const double *,
-                                  Stencils<2> &, PetscInt) const;
-template void GridT<3>::setBlock4(int, const PetscInt *, const double *, const double *,
-                                  Stencils<3> &, PetscInt) const;
-template void GridT<2>::setBlock(int, const PetscInt *, const double *, const double *,
+template void Grid<2>::appendBlock3(int, const Reach &, const double *, const double *,
+                                    Stencils<2> &, size_t &) const;
+template void Grid<3>::appendBlock3(int, const Reach &, const double *, const double *,
+                                    Stencils<3> &, size_t &) const;
+template void Grid<2>::appendNodes(int, const Reach &, const double *, const double *, double *,
+                                   PetscInt, Stencils<2> &, size_t &) const;
+template void Grid<3>::appendNodes(int, const Reach &, const double *, const double *, double *,
+                                   PetscInt, Stencils<3> &, size_t &) const;
+template bool Grid<2>::levelReach(int, const double *, const double *, Reach &) const;
+template bool Grid<3>::levelReach(int, const double *, const double *, Reach &) const;
+template int Grid<2>::soleBlock(int, const double *, const double *, PetscInt *) const;
+template int Grid<3>::soleBlock(int, const double *, const double *, PetscInt *) const;
+template void Grid<2>::setBlock4(int, const PetscInt *, const double *, const double *,
                                  Stencils<2> &, PetscInt) const;
-template void GridT<3>::setBlock(int, const PetscInt *, const double *, const double *,
+template void Grid<3>::setBlock4(int, const PetscInt *, const double *, const double *,
                                  Stencils<3> &, PetscInt) const;
-template int GridT<2>::coarsestReaching(const double *, const double *) const;
-template bool GridT<2>::blockRun(PetscInt, const double *, const double *, Stencils<2> &) const;
-template bool GridT<3>::blockRun(PetscInt, const double *, const double *, Stencils<3> &) const;
-template int GridT<3>::coarsestReaching(const double *, const double *) const;
-template bool GridT<2>::buildStencils(PetscInt, const double *, const double *, Stencils<2> &, bool,
-                                      bool) const;
-template bool GridT<3>::buildStencils(PetscInt, const double *, const double *, Stencils<3> &, bool,
-                                      bool) const;
+template void Grid<2>::setBlock(int, const PetscInt *, const double *, const double *,
+                                Stencils<2> &, PetscInt) const;
+template void Grid<3>::setBlock(int, const PetscInt *, const double *, const double *,
+                                Stencils<3> &, PetscInt) const;
+template int Grid<2>::coarsestReaching(const double *, const double *) const;
+template bool Grid<2>::blockRun(PetscInt, const double *, const double *, Stencils<2> &) const;
+template bool Grid<3>::blockRun(PetscInt, const double *, const double *, Stencils<3> &) const;
+template int Grid<3>::coarsestReaching(const double *, const double *) const;
+template bool Grid<2>::buildStencils(PetscInt, const double *, const double *, Stencils<2> &, bool,
+                                     bool) const;
+template bool Grid<3>::buildStencils(PetscInt, const double *, const double *, Stencils<3> &, bool,
+                                     bool) const;
 
 } // namespace gimp

@@ -289,10 +289,11 @@ PetscErrorCode readMethodOptions(MPI_Comm comm, Scene &sc, RunOptions &o) {
   PetscOptionsBegin(comm, nullptr, "gimp scene: grid and method", "gimp");
   PetscCall(PetscOptionsReal("-gimp_h", "Cell size of the background grid [m]", "docs/options.md",
                              sc.h, &sc.h, &setH));
-  PetscCall(PetscOptionsRealArray("-gimp_domain",
-                                  "Grid domain x0,y0,x1,y1 [m] (default: the bodies' bounding box "
-                                  "padded by -gimp_pad cells)",
-                                  "docs/options.md", dom, &ndom, &setDom));
+  PetscCall(
+      PetscOptionsRealArray("-gimp_domain",
+                            "Grid<2> domain x0,y0,x1,y1 [m] (default: the bodies' bounding box "
+                            "padded by -gimp_pad cells)",
+                            "docs/options.md", dom, &ndom, &setDom));
   PetscCall(PetscOptionsInt("-gimp_pad",
                             "Cells of padding around the bodies for the default domain",
                             "docs/options.md", pad, &pad, nullptr));

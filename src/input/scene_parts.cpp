@@ -585,7 +585,7 @@ PetscErrorCode readNodeBC(MPI_Comm comm, PetscInt k, Scene &sc) {
   PetscInt nr = 3, type = 0;
   const char *types[] = {"fixed", "roller"};
   PetscCall(checkChoice(p + "type", types, 2));
-  PetscOptionsBegin(comm, nullptr, ("Grid-node constraint " + p + "*").c_str(), "gimp");
+  PetscOptionsBegin(comm, nullptr, ("Grid<2>-node constraint " + p + "*").c_str(), "gimp");
   PetscCall(PetscOptionsReal((p + "x").c_str(),
                              "Constrain the grid nodes on the line x = value [m]",
                              "docs/options.md", x, &x, &setX));
@@ -705,7 +705,7 @@ PetscErrorCode readLoads(MPI_Comm comm, Scene &sc) {
 
 PetscErrorCode readLevels(MPI_Comm comm, Scene &sc) {
   PetscInt n = 1;
-  PetscOptionsBegin(comm, nullptr, "Grid levels", "gimp");
+  PetscOptionsBegin(comm, nullptr, "Grid<2> levels", "gimp");
   PetscCall(PetscOptionsInt("-gimp_levels",
                             "Number of grid levels (1: uniform); level k > 0 is set by "
                             "-gimp_levelK_box and -gimp_levelK_ratio",
@@ -718,7 +718,7 @@ PetscErrorCode readLevels(MPI_Comm comm, Scene &sc) {
     PetscReal box[5] = {0, 0, 0, 0, 0}, ratio = 2;
     PetscInt nbox = 5;
     PetscBool setBox = PETSC_FALSE;
-    PetscOptionsBegin(comm, nullptr, ("Grid level " + p + "*").c_str(), "gimp");
+    PetscOptionsBegin(comm, nullptr, ("Grid<2> level " + p + "*").c_str(), "gimp");
     PetscCall(PetscOptionsRealArray((p + "box").c_str(),
                                     "Box x0,y0,x1,y1 of this level, corners on the parent "
                                     "level's grid lines [m]",

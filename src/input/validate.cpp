@@ -270,8 +270,8 @@ PetscErrorCode checkSegmentsReached(MPI_Comm comm, const Scene &sc, const Partic
 
 } // namespace
 
-PetscErrorCode checkSeeding(MPI_Comm comm, const Scene &sc, const Grid &grid, const ParticleView &p,
-                            PetscInt64 &count, double &meanMass) {
+PetscErrorCode checkSeeding(MPI_Comm comm, const Scene &sc, const Grid<2> &grid,
+                            const ParticleView &p, PetscInt64 &count, double &meanMass) {
   const PetscInt64 slots = bodyIdSlots(grid);
   std::vector<PetscInt64> mine(sc.bodies.size(), 0), total(sc.bodies.size(), 0);
   double msum = 0, mtot = 0;
@@ -326,7 +326,7 @@ PetscErrorCode checkSeeding(MPI_Comm comm, const Scene &sc, const Grid &grid, co
   return PETSC_SUCCESS;
 }
 
-PetscErrorCode timeStepFromOptions(TS ts, const Scene &sc, const Lattice &grid) {
+PetscErrorCode timeStepFromOptions(TS ts, const Scene &sc, const Lattice<2> &grid) {
   return timeStepFromOptions(ts, sc.maxWaveSpeed(), grid.hMin(), sc.stabilityCheck, sc.damping);
 }
 

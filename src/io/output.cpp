@@ -254,7 +254,7 @@ long double Output::frameBytes(PetscInt64 particles) const {
   long double components = 0, nodes = 0;
   for (const FieldSpec *fs : writtenFields(sc_))
     components += fs->components;
-  for (const Level &L : grid_.levels)
+  for (const Level<2> &L : grid_.levels)
     nodes += static_cast<long double>(L.n[0]) * L.n[1];
   return 2 * 8 * (particles * components + 3 * nodes) + (1 << 20);
 }
@@ -330,9 +330,10 @@ PetscErrorCode Output::writeXdmf() const {
   PetscCall(openOnRoot("particles.xmf", &fp, true));
   PetscCall(openOnRoot("grid.xmf", &fg, true));
   if (rank_ == 0) {
-    const char *head = "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n<Domain>\n"
-                       "<Grid Name=\"%s\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
-    const char *tail = "</Grid>\n</Domain>\n</Xdmf>\n";
+    const char *head =
+        "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n<Domain>\n"
+        "<Grid<2> Name=\"%s\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
+    const char *tail = "</Grid<2>>\n</Domain>\n</Xdmf>\n";
     std::fprintf(fp, head, "particles");
     std::fprintf(fg, head, "grid");
     PetscCall(writeParticleXdmf(fp));
@@ -349,7 +350,7 @@ PetscErrorCode Output::writeParticleXdmf(FILE *fp) const {
   for (const Frame &fr : frames_) {
     const std::string g = frameGroup(fr.step);
     std::fprintf(fp,
-                 " <Grid Name=\"%s\" GridType=\"Uniform\">\n  <Time Value=\"%.12e\"/>\n"
+                 " <Grid<2> Name=\"%s\" GridType=\"Uniform\">\n  <Time Value=\"%.12e\"/>\n"
                  "  <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"%lld\"/>\n"
                  "  <Geometry GeometryType=\"XY\"><DataItem Dimensions=\"%lld 2\" "
                  "NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">fields.h5:/particles/%s/x"
@@ -366,7 +367,7 @@ PetscErrorCode Output::writeParticleXdmf(FILE *fp) const {
                    fs->name, fs->components == 1 ? "Scalar" : "Matrix", fr.particles, dims.c_str(),
                    g.c_str(), fs->name);
     }
-    std::fprintf(fp, " </Grid>\n");
+    std::fprintf(fp, " </Grid<2>>\n");
   }
   return PETSC_SUCCESS;
 }
@@ -375,15 +376,15 @@ PetscErrorCode Output::writeGridXdmf(FILE *fg) const {
   for (const Frame &fr : frames_) {
     const std::string g = frameGroup(fr.step);
     std::fprintf(fg,
-                 " <Grid Name=\"%s\" GridType=\"Collection\" CollectionType=\"Spatial\">\n"
+                 " <Grid<2> Name=\"%s\" GridType=\"Collection\" CollectionType=\"Spatial\">\n"
                  "  <Time Value=\"%.12e\"/>\n",
                  g.c_str(), fr.t);
     for (size_t k = 0; k < grid_.levels.size(); ++k) {
-      const Level &L = grid_.levels[k];
+      const Level<2> &L = grid_.levels[k];
       const long long N = L.n[1], M = L.n[0];
       const std::string ref = "fields.h5:/grid/" + g + "/level_" + std::to_string(k);
       std::fprintf(fg,
-                   "  <Grid Name=\"level_%zu\" GridType=\"Uniform\">\n"
+                   "  <Grid<2> Name=\"level_%zu\" GridType=\"Uniform\">\n"
                    "   <Topology TopologyType=\"2DCoRectMesh\" Dimensions=\"%lld %lld\"/>\n"
                    "   <Geometry GeometryType=\"ORIGIN_DXDY\">\n"
                    "    <DataItem Dimensions=\"2\" NumberType=\"Float\" Format=\"XML\">%.17g %.17g"
@@ -395,10 +396,10 @@ PetscErrorCode Output::writeGridXdmf(FILE *fg) const {
                    "%s/mass</DataItem></Attribute>\n"
                    "   <Attribute Name=\"velocity\" AttributeType=\"Matrix\" Center=\"Node\">"
                    "<DataItem Dimensions=\"%lld %lld 2\" NumberType=\"Float\" Precision=\"8\" "
-                   "Format=\"HDF\">%s/velocity</DataItem></Attribute>\n  </Grid>\n",
+                   "Format=\"HDF\">%s/velocity</DataItem></Attribute>\n  </Grid<2>>\n",
                    k, N, M, L.box[1], L.box[0], L.h, L.h, N, M, ref.c_str(), N, M, ref.c_str());
     }
-    std::fprintf(fg, " </Grid>\n");
+    std::fprintf(fg, " </Grid<2>>\n");
   }
   return PETSC_SUCCESS;
 }

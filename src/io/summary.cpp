@@ -78,7 +78,7 @@ void Output::summaryRun(FILE *f, const SummaryReport &r) const {
   std::fprintf(f, "  \"dt_critical\": %s,\n", num(r.dtCritical).c_str());
   std::fprintf(f, "  \"levels\": [");
   for (size_t k = 0; k < grid_.levels.size(); ++k) {
-    const Level &L = grid_.levels[k];
+    const Level<2> &L = grid_.levels[k];
     std::fprintf(f,
                  "%s\n    {\"h\": %s, \"ratio\": %d, \"box\": [%s, %s, %s, %s], "
                  "\"nodes\": [%lld, %lld], \"active_nodes\": %lld}",

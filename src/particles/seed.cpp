@@ -100,11 +100,11 @@ bool cutByShape(const Body &body, Seed &s) {
 
 /// The particles this rank seeds: the leaf cells of every level whose centre lies in its
 /// level-0 cells, cut into n x n squares whose centres lie in a body.
-std::vector<Seed> collectSeeds(const Scene &sc, const Grid &g, PetscMPIInt rank) {
+std::vector<Seed> collectSeeds(const Scene &sc, const Grid<2> &g, PetscMPIInt rank) {
   std::vector<Seed> seeds;
   const int K = static_cast<int>(g.levels.size());
   PetscInt64 maxCells = 0;
-  for (const Level &L : g.levels)
+  for (const Level<2> &L : g.levels)
     maxCells = std::max<PetscInt64>(maxCells, static_cast<PetscInt64>(L.n[0]) * L.n[1]);
   // Leaf cells of every level: a body's particles take the size of the finest cell there.
   // The rank owning the level-0 cell of a leaf cell's centre seeds it.
@@ -136,7 +136,7 @@ std::vector<Seed> collectSeeds(const Scene &sc, const Grid &g, PetscMPIInt rank)
       continue;
     }
     for (int q = 0; q < K; ++q) {
-      const Level &L = g.levels[q];
+      const Level<2> &L = g.levels[q];
       const double h = L.h;
       const double band = body.holeBand > 0 ? body.holeBand : h;
       const PetscInt i0 =
@@ -193,9 +193,9 @@ std::vector<Seed> collectSeeds(const Scene &sc, const Grid &g, PetscMPIInt rank)
 
 } // namespace
 
-PetscInt64 bodyIdSlots(const Lattice &g) {
+PetscInt64 bodyIdSlots(const Lattice<2> &g) {
   PetscInt64 cells = 0;
-  for (const Level &L : g.levels)
+  for (const Level<2> &L : g.levels)
     cells = std::max<PetscInt64>(cells, static_cast<PetscInt64>(L.n[0]) * L.n[1]);
   return static_cast<PetscInt64>(g.levels.size()) * cells * 64 * 64;
 }
@@ -215,12 +215,12 @@ PetscErrorCode LoadConflict::agree(MPI_Comm comm) const {
                    "ranges): make the body thicker or the ranges disjoint");
 }
 
-PetscErrorCode seedParticles(const Scene &sc, const Grid &g, DM sw) {
+PetscErrorCode seedParticles(const Scene &sc, const Grid<2> &g, DM sw) {
   LoadConflict unused;
   return seedParticles(sc, g, sw, unused);
 }
 
-PetscErrorCode seedParticles(const Scene &sc, const Grid &g, DM sw, LoadConflict &conflict) {
+PetscErrorCode seedParticles(const Scene &sc, const Grid<2> &g, DM sw, LoadConflict &conflict) {
   PetscMPIInt rank = 0;
   PetscCallMPI(MPI_Comm_rank(PetscObjectComm(reinterpret_cast<PetscObject>(sw)), &rank));
   const std::vector<Seed> seeds = collectSeeds(sc, g, rank);

@@ -42,7 +42,7 @@ Edge edgeOf(const Scene &sc, const ParticleView &p, PetscInt k, int a, double n,
 
 } // namespace
 
-PetscErrorCode Boundary::setup(MPI_Comm comm, const Scene &sc, const Lattice &grid, double dt,
+PetscErrorCode Boundary::setup(MPI_Comm comm, const Scene &sc, const Lattice<2> &grid, double dt,
                                bool constantBounds) {
   active_ = !sc.tractions.empty() || !sc.dbcs.empty() || sc.gravity[0] != 0 || sc.gravity[1] != 0 ||
             sc.mms != Mms::None;
@@ -94,7 +94,7 @@ PetscErrorCode Boundary::setup(MPI_Comm comm, const Scene &sc, const Lattice &gr
   return PETSC_SUCCESS;
 }
 
-void Boundary::externalForces(const Scene &sc, const Grid &g, const Stencils<2> &st,
+void Boundary::externalForces(const Scene &sc, const Grid<2> &g, const Stencils<2> &st,
                               const ParticleView &p, double t, double *fe, const double *scale) {
   const double gxv = sc.gravity[0], gyv = sc.gravity[1];
   const bool gravity = gxv != 0 || gyv != 0;
@@ -130,7 +130,7 @@ void Boundary::externalForces(const Scene &sc, const Grid &g, const Stencils<2> 
   if (!sc.dbcs.empty()) penaltyForces(sc, g, st, p, t, fe);
 }
 
-void Boundary::penaltyForces(const Scene &sc, const Grid &g, const Stencils<2> &st,
+void Boundary::penaltyForces(const Scene &sc, const Grid<2> &g, const Stencils<2> &st,
                              const ParticleView &p, double t, double *fe) {
   // Eq. 9 on each particle edge that lies on a constrained segment, per constrained component.
   // u is the displacement of the edge, u_p + (F - I) n l0: exact for a uniformly strained
@@ -168,7 +168,7 @@ void Boundary::penaltyForces(const Scene &sc, const Grid &g, const Stencils<2> &
     }
 }
 
-void Boundary::penaltyIncrement(const Scene &sc, const Grid &g, const Stencils<2> &st,
+void Boundary::penaltyIncrement(const Scene &sc, const Grid<2> &g, const Stencils<2> &st,
                                 const ParticleView &p, const double *du, const double *L,
                                 const double *ds, bool springs, double *fe) const {
   // The linearisation of penaltyForces: the same edges, lengths and edge shapes. Each input may

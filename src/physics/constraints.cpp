@@ -7,7 +7,7 @@ namespace gimp::physics {
 namespace {
 
 /// Level-0 grid line of constraint b, as finest-lattice units; throws when it is off the lines.
-std::int64_t constraintLine(const Scene &sc, const Grid &grid, size_t b) {
+std::int64_t constraintLine(const Scene &sc, const Grid<2> &grid, size_t b) {
   const NodeBC &bc = sc.bcs[b];
   const PetscInt line = grid.lineIndex(bc.axis, bc.coord);
   if (line < 0) {
@@ -17,7 +17,7 @@ std::int64_t constraintLine(const Scene &sc, const Grid &grid, size_t b) {
                      ": not on a level-0 grid line inside the domain (lines at " + formatNumber(o) +
                      " + i * " + formatNumber(grid.h0()) + ")");
   }
-  const Level &L0 = grid.levels[0];
+  const Level<2> &L0 = grid.levels[0];
   return (bc.axis == 0 ? L0.lo[0] : L0.lo[1]) + line * L0.step;
 }
 
@@ -26,10 +26,10 @@ std::int64_t constraintLine(const Scene &sc, const Grid &grid, size_t b) {
 namespace {
 
 /// Whether constraint b fixes level k's node (i, j), on its line `line` [lattice units].
-bool constrains(const Scene &sc, const Grid &grid, size_t b, std::int64_t line, int k, PetscInt i,
-                PetscInt j) {
+bool constrains(const Scene &sc, const Grid<2> &grid, size_t b, std::int64_t line, int k,
+                PetscInt i, PetscInt j) {
   const NodeBC &bc = sc.bcs[b];
-  const Level &L = grid.levels[k];
+  const Level<2> &L = grid.levels[k];
   const std::int64_t u = bc.axis == 0 ? L.at(0, i) : L.at(1, j);
   if (u != line || !grid.nodeActive(k, {i, j})) return false;
   const double along = bc.axis == 0 ? grid.nodeCoordinate(k, 1, j) : grid.nodeCoordinate(k, 0, i);
@@ -39,7 +39,7 @@ bool constrains(const Scene &sc, const Grid &grid, size_t b, std::int64_t line, 
 
 } // namespace
 
-PetscErrorCode nodeConstraints(const Scene &sc, const Grid &grid, Vec bcMask) {
+PetscErrorCode nodeConstraints(const Scene &sc, const Grid<2> &grid, Vec bcMask) {
   std::vector<std::int64_t> lines;
   for (size_t b = 0; b < sc.bcs.size(); ++b)
     lines.push_back(constraintLine(sc, grid, b));
@@ -66,7 +66,7 @@ PetscErrorCode nodeConstraints(const Scene &sc, const Grid &grid, Vec bcMask) {
     PetscCallMPI(MPI_Comm_rank(PetscObjectComm(reinterpret_cast<PetscObject>(bcMask)), &rank));
     PetscScalar *mk = nullptr;
     PetscCall(VecGetArray(sub[K], &mk));
-    for (const Grid::CrackedNode &cn : grid.crackedNodes()) {
+    for (const Grid<2>::CrackedNode &cn : grid.crackedNodes()) {
       if (cn.owner != rank) continue;
       for (size_t b = 0; b < sc.bcs.size(); ++b)
         if (constrains(sc, grid, b, lines[b], cn.k, cn.i, cn.j))

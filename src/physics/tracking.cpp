@@ -25,7 +25,7 @@ const double *cpdiCorners(const Scene &sc, const ParticleView &p, std::vector<do
   return scratch.data();
 }
 
-bool CornerMotion::move(const Grid &g, const std::vector<Crack> &cracks, double cornerSize,
+bool CornerMotion::move(const Grid<2> &g, const std::vector<Crack> &cracks, double cornerSize,
                         double cut, double dt, const double *vg, const double *mg,
                         ParticleView &p) {
   const size_t n4 = 4 * static_cast<size_t>(p.n);

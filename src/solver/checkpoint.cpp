@@ -122,9 +122,9 @@ PetscErrorCode transferFields(MPI_Comm comm, PetscViewer v, DM sw, bool load) {
 }
 
 /// The levels as h, box and node counts: a checkpoint belongs to the grid that wrote it.
-std::vector<double> gridDescription(const Grid &g) {
+std::vector<double> gridDescription(const Grid<2> &g) {
   std::vector<double> d;
-  for (const Level &L : g.levels)
+  for (const Level<2> &L : g.levels)
     d.insert(d.end(), {L.h, L.box[0], L.box[1], L.box[2], L.box[3], static_cast<double>(L.n[0]),
                        static_cast<double>(L.n[1])});
   return d;

@@ -29,7 +29,7 @@ RateClasses::~RateClasses() {
     (void)VecDestroy(v);
 }
 
-PetscErrorCode RateClasses::create(const Grid &grid, Vec like, bool external, bool nodeRule) {
+PetscErrorCode RateClasses::create(const Grid<2> &grid, Vec like, bool external, bool nodeRule) {
   n = static_cast<int>(grid.levels.size());
   every.resize(n);
   for (int c = 0; c < n; ++c)
@@ -65,7 +65,7 @@ namespace {
 /// How far outside each side of level c's box (x0, y0, x1, y1) its nodes reach: the zone of its
 /// boundary nodes, the cell of the first coarser level whose box side does not coincide with
 /// that side (a box sharing an edge with its parent borders the grandparent's cells there).
-std::array<double, 4> outwardZones(const Grid &g, int c) {
+std::array<double, 4> outwardZones(const Grid<2> &g, int c) {
   std::array<double, 4> z{};
   for (int side = 0; side < 4; ++side) {
     int q = c - 1;
@@ -80,7 +80,7 @@ std::array<double, 4> outwardZones(const Grid &g, int c) {
 /// reach of its boundary nodes (zones), the particle's half-size and one finest cell of motion
 /// within the coarse step, it overlaps. A particle with a penalty edge is in the finest class:
 /// the penalty's stability bound is the finest step's.
-int classOf(const Grid &g, const std::vector<std::array<double, 4>> &zones, const double *x,
+int classOf(const Grid<2> &g, const std::vector<std::array<double, 4>> &zones, const double *x,
             const double *l, bool penalty) {
   const int top = static_cast<int>(g.levels.size()) - 1;
   if (penalty) return top;
@@ -98,7 +98,7 @@ int classOf(const Grid &g, const std::vector<std::array<double, 4>> &zones, cons
 /// The largest window node particle k's stencil reaches (levels are concatenated in the window,
 /// coarse to fine, so this tells the finest level it reaches); a crack's second-field slot counts
 /// as its node.
-PetscInt maxSlot(const Grid &g, const Stencils<kDim> &st, PetscInt k) {
+PetscInt maxSlot(const Grid<2> &g, const Stencils<kDim> &st, PetscInt k) {
   if (st.isBlock(k)) {
     const Block<kDim> &b = st.block(k);
     return b.base + 2 * b.stride[0] + 2;

@@ -9,7 +9,7 @@ Nodal::~Nodal() {
     if (*v) (void)VecDestroy(v);
 }
 
-PetscErrorCode Nodal::create(const Grid &grid, bool external, bool cracks, bool xpic) {
+PetscErrorCode Nodal::create(const Grid<2> &grid, bool external, bool cracks, bool xpic) {
   PetscCall(DMCreateGlobalVector(grid.dm, &P));
   PetscCall(PetscObjectSetName(reinterpret_cast<PetscObject>(P), "momentum"));
   for (Vec *v : {&mass, &vel, &acc, &f, &rhs, &bcMask, &mask, &invMass})

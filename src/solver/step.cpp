@@ -91,7 +91,7 @@ PetscErrorCode Solver::sortParticles(std::vector<int> *cls, bool byCell) {
   // first; without byCell only the classes are made contiguous (a stable partition).
   ParticleView p;
   PetscCall(p.get(sw_));
-  const Level &L = grid_.levels[0];
+  const Level<2> &L = grid_.levels[0];
   using Key = std::array<PetscInt64, 3>;
   auto keyOf = [&](PetscInt k) {
     const PetscInt64 c = cls ? (*cls)[k] : 0;

@@ -144,7 +144,7 @@ PetscInt faceCondition(const Faces &faces, int kind, const Body3 &body, int b, i
 
 } // namespace
 
-PetscErrorCode seedParticles3(const Scene3 &sc, const GridT<3> &grid, PetscMPIInt rank, DM sw,
+PetscErrorCode seedParticles3(const Scene3 &sc, const Grid<3> &grid, PetscMPIInt rank, DM sw,
                               int &overlapping, LoadConflict &conflict) {
   struct Seed {
     double x[3], l, V;
@@ -157,7 +157,7 @@ PetscErrorCode seedParticles3(const Scene3 &sc, const GridT<3> &grid, PetscMPIIn
   // the rank count; it keeps the cells whose centre its own level-0 cells hold.
   PetscInt64 cellBase = 0;
   for (size_t k = 0; k < grid.levels.size(); ++k) {
-    const LevelT<3> &L = grid.levels[k];
+    const Level<3> &L = grid.levels[k];
     std::array<PetscInt, 3> cells;
     PetscInt64 nc = 1;
     for (int a = 0; a < 3; ++a) {

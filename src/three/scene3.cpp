@@ -612,7 +612,7 @@ void readScene3Options(MPI_Comm comm, Scene3 &sc) {
   sc.h = realOpt(comm, "-gimp_h", "Cell size of level 0 [m]", 0.0);
   sc.pad =
       intOpt(comm, "-gimp_pad", "Cells of padding around the bodies for the default domain", 2);
-  sc.domainGiven = realsOpt(comm, "-gimp_domain", "Grid domain x0,y0,z0,x1,y1,z1 [m]",
+  sc.domainGiven = realsOpt(comm, "-gimp_domain", "Grid<2> domain x0,y0,z0,x1,y1,z1 [m]",
                             sc.domain.data(), 6, "6 values x0,y0,z0,x1,y1,z1 [m]");
   if (!sc.help) {
     if (!(sc.h > 0)) bad("gimp_h", formatNumber(sc.h), "must be > 0 [m]");

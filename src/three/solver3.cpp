@@ -224,7 +224,7 @@ PetscErrorCode Solver3::nodeConstraints() {
   std::vector<PetscInt64> hits(sc_.bcs.size(), 0); // the nodes each constraint fixes
   PetscCall(DMCompositeGetAccessArray(grid_.dm, bcMask_, K, nullptr, sub.data()));
   for (int k = 0; k < K; ++k) {
-    const LevelT<3> &L = grid_.levels[k];
+    const Level<3> &L = grid_.levels[k];
     PetscInt s[3], m[3];
     PetscScalar ****mk;
     PetscCall(DMDAGetCorners(grid_.da[k], &s[0], &s[1], &s[2], &m[0], &m[1], &m[2]));
@@ -349,7 +349,7 @@ PetscErrorCode Solver3::sortParticles() {
   // nothing is allocated when the particles are in order already.
   Particles3 p;
   PetscCall(p.get(sw_));
-  const LevelT<3> &L = grid_.levels[0];
+  const Level<3> &L = grid_.levels[0];
   using Key = std::pair<PetscInt64, PetscInt64>;
   auto keyOf = [&](PetscInt k) {
     PetscInt64 cell = 0;
@@ -435,7 +435,7 @@ namespace {
 /// over the particle's face normal to axis a at coordinate `at`, per unit face area: the tent
 /// across the face taken at the face (Eq. 14) times the 1D weights along the face.
 template <class Fn>
-void forEachFaceWeight(const GridT<3> &g, const Stencils<3> &st, PetscInt k, int a, double at,
+void forEachFaceWeight(const Grid<3> &g, const Stencils<3> &st, PetscInt k, int a, double at,
                        Fn &&f) {
   auto tentAt = [&](PetscInt slot) {
     const PetscInt nd = g.slotNode[slot];

@@ -12,20 +12,20 @@ namespace gimp::cracks {
 /// A particle joins field 1 of a node (the node's own slot) when the segment from the particle
 /// (its weight centre x) to the node crosses no crack, and field 2 (the node's crack slot) when
 /// it crosses one: entries of cracked nodes are moved to the second slot accordingly.
-void assignFields(const Grid &g, const std::vector<Crack> &cracks, PetscInt n, const double *x,
-                  Stencils<kDim> &st);
+void assignFields(const Grid<2> &g, const std::vector<Crack> &cracks, PetscInt n, const double *x,
+                  Stencils<2> &st);
 
 /// Contact between the two fields of every cracked node of a window.
 class Contact {
 public:
   /// The direction d of each cracked window node, from field 1's material toward field 2's:
   /// field 1 is on the node's side of the nearest crack, field 2 across it.
-  void setup(const Grid &g, const std::vector<Crack> &cracks);
+  void setup(const Grid<2> &g, const std::vector<Crack> &cracks);
 
   /// Each field's mass-weighted displacement along d at every cracked node, into the window
   /// array `face` (component 0 of each slot, sum over particles of m w (x - X0).d; initialised
   /// to 0 here, so ranks combine by ADD). Also starts a new step's contact set (see apply).
-  void faces(const Grid &g, const Stencils<kDim> &st, PetscInt n, const double *x, const double *X0,
+  void faces(const Grid<2> &g, const Stencils<2> &st, PetscInt n, const double *x, const double *X0,
              const double *m, double *face);
 
   /// Starts a new step's contact set without faces() (the rate classes of -gimp_multirate keep
@@ -44,7 +44,7 @@ public:
   /// high.) Window arrays, mass in component 0; the accelerations get the same change / dt so a
   /// FLIP update sees it (acc may be null: a velocity field alone, as MUSL's re-projection).
   /// Returns the number of nodes in contact.
-  PetscInt apply(const Grid &g, double cut, double dt, const double *mass, const double *face,
+  PetscInt apply(const Grid<2> &g, double cut, double dt, const double *mass, const double *face,
                  double *vel, double *acc);
 
 private:

@@ -28,11 +28,11 @@ std::vector<TipMeasure> tipsOf(const Scene &sc);
 TipElastic tipElastic(const Material &m);
 
 /// Adds the domain integrals of the tip at `tip` (crack direction t toward the tip) over this
-/// rank's particles within R of it, q = (1 - r^2 / R^2)^2, in the tip frame (t, n = left normal of t):
-/// out[0] += sum_p V_p (sigma_ij du_i/dx_1 - W delta_1j) dq/dx_j (J times thickness) and
-/// out[m] += sum_p V_p (sigma_ij du^m_i/dx_1 + sigma^m_ij du_i/dx_1 - sigma^m_ij eps_ij delta_1j)
-/// dq/dx_j for the unit mode m = 1, 2 tip fields (williamsField): the interaction integrals,
-/// 2 K_m / E' times thickness. Stress from p.s, displacement gradient from p.F - I.
+/// rank's particles within R of it, q = (1 - r^2 / R^2)^2, in the tip frame (t, n = left normal of
+/// t): out[0] += sum_p V_p (sigma_ij du_i/dx_1 - W delta_1j) dq/dx_j (J times thickness) and out[m]
+/// += sum_p V_p (sigma_ij du^m_i/dx_1 + sigma^m_ij du_i/dx_1 - sigma^m_ij eps_ij delta_1j) dq/dx_j
+/// for the unit mode m = 1, 2 tip fields (williamsField): the interaction integrals, 2 K_m / E'
+/// times thickness. Stress from p.s, displacement gradient from p.F - I.
 void addDomainIntegrals(const Material &mat, const ParticleView &p, const double tip[2],
                         const double t[2], double R, double out[3]);
 
@@ -51,7 +51,7 @@ constexpr double kJCells = 5.0;
 /// frame, q = (1 - r^2 / R^2)^2; K_I and K_II "by J" from the interaction integrals over the same
 /// domain (addDomainIntegrals), K_m = E' I_m / 2. VCCT's K = sqrt(G E'), signed by G_I and du_t;
 /// E' = E (plane stress) or E / (1 - nu^2) (plane strain). Collective.
-PetscErrorCode measureTips(MPI_Comm comm, const Scene &sc, const Grid &g, const ParticleView &p,
+PetscErrorCode measureTips(MPI_Comm comm, const Scene &sc, const Grid<2> &g, const ParticleView &p,
                            double jRadius, std::vector<TipMeasure> &tips);
 
 } // namespace gimp::cracks

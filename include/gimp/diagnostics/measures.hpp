@@ -60,7 +60,7 @@ PetscErrorCode mmsErrors(MPI_Comm comm, const Scene &sc, DM sw, double t, double
 /// engineering strain of the particles' extent along x. Neighbours that a crack separates (the
 /// segment between their initial positions crosses one of `cracks`) are not compared: their
 /// gap is the crack opening.
-PetscErrorCode separation(MPI_Comm comm, const Lattice &grid, DM sw,
+PetscErrorCode separation(MPI_Comm comm, const Lattice<2> &grid, DM sw,
                           const std::vector<Crack> &cracks, double &gap, double &strain);
 /// The hole measure.
 PetscErrorCode holeMeasure(MPI_Comm comm, const Scene &sc, DM sw, HoleMeasure &out);

@@ -21,13 +21,12 @@
 
 namespace gimp {
 
-template <int D> class GridT : public LatticeT<D> {
+template <int D> class Grid : public Lattice<D> {
 public:
-  using Level = LevelT<D>;
   using Index = LatticeIndex<D>;
-  using LatticeT<D>::levels;
-  using LatticeT<D>::origin;
-  using LatticeT<D>::unit;
+  using Lattice<D>::levels;
+  using Lattice<D>::origin;
+  using Lattice<D>::unit;
 
   /// A node whose support (widened by a particle's reach) a crack cuts (2D only).
   struct CrackedNode {
@@ -37,10 +36,10 @@ public:
     PetscInt ownerPos; // its index among the cracked nodes of that owner
   };
 
-  GridT() = default;
-  GridT(const GridT &) = delete;
-  GridT &operator=(const GridT &) = delete;
-  ~GridT();
+  Grid() = default;
+  Grid(const Grid &) = delete;
+  Grid &operator=(const Grid &) = delete;
+  ~Grid();
 
   /// Build the levels from the 2D scene, the composite DM, this rank's window and its scatter
   /// (collective; D = 2, with the scene's cracks).
@@ -91,7 +90,7 @@ public:
 
   /// Window slot of level k's node i (which must lie in this rank's window).
   PetscInt windowSlot(int k, const PetscInt *i) const {
-    const Level &L = levels[k];
+    const Level<D> &L = levels[k];
     PetscInt s = 0;
     for (int a = D - 1; a >= 0; --a)
       s = s * L.wn(a) + (i[a] - L.w0[a]);
@@ -191,15 +190,13 @@ private:
 };
 
 // The 2D-only members: the scene's grid (with its cracks) and CPDI's quadrilaterals.
-template <> PetscErrorCode GridT<2>::create(MPI_Comm comm, const Scene &sc);
-template <> std::vector<GridT<2>::CrackedNode> GridT<2>::findCrackedNodes(const Scene &sc) const;
-template <> PetscErrorCode GridT<2>::addCrackFields(MPI_Comm comm, const Scene &sc);
+template <> PetscErrorCode Grid<2>::create(MPI_Comm comm, const Scene &sc);
+template <> std::vector<Grid<2>::CrackedNode> Grid<2>::findCrackedNodes(const Scene &sc) const;
+template <> PetscErrorCode Grid<2>::addCrackFields(MPI_Comm comm, const Scene &sc);
 template <>
-const char *GridT<2>::buildCpdiStencils(PetscInt n, const double *corners, Stencils<2> &s) const;
+const char *Grid<2>::buildCpdiStencils(PetscInt n, const double *corners, Stencils<2> &s) const;
 
-extern template class GridT<2>;
-extern template class GridT<3>;
-
-using Grid = GridT<kDim>;
+extern template class Grid<2>;
+extern template class Grid<3>;
 
 } // namespace gimp

@@ -28,7 +28,7 @@ template <int D> using BoxOf = std::array<double, 2 * D>;
 /// Integer coordinates on the finest lattice (or a level's node indices), one per axis.
 template <int D> using LatticeIndex = std::array<std::int64_t, D>;
 
-template <int D> struct LevelT {
+template <int D> struct Level {
   double h = 0, ih = 0;                   // cell size [m] and its reciprocal
   BoxOf<D> box{};                         // [m]
   std::array<std::int64_t, D> lo{}, hi{}; // box corners in finest-lattice units
@@ -58,7 +58,7 @@ template <int D> struct LevelBox {
   int ratio = 1;
 };
 
-template <int D> class LatticeT {
+template <int D> class Lattice {
 public:
   using Index = LatticeIndex<D>;
 
@@ -69,7 +69,7 @@ public:
   /// naming the option -gimp_level<k>_box for a layout that is not properly nested.
   void setLevels(double h0, const std::vector<LevelBox<D>> &boxes);
 
-  std::vector<LevelT<D>> levels;
+  std::vector<Level<D>> levels;
   std::array<double, D> origin{}; // the domain's low corner [m]
   double unit = 0;                // finest-lattice unit [m]
   double hMin() const { return levels.back().h; }
@@ -121,12 +121,9 @@ template <int D, class F> void forEachIndex(const std::array<PetscInt, D> &n, F 
 }
 
 /// The scene is 2D: only the 2D lattice is set from it.
-template <> void LatticeT<2>::setGeometry(const Scene &sc);
+template <> void Lattice<2>::setGeometry(const Scene &sc);
 
-using Level = LevelT<kDim>;
-using Lattice = LatticeT<kDim>;
-
-extern template class LatticeT<2>;
-extern template class LatticeT<3>;
+extern template class Lattice<2>;
+extern template class Lattice<3>;
 
 } // namespace gimp

@@ -24,13 +24,13 @@ void checkSceneCombinations(const Scene &sc);
 
 /// The seeded particles: every body holds some, every traction and penalty condition reaches a
 /// particle edge, every particle lies inside the grid. Returns the count and mean mass.
-PetscErrorCode checkSeeding(MPI_Comm comm, const Scene &sc, const Grid &grid, const ParticleView &p,
-                            PetscInt64 &count, double &meanMass);
+PetscErrorCode checkSeeding(MPI_Comm comm, const Scene &sc, const Grid<2> &grid,
+                            const ParticleView &p, PetscInt64 &count, double &meanMass);
 
 /// TSSetFromOptions with parse errors as one line, then the time stepper's type, adaptivity and
 /// step checked (explicit euler, fixed dt > 0 and, unless -gimp_stability_check bounds it by the
 /// eigenvalue instead, below the stable h_min / c_p).
-PetscErrorCode timeStepFromOptions(TS ts, const Scene &sc, const Lattice &grid);
+PetscErrorCode timeStepFromOptions(TS ts, const Scene &sc, const Lattice<2> &grid);
 /// The same for any scene: TSSetFromOptions, then -ts_type euler and -ts_adapt_type none only,
 /// -ts_max_steps >= 0, -ts_max_time > 0, 0 < -ts_dt <= hMin / cp unless unstableAllowed; with
 /// damping (1/s) a warning above the damped step's bound (hMin / cp)(sqrt(1 + xi^2) - xi).

@@ -15,7 +15,7 @@ namespace gimp {
 
 class Output {
 public:
-  Output(MPI_Comm comm, const Scene &sc, const Grid &grid) : comm_(comm), sc_(sc), grid_(grid) {}
+  Output(MPI_Comm comm, const Scene &sc, const Grid<2> &grid) : comm_(comm), sc_(sc), grid_(grid) {}
   ~Output();
   Output(const Output &) = delete;
   Output &operator=(const Output &) = delete;
@@ -79,7 +79,7 @@ private:
 
   MPI_Comm comm_;
   const Scene &sc_;
-  const Grid &grid_;
+  const Grid<2> &grid_;
   PetscMPIInt rank_ = 0;
   std::string dir_;
   FILE *history_ = nullptr;

@@ -26,7 +26,7 @@ inline void edgeCorners(int a, double n, int &c1, int &c2) {
 /// S_i of stencil entry e integrated along particle edge normal to axis a on side n = +-1, lying
 /// at coordinate `edge`, per unit edge length. With CPDI stencils the edge is the segment between
 /// the particle's two corners on that side and S_i linear along it (the corners' N_i averaged).
-inline double edgeShape(const Grid &g, const Stencils<2> &st, PetscInt e, int a, double n,
+inline double edgeShape(const Grid<2> &g, const Stencils<2> &st, PetscInt e, int a, double n,
                         double edge) {
   if (st.general) {
     int c1, c2;
@@ -41,7 +41,7 @@ inline double edgeShape(const Grid &g, const Stencils<2> &st, PetscInt e, int a,
 
 /// Spread a force (fx, fy) acting on particle k's edge normal to axis a on side n at `edge` onto
 /// fe.
-inline void spreadEdgeForce(const Grid &g, const Stencils<2> &st, PetscInt k, int a, double n,
+inline void spreadEdgeForce(const Grid<2> &g, const Stencils<2> &st, PetscInt k, int a, double n,
                             double edge, const double force[2], double *fe) {
   // A block: the same shape from its 1D factors (regular nodes, no cracks), over the nodes
   // forEach visits.
@@ -69,7 +69,7 @@ public:
   /// The penalty alpha of Eq. 9 from -gimp_penalty or chosen from the material, grid and dt,
   /// checked against its stability bounds (the same on every rank). Prints it. With
   /// `constantBounds` false the bounds are left to the eigenvalue check (stability room).
-  PetscErrorCode setup(MPI_Comm comm, const Scene &sc, const Lattice &grid, double dt,
+  PetscErrorCode setup(MPI_Comm comm, const Scene &sc, const Lattice<2> &grid, double dt,
                        bool constantBounds = true);
 
   /// The change of the penalty forces of Eq. 9 (springs and, when the scene has it, the traction
@@ -77,7 +77,7 @@ public:
   /// the change of F, L F n l0 (L row-major 2 x 2 per particle); the stress changes by ds. A null
   /// input leaves its part out; `springs` false leaves the springs out. Edges and lengths stay
   /// those of the current configuration.
-  void penaltyIncrement(const Scene &sc, const Grid &g, const Stencils<2> &st,
+  void penaltyIncrement(const Scene &sc, const Grid<2> &g, const Stencils<2> &st,
                         const ParticleView &p, const double *du, const double *L, const double *ds,
                         bool springs, double *fe) const;
 
@@ -88,8 +88,8 @@ public:
   /// condition's force on the body and its largest violation on this rank. With `scale`, each
   /// particle's body force and tractions are multiplied by its factor (a multi-rate particle's
   /// first kick in a new rate class).
-  void externalForces(const Scene &sc, const Grid &g, const Stencils<2> &st, const ParticleView &p,
-                      double t, double *fe, const double *scale = nullptr);
+  void externalForces(const Scene &sc, const Grid<2> &g, const Stencils<2> &st,
+                      const ParticleView &p, double t, double *fe, const double *scale = nullptr);
 
   /// Each penalty condition's force (fx, fy) summed over ranks and its largest violation
   /// |u - u_bar| at the last force evaluation; keeps the largest violation seen (collective).
@@ -106,8 +106,8 @@ public:
                const std::vector<double> &gap, bool root);
 
 private:
-  void penaltyForces(const Scene &sc, const Grid &g, const Stencils<2> &st, const ParticleView &p,
-                     double t, double *fe);
+  void penaltyForces(const Scene &sc, const Grid<2> &g, const Stencils<2> &st,
+                     const ParticleView &p, double t, double *fe);
 
   bool active_ = false;
   double alpha_ = 0;              // penalty of Eq. 9 in use [Pa/m]

@@ -106,7 +106,7 @@ class CornerMotion {
 public:
   /// vWindow: nodal velocity on the window; mWindow: nodal mass there (component 0). False when
   /// a corner's stencil cannot be built (a particle larger than a level-0 cell).
-  bool move(const Grid &g, const std::vector<Crack> &cracks, double cornerSize, double cut,
+  bool move(const Grid<2> &g, const std::vector<Crack> &cracks, double cornerSize, double cut,
             double dt, const double *vWindow, const double *mWindow, ParticleView &p);
 
 private:

@@ -30,7 +30,7 @@ struct Nodal {
   Nodal(const Nodal &) = delete;
   Nodal &operator=(const Nodal &) = delete;
   ~Nodal();
-  PetscErrorCode create(const Grid &grid, bool external, bool cracks, bool xpic);
+  PetscErrorCode create(const Grid<2> &grid, bool external, bool cracks, bool xpic);
 };
 
 } // namespace gimp

@@ -43,7 +43,7 @@ struct RateClasses {
   RateClasses &operator=(const RateClasses &) = delete;
   ~RateClasses();
   /// With `nodeRule` the vectors of -gimp_multirate_forces node (force, base, nodeRate, ...).
-  PetscErrorCode create(const Grid &grid, Vec like, bool external, bool nodeRule);
+  PetscErrorCode create(const Grid<2> &grid, Vec like, bool external, bool nodeRule);
 };
 
 } // namespace gimp

@@ -168,7 +168,7 @@ private:
   PetscMPIInt rank_ = 0, size_ = 1;
   Scene sc_;
   Scheme scheme_{};
-  Grid grid_;
+  Grid<2> grid_;
   DM sw_ = nullptr;
   TS ts_ = nullptr;
   Nodal nodal_;

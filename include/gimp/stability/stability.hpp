@@ -41,7 +41,7 @@ double criticalStep(double omega, double damping);
 /// What the operator reads: the configuration the step would see, and the masks of P2G.
 struct OperatorInput {
   const Scene *sc = nullptr;
-  const Grid *grid = nullptr;
+  const Grid<2> *grid = nullptr;
   const Stencils<2> *st = nullptr;
   const ParticleView *p = nullptr;
   const physics::Boundary *boundary = nullptr; // null: no penalty conditions

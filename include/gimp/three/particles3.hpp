@@ -49,7 +49,7 @@ PetscErrorCode createSwarm3(MPI_Comm comm, const Scene3 &sc, DM *sw);
 /// body * idSlots plus the particle's index in a numbering that every rank count shares.
 /// `overlapping` is the largest index of a body with a particle centre that an earlier body also
 /// holds on this rank (0: none); `conflict` notes two loads of one kind on one particle face axis.
-PetscErrorCode seedParticles3(const Scene3 &sc, const GridT<3> &grid, PetscMPIInt rank, DM sw,
+PetscErrorCode seedParticles3(const Scene3 &sc, const Grid<3> &grid, PetscMPIInt rank, DM sw,
                               int &overlapping, LoadConflict &conflict);
 
 } // namespace gimp::three

@@ -91,7 +91,7 @@ private:
   MPI_Comm comm_;
   PetscMPIInt rank_ = 0, size_ = 1;
   Scene3 sc_;
-  GridT<3> grid_;
+  Grid<3> grid_;
   DM sw_ = nullptr;
   TS ts_ = nullptr;
   Stencils<3> st_;
