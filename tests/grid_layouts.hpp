@@ -35,28 +35,28 @@ struct Layout {
 // carry round-off as in real scenes.
 constexpr double kX0 = -1.3, kY0 = 0.7, kH0 = 0.37;
 
-inline Scene sceneOf(const Layout &lay, double x0 = kX0, double y0 = kY0, double h0 = kH0) {
-  Scene sc;
+inline Scene<2> sceneOf(const Layout &lay, double x0 = kX0, double y0 = kY0, double h0 = kH0) {
+  Scene<2> sc;
   sc.h = h0;
   sc.domain = {x0, y0, x0 + lay.nx * h0, y0 + lay.ny * h0};
-  sc.levels.assign(1, LevelSpec{sc.domain, 1});
+  sc.levels.assign(1, LevelBox<2>{sc.domain, 1});
   for (const BoxSpec &b : lay.boxes)
     sc.levels.push_back(
-        LevelSpec{{x0 + b.i0 * h0, y0 + b.j0 * h0, x0 + b.i1 * h0, y0 + b.j1 * h0}, b.ratio});
+        LevelBox<2>{{x0 + b.i0 * h0, y0 + b.j0 * h0, x0 + b.i1 * h0, y0 + b.j1 * h0}, b.ratio});
   return sc;
 }
 
 /// A grid from a scene given in code (plain numbers, not options).
-inline Scene plainScene(const Box &domain, double h, const std::vector<LevelSpec> &fine) {
-  Scene sc;
+inline Scene<2> plainScene(const BoxOf<2> &domain, double h, const std::vector<LevelBox<2>> &fine) {
+  Scene<2> sc;
   sc.h = h;
   sc.domain = domain;
-  sc.levels.assign(1, LevelSpec{domain, 1});
+  sc.levels.assign(1, LevelBox<2>{domain, 1});
   sc.levels.insert(sc.levels.end(), fine.begin(), fine.end());
   return sc;
 }
 
-inline std::unique_ptr<Grid<2>> makeGrid(const Scene &sc) {
+inline std::unique_ptr<Grid<2>> makeGrid(const Scene<2> &sc) {
   auto g = std::make_unique<Grid<2>>();
   EXPECT_EQ(static_cast<int>(g->create(PETSC_COMM_SELF, sc)), 0);
   return g;
@@ -100,7 +100,7 @@ inline std::vector<Layout> threeLevelLayouts() {
 /// The particle lies inside the domain, clear of its edges by at least 1e-9 h0. (A particle whose
 /// edge lies exactly on the domain edge: GridStencils.ParticleTouchingDomainEdge.)
 inline bool insideDomain(const Grid<2> &g, double x, double y, double lx, double ly) {
-  const Box &D = g.levels[0].box;
+  const BoxOf<2> &D = g.levels[0].box;
   const double m = 1e-9 * g.h0();
   return x - lx >= D[0] + m && x + lx <= D[2] - m && y - ly >= D[1] + m && y + ly <= D[3] - m;
 }
@@ -114,7 +114,7 @@ class Sampler {
 public:
   Sampler(const Grid<2> &g, std::uint64_t seed) : g_(g), rng_(seed) {
     for (size_t k = 1; k < g.levels.size(); ++k) {
-      const Box &b = g.levels[k].box;
+      const BoxOf<2> &b = g.levels[k].box;
       edges_.push_back({0, b[0], b[1], b[3]});
       edges_.push_back({0, b[2], b[1], b[3]});
       edges_.push_back({1, b[1], b[0], b[2]});
@@ -135,7 +135,7 @@ public:
   /// A particle; half-sizes up to lmax (default: half a level-0 cell).
   void draw(double &x, double &y, double &lx, double &ly, bool cellFilling = true,
             double lmax = 0.0) {
-    const Box &D = g_.levels[0].box;
+    const BoxOf<2> &D = g_.levels[0].box;
     const double h0 = g_.h0();
     if (lmax <= 0.0) lmax = 0.5 * h0;
     const int K = static_cast<int>(g_.levels.size());

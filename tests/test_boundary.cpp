@@ -36,12 +36,12 @@
 
 namespace {
 
-using gimp::Box;
+using gimp::BoxOf;
 using gimp::DisplacementBC;
 using gimp::Grid;
 using gimp::InputError;
 using gimp::Level;
-using gimp::LevelSpec;
+using gimp::LevelBox;
 using gimp::ParticleView;
 using gimp::Scene;
 using gimp::Side;
@@ -58,15 +58,16 @@ const char *const kSideName[4] = {"left", "right", "bottom", "top"};
 /// Grid: 14 x 12 level-0 cells; level 1 (ratio 2) over cells [4, 12] x [3, 9]; level 2
 /// (ratio 4) over [6.5, 8.5] x [5, 8.5]. Body: cells [1, 8] x [2, 8], so its right side
 /// crosses levels 0, 1 and 2 (x = 8), its top side too (y = 8), left and bottom lie on level 0.
-Scene scene() {
-  Scene sc;
+Scene<2> scene() {
+  Scene<2> sc;
   sc.h = kH0;
   sc.domain = {kX0, kY0, kX0 + 14 * kH0, kY0 + 12 * kH0};
-  sc.levels.assign(1, LevelSpec{sc.domain, 1});
-  sc.levels.push_back(LevelSpec{{kX0 + 4 * kH0, kY0 + 3 * kH0, kX0 + 12 * kH0, kY0 + 9 * kH0}, 2});
+  sc.levels.assign(1, LevelBox<2>{sc.domain, 1});
   sc.levels.push_back(
-      LevelSpec{{kX0 + 6.5 * kH0, kY0 + 5 * kH0, kX0 + 8.5 * kH0, kY0 + 8.5 * kH0}, 4});
-  gimp::Body b;
+      LevelBox<2>{{kX0 + 4 * kH0, kY0 + 3 * kH0, kX0 + 12 * kH0, kY0 + 9 * kH0}, 2});
+  sc.levels.push_back(
+      LevelBox<2>{{kX0 + 6.5 * kH0, kY0 + 5 * kH0, kX0 + 8.5 * kH0, kY0 + 8.5 * kH0}, 4});
+  gimp::Body<2> b;
   b.box = {kX0 + 1 * kH0, kY0 + 2 * kH0, kX0 + 8 * kH0, kY0 + 8 * kH0};
   sc.bodies.push_back(b);
   gimp::Material &m = sc.material;
@@ -122,7 +123,7 @@ struct Particles {
     return p;
   }
   /// Which sides of box B particle k's edges lie on: bit q for side q (left, right, bottom, top).
-  int sidesOf(PetscInt k, const Box &B) const {
+  int sidesOf(PetscInt k, const BoxOf<2> &B) const {
     const double tol = 1e-9 * kH0;
     int r = 0;
     if (std::abs(X0[2 * k] - l0[2 * k] - B[0]) < tol) r |= 1;
@@ -134,7 +135,7 @@ struct Particles {
 };
 
 /// Leaf cells inside B (on level-0 grid lines) split into n x n particles, shifted by (sx, sy).
-Particles tile(const Grid<2> &g, const Box &B, int n, double sx, double sy) {
+Particles tile(const Grid<2> &g, const BoxOf<2> &B, int n, double sx, double sy) {
   Particles p;
   const auto lat = [&](double c, double o) {
     return static_cast<std::int64_t>(std::llround((c - o) / g.unit));
@@ -159,7 +160,7 @@ Particles tile(const Grid<2> &g, const Box &B, int n, double sx, double sy) {
   return p;
 }
 
-Box shifted(Box B, double sx, double sy) {
+BoxOf<2> shifted(BoxOf<2> B, double sx, double sy) {
   B[0] += sx;
   B[2] += sx;
   B[1] += sy;
@@ -174,10 +175,10 @@ int levelOf(const Grid<2> &g, PetscInt nd) {
   return k;
 }
 
-Traction traction(Side side, double tx, double ty) {
-  Traction t;
+Traction<2> traction(Side side, double tx, double ty) {
+  Traction<2> t;
   t.body = 0;
-  t.side = side;
+  t.side = static_cast<int>(side);
   t.value = {tx, ty};
   return t;
 }
@@ -198,7 +199,7 @@ const Case kCases[] = {{1, false}, {1, true}, {2, false}, {2, true}};
 // 1. Tractions.
 
 TEST(Boundary, TractionResultants) {
-  Scene sc = scene();
+  Scene<2> sc = scene();
   sc.tractions = {traction(Side::Left, -3.0e3, 1.1e3), traction(Side::Right, 2.5e3, -0.7e3),
                   traction(Side::Bottom, 0.4e3, -1.9e3), traction(Side::Top, -0.6e3, 2.2e3)};
   Grid<2> g;
@@ -209,7 +210,7 @@ TEST(Boundary, TractionResultants) {
   ASSERT_TRUE(bd.active());
   Worst worst;
   for (const Case &c : kCases) {
-    const Box B = shifted(sc.bodies[0].box, c.sx(), c.sy());
+    const BoxOf<2> B = shifted(sc.bodies[0].box, c.sx(), c.sy());
     const double side[4] = {B[3] - B[1], B[3] - B[1], B[2] - B[0], B[2] - B[0]};
     for (bool stretched : {false, true})
       for (int which = 0; which <= 4; ++which) { // one side (0-3) or all four (4)
@@ -265,13 +266,13 @@ TEST(Boundary, TractionResultants) {
 // 2. edgeShape.
 
 TEST(Boundary, EdgeShapeIsAPartitionOfUnity) {
-  const Scene sc = scene();
+  const Scene<2> sc = scene();
   Grid<2> g;
   ASSERT_EQ(static_cast<int>(g.create(PETSC_COMM_SELF, sc)), 0);
   Worst onSide, centre;
   for (const Case &c : kCases) {
     Particles P = tile(g, sc.bodies[0].box, c.n, c.sx(), c.sy());
-    const Box B = shifted(sc.bodies[0].box, c.sx(), c.sy());
+    const BoxOf<2> B = shifted(sc.bodies[0].box, c.sx(), c.sy());
     Stencils st;
     ASSERT_TRUE(g.buildStencils(P.n, P.x.data(), P.l.data(), st));
     long sides = 0;
@@ -315,8 +316,8 @@ struct PenaltyResult {
 
 /// The body's particles with the left side constrained (dbc index 0), displaced by delta in x,
 /// or stretched in x by e about the left side; every particle carries the stress s.
-PenaltyResult penalty(const Scene &sc, const Grid<2> &g, Boundary &bd, const Case &c, double delta,
-                      double e, const double stress[3]) {
+PenaltyResult penalty(const Scene<2> &sc, const Grid<2> &g, Boundary &bd, const Case &c,
+                      double delta, double e, const double stress[3]) {
   Particles P = tile(g, sc.bodies[0].box, c.n, c.sx(), c.sy());
   const double xl = sc.bodies[0].box[0] + c.sx(); // the fixed side's initial position
   long onSide = 0;
@@ -356,10 +357,10 @@ PenaltyResult penalty(const Scene &sc, const Grid<2> &g, Boundary &bd, const Cas
 }
 
 TEST(Boundary, PenaltyForce) {
-  Scene sc = scene();
-  DisplacementBC d;
+  Scene<2> sc = scene();
+  DisplacementBC<2> d;
   d.body = 0;
-  d.side = Side::Left; // u_bar = 0 in both components (empty tables)
+  d.side = static_cast<int>(Side::Left); // u_bar = 0 in both components (empty tables)
   sc.dbcs = {d};
   sc.penalty = 2.0e9; // [Pa/m], within the bounds for dt = 1e-5 (test 4)
   Grid<2> g;
@@ -414,9 +415,9 @@ TEST(Boundary, PenaltyForce) {
 // 4. Setup: alpha and its bounds.
 
 TEST(Boundary, PenaltySetupBounds) {
-  Scene sc = scene();
-  DisplacementBC d;
-  d.side = Side::Left;
+  Scene<2> sc = scene();
+  DisplacementBC<2> d;
+  d.side = static_cast<int>(Side::Left);
   sc.dbcs = {d};
   Grid<2> g;
   ASSERT_EQ(static_cast<int>(g.create(PETSC_COMM_SELF, sc)), 0);

@@ -74,7 +74,7 @@ void randomQuad(std::mt19937_64 &rng, double x, double y, double lx, double ly, 
 }
 
 bool insideDomain(const Grid<2> &g, const double *c) {
-  const gimp::Box &D = g.levels[0].box;
+  const gimp::BoxOf<2> &D = g.levels[0].box;
   const double m = 1e-9 * g.h0();
   for (int q = 0; q < 4; ++q)
     if (c[2 * q] < D[0] + m || c[2 * q] > D[2] - m || c[2 * q + 1] < D[1] + m ||
@@ -314,7 +314,7 @@ TEST(Cpdi, RotatedSquareInOneCellAveragesOverItsTrueArea) {
   for (int t = 0; t < 40; ++t) {
     const double th = t % 2 ? M_PI / 4 : 2 * M_PI * U(rng), l = h * (0.1 + 0.15 * U(rng));
     const double r = l * (std::abs(std::cos(th)) + std::abs(std::sin(th)));
-    const gimp::Box &D = g.levels[0].box;
+    const gimp::BoxOf<2> &D = g.levels[0].box;
     const double i = 2 + std::floor(U(rng) * 2), j = 2 + std::floor(U(rng) * 2);
     const double x = D[0] + (i + r / h + U(rng) * (1 - 2 * r / h)) * h;
     const double y = D[1] + (j + r / h + U(rng) * (1 - 2 * r / h)) * h;
@@ -368,7 +368,7 @@ TEST(Cpdi, RotatedSquareWeightsLiveOnItsTrueArea) {
   const auto gp = makeGrid(sceneOf({"uniform", 6, 5, {}}));
   const Grid<2> &g = *gp;
   const double h = g.h0();
-  const gimp::Box &D = g.levels[0].box;
+  const gimp::BoxOf<2> &D = g.levels[0].box;
   std::mt19937_64 rng(4545);
   std::uniform_real_distribution<double> U(0.0, 1.0);
   long cpdiOutside = 0, boxOutside = 0;
@@ -407,7 +407,7 @@ TEST(Cpdi, RotatedSquareWeightsLiveOnItsTrueArea) {
 TEST(Cpdi, CornerOutsideTheGridOrInvertedQuadIsReported) {
   const auto gp = makeGrid(sceneOf({"uniform", 6, 5, {}}));
   const Grid<2> &g = *gp;
-  const gimp::Box &D = g.levels[0].box;
+  const gimp::BoxOf<2> &D = g.levels[0].box;
   const double h = g.h0(), x = D[0] + 0.1 * h, y = D[1] + 2.5 * h;
   const double out[8] = {x - 0.2 * h, y - 0.2 * h, x + 0.2 * h, y - 0.2 * h,
                          x + 0.2 * h, y + 0.2 * h, x - 0.2 * h, y + 0.2 * h};
@@ -427,7 +427,7 @@ TEST(Cpdi, RotatedPatchUnderUniformStressIsInEquilibrium) {
   // 3 levels: the block straddles the level boxes, so interior nodes include transition nodes.
   const auto gp = makeGrid(sceneOf({"3 levels", 10, 8, {{2, 2, 8, 6, 2}, {3.5, 3, 6, 5, 4}}}));
   const Grid<2> &g = *gp;
-  const gimp::Box &D = g.levels[0].box;
+  const gimp::BoxOf<2> &D = g.levels[0].box;
   const double h = g.h0(), a = 0.3 * h, th = M_PI / 4;
   const double ox = D[0] + 5.0 * h, oy = D[1] + 1.2 * h; // the block's lowest corner
   const double u[2] = {a * std::cos(th), a * std::sin(th)}, v[2] = {-u[1], u[0]};

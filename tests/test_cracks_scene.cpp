@@ -15,11 +15,11 @@ const char *const kBase = "-gimp_E 1e7 -gimp_rho 1000 -gimp_h 0.1 -gimp_body0_bo
                           "-gimp_body0_holes 0.8,0.2,0.05 ";
 
 /// readScene on the base scene plus `extra`; the InputError's text, or "" when it succeeds.
-std::string read(const std::string &extra, gimp::Scene &sc) {
+std::string read(const std::string &extra, gimp::Scene<2> &sc) {
   if (PetscOptionsClear(nullptr)) return "PetscOptionsClear failed";
   if (PetscOptionsInsertString(nullptr, (kBase + extra).c_str())) return "bad options string";
   try {
-    if (gimp::readScene(PETSC_COMM_WORLD, sc)) return "PETSc error";
+    if (gimp::readScene<2>(PETSC_COMM_WORLD, sc)) return "PETSc error";
   } catch (const gimp::InputError &e) {
     return e.what();
   }
@@ -28,7 +28,7 @@ std::string read(const std::string &extra, gimp::Scene &sc) {
 
 /// The tip flags of crack 0 with the given points.
 std::pair<bool, bool> tips(const std::string &points) {
-  gimp::Scene sc;
+  gimp::Scene<2> sc;
   const std::string err = read("-gimp_cracks 1 -gimp_crack0_points " + points, sc);
   EXPECT_EQ(err, "") << points;
   if (!err.empty() || sc.cracks.size() != 1) return {false, false};
@@ -36,7 +36,7 @@ std::pair<bool, bool> tips(const std::string &points) {
 }
 
 TEST(CrackScene, PointsInOrder) {
-  gimp::Scene sc;
+  gimp::Scene<2> sc;
   ASSERT_EQ(read("-gimp_cracks 2 -gimp_crack0_points -0.1,0.2,0.3,0.2,0.4,0.25 "
                  "-gimp_crack1_points 0.6,0.05,0.6,0.35",
                  sc),
@@ -46,7 +46,7 @@ TEST(CrackScene, PointsInOrder) {
   EXPECT_EQ(sc.cracks[0].points[1][0], 0.3);
   EXPECT_EQ(sc.cracks[0].points[2][1], 0.25);
   EXPECT_EQ(sc.cracks[1].points.size(), 2u);
-  gimp::Scene none;
+  gimp::Scene<2> none;
   ASSERT_EQ(read("", none), "");
   EXPECT_TRUE(none.cracks.empty()); // -gimp_cracks defaults to 0
 }
@@ -70,14 +70,14 @@ TEST(CrackScene, TipDistanceUsesTheFinestCellThere) {
   // Tip (0.5, 0.2), the other crack 0.07 away: under one cell of h = 0.1, over one of 0.05.
   const std::string two = "-gimp_cracks 2 -gimp_crack0_points -0.1,0.2,0.5,0.2 "
                           "-gimp_crack1_points 0.57,-0.1,0.57,0.5 ";
-  gimp::Scene coarse, fine, elsewhere;
+  gimp::Scene<2> coarse, fine, elsewhere;
   EXPECT_NE(read(two, coarse).find("less than one cell (0.1 m)"), std::string::npos);
   EXPECT_EQ(read(two + "-gimp_levels 2 -gimp_level1_box 0.4,0.1,0.7,0.3", fine), "");
   EXPECT_NE(read(two + "-gimp_levels 2 -gimp_level1_box 0.7,0.1,0.9,0.3", elsewhere)
                 .find("-gimp_crack0_points"),
             std::string::npos);
   // A mouth may come close to another crack: crack 1 starts 0.01 from crack 0, outside.
-  gimp::Scene mouth;
+  gimp::Scene<2> mouth;
   EXPECT_EQ(read("-gimp_cracks 2 -gimp_crack0_points -0.1,0.2,0.5,0.2 "
                  "-gimp_crack1_points -0.1,0.21,0.3,0.35",
                  mouth),

@@ -37,7 +37,7 @@ using gimp::test::sceneOf;
 using gimp::test::threeLevelLayouts;
 using gimp::test::twoLevelLayouts;
 
-using gimp::Box;
+using gimp::BoxOf;
 using gimp::Grid;
 using gimp::InputError;
 using gimp::Level;
@@ -171,7 +171,7 @@ TEST(GridNodes, OneActiveNodePerLocation) {
     SCOPED_TRACE(lay.name);
     const auto g = makeGrid(sceneOf(lay));
     const int K = static_cast<int>(g->levels.size());
-    const Box &D = g->levels[0].box;
+    const BoxOf<2> &D = g->levels[0].box;
     // Finest-lattice coordinates of every node, and the active copies there.
     std::map<std::pair<std::int64_t, std::int64_t>, int> activeCount;
     std::int64_t activeTotal = 0;
@@ -230,7 +230,7 @@ TEST(GridNodes, OneActiveNodePerLocation) {
 // reported as not nested) means the check that should have caught it did not.
 
 /// The scene is rejected; the message is one line, names `option` and contains `reason`.
-void expectRejected(const Scene &sc, const char *what, const std::string &option,
+void expectRejected(const Scene<2> &sc, const char *what, const std::string &option,
                     const char *reason) {
   Grid<2> g;
   try {
@@ -250,7 +250,7 @@ void expectRejected(const Scene &sc, const char *what, const std::string &option
 }
 
 TEST(GridLayout, BadLayoutsRejected) {
-  const Box dom = {0, 0, 8, 6};
+  const BoxOf<2> dom = {0, 0, 8, 6};
   const std::string L0 = "-gimp_level0_box", L1 = "-gimp_level1_box", L2 = "-gimp_level2_box";
   // Corner off the parent's grid lines.
   expectRejected(plainScene(dom, 2, {{{3, 2, 6, 6}, 2}}), "level-1 corner off level-0 lines", L1,

@@ -54,10 +54,10 @@
 
 namespace {
 
-using gimp::Box;
+using gimp::BoxOf;
 using gimp::Grid;
 using gimp::Level;
-using gimp::LevelSpec;
+using gimp::LevelBox;
 using gimp::Scene;
 using Stencils = gimp::Stencils<2>;
 using gimp::shape::tent;
@@ -80,17 +80,17 @@ struct PatchLayout {
   CellBox block;                             // the tiled block, on level-0 grid lines
 };
 
-Box toBox(const CellBox &b) {
+BoxOf<2> toBox(const CellBox &b) {
   return {kX0 + b.i0 * kH0, kY0 + b.j0 * kH0, kX0 + b.i1 * kH0, kY0 + b.j1 * kH0};
 }
 
-Scene sceneOf(const PatchLayout &lay) {
-  Scene sc;
+Scene<2> sceneOf(const PatchLayout &lay) {
+  Scene<2> sc;
   sc.h = kH0;
   sc.domain = {kX0, kY0, kX0 + lay.nx * kH0, kY0 + lay.ny * kH0};
-  sc.levels.assign(1, LevelSpec{sc.domain, 1});
+  sc.levels.assign(1, LevelBox<2>{sc.domain, 1});
   for (const auto &[b, r] : lay.fine)
-    sc.levels.push_back(LevelSpec{toBox(b), r});
+    sc.levels.push_back(LevelBox<2>{toBox(b), r});
   return sc;
 }
 
@@ -185,7 +185,7 @@ constexpr double kNormal[4][2] = {{-1, 0}, {1, 0}, {0, -1}, {0, 1}};
 const char *const kSide[4] = {"left", "right", "bottom", "top"};
 
 /// Integral of node n's point shape function along each edge of the block [a, b] x [c, d].
-std::array<double, 4> edgeIntegrals(const Grid<2> &g, PetscInt n, const Box &B) {
+std::array<double, 4> edgeIntegrals(const Grid<2> &g, PetscInt n, const BoxOf<2> &B) {
   const double X = g.X[n], Y = g.Y[n];
   const double *z = &g.zone[4 * n];
   const double alongY = tentIntegral(B[1] - Y, B[3] - Y, z[2], z[3]);
@@ -196,7 +196,7 @@ std::array<double, 4> edgeIntegrals(const Grid<2> &g, PetscInt n, const Box &B) 
 
 /// The node's shape function vanishes on the boundary of B and outside it: its support lies in
 /// B, and a zero zone (domain edge) does not sit on an edge of B.
-bool interior(const Grid<2> &g, PetscInt n, const Box &B) {
+bool interior(const Grid<2> &g, PetscInt n, const BoxOf<2> &B) {
   const double tol = 1e-9 * g.hMin();
   const double X = g.X[n], Y = g.Y[n];
   const double *z = &g.zone[4 * n];
@@ -230,7 +230,7 @@ CaseResult runCase(const Grid<2> &g, const PatchLayout &lay, int n, bool shifted
   CaseResult r;
   const double sx = shifted ? 0.4137 * kH0 : 0.0, sy = shifted ? 0.2719 * kH0 : 0.0;
   const Particles p = tile(g, lay.block, n, sx, sy);
-  Box B = toBox(lay.block);
+  BoxOf<2> B = toBox(lay.block);
   B[0] += sx;
   B[2] += sx;
   B[1] += sy;

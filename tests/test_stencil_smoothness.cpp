@@ -36,7 +36,7 @@ using gimp::test::sceneOf;
 using gimp::test::threeLevelLayouts;
 using gimp::test::twoLevelLayouts;
 
-using gimp::Box;
+using gimp::BoxOf;
 using gimp::Grid;
 using Stencils = gimp::Stencils<2>;
 
@@ -178,7 +178,7 @@ TEST(GridContinuity, TransitionNodesAreC1) {
     const auto gp = makeGrid(sceneOf(lay));
     const Grid<2> &g = *gp;
     const double h0 = g.h0(), hmin = g.hMin(), delta = 1e-9 * hmin;
-    const Box &D = g.levels[0].box;
+    const BoxOf<2> &D = g.levels[0].box;
     // Transition nodes: active, zones other than their level's h, not on the domain edge.
     std::vector<PetscInt> trans;
     for (PetscInt n = 0; n < g.nWindow; ++n)

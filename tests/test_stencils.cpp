@@ -45,7 +45,7 @@ using gimp::test::sceneOf;
 using gimp::test::threeLevelLayouts;
 using gimp::test::twoLevelLayouts;
 
-using gimp::Box;
+using gimp::BoxOf;
 using gimp::Grid;
 using gimp::InputError;
 using gimp::Level;
@@ -317,7 +317,7 @@ TEST(GridStencils, ParticleTouchingDomainEdge) {
            {Layout{"uniform", 6, 5, {}}, Layout{"domain edge r=2", 6, 5, {{0, 2, 3, 5, 2}}}}) {
         const auto gp = makeGrid(sceneOf(lay, x0, x0, h0));
         const Grid<2> &g = *gp;
-        const Box &D = g.levels[0].box;
+        const BoxOf<2> &D = g.levels[0].box;
         std::vector<double> x, l;
         for (int n : {1, 2, 3})
           for (size_t q = 0; q < g.levels.size(); ++q) {
@@ -407,7 +407,7 @@ TEST(GridPointShape, PartitionOfUnityAndLinearReproduction) {
     const auto gp = makeGrid(sceneOf(lay));
     const Grid<2> &g = *gp;
     const double h0 = g.h0();
-    const Box &D = g.levels[0].box;
+    const BoxOf<2> &D = g.levels[0].box;
     Sampler sample(g, seed++);
     std::vector<PetscInt> act;
     for (PetscInt n = 0; n < g.nWindow; ++n)

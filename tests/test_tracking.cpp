@@ -67,8 +67,8 @@ struct One {
   }
 };
 
-Scene scene(Tracking mode) {
-  Scene sc;
+Scene<2> scene(Tracking mode) {
+  Scene<2> sc;
   sc.tracking = mode;
   sc.material.thickness = kThickness;
   return sc;
@@ -87,7 +87,7 @@ Tensor2 rotation(double t) {
 const Tensor2 kL = tensor(0.3, 5.0, -3.0, -0.2); // off-diagonal terms must not matter
 
 TEST(Tracking, NoneKeepsTheInitialDomain) {
-  const Scene sc = scene(Tracking::None);
+  const Scene<2> sc = scene(Tracking::None);
   One o(0.3, -0.7, 0.02, 0.03);
   o.setF(tensor(1.5, 0.2, 0.1, 0.7));
   gimp::tracking::updateDomain(sc, o.p, 0, kL, 1e-3);
@@ -97,7 +97,7 @@ TEST(Tracking, NoneKeepsTheInitialDomain) {
 }
 
 TEST(Tracking, StretchUsesTheColumnsOfF) {
-  const Scene sc = scene(Tracking::Stretch);
+  const Scene<2> sc = scene(Tracking::Stretch);
   const double l0x = 0.02, l0y = 0.03, tol = 4 * kEps;
   {
     One o(0.3, -0.7, l0x, l0y);
@@ -129,7 +129,7 @@ TEST(Tracking, StretchUsesTheColumnsOfF) {
 }
 
 TEST(Tracking, StrainAccumulatesTheAxialIncrements) {
-  const Scene sc = scene(Tracking::Strain);
+  const Scene<2> sc = scene(Tracking::Strain);
   const double l0x = 0.02, l0y = 0.03, dt = 1e-3;
   const int N = 250;
   One o(0.3, -0.7, l0x, l0y);
@@ -144,7 +144,7 @@ TEST(Tracking, StrainAccumulatesTheAxialIncrements) {
 }
 
 TEST(Tracking, CornersOfAStretchedParticle) {
-  const Scene sc = scene(Tracking::Corners);
+  const Scene<2> sc = scene(Tracking::Corners);
   const double l0x = 0.02, l0y = 0.03, dt = 1e-3;
   One o(0.3, -0.7, l0x, l0y);
   o.mapCorners(tensor(1.3, 0.0, 0.0, 0.8));
@@ -159,7 +159,7 @@ TEST(Tracking, CornersOfAStretchedParticle) {
 }
 
 TEST(Tracking, CornersOfARotatedParticle) {
-  const Scene sc = scene(Tracking::Corners);
+  const Scene<2> sc = scene(Tracking::Corners);
   const double l0 = 0.025, tol = 8 * kEps;
   {
     // A square rotated by 45 degrees: the corners span an axis-aligned square of half-size
@@ -185,9 +185,9 @@ TEST(Tracking, CornersOfARotatedParticle) {
 }
 
 TEST(Tracking, CornersOnALoadedEdgeFollowTheStrain) {
-  Scene sc = scene(Tracking::Corners);
-  gimp::Traction tr;
-  tr.side = gimp::Side::Right; // normal +x: corners (+,-) and (+,+) are exterior
+  Scene<2> sc = scene(Tracking::Corners);
+  gimp::Traction<2> tr;
+  tr.side = static_cast<int>(gimp::Side::Right); // normal +x: corners (+,-) and (+,+) are exterior
   sc.tractions = {tr};
   const double l0 = 0.025, dt = 1e-3, tol = 8 * kEps;
   One o(0.3, -0.7, l0, l0);
@@ -222,7 +222,7 @@ TEST(Tracking, CornersOnALoadedEdgeFollowTheStrain) {
 // area over the initial rectangle's, not the domain's area times the thickness.
 TEST(Tracking, CornerVolumesScaleTheInitialVolume) {
   for (Tracking mode : {Tracking::Corners, Tracking::Cpdi2}) {
-    const Scene sc = scene(mode);
+    const Scene<2> sc = scene(mode);
     const double l0x = 0.02, l0y = 0.005;
     One o(0.3, -0.7, l0x, l0y);
     const double v0 = 0.3 * 4 * l0x * l0y * kThickness; // the cut's area is 0.3 of the domain's

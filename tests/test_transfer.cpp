@@ -42,7 +42,7 @@
 namespace {
 
 using gimp::Grid;
-using gimp::LevelSpec;
+using gimp::LevelBox;
 using gimp::Scene;
 using gimp::test::at;
 using gimp::test::Worst;
@@ -53,14 +53,15 @@ constexpr double kX0 = -1.3, kY0 = 0.7, kH0 = 0.37;
 
 /// 14 x 12 level-0 cells; level 1 (ratio 2) over cells [4, 12] x [3, 9]; level 2 (ratio 4)
 /// over [6.5, 8.5] x [4, 7.5], its left and right edges on level-1 lines between level-0 lines.
-Scene scene() {
-  Scene sc;
+Scene<2> scene() {
+  Scene<2> sc;
   sc.h = kH0;
   sc.domain = {kX0, kY0, kX0 + 14 * kH0, kY0 + 12 * kH0};
-  sc.levels.assign(1, LevelSpec{sc.domain, 1});
-  sc.levels.push_back(LevelSpec{{kX0 + 4 * kH0, kY0 + 3 * kH0, kX0 + 12 * kH0, kY0 + 9 * kH0}, 2});
+  sc.levels.assign(1, LevelBox<2>{sc.domain, 1});
   sc.levels.push_back(
-      LevelSpec{{kX0 + 6.5 * kH0, kY0 + 4 * kH0, kX0 + 8.5 * kH0, kY0 + 7.5 * kH0}, 4});
+      LevelBox<2>{{kX0 + 4 * kH0, kY0 + 3 * kH0, kX0 + 12 * kH0, kY0 + 9 * kH0}, 2});
+  sc.levels.push_back(
+      LevelBox<2>{{kX0 + 6.5 * kH0, kY0 + 4 * kH0, kX0 + 8.5 * kH0, kY0 + 7.5 * kH0}, 4});
   return sc;
 }
 

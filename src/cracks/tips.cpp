@@ -8,7 +8,7 @@
 
 namespace gimp::cracks {
 
-std::vector<TipMeasure> tipsOf(const Scene &sc) {
+std::vector<TipMeasure> tipsOf(const Scene<2> &sc) {
   std::vector<TipMeasure> out;
   for (size_t k = 0; k < sc.cracks.size(); ++k)
     for (int e = 0; e < 2; ++e)
@@ -106,10 +106,10 @@ double pointKernel(const ParticleView &p, PetscInt k, double X, double Y, double
 constexpr int kForce = 0, kJ = 2, kPlus = 5, kMinus = 8, kRow = 11;
 
 /// G and K of one tip from its reduced row r; h the cell at the tip.
-void finishTip(const Scene &sc, const double *r, double h, TipMeasure &m) {
+void finishTip(const Scene<2> &sc, const double *r, double h, TipMeasure &m) {
   double t[2], n[2];
   tipFrame(sc.cracks[m.crack], m.end, t, n);
-  const Material &mat = sc.materialAt(m.tip[0], m.tip[1]);
+  const Material &mat = sc.materialAt(m.tip);
   const double Ep = modulus(mat), th = sc.material.thickness;
   const double *up = &r[kPlus], *dn = &r[kMinus];
   double dux = 0, duy = 0;
@@ -154,8 +154,8 @@ void addDomainIntegrals(const Material &mat, const ParticleView &p, const double
   }
 }
 
-PetscErrorCode measureTips(MPI_Comm comm, const Scene &sc, const Grid<2> &g, const ParticleView &p,
-                           double jRadius, std::vector<TipMeasure> &tips) {
+PetscErrorCode measureTips(MPI_Comm comm, const Scene<2> &sc, const Grid<2> &g,
+                           const ParticleView &p, double jRadius, std::vector<TipMeasure> &tips) {
   tips = tipsOf(sc);
   const size_t T = tips.size();
   if (T == 0) return PETSC_SUCCESS;
@@ -195,7 +195,7 @@ PetscErrorCode measureTips(MPI_Comm comm, const Scene &sc, const Grid<2> &g, con
         o[2] += p.m[k] * w;
       }
     }
-    addDomainIntegrals(sc.materialAt(m.tip[0], m.tip[1]), p, m.tip, t, R, &r[kJ]);
+    addDomainIntegrals(sc.materialAt(m.tip), p, m.tip, t, R, &r[kJ]);
   }
   PetscCallMPI(MPI_Allreduce(local.data(), global.data(), static_cast<int>(local.size()),
                              MPI_DOUBLE, MPI_SUM, comm));

@@ -5,7 +5,7 @@
 
 namespace gimp {
 
-PetscErrorCode particleEnergies(MPI_Comm comm, const Scene &sc, DM sw, const WorkLedger &work,
+PetscErrorCode particleEnergies(MPI_Comm comm, const Scene<2> &sc, DM sw, const WorkLedger &work,
                                 Energies &e) {
   ParticleView p;
   PetscCall(p.get(sw));

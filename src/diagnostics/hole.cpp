@@ -13,7 +13,7 @@ namespace gimp {
 
 namespace {
 
-constexpr int kCols = 4; // rows: angle [rad], distance to the centre, hoop / p, half-size
+constexpr int kCols = 4;          // rows: angle [rad], distance to the centre, hoop / p, half-size
 constexpr double kBinDeg = 5.0;   // the curve's angle step
 constexpr double kWindowDeg = 10; // the fit window's half-width (at least kWindow sizes)
 constexpr double kWindow = 4.0;   // ... in particle sizes along the edge
@@ -102,7 +102,7 @@ void holeOfRows(const std::vector<double> &all, double r, HoleMeasure &out) {
 
 } // namespace
 
-PetscErrorCode holeMeasure(MPI_Comm comm, const Scene &sc, DM sw, HoleMeasure &out) {
+PetscErrorCode holeMeasure(MPI_Comm comm, const Scene<2> &sc, DM sw, HoleMeasure &out) {
   const double cx = sc.hole[0], cy = sc.hole[1], r = sc.hole[2], pload = sc.holeLoad;
   ParticleView p;
   PetscCall(p.get(sw));

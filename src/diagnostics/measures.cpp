@@ -12,11 +12,11 @@
 
 namespace gimp {
 
-PetscErrorCode findProbes(MPI_Comm comm, const Scene &sc, DM sw, std::vector<PetscInt64> &ids) {
+PetscErrorCode findProbes(MPI_Comm comm, const Scene<2> &sc, DM sw, std::vector<PetscInt64> &ids) {
   ParticleView p;
   PetscCall(p.get(sw));
   ids.clear();
-  for (const Probe &pr : sc.probes) {
+  for (const Probe<2> &pr : sc.probes) {
     double best = 1e300;
     PetscInt64 bestId = INT64_MAX;
     for (PetscInt k = 0; k < p.n; ++k) {
@@ -72,7 +72,7 @@ PetscErrorCode probeStates(MPI_Comm comm, DM sw, const std::vector<PetscInt64> &
   return PETSC_SUCCESS;
 }
 
-PetscErrorCode mmsErrors(MPI_Comm comm, const Scene &sc, DM sw, double t, double &linf,
+PetscErrorCode mmsErrors(MPI_Comm comm, const Scene<2> &sc, DM sw, double t, double &linf,
                          double &rms) {
   linf = rms = 0;
   if (sc.mms == Mms::None) return PETSC_SUCCESS;

@@ -18,7 +18,7 @@
 
 namespace gimp {
 
-template <> std::vector<Grid<2>::CrackedNode> Grid<2>::findCrackedNodes(const Scene &sc) const {
+template <> std::vector<Grid<2>::CrackedNode> Grid<2>::findCrackedNodes(const Scene<2> &sc) const {
   std::vector<CrackedNode> out;
   const double reach = h0();
   for (int k = 0; k < static_cast<int>(levels.size()); ++k) {
@@ -57,7 +57,7 @@ template <> std::vector<Grid<2>::CrackedNode> Grid<2>::findCrackedNodes(const Sc
   return out;
 }
 
-template <> PetscErrorCode Grid<2>::addCrackFields(MPI_Comm comm, const Scene &sc) {
+template <> PetscErrorCode Grid<2>::addCrackFields(MPI_Comm comm, const Scene<2> &sc) {
   // The window's own slots are set (GridT::build); the second fields come after them.
   PetscMPIInt rank = 0;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));

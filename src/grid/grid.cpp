@@ -19,7 +19,7 @@ template <int D> Grid<D>::~Grid() {
   if (windowTemplate_) (void)VecDestroy(&windowTemplate_);
 }
 
-template <> PetscErrorCode Grid<2>::create(MPI_Comm comm, const Scene &sc) {
+template <> PetscErrorCode Grid<2>::create(MPI_Comm comm, const Scene<2> &sc) {
   setGeometry(sc);
   PetscCall(build(comm, &sc));
   return PETSC_SUCCESS;
@@ -32,7 +32,7 @@ PetscErrorCode Grid<D>::create(MPI_Comm comm, double h0, const std::vector<Level
   return PETSC_SUCCESS;
 }
 
-template <int D> PetscErrorCode Grid<D>::build(MPI_Comm comm, const Scene *sc) {
+template <int D> PetscErrorCode Grid<D>::build(MPI_Comm comm, const Scene<2> *sc) {
   const int K = static_cast<int>(levels.size());
   static const char *const axis[3] = {"x", "y", "z"};
 

@@ -12,7 +12,7 @@ namespace gimp {
 
 namespace {
 
-long double overlap(const Box &a, const Box &b) {
+long double overlap(const BoxOf<2> &a, const BoxOf<2> &b) {
   const long double w = std::min<long double>(a[2], b[2]) - std::max<long double>(a[0], b[0]);
   const long double h = std::min<long double>(a[3], b[3]) - std::max<long double>(a[1], b[1]);
   return w > 0 && h > 0 ? w * h : 0;
@@ -30,7 +30,7 @@ std::string gigabytes(long double bytes) {
   return b;
 }
 
-std::string boxText(const Box &b) {
+std::string boxText(const BoxOf<2> &b) {
   return formatNumber(b[0]) + "," + formatNumber(b[1]) + "," + formatNumber(b[2]) + "," +
          formatNumber(b[3]);
 }
@@ -51,7 +51,7 @@ PetscErrorCode physicalMemory(MPI_Comm comm, long double &bytes) {
 }
 
 /// The option most likely to be wrong when the estimate is too large, with its value.
-std::string culprit(const Scene &sc, const SizeEstimate &e, const ItemBytes &cost) {
+std::string culprit(const Scene<2> &sc, const SizeEstimate &e, const ItemBytes &cost) {
   const auto nodeMax = std::max_element(e.levelNodes.begin(), e.levelNodes.end());
   const auto bodyMax = std::max_element(e.bodyParticles.begin(), e.bodyParticles.end());
   if (e.nodes * cost.node >= e.particles * cost.particle) {
@@ -64,7 +64,7 @@ std::string culprit(const Scene &sc, const SizeEstimate &e, const ItemBytes &cos
     return "-gimp_h " + formatNumber(sc.h);
   }
   const size_t b = static_cast<size_t>(bodyMax - e.bodyParticles.begin());
-  const Body &body = sc.bodies[b];
+  const Body<2> &body = sc.bodies[b];
   const std::string p = "-gimp_body" + std::to_string(b) + "_";
   if (std::max(body.ppc, body.holePpc) >= 256)
     return body.holePpc > body.ppc ? p + "hole_ppc " + std::to_string(body.holePpc)
@@ -76,19 +76,19 @@ std::string culprit(const Scene &sc, const SizeEstimate &e, const ItemBytes &cos
 
 } // namespace
 
-SizeEstimate estimateSize(const Scene &sc, const ItemBytes &cost) {
+SizeEstimate estimateSize(const Scene<2> &sc, const ItemBytes &cost) {
   SizeEstimate e;
   const size_t K = sc.levels.size();
   std::vector<long double> h(K);
   for (size_t k = 0; k < K; ++k) {
     h[k] = k ? h[k - 1] / sc.levels[k].ratio : static_cast<long double>(sc.h);
-    const Box &b = k ? sc.levels[k].box : sc.domain;
+    const BoxOf<2> &b = k ? sc.levels[k].box : sc.domain;
     e.levelM.push_back(std::round((static_cast<long double>(b[2]) - b[0]) / h[k]) + 1);
     e.levelN.push_back(std::round((static_cast<long double>(b[3]) - b[1]) / h[k]) + 1);
     e.levelNodes.push_back(e.levelM.back() * e.levelN.back());
     e.nodes += e.levelNodes.back();
   }
-  for (const Body &body : sc.bodies) {
+  for (const Body<2> &body : sc.bodies) {
     if (!body.file.empty()) { // a particle file: its particles
       e.bodyParticles.push_back(static_cast<long double>(body.fromFile.particles.size()));
       e.particles += e.bodyParticles.back();
@@ -114,7 +114,7 @@ SizeEstimate estimateSize(const Scene &sc, const ItemBytes &cost) {
   return e;
 }
 
-PetscErrorCode checkProblemSize(MPI_Comm comm, const Scene &sc, const ItemBytes &cost) {
+PetscErrorCode checkProblemSize(MPI_Comm comm, const Scene<2> &sc, const ItemBytes &cost) {
   const SizeEstimate e = estimateSize(sc, cost);
   PetscMPIInt size = 1;
   PetscCallMPI(MPI_Comm_size(comm, &size));

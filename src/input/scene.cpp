@@ -1,4 +1,4 @@
-// The scene's types and readScene: run options, the domain, and the parts (scene_parts.cpp).
+// readScene<2>: the 2D scene's run options, the domain, and the parts (scene_parts.cpp).
 #include "gimp/input/scene.hpp"
 
 #include "scene_options.hpp"
@@ -59,122 +59,6 @@ using input::readLevels;
 using input::readLoads;
 using input::readMaterial;
 
-double Ramp::at(double time) const {
-  if (t.empty()) return 1.0;
-  if (time <= t.front()) return f.front();
-  for (size_t k = 1; k < t.size(); ++k)
-    if (time <= t[k]) return f[k - 1] + (f[k] - f[k - 1]) * (time - t[k - 1]) / (t[k] - t[k - 1]);
-  return f.back();
-}
-
-bool Body::inUnion(double x, double y) const {
-  if (shape.contains(x, y)) return true;
-  for (const Shape &s : added)
-    if (s.contains(x, y)) return true;
-  return false;
-}
-
-bool Body::strictlyInUnion(double x, double y) const {
-  if (shape.strictlyInside(x, y)) return true;
-  for (const Shape &s : added)
-    if (s.strictlyInside(x, y)) return true;
-  return false;
-}
-
-std::vector<const Shape *> Body::parts() const {
-  std::vector<const Shape *> all = {&shape};
-  for (const Shape &s : added)
-    all.push_back(&s);
-  return all;
-}
-
-std::array<double, 5> Body::unionMomentsIn(double x0, double y0, double x1, double y1, double ox,
-                                           double oy) const {
-  const std::vector<const Shape *> all = parts();
-  std::array<double, 5> m{};
-  for (const Shape *s : all) {
-    const auto a = s->momentsIn(x0, y0, x1, y1, ox, oy);
-    for (int k = 0; k < 5; ++k)
-      m[k] += a[k];
-  }
-  for (size_t i = 0; i < all.size(); ++i)
-    for (size_t j = i + 1; j < all.size(); ++j) {
-      const Shape &a = *all[i], &b = *all[j];
-      if (a.box[0] >= b.box[2] || b.box[0] >= a.box[2] || a.box[1] >= b.box[3] ||
-          b.box[1] >= a.box[3] || !intersectable(a, b))
-        continue; // apart (a pair that overlaps is intersectable: checked at input)
-      const auto ab = intersectionMomentsIn(a, b, x0, y0, x1, y1, ox, oy);
-      for (int k = 0; k < 5; ++k)
-        m[k] -= ab[k];
-    }
-  return m;
-}
-
-std::vector<std::array<double, 2>> Body::boundaryPoints(int perShape) const {
-  std::vector<std::array<double, 2>> pts;
-  for (const Shape *s : parts()) {
-    const auto more = s->boundaryPoints(perShape);
-    pts.insert(pts.end(), more.begin(), more.end());
-  }
-  return pts;
-}
-
-bool Body::inside(double x, double y) const {
-  if (!inUnion(x, y)) return false;
-  for (const Hole &c : holes)
-    if ((x - c.cx) * (x - c.cx) + (y - c.cy) * (y - c.cy) < c.r * c.r) return false;
-  for (const Shape &h : shapeHoles)
-    if (h.strictlyInside(x, y)) return false;
-  return true;
-}
-
-bool Body::strictlyInside(double x, double y) const {
-  if (!strictlyInUnion(x, y)) return false;
-  for (const Hole &c : holes)
-    if ((x - c.cx) * (x - c.cx) + (y - c.cy) * (y - c.cy) <= c.r * c.r) return false;
-  for (const Shape &h : shapeHoles)
-    if (h.contains(x, y)) return false;
-  return true;
-}
-
-bool bodiesOverlap(const Body &a, const Body &b) {
-  // A body from a particle file: its particles' centres strictly inside the other body (two
-  // file bodies are taken as given).
-  if (!a.file.empty() || !b.file.empty()) {
-    if (!a.file.empty() && !b.file.empty()) return false;
-    const Body &f = a.file.empty() ? b : a, &o = a.file.empty() ? a : b;
-    for (const FileParticle &p : f.fromFile.particles)
-      if (o.strictlyInside(p.x, p.y)) return true;
-    return false;
-  }
-  return interiorsMeet(
-      a.box, b.box, [&] { return a.boundaryPoints(720); }, [&] { return b.boundaryPoints(720); },
-      [&](double x, double y) { return a.strictlyInside(x, y); },
-      [&](double x, double y) { return b.strictlyInside(x, y); });
-}
-
-const Material &Scene::materialAt(double x, double y) const {
-  for (const Body &b : bodies)
-    if (b.inside(x, y)) return b.material;
-  return material;
-}
-
-double Scene::maxWaveSpeed() const {
-  if (oneMaterial || bodies.empty()) return material.waveSpeed();
-  double c = 0; // every body carries its material (the scene's unless it sets its own)
-  for (const Body &b : bodies)
-    c = std::max(c, b.material.waveSpeed());
-  return c;
-}
-
-double Material::lambdaEff() const {
-  return planeStrain ? lambda : 2.0 * mu * lambda / (lambda + 2.0 * mu);
-}
-
-double Material::waveSpeed() const {
-  return std::sqrt((lambdaEff() + 2.0 * mu) / rho);
-}
-
 namespace {
 
 /// Options read by readScene itself, before they are checked.
@@ -195,7 +79,7 @@ const char *const kMms[] = {"none", "skb1d"};
 const char *const kRateForces[] = {"impulse", "node"};
 
 /// Outputs, monitors and measures.
-PetscErrorCode readOutputOptions(MPI_Comm comm, Scene &sc, RunOptions &o) {
+PetscErrorCode readOutputOptions(MPI_Comm comm, Scene<2> &sc, RunOptions &o) {
   char *name = o.name, *outdir = o.outdir, *pdump = o.pdump, *gdump = o.gdump;
   PetscReal *hm = o.hm;
   PetscInt &nhm = o.nhm, &mms = o.mms;
@@ -203,7 +87,7 @@ PetscErrorCode readOutputOptions(MPI_Comm comm, Scene &sc, RunOptions &o) {
   const char *const *mmss = kMms;
   PetscCall(checkChoice("-gimp_mms", kMms, 2));
   PetscOptionsBegin(comm, nullptr, "gimp scene: outputs and measures", "gimp");
-  PetscCall(PetscOptionsString("-gimp_scene", "Scene name (output/<name> by default)",
+  PetscCall(PetscOptionsString("-gimp_scene", "Scene<2> name (output/<name> by default)",
                                "docs/options.md", name, name, sizeof(o.name), nullptr));
   PetscCall(PetscOptionsString("-gimp_output_dir", "Output directory (default output/<scene>)",
                                "docs/options.md", outdir, outdir, sizeof(o.outdir), nullptr));
@@ -255,7 +139,7 @@ PetscErrorCode readOutputOptions(MPI_Comm comm, Scene &sc, RunOptions &o) {
 }
 
 /// The particle velocity transfer and its parameters.
-PetscErrorCode readTransferOptions(MPI_Comm comm, Scene &sc, RunOptions &o) {
+PetscErrorCode readTransferOptions(MPI_Comm comm, Scene<2> &sc, RunOptions &o) {
   PetscCall(checkChoice("-gimp_transfer", kTransfers, 3));
   PetscOptionsBegin(comm, nullptr, "gimp scene: velocity transfer", "gimp");
   const char *const *transfers = kTransfers;
@@ -277,7 +161,7 @@ PetscErrorCode readTransferOptions(MPI_Comm comm, Scene &sc, RunOptions &o) {
 }
 
 /// The grid's cell size and domain, the update scheme and its parameters.
-PetscErrorCode readMethodOptions(MPI_Comm comm, Scene &sc, RunOptions &o) {
+PetscErrorCode readMethodOptions(MPI_Comm comm, Scene<2> &sc, RunOptions &o) {
   PetscReal *dom = o.dom;
   PetscInt &ndom = o.ndom, &pad = o.pad, &update = o.update, &tracking = o.tracking;
   PetscBool &setDom = o.setDom, &setH = o.setH;
@@ -381,7 +265,7 @@ PetscErrorCode readMethodOptions(MPI_Comm comm, Scene &sc, RunOptions &o) {
 }
 
 /// The ranges of the options readMethodOptions and readOutputOptions read.
-void checkRunOptions(const Scene &sc, const RunOptions &o) {
+void checkRunOptions(const Scene<2> &sc, const RunOptions &o) {
   if (!o.setH) bad("gimp_h", "(missing)", "the cell size is required, a value > 0 in m");
   if (!(sc.h > 0)) bad("gimp_h", formatNumber(sc.h), "must be > 0 [m]");
   if (sc.damping < 0) bad("gimp_damping", formatNumber(sc.damping), "must be >= 0 [1/s]");
@@ -436,7 +320,7 @@ void checkRunOptions(const Scene &sc, const RunOptions &o) {
 }
 
 /// The grid domain: as given, or the bodies' bounding box padded by -gimp_pad cells.
-void setDomain(Scene &sc, RunOptions &o) {
+void setDomain(Scene<2> &sc, RunOptions &o) {
   PetscReal *dom = o.dom;
   const PetscInt ndom = o.ndom, pad = o.pad;
   const PetscBool setDom = o.setDom;
@@ -447,7 +331,7 @@ void setDomain(Scene &sc, RunOptions &o) {
   } else {
     dom[0] = dom[1] = 1e300;
     dom[2] = dom[3] = -1e300;
-    for (const Body &b : sc.bodies) {
+    for (const Body<2> &b : sc.bodies) {
       dom[0] = std::min(dom[0], b.box[0]);
       dom[1] = std::min(dom[1], b.box[1]);
       dom[2] = std::max(dom[2], b.box[2]);
@@ -476,7 +360,7 @@ void setDomain(Scene &sc, RunOptions &o) {
 }
 
 /// The values of the option that gave the body's shape, as the user wrote them.
-std::string shapeText(const Body &b) {
+std::string shapeText(const Body<2> &b) {
   const Shape &s = b.shape;
   if (b.shapeOption == "circle") {
     const double v[3] = {s.cx, s.cy, s.a};
@@ -492,10 +376,10 @@ std::string shapeText(const Body &b) {
 }
 
 /// Bodies do not overlap and lie in the domain; the manufactured solution fits the material.
-void checkBodies(const Scene &sc) {
+void checkBodies(const Scene<2> &sc) {
   for (size_t k = 0; k < sc.bodies.size(); ++k)
     for (size_t q = 0; q < k; ++q) {
-      const Box &a = sc.bodies[q].box, &b = sc.bodies[k].box;
+      const BoxOf<2> &a = sc.bodies[q].box, &b = sc.bodies[k].box;
       if (bodiesOverlap(sc.bodies[q], sc.bodies[k]))
         bad("gimp_body" + std::to_string(k) + "_" + sc.bodies[k].shapeOption,
             shapeText(sc.bodies[k]),
@@ -503,7 +387,7 @@ void checkBodies(const Scene &sc) {
                 ", body " + std::to_string(k) + "'s " + fmtList(b.data(), 4) +
                 "): bodies may touch but not overlap");
     }
-  if (sc.mms == Mms::Skb1d &&
+  if (sc.mms == Mms::AxialWave &&
       (sc.material.model != MaterialModel::NeoHookean || sc.material.nu != 0 || !sc.oneMaterial))
     bad("gimp_mms", "skb1d",
         "the 1D manufactured solution needs -gimp_material neohookean and -gimp_nu 0 (one "
@@ -527,7 +411,7 @@ void checkBodies(const Scene &sc) {
                 ") is not inside the grid domain " + fmtList(sc.domain.data(), 4));
   }
   for (size_t k = 0; k < sc.bodies.size(); ++k) {
-    const Box &b = sc.bodies[k].box;
+    const BoxOf<2> &b = sc.bodies[k].box;
     if (b[0] < sc.domain[0] || b[1] < sc.domain[1] || b[2] > sc.domain[2] || b[3] > sc.domain[3])
       bad("gimp_body" + std::to_string(k) + "_" + sc.bodies[k].shapeOption, shapeText(sc.bodies[k]),
           "lies outside the grid domain " + fmtList(sc.domain.data(), 4) + " (bounding box " +
@@ -537,7 +421,7 @@ void checkBodies(const Scene &sc) {
 
 } // namespace
 
-PetscErrorCode readScene(MPI_Comm comm, Scene &sc) {
+template <> PetscErrorCode readScene<2>(MPI_Comm comm, Scene<2> &sc) {
   PetscBool help = PETSC_FALSE;
   PetscCall(PetscOptionsHasHelp(nullptr, &help));
   sc.help = help;
@@ -563,7 +447,7 @@ PetscErrorCode readScene(MPI_Comm comm, Scene &sc) {
     bad("gimp_hole_measure_load", "0", "the hole measure needs the remote stress p != 0 [Pa]");
   sc.update = static_cast<Update>(o.update);
   sc.transfer = static_cast<Transfer>(o.transfer);
-  if (!o.setCutoff) sc.massCutoff = Scene::defaultMassCutoff(sc.transfer);
+  if (!o.setCutoff) sc.massCutoff = MethodOptions::defaultMassCutoff(sc.transfer);
   sc.xpicOrder = static_cast<int>(o.xpicOrder);
   sc.tracking = static_cast<Tracking>(o.tracking);
   sc.mms = static_cast<Mms>(o.mms);

@@ -11,10 +11,10 @@ namespace gimp::input {
 namespace {
 
 /// The finest cell size among the levels whose box contains (x, y) (sc.h outside the grid).
-double cellSizeAt(const Scene &sc, double x, double y) {
+double cellSizeAt(const Scene<2> &sc, double x, double y) {
   double h = sc.h, at = sc.h;
   for (size_t k = 0; k < sc.levels.size(); ++k) {
-    const Box &b = sc.levels[k].box;
+    const BoxOf<2> &b = sc.levels[k].box;
     h /= k ? sc.levels[k].ratio : 1;
     if (x >= b[0] && x <= b[2] && y >= b[1] && y <= b[3]) at = h;
   }
@@ -22,7 +22,7 @@ double cellSizeAt(const Scene &sc, double x, double y) {
 }
 
 /// In the body and farther than tol from its edge (the box's sides and the holes' circles).
-bool strictlyInside(const Body &b, double x, double y, double tol) {
+bool strictlyInside(const Body<2> &b, double x, double y, double tol) {
   if (!b.inside(x, y) || x - b.box[0] <= tol || b.box[2] - x <= tol || y - b.box[1] <= tol ||
       b.box[3] - y <= tol)
     return false;
@@ -31,16 +31,16 @@ bool strictlyInside(const Body &b, double x, double y, double tol) {
   return true;
 }
 
-bool strictlyInsideABody(const Scene &sc, double x, double y) {
+bool strictlyInsideABody(const Scene<2> &sc, double x, double y) {
   const double tol = 1e-9 * cellSizeAt(sc, x, y);
-  for (const Body &b : sc.bodies)
+  for (const Body<2> &b : sc.bodies)
     if (strictlyInside(b, x, y, tol)) return true;
   return false;
 }
 
 /// Whether some point of the polyline lies strictly inside a body: each segment sampled at a
 /// quarter of the finest cell size (at most 1e5 samples per segment).
-bool reachesABody(const Scene &sc, const Crack &c, double hmin) {
+bool reachesABody(const Scene<2> &sc, const Crack &c, double hmin) {
   for (size_t k = 0; k + 1 < c.points.size(); ++k) {
     const auto &p = c.points[k], &r = c.points[k + 1];
     const double n = std::ceil(std::min(1e5, std::hypot(r[0] - p[0], r[1] - p[1]) / (0.25 * hmin)));
@@ -52,7 +52,7 @@ bool reachesABody(const Scene &sc, const Crack &c, double hmin) {
 }
 
 /// The crack of option q from its n values: the polyline checked, its ends classified.
-void makeCrack(const Scene &sc, const std::string &q, const PetscReal *v, PetscInt n, Crack &c) {
+void makeCrack(const Scene<2> &sc, const std::string &q, const PetscReal *v, PetscInt n, Crack &c) {
   const std::string all = fmtList(v, n);
   if (n < 4 || n % 2) bad(q, all, "needs pairs x,y of at least two points [m]");
   for (PetscInt i = 0; i < n; ++i)
@@ -83,7 +83,7 @@ void makeCrack(const Scene &sc, const std::string &q, const PetscReal *v, PetscI
 }
 
 /// A tip closer than one cell (the finest cell at the tip) to another crack.
-void checkTips(const Scene &sc) {
+void checkTips(const Scene<2> &sc) {
   for (size_t k = 0; k < sc.cracks.size(); ++k)
     for (int e = 0; e < 2; ++e) {
       const Crack &c = sc.cracks[k];
@@ -107,7 +107,7 @@ void checkTips(const Scene &sc) {
 
 } // namespace
 
-PetscErrorCode readCracks(MPI_Comm comm, Scene &sc) {
+PetscErrorCode readCracks(MPI_Comm comm, Scene<2> &sc) {
   PetscInt nc = 0;
   PetscBool setR = PETSC_FALSE;
   PetscOptionsBegin(comm, nullptr, "Cracks", "gimp");

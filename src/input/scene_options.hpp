@@ -23,14 +23,14 @@ void checkRunIntervals(int output, int history, int monitor, int sort);
 PetscErrorCode checkChoice(const std::string &opt, const char *const *list, int n);
 
 // The parts of the scene, each from its options (collective; sc.help lists them only).
-PetscErrorCode readMaterial(MPI_Comm comm, Scene &sc);
+PetscErrorCode readMaterial(MPI_Comm comm, Scene<2> &sc);
 /// mu, lambda and the 2D model's lambda from E and nu.
 void deriveMaterial(Material &m);
-PetscErrorCode readBodies(MPI_Comm comm, Scene &sc);
-PetscErrorCode readLoads(MPI_Comm comm, Scene &sc);
-PetscErrorCode readLevels(MPI_Comm comm, Scene &sc);
+PetscErrorCode readBodies(MPI_Comm comm, Scene<2> &sc);
+PetscErrorCode readLoads(MPI_Comm comm, Scene<2> &sc);
+PetscErrorCode readLevels(MPI_Comm comm, Scene<2> &sc);
 /// After the levels and bodies (scene_cracks.cpp): -gimp_cracks and each -gimp_crackK_points,
 /// checked; each end classified as a tip (strictly inside a body) or a mouth.
-PetscErrorCode readCracks(MPI_Comm comm, Scene &sc);
+PetscErrorCode readCracks(MPI_Comm comm, Scene<2> &sc);
 
 } // namespace gimp::input

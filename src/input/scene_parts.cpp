@@ -14,7 +14,7 @@ const char *const kSides[] = {"left", "right", "bottom", "top"};
 
 } // namespace
 
-PetscErrorCode readMaterial(MPI_Comm comm, Scene &sc) {
+PetscErrorCode readMaterial(MPI_Comm comm, Scene<2> &sc) {
   Material &m = sc.material;
   const char *models[] = {"linear", "neohookean"};
   const char *planes[] = {"strain", "stress"};
@@ -63,14 +63,15 @@ namespace {
 
 /// A body's own material: -gimp_bodyK_material, _E, _nu, _rho, each the scene's unless given
 /// (the plane and the thickness are the scene's); p is "-gimp_bodyK_".
-PetscErrorCode readBodyMaterial(MPI_Comm comm, const std::string &p, const Scene &sc, Body &b) {
+PetscErrorCode readBodyMaterial(MPI_Comm comm, const std::string &p, const Scene<2> &sc,
+                                Body<2> &b) {
   b.material = sc.material;
   Material &m = b.material;
   const char *models[] = {"linear", "neohookean"};
   PetscInt model = m.model == MaterialModel::Linear ? 0 : 1;
   PetscBool setE = PETSC_FALSE, setRho = PETSC_FALSE;
   PetscCall(checkChoice(p + "material", models, 2));
-  PetscOptionsBegin(comm, nullptr, ("Body material " + p + "*").c_str(), "gimp");
+  PetscOptionsBegin(comm, nullptr, ("Body<2> material " + p + "*").c_str(), "gimp");
   PetscCall(PetscOptionsEList((p + "material").c_str(),
                               "The body's constitutive model (default: -gimp_material)",
                               "docs/options.md", models, 2, models[model], &model, nullptr));
@@ -148,7 +149,7 @@ PetscErrorCode readPolygons(MPI_Comm comm, const std::string &p, const std::stri
 
 /// The union's shapes: where two overlap, the moments of their intersection must be exact (one
 /// a rectangle, or two polygons one of which is convex), and no point lies in three of them.
-void checkUnion(const std::string &q, const Body &b, const std::vector<std::string> &names) {
+void checkUnion(const std::string &q, const Body<2> &b, const std::vector<std::string> &names) {
   const std::vector<const Shape *> parts = b.parts();
   for (size_t i = 0; i < parts.size(); ++i)
     for (size_t j = i + 1; j < parts.size(); ++j)
@@ -172,7 +173,7 @@ void checkUnion(const std::string &q, const Body &b, const std::vector<std::stri
         "three of the joined shapes overlap there: at most two may overlap at a point");
 }
 
-PetscErrorCode readShape(MPI_Comm comm, const std::string &p, const Scene &sc, Body &b) {
+PetscErrorCode readShape(MPI_Comm comm, const std::string &p, const Scene<2> &sc, Body<2> &b) {
   const bool help = sc.help;
   const char *shapes[] = {"rectangle", "circle", "ellipse", "polygon", "file"};
   char file[PETSC_MAX_PATH_LEN] = "";
@@ -186,7 +187,7 @@ PetscErrorCode readShape(MPI_Comm comm, const std::string &p, const Scene &sc, B
   PetscReal ab[401] = {0}, ac[301] = {0}, ae[401] = {0};
   PetscInt nab = 401, nac = 301, nae = 401, nap = 0;
   PetscCall(checkChoice(p + "shape", shapes, 5));
-  PetscOptionsBegin(comm, nullptr, ("Body shape " + p + "*").c_str(), "gimp");
+  PetscOptionsBegin(comm, nullptr, ("Body<2> shape " + p + "*").c_str(), "gimp");
   PetscCall(PetscOptionsEList((p + "shape").c_str(),
                               "Shape of the body: rectangle (_box), circle (_circle), ellipse "
                               "(_ellipse), polygon (_polygon) or particles from a file (_file)",
@@ -195,16 +196,18 @@ PetscErrorCode readShape(MPI_Comm comm, const std::string &p, const Scene &sc, B
                                "CSV file of the body's particles: x,y and lx,ly or V, optionally "
                                "vx,vy (shape file)",
                                "docs/options.md", file, file, sizeof(file), &setFile));
-  PetscCall(PetscOptionsRealArray((p + "box").c_str(), "Body rectangle x0,y0,x1,y1 [m]",
+  PetscCall(PetscOptionsRealArray((p + "box").c_str(), "Body<2> rectangle x0,y0,x1,y1 [m]",
                                   "docs/options.md", box, &nbox, &setBox));
-  PetscCall(PetscOptionsRealArray((p + "circle").c_str(), "Body circle cx,cy,r [m] (shape circle)",
-                                  "docs/options.md", circ, &ncirc, &setCirc));
-  PetscCall(PetscOptionsRealArray((p + "ellipse").c_str(),
-                                  "Body ellipse cx,cy,a,b, half-axes a along x and b along y [m] "
-                                  "(shape ellipse)",
-                                  "docs/options.md", ell, &nell, &setEll));
+  PetscCall(PetscOptionsRealArray((p + "circle").c_str(),
+                                  "Body<2> circle cx,cy,r [m] (shape circle)", "docs/options.md",
+                                  circ, &ncirc, &setCirc));
+  PetscCall(
+      PetscOptionsRealArray((p + "ellipse").c_str(),
+                            "Body<2> ellipse cx,cy,a,b, half-axes a along x and b along y [m] "
+                            "(shape ellipse)",
+                            "docs/options.md", ell, &nell, &setEll));
   PetscCall(PetscOptionsRealArray((p + "polygon").c_str(),
-                                  "Body polygon x0,y0,x1,y1,... (a simple polygon, at most 200 "
+                                  "Body<2> polygon x0,y0,x1,y1,... (a simple polygon, at most 200 "
                                   "vertices) [m] (shape polygon)",
                                   "docs/options.md", poly, &npoly, &setPoly));
   PetscCall(PetscOptionsRealArray((p + "hole_ellipses").c_str(),
@@ -263,7 +266,7 @@ PetscErrorCode readShape(MPI_Comm comm, const std::string &p, const Scene &sc, B
     // The particles as they are; the body's rectangle is their domains' bounding box.
     b.file = file;
     PetscCall(readParticleFile(comm, p + "file", b.file, sc.material.thickness, b.fromFile));
-    Box bb = {1e300, 1e300, -1e300, -1e300};
+    BoxOf<2> bb = {1e300, 1e300, -1e300, -1e300};
     for (const FileParticle &f : b.fromFile.particles) {
       bb[0] = std::min(bb[0], f.x - f.lx);
       bb[1] = std::min(bb[1], f.y - f.ly);
@@ -348,7 +351,7 @@ PetscErrorCode readShape(MPI_Comm comm, const std::string &p, const Scene &sc, B
 
 /// Holes lie inside the body (a rectangle's circular holes may cross its sides, as cut
 /// planes of symmetry do) and do not overlap one another.
-void checkHoles(const std::string &q, const Body &b) {
+void checkHoles(const std::string &q, const Body<2> &b) {
   std::vector<Shape> all;
   std::vector<std::string> names; // the option that gave each hole
   for (const Hole &c : b.holes) {
@@ -379,7 +382,7 @@ void checkHoles(const std::string &q, const Body &b) {
 
 } // namespace
 
-PetscErrorCode readBodies(MPI_Comm comm, Scene &sc) {
+PetscErrorCode readBodies(MPI_Comm comm, Scene<2> &sc) {
   PetscInt nb = 1;
   PetscOptionsBegin(comm, nullptr, "Bodies", "gimp");
   PetscCall(PetscOptionsInt("-gimp_bodies", "Number of bodies (each -gimp_bodyK_* with K = 0..N-1)",
@@ -387,7 +390,7 @@ PetscErrorCode readBodies(MPI_Comm comm, Scene &sc) {
   PetscOptionsEnd();
   if (!sc.help && nb < 1) bad("gimp_bodies", std::to_string(nb), "must be >= 1");
   for (PetscInt k = 0; k < std::max<PetscInt>(nb, 1); ++k) {
-    Body b;
+    Body<2> b;
     const std::string p = "-gimp_body" + std::to_string(k) + "_";
     PetscReal holes[301] = {0}, vel[3] = {0, 0, 0};
     PetscInt nholes = 301, nvel = 3, ppc = 4, hppc = 0;
@@ -396,7 +399,7 @@ PetscErrorCode readBodies(MPI_Comm comm, Scene &sc) {
     PetscInt profile = 0;
     PetscReal band = 0, k0 = 0, spin = 0;
     PetscCall(checkChoice(p + "velocity_profile", profiles, 2));
-    PetscOptionsBegin(comm, nullptr, ("Body " + p + "*").c_str(), "gimp");
+    PetscOptionsBegin(comm, nullptr, ("Body<2> " + p + "*").c_str(), "gimp");
     PetscCall(PetscOptionsRealArray((p + "holes").c_str(),
                                     "Circular holes removed from the body: cx,cy,r,... [m]",
                                     "docs/options.md", holes, &nholes, &setHoles));
@@ -467,7 +470,7 @@ PetscErrorCode readBodies(MPI_Comm comm, Scene &sc) {
     sc.bodies.push_back(b);
   }
   sc.oneMaterial = true;
-  for (const Body &b : sc.bodies)
+  for (const Body<2> &b : sc.bodies)
     sc.oneMaterial = sc.oneMaterial && sameMaterial(b.material, sc.material);
   return PETSC_SUCCESS;
 }
@@ -497,15 +500,15 @@ PetscErrorCode readRamp(MPI_Comm comm, const std::string &opt, Ramp &r, bool hel
 }
 
 /// Body, side and range of a segment: -gimp_<kind>K_body, _side, _range.
-PetscErrorCode readSegment(MPI_Comm comm, const std::string &p, const char *what, Scene &sc,
-                           Segment &seg) {
+PetscErrorCode readSegment(MPI_Comm comm, const std::string &p, const char *what, Scene<2> &sc,
+                           Face<2> &seg) {
   PetscInt body = 0, side = 1, nr = 3;
   PetscReal rng[3] = {0, 0, 0};
   PetscBool setR = PETSC_FALSE;
   PetscCall(checkChoice(p + "side", kSides, 4));
   PetscOptionsBegin(comm, nullptr, (std::string(what) + " segment " + p + "*").c_str(), "gimp");
-  PetscCall(PetscOptionsInt((p + "body").c_str(), "Body it acts on", "docs/options.md", body, &body,
-                            nullptr));
+  PetscCall(PetscOptionsInt((p + "body").c_str(), "Body<2> it acts on", "docs/options.md", body,
+                            &body, nullptr));
   PetscCall(PetscOptionsEList((p + "side").c_str(), "Side of the body's rectangle",
                               "docs/options.md", kSides, 4, kSides[1], &side, nullptr));
   PetscCall(PetscOptionsRealArray((p + "range").c_str(),
@@ -520,22 +523,23 @@ PetscErrorCode readSegment(MPI_Comm comm, const std::string &p, const char *what
   if (setR && (nr != 2 || !(rng[1] > rng[0])))
     bad(q + "range", fmtList(rng, nr), "needs from,to with to > from [m]");
   seg.body = static_cast<int>(body);
-  seg.side = static_cast<Side>(side);
+  seg.side = static_cast<int>(side);
   seg.hasRange = setR;
   seg.range = {rng[0], rng[1]};
   return PETSC_SUCCESS;
 }
 
-PetscErrorCode readTraction(MPI_Comm comm, PetscInt k, Scene &sc) {
-  Traction t;
+PetscErrorCode readTraction(MPI_Comm comm, PetscInt k, Scene<2> &sc) {
+  Traction<2> t;
   const std::string p = "-gimp_traction" + std::to_string(k) + "_";
   PetscInt nv = 3;
   PetscReal val[3] = {0, 0, 0};
   PetscBool setV = PETSC_FALSE;
-  PetscCall(readSegment(comm, p, "Traction", sc, t));
-  PetscOptionsBegin(comm, nullptr, ("Traction " + p + "*").c_str(), "gimp");
-  PetscCall(PetscOptionsRealArray((p + "value").c_str(), "Traction vector tx,ty at full load [Pa]",
-                                  "docs/options.md", val, &nv, &setV));
+  PetscCall(readSegment(comm, p, "Traction<2>", sc, t));
+  PetscOptionsBegin(comm, nullptr, ("Traction<2> " + p + "*").c_str(), "gimp");
+  PetscCall(PetscOptionsRealArray((p + "value").c_str(),
+                                  "Traction<2> vector tx,ty at full load [Pa]", "docs/options.md",
+                                  val, &nv, &setV));
   PetscOptionsEnd();
   PetscCall(readRamp(comm, p + "ramp", t.ramp, sc.help));
   if (sc.help) return PETSC_SUCCESS;
@@ -546,8 +550,8 @@ PetscErrorCode readTraction(MPI_Comm comm, PetscInt k, Scene &sc) {
   return PETSC_SUCCESS;
 }
 
-PetscErrorCode readDisplacementBC(MPI_Comm comm, PetscInt k, Scene &sc) {
-  DisplacementBC d;
+PetscErrorCode readDisplacementBC(MPI_Comm comm, PetscInt k, Scene<2> &sc) {
+  DisplacementBC<2> d;
   const std::string p = "-gimp_dbc" + std::to_string(k) + "_";
   const char *comps[] = {"x", "y", "xy"};
   PetscInt comp = 2;
@@ -577,8 +581,8 @@ PetscErrorCode readDisplacementBC(MPI_Comm comm, PetscInt k, Scene &sc) {
   return PETSC_SUCCESS;
 }
 
-PetscErrorCode readNodeBC(MPI_Comm comm, PetscInt k, Scene &sc) {
-  NodeBC b;
+PetscErrorCode readNodeBC(MPI_Comm comm, PetscInt k, Scene<2> &sc) {
+  NodeBC<2> b;
   const std::string p = "-gimp_bc" + std::to_string(k) + "_";
   PetscReal x = 0, y = 0, rng[3] = {0, 0, 0};
   PetscBool setX = PETSC_FALSE, setY = PETSC_FALSE, setR = PETSC_FALSE;
@@ -616,17 +620,18 @@ PetscErrorCode readNodeBC(MPI_Comm comm, PetscInt k, Scene &sc) {
   return PETSC_SUCCESS;
 }
 
-PetscErrorCode readProbe(MPI_Comm comm, PetscInt k, Scene &sc) {
-  Probe pr;
+PetscErrorCode readProbe(MPI_Comm comm, PetscInt k, Scene<2> &sc) {
+  Probe<2> pr;
   const std::string p = "-gimp_probe" + std::to_string(k) + "_";
   char name[256] = "";
   PetscReal x[3] = {0, 0, 0};
   PetscInt nx = 3;
   PetscBool setX = PETSC_FALSE;
   pr.name = "probe" + std::to_string(k);
-  PetscOptionsBegin(comm, nullptr, ("Probe " + p + "*").c_str(), "gimp");
-  PetscCall(PetscOptionsString((p + "name").c_str(), "Probe name in history.csv and summary.json",
-                               "docs/options.md", pr.name.c_str(), name, sizeof(name), nullptr));
+  PetscOptionsBegin(comm, nullptr, ("Probe<2> " + p + "*").c_str(), "gimp");
+  PetscCall(PetscOptionsString((p + "name").c_str(),
+                               "Probe<2> name in history.csv and summary.json", "docs/options.md",
+                               pr.name.c_str(), name, sizeof(name), nullptr));
   PetscCall(PetscOptionsRealArray((p + "x").c_str(),
                                   "Initial position x,y; the probe follows the particle nearest "
                                   "to it [m]",
@@ -639,7 +644,7 @@ PetscErrorCode readProbe(MPI_Comm comm, PetscInt k, Scene &sc) {
   if (pr.name.empty() || pr.name.find_first_of(",\" \t") != std::string::npos)
     bad(p.substr(1) + "name", pr.name,
         "a probe name is a non-empty word without commas, quotes or spaces");
-  for (const Probe &o : sc.probes)
+  for (const Probe<2> &o : sc.probes)
     if (o.name == pr.name) bad(p.substr(1) + "name", pr.name, "another probe has this name");
   pr.x = {x[0], x[1]};
   sc.probes.push_back(pr);
@@ -648,14 +653,14 @@ PetscErrorCode readProbe(MPI_Comm comm, PetscInt k, Scene &sc) {
 
 } // namespace
 
-PetscErrorCode readLoads(MPI_Comm comm, Scene &sc) {
+PetscErrorCode readLoads(MPI_Comm comm, Scene<2> &sc) {
   PetscInt nt = 0, nbc = 0, np = 0, ndbc = 0;
   PetscReal g[3] = {0, 0, 0};
   PetscInt ng = 3;
   PetscBool setG = PETSC_FALSE, setPenalty = PETSC_FALSE, setPtrac = PETSC_FALSE;
   PetscBool ptrac = sc.penaltyTraction ? PETSC_TRUE : PETSC_FALSE;
   PetscOptionsBegin(comm, nullptr, "Loads and constraints", "gimp");
-  PetscCall(PetscOptionsRealArray("-gimp_gravity", "Body force per unit mass gx,gy [m/s^2]",
+  PetscCall(PetscOptionsRealArray("-gimp_gravity", "Body<2> force per unit mass gx,gy [m/s^2]",
                                   "docs/options.md", g, &ng, &setG));
   PetscCall(PetscOptionsInt("-gimp_tractions", "Number of traction loads -gimp_tractionK_*",
                             "docs/options.md", nt, &nt, nullptr));
@@ -703,7 +708,7 @@ PetscErrorCode readLoads(MPI_Comm comm, Scene &sc) {
   return PETSC_SUCCESS;
 }
 
-PetscErrorCode readLevels(MPI_Comm comm, Scene &sc) {
+PetscErrorCode readLevels(MPI_Comm comm, Scene<2> &sc) {
   PetscInt n = 1;
   PetscOptionsBegin(comm, nullptr, "Grid<2> levels", "gimp");
   PetscCall(PetscOptionsInt("-gimp_levels",
@@ -712,7 +717,7 @@ PetscErrorCode readLevels(MPI_Comm comm, Scene &sc) {
                             "docs/options.md", n, &n, nullptr));
   PetscOptionsEnd();
   if (!sc.help && (n < 1 || n > 8)) bad("gimp_levels", std::to_string(n), "must lie in 1..8");
-  sc.levels.assign(1, LevelSpec{sc.domain, 1});
+  sc.levels.assign(1, LevelBox<2>{sc.domain, 1});
   for (PetscInt k = 1; k < (sc.help ? 2 : n); ++k) {
     const std::string p = "-gimp_level" + std::to_string(k) + "_";
     PetscReal box[5] = {0, 0, 0, 0, 0}, ratio = 2;
@@ -720,7 +725,7 @@ PetscErrorCode readLevels(MPI_Comm comm, Scene &sc) {
     PetscBool setBox = PETSC_FALSE;
     PetscOptionsBegin(comm, nullptr, ("Grid<2> level " + p + "*").c_str(), "gimp");
     PetscCall(PetscOptionsRealArray((p + "box").c_str(),
-                                    "Box x0,y0,x1,y1 of this level, corners on the parent "
+                                    "BoxOf<2> x0,y0,x1,y1 of this level, corners on the parent "
                                     "level's grid lines [m]",
                                     "docs/options.md", box, &nbox, &setBox));
     PetscCall(PetscOptionsReal((p + "ratio").c_str(),
@@ -733,7 +738,7 @@ PetscErrorCode readLevels(MPI_Comm comm, Scene &sc) {
     if (nbox != 4) bad(q + "box", fmtList(box, nbox), "needs 4 values x0,y0,x1,y1 [m]");
     if (!(ratio >= 2 && ratio <= 16 && ratio == std::round(ratio)))
       bad(q + "ratio", formatNumber(ratio), "must be an integer from 2 to 16");
-    LevelSpec L;
+    LevelBox<2> L;
     std::copy(box, box + 4, L.box.begin());
     L.ratio = static_cast<int>(ratio);
     sc.levels.push_back(L);

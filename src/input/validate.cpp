@@ -17,7 +17,7 @@ namespace gimp {
 
 namespace {
 
-std::string boxText(const Box &b) {
+std::string boxText(const BoxOf<2> &b) {
   return formatNumber(b[0]) + "," + formatNumber(b[1]) + "," + formatNumber(b[2]) + "," +
          formatNumber(b[3]);
 }
@@ -183,7 +183,7 @@ PetscErrorCode checkOptionValues() {
 
 } // namespace
 
-PetscErrorCode readSceneOneLine(MPI_Comm comm, Scene &sc) {
+PetscErrorCode readSceneOneLine(MPI_Comm comm, Scene<2> &sc) {
   return readOptionsOneLine([&] { return readScene(comm, sc); });
 }
 
@@ -194,7 +194,7 @@ PetscErrorCode readOptionsOneLine(const std::function<PetscErrorCode()> &read) {
   return readOneLine(read);
 }
 
-void checkSceneCombinations(const Scene &sc) {
+void checkSceneCombinations(const Scene<2> &sc) {
   // -gimp_multirate is built for tensor-product GIMP weights with the FLIP/PIC blend or APIC, and
   // with cracks for PIC or APIC (docs/method.md, "Multi-rate time steps per level").
   if (sc.multirate && !sc.cracks.empty() && sc.transfer == Transfer::Flip && sc.flip > 0)
@@ -241,7 +241,7 @@ void checkSceneCombinations(const Scene &sc) {
 namespace {
 
 /// Every traction and penalty condition reaches some particle edge (collective).
-PetscErrorCode checkSegmentsReached(MPI_Comm comm, const Scene &sc, const ParticleView &p) {
+PetscErrorCode checkSegmentsReached(MPI_Comm comm, const Scene<2> &sc, const ParticleView &p) {
   const size_t nt = sc.tractions.size(), nd = sc.dbcs.size();
   std::vector<PetscInt64> hits(nt + nd, 0), gHits(nt + nd, 0);
   for (PetscInt k = 0; k < p.n && p.trac; ++k)
@@ -255,8 +255,8 @@ PetscErrorCode checkSegmentsReached(MPI_Comm comm, const Scene &sc, const Partic
   for (size_t q = 0; q < gHits.size(); ++q) {
     if (gHits[q] != 0) continue;
     const bool isTraction = q < nt;
-    const Segment &seg = isTraction ? static_cast<const Segment &>(sc.tractions[q])
-                                    : static_cast<const Segment &>(sc.dbcs[q - nt]);
+    const Face<2> &seg = isTraction ? static_cast<const Face<2> &>(sc.tractions[q])
+                                    : static_cast<const Face<2> &>(sc.dbcs[q - nt]);
     const std::string name =
         (isTraction ? "gimp_traction" : "gimp_dbc") + std::to_string(isTraction ? q : q - nt);
     const char *sides[] = {"left", "right", "bottom", "top"};
@@ -270,7 +270,7 @@ PetscErrorCode checkSegmentsReached(MPI_Comm comm, const Scene &sc, const Partic
 
 } // namespace
 
-PetscErrorCode checkSeeding(MPI_Comm comm, const Scene &sc, const Grid<2> &grid,
+PetscErrorCode checkSeeding(MPI_Comm comm, const Scene<2> &sc, const Grid<2> &grid,
                             const ParticleView &p, PetscInt64 &count, double &meanMass) {
   const PetscInt64 slots = bodyIdSlots(grid);
   std::vector<PetscInt64> mine(sc.bodies.size(), 0), total(sc.bodies.size(), 0);
@@ -301,7 +301,7 @@ PetscErrorCode checkSeeding(MPI_Comm comm, const Scene &sc, const Grid<2> &grid,
   PetscInt64 outside = INT64_MAX, gOutside = INT64_MAX, onEdge = INT64_MAX, gOnEdge = INT64_MAX;
   for (PetscInt k = 0; k < p.n; ++k) {
     const double x = p.x[2 * k], y = p.x[2 * k + 1], lx = p.l[2 * k], ly = p.l[2 * k + 1];
-    const Box &d = sc.domain;
+    const BoxOf<2> &d = sc.domain;
     if (x - lx < d[0] || x + lx > d[2] || y - ly < d[1] || y + ly > d[3])
       outside = std::min(outside, p.id[k]);
     else if (x - lx < d[0] + margin || x + lx > d[2] - margin || y - ly < d[1] + margin ||
@@ -326,7 +326,7 @@ PetscErrorCode checkSeeding(MPI_Comm comm, const Scene &sc, const Grid<2> &grid,
   return PETSC_SUCCESS;
 }
 
-PetscErrorCode timeStepFromOptions(TS ts, const Scene &sc, const Lattice<2> &grid) {
+PetscErrorCode timeStepFromOptions(TS ts, const Scene<2> &sc, const Lattice<2> &grid) {
   return timeStepFromOptions(ts, sc.maxWaveSpeed(), grid.hMin(), sc.stabilityCheck, sc.damping);
 }
 

@@ -22,7 +22,7 @@ namespace gimp {
 namespace {
 
 /// The particle fields that the HDF5 output holds for this scene.
-std::vector<const FieldSpec *> writtenFields(const Scene &sc) {
+std::vector<const FieldSpec *> writtenFields(const Scene<2> &sc) {
   std::vector<const FieldSpec *> out;
   const OptionalFields optional = optionalFieldsOf(sc);
   for (const FieldSpec &f : particleFields())
@@ -163,7 +163,7 @@ PetscErrorCode Output::open(const Resume *resume) {
     std::fprintf(history_,
                  "step,time,kinetic,strain,external_work,damping,total,momentum_x,momentum_y,"
                  "separation,strain_x");
-    for (const Probe &p : sc_.probes)
+    for (const Probe<2> &p : sc_.probes)
       for (const char *c : {"ux", "uy", "sxx", "syy", "sxy", "szz"})
         std::fprintf(history_, ",%s_%s", p.name.c_str(), c);
     for (size_t q = 0; q < sc_.dbcs.size(); ++q)

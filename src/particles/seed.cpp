@@ -13,18 +13,16 @@ namespace gimp {
 
 namespace {
 
-/// Whether the square particle (x, y, half-size l) of body b has an edge on the segment.
-bool onSegment(const Scene &sc, const Segment &seg, int b, double x, double y, const double *l,
-               double tol) {
-  if (seg.body != b) return false;
-  const Box &box = sc.bodies[b].box;
-  const int a = seg.axis();
-  const double edge = (a == 0 ? x : y) + seg.normal() * l[a];
-  const double target = a == 0 ? (seg.side == Side::Left ? box[0] : box[2])
-                               : (seg.side == Side::Bottom ? box[1] : box[3]);
-  if (std::fabs(edge - target) > tol) return false;
-  const double along = a == 0 ? y : x;
-  return !seg.hasRange || (along >= seg.range[0] && along <= seg.range[1]);
+/// Whether the square particle (x, y, half-size l) of body b has an edge on the face.
+bool onFace(const Scene<2> &sc, const Face<2> &f, int b, double x, double y, const double *l,
+            double tol) {
+  if (f.body != b) return false;
+  const BoxOf<2> &box = sc.bodies[b].box;
+  const int a = f.axis();
+  const double at[2] = {x, y};
+  const double edge = at[a] + f.normal() * l[a];
+  const double target = f.normal() > 0 ? box[2 + a] : box[a];
+  return std::fabs(edge - target) <= tol && f.inRange(at);
 }
 
 struct Seed {
@@ -41,13 +39,13 @@ struct Seed {
 /// cuts becomes that part (area, centroid, the rectangle of its second moments; its corners
 /// that rectangle's). A rectangle body keeps a square by its centre (its sides lie on the
 /// particle lattice in every scene it was made for); ellipses and polygons cut it.
-bool cutByShape(const Body &body, Seed &s) {
+bool cutByShape(const Body<2> &body, Seed &s) {
   const double w = s.cx1 - s.cx0, h = s.cy1 - s.cy0;
   const double xc = 0.5 * (s.cx0 + s.cx1), yc = 0.5 * (s.cy0 + s.cy1);
   std::array<double, 5> mom = cut::centredRectangleMoments(w, h);
   bool cut = false;
   if (body.shape.kind == Shape::Kind::Rectangle && body.added.empty()) {
-    const Box &box = body.box;
+    const BoxOf<2> &box = body.box;
     if (s.x < box[0] || s.x > box[2] || s.y < box[1] || s.y > box[3]) return false;
   } else {
     const auto in = body.unionMomentsIn(s.cx0, s.cy0, s.cx1, s.cy1, xc, yc);
@@ -100,7 +98,7 @@ bool cutByShape(const Body &body, Seed &s) {
 
 /// The particles this rank seeds: the leaf cells of every level whose centre lies in its
 /// level-0 cells, cut into n x n squares whose centres lie in a body.
-std::vector<Seed> collectSeeds(const Scene &sc, const Grid<2> &g, PetscMPIInt rank) {
+std::vector<Seed> collectSeeds(const Scene<2> &sc, const Grid<2> &g, PetscMPIInt rank) {
   std::vector<Seed> seeds;
   const int K = static_cast<int>(g.levels.size());
   PetscInt64 maxCells = 0;
@@ -110,7 +108,7 @@ std::vector<Seed> collectSeeds(const Scene &sc, const Grid<2> &g, PetscMPIInt ra
   // The rank owning the level-0 cell of a leaf cell's centre seeds it.
   const PetscInt64 slots = bodyIdSlots(g);
   for (size_t b = 0; b < sc.bodies.size(); ++b) {
-    const Body &body = sc.bodies[b];
+    const Body<2> &body = sc.bodies[b];
     if (!body.file.empty()) { // the file's particles as they are, each on the rank of its point
       const std::vector<FileParticle> &ps = body.fromFile.particles;
       if (static_cast<PetscInt64>(ps.size()) > slots) // the same on every rank
@@ -215,12 +213,12 @@ PetscErrorCode LoadConflict::agree(MPI_Comm comm) const {
                    "ranges): make the body thicker or the ranges disjoint");
 }
 
-PetscErrorCode seedParticles(const Scene &sc, const Grid<2> &g, DM sw) {
+PetscErrorCode seedParticles(const Scene<2> &sc, const Grid<2> &g, DM sw) {
   LoadConflict unused;
   return seedParticles(sc, g, sw, unused);
 }
 
-PetscErrorCode seedParticles(const Scene &sc, const Grid<2> &g, DM sw, LoadConflict &conflict) {
+PetscErrorCode seedParticles(const Scene<2> &sc, const Grid<2> &g, DM sw, LoadConflict &conflict) {
   PetscMPIInt rank = 0;
   PetscCallMPI(MPI_Comm_rank(PetscObjectComm(reinterpret_cast<PetscObject>(sw)), &rank));
   const std::vector<Seed> seeds = collectSeeds(sc, g, rank);
@@ -230,7 +228,7 @@ PetscErrorCode seedParticles(const Scene &sc, const Grid<2> &g, DM sw, LoadConfl
   const double tol = 1e-9 * g.hMin();
   for (PetscInt k = 0; k < p.n; ++k) {
     const Seed &s = seeds[k];
-    const Body &body = sc.bodies[s.body];
+    const Body<2> &body = sc.bodies[s.body];
     p.x[2 * k] = p.X0[2 * k] = s.x;
     p.x[2 * k + 1] = p.X0[2 * k + 1] = s.y;
     double vx = body.velocity[0], vy = body.velocity[1];
@@ -271,13 +269,13 @@ PetscErrorCode seedParticles(const Scene &sc, const Grid<2> &g, DM sw, LoadConfl
       p.dbc[2 * k] = p.dbc[2 * k + 1] = -1;
     }
     for (size_t t = 0; t < sc.tractions.size(); ++t)
-      if (onSegment(sc, sc.tractions[t], s.body, s.x, s.y, s.l, tol)) {
+      if (onFace(sc, sc.tractions[t], s.body, s.x, s.y, s.l, tol)) {
         PetscInt &slot = p.trac[2 * k + sc.tractions[t].axis()];
         if (slot >= 0) conflict.note(0, slot, static_cast<PetscInt64>(t));
         slot = static_cast<PetscInt>(t);
       }
     for (size_t t = 0; t < sc.dbcs.size(); ++t)
-      if (onSegment(sc, sc.dbcs[t], s.body, s.x, s.y, s.l, tol)) {
+      if (onFace(sc, sc.dbcs[t], s.body, s.x, s.y, s.l, tol)) {
         PetscInt &slot = p.dbc[2 * k + sc.dbcs[t].axis()];
         if (slot >= 0) conflict.note(1, slot, static_cast<PetscInt64>(t));
         slot = static_cast<PetscInt>(t);

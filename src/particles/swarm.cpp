@@ -54,7 +54,7 @@ const char *const kMarks[5] = {"gimp_corners", "gimp_strain", "gimp_affine", "gi
                                "gimp_multirate"};
 } // namespace
 
-OptionalFields optionalFieldsOf(const Scene &sc) {
+OptionalFields optionalFieldsOf(const Scene<2> &sc) {
   OptionalFields o;
   o.corners = tracksCorners(sc.tracking);
   o.strain = sc.tracking == Tracking::Strain || sc.tracking == Tracking::Corners;

@@ -19,7 +19,7 @@ struct Edge {
   bool cpdi = false;
 };
 
-Edge edgeOf(const Scene &sc, const ParticleView &p, PetscInt k, int a, double n,
+Edge edgeOf(const Scene<2> &sc, const ParticleView &p, PetscInt k, int a, double n,
             double halfLength) {
   Edge E;
   E.coord = p.x[2 * k + a] + n * p.l[2 * k + a];
@@ -42,7 +42,7 @@ Edge edgeOf(const Scene &sc, const ParticleView &p, PetscInt k, int a, double n,
 
 } // namespace
 
-PetscErrorCode Boundary::setup(MPI_Comm comm, const Scene &sc, const Lattice<2> &grid, double dt,
+PetscErrorCode Boundary::setup(MPI_Comm comm, const Scene<2> &sc, const Lattice<2> &grid, double dt,
                                bool constantBounds) {
   active_ = !sc.tractions.empty() || !sc.dbcs.empty() || sc.gravity[0] != 0 || sc.gravity[1] != 0 ||
             sc.mms != Mms::None;
@@ -55,7 +55,7 @@ PetscErrorCode Boundary::setup(MPI_Comm comm, const Scene &sc, const Lattice<2> 
   if (!sc.oneMaterial) { // every body carries its own material
     M = 0;
     rho = 1e300;
-    for (const Body &b : sc.bodies) {
+    for (const Body<2> &b : sc.bodies) {
       M = std::max(M, b.material.lambdaStar + 2.0 * b.material.mu);
       rho = std::min(rho, b.material.rho);
     }
@@ -64,7 +64,7 @@ PetscErrorCode Boundary::setup(MPI_Comm comm, const Scene &sc, const Lattice<2> 
   // Measured on the slab: stable at 0.83 of 2 rho h / dt^2, unstable at 0.92 of it.
   const double limit = 1.6 * rho * h / (dt * dt);
   double worst = 0, weakest = 1e300;
-  for (const DisplacementBC &d : sc.dbcs) {
+  for (const DisplacementBC<2> &d : sc.dbcs) {
     worst = std::max(worst, d.penaltyScale);
     weakest = std::min(weakest, d.penaltyScale);
   }
@@ -94,12 +94,12 @@ PetscErrorCode Boundary::setup(MPI_Comm comm, const Scene &sc, const Lattice<2> 
   return PETSC_SUCCESS;
 }
 
-void Boundary::externalForces(const Scene &sc, const Grid<2> &g, const Stencils<2> &st,
+void Boundary::externalForces(const Scene<2> &sc, const Grid<2> &g, const Stencils<2> &st,
                               const ParticleView &p, double t, double *fe, const double *scale) {
   const double gxv = sc.gravity[0], gyv = sc.gravity[1];
   const bool gravity = gxv != 0 || gyv != 0;
   std::unique_ptr<mms::Skb1d> ex;
-  if (sc.mms == Mms::Skb1d) ex = std::make_unique<mms::Skb1d>(sc);
+  if (sc.mms == Mms::AxialWave) ex = std::make_unique<mms::Skb1d>(sc);
   std::vector<double> factor(sc.tractions.size());
   for (size_t q = 0; q < factor.size(); ++q)
     factor[q] = sc.tractions[q].ramp.at(t);
@@ -120,7 +120,7 @@ void Boundary::externalForces(const Scene &sc, const Grid<2> &g, const Stencils<
     for (int a = 0; a < 2 && p.trac; ++a) {
       const PetscInt q = p.trac[2 * k + a];
       if (q < 0) continue;
-      const Traction &tr = sc.tractions[q];
+      const Traction<2> &tr = sc.tractions[q];
       const Edge E = edgeOf(sc, p, k, a, tr.normal(), p.l0[2 * k + 1 - a]);
       const double len = scale ? scale[k] * E.len : E.len;
       const double force[2] = {tr.value[0] * factor[q] * len, tr.value[1] * factor[q] * len};
@@ -130,7 +130,7 @@ void Boundary::externalForces(const Scene &sc, const Grid<2> &g, const Stencils<
   if (!sc.dbcs.empty()) penaltyForces(sc, g, st, p, t, fe);
 }
 
-void Boundary::penaltyForces(const Scene &sc, const Grid<2> &g, const Stencils<2> &st,
+void Boundary::penaltyForces(const Scene<2> &sc, const Grid<2> &g, const Stencils<2> &st,
                              const ParticleView &p, double t, double *fe) {
   // Eq. 9 on each particle edge that lies on a constrained segment, per constrained component.
   // u is the displacement of the edge, u_p + (F - I) n l0: exact for a uniformly strained
@@ -146,7 +146,7 @@ void Boundary::penaltyForces(const Scene &sc, const Grid<2> &g, const Stencils<2
     for (int a = 0; a < 2; ++a) {
       const PetscInt q = p.dbc[2 * k + a];
       if (q < 0) continue;
-      const DisplacementBC &d = sc.dbcs[q];
+      const DisplacementBC<2> &d = sc.dbcs[q];
       const double n = d.normal();
       const Edge E = edgeOf(sc, p, k, a, n, p.l[2 * k + 1 - a]);
       const double len = E.len;
@@ -168,7 +168,7 @@ void Boundary::penaltyForces(const Scene &sc, const Grid<2> &g, const Stencils<2
     }
 }
 
-void Boundary::penaltyIncrement(const Scene &sc, const Grid<2> &g, const Stencils<2> &st,
+void Boundary::penaltyIncrement(const Scene<2> &sc, const Grid<2> &g, const Stencils<2> &st,
                                 const ParticleView &p, const double *du, const double *L,
                                 const double *ds, bool springs, double *fe) const {
   // The linearisation of penaltyForces: the same edges, lengths and edge shapes. Each input may
@@ -178,7 +178,7 @@ void Boundary::penaltyIncrement(const Scene &sc, const Grid<2> &g, const Stencil
     for (int a = 0; a < 2; ++a) {
       const PetscInt q = p.dbc[2 * k + a];
       if (q < 0) continue;
-      const DisplacementBC &d = sc.dbcs[q];
+      const DisplacementBC<2> &d = sc.dbcs[q];
       const double n = d.normal();
       const Edge E = edgeOf(sc, p, k, a, n, p.l[2 * k + 1 - a]);
       const double len = E.len;

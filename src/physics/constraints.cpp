@@ -7,8 +7,8 @@ namespace gimp::physics {
 namespace {
 
 /// Level-0 grid line of constraint b, as finest-lattice units; throws when it is off the lines.
-std::int64_t constraintLine(const Scene &sc, const Grid<2> &grid, size_t b) {
-  const NodeBC &bc = sc.bcs[b];
+std::int64_t constraintLine(const Scene<2> &sc, const Grid<2> &grid, size_t b) {
+  const NodeBC<2> &bc = sc.bcs[b];
   const PetscInt line = grid.lineIndex(bc.axis, bc.coord);
   if (line < 0) {
     const double o = bc.axis == 0 ? grid.origin[0] : grid.origin[1];
@@ -26,9 +26,9 @@ std::int64_t constraintLine(const Scene &sc, const Grid<2> &grid, size_t b) {
 namespace {
 
 /// Whether constraint b fixes level k's node (i, j), on its line `line` [lattice units].
-bool constrains(const Scene &sc, const Grid<2> &grid, size_t b, std::int64_t line, int k,
+bool constrains(const Scene<2> &sc, const Grid<2> &grid, size_t b, std::int64_t line, int k,
                 PetscInt i, PetscInt j) {
-  const NodeBC &bc = sc.bcs[b];
+  const NodeBC<2> &bc = sc.bcs[b];
   const Level<2> &L = grid.levels[k];
   const std::int64_t u = bc.axis == 0 ? L.at(0, i) : L.at(1, j);
   if (u != line || !grid.nodeActive(k, {i, j})) return false;
@@ -39,7 +39,7 @@ bool constrains(const Scene &sc, const Grid<2> &grid, size_t b, std::int64_t lin
 
 } // namespace
 
-PetscErrorCode nodeConstraints(const Scene &sc, const Grid<2> &grid, Vec bcMask) {
+PetscErrorCode nodeConstraints(const Scene<2> &sc, const Grid<2> &grid, Vec bcMask) {
   std::vector<std::int64_t> lines;
   for (size_t b = 0; b < sc.bcs.size(); ++b)
     lines.push_back(constraintLine(sc, grid, b));

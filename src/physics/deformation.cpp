@@ -6,7 +6,7 @@
 
 namespace gimp::physics {
 
-void updateDeformation(const Scene &sc, ParticleView &p, const double *L, double dt, PetscInt k0,
+void updateDeformation(const Scene<2> &sc, ParticleView &p, const double *L, double dt, PetscInt k0,
                        PetscInt k1) {
   using simd::Pair;
   for (PetscInt k = k0; k < k1; ++k) {

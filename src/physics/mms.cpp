@@ -8,7 +8,7 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 }
 
-Skb1d::Skb1d(const Scene &sc) : Skb1d(sc.mmsAmplitude, sc.material) {}
+Skb1d::Skb1d(const Scene<2> &sc) : Skb1d(sc.mmsAmplitude, sc.material) {}
 
 Skb1d::Skb1d(double amplitude, const Material &m) : A(amplitude), c(std::sqrt(m.E / m.rho)) {}
 

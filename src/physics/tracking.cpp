@@ -17,7 +17,7 @@ const double *domainCentres(const ParticleView &p, std::vector<double> &centre, 
   return centre.data();
 }
 
-const double *cpdiCorners(const Scene &sc, const ParticleView &p, std::vector<double> &scratch) {
+const double *cpdiCorners(const Scene<2> &sc, const ParticleView &p, std::vector<double> &scratch) {
   if (sc.tracking == Tracking::Cpdi2) return p.corners;
   scratch.resize(8 * static_cast<size_t>(p.n));
   for (PetscInt k = 0; k < p.n; ++k)
@@ -67,7 +67,7 @@ bool CornerMotion::move(const Grid<2> &g, const std::vector<Crack> &cracks, doub
   return true;
 }
 
-void updateTrackedDomain(const Scene &sc, ParticleView &p, PetscInt k, const Tensor<2> &L,
+void updateTrackedDomain(const Scene<2> &sc, ParticleView &p, PetscInt k, const Tensor<2> &L,
                          double dt) {
   switch (sc.tracking) {
   case Tracking::None:

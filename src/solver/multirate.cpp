@@ -86,7 +86,7 @@ int classOf(const Grid<2> &g, const std::vector<std::array<double, 4>> &zones, c
   if (penalty) return top;
   const double m = g.hMin();
   for (int c = top; c > 0; --c) {
-    const Box &b = g.levels[c].box;
+    const BoxOf<2> &b = g.levels[c].box;
     const std::array<double, 4> &z = zones[c];
     if (x[0] + l[0] + z[0] + m > b[0] && x[0] - l[0] - z[2] - m < b[2] &&
         x[1] + l[1] + z[1] + m > b[1] && x[1] - l[1] - z[3] - m < b[3])

@@ -19,7 +19,7 @@ namespace {
 /// What a particle and a grid node cost: the swarm's fields and a stencil of up to 16 nodes
 /// per particle; per node, the global and window Vecs of Nodal and TS's work vectors (about
 /// 24 Vecs of 2 components) with their index sets.
-ItemBytes itemBytes(const Scene &sc) {
+ItemBytes itemBytes(const Scene<2> &sc) {
   constexpr double kStencilNodes = 16, kNodeVecs = 24, kDof = 2;
   ItemBytes b;
   const OptionalFields optional = optionalFieldsOf(sc);
@@ -141,7 +141,7 @@ PetscErrorCode Solver::createParticles() {
   ParticleView p;
   PetscCall(p.get(sw_));
   PetscCall(checkSeeding(comm_, sc_, grid_, p, nParticles_, meanParticleMass_));
-  if (sc_.mms == Mms::Skb1d) { // start displaced and pre-stressed, at rest
+  if (sc_.mms == Mms::AxialWave) { // start displaced and pre-stressed, at rest
     const mms::Skb1d ex(sc_);
     for (PetscInt k = 0; k < p.n; ++k) {
       const double X = p.X0[2 * k];

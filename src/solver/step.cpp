@@ -16,7 +16,7 @@
 
 namespace gimp {
 
-PetscErrorCode Solver::clockOf(TS ts, const Scene &sc, StepClock &c) {
+PetscErrorCode Solver::clockOf(TS ts, const Scene<2> &sc, StepClock &c) {
   return readStepClock(ts, sc.halfStepStart, c);
 }
 

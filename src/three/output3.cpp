@@ -52,7 +52,7 @@ PetscErrorCode Solver3::openOutput() {
     if (history_) {
       std::fprintf(history_, "step,time,kinetic,strain,external_work,damping,total,momentum_x,"
                              "momentum_y,momentum_z");
-      for (const Probe3 &q : sc_.probes)
+      for (const Probe<3> &q : sc_.probes)
         for (const char *c : {"ux", "uy", "uz", "sxx", "syy", "szz", "syz", "sxz", "sxy"})
           std::fprintf(history_, ",%s_%s", q.name.c_str(), c);
       for (size_t q = 0; q < sc_.dbcs.size(); ++q)

@@ -1,8 +1,8 @@
 #include "gimp/three/particles3.hpp"
 
+#include "gimp/input/scene.hpp"
 #include "gimp/particles/seed.hpp"
 #include "gimp/particles/swarm.hpp"
-#include "gimp/three/scene3.hpp"
 
 #include <cmath>
 #include <utility>
@@ -86,7 +86,7 @@ PetscErrorCode permuteSwarm3(DM sw, const std::vector<PetscInt> &order) {
   return permuteSwarmFields(sw, order, names);
 }
 
-PetscErrorCode createSwarm3(MPI_Comm comm, const Scene3 &sc, DM *sw) {
+PetscErrorCode createSwarm3(MPI_Comm comm, const Scene<3> &sc, DM *sw) {
   const bool affine = sc.transfer == Transfer::Apic;
   const bool boundary = !sc.tractions.empty() || !sc.dbcs.empty();
   PetscCall(DMCreate(comm, sw));
@@ -115,18 +115,18 @@ namespace {
 /// The face condition (index into `faces`) that particle face (axis a, side n at coordinate
 /// `at`) of body b lies on, or -1.
 /// The part of a traction's face that a particle's face covers (the traction's loaded area).
-double loaded(const Traction3 &t, int a, const double *x, double l) {
+double loaded(const Traction<3> &t, int a, const double *x, double l) {
   const int b1 = a == 0 ? 1 : 0, b2 = a == 2 ? 1 : 2;
   return t.loadedArea(x[b1] - l, x[b1] + l, x[b2] - l, x[b2] + l);
 }
-double loaded(const DisplacementBC3 &, int, const double *, double) {
+double loaded(const DisplacementBC<3> &, int, const double *, double) {
   return 1.0;
 }
 
 /// The face condition (index into `faces`, of load kind `kind`) that particle face (axis a, side
 /// n at coordinate `at`) of body b lies on, or -1; a second one on the same face is noted.
 template <class Faces>
-PetscInt faceCondition(const Faces &faces, int kind, const Body3 &body, int b, int a, double n,
+PetscInt faceCondition(const Faces &faces, int kind, const Body<3> &body, int b, int a, double n,
                        double at, const double *x, double l, double tol, LoadConflict &conflict) {
   PetscInt found = -1;
   for (size_t q = 0; q < faces.size(); ++q) {
@@ -144,7 +144,7 @@ PetscInt faceCondition(const Faces &faces, int kind, const Body3 &body, int b, i
 
 } // namespace
 
-PetscErrorCode seedParticles3(const Scene3 &sc, const Grid<3> &grid, PetscMPIInt rank, DM sw,
+PetscErrorCode seedParticles3(const Scene<3> &sc, const Grid<3> &grid, PetscMPIInt rank, DM sw,
                               int &overlapping, LoadConflict &conflict) {
   struct Seed {
     double x[3], l, V;
@@ -171,7 +171,7 @@ PetscErrorCode seedParticles3(const Scene3 &sc, const Grid<3> &grid, PetscMPIInt
       if (grid.leafLevelAt(centre) != static_cast<int>(k) || grid.ownerOf(centre) != rank) return;
       const PetscInt64 cell = cellBase + c[0] + cells[0] * (c[1] + cells[1] * c[2]);
       for (size_t b = 0; b < sc.bodies.size(); ++b) {
-        const Body3 &body = sc.bodies[b];
+        const Body<3> &body = sc.bodies[b];
         const int n = static_cast<int>(std::lround(std::cbrt(static_cast<double>(body.ppc))));
         const double d = L.h / n;
         std::array<PetscInt, 3> sub = {n, n, n};
@@ -201,7 +201,7 @@ PetscErrorCode seedParticles3(const Scene3 &sc, const Grid<3> &grid, PetscMPIInt
   const double tol = 1e-9 * grid.hMin();
   for (PetscInt k = 0; k < n; ++k) {
     const Seed &s = seeds[k];
-    const Body3 &body = sc.bodies[s.body];
+    const Body<3> &body = sc.bodies[s.body];
     const Material &mat = sc.oneMaterial ? sc.material : body.material;
     const double amp = body.sineProfile ? std::sin(body.wavenumber * (s.x[0] - body.box[0])) : 1.0;
     for (int a = 0; a < 3; ++a) {

@@ -33,7 +33,7 @@ Solver3::~Solver3() {
 PetscErrorCode Solver3::setup() {
   PetscCallMPI(MPI_Comm_rank(comm_, &rank_));
   PetscCallMPI(MPI_Comm_size(comm_, &size_));
-  PetscCall(readOptionsOneLine([&] { return readScene3(comm_, sc_); }));
+  PetscCall(readOptionsOneLine([&] { return readScene<3>(comm_, sc_); }));
   if (sc_.help) return PETSC_SUCCESS;
   PetscCall(PetscTime(&wall0_));
   PetscCall(stages_.registerAll());
@@ -51,7 +51,7 @@ PetscErrorCode Solver3::setup() {
   PetscCallMPI(MPI_Allreduce(&overlap, &anyOverlap, 1, MPI_INT, MPI_MAX, comm_));
   if (anyOverlap > 0)
     throw InputError("option -gimp_body" + std::to_string(anyOverlap) + "_" +
-                     sc_.bodies[anyOverlap].shapeOption() +
+                     sc_.bodies[anyOverlap].shapeOption +
                      ": the body overlaps an earlier body (a particle centre lies in both)");
   {
     Particles3 p;
@@ -74,14 +74,13 @@ PetscErrorCode Solver3::setup() {
     PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &mass, 1, MPI_DOUBLE, MPI_SUM, comm_));
     for (size_t b = 0; b < nb; ++b)
       if (count[b] == 0)
-        throw InputError("option -gimp_body" + std::to_string(b) + "_" +
-                         sc_.bodies[b].shapeOption() +
+        throw InputError("option -gimp_body" + std::to_string(b) + "_" + sc_.bodies[b].shapeOption +
                          ": the body holds no particle centre (check its shape and holes)");
     for (size_t q = 0; q < nt + nd; ++q)
       if (count[nb + q] == 0) {
         const bool tr = q < nt;
         static const char *const sides[] = {"left", "right", "bottom", "top", "back", "front"};
-        const Face &f = tr ? static_cast<const Face &>(sc_.tractions[q]) : sc_.dbcs[q - nt];
+        const Face<3> &f = tr ? static_cast<const Face<3> &>(sc_.tractions[q]) : sc_.dbcs[q - nt];
         throw InputError(std::string("option -gimp_") + (tr ? "traction" : "dbc") +
                          std::to_string(tr ? q : q - nt) + "_side " + sides[f.side] +
                          ": no particle has a face on this face of body " + std::to_string(f.body) +
@@ -90,7 +89,7 @@ PetscErrorCode Solver3::setup() {
     nParticles_ = count[nb + nt + nd];
     meanParticleMass_ = mass / static_cast<double>(nParticles_);
   }
-  if (sc_.mms == Mms::Skb1d) { // start displaced and pre-stressed, at rest (as in 2D)
+  if (sc_.mms == Mms::AxialWave) { // start displaced and pre-stressed, at rest (as in 2D)
     const mms::Skb1d ex(sc_.mmsAmplitude, sc_.material);
     Particles3 p;
     PetscCall(p.get(sw_));
@@ -106,8 +105,8 @@ PetscErrorCode Solver3::setup() {
     }
     PetscCall(p.restore(sw_));
   }
-  external_ =
-      !sc_.tractions.empty() || !sc_.dbcs.empty() || sc_.gravity != Vec3{} || sc_.mms != Mms::None;
+  external_ = !sc_.tractions.empty() || !sc_.dbcs.empty() || sc_.gravity != Coords<3>{} ||
+              sc_.mms != Mms::None;
   // The window coordinates of every slot (APIC's moments, the face forces).
   slotX_.resize(3 * static_cast<size_t>(grid_.nSlots));
   for (PetscInt s = 0; s < grid_.nSlots; ++s)
@@ -132,12 +131,12 @@ PetscErrorCode Solver3::setup() {
   // about rho h^3 / 2 is stable below 2 rho h / dt^2.
   if (!sc_.dbcs.empty()) {
     double M = 0, rho = 1e300, worst = 0, weakest = 1e300;
-    for (const Body3 &b : sc_.bodies) {
+    for (const Body<3> &b : sc_.bodies) {
       const Material &m = sc_.oneMaterial ? sc_.material : b.material;
       M = std::max(M, m.lambda + 2.0 * m.mu);
       rho = std::min(rho, m.rho);
     }
-    for (const DisplacementBC3 &d : sc_.dbcs) {
+    for (const DisplacementBC<3> &d : sc_.dbcs) {
       worst = std::max(worst, d.penaltyScale);
       weakest = std::min(weakest, d.penaltyScale);
     }
@@ -161,7 +160,7 @@ PetscErrorCode Solver3::setup() {
   if (!sc_.probes.empty()) {
     Particles3 p;
     PetscCall(p.get(sw_));
-    for (const Probe3 &q : sc_.probes) {
+    for (const Probe<3> &q : sc_.probes) {
       struct {
         double d;
         PetscInt64 id;
@@ -208,7 +207,7 @@ PetscErrorCode Solver3::nodeConstraints() {
   static const char *const axes[] = {"x", "y", "z"};
   std::vector<std::int64_t> lines;
   for (size_t b = 0; b < sc_.bcs.size(); ++b) {
-    const NodeBC3 &bc = sc_.bcs[b];
+    const NodeBC<3> &bc = sc_.bcs[b];
     const PetscInt line = grid_.lineIndex(bc.axis, bc.coord);
     if (line < 0)
       throw InputError("option -gimp_bc" + std::to_string(b) + "_" + axes[bc.axis] + " " +
@@ -236,7 +235,7 @@ PetscErrorCode Solver3::nodeConstraints() {
           const LatticeIndex<3> idx = {i, j, q};
           if (!grid_.nodeActive(k, idx)) continue;
           for (size_t b = 0; b < sc_.bcs.size(); ++b) {
-            const NodeBC3 &bc = sc_.bcs[b];
+            const NodeBC<3> &bc = sc_.bcs[b];
             if (L.at(bc.axis, idx[bc.axis]) != lines[b]) continue;
             bool in = true;
             int r = 0;
@@ -470,9 +469,9 @@ void forEachFaceWeight(const Grid<3> &g, const Stencils<3> &st, PetscInt k, int 
 } // namespace
 
 void Solver3::externalForces(const Particles3 &p, double t, double *fe) {
-  const bool gravity = sc_.gravity != Vec3{} || sc_.mms != Mms::None;
+  const bool gravity = sc_.gravity != Coords<3>{} || sc_.mms != Mms::None;
   std::unique_ptr<mms::Skb1d> ex;
-  if (sc_.mms == Mms::Skb1d) ex = std::make_unique<mms::Skb1d>(sc_.mmsAmplitude, sc_.material);
+  if (sc_.mms == Mms::AxialWave) ex = std::make_unique<mms::Skb1d>(sc_.mmsAmplitude, sc_.material);
   std::vector<double> factor(sc_.tractions.size()), ubar(3 * sc_.dbcs.size());
   for (size_t q = 0; q < factor.size(); ++q)
     factor[q] = sc_.tractions[q].ramp.at(t);
@@ -498,7 +497,7 @@ void Solver3::externalForces(const Particles3 &p, double t, double *fe) {
       // Tractions (Eq. 8): a dead load on the particle's initial face area (with a disk, the
       // part of it inside the circle).
       if (const PetscInt q = p.trac[3 * k + a]; q >= 0) {
-        const Traction3 &tr = sc_.tractions[q];
+        const Traction<3> &tr = sc_.tractions[q];
         const int c1 = std::min(b1, b2), c2 = std::max(b1, b2);
         const double *X = p.X0 + 3 * k, *l0 = p.l0 + 3 * k;
         const double area =
@@ -516,7 +515,7 @@ void Solver3::externalForces(const Particles3 &p, double t, double *fe) {
       // face's current area, u the face's displacement u_p + (F - I) n l0 (exact for a uniformly
       // strained particle).
       if (const PetscInt q = p.dbc[3 * k + a]; q >= 0) {
-        const DisplacementBC3 &d = sc_.dbcs[q];
+        const DisplacementBC<3> &d = sc_.dbcs[q];
         const double n = d.normal(), area = 4.0 * p.l[3 * k + b1] * p.l[3 * k + b2];
         const double at = p.x[3 * k + a] + n * p.l[3 * k + a];
         const auto F = tensorAt<3>(p.F, k), sg = tensorAt<3>(p.s, k);

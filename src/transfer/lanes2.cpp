@@ -483,7 +483,7 @@ GIMP_LANES void velocityGradients(const Stencils<2> &st, PetscInt k0, PetscInt k
             [&](PetscInt k) { tensorAt<2>(L, k - k0) = velocityGradientAt<2>(st, k, vg); });
 }
 
-GIMP_LANES void updateDeformation(const Scene &sc, ParticleView &p, const double *L, double dt,
+GIMP_LANES void updateDeformation(const Scene<2> &sc, ParticleView &p, const double *L, double dt,
                                   PetscInt k0, PetscInt k1) {
   const bool stretch = sc.tracking == Tracking::Stretch;
   const bool lanes = stretch || sc.tracking == Tracking::None;
@@ -603,7 +603,7 @@ void velocityGradients(const Stencils<2> &st, PetscInt k0, PetscInt k1, const do
   for (PetscInt k = k0; k < k1; ++k)
     tensorAt<2>(L, k - k0) = velocityGradientAt<2>(st, k, vg);
 }
-void updateDeformation(const Scene &sc, ParticleView &p, const double *L, double dt, PetscInt k0,
+void updateDeformation(const Scene<2> &sc, ParticleView &p, const double *L, double dt, PetscInt k0,
                        PetscInt k1) {
   physics::updateDeformation(sc, p, L, dt, k0, k1);
 }

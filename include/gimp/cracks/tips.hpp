@@ -22,7 +22,7 @@ struct TipMeasure {
 };
 
 /// The tips of all cracks, in order (crack, then end).
-std::vector<TipMeasure> tipsOf(const Scene &sc);
+std::vector<TipMeasure> tipsOf(const Scene<2> &sc);
 
 /// The tip fields' constants of a material.
 TipElastic tipElastic(const Material &m);
@@ -51,7 +51,7 @@ constexpr double kJCells = 5.0;
 /// frame, q = (1 - r^2 / R^2)^2; K_I and K_II "by J" from the interaction integrals over the same
 /// domain (addDomainIntegrals), K_m = E' I_m / 2. VCCT's K = sqrt(G E'), signed by G_I and du_t;
 /// E' = E (plane stress) or E / (1 - nu^2) (plane strain). Collective.
-PetscErrorCode measureTips(MPI_Comm comm, const Scene &sc, const Grid<2> &g, const ParticleView &p,
-                           double jRadius, std::vector<TipMeasure> &tips);
+PetscErrorCode measureTips(MPI_Comm comm, const Scene<2> &sc, const Grid<2> &g,
+                           const ParticleView &p, double jRadius, std::vector<TipMeasure> &tips);
 
 } // namespace gimp::cracks

@@ -20,7 +20,7 @@ struct WorkLedger {
 };
 
 /// Kinetic and strain energy and momentum of all particles (collective), with the ledger's work.
-PetscErrorCode particleEnergies(MPI_Comm comm, const Scene &sc, DM sw, const WorkLedger &work,
+PetscErrorCode particleEnergies(MPI_Comm comm, const Scene<2> &sc, DM sw, const WorkLedger &work,
                                 Energies &e);
 
 } // namespace gimp

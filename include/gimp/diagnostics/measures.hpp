@@ -49,12 +49,12 @@ struct HoleMeasure {
 };
 
 /// Ids of the particles nearest to each probe's initial position (ties: smallest id).
-PetscErrorCode findProbes(MPI_Comm comm, const Scene &sc, DM sw, std::vector<PetscInt64> &ids);
+PetscErrorCode findProbes(MPI_Comm comm, const Scene<2> &sc, DM sw, std::vector<PetscInt64> &ids);
 /// Displacement and stress of the probe particles.
 PetscErrorCode probeStates(MPI_Comm comm, DM sw, const std::vector<PetscInt64> &ids,
                            std::vector<ProbeState> &out);
 /// Largest and volume-weighted RMS displacement error against the manufactured solution at t.
-PetscErrorCode mmsErrors(MPI_Comm comm, const Scene &sc, DM sw, double t, double &linf,
+PetscErrorCode mmsErrors(MPI_Comm comm, const Scene<2> &sc, DM sw, double t, double &linf,
                          double &rms);
 /// Largest gap between particles that started as neighbours, relative to their size, and the
 /// engineering strain of the particles' extent along x. Neighbours that a crack separates (the
@@ -63,6 +63,6 @@ PetscErrorCode mmsErrors(MPI_Comm comm, const Scene &sc, DM sw, double t, double
 PetscErrorCode separation(MPI_Comm comm, const Lattice<2> &grid, DM sw,
                           const std::vector<Crack> &cracks, double &gap, double &strain);
 /// The hole measure.
-PetscErrorCode holeMeasure(MPI_Comm comm, const Scene &sc, DM sw, HoleMeasure &out);
+PetscErrorCode holeMeasure(MPI_Comm comm, const Scene<2> &sc, DM sw, HoleMeasure &out);
 
 } // namespace gimp

@@ -43,7 +43,7 @@ public:
 
   /// Build the levels from the 2D scene, the composite DM, this rank's window and its scatter
   /// (collective; D = 2, with the scene's cracks).
-  PetscErrorCode create(MPI_Comm comm, const Scene &sc);
+  PetscErrorCode create(MPI_Comm comm, const Scene<2> &sc);
   /// The same from level 0's cell size and the level boxes (boxes[0] the domain), no cracks.
   PetscErrorCode create(MPI_Comm comm, double h0, const std::vector<LevelBox<D>> &boxes);
 
@@ -127,13 +127,13 @@ public:
 
 private:
   /// The DMs, the window, its nodes, the crack fields (sc given, 2D) and the scatter.
-  PetscErrorCode build(MPI_Comm comm, const Scene *sc);
+  PetscErrorCode build(MPI_Comm comm, const Scene<2> *sc);
   /// Level-0 ownership and this rank's window of every level.
   PetscErrorCode setWindow();
   /// Every cracked node of the grid, in an order every rank agrees on (collective-free).
-  std::vector<CrackedNode> findCrackedNodes(const Scene &sc) const;
+  std::vector<CrackedNode> findCrackedNodes(const Scene<2> &sc) const;
   /// The DMShell of the second fields, its window slots and their composite indices.
-  PetscErrorCode addCrackFields(MPI_Comm comm, const Scene &sc);
+  PetscErrorCode addCrackFields(MPI_Comm comm, const Scene<2> &sc);
   /// Positions, activity, zones and regularity of the window's nodes.
   void fillWindowNodes();
   /// The scatter between the composite global Vec and the window.
@@ -190,9 +190,9 @@ private:
 };
 
 // The 2D-only members: the scene's grid (with its cracks) and CPDI's quadrilaterals.
-template <> PetscErrorCode Grid<2>::create(MPI_Comm comm, const Scene &sc);
-template <> std::vector<Grid<2>::CrackedNode> Grid<2>::findCrackedNodes(const Scene &sc) const;
-template <> PetscErrorCode Grid<2>::addCrackFields(MPI_Comm comm, const Scene &sc);
+template <> PetscErrorCode Grid<2>::create(MPI_Comm comm, const Scene<2> &sc);
+template <> std::vector<Grid<2>::CrackedNode> Grid<2>::findCrackedNodes(const Scene<2> &sc) const;
+template <> PetscErrorCode Grid<2>::addCrackFields(MPI_Comm comm, const Scene<2> &sc);
 template <>
 const char *Grid<2>::buildCpdiStencils(PetscInt n, const double *corners, Stencils<2> &s) const;
 

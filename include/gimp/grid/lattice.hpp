@@ -11,6 +11,7 @@
 // one box.
 #pragma once
 
+#include "gimp/core/box.hpp"
 #include "gimp/core/tensor.hpp"
 #include "gimp/input/scene.hpp"
 
@@ -22,9 +23,6 @@
 
 namespace gimp {
 
-/// A box in D dimensions: the low corner's D coordinates, then the high corner's. For D = 2
-/// this is Box (x0, y0, x1, y1).
-template <int D> using BoxOf = std::array<double, 2 * D>;
 /// Integer coordinates on the finest lattice (or a level's node indices), one per axis.
 template <int D> using LatticeIndex = std::array<std::int64_t, D>;
 
@@ -51,20 +49,13 @@ template <int D> struct Level {
   std::int64_t at(int a, std::int64_t i) const { return lo[a] + i * step; }
 };
 
-/// One level as the geometry takes it: its box (level 0: the domain) and its ratio to the
-/// parent (1 for level 0).
-template <int D> struct LevelBox {
-  BoxOf<D> box{};
-  int ratio = 1;
-};
-
 template <int D> class Lattice {
 public:
   using Index = LatticeIndex<D>;
 
   /// Levels from a 2D scene (validated there; D = 2 only). Throws InputError for a layout that
   /// is not properly nested; the same on every rank.
-  void setGeometry(const Scene &sc);
+  void setGeometry(const Scene<2> &sc);
   /// Levels from level 0's cell size h0 and the boxes (boxes[0] the domain). Throws InputError
   /// naming the option -gimp_level<k>_box for a layout that is not properly nested.
   void setLevels(double h0, const std::vector<LevelBox<D>> &boxes);
@@ -121,7 +112,7 @@ template <int D, class F> void forEachIndex(const std::array<PetscInt, D> &n, F 
 }
 
 /// The scene is 2D: only the 2D lattice is set from it.
-template <> void Lattice<2>::setGeometry(const Scene &sc);
+template <> void Lattice<2>::setGeometry(const Scene<2> &sc);
 
 extern template class Lattice<2>;
 extern template class Lattice<3>;

@@ -19,11 +19,11 @@ struct SizeEstimate {
 };
 
 /// Nodes and particles the scene asks for, counted in long double (no overflow).
-SizeEstimate estimateSize(const Scene &sc, const ItemBytes &cost);
+SizeEstimate estimateSize(const Scene<2> &sc, const ItemBytes &cost);
 
 /// Collective: throws InputError (every rank alike) when a level has more nodes than PetscInt
 /// can index, a rank would hold more particles than PetscInt counts, or the estimate exceeds
 /// -gimp_memory_limit (by default the physical memory of the nodes the ranks run on).
-PetscErrorCode checkProblemSize(MPI_Comm comm, const Scene &sc, const ItemBytes &cost);
+PetscErrorCode checkProblemSize(MPI_Comm comm, const Scene<2> &sc, const ItemBytes &cost);
 
 } // namespace gimp

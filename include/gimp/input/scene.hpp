@@ -1,15 +1,21 @@
-// A scene: everything a run needs, read from the PETSc options database and validated
-// before the first step. Bad input raises InputError with one line naming the option,
-// the value and what would be valid.
+// A scene: everything a run needs, read from the PETSc options database and validated before
+// the first step, in D = 2 or 3 dimensions. Bad input raises InputError with one line naming the
+// option, the value and what would be valid.
+//
+// Scene<D> gathers its parts by concept: what a run writes (OutputOptions), the method
+// (MethodOptions), how the run is driven and checked (RunControl), the grid (GridSpec<D>), the
+// loads and constraints (Loads<D>) and what it measures (Measures); the bodies and their
+// materials are the scene's own. Only the geometry depends on D: boxes, points, the bodies'
+// shapes (input/bodies.hpp) and the faces that loads act on.
 #pragma once
 
+#include "gimp/core/box.hpp"
 #include "gimp/core/errors.hpp"
 #include "gimp/cracks/geometry.hpp"
-#include "gimp/input/particle_file.hpp"
-#include "gimp/particles/shape.hpp"
+#include "gimp/input/bodies.hpp"
+#include "gimp/input/material.hpp"
 
 #include <array>
-#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -29,12 +35,9 @@ inline bool tracksCorners(Tracking t) {
 inline bool usesCpdi(Tracking t) {
   return t == Tracking::Cpdi || t == Tracking::Cpdi2;
 }
-enum class MaterialModel { Linear, NeoHookean };
-enum class Side { Left = 0, Right = 1, Bottom = 2, Top = 3 };
-enum class Mms { None, Skb1d };
-
-using Vec2 = std::array<double, 2>;
-using Box = std::array<double, 4>; // x0, y0, x1, y1
+/// The sides of a body's box, in the order of Face::side: x-, x+, y-, y+, z-, z+.
+enum class Side { Left = 0, Right = 1, Bottom = 2, Top = 3, Back = 4, Front = 5 };
+enum class Mms { None, AxialWave };
 
 /// Piecewise-linear time table of a load factor; empty means constant 1 (dead load).
 struct Ramp {
@@ -44,136 +47,84 @@ struct Ramp {
   double valueOr0(double time) const { return t.empty() ? 0.0 : at(time); }
 };
 
-struct Material {
-  MaterialModel model = MaterialModel::Linear;
-  double E = 0, nu = 0, rho = 0;
-  bool planeStrain = true;
-  double thickness = 1.0; // [m]
-  // derived
-  double lambda = 0, mu = 0;
-  double lambdaStar = 0;    // lambdaEff(), stored for the stress update
-  double lambdaEff() const; // lambda, or its plane-stress reduction
-  double waveSpeed() const; // P-wave speed of the 2D model [m/s]
-};
-
-struct Hole {
-  double cx, cy, r;
-};
-
-struct Body {
-  Material material;               // the scene's, unless -gimp_bodyK_E etc. set its own
-  Shape shape;                     // rectangle (the default), ellipse (circle) or polygon
-  std::string shapeOption = "box"; // the option that gave it: box, circle, ellipse, polygon, file
-  Box box{};                       // the shape's bounding box (a rectangle's own box)
-  std::vector<Hole> holes;         // circular holes (may cross a rectangle's sides)
-  std::vector<Shape> shapeHoles;   // elliptic and polygonal holes (inside the shape)
-  std::vector<Shape> added;        // shapes joined to the shape (-gimp_bodyK_add_*): the union
-  std::string file;                // shape file: the particle file, and its particles
-  ParticleFile fromFile;
-  int ppc = 4;              // particles per cell (a perfect square: 1, 4, 9, ...)
-  int holePpc = 0;          // particles per cell in cells next to a hole (0: same as ppc)
-  double holeBand = 0;      // width of the band next to a hole that gets holePpc [m]
-  Vec2 velocity{};          // initial velocity [m/s]
-  bool sineProfile = false; // v = velocity * sin(k (X - x0)) instead of uniform
-  double wavenumber = 0;    // k [1/m]
-  double spin = 0;          // initial rigid rotation about the box's centre [rad/s]
-  /// In the union of the shape and the added shapes (boundaries count as inside).
-  bool inUnion(double x, double y) const;
-  /// Strictly inside one of the union's shapes.
-  bool strictlyInUnion(double x, double y) const;
-  /// The raw moments of the part of the rectangle inside the union (Shape::momentsIn):
-  /// inclusion-exclusion over the shapes, whose pairwise intersections are exact
-  /// (intersectable) and which never overlap three at a time (both checked at input).
-  std::array<double, 5> unionMomentsIn(double x0, double y0, double x1, double y1, double ox,
-                                       double oy) const;
-  /// The union's shapes: the shape, then the added ones.
-  std::vector<const Shape *> parts() const;
-  /// Points on the boundaries of the union's shapes.
-  std::vector<std::array<double, 2>> boundaryPoints(int perShape) const;
-  /// In the shape and in no hole (boundaries count as inside the body).
-  bool inside(double x, double y) const;
-  /// In the shape, off its boundary, and in no hole (not even on a hole's boundary).
-  bool strictlyInside(double x, double y) const;
-};
-
-/// Whether two bodies share interior (a body inside another's hole does not).
-bool bodiesOverlap(const Body &a, const Body &b);
-
-/// A part of one side of a body's rectangle: where tractions and displacement conditions act.
-struct Segment {
+/// A part of one side of a body's box, where tractions and penalty conditions act: side 0 .. 2D-1
+/// is x-, x+, y-, y+ (, z-, z+). In 2D a particle's edge lies on it, in 3D a particle's face. The
+/// range is a part of the side: in 2D an interval along it, in 3D a rectangle in the side's two
+/// in-face coordinates (from,to along the first, then the second, in axis order).
+template <int D> struct Face {
   int body = 0;
-  Side side = Side::Right;
+  int side = 1;
   bool hasRange = false;
-  std::array<double, 2> range{}; // along the side
-  int axis() const { return side == Side::Left || side == Side::Right ? 0 : 1; }
-  double normal() const { return side == Side::Left || side == Side::Bottom ? -1.0 : 1.0; }
+  std::array<double, 2 * (D - 1)> range{};
+  int axis() const { return side / 2; }
+  double normal() const { return side % 2 ? 1.0 : -1.0; }
+  /// Whether the in-face coordinates of the point x lie in the range (always without one).
+  bool inRange(const double *x) const {
+    if (!hasRange) return true;
+    int q = 0;
+    for (int a = 0; a < D; ++a) {
+      if (a == axis()) continue;
+      if (x[a] < range[2 * q] || x[a] > range[2 * q + 1]) return false;
+      ++q;
+    }
+    return true;
+  }
 };
 
-struct Traction : Segment {
-  Vec2 value{}; // traction vector at full load [Pa]
+template <int D> struct Traction : Face<D> {
+  Coords<D> value{}; // traction vector at full load [Pa]
   Ramp ramp;
+  bool hasDisk = false;         // 3D: only the circle `disk` of the face is loaded
+  std::array<double, 3> disk{}; // a, b, r: a circle in the face's in-face coordinates
+  /// 3D: the area of the rectangle [a0, a1] x [b0, b1] (in-face coordinates) that the traction
+  /// loads: all of it, or with a disk the part inside the circle (exact).
+  double loadedArea(double a0, double a1, double b0, double b1) const;
 };
 
-/// Prescribed displacement on a segment by the penalty method (Eq. 9).
-struct DisplacementBC : Segment {
-  bool fix[2] = {true, true}; // constrained components
-  Ramp u[2];                  // prescribed displacement tables (empty: held at zero)
-  double penaltyScale = 1.0;  // multiplies -gimp_penalty for this segment
+/// Prescribed displacement on a face by the penalty method (Eq. 9).
+template <int D> struct DisplacementBC : Face<D> {
+  std::array<bool, D> fix = filled(true); // constrained components
+  std::array<Ramp, D> u;                  // prescribed displacement tables (empty: held at zero)
+  double penaltyScale = 1.0;              // multiplies -gimp_penalty for this face
+  static std::array<bool, D> filled(bool v) {
+    std::array<bool, D> a;
+    a.fill(v);
+    return a;
+  }
 };
 
-/// Grid-node constraint on a grid line x = c (axis 0) or y = c (axis 1).
-struct NodeBC {
+/// Grid-node constraint on the grid line (2D) or plane (3D) x_axis = coord, within a range of
+/// it (an interval along the line, a rectangle of the plane).
+template <int D> struct NodeBC {
   int axis = 0;
   double coord = 0;
-  bool fix[2] = {true, true};
+  std::array<bool, D> fix = DisplacementBC<D>::filled(true);
   bool hasRange = false;
-  std::array<double, 2> range{};
+  std::array<double, 2 * (D - 1)> range{};
 };
 
-/// A grid level: level 0 is the domain; level k > 0 is a box inside level k-1 with cell size
-/// h_{k-1} / ratio.
-struct LevelSpec {
-  Box box{};
-  int ratio = 1;
-};
-
-struct Probe {
+template <int D> struct Probe {
   std::string name;
-  Vec2 x{};
+  Coords<D> x{};
 };
 
-struct Scene {
+/// Where a run writes, and how often.
+struct OutputOptions {
   std::string name = "scene";
   std::string outputDir;
-  int outputInterval = 0; // steps between field outputs (0: initial and final only)
+  std::string particleDump; // final particles as CSV (-gimp_particle_dump)
+  std::string gridDump;     // active grid nodes as CSV (-gimp_grid_dump)
+  std::string restart;      // checkpoint to continue from (empty: a fresh run)
+  int outputInterval = 0;   // steps between field outputs (0: initial and final only)
   int historyInterval = 10;
-  int monitorInterval = 0; // steps between monitor lines (0: off)
-  Box domain{};
-  double h = 0;                  // level-0 cell size
-  bool domainGiven = false;      // -gimp_domain given (else the bodies' box padded by pad cells)
-  PetscInt pad = 2;              // cells of padding around the bodies for the default domain
-  double memoryLimit = 0;        // bytes the run may take (0: the physical memory of its nodes)
-  std::vector<LevelSpec> levels; // levels[0] is the domain
-  std::vector<Body> bodies;
-  Material material;       // the scene's (-gimp_E, ...): every body's unless it sets its own
-  bool oneMaterial = true; // every body has the scene's material
-  bool sceneE = true, sceneRho = true; // -gimp_E, -gimp_rho given (else every body gives its own)
-  PetscInt64 idSlots = 1; // particle id / idSlots = its body (bodyIdSlots, set with the grid)
-  /// The material of the particle with this id.
-  const Material &materialOf(PetscInt64 id) const {
-    return oneMaterial ? material : bodies[static_cast<size_t>(id / idSlots)].material;
-  }
-  /// The material of the body that holds the point (the scene's if none does).
-  const Material &materialAt(double x, double y) const;
-  /// The largest P-wave speed of the bodies' materials [m/s].
-  double maxWaveSpeed() const;
-  Vec2 gravity{};
-  std::vector<Traction> tractions;
-  std::vector<DisplacementBC> dbcs;
-  double penalty = 0;          // alpha of Eq. 9 [Pa/m]; 0: chosen from the material, grid and dt
-  bool penaltyTraction = true; // include the traction term sigma_p n of Eq. 9
-  std::vector<NodeBC> bcs;
-  double damping = 0;
+  int monitorInterval = 0;    // steps between monitor lines (0: off)
+  int checkpointInterval = 0; // steps between checkpoints (0: none, but on an interrupt)
+  int sortInterval = 50;      // steps between orderings of the particles by cell (0: never)
+  bool help = false;
+};
+
+/// The method: update scheme, velocity transfer, domain tracking and their parameters.
+struct MethodOptions {
   Update update = Update::MUSL;
   Transfer transfer = Transfer::Apic; // particle <-> grid velocity transfer
   double flip = 1.0;                  // FLIP fraction of -gimp_transfer flip
@@ -184,11 +135,17 @@ struct Scene {
   double cornerSize = 0.5;           // fictitious corner size / initial particle size
   double separationThreshold = 0.05; // gap between former neighbours / particle size
   double massCutoff = 1e-14;         // relative to the mean particle mass
+  double damping = 0;                // d of Eq. 16 [1/s]
+  double cfl = 0.3;
+  bool lanes = true; // -gimp_lanes: 2D block particles four at a time (AVX2) where the CPU has it
   /// APIC comes to exact rest only with nodes down to 1e-14 of a particle's mass active; FLIP
   /// and PIC stay quieter with the lightest nodes treated as empty (docs/method.md,
   /// *Small-mass cut-off and constraints*).
   static double defaultMassCutoff(Transfer t) { return t == Transfer::Apic ? 1e-14 : 1e-8; }
-  double cfl = 0.3;
+};
+
+/// How the run is stepped, checked and stopped.
+struct RunControl {
   bool multirate = false;         // a time step per level (-gimp_multirate, solver/multirate.cpp)
   bool multirateNodeRule = false; // -gimp_multirate_forces node (else impulse)
   bool stabilityCheck = false;    // critical step from the largest eigenvalue of M^-1 K (SLEPc)
@@ -196,24 +153,66 @@ struct Scene {
   int stabilityInterval = 0;      // steps between re-checks of the critical step (0: at start)
   double staticTol = 0;           // stop when kinetic < staticTol * strain energy (0: never)
   double staticTime = 0;          // ... but not before this time [s]
-  std::vector<Probe> probes;
-  std::vector<Crack> cracks; // explicit cracks, ends classified as tips or mouths
-  double crackJRadius = 0;   // J-integral domain radius [m] (0: 5 finest cells)
-  Mms mms = Mms::None;
+  double memoryLimit = 0;         // bytes the run may take (0: the physical memory of its nodes)
+  Mms mms = Mms::None;            // a manufactured solution (physics/mms.hpp)
   double mmsAmplitude = 1e-4;
-  bool holeMeasure = false; // hoop stress around a hole: centre, radius, remote stress p
+};
+
+/// The background grid: level 0's cell size and domain, and the refined levels.
+template <int D> struct GridSpec {
+  BoxOf<D> domain{};
+  double h = 0;                    // level-0 cell size
+  bool domainGiven = false;        // -gimp_domain given (else the bodies' box padded by pad cells)
+  PetscInt pad = 2;                // cells of padding around the bodies for the default domain
+  std::vector<LevelBox<D>> levels; // levels[0] is the domain
+};
+
+/// The loads and constraints: body force, tractions and penalty conditions on the bodies'
+/// faces, node constraints, and the probes that watch them.
+template <int D> struct Loads {
+  Coords<D> gravity{};
+  std::vector<Traction<D>> tractions;
+  std::vector<DisplacementBC<D>> dbcs;
+  double penalty = 0;          // alpha of Eq. 9 [Pa/m]; 0: chosen from the material, grid and dt
+  bool penaltyTraction = true; // include the traction term sigma_p n of Eq. 9
+  std::vector<NodeBC<D>> bcs;
+  std::vector<Probe<D>> probes;
+};
+
+/// What a run measures beyond energies and probes: crack tips (2D) and a hole's hoop stress.
+struct Measures {
+  std::vector<Crack> cracks; // explicit cracks, ends classified as tips or mouths (2D)
+  double crackJRadius = 0;   // J-integral domain radius [m] (0: 5 finest cells)
+  bool holeMeasure = false;  // hoop stress around a hole: centre, radius, remote stress p
   double hole[3] = {0, 0, 0};
   double holeLoad = 0;
-  std::string particleDump;
-  std::string gridDump;
-  int checkpointInterval = 0; // steps between checkpoints (0: none, but on an interrupt)
-  int sortInterval = 50;      // steps between orderings of the particles by cell (0: never)
-  bool lanes = true;   // -gimp_lanes: 2D block particles four at a time (AVX2) where the CPU has it
-  std::string restart; // checkpoint to continue from (empty: a fresh run)
-  bool help = false;
+};
+
+template <int D>
+struct Scene : OutputOptions, MethodOptions, RunControl, GridSpec<D>, Loads<D>, Measures {
+  static constexpr int dim = D;
+  std::vector<Body<D>> bodies;
+  Material material;       // the scene's (-gimp_E, ...): every body's unless it sets its own
+  bool oneMaterial = true; // every body has the scene's material
+  bool sceneE = true, sceneRho = true; // -gimp_E, -gimp_rho given (else every body gives its own)
+  PetscInt64 idSlots = 1;              // particle id / idSlots = its body (set with the grid)
+  /// The material of the particle with this id.
+  const Material &materialOf(PetscInt64 id) const {
+    return oneMaterial ? material : bodies[static_cast<size_t>(id / idSlots)].material;
+  }
+  /// The material of the body that holds the point (the scene's if none does).
+  const Material &materialAt(const double *x) const;
+  /// The largest P-wave speed of the bodies' materials [m/s].
+  double maxWaveSpeed() const;
+  /// Whether the scene puts external forces on the nodes (body force, tractions, penalty
+  /// conditions, a manufactured solution's body force).
+  bool hasExternalForces() const;
 };
 
 /// Read and validate the scene from the options database (collective).
-PetscErrorCode readScene(MPI_Comm comm, Scene &scene);
+template <int D> PetscErrorCode readScene(MPI_Comm comm, Scene<D> &scene);
+
+extern template struct Scene<2>;
+extern template struct Scene<3>;
 
 } // namespace gimp

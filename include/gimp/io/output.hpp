@@ -15,7 +15,8 @@ namespace gimp {
 
 class Output {
 public:
-  Output(MPI_Comm comm, const Scene &sc, const Grid<2> &grid) : comm_(comm), sc_(sc), grid_(grid) {}
+  Output(MPI_Comm comm, const Scene<2> &sc, const Grid<2> &grid)
+      : comm_(comm), sc_(sc), grid_(grid) {}
   ~Output();
   Output(const Output &) = delete;
   Output &operator=(const Output &) = delete;
@@ -78,7 +79,7 @@ private:
   PetscErrorCode closeOnRoot(const std::string &name, FILE *f, bool whole) const;
 
   MPI_Comm comm_;
-  const Scene &sc_;
+  const Scene<2> &sc_;
   const Grid<2> &grid_;
   PetscMPIInt rank_ = 0;
   std::string dir_;

@@ -10,7 +10,7 @@ namespace gimp {
 /// and the squares whose centre lies in the body become particles. Ids encode body, level, cell
 /// and sub-cell, so they do not depend on the number of ranks; id / bodyIdSlots() is the body.
 /// Particles on loaded sides get their traction and displacement-condition indices.
-PetscErrorCode seedParticles(const Scene &sc, const Grid<2> &grid, DM sw);
+PetscErrorCode seedParticles(const Scene<2> &sc, const Grid<2> &grid, DM sw);
 
 /// Two loads of one kind on the same particle edge (2D) or face (3D) axis: a particle carries one
 /// traction and one penalty condition per axis, so the second would replace the first (a body
@@ -28,7 +28,8 @@ struct LoadConflict {
 };
 
 /// seedParticles, noting conflicting loads (the solver refuses them through LoadConflict::agree).
-PetscErrorCode seedParticles(const Scene &sc, const Grid<2> &grid, DM sw, LoadConflict &conflict);
+PetscErrorCode seedParticles(const Scene<2> &sc, const Grid<2> &grid, DM sw,
+                             LoadConflict &conflict);
 
 /// Id slots per body (see seedParticles).
 PetscInt64 bodyIdSlots(const Lattice<2> &grid);

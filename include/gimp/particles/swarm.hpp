@@ -90,8 +90,8 @@ PetscErrorCode permuteSwarm(DM sw, const std::vector<PetscInt> &order);
 PetscErrorCode permuteSwarmFields(DM sw, const std::vector<PetscInt> &order,
                                   std::vector<const char *> names);
 
-struct Scene;
+template <int D> struct Scene;
 /// The optional fields a scene needs (its tracking and transfer).
-OptionalFields optionalFieldsOf(const Scene &sc);
+OptionalFields optionalFieldsOf(const Scene<2> &sc);
 
 } // namespace gimp

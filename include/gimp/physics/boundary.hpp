@@ -69,7 +69,7 @@ public:
   /// The penalty alpha of Eq. 9 from -gimp_penalty or chosen from the material, grid and dt,
   /// checked against its stability bounds (the same on every rank). Prints it. With
   /// `constantBounds` false the bounds are left to the eigenvalue check (stability room).
-  PetscErrorCode setup(MPI_Comm comm, const Scene &sc, const Lattice<2> &grid, double dt,
+  PetscErrorCode setup(MPI_Comm comm, const Scene<2> &sc, const Lattice<2> &grid, double dt,
                        bool constantBounds = true);
 
   /// The change of the penalty forces of Eq. 9 (springs and, when the scene has it, the traction
@@ -77,7 +77,7 @@ public:
   /// the change of F, L F n l0 (L row-major 2 x 2 per particle); the stress changes by ds. A null
   /// input leaves its part out; `springs` false leaves the springs out. Edges and lengths stay
   /// those of the current configuration.
-  void penaltyIncrement(const Scene &sc, const Grid<2> &g, const Stencils<2> &st,
+  void penaltyIncrement(const Scene<2> &sc, const Grid<2> &g, const Stencils<2> &st,
                         const ParticleView &p, const double *du, const double *L, const double *ds,
                         bool springs, double *fe) const;
 
@@ -88,7 +88,7 @@ public:
   /// condition's force on the body and its largest violation on this rank. With `scale`, each
   /// particle's body force and tractions are multiplied by its factor (a multi-rate particle's
   /// first kick in a new rate class).
-  void externalForces(const Scene &sc, const Grid<2> &g, const Stencils<2> &st,
+  void externalForces(const Scene<2> &sc, const Grid<2> &g, const Stencils<2> &st,
                       const ParticleView &p, double t, double *fe, const double *scale = nullptr);
 
   /// Each penalty condition's force (fx, fy) summed over ranks and its largest violation
@@ -106,7 +106,7 @@ public:
                const std::vector<double> &gap, bool root);
 
 private:
-  void penaltyForces(const Scene &sc, const Grid<2> &g, const Stencils<2> &st,
+  void penaltyForces(const Scene<2> &sc, const Grid<2> &g, const Stencils<2> &st,
                      const ParticleView &p, double t, double *fe);
 
   bool active_ = false;

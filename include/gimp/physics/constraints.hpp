@@ -8,7 +8,7 @@ namespace gimp::physics {
 /// bcMask (global, dof layout of the momentum): 1 for a free dof, 0 for a dof fixed by a
 /// grid-node constraint (-gimp_bcK_*) on a level-0 grid line, applied to the active nodes of
 /// every level. A constraint off the level-0 lines is an input error (on every rank alike).
-PetscErrorCode nodeConstraints(const Scene &sc, const Grid<2> &grid, Vec bcMask);
+PetscErrorCode nodeConstraints(const Scene<2> &sc, const Grid<2> &grid, Vec bcMask);
 
 /// mask = bcMask where the node's mass exceeds `cut`, else 0; invMass = mask / m. The mass sits
 /// in component 0 of each node's `dof` values (2 in 2D, 3 in 3D).

@@ -8,7 +8,7 @@ namespace gimp::mms {
 
 struct Skb1d {
   double A = 0, c = 0;
-  Skb1d(const Scene &sc);
+  Skb1d(const Scene<2> &sc);
   /// Amplitude A and the material (c = sqrt(E / rho)), for a scene of any dimension.
   Skb1d(double amplitude, const Material &m);
   double u(double X, double t) const;

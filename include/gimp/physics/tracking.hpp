@@ -59,15 +59,15 @@ inline double volumeOfCorners(const ParticleView &p, PetscInt k, const double *c
 
 /// The CPDI domains' corners of every particle: the parallelograms of F (cpdi, into `scratch`)
 /// or the tracked corners (cpdi2).
-const double *cpdiCorners(const Scene &sc, const ParticleView &p, std::vector<double> &scratch);
+const double *cpdiCorners(const Scene<2> &sc, const ParticleView &p, std::vector<double> &scratch);
 
 /// Particle k's domain by cpdi, cpdi2 or corner tracking (updateDomain's other cases).
-void updateTrackedDomain(const Scene &sc, ParticleView &p, PetscInt k, const Tensor<2> &L,
+void updateTrackedDomain(const Scene<2> &sc, ParticleView &p, PetscInt k, const Tensor<2> &L,
                          double dt);
 
 /// Particle k's domain after its deformation gradient F (already updated) and velocity
 /// gradient L over dt: half-sizes l, and with corners also the volume.
-inline void updateDomain(const Scene &sc, ParticleView &p, PetscInt k, const Tensor<2> &L,
+inline void updateDomain(const Scene<2> &sc, ParticleView &p, PetscInt k, const Tensor<2> &L,
                          double dt) {
   switch (sc.tracking) {
   case Tracking::None:

@@ -52,7 +52,7 @@ public:
   /// Step until TS's step or time limit, the rest criterion or a failure; final outputs.
   PetscErrorCode run();
 
-  const Scene &scene() const { return sc_; }
+  const Scene<2> &scene() const { return sc_; }
   /// True when the run stopped early because it went unstable.
   bool failed() const { return failed_; }
   /// The stop signal (SIGINT or SIGTERM) that ended the run, agreed over the ranks; 0 if none.
@@ -68,7 +68,7 @@ private:
   static PetscErrorCode rhs(TS ts, PetscReal t, Vec X, Vec F, void *ctx);
 
   // the step and its phases (solver/step.cpp)
-  static PetscErrorCode clockOf(TS ts, const Scene &sc, StepClock &c);
+  static PetscErrorCode clockOf(TS ts, const Scene<2> &sc, StepClock &c);
   PetscErrorCode step();
   PetscErrorCode migrate();
   /// Order this rank's particles by level-0 cell, then id (every -gimp_sort_interval steps);
@@ -166,7 +166,7 @@ private:
   stability::SlepcSession slepc_; // first member: finalised after every other one
   MPI_Comm comm_;
   PetscMPIInt rank_ = 0, size_ = 1;
-  Scene sc_;
+  Scene<2> sc_;
   Scheme scheme_{};
   Grid<2> grid_;
   DM sw_ = nullptr;

@@ -40,7 +40,7 @@ double criticalStep(double omega, double damping);
 
 /// What the operator reads: the configuration the step would see, and the masks of P2G.
 struct OperatorInput {
-  const Scene *sc = nullptr;
+  const Scene<2> *sc = nullptr;
   const Grid<2> *grid = nullptr;
   const Stencils<2> *st = nullptr;
   const ParticleView *p = nullptr;

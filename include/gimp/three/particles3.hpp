@@ -5,6 +5,7 @@
 
 #include "gimp/core/tensor.hpp"
 #include "gimp/grid/grid.hpp"
+#include "gimp/input/scene.hpp"
 
 #include <petscdmswarm.h>
 
@@ -15,8 +16,6 @@ struct LoadConflict;
 }
 
 namespace gimp::three {
-
-struct Scene3;
 
 struct Particles3 {
   static constexpr int D = 3;
@@ -41,7 +40,7 @@ struct Particles3 {
 PetscErrorCode permuteSwarm3(DM sw, const std::vector<PetscInt> &order);
 
 /// Create the 3D swarm with the fields the scene needs (collective).
-PetscErrorCode createSwarm3(MPI_Comm comm, const Scene3 &sc, DM *sw);
+PetscErrorCode createSwarm3(MPI_Comm comm, const Scene<3> &sc, DM *sw);
 
 /// Fill the swarm: n^3 particles per leaf cell of the composite grid (the finest level covering
 /// the cell's centre), each kept when its centre is inside a body (a box, sphere or cylinder, not
@@ -49,7 +48,7 @@ PetscErrorCode createSwarm3(MPI_Comm comm, const Scene3 &sc, DM *sw);
 /// body * idSlots plus the particle's index in a numbering that every rank count shares.
 /// `overlapping` is the largest index of a body with a particle centre that an earlier body also
 /// holds on this rank (0: none); `conflict` notes two loads of one kind on one particle face axis.
-PetscErrorCode seedParticles3(const Scene3 &sc, const Grid<3> &grid, PetscMPIInt rank, DM sw,
+PetscErrorCode seedParticles3(const Scene<3> &sc, const Grid<3> &grid, PetscMPIInt rank, DM sw,
                               int &overlapping, LoadConflict &conflict);
 
 } // namespace gimp::three

@@ -12,9 +12,9 @@
 
 #include "gimp/diagnostics/energy_watch.hpp"
 #include "gimp/grid/grid.hpp"
+#include "gimp/input/scene.hpp"
 #include "gimp/solver/step_common.hpp"
 #include "gimp/three/particles3.hpp"
-#include "gimp/three/scene3.hpp"
 
 #include <petscts.h>
 
@@ -90,7 +90,7 @@ private:
 
   MPI_Comm comm_;
   PetscMPIInt rank_ = 0, size_ = 1;
-  Scene3 sc_;
+  Scene<3> sc_;
   Grid<3> grid_;
   DM sw_ = nullptr;
   TS ts_ = nullptr;

@@ -1,86 +1,18 @@
 // The 3D scene from the options database (-gimp_dim 3). Every number is checked here; what the
 // 3D solver does not model (the 2D shapes, cracks, corner and CPDI tracking, plane stress, the
 // multi-rate step, checkpoints, ...) is refused in one line naming the option.
-#include "gimp/three/scene3.hpp"
+#include "gimp/input/scene.hpp"
 
-#include "../input/scene_options.hpp"
+#include "scene_options.hpp"
 
 #include <algorithm>
 #include <cmath>
 
-namespace gimp::three {
+namespace gimp {
 
 using input::bad;
 using input::checkChoice;
 using input::fmtList;
-
-bool Round::contains(const double *x) const {
-  if (kind == Sphere) {
-    double d2 = 0;
-    for (int a = 0; a < 3; ++a)
-      d2 += (x[a] - c[a]) * (x[a] - c[a]);
-    return d2 <= r * r;
-  }
-  if (x[axis] < lo || x[axis] > hi) return false;
-  double d2 = 0;
-  for (int a = 0; a < 3; ++a)
-    if (a != axis) d2 += (x[a] - c[a]) * (x[a] - c[a]);
-  return d2 <= r * r;
-}
-
-bool Round::strictlyContains(const double *x) const {
-  double d2 = 0;
-  for (int a = 0; a < 3; ++a) {
-    if (kind == BoxHole && !(x[a] > b[a] && x[a] < b[3 + a])) return false;
-    if (kind == Sphere || (kind == Cylinder && a != axis)) d2 += (x[a] - c[a]) * (x[a] - c[a]);
-  }
-  return kind == BoxHole || d2 < r * r;
-}
-
-Box3 Round::box() const {
-  Box3 b;
-  for (int a = 0; a < 3; ++a) {
-    const bool along = kind == Cylinder && a == axis;
-    b[a] = along ? lo : c[a] - r;
-    b[3 + a] = along ? hi : c[a] + r;
-  }
-  return b;
-}
-
-bool Body3::inside(const double *x) const {
-  for (int a = 0; a < 3; ++a)
-    if (x[a] < box[a] || x[a] > box[3 + a]) return false;
-  if (shape == RoundShape && !round.contains(x)) return false;
-  for (const Round &h : holes) // open: a hole's boundary belongs to the body
-    if (h.strictlyContains(x)) return false;
-  return true;
-}
-
-bool Face::inRange(const double *x) const {
-  if (!hasRange) return true;
-  int q = 0;
-  for (int a = 0; a < 3; ++a) {
-    if (a == axis()) continue;
-    if (x[a] < range[2 * q] || x[a] > range[2 * q + 1]) return false;
-    ++q;
-  }
-  return true;
-}
-
-double Traction3::loadedArea(double a0, double a1, double b0, double b1) const {
-  if (!hasDisk) return (a1 - a0) * (b1 - b0);
-  return Shape::ellipse(disk[0], disk[1], disk[2], disk[2]).momentsIn(a0, b0, a1, b1, 0, 0)[0];
-}
-
-double Scene3::maxWaveSpeed() const {
-  double c = material.waveSpeed();
-  if (!oneMaterial) {
-    c = 0;
-    for (const Body3 &b : bodies)
-      c = std::max(c, b.material.waveSpeed());
-  }
-  return c;
-}
 
 namespace {
 
@@ -133,7 +65,7 @@ void refuse2dBody(const std::string &p) {
   }
 }
 
-/// A PETSc error while reading options (a value that is not a number, ...): readScene3 returns
+/// A PETSc error while reading options (a value that is not a number, ...): readScene<3> returns
 /// its code, and readOptionsOneLine turns PETSc's message into one line.
 struct OptionsFailure {
   PetscErrorCode code;
@@ -282,14 +214,14 @@ Material readMaterial3(MPI_Comm comm, const std::string &p, const Material &base
 }
 
 /// The face options of a traction or penalty condition: body, side, range.
-Face readFace(MPI_Comm comm, const std::string &p, const Scene3 &sc) {
-  Face f;
+Face<3> readFace(MPI_Comm comm, const std::string &p, const Scene<3> &sc) {
+  Face<3> f;
   f.body = static_cast<int>(intOpt(comm, "-" + p + "body", "Body whose box face this is", 0));
   if (f.body < 0 || f.body >= static_cast<int>(sc.bodies.size()))
     bad(p + "body", std::to_string(f.body),
         "must be a body index 0.." + std::to_string(sc.bodies.size() - 1));
   f.side = choiceOpt(comm, "-" + p + "side",
-                     "Face of the body's box: left, right (x), bottom, top (y), back, front (z)",
+                     "Face<3> of the body's box: left, right (x), bottom, top (y), back, front (z)",
                      kSides, 6, 1);
   f.hasRange = realsOpt(comm, "-" + p + "range",
                         "Rectangle on the face: from,to along its first in-face axis, then the "
@@ -300,7 +232,7 @@ Face readFace(MPI_Comm comm, const std::string &p, const Scene3 &sc) {
   return f;
 }
 
-void readBodies3(MPI_Comm comm, Scene3 &sc) {
+void readBodies3(MPI_Comm comm, Scene<3> &sc) {
   static const char *const shapes[] = {"box", "sphere", "cylinder"};
   static const char *const profiles[] = {"uniform", "sine_x"};
   const PetscInt nb = intOpt(comm, "-gimp_bodies", "Number of bodies -gimp_bodyK_*", 1);
@@ -310,7 +242,7 @@ void readBodies3(MPI_Comm comm, Scene3 &sc) {
   for (PetscInt k = 0; k < (sc.help ? 1 : nb); ++k) {
     const std::string p = "gimp_body" + std::to_string(k) + "_";
     refuse2dBody("-" + p);
-    Body3 b;
+    Body<3> b;
     bool own = false;
     b.material = readMaterial3(comm, p, sc.material, own);
     if (own) {
@@ -322,7 +254,8 @@ void readBodies3(MPI_Comm comm, Scene3 &sc) {
     double v[6];
     // -help lists every shape's options.
     if (shape == 0 || sc.help) {
-      b.shape = Body3::BoxShape;
+      b.kind = Body<3>::BoxShape;
+      b.shapeOption = "box";
       if (!realsOpt(comm, "-" + p + "box", "Body box x0,y0,z0,x1,y1,z1 [m]", b.box.data(), 6,
                     "6 values x0,y0,z0,x1,y1,z1 [m]") &&
           !sc.help)
@@ -331,8 +264,9 @@ void readBodies3(MPI_Comm comm, Scene3 &sc) {
         bad(p + "box", fmtList(b.box.data(), 6), "needs x0 < x1, y0 < y1 and z0 < z1 [m]");
     }
     if (shape == 1 || sc.help) {
-      b.shape = Body3::RoundShape;
-      b.round.kind = Round::Sphere;
+      b.kind = Body<3>::RoundShape;
+      b.shapeOption = "sphere";
+      b.round.kind = Solid::Sphere;
       if (!realsOpt(comm, "-" + p + "sphere", "Sphere cx,cy,cz,r [m]", v, 4,
                     "4 values cx,cy,cz,r [m]") &&
           !sc.help)
@@ -342,8 +276,9 @@ void readBodies3(MPI_Comm comm, Scene3 &sc) {
       if (!sc.help && !(v[3] > 0)) bad(p + "sphere", fmtList(v, 4), "needs r > 0 [m]");
     }
     if (shape == 2 || sc.help) {
-      b.shape = Body3::RoundShape;
-      b.round.kind = Round::Cylinder;
+      b.kind = Body<3>::RoundShape;
+      b.shapeOption = "cylinder";
+      b.round.kind = Solid::Cylinder;
       b.round.axis =
           choiceOpt(comm, "-" + p + "cylinder_axis", "Cylinder axis: x, y or z", kAxes, 3, 2);
       if (!realsOpt(comm, "-" + p + "cylinder",
@@ -361,12 +296,12 @@ void readBodies3(MPI_Comm comm, Scene3 &sc) {
       if (!sc.help && !(v[2] > 0 && v[3] < v[4]))
         bad(p + "cylinder", fmtList(v, 5), "needs r > 0 and lo < hi [m]");
     }
-    if (b.shape == Body3::RoundShape) b.box = b.round.box();
+    if (b.kind == Body<3>::RoundShape) b.box = b.round.box();
     const std::vector<double> hs =
         realListOpt(comm, "-" + p + "hole_spheres", "Spherical holes cx,cy,cz,r,... [m]", 4,
                     "groups cx,cy,cz,r [m]");
     for (size_t i = 0; i < hs.size(); i += 4) {
-      Round h;
+      Solid h;
       h.c = {hs[i], hs[i + 1], hs[i + 2]};
       h.r = hs[i + 3];
       if (!(h.r > 0)) bad(p + "hole_spheres", fmtList(&hs[i], 4), "needs r > 0 [m]");
@@ -376,8 +311,8 @@ void readBodies3(MPI_Comm comm, Scene3 &sc) {
         realListOpt(comm, "-" + p + "hole_boxes", "Box holes x0,y0,z0,x1,y1,z1,... [m]", 6,
                     "groups x0,y0,z0,x1,y1,z1 [m]");
     for (size_t i = 0; i < hb.size(); i += 6) {
-      Round h;
-      h.kind = Round::BoxHole;
+      Solid h;
+      h.kind = Solid::BoxHole;
       std::copy(&hb[i], &hb[i] + 6, h.b.begin());
       if (!(h.b[0] < h.b[3] && h.b[1] < h.b[4] && h.b[2] < h.b[5]))
         bad(p + "hole_boxes", fmtList(&hb[i], 6), "needs x0 < x1, y0 < y1 and z0 < z1 [m]");
@@ -391,8 +326,8 @@ void readBodies3(MPI_Comm comm, Scene3 &sc) {
                     "coordinates, radius [m]",
                     3, "groups a,b,r [m]");
     for (size_t i = 0; i < hc.size(); i += 3) {
-      Round h;
-      h.kind = Round::Cylinder;
+      Solid h;
+      h.kind = Solid::Cylinder;
       h.axis = haxis;
       int q = 0;
       for (int a = 0; a < 3; ++a)
@@ -418,7 +353,7 @@ void readBodies3(MPI_Comm comm, Scene3 &sc) {
       needs(b.sineProfile, "-" + p + "wavenumber", "-" + p + "velocity_profile sine_x");
       needs(given("-" + p + "hole_cylinders"), "-" + p + "hole_cylinder_axis",
             "-" + p + "hole_cylinders");
-      needs(b.round.kind == Round::Cylinder && b.shape == Body3::RoundShape,
+      needs(b.round.kind == Solid::Cylinder && b.kind == Body<3>::RoundShape,
             "-" + p + "cylinder_axis", "-" + p + "shape cylinder");
     }
     if (!sc.help && b.sineProfile && !(b.wavenumber > 0))
@@ -427,7 +362,7 @@ void readBodies3(MPI_Comm comm, Scene3 &sc) {
   }
 }
 
-void readLoads3(MPI_Comm comm, Scene3 &sc) {
+void readLoads3(MPI_Comm comm, Scene<3> &sc) {
   realsOpt(comm, "-gimp_gravity", "Body force per unit mass gx,gy,gz [m/s^2]", sc.gravity.data(), 3,
            "3 values gx,gy,gz [m/s^2]");
   const PetscInt nt = intOpt(comm, "-gimp_tractions", "Number of tractions -gimp_tractionK_*", 0);
@@ -454,8 +389,8 @@ void readLoads3(MPI_Comm comm, Scene3 &sc) {
   }
   for (PetscInt k = 0; k < (help ? 1 : nt); ++k) {
     const std::string p = "gimp_traction" + std::to_string(k) + "_";
-    Traction3 t;
-    static_cast<Face &>(t) = readFace(comm, p, sc);
+    Traction<3> t;
+    static_cast<Face<3> &>(t) = readFace(comm, p, sc);
     if (!realsOpt(comm, "-" + p + "value", "Traction tx,ty,tz at full load [Pa]", t.value.data(), 3,
                   "3 values tx,ty,tz [Pa]") &&
         !help)
@@ -472,8 +407,8 @@ void readLoads3(MPI_Comm comm, Scene3 &sc) {
   static const char *const comps[] = {"x", "y", "z", "xy", "xz", "yz", "xyz"};
   for (PetscInt k = 0; k < (help ? 1 : nd); ++k) {
     const std::string p = "gimp_dbc" + std::to_string(k) + "_";
-    DisplacementBC3 d;
-    static_cast<Face &>(d) = readFace(comm, p, sc);
+    DisplacementBC<3> d;
+    static_cast<Face<3> &>(d) = readFace(comm, p, sc);
     const std::string c =
         comps[choiceOpt(comm, "-" + p + "components",
                         "Constrained components: x, y, z, xy, xz, yz or xyz", comps, 7, 6)];
@@ -496,7 +431,7 @@ void readLoads3(MPI_Comm comm, Scene3 &sc) {
   static const char *const types[] = {"fixed", "x", "y", "z", "roller"};
   for (PetscInt k = 0; k < (help ? 1 : nb); ++k) {
     const std::string p = "gimp_bc" + std::to_string(k) + "_";
-    NodeBC3 b;
+    NodeBC<3> b;
     int given = 0;
     for (int a = 0; a < 3; ++a) {
       bool set = false;
@@ -527,7 +462,7 @@ void readLoads3(MPI_Comm comm, Scene3 &sc) {
   }
   for (PetscInt k = 0; k < (help ? 1 : np); ++k) {
     const std::string p = "gimp_probe" + std::to_string(k) + "_";
-    Probe3 q;
+    Probe<3> q;
     q.name = stringOpt(comm, "-" + p + "name", "Probe name", "probe" + std::to_string(k));
     if (!realsOpt(comm, "-" + p + "x", "Probe point x,y,z (the nearest particle) [m]", q.x.data(),
                   3, "3 values x,y,z [m]") &&
@@ -535,13 +470,13 @@ void readLoads3(MPI_Comm comm, Scene3 &sc) {
       bad(p + "x", "(missing)", "each probe needs its point x,y,z [m]");
     if (!help && (q.name.empty() || q.name.find_first_of(",\" \t") != std::string::npos))
       bad(p + "name", q.name, "a probe name is a non-empty word without commas, quotes or spaces");
-    for (const Probe3 &o : sc.probes)
+    for (const Probe<3> &o : sc.probes)
       if (!help && o.name == q.name) bad(p + "name", q.name, "another probe has this name");
     sc.probes.push_back(q);
   }
 }
 
-void readLevels3(MPI_Comm comm, Scene3 &sc) {
+void readLevels3(MPI_Comm comm, Scene<3> &sc) {
   const PetscInt n = intOpt(comm, "-gimp_levels", "Number of grid levels", 1);
   if (!sc.help && (n < 1 || n > 8)) bad("gimp_levels", std::to_string(n), "must lie in 1..8");
   sc.levels.assign(1, LevelBox<3>{});
@@ -564,18 +499,18 @@ void readLevels3(MPI_Comm comm, Scene3 &sc) {
 
 } // namespace
 
-void readScene3Options(MPI_Comm comm, Scene3 &sc);
+void readSolidSceneOptions(MPI_Comm comm, Scene<3> &sc);
 
-PetscErrorCode readScene3(MPI_Comm comm, Scene3 &sc) {
+template <> PetscErrorCode readScene<3>(MPI_Comm comm, Scene<3> &sc) {
   try {
-    readScene3Options(comm, sc);
+    readSolidSceneOptions(comm, sc);
   } catch (const OptionsFailure &f) {
     return f.code;
   }
   return PETSC_SUCCESS;
 }
 
-void readScene3Options(MPI_Comm comm, Scene3 &sc) {
+void readSolidSceneOptions(MPI_Comm comm, Scene<3> &sc) {
   PetscBool help = PETSC_FALSE;
   (void)PetscOptionsHasHelp(nullptr, &help);
   sc.help = help;
@@ -621,7 +556,7 @@ void readScene3Options(MPI_Comm comm, Scene3 &sc) {
       // The bodies' bounding box on the grid lines of x = 0, padded by pad cells.
       for (int a = 0; a < 3; ++a) {
         double lo = 1e300, hi = -1e300;
-        for (const Body3 &b : sc.bodies) {
+        for (const Body<3> &b : sc.bodies) {
           lo = std::min(lo, b.box[a]);
           hi = std::max(hi, b.box[3 + a]);
         }
@@ -642,10 +577,10 @@ void readScene3Options(MPI_Comm comm, Scene3 &sc) {
     }
     // Every body inside the grid: nothing of a body is dropped at the domain's faces.
     for (size_t k = 0; k < sc.bodies.size(); ++k) {
-      const Box3 &b = sc.bodies[k].box;
+      const BoxOf<3> &b = sc.bodies[k].box;
       for (int a = 0; a < 3; ++a)
         if (b[a] < sc.domain[a] - 1e-9 * sc.h || b[3 + a] > sc.domain[3 + a] + 1e-9 * sc.h) {
-          const std::string o = "gimp_body" + std::to_string(k) + "_" + sc.bodies[k].shapeOption();
+          const std::string o = "gimp_body" + std::to_string(k) + "_" + sc.bodies[k].shapeOption;
           bad(o, fmtList(b.data(), 6),
               "the body (its box " + fmtList(b.data(), 6) + ") must lie inside -gimp_domain " +
                   fmtList(sc.domain.data(), 6));
@@ -674,7 +609,7 @@ void readScene3Options(MPI_Comm comm, Scene3 &sc) {
   static const char *const mmss[] = {"none", "skb1d"};
   sc.mms = choiceOpt(comm, "-gimp_mms", "Manufactured solution: none or skb1d (along x)", mmss, 2,
                      0) == 1
-               ? Mms::Skb1d
+               ? Mms::AxialWave
                : Mms::None;
   sc.mmsAmplitude = realOpt(comm, "-gimp_mms_amplitude",
                             "Amplitude A of the manufactured solution [m]", sc.mmsAmplitude);
@@ -684,7 +619,7 @@ void readScene3Options(MPI_Comm comm, Scene3 &sc) {
     bad("gimp_mms_amplitude", formatNumber(sc.mmsAmplitude), "must be > 0 [m]");
   needs(!sc.dbcs.empty(), "-gimp_penalty", "penalty conditions (-gimp_dbcs)");
   needs(!sc.dbcs.empty(), "-gimp_penalty_traction", "penalty conditions (-gimp_dbcs)");
-  if (sc.mms == Mms::Skb1d &&
+  if (sc.mms == Mms::AxialWave &&
       (!sc.oneMaterial || sc.material.model != MaterialModel::NeoHookean || sc.material.nu != 0.0))
     bad("gimp_mms", "skb1d",
         "needs one neo-Hookean material with -gimp_nu 0 (the 1D solution's model)");
@@ -698,7 +633,7 @@ void readScene3Options(MPI_Comm comm, Scene3 &sc) {
     bad("gimp_flip", formatNumber(sc.flip), "only with -gimp_transfer flip");
   if (!(sc.flip >= 0 && sc.flip <= 1))
     bad("gimp_flip", formatNumber(sc.flip), "must lie in [0, 1]");
-  if (!cutoffGiven) sc.massCutoff = Scene::defaultMassCutoff(sc.transfer);
+  if (!cutoffGiven) sc.massCutoff = MethodOptions::defaultMassCutoff(sc.transfer);
   if (!(sc.massCutoff >= 0 && sc.massCutoff < 1))
     bad("gimp_mass_cutoff", formatNumber(sc.massCutoff), "must lie in [0, 1)");
   if (!(sc.damping >= 0)) bad("gimp_damping", formatNumber(sc.damping), "must be >= 0 [1/s]");
@@ -707,4 +642,4 @@ void readScene3Options(MPI_Comm comm, Scene3 &sc) {
   sc.idSlots = PetscInt64{1} << 40;
 }
 
-} // namespace gimp::three
+} // namespace gimp
