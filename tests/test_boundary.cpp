@@ -103,8 +103,8 @@ struct Particles {
     dbc.insert(dbc.end(), {-1, -1});
     ++n;
   }
-  ParticleView view() {
-    ParticleView p;
+  ParticleView<2> view() {
+    ParticleView<2> p;
     p.n = n;
     p.x = x.data();
     p.X0 = X0.data();
@@ -230,7 +230,7 @@ TEST(Boundary, TractionResultants) {
           }
         }
         ASSERT_GT(onSide, 0);
-        ParticleView p = P.view();
+        ParticleView<2> p = P.view();
         Stencils st;
         ASSERT_TRUE(g.buildStencils(p.n, p.x, p.l, st));
         std::vector<double> fe(2 * g.nWindow, 0.0);
@@ -336,7 +336,7 @@ PenaltyResult penalty(const Scene<2> &sc, const Grid<2> &g, Boundary &bd, const 
     P.s[4 * k + 3] = stress[1];
   }
   EXPECT_GT(onSide, 0);
-  ParticleView p = P.view();
+  ParticleView<2> p = P.view();
   Stencils st;
   EXPECT_TRUE(g.buildStencils(p.n, p.x, p.l, st));
   std::vector<double> fe(2 * g.nWindow, 0.0);

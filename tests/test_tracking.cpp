@@ -37,7 +37,7 @@ constexpr double kThickness = 0.5;
 struct One {
   std::vector<double> x, X0, l, l0, F, eps, corners, V0, V;
   std::vector<PetscInt> trac{-1, -1};
-  ParticleView p;
+  ParticleView<2> p;
   One(double cx, double cy, double lx, double ly)
       : x{cx, cy}, X0{cx, cy}, l{lx, ly}, l0{lx, ly}, F{1, 0, 0, 1}, eps{0, 0},
         corners{cx - lx, cy - ly, cx + lx, cy - ly, cx + lx, cy + ly, cx - lx, cy + ly},

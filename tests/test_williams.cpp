@@ -114,7 +114,7 @@ TEST(Williams, FacesAreFreeAndTheOpeningIsTheClassicalOne) {
 /// in the tip frame whose crack direction t makes 30 degrees with x.
 struct FieldParticles {
   std::vector<double> x, X0, m, V0, V, l, F, s, szz;
-  gimp::ParticleView view;
+  gimp::ParticleView<2> view;
   FieldParticles(const Material &mat, const double tip[2], const double t[2], double h, double R,
                  double KI, double KII, double T) {
     const TipElastic e = gimp::cracks::tipElastic(mat);

@@ -48,7 +48,7 @@ double modulus(const Material &m) {
 /// delta_1j) dq/dx_j, and the interaction integrals with the unit mode I and mode II tip fields,
 /// I_m = sum_p V_p (sigma_ij du^m_i/dx_1 + sigma^m_ij du_i/dx_1 - sigma^m_ij eps_ij delta_1j)
 /// dq/dx_j, all in the tip frame (t, n).
-void domainTerms(const Material &mat, const TipElastic &el, const ParticleView &p, PetscInt k,
+void domainTerms(const Material &mat, const TipElastic &el, const ParticleView<2> &p, PetscInt k,
                  const double t[2], const double n[2], double along, double across, double rr,
                  double R, double out[3]) {
   const auto s = tensorAt<2>(p.s, k);
@@ -90,7 +90,7 @@ void domainTerms(const Material &mat, const TipElastic &el, const ParticleView &
 
 /// GIMP weight and gradient (d/dx_p) of a regular node of cell h at (X, Y) for particle k: the
 /// grid's own kernel (Eq. 15) moved to a point that need not be a grid node.
-double pointKernel(const ParticleView &p, PetscInt k, double X, double Y, double h,
+double pointKernel(const ParticleView<2> &p, PetscInt k, double X, double Y, double h,
                    double grad[2]) {
   double wx, gx, wy, gy;
   shape::weightAndGradient(p.x[2 * k] - X, p.l[2 * k], h, h, wx, gx);
@@ -142,7 +142,7 @@ TipElastic tipElastic(const Material &m) {
   return e;
 }
 
-void addDomainIntegrals(const Material &mat, const ParticleView &p, const double tip[2],
+void addDomainIntegrals(const Material &mat, const ParticleView<2> &p, const double tip[2],
                         const double t[2], double R, double out[3]) {
   const TipElastic el = tipElastic(mat);
   const double n[2] = {-t[1], t[0]};
@@ -155,7 +155,8 @@ void addDomainIntegrals(const Material &mat, const ParticleView &p, const double
 }
 
 PetscErrorCode measureTips(MPI_Comm comm, const Scene<2> &sc, const Grid<2> &g,
-                           const ParticleView &p, double jRadius, std::vector<TipMeasure> &tips) {
+                           const ParticleView<2> &p, double jRadius,
+                           std::vector<TipMeasure> &tips) {
   tips = tipsOf(sc);
   const size_t T = tips.size();
   if (T == 0) return PETSC_SUCCESS;

@@ -7,7 +7,7 @@ namespace gimp {
 
 PetscErrorCode particleEnergies(MPI_Comm comm, const Scene<2> &sc, DM sw, const WorkLedger &work,
                                 Energies &e) {
-  ParticleView p;
+  ParticleView<2> p;
   PetscCall(p.get(sw));
   double loc[4] = {0, 0, 0, 0}, glob[4];
   for (PetscInt k = 0; k < p.n; ++k) {

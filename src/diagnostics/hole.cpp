@@ -104,7 +104,7 @@ void holeOfRows(const std::vector<double> &all, double r, HoleMeasure &out) {
 
 PetscErrorCode holeMeasure(MPI_Comm comm, const Scene<2> &sc, DM sw, HoleMeasure &out) {
   const double cx = sc.hole[0], cy = sc.hole[1], r = sc.hole[2], pload = sc.holeLoad;
-  ParticleView p;
+  ParticleView<2> p;
   PetscCall(p.get(sw));
   std::vector<double> loc;
   for (PetscInt k = 0; k < p.n; ++k) {

@@ -13,7 +13,7 @@
 namespace gimp {
 
 PetscErrorCode findProbes(MPI_Comm comm, const Scene<2> &sc, DM sw, std::vector<PetscInt64> &ids) {
-  ParticleView p;
+  ParticleView<2> p;
   PetscCall(p.get(sw));
   ids.clear();
   for (const Probe<2> &pr : sc.probes) {
@@ -39,7 +39,7 @@ PetscErrorCode findProbes(MPI_Comm comm, const Scene<2> &sc, DM sw, std::vector<
 
 PetscErrorCode probeStates(MPI_Comm comm, DM sw, const std::vector<PetscInt64> &ids,
                            std::vector<ProbeState> &out) {
-  ParticleView p;
+  ParticleView<2> p;
   PetscCall(p.get(sw));
   constexpr int kCols = 8;
   std::vector<double> loc(ids.size() * kCols, 0.0), glob(ids.size() * kCols, 0.0);
@@ -77,7 +77,7 @@ PetscErrorCode mmsErrors(MPI_Comm comm, const Scene<2> &sc, DM sw, double t, dou
   linf = rms = 0;
   if (sc.mms == Mms::None) return PETSC_SUCCESS;
   const mms::Skb1d ex(sc);
-  ParticleView p;
+  ParticleView<2> p;
   PetscCall(p.get(sw));
   double loc[3] = {0, 0, 0}, glob[3];
   for (PetscInt k = 0; k < p.n; ++k) {
@@ -105,7 +105,7 @@ using Key = std::pair<long long, long long>;
 /// Rows read from a particle view (this rank's particles) or from a packed array (the rows
 /// gathered on rank 0).
 struct Rows {
-  const ParticleView *p = nullptr;
+  const ParticleView<2> *p = nullptr;
   const double *packed = nullptr;
   size_t n = 0;
   void row(size_t i, double r[kCols]) const {
@@ -113,7 +113,7 @@ struct Rows {
       std::copy_n(&packed[i * kCols], kCols, r);
       return;
     }
-    const ParticleView &v = *p;
+    const ParticleView<2> &v = *p;
     for (int d = 0; d < 2; ++d) {
       // The particle's domain: centred on the material point, or the corners' rectangle.
       r[d] = v.X0[2 * i + d];
@@ -209,7 +209,7 @@ PetscErrorCode separation(MPI_Comm comm, const Lattice<2> &grid, DM sw,
   // rank's border, or on a body's edge) go to rank 0, which measures the pairs among them. The
   // memory and the work on rank 0 grow with the rank borders and body edges, not with the
   // particles.
-  ParticleView p;
+  ParticleView<2> p;
   PetscCall(p.get(sw));
   const Rows mine{&p, nullptr, static_cast<size_t>(p.n)};
   // Initial positions lie on a lattice of step unit / 512.

@@ -638,8 +638,6 @@ void readSolidSceneOptions(MPI_Comm comm, Scene<3> &sc) {
     bad("gimp_mass_cutoff", formatNumber(sc.massCutoff), "must lie in [0, 1)");
   if (!(sc.damping >= 0)) bad("gimp_damping", formatNumber(sc.damping), "must be >= 0 [1/s]");
   if (!(sc.cfl > 0 && sc.cfl <= 1)) bad("gimp_cfl", formatNumber(sc.cfl), "must lie in (0, 1]");
-  // Particle ids: body b's particles are b * idSlots + local index.
-  sc.idSlots = PetscInt64{1} << 40;
 }
 
 } // namespace gimp

@@ -241,7 +241,7 @@ void checkSceneCombinations(const Scene<2> &sc) {
 namespace {
 
 /// Every traction and penalty condition reaches some particle edge (collective).
-PetscErrorCode checkSegmentsReached(MPI_Comm comm, const Scene<2> &sc, const ParticleView &p) {
+PetscErrorCode checkSegmentsReached(MPI_Comm comm, const Scene<2> &sc, const ParticleView<2> &p) {
   const size_t nt = sc.tractions.size(), nd = sc.dbcs.size();
   std::vector<PetscInt64> hits(nt + nd, 0), gHits(nt + nd, 0);
   for (PetscInt k = 0; k < p.n && p.trac; ++k)
@@ -271,8 +271,8 @@ PetscErrorCode checkSegmentsReached(MPI_Comm comm, const Scene<2> &sc, const Par
 } // namespace
 
 PetscErrorCode checkSeeding(MPI_Comm comm, const Scene<2> &sc, const Grid<2> &grid,
-                            const ParticleView &p, PetscInt64 &count, double &meanMass) {
-  const PetscInt64 slots = bodyIdSlots(grid);
+                            const ParticleView<2> &p, PetscInt64 &count, double &meanMass) {
+  const PetscInt64 slots = bodyIdSlots<2>(grid);
   std::vector<PetscInt64> mine(sc.bodies.size(), 0), total(sc.bodies.size(), 0);
   double msum = 0, mtot = 0;
   for (PetscInt k = 0; k < p.n; ++k) {

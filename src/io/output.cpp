@@ -22,10 +22,10 @@ namespace gimp {
 namespace {
 
 /// The particle fields that the HDF5 output holds for this scene.
-std::vector<const FieldSpec *> writtenFields(const Scene<2> &sc) {
-  std::vector<const FieldSpec *> out;
+std::vector<const FieldSpec<2> *> writtenFields(const Scene<2> &sc) {
+  std::vector<const FieldSpec<2> *> out;
   const OptionalFields optional = optionalFieldsOf(sc);
-  for (const FieldSpec &f : particleFields())
+  for (const FieldSpec<2> &f : particleFields<2>())
     if (f.written && optional.has(f.need)) out.push_back(&f);
   return out;
 }
@@ -252,7 +252,7 @@ PetscErrorCode Output::writeFields(PetscInt step, double t, DM sw, Vec velocity,
 long double Output::frameBytes(PetscInt64 particles) const {
   // The data of one frame, twice over for HDF5's chunks and headers, and 1 MB of metadata.
   long double components = 0, nodes = 0;
-  for (const FieldSpec *fs : writtenFields(sc_))
+  for (const FieldSpec<2> *fs : writtenFields(sc_))
     components += fs->components;
   for (const Level<2> &L : grid_.levels)
     nodes += static_cast<long double>(L.n[0]) * L.n[1];
@@ -279,7 +279,7 @@ PetscErrorCode Output::writeParticleFrame(PetscViewer v, const std::string &g, d
   PetscCall(PetscViewerHDF5PushGroup(v, ("/particles/" + g).c_str()));
   PetscInt nloc = 0;
   PetscCall(DMSwarmGetLocalSize(sw, &nloc));
-  for (const FieldSpec *fs : writtenFields(sc_)) {
+  for (const FieldSpec<2> *fs : writtenFields(sc_)) {
     // A plain MPI Vec over the field array: written as an (N, components) dataset.
     PetscScalar *data = nullptr;
     Vec f;
@@ -356,7 +356,7 @@ PetscErrorCode Output::writeParticleXdmf(FILE *fp) const {
                  "NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">fields.h5:/particles/%s/x"
                  "</DataItem></Geometry>\n",
                  g.c_str(), fr.t, fr.particles, fr.particles, g.c_str());
-    for (const FieldSpec *fs : writtenFields(sc_)) {
+    for (const FieldSpec<2> *fs : writtenFields(sc_)) {
       if (std::string(fs->name) == "x") continue;
       const std::string dims =
           fs->components == 1 ? "" : " " + std::to_string(static_cast<int>(fs->components));

@@ -22,7 +22,7 @@ std::string fileError(const std::string &option, const std::string &file, const 
 
 PetscErrorCode writeParticleDump(MPI_Comm comm, DM sw, const std::string &file) {
   constexpr int kCols = 12;
-  ParticleView p;
+  ParticleView<2> p;
   PetscCall(p.get(sw));
   std::vector<double> loc(static_cast<size_t>(p.n) * kCols);
   for (PetscInt k = 0; k < p.n; ++k) {

@@ -11,6 +11,8 @@
 
 namespace gimp {
 
+template <> PetscInt64 bodyIdSlots<2>(const Lattice<2> &g);
+
 namespace {
 
 /// Whether the square particle (x, y, half-size l) of body b has an edge on the face.
@@ -106,7 +108,7 @@ std::vector<Seed> collectSeeds(const Scene<2> &sc, const Grid<2> &g, PetscMPIInt
     maxCells = std::max<PetscInt64>(maxCells, static_cast<PetscInt64>(L.n[0]) * L.n[1]);
   // Leaf cells of every level: a body's particles take the size of the finest cell there.
   // The rank owning the level-0 cell of a leaf cell's centre seeds it.
-  const PetscInt64 slots = bodyIdSlots(g);
+  const PetscInt64 slots = bodyIdSlots<2>(g);
   for (size_t b = 0; b < sc.bodies.size(); ++b) {
     const Body<2> &body = sc.bodies[b];
     if (!body.file.empty()) { // the file's particles as they are, each on the rank of its point
@@ -191,17 +193,30 @@ std::vector<Seed> collectSeeds(const Scene<2> &sc, const Grid<2> &g, PetscMPIInt
 
 } // namespace
 
-PetscInt64 bodyIdSlots(const Lattice<2> &g) {
+template <> PetscInt64 bodyIdSlots<2>(const Lattice<2> &g) {
   PetscInt64 cells = 0;
   for (const Level<2> &L : g.levels)
     cells = std::max<PetscInt64>(cells, static_cast<PetscInt64>(L.n[0]) * L.n[1]);
   return static_cast<PetscInt64>(g.levels.size()) * cells * 64 * 64;
 }
 
-PetscErrorCode LoadConflict::agree(MPI_Comm comm) const {
+template <> PetscInt64 bodyIdSlots<3>(const Lattice<3> &) {
+  return PetscInt64{1} << 40;
+}
+
+PetscErrorCode LoadConflict::agree(MPI_Comm comm,
+                                   const std::vector<std::string> &shapeOptions) const {
   PetscInt64 mine = code < 0 ? std::numeric_limits<PetscInt64>::max() : code, all = mine;
   PetscCallMPI(MPI_Allreduce(&mine, &all, 1, MPI_INT64_T, MPI_MIN, comm));
-  if (all == std::numeric_limits<PetscInt64>::max()) return PETSC_SUCCESS;
+  int overlapping = 0;
+  PetscCallMPI(MPI_Allreduce(&overlap, &overlapping, 1, MPI_INT, MPI_MAX, comm));
+  if (all == std::numeric_limits<PetscInt64>::max()) {
+    if (overlapping > 0)
+      throw InputError("option -gimp_body" + std::to_string(overlapping) + "_" +
+                       shapeOptions[static_cast<size_t>(overlapping)] +
+                       ": the body overlaps an earlier body (a particle centre lies in both)");
+    return PETSC_SUCCESS;
+  }
   const bool traction = (all >> 40) == 0;
   const PetscInt64 second = (all >> 20) & 0xfffff, first = all & 0xfffff;
   const std::string name = traction ? "gimp_traction" : "gimp_dbc";
@@ -213,17 +228,14 @@ PetscErrorCode LoadConflict::agree(MPI_Comm comm) const {
                    "ranges): make the body thicker or the ranges disjoint");
 }
 
-PetscErrorCode seedParticles(const Scene<2> &sc, const Grid<2> &g, DM sw) {
-  LoadConflict unused;
-  return seedParticles(sc, g, sw, unused);
-}
-
-PetscErrorCode seedParticles(const Scene<2> &sc, const Grid<2> &g, DM sw, LoadConflict &conflict) {
+template <>
+PetscErrorCode seedParticles<2>(const Scene<2> &sc, const Grid<2> &g, DM sw,
+                                LoadConflict &conflict) {
   PetscMPIInt rank = 0;
   PetscCallMPI(MPI_Comm_rank(PetscObjectComm(reinterpret_cast<PetscObject>(sw)), &rank));
   const std::vector<Seed> seeds = collectSeeds(sc, g, rank);
   PetscCall(DMSwarmSetLocalSizes(sw, static_cast<PetscInt>(seeds.size()), 16));
-  ParticleView p;
+  ParticleView<2> p;
   PetscCall(p.get(sw));
   const double tol = 1e-9 * g.hMin();
   for (PetscInt k = 0; k < p.n; ++k) {

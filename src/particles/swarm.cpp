@@ -7,16 +7,15 @@ namespace gimp {
 
 namespace {
 
-constexpr int D = kDim;
-
 template <typename T> void **slotOf(T *&p) {
   return reinterpret_cast<void **>(&p);
 }
 
 } // namespace
 
-const std::vector<FieldSpec> &particleFields() {
-  static const std::vector<FieldSpec> fields = {
+template <int D> const std::vector<FieldSpec<D>> &particleFields() {
+  using ParticleView = gimp::ParticleView<D>;
+  static const std::vector<FieldSpec<D>> fields = {
       {"x", D, PETSC_REAL, true, FieldNeed::Always, [](ParticleView &p) { return slotOf(p.x); }},
       {"X0", D, PETSC_REAL, true, FieldNeed::Always, [](ParticleView &p) { return slotOf(p.X0); }},
       {"v", D, PETSC_REAL, true, FieldNeed::Always, [](ParticleView &p) { return slotOf(p.v); }},
@@ -29,7 +28,7 @@ const std::vector<FieldSpec> &particleFields() {
        [](ParticleView &p) { return slotOf(p.F); }},
       {"stress", D * D, PETSC_REAL, true, FieldNeed::Always,
        [](ParticleView &p) { return slotOf(p.s); }},
-      {"szz", 1, PETSC_REAL, true, FieldNeed::Always,
+      {"szz", 1, PETSC_REAL, true, D == 2 ? FieldNeed::Always : FieldNeed::Never,
        [](ParticleView &p) { return slotOf(p.szz); }},
       {"eps", D, PETSC_REAL, false, FieldNeed::Strain,
        [](ParticleView &p) { return slotOf(p.eps); }},
@@ -54,7 +53,7 @@ const char *const kMarks[5] = {"gimp_corners", "gimp_strain", "gimp_affine", "gi
                                "gimp_multirate"};
 } // namespace
 
-OptionalFields optionalFieldsOf(const Scene<2> &sc) {
+template <int D> OptionalFields optionalFieldsOf(const Scene<D> &sc) {
   OptionalFields o;
   o.corners = tracksCorners(sc.tracking);
   o.strain = sc.tracking == Tracking::Strain || sc.tracking == Tracking::Corners;
@@ -75,28 +74,28 @@ PetscErrorCode swarmOptionalFields(DM sw, OptionalFields &optional) {
   return PETSC_SUCCESS;
 }
 
-PetscErrorCode ParticleView::get(DM sw) {
+template <int D> PetscErrorCode ParticleView<D>::get(DM sw) {
   PetscCall(swarmOptionalFields(sw, fields));
   hasCorners = fields.corners;
   PetscCall(DMSwarmGetLocalSize(sw, &n));
-  for (const FieldSpec &f : particleFields())
+  for (const FieldSpec<D> &f : particleFields<D>())
     if (fields.has(f.need)) PetscCall(DMSwarmGetField(sw, f.name, nullptr, nullptr, f.slot(*this)));
   PetscCall(DMSwarmGetField(sw, DMSwarmField_rank, nullptr, nullptr, slotOf(rank)));
   return PETSC_SUCCESS;
 }
 
-PetscErrorCode ParticleView::restore(DM sw) {
-  for (const FieldSpec &f : particleFields())
+template <int D> PetscErrorCode ParticleView<D>::restore(DM sw) {
+  for (const FieldSpec<D> &f : particleFields<D>())
     if (fields.has(f.need))
       PetscCall(DMSwarmRestoreField(sw, f.name, nullptr, nullptr, f.slot(*this)));
   PetscCall(DMSwarmRestoreField(sw, DMSwarmField_rank, nullptr, nullptr, slotOf(rank)));
   return PETSC_SUCCESS;
 }
 
-ParticleView ParticleView::slice(PetscInt k0, PetscInt k1) const {
+template <int D> ParticleView<D> ParticleView<D>::slice(PetscInt k0, PetscInt k1) const {
   ParticleView q = *this;
   q.n = k1 - k0;
-  for (const FieldSpec &f : particleFields()) {
+  for (const FieldSpec<D> &f : particleFields<D>()) {
     char **a = reinterpret_cast<char **>(f.slot(q));
     const size_t size = f.type == PETSC_INT     ? sizeof(PetscInt)
                         : f.type == PETSC_INT64 ? sizeof(PetscInt64)
@@ -107,14 +106,14 @@ ParticleView ParticleView::slice(PetscInt k0, PetscInt k1) const {
   return q;
 }
 
-PetscErrorCode createSwarm(MPI_Comm comm, OptionalFields optional, DM *sw) {
+template <int D> PetscErrorCode createSwarm(MPI_Comm comm, OptionalFields optional, DM *sw) {
   PetscCall(DMCreate(comm, sw));
   PetscCall(DMSetType(*sw, DMSWARM));
   PetscCall(PetscObjectSetName(reinterpret_cast<PetscObject>(*sw), "particles"));
   PetscCall(DMSetDimension(*sw, D));
   PetscCall(DMSwarmSetType(*sw, DMSWARM_BASIC));
   PetscCall(DMSwarmInitializeFieldRegister(*sw));
-  for (const FieldSpec &f : particleFields())
+  for (const FieldSpec<D> &f : particleFields<D>())
     if (optional.has(f.need))
       PetscCall(DMSwarmRegisterPetscDatatypeField(*sw, f.name, f.components, f.type));
   PetscCall(DMSwarmFinalizeFieldRegister(*sw));
@@ -132,17 +131,12 @@ PetscErrorCode createSwarm(MPI_Comm comm, OptionalFields optional, DM *sw) {
   return PETSC_SUCCESS;
 }
 
-PetscErrorCode permuteSwarm(DM sw, const std::vector<PetscInt> &order) {
+template <int D> PetscErrorCode permuteSwarm(DM sw, const std::vector<PetscInt> &order) {
   OptionalFields optional;
   PetscCall(swarmOptionalFields(sw, optional));
   std::vector<const char *> names;
-  for (const FieldSpec &f : particleFields())
+  for (const FieldSpec<D> &f : particleFields<D>())
     if (optional.has(f.need)) names.push_back(f.name);
-  return permuteSwarmFields(sw, order, names);
-}
-
-PetscErrorCode permuteSwarmFields(DM sw, const std::vector<PetscInt> &order,
-                                  std::vector<const char *> names) {
   names.push_back(DMSwarmField_pid);
   names.push_back(DMSwarmField_rank);
   std::vector<char> scratch;
@@ -164,5 +158,15 @@ PetscErrorCode permuteSwarmFields(DM sw, const std::vector<PetscInt> &order,
   }
   return PETSC_SUCCESS;
 }
+
+#define GIMP_INSTANTIATE(D)                                                                        \
+  template const std::vector<FieldSpec<D>> &particleFields<D>();                                   \
+  template OptionalFields optionalFieldsOf<D>(const Scene<D> &);                                   \
+  template struct ParticleView<D>;                                                                 \
+  template PetscErrorCode createSwarm<D>(MPI_Comm, OptionalFields, DM *);                          \
+  template PetscErrorCode permuteSwarm<D>(DM, const std::vector<PetscInt> &);
+GIMP_INSTANTIATE(2)
+GIMP_INSTANTIATE(3)
+#undef GIMP_INSTANTIATE
 
 } // namespace gimp

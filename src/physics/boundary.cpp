@@ -19,7 +19,7 @@ struct Edge {
   bool cpdi = false;
 };
 
-Edge edgeOf(const Scene<2> &sc, const ParticleView &p, PetscInt k, int a, double n,
+Edge edgeOf(const Scene<2> &sc, const ParticleView<2> &p, PetscInt k, int a, double n,
             double halfLength) {
   Edge E;
   E.coord = p.x[2 * k + a] + n * p.l[2 * k + a];
@@ -95,7 +95,7 @@ PetscErrorCode Boundary::setup(MPI_Comm comm, const Scene<2> &sc, const Lattice<
 }
 
 void Boundary::externalForces(const Scene<2> &sc, const Grid<2> &g, const Stencils<2> &st,
-                              const ParticleView &p, double t, double *fe, const double *scale) {
+                              const ParticleView<2> &p, double t, double *fe, const double *scale) {
   const double gxv = sc.gravity[0], gyv = sc.gravity[1];
   const bool gravity = gxv != 0 || gyv != 0;
   std::unique_ptr<mms::Skb1d> ex;
@@ -131,7 +131,7 @@ void Boundary::externalForces(const Scene<2> &sc, const Grid<2> &g, const Stenci
 }
 
 void Boundary::penaltyForces(const Scene<2> &sc, const Grid<2> &g, const Stencils<2> &st,
-                             const ParticleView &p, double t, double *fe) {
+                             const ParticleView<2> &p, double t, double *fe) {
   // Eq. 9 on each particle edge that lies on a constrained segment, per constrained component.
   // u is the displacement of the edge, u_p + (F - I) n l0: exact for a uniformly strained
   // particle.
@@ -169,7 +169,7 @@ void Boundary::penaltyForces(const Scene<2> &sc, const Grid<2> &g, const Stencil
 }
 
 void Boundary::penaltyIncrement(const Scene<2> &sc, const Grid<2> &g, const Stencils<2> &st,
-                                const ParticleView &p, const double *du, const double *L,
+                                const ParticleView<2> &p, const double *du, const double *L,
                                 const double *ds, bool springs, double *fe) const {
   // The linearisation of penaltyForces: the same edges, lengths and edge shapes. Each input may
   // be null: its part is left out.

@@ -6,8 +6,8 @@
 
 namespace gimp::physics {
 
-void updateDeformation(const Scene<2> &sc, ParticleView &p, const double *L, double dt, PetscInt k0,
-                       PetscInt k1) {
+void updateDeformation(const Scene<2> &sc, ParticleView<2> &p, const double *L, double dt,
+                       PetscInt k0, PetscInt k1) {
   using simd::Pair;
   for (PetscInt k = k0; k < k1; ++k) {
     const Material &mat = sc.materialOf(p.id[k]);

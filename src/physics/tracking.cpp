@@ -4,7 +4,7 @@
 
 namespace gimp::tracking {
 
-const double *domainCentres(const ParticleView &p, std::vector<double> &centre, Tracking t) {
+const double *domainCentres(const ParticleView<2> &p, std::vector<double> &centre, Tracking t) {
   if (!p.hasCorners || usesCpdi(t)) return p.x;
   // With corner tracking the particle's domain (chi_p of Eq. 10) is the rectangle its corners
   // span: the weights integrate over that rectangle, whose centre may differ from the material
@@ -17,7 +17,8 @@ const double *domainCentres(const ParticleView &p, std::vector<double> &centre, 
   return centre.data();
 }
 
-const double *cpdiCorners(const Scene<2> &sc, const ParticleView &p, std::vector<double> &scratch) {
+const double *cpdiCorners(const Scene<2> &sc, const ParticleView<2> &p,
+                          std::vector<double> &scratch) {
   if (sc.tracking == Tracking::Cpdi2) return p.corners;
   scratch.resize(8 * static_cast<size_t>(p.n));
   for (PetscInt k = 0; k < p.n; ++k)
@@ -27,7 +28,7 @@ const double *cpdiCorners(const Scene<2> &sc, const ParticleView &p, std::vector
 
 bool CornerMotion::move(const Grid<2> &g, const std::vector<Crack> &cracks, double cornerSize,
                         double cut, double dt, const double *vg, const double *mg,
-                        ParticleView &p) {
+                        ParticleView<2> &p) {
   const size_t n4 = 4 * static_cast<size_t>(p.n);
   if (cornerSize == 0) { // the grid's point shape functions at the corners (cpdi2)
     if (!g.buildPointStencils(static_cast<PetscInt>(n4), p.corners, st_)) return false;
@@ -67,7 +68,7 @@ bool CornerMotion::move(const Grid<2> &g, const std::vector<Crack> &cracks, doub
   return true;
 }
 
-void updateTrackedDomain(const Scene<2> &sc, ParticleView &p, PetscInt k, const Tensor<2> &L,
+void updateTrackedDomain(const Scene<2> &sc, ParticleView<2> &p, PetscInt k, const Tensor<2> &L,
                          double dt) {
   switch (sc.tracking) {
   case Tracking::None:

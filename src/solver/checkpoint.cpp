@@ -68,7 +68,7 @@ PetscErrorCode readArray(MPI_Comm comm, PetscViewer v, const char *name, std::ve
 }
 
 /// A Vec of this rank's n particles' values of field fs (integers as doubles: exact).
-PetscErrorCode fieldVec(MPI_Comm comm, const FieldSpec &fs, PetscInt n, Vec *x) {
+PetscErrorCode fieldVec(MPI_Comm comm, const FieldSpec<2> &fs, PetscInt n, Vec *x) {
   PetscCall(VecCreate(comm, x));
   PetscCall(VecSetSizes(*x, fs.components * n, PETSC_DETERMINE));
   PetscCall(VecSetBlockSize(*x, fs.components));
@@ -87,7 +87,8 @@ template <typename T> void copyAs(T *d, PetscScalar *a, PetscInt count, bool toS
 }
 
 /// Copy field fs between the swarm and the array a (toSwarm: a -> swarm).
-PetscErrorCode copyField(DM sw, const FieldSpec &fs, PetscScalar *a, PetscInt count, bool toSwarm) {
+PetscErrorCode copyField(DM sw, const FieldSpec<2> &fs, PetscScalar *a, PetscInt count,
+                         bool toSwarm) {
   void *data = nullptr;
   PetscCall(DMSwarmGetField(sw, fs.name, nullptr, nullptr, &data));
   if (fs.type == PETSC_INT64)
@@ -106,7 +107,7 @@ PetscErrorCode transferFields(MPI_Comm comm, PetscViewer v, DM sw, bool load) {
   PetscCall(swarmOptionalFields(sw, optional));
   PetscInt n = 0;
   PetscCall(DMSwarmGetLocalSize(sw, &n));
-  for (const FieldSpec &fs : particleFields()) {
+  for (const FieldSpec<2> &fs : particleFields<2>()) {
     if (!optional.has(fs.need)) continue;
     Vec x;
     PetscScalar *a = nullptr;
@@ -202,7 +203,7 @@ PetscErrorCode Solver::writeCheckpoint(PetscInt step, double t) {
   std::string error;
   if (rank_ == 0) {
     long double components = 0;
-    for (const FieldSpec &fs : particleFields())
+    for (const FieldSpec<2> &fs : particleFields<2>())
       components += fs.components;
     struct stat st {};
     const long double history =
@@ -311,7 +312,7 @@ PetscErrorCode Solver::checkCheckpoint(PetscViewer v, const std::vector<double> 
   // The optional particle fields it holds must be the scene's (tracking and transfer).
   const OptionalFields optional = optionalFieldsOf(sc_);
   std::string fieldWhy;
-  for (const FieldSpec &fs : particleFields()) {
+  for (const FieldSpec<2> &fs : particleFields<2>()) {
     if (fs.need == FieldNeed::Always || !fieldWhy.empty()) continue;
     PetscBool has = PETSC_FALSE;
     PetscCall(PetscViewerHDF5HasDataset(v, ("/particles/" + std::string(fs.name)).c_str(), &has));

@@ -123,7 +123,7 @@ PetscErrorCode Solver::coarseStep() {
   PetscCall(migrate());
   PetscCall(rateClasses(c0.step));
   PetscCall(PetscLogStagePop());
-  ParticleView p;
+  ParticleView<2> p;
   PetscCall(p.get(sw_));
   PetscCall(VecZeroEntries(nodal_.P)); // every class starts at sub-step 0
   for (PetscInt j = 0; j < R; ++j) {
@@ -168,7 +168,7 @@ PetscErrorCode Solver::coarseStep() {
 }
 
 PetscErrorCode Solver::rateClasses(PetscInt step) {
-  ParticleView p;
+  ParticleView<2> p;
   PetscCall(p.get(sw_));
   std::vector<int> cls(p.n);
   std::vector<std::array<double, 4>> zones(grid_.levels.size());
@@ -212,12 +212,12 @@ PetscErrorCode Solver::rateClasses(PetscInt step) {
   return PETSC_SUCCESS;
 }
 
-PetscErrorCode Solver::startClasses(ParticleView &p, PetscInt j) {
+PetscErrorCode Solver::startClasses(ParticleView<2> &p, PetscInt j) {
   PetscCall(PetscLogStagePush(stages_.p2g));
   RateClasses &r = rate_;
   for (int k = 0; k < r.n; ++k) {
     if (r.size[k] == 0 || j % r.every[k] != 0) continue;
-    const ParticleView q = p.slice(r.begin[k], r.begin[k + 1]);
+    const ParticleView<2> q = p.slice(r.begin[k], r.begin[k + 1]);
     if (!grid_.buildStencils(q.n, q.x, q.l, r.st[k], sc_.cracks.empty(), lanes_)) {
       // (a particle that went bad inside the coarse step: the check at its end reports it; the
       // class reaches no node until then)
@@ -318,7 +318,7 @@ PetscErrorCode Solver::startClasses(ParticleView &p, PetscInt j) {
   return PETSC_SUCCESS;
 }
 
-PetscErrorCode Solver::classForces(const ParticleView &p, const StepClock &c, PetscInt j,
+PetscErrorCode Solver::classForces(const ParticleView<2> &p, const StepClock &c, PetscInt j,
                                    StartPower &power) {
   // Each starting class's force f_c (internal and external), and the sub-step's nodal force
   // from it by the rule of -gimp_multirate_forces (docs/method.md). Impulse: m_c f_c at the
@@ -342,7 +342,7 @@ PetscErrorCode Solver::classForces(const ParticleView &p, const StepClock &c, Pe
   PetscCall(VecGetLocalSize(nodal_.P, &nloc));
   for (int k = 0; k < r.n; ++k) {
     if (r.size[k] == 0 || j % r.every[k] != 0) continue;
-    ParticleView q = p.slice(r.begin[k], r.begin[k + 1]);
+    ParticleView<2> q = p.slice(r.begin[k], r.begin[k + 1]);
     const double *scale = nullptr;
     if (j == 0 && r.switched[k] > 0) { // their first kick: the mean of the old and new steps
       V.assign(q.V, q.V + q.n);
@@ -506,7 +506,7 @@ PetscErrorCode Solver::takenBy(int k, double flip, double dt, Vec out, bool add)
   return PETSC_SUCCESS;
 }
 
-PetscErrorCode Solver::endClasses(ParticleView &p, const StepClock &c, PetscInt j,
+PetscErrorCode Solver::endClasses(ParticleView<2> &p, const StepClock &c, PetscInt j,
                                   const StartPower &power) {
   RateClasses &r = rate_;
   const bool apic = sc_.transfer == Transfer::Apic;
@@ -539,7 +539,7 @@ PetscErrorCode Solver::endClasses(ParticleView &p, const StepClock &c, PetscInt 
   }
   for (size_t e = 0; e < ending.size(); ++e) {
     const int k = ending[e];
-    ParticleView q = p.slice(r.begin[k], r.begin[k + 1]);
+    ParticleView<2> q = p.slice(r.begin[k], r.begin[k + 1]);
     const double every = static_cast<double>(r.every[k]);
     const bool summed = r.every[k] > 1 || r.live[k];
     // The velocity update field flip inc + (1 - flip) v (APIC: v) and the mean grid velocity

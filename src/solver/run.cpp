@@ -55,7 +55,7 @@ PetscErrorCode Solver::run() {
   return PETSC_SUCCESS;
 }
 
-PetscErrorCode Solver::checks(const ParticleView &p, PetscInt step, double t) {
+PetscErrorCode Solver::checks(const ParticleView<2> &p, PetscInt step, double t) {
   // A particle that is not finite, left the grid, or is inverted or larger than a level-0 cell
   // stops the run on every rank; the first such particle of each rank is named.
   const double *d = sc_.domain.data();
@@ -193,7 +193,7 @@ PetscErrorCode Solver::historyRow(PetscInt step, double t, HistoryRow &row) {
 PetscErrorCode Solver::crackTips(std::vector<cracks::TipMeasure> &tips) {
   tips.clear();
   if (sc_.cracks.empty()) return PETSC_SUCCESS;
-  ParticleView p;
+  ParticleView<2> p;
   PetscCall(p.get(sw_));
   PetscCall(cracks::measureTips(comm_, sc_, grid_, p, sc_.crackJRadius, tips));
   PetscCall(p.restore(sw_));

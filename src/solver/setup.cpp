@@ -23,7 +23,7 @@ ItemBytes itemBytes(const Scene<2> &sc) {
   constexpr double kStencilNodes = 16, kNodeVecs = 24, kDof = 2;
   ItemBytes b;
   const OptionalFields optional = optionalFieldsOf(sc);
-  for (const FieldSpec &f : particleFields())
+  for (const FieldSpec<2> &f : particleFields<2>())
     if (optional.has(f.need))
       b.particle +=
           static_cast<double>(f.components) * (f.type == PETSC_INT ? sizeof(PetscInt) : 8);
@@ -61,7 +61,7 @@ PetscErrorCode Solver::setup() {
       PetscInfo(nullptr, "2D block kernels in lanes of four particles: %s\n",
                 lanes_ ? "yes" : (sc_.lanes ? "no (no AVX2 here)" : "no (-gimp_lanes false)")));
   PetscCall(grid_.create(comm_, sc_));
-  sc_.idSlots = bodyIdSlots(grid_);
+  sc_.idSlots = bodyIdSlots<2>(grid_);
   if (!sc_.gridDump.empty()) PetscCall(writeGridDump());
   PetscCall(createParticles());
   PetscCall(nodal_.create(grid_,
@@ -134,11 +134,11 @@ PetscErrorCode Solver::writeGridDump() {
 }
 
 PetscErrorCode Solver::createParticles() {
-  PetscCall(createSwarm(comm_, optionalFieldsOf(sc_), &sw_));
+  PetscCall(createSwarm<2>(comm_, optionalFieldsOf(sc_), &sw_));
   LoadConflict conflict;
   PetscCall(seedParticles(sc_, grid_, sw_, conflict));
-  PetscCall(conflict.agree(comm_));
-  ParticleView p;
+  PetscCall(conflict.agree(comm_, sc_));
+  ParticleView<2> p;
   PetscCall(p.get(sw_));
   PetscCall(checkSeeding(comm_, sc_, grid_, p, nParticles_, meanParticleMass_));
   if (sc_.mms == Mms::AxialWave) { // start displaced and pre-stressed, at rest

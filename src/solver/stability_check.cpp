@@ -42,7 +42,7 @@ PetscErrorCode Solver::stabilityEstimate(bool springs, bool smallest, stability:
   // rebuilds them, so the nodal vectors may be overwritten here.
   PetscCall(slepc_.start());
   PetscCall(migrate());
-  ParticleView p;
+  ParticleView<2> p;
   PetscCall(p.get(sw_));
   const double *centres = stencilCentres(p);
   PetscCall(buildStencils(p, centres));

@@ -24,7 +24,7 @@ PetscErrorCode Solver::step() {
   if (sc_.multirate) return coarseStep(); // R fine steps, a step per level (multirate.cpp)
   StepClock c;
   PetscCall(clockOf(ts_, sc_, c));
-  ParticleView p;
+  ParticleView<2> p;
   PetscCall(PetscLogStagePush(stages_.p2g));
   PetscCall(migrate());
   if (sc_.sortInterval > 0 && c.step % sc_.sortInterval == 0) PetscCall(sortParticles());
@@ -60,7 +60,7 @@ PetscErrorCode Solver::migrate() {
   // particles outside their rank's cells over all ranks (leaving_): none, and nothing is done;
   // unknown (-1: the first step, after a restart), and this counts them itself.
   if (size_ == 1 || leaving_ == 0) return PETSC_SUCCESS;
-  ParticleView p;
+  ParticleView<2> p;
   PetscCall(p.get(sw_));
   PetscInt64 moved = 0, any = leaving_;
   double box[2 * kDim];
@@ -89,7 +89,7 @@ PetscErrorCode Solver::sortParticles(std::vector<int> *cls, bool byCell) {
   // seeding nor the migrations. Every -gimp_sort_interval steps; nothing is allocated when the
   // particles are in order already. With rate classes (cls, permuted along) the class comes
   // first; without byCell only the classes are made contiguous (a stable partition).
-  ParticleView p;
+  ParticleView<2> p;
   PetscCall(p.get(sw_));
   const Level<2> &L = grid_.levels[0];
   using Key = std::array<PetscInt64, 3>;
@@ -119,7 +119,7 @@ PetscErrorCode Solver::sortParticles(std::vector<int> *cls, bool byCell) {
   for (PetscInt k = 0; k < p.n; ++k)
     order[k] = key[k].second;
   key = {};
-  PetscCall(permuteSwarm(sw_, order));
+  PetscCall(permuteSwarm<2>(sw_, order));
   if (cls) {
     std::vector<int> was = *cls;
     for (PetscInt k = 0; k < p.n; ++k)
@@ -128,7 +128,7 @@ PetscErrorCode Solver::sortParticles(std::vector<int> *cls, bool byCell) {
   return PETSC_SUCCESS;
 }
 
-PetscErrorCode Solver::buildStencils(const ParticleView &p, const double *centres) {
+PetscErrorCode Solver::buildStencils(const ParticleView<2> &p, const double *centres) {
   // The checks after every step keep each particle within one level-0 cell, so this cannot
   // fail; if it does, the failure joins those checks (no extra collective in the step).
   if (usesCpdi(sc_.tracking)) {
@@ -145,7 +145,7 @@ PetscErrorCode Solver::buildStencils(const ParticleView &p, const double *centre
   return PETSC_SUCCESS;
 }
 
-PetscErrorCode Solver::forces(const ParticleView &p, const StepClock &c, StartPower &power) {
+PetscErrorCode Solver::forces(const ParticleView<2> &p, const StepClock &c, StartPower &power) {
   // f = f_int + f_ext (Eq. 8, 9) into nodal_.f; the RHS adds damping and masks it.
   PetscCall(PetscLogStagePush(stages_.forces));
   PetscScalar *f = nullptr;
@@ -202,7 +202,7 @@ PetscErrorCode Solver::gridUpdate(bool accOnWindow) {
   return PETSC_SUCCESS;
 }
 
-PetscErrorCode Solver::crackFaces(const ParticleView &p) {
+PetscErrorCode Solver::crackFaces(const ParticleView<2> &p) {
   // Each field's mass-weighted displacement along its contact normal at every cracked node:
   // summed over the ranks that hold the node, back to every window. With them the summed mass
   // and the mask on the window, which the step's contact passes read. With -gimp_multirate the
@@ -300,7 +300,7 @@ PetscErrorCode Solver::work(const StepClock &c, const StartPower &power, bool ex
   return PETSC_SUCCESS;
 }
 
-PetscErrorCode Solver::stress(const Stencils<kDim> &st, ParticleView &p, Vec velocityWindow,
+PetscErrorCode Solver::stress(const Stencils<kDim> &st, ParticleView<2> &p, Vec velocityWindow,
                               double dt) {
   // Velocity gradient from the scheme's velocity field, then F, volume, stress and domain.
   PetscCall(PetscLogStagePush(stages_.stress));

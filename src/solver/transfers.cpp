@@ -14,14 +14,14 @@
 
 namespace gimp {
 
-const double *Solver::stencilCentres(const ParticleView &p) {
+const double *Solver::stencilCentres(const ParticleView<2> &p) {
   // With APIC the re-projection's affine moments are taken about the stencils' centres: where
   // those are the positions, each particle is re-projected before it moves (gridToParticles,
   // in one pass), so no copy is needed.
   return tracking::domainCentres(p, centres_, sc_.tracking);
 }
 
-const double *Solver::affineCentres(const ParticleView &p, const double *centres) {
+const double *Solver::affineCentres(const ParticleView<2> &p, const double *centres) {
   // cpdi2's weights integrate the quadrilateral of the corners, whose centroid drifts from the
   // material point that G2P moves; moments about the material point would read the particle's
   // velocity times that offset as a velocity gradient (and divide it by D_p, ratio^2 smaller on
@@ -44,8 +44,8 @@ const double *Solver::slotCoordinates() {
   return slotX_.data();
 }
 
-void Solver::projectMomentum(const Stencils<kDim> &st, const ParticleView &p, const double *centres,
-                             double *mom, double *mass) {
+void Solver::projectMomentum(const Stencils<kDim> &st, const ParticleView<2> &p,
+                             const double *centres, double *mom, double *mass) {
   if (sc_.transfer != Transfer::Apic) {
     transfer::particlesToGrid<kDim>(st, p.n, p.m, p.v, mom, mass);
     return;
@@ -59,7 +59,7 @@ void Solver::projectMomentum(const Stencils<kDim> &st, const ParticleView &p, co
                                            mass);
 }
 
-PetscErrorCode Solver::particlesToGrid(const ParticleView &p, const double *centres) {
+PetscErrorCode Solver::particlesToGrid(const ParticleView<2> &p, const double *centres) {
   // Mass and momentum to the nodes, masked (constraints, empty nodes); the nodal velocity.
   PetscScalar *mom = nullptr, *mass = nullptr;
   PetscCall(VecZeroEntries(nodal_.sumW));
@@ -81,7 +81,7 @@ PetscErrorCode Solver::particlesToGrid(const ParticleView &p, const double *cent
   return PETSC_SUCCESS;
 }
 
-PetscErrorCode Solver::xpicFilter(const ParticleView &p, const StepClock &c) {
+PetscErrorCode Solver::xpicFilter(const ParticleView<2> &p, const StepClock &c) {
   // v^n = v^{n+1} - dt a (what TS started from, masked); v* = sum_{k=0}^{m-1} (I - Q)^k v^n with
   // Q = M^-1 S^T M_p S the lumped projection through the particles (the step's stencils): the
   // truncated series of the consistent-mass projection Q^-1 v^n.
@@ -109,7 +109,8 @@ PetscErrorCode Solver::xpicFilter(const ParticleView &p, const StepClock &c) {
   return PETSC_SUCCESS;
 }
 
-PetscErrorCode Solver::gridToParticles(ParticleView &p, const StepClock &c, const double *centres) {
+PetscErrorCode Solver::gridToParticles(ParticleView<2> &p, const StepClock &c,
+                                       const double *centres) {
   PetscCall(PetscLogStagePush(stages_.g2p));
   if (sc_.transfer == Transfer::Xpic) PetscCall(xpicFilter(p, c));
   const PetscScalar *vg = nullptr, *ag = nullptr;
@@ -154,7 +155,7 @@ PetscErrorCode Solver::gridToParticles(ParticleView &p, const StepClock &c, cons
   return PETSC_SUCCESS;
 }
 
-PetscErrorCode Solver::reproject(ParticleView &p, const StepClock &c, const double *centres,
+PetscErrorCode Solver::reproject(ParticleView<2> &p, const StepClock &c, const double *centres,
                                  bool projected) {
   // Re-project the updated particle momentum (acc is free now) with the step's own P2G (APIC:
   // the affine fields of the new B_p): the velocity field of MUSL's stress update, and the one

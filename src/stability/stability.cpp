@@ -38,7 +38,7 @@ struct Shell {
 /// with dt = 0 and no FLIP, on scratch arrays) and projected back (P2G, masked, over the nodal
 /// mass).
 PetscErrorCode reproject(Shell &s, Vec in, Vec out) {
-  const ParticleView &p = *s.in.p;
+  const ParticleView<2> &p = *s.in.p;
   PetscCall(s.in.grid->toWindow(in, s.uW));
   const PetscScalar *u = nullptr;
   PetscScalar *mom = nullptr;
@@ -73,7 +73,7 @@ PetscErrorCode applyOperator(Mat A, Vec x, Vec y) {
   Shell *s = nullptr;
   PetscCall(MatShellGetContext(A, &s));
   const OperatorInput &in = s->in;
-  const ParticleView &p = *in.p;
+  const ParticleView<2> &p = *in.p;
   PetscCall(VecPointwiseMult(s->xm, x, in.mask));
   PetscCall(reproject(*s, s->xm, s->r));
   const bool positions = in.boundary && in.springs;

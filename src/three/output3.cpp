@@ -238,7 +238,7 @@ void Solver3::gridXdmf(FILE *f, const Frame &fr) const {
 PetscErrorCode Solver3::writeParticleDump() {
   // id,x,y,z,vx,vy,vz,sxx,syy,szz,syz,sxz,sxy,V,lx,ly,lz, sorted by id.
   constexpr int kCols = 17;
-  Particles3 p;
+  ParticleView<3> p;
   PetscCall(p.get(sw_));
   std::vector<double> loc(static_cast<size_t>(p.n) * kCols);
   for (PetscInt k = 0; k < p.n; ++k) {

@@ -43,18 +43,13 @@ PetscErrorCode Solver3::setup() {
   PetscCall(createNodal());
   PetscCall(nodeConstraints());
   // The particles, and the checks that every body and every face condition got some.
-  PetscCall(createSwarm3(comm_, sc_, &sw_));
-  int overlap = 0, anyOverlap = 0;
+  sc_.idSlots = bodyIdSlots<3>(grid_);
+  PetscCall(createSwarm<3>(comm_, optionalFieldsOf(sc_), &sw_));
   LoadConflict conflict;
-  PetscCall(seedParticles3(sc_, grid_, rank_, sw_, overlap, conflict));
-  PetscCall(conflict.agree(comm_));
-  PetscCallMPI(MPI_Allreduce(&overlap, &anyOverlap, 1, MPI_INT, MPI_MAX, comm_));
-  if (anyOverlap > 0)
-    throw InputError("option -gimp_body" + std::to_string(anyOverlap) + "_" +
-                     sc_.bodies[anyOverlap].shapeOption +
-                     ": the body overlaps an earlier body (a particle centre lies in both)");
+  PetscCall(seedParticles<3>(sc_, grid_, sw_, conflict));
+  PetscCall(conflict.agree(comm_, sc_));
   {
-    Particles3 p;
+    ParticleView<3> p;
     PetscCall(p.get(sw_));
     const size_t nb = sc_.bodies.size(), nt = sc_.tractions.size(), nd = sc_.dbcs.size();
     std::vector<PetscInt64> count(nb + nt + nd + 1, 0);
@@ -62,7 +57,7 @@ PetscErrorCode Solver3::setup() {
     for (PetscInt k = 0; k < p.n; ++k) {
       ++count[static_cast<size_t>(p.id[k] / sc_.idSlots)];
       mass += p.m[k];
-      for (int a = 0; a < 3 && p.boundary; ++a) {
+      for (int a = 0; a < 3 && p.trac; ++a) {
         if (p.trac[3 * k + a] >= 0) ++count[nb + static_cast<size_t>(p.trac[3 * k + a])];
         if (p.dbc[3 * k + a] >= 0) ++count[nb + nt + static_cast<size_t>(p.dbc[3 * k + a])];
       }
@@ -91,7 +86,7 @@ PetscErrorCode Solver3::setup() {
   }
   if (sc_.mms == Mms::AxialWave) { // start displaced and pre-stressed, at rest (as in 2D)
     const mms::Skb1d ex(sc_.mmsAmplitude, sc_.material);
-    Particles3 p;
+    ParticleView<3> p;
     PetscCall(p.get(sw_));
     for (PetscInt k = 0; k < p.n; ++k) {
       const double X = p.X0[3 * k], F = ex.F(X, 0.0);
@@ -158,7 +153,7 @@ PetscErrorCode Solver3::setup() {
   }
   // Probes: the particle nearest each point (the smallest id among equals), fixed for the run.
   if (!sc_.probes.empty()) {
-    Particles3 p;
+    ParticleView<3> p;
     PetscCall(p.get(sw_));
     for (const Probe<3> &q : sc_.probes) {
       struct {
@@ -280,7 +275,7 @@ PetscErrorCode Solver3::rhs(TS ts, PetscReal, Vec X, Vec F, void *ctx) {
 PetscErrorCode Solver3::step() {
   StepClock c;
   PetscCall(readStepClock(ts_, sc_.halfStepStart, c));
-  Particles3 p;
+  ParticleView<3> p;
   PetscCall(PetscLogStagePush(stages_.p2g));
   PetscCall(migrate());
   if (sc_.sortInterval > 0 && c.step % sc_.sortInterval == 0) PetscCall(sortParticles());
@@ -318,7 +313,7 @@ PetscErrorCode Solver3::migrate() {
   // Particles go to the rank owning their level-0 cell (the checks keep them within one cell of
   // it, inside its window).
   if (size_ == 1 || leaving_ == 0) return PETSC_SUCCESS;
-  Particles3 p;
+  ParticleView<3> p;
   PetscCall(p.get(sw_));
   double box[6];
   grid_.ownedBox(rank_, box);
@@ -346,7 +341,7 @@ PetscErrorCode Solver3::migrate() {
 PetscErrorCode Solver3::sortParticles() {
   // P2G and G2P then walk the nodal arrays in order, whatever the seeding and the migrations;
   // nothing is allocated when the particles are in order already.
-  Particles3 p;
+  ParticleView<3> p;
   PetscCall(p.get(sw_));
   const Level<3> &L = grid_.levels[0];
   using Key = std::pair<PetscInt64, PetscInt64>;
@@ -370,10 +365,10 @@ PetscErrorCode Solver3::sortParticles() {
   std::vector<PetscInt> order(static_cast<size_t>(p.n));
   for (PetscInt k = 0; k < p.n; ++k)
     order[k] = key[k].second;
-  return permuteSwarm3(sw_, order);
+  return permuteSwarm<3>(sw_, order);
 }
 
-PetscErrorCode Solver3::particlesToGrid(const Particles3 &p) {
+PetscErrorCode Solver3::particlesToGrid(const ParticleView<3> &p) {
   PetscScalar *mom = nullptr, *mass = nullptr;
   PetscCall(VecZeroEntries(sumW_));
   PetscCall(VecZeroEntries(massW_));
@@ -397,7 +392,7 @@ PetscErrorCode Solver3::particlesToGrid(const Particles3 &p) {
   return PETSC_SUCCESS;
 }
 
-PetscErrorCode Solver3::forces(const Particles3 &p, const StepClock &c) {
+PetscErrorCode Solver3::forces(const ParticleView<3> &p, const StepClock &c) {
   PetscCall(PetscLogStagePush(stages_.forces));
   // f = f_int + f_ext; the external part alone (fext_) for the step's work.
   PetscScalar *f = nullptr;
@@ -468,7 +463,7 @@ void forEachFaceWeight(const Grid<3> &g, const Stencils<3> &st, PetscInt k, int 
 
 } // namespace
 
-void Solver3::externalForces(const Particles3 &p, double t, double *fe) {
+void Solver3::externalForces(const ParticleView<3> &p, double t, double *fe) {
   const bool gravity = sc_.gravity != Coords<3>{} || sc_.mms != Mms::None;
   std::unique_ptr<mms::Skb1d> ex;
   if (sc_.mms == Mms::AxialWave) ex = std::make_unique<mms::Skb1d>(sc_.mmsAmplitude, sc_.material);
@@ -479,7 +474,7 @@ void Solver3::externalForces(const Particles3 &p, double t, double *fe) {
     for (int c = 0; c < 3; ++c)
       ubar[3 * q + c] = sc_.dbcs[q].u[c].valueOr0(t);
   reactionsLocal_.assign(3 * sc_.dbcs.size(), 0.0);
-  if (!gravity && !p.boundary) return;
+  if (!gravity && !p.trac) return;
   for (PetscInt k = 0; k < p.n; ++k) {
     if (gravity) { // Eq. 8: f_i = sum_p m_p b S_ip (b with the manufactured solution's force)
       double fb[3];
@@ -491,7 +486,7 @@ void Solver3::externalForces(const Particles3 &p, double t, double *fe) {
           fe[3 * nd + c] += w * fb[c];
       });
     }
-    if (!p.boundary) continue;
+    if (!p.trac) continue;
     for (int a = 0; a < 3; ++a) {
       const int b1 = (a + 1) % 3, b2 = (a + 2) % 3;
       // Tractions (Eq. 8): a dead load on the particle's initial face area (with a disk, the
@@ -551,7 +546,7 @@ PetscErrorCode Solver3::gridUpdate() {
   return PETSC_SUCCESS;
 }
 
-PetscErrorCode Solver3::gridToParticles(Particles3 &p, const StepClock &c) {
+PetscErrorCode Solver3::gridToParticles(ParticleView<3> &p, const StepClock &c) {
   // G2P; with MUSL each particle's new momentum goes back to the grid with the same stencil in
   // the same pass, and that re-projected velocity drives the stress update.
   PetscCall(PetscLogStagePush(stages_.g2p));
@@ -587,7 +582,7 @@ PetscErrorCode Solver3::gridToParticles(Particles3 &p, const StepClock &c) {
   return PETSC_SUCCESS;
 }
 
-PetscErrorCode Solver3::stress(Particles3 &p, double dt) {
+PetscErrorCode Solver3::stress(ParticleView<3> &p, double dt) {
   // L from the scheme's grid velocity, then F <- (I + dt L) F, V = det(F) V0, the stress by the
   // material model and the half-sizes by the tracking mode.
   PetscCall(PetscLogStagePush(stages_.stress));
@@ -612,7 +607,7 @@ PetscErrorCode Solver3::stress(Particles3 &p, double dt) {
   return PETSC_SUCCESS;
 }
 
-PetscErrorCode Solver3::checks(const Particles3 &p, PetscInt step, double t) {
+PetscErrorCode Solver3::checks(const ParticleView<3> &p, PetscInt step, double t) {
   // As Solver::checks in 2D: a particle that is not finite, left the grid, or is inverted or
   // larger than a level-0 cell stops the run on every rank (the first such particle of each rank
   // is named); one reduction also counts the particles leaving their rank's cells (the next
@@ -690,7 +685,7 @@ PetscErrorCode Solver3::checks(const Particles3 &p, PetscInt step, double t) {
 }
 
 PetscErrorCode Solver3::energies(Energies3 &e) {
-  Particles3 p;
+  ParticleView<3> p;
   PetscCall(p.get(sw_));
   double s[6] = {0, 0, 0, 0, 0, 0};
   for (PetscInt k = 0; k < p.n; ++k) {
@@ -720,7 +715,7 @@ PetscErrorCode Solver3::energies(Energies3 &e) {
 PetscErrorCode Solver3::probes(std::vector<ProbeState3> &out) {
   out.assign(probeIds_.size(), ProbeState3{});
   if (probeIds_.empty()) return PETSC_SUCCESS;
-  Particles3 p;
+  ParticleView<3> p;
   PetscCall(p.get(sw_));
   std::vector<double> buf(9 * probeIds_.size(), 0.0);
   static const int comp[6][2] = {{0, 0}, {1, 1}, {2, 2}, {1, 2}, {0, 2}, {0, 1}};
@@ -748,7 +743,7 @@ PetscErrorCode Solver3::mmsErrors(double t, double &linf, double &rms) {
   linf = rms = 0;
   if (sc_.mms == Mms::None) return PETSC_SUCCESS;
   const mms::Skb1d ex(sc_.mmsAmplitude, sc_.material);
-  Particles3 p;
+  ParticleView<3> p;
   PetscCall(p.get(sw_));
   double loc[3] = {0, 0, 0}, glob[3];
   for (PetscInt k = 0; k < p.n; ++k) {

@@ -483,8 +483,8 @@ GIMP_LANES void velocityGradients(const Stencils<2> &st, PetscInt k0, PetscInt k
             [&](PetscInt k) { tensorAt<2>(L, k - k0) = velocityGradientAt<2>(st, k, vg); });
 }
 
-GIMP_LANES void updateDeformation(const Scene<2> &sc, ParticleView &p, const double *L, double dt,
-                                  PetscInt k0, PetscInt k1) {
+GIMP_LANES void updateDeformation(const Scene<2> &sc, ParticleView<2> &p, const double *L,
+                                  double dt, PetscInt k0, PetscInt k1) {
   const bool stretch = sc.tracking == Tracking::Stretch;
   const bool lanes = stretch || sc.tracking == Tracking::None;
   const V4 DT = splat(dt), HALF = splat(0.5), ONE = splat(1.0), ZERO = splat(0.0), TWO = splat(2.0),
@@ -603,8 +603,8 @@ void velocityGradients(const Stencils<2> &st, PetscInt k0, PetscInt k1, const do
   for (PetscInt k = k0; k < k1; ++k)
     tensorAt<2>(L, k - k0) = velocityGradientAt<2>(st, k, vg);
 }
-void updateDeformation(const Scene<2> &sc, ParticleView &p, const double *L, double dt, PetscInt k0,
-                       PetscInt k1) {
+void updateDeformation(const Scene<2> &sc, ParticleView<2> &p, const double *L, double dt,
+                       PetscInt k0, PetscInt k1) {
   physics::updateDeformation(sc, p, L, dt, k0, k1);
 }
 PetscInt checkParticles(PetscInt, const double *, const double *, const double *, const double *,

@@ -33,7 +33,7 @@ TipElastic tipElastic(const Material &m);
 /// += sum_p V_p (sigma_ij du^m_i/dx_1 + sigma^m_ij du_i/dx_1 - sigma^m_ij eps_ij delta_1j) dq/dx_j
 /// for the unit mode m = 1, 2 tip fields (williamsField): the interaction integrals, 2 K_m / E'
 /// times thickness. Stress from p.s, displacement gradient from p.F - I.
-void addDomainIntegrals(const Material &mat, const ParticleView &p, const double tip[2],
+void addDomainIntegrals(const Material &mat, const ParticleView<2> &p, const double tip[2],
                         const double t[2], double R, double out[3]);
 
 /// J's default domain radius in cells at the tip.
@@ -52,6 +52,6 @@ constexpr double kJCells = 5.0;
 /// domain (addDomainIntegrals), K_m = E' I_m / 2. VCCT's K = sqrt(G E'), signed by G_I and du_t;
 /// E' = E (plane stress) or E / (1 - nu^2) (plane strain). Collective.
 PetscErrorCode measureTips(MPI_Comm comm, const Scene<2> &sc, const Grid<2> &g,
-                           const ParticleView &p, double jRadius, std::vector<TipMeasure> &tips);
+                           const ParticleView<2> &p, double jRadius, std::vector<TipMeasure> &tips);
 
 } // namespace gimp::cracks

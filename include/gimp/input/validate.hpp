@@ -25,7 +25,7 @@ void checkSceneCombinations(const Scene<2> &sc);
 /// The seeded particles: every body holds some, every traction and penalty condition reaches a
 /// particle edge, every particle lies inside the grid. Returns the count and mean mass.
 PetscErrorCode checkSeeding(MPI_Comm comm, const Scene<2> &sc, const Grid<2> &grid,
-                            const ParticleView &p, PetscInt64 &count, double &meanMass);
+                            const ParticleView<2> &p, PetscInt64 &count, double &meanMass);
 
 /// TSSetFromOptions with parse errors as one line, then the time stepper's type, adaptivity and
 /// step checked (explicit euler, fixed dt > 0 and, unless -gimp_stability_check bounds it by the

@@ -1,9 +1,10 @@
 // Material points in a PETSc DMSwarm (structure of arrays).
 //
-// One table, particleFields(), lists every field once: its name, components, type, whether the
-// HDF5 output writes it and which scenes need it (FieldNeed: every scene, corner tracking,
-// strain or corner tracking, APIC); a field no scene option needs is not stored. Registration,
-// ParticleView::get/restore and the output all walk that table. A ParticleView borrows every
+// One table per dimension, particleFields<D>(), lists every field once: its name, components,
+// type, whether the HDF5 output writes it and which scenes need it (FieldNeed: every scene,
+// corner tracking, strain or corner tracking, APIC, loads on faces, multi-rate steps); a field no
+// scene option needs is not stored. Registration, ParticleView::get/restore, checkpoints and the
+// output all walk that table. A ParticleView borrows every
 // field's array for one phase of a step; restore() hands them back to the swarm.
 #pragma once
 
@@ -17,7 +18,7 @@
 namespace gimp {
 
 /// Which scenes need a particle field.
-enum class FieldNeed { Always, Corners, Strain, Affine, Boundary, Multirate };
+enum class FieldNeed { Always, Never, Corners, Strain, Affine, Boundary, Multirate };
 
 /// The optional fields a swarm carries: corners (corner and cpdi2 tracking), eps (strain and
 /// corner tracking), B (APIC), trac and dbc (tractions or penalty conditions).
@@ -30,8 +31,8 @@ struct OptionalFields {
   }
 };
 
-struct ParticleView {
-  static constexpr int D = kDim;
+template <int D> struct ParticleView {
+  static constexpr int dim = D;
   PetscInt n = 0;
   double *x = nullptr;   // position [D]
   double *X0 = nullptr;  // initial position [D]
@@ -43,7 +44,7 @@ struct ParticleView {
   double *l0 = nullptr;  // initial half-sizes [D]
   double *F = nullptr;   // deformation gradient, row-major D x D
   double *s = nullptr;   // Cauchy stress, row-major D x D
-  double *szz = nullptr; // out-of-plane stress (plane strain; zero in plane stress)
+  double *szz = nullptr; // 2D: out-of-plane stress (plane strain; zero in plane stress)
   double *eps = nullptr; // accumulated small-strain increments (xx, yy) [D], if strain or corners
   double *B = nullptr; // APIC affine moment sum_i S_ip v_i (x_i - x_p)^T, row-major D x D, if APIC
   PetscInt64 *id = nullptr;  // identity, independent of the rank count
@@ -61,37 +62,34 @@ struct ParticleView {
   PetscErrorCode restore(DM sw);
   /// Particles [k0, k1) as a view of their own: every array offset to k0, n = k1 - k0. It
   /// borrows this view's arrays (never restore() it).
-  ParticleView slice(PetscInt k0, PetscInt k1) const;
+  ParticleView<D> slice(PetscInt k0, PetscInt k1) const;
 };
 
-struct FieldSpec {
+template <int D> struct FieldSpec {
   const char *name;
   PetscInt components;
   PetscDataType type;
   bool written;   // in the HDF5 particle output
   FieldNeed need; // the scenes that store it
-  void **(*slot)(ParticleView &);
+  void **(*slot)(ParticleView<D> &);
 };
 
-/// Every particle field, in registration order.
-const std::vector<FieldSpec> &particleFields();
+/// Every particle field of a D-dimensional swarm, in registration order (szz is 2D only: the
+/// out-of-plane stress of plane strain).
+template <int D> const std::vector<FieldSpec<D>> &particleFields();
 
 /// Create the swarm with gimp's fields (collective).
-PetscErrorCode createSwarm(MPI_Comm comm, OptionalFields optional, DM *sw);
+template <int D> PetscErrorCode createSwarm(MPI_Comm comm, OptionalFields optional, DM *sw);
 
 /// The optional fields a swarm carries.
 PetscErrorCode swarmOptionalFields(DM sw, OptionalFields &optional);
 
 /// Reorder this rank's particles: particle k becomes the former particle order[k], in every
 /// field (gimp's and DMSwarm's own). Not collective.
-PetscErrorCode permuteSwarm(DM sw, const std::vector<PetscInt> &order);
-/// The same for the named fields (a swarm of another field table: the 3D one); DMSwarm's own
-/// pid and rank fields are permuted along.
-PetscErrorCode permuteSwarmFields(DM sw, const std::vector<PetscInt> &order,
-                                  std::vector<const char *> names);
+template <int D> PetscErrorCode permuteSwarm(DM sw, const std::vector<PetscInt> &order);
 
 template <int D> struct Scene;
 /// The optional fields a scene needs (its tracking and transfer).
-OptionalFields optionalFieldsOf(const Scene<2> &sc);
+template <int D> OptionalFields optionalFieldsOf(const Scene<D> &sc);
 
 } // namespace gimp

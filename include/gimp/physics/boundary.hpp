@@ -78,8 +78,8 @@ public:
   /// input leaves its part out; `springs` false leaves the springs out. Edges and lengths stay
   /// those of the current configuration.
   void penaltyIncrement(const Scene<2> &sc, const Grid<2> &g, const Stencils<2> &st,
-                        const ParticleView &p, const double *du, const double *L, const double *ds,
-                        bool springs, double *fe) const;
+                        const ParticleView<2> &p, const double *du, const double *L,
+                        const double *ds, bool springs, double *fe) const;
 
   /// Whether the scene has external nodal forces (body force, tractions, penalty terms).
   bool active() const { return active_; }
@@ -89,7 +89,8 @@ public:
   /// particle's body force and tractions are multiplied by its factor (a multi-rate particle's
   /// first kick in a new rate class).
   void externalForces(const Scene<2> &sc, const Grid<2> &g, const Stencils<2> &st,
-                      const ParticleView &p, double t, double *fe, const double *scale = nullptr);
+                      const ParticleView<2> &p, double t, double *fe,
+                      const double *scale = nullptr);
 
   /// Each penalty condition's force (fx, fy) summed over ranks and its largest violation
   /// |u - u_bar| at the last force evaluation; keeps the largest violation seen (collective).
@@ -107,7 +108,7 @@ public:
 
 private:
   void penaltyForces(const Scene<2> &sc, const Grid<2> &g, const Stencils<2> &st,
-                     const ParticleView &p, double t, double *fe);
+                     const ParticleView<2> &p, double t, double *fe);
 
   bool active_ = false;
   double alpha_ = 0;              // penalty of Eq. 9 in use [Pa/m]

@@ -27,7 +27,7 @@ inline double cornerBoxCentre(const double *c, int d) {
 
 /// The CPDI parallelogram of particle k: corners x_p - r1 - r2, x_p + r1 - r2, x_p + r1 + r2,
 /// x_p - r1 + r2 (counter-clockwise) with r_a = F r_a^0, r_a^0 = l0_a e_a, into c (8 values).
-inline void cpdiParallelogram(const ParticleView &p, PetscInt k, double *c) {
+inline void cpdiParallelogram(const ParticleView<2> &p, PetscInt k, double *c) {
   const auto F = tensorAt<2>(p.F, k);
   const double r1[2] = {F(0, 0) * p.l0[2 * k], F(1, 0) * p.l0[2 * k]};
   const double r2[2] = {F(0, 1) * p.l0[2 * k + 1], F(1, 1) * p.l0[2 * k + 1]};
@@ -38,7 +38,7 @@ inline void cpdiParallelogram(const ParticleView &p, PetscInt k, double *c) {
 }
 
 /// Half-sizes of a CPDI particle: the largest distance of a corner from x_p along each axis.
-inline void cornerReach(ParticleView &p, PetscInt k, const double *c) {
+inline void cornerReach(ParticleView<2> &p, PetscInt k, const double *c) {
   for (int d = 0; d < 2; ++d)
     p.l[2 * k + d] =
         std::max({std::fabs(c[d] - p.x[2 * k + d]), std::fabs(c[d + 2] - p.x[2 * k + d]),
@@ -53,21 +53,22 @@ inline double quadArea(const double *c) {
 
 /// The volume of a particle whose corners span c: V0 times the quadrilateral's area over the
 /// initial rectangle's, 4 l0_x l0_y (a cut cell's domain may be larger than its volume).
-inline double volumeOfCorners(const ParticleView &p, PetscInt k, const double *c) {
+inline double volumeOfCorners(const ParticleView<2> &p, PetscInt k, const double *c) {
   return p.V0[k] * quadArea(c) / (4.0 * p.l0[2 * k] * p.l0[2 * k + 1]);
 }
 
 /// The CPDI domains' corners of every particle: the parallelograms of F (cpdi, into `scratch`)
 /// or the tracked corners (cpdi2).
-const double *cpdiCorners(const Scene<2> &sc, const ParticleView &p, std::vector<double> &scratch);
+const double *cpdiCorners(const Scene<2> &sc, const ParticleView<2> &p,
+                          std::vector<double> &scratch);
 
 /// Particle k's domain by cpdi, cpdi2 or corner tracking (updateDomain's other cases).
-void updateTrackedDomain(const Scene<2> &sc, ParticleView &p, PetscInt k, const Tensor<2> &L,
+void updateTrackedDomain(const Scene<2> &sc, ParticleView<2> &p, PetscInt k, const Tensor<2> &L,
                          double dt);
 
 /// Particle k's domain after its deformation gradient F (already updated) and velocity
 /// gradient L over dt: half-sizes l, and with corners also the volume.
-inline void updateDomain(const Scene<2> &sc, ParticleView &p, PetscInt k, const Tensor<2> &L,
+inline void updateDomain(const Scene<2> &sc, ParticleView<2> &p, PetscInt k, const Tensor<2> &L,
                          double dt) {
   switch (sc.tracking) {
   case Tracking::None:
@@ -92,7 +93,7 @@ inline void updateDomain(const Scene<2> &sc, ParticleView &p, PetscInt k, const 
 /// Where each particle's weights are centred: the material point, or with corner tracking the
 /// centre of its corners' rectangle (into `centre`, which then is returned). With cpdi and cpdi2
 /// the material point (the crack side of a particle is its material point's).
-const double *domainCentres(const ParticleView &p, std::vector<double> &centre, Tracking t);
+const double *domainCentres(const ParticleView<2> &p, std::vector<double> &centre, Tracking t);
 
 /// Moves the tracked corners with the grid velocity interpolated at each corner, as a particle
 /// of the fictitious size -gimp_corner_size times the particle's (cornerSize 0: with the grid's
@@ -107,7 +108,7 @@ public:
   /// vWindow: nodal velocity on the window; mWindow: nodal mass there (component 0). False when
   /// a corner's stencil cannot be built (a particle larger than a level-0 cell).
   bool move(const Grid<2> &g, const std::vector<Crack> &cracks, double cornerSize, double cut,
-            double dt, const double *vWindow, const double *mWindow, ParticleView &p);
+            double dt, const double *vWindow, const double *mWindow, ParticleView<2> &p);
 
 private:
   Stencils<2> st_;

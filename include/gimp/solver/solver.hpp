@@ -74,45 +74,46 @@ private:
   /// Order this rank's particles by level-0 cell, then id (every -gimp_sort_interval steps);
   /// with rate classes `cls` (permuted along) by class first, and without `byCell` by class only.
   PetscErrorCode sortParticles(std::vector<int> *cls = nullptr, bool byCell = true);
-  PetscErrorCode buildStencils(const ParticleView &p, const double *centres);
+  PetscErrorCode buildStencils(const ParticleView<2> &p, const double *centres);
   // the transfers (solver/transfers.cpp)
   /// Where the stencils are centred: tracking::domainCentres, copied when the affine transfer
   /// needs the centres after G2P has moved the particles.
-  const double *stencilCentres(const ParticleView &p);
+  const double *stencilCentres(const ParticleView<2> &p);
   /// The centres of APIC's moments once the stencils are built: the stencils' centres, or with
   /// cpdi2 the weights' centroid sum_i S_ip x_i (the quadrilateral's, not the material point's).
-  const double *affineCentres(const ParticleView &p, const double *centres);
+  const double *affineCentres(const ParticleView<2> &p, const double *centres);
   /// The window coordinates of every slot (D per slot), built once.
   const double *slotCoordinates();
   /// Momentum of the particles' velocities (with APIC their affine fields) into the window
   /// array mom, and the mass into mass when it is not null.
-  void projectMomentum(const Stencils<kDim> &st, const ParticleView &p, const double *centres,
+  void projectMomentum(const Stencils<kDim> &st, const ParticleView<2> &p, const double *centres,
                        double *mom, double *mass);
-  PetscErrorCode particlesToGrid(const ParticleView &p, const double *centres);
+  PetscErrorCode particlesToGrid(const ParticleView<2> &p, const double *centres);
   /// XPIC(m): v* = sum_{k<m} (I - M^-1 S^T M_p S)^k v^n into nodal_.vstarW.
-  PetscErrorCode xpicFilter(const ParticleView &p, const StepClock &c);
+  PetscErrorCode xpicFilter(const ParticleView<2> &p, const StepClock &c);
   /// MUSL's and the corners' re-projection; with `projected` G2P has put the particles' new
   /// momenta on the window already (nodal_.sumW).
-  PetscErrorCode reproject(ParticleView &p, const StepClock &c, const double *centres,
+  PetscErrorCode reproject(ParticleView<2> &p, const StepClock &c, const double *centres,
                            bool projected);
-  PetscErrorCode forces(const ParticleView &p, const StepClock &c, StartPower &power);
+  PetscErrorCode forces(const ParticleView<2> &p, const StepClock &c, StartPower &power);
   /// TSStep, the nodal velocity and acceleration, the velocity (and acceleration) on the window.
   PetscErrorCode gridUpdate(bool accOnWindow = true);
   /// Each crack field's nodal displacement along the contact normal at the cracked nodes (into
   /// nodal_.faceW), once per step.
-  PetscErrorCode crackFaces(const ParticleView &p);
+  PetscErrorCode crackFaces(const ParticleView<2> &p);
   PetscErrorCode contactOnMomentum(const StepClock &c);
   /// Contact on a grid velocity (window velW, global vel) and, when accW is given, the same
   /// change / dt on the acceleration (window accW, global acc).
   PetscErrorCode crackContact(const StepClock &c, Vec velW, Vec vel, Vec accW, Vec acc);
-  PetscErrorCode gridToParticles(ParticleView &p, const StepClock &c, const double *centres);
+  PetscErrorCode gridToParticles(ParticleView<2> &p, const StepClock &c, const double *centres);
   /// The step's work: damping, and the external forces unless `external` is false (the
   /// multi-rate step takes each class's external work over its own step).
   PetscErrorCode work(const StepClock &c, const StartPower &power, bool external = true);
   /// The window's forces into nodal_.f and, with `external`, nodal_.fext (all ranks); the start
   /// power.
   PetscErrorCode globalForces(StartPower &power, bool external = true);
-  PetscErrorCode stress(const Stencils<kDim> &st, ParticleView &p, Vec velocityWindow, double dt);
+  PetscErrorCode stress(const Stencils<kDim> &st, ParticleView<2> &p, Vec velocityWindow,
+                        double dt);
 
   // the multi-rate step (solver/multirate.cpp): R = levels[0].step fine sub-steps, particles in
   // rate classes by the finest level their stencil touches, class c stepping every
@@ -121,16 +122,16 @@ private:
   /// Each particle's class, the swarm ordered by class, the slices and the kick weights.
   PetscErrorCode rateClasses(PetscInt step);
   /// Sub-step j: the classes that start (stencils, P2G), the total mass and mask.
-  PetscErrorCode startClasses(ParticleView &p, PetscInt j);
+  PetscErrorCode startClasses(ParticleView<2> &p, PetscInt j);
   /// The starting classes' forces, each times its step in sub-steps, into nodal_.f.
-  PetscErrorCode classForces(const ParticleView &p, const StepClock &c, PetscInt j,
+  PetscErrorCode classForces(const ParticleView<2> &p, const StepClock &c, PetscInt j,
                              StartPower &power);
   /// After the grid update of sub-step j: each class's sums since its start.
   PetscErrorCode accumulate(const StepClock &c, PetscInt j);
   /// What class k's particles take from the nodes at their G2P, into (or added to) out.
   PetscErrorCode takenBy(int k, double flip, double dt, Vec out, bool add);
   /// After the grid update of sub-step j: the ending classes' G2P, stress and momentum removal.
-  PetscErrorCode endClasses(ParticleView &p, const StepClock &c, PetscInt j,
+  PetscErrorCode endClasses(ParticleView<2> &p, const StepClock &c, PetscInt j,
                             const StartPower &power);
   /// A multiple of `interval` in [a, b): the reports due within a (coarse) step.
   static bool dueIn(PetscInt a, PetscInt b, PetscInt interval) {
@@ -138,7 +139,7 @@ private:
   }
   /// Fine steps per step() call: R with -gimp_multirate, else 1.
   PetscInt stride() const { return sc_.multirate ? grid_.levels[0].step : 1; }
-  PetscErrorCode checks(const ParticleView &p, PetscInt step, double t);
+  PetscErrorCode checks(const ParticleView<2> &p, PetscInt step, double t);
   PetscErrorCode report(PetscInt step, double t);
 
   // the critical time step (solver/stability_check.cpp)

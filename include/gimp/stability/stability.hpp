@@ -43,7 +43,7 @@ struct OperatorInput {
   const Scene<2> *sc = nullptr;
   const Grid<2> *grid = nullptr;
   const Stencils<2> *st = nullptr;
-  const ParticleView *p = nullptr;
+  const ParticleView<2> *p = nullptr;
   const physics::Boundary *boundary = nullptr; // null: no penalty conditions
   bool springs = true;                         // false: the penalty springs left out
   bool stressOnUpdated = false;          // USL: the stress follows V^n + dt a^n, (2 - R) x, not R x

@@ -13,8 +13,8 @@
 #include "gimp/diagnostics/energy_watch.hpp"
 #include "gimp/grid/grid.hpp"
 #include "gimp/input/scene.hpp"
+#include "gimp/particles/swarm.hpp"
 #include "gimp/solver/step_common.hpp"
-#include "gimp/three/particles3.hpp"
 
 #include <petscts.h>
 
@@ -60,14 +60,14 @@ private:
   PetscErrorCode migrate();
   /// Order this rank's particles by level-0 cell (x fastest), then id, as the 2D step does.
   PetscErrorCode sortParticles();
-  PetscErrorCode particlesToGrid(const Particles3 &p);
-  PetscErrorCode forces(const Particles3 &p, const StepClock &c);
+  PetscErrorCode particlesToGrid(const ParticleView<3> &p);
+  PetscErrorCode forces(const ParticleView<3> &p, const StepClock &c);
   PetscErrorCode gridUpdate();
-  PetscErrorCode gridToParticles(Particles3 &p, const StepClock &c);
-  PetscErrorCode stress(Particles3 &p, double dt);
+  PetscErrorCode gridToParticles(ParticleView<3> &p, const StepClock &c);
+  PetscErrorCode stress(ParticleView<3> &p, double dt);
   /// Tractions, gravity and the penalty conditions (Eq. 9) into the window array fe.
-  void externalForces(const Particles3 &p, double t, double *fe);
-  PetscErrorCode checks(const Particles3 &p, PetscInt step, double t);
+  void externalForces(const ParticleView<3> &p, double t, double *fe);
+  PetscErrorCode checks(const ParticleView<3> &p, PetscInt step, double t);
   PetscErrorCode report(PetscInt step, double t, bool last);
   PetscErrorCode energies(Energies3 &e);
   PetscErrorCode probes(std::vector<ProbeState3> &out);

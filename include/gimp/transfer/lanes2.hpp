@@ -58,8 +58,8 @@ void velocityGradients(const Stencils<2> &st, PetscInt k0, PetscInt k1, const do
 /// L[0]): runs of four particles of one linear material, with stretch tracking or none, in lanes
 /// (F += dt L F, V, the Jaumann update of material::jaumannUpdate, l = |F e_a| l0); the others
 /// through the scalar update.
-void updateDeformation(const Scene<2> &sc, ParticleView &p, const double *L, double dt, PetscInt k0,
-                       PetscInt k1);
+void updateDeformation(const Scene<2> &sc, ParticleView<2> &p, const double *L, double dt,
+                       PetscInt k0, PetscInt k1);
 
 /// Solver::checks' test of each particle, for the first 4 floor(n / 4) particles in lanes of
 /// four: finite position and stress (x + y + s_xx + s_yy + s_xy), V > 0, the domain

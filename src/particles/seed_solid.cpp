@@ -1,114 +1,11 @@
-#include "gimp/three/particles3.hpp"
-
-#include "gimp/input/scene.hpp"
+// Seeding a 3D scene: n^3 particles per leaf cell, kept where their centre lies in a solid body
+// (input/bodies.hpp), and the faces of the bodies' boxes that each particle's faces lie on.
 #include "gimp/particles/seed.hpp"
-#include "gimp/particles/swarm.hpp"
 
 #include <cmath>
 #include <utility>
 
-namespace gimp::three {
-
-namespace {
-
-struct Field3 {
-  const char *name;
-  PetscInt components;
-  PetscDataType type;
-  int need; // 0 always, 1 APIC, 2 tractions or penalty conditions
-  void **(*slot)(Particles3 &);
-};
-
-template <typename T> void **slotOf(T *&p) {
-  return reinterpret_cast<void **>(&p);
-}
-
-const std::vector<Field3> &fields3() {
-  static const std::vector<Field3> f = {
-      {"x", 3, PETSC_REAL, 0, [](Particles3 &p) { return slotOf(p.x); }},
-      {"X0", 3, PETSC_REAL, 0, [](Particles3 &p) { return slotOf(p.X0); }},
-      {"v", 3, PETSC_REAL, 0, [](Particles3 &p) { return slotOf(p.v); }},
-      {"m", 1, PETSC_REAL, 0, [](Particles3 &p) { return slotOf(p.m); }},
-      {"V0", 1, PETSC_REAL, 0, [](Particles3 &p) { return slotOf(p.V0); }},
-      {"V", 1, PETSC_REAL, 0, [](Particles3 &p) { return slotOf(p.V); }},
-      {"l", 3, PETSC_REAL, 0, [](Particles3 &p) { return slotOf(p.l); }},
-      {"l0", 3, PETSC_REAL, 0, [](Particles3 &p) { return slotOf(p.l0); }},
-      {"F", 9, PETSC_REAL, 0, [](Particles3 &p) { return slotOf(p.F); }},
-      {"stress", 9, PETSC_REAL, 0, [](Particles3 &p) { return slotOf(p.s); }},
-      {"id", 1, PETSC_INT64, 0, [](Particles3 &p) { return slotOf(p.id); }},
-      {"B", 9, PETSC_REAL, 1, [](Particles3 &p) { return slotOf(p.B); }},
-      {"trac", 3, PETSC_INT, 2, [](Particles3 &p) { return slotOf(p.trac); }},
-      {"dbc", 3, PETSC_INT, 2, [](Particles3 &p) { return slotOf(p.dbc); }},
-  };
-  return f;
-}
-
-bool needed(const Field3 &f, bool affine, bool boundary) {
-  return f.need == 0 || (f.need == 1 && affine) || (f.need == 2 && boundary);
-}
-
-/// Whether the swarm carries the optional field marked `mark` (createSwarm3 marks them).
-PetscErrorCode hasMark(DM sw, const char *mark, bool &yes) {
-  PetscObject o = nullptr;
-  PetscCall(PetscObjectQuery(reinterpret_cast<PetscObject>(sw), mark, &o));
-  yes = o != nullptr;
-  return PETSC_SUCCESS;
-}
-
-} // namespace
-
-PetscErrorCode Particles3::get(DM sw) {
-  PetscCall(hasMark(sw, "gimp3_affine", affine));
-  PetscCall(hasMark(sw, "gimp3_boundary", boundary));
-  PetscCall(DMSwarmGetLocalSize(sw, &n));
-  for (const Field3 &f : fields3())
-    if (needed(f, affine, boundary))
-      PetscCall(DMSwarmGetField(sw, f.name, nullptr, nullptr, f.slot(*this)));
-  PetscCall(DMSwarmGetField(sw, DMSwarmField_rank, nullptr, nullptr, slotOf(rank)));
-  return PETSC_SUCCESS;
-}
-
-PetscErrorCode Particles3::restore(DM sw) {
-  for (const Field3 &f : fields3())
-    if (needed(f, affine, boundary))
-      PetscCall(DMSwarmRestoreField(sw, f.name, nullptr, nullptr, f.slot(*this)));
-  PetscCall(DMSwarmRestoreField(sw, DMSwarmField_rank, nullptr, nullptr, slotOf(rank)));
-  return PETSC_SUCCESS;
-}
-
-PetscErrorCode permuteSwarm3(DM sw, const std::vector<PetscInt> &order) {
-  bool affine = false, boundary = false;
-  PetscCall(hasMark(sw, "gimp3_affine", affine));
-  PetscCall(hasMark(sw, "gimp3_boundary", boundary));
-  std::vector<const char *> names;
-  for (const Field3 &f : fields3())
-    if (needed(f, affine, boundary)) names.push_back(f.name);
-  return permuteSwarmFields(sw, order, names);
-}
-
-PetscErrorCode createSwarm3(MPI_Comm comm, const Scene<3> &sc, DM *sw) {
-  const bool affine = sc.transfer == Transfer::Apic;
-  const bool boundary = !sc.tractions.empty() || !sc.dbcs.empty();
-  PetscCall(DMCreate(comm, sw));
-  PetscCall(DMSetType(*sw, DMSWARM));
-  PetscCall(PetscObjectSetName(reinterpret_cast<PetscObject>(*sw), "particles"));
-  PetscCall(DMSetDimension(*sw, 3));
-  PetscCall(DMSwarmSetType(*sw, DMSWARM_BASIC));
-  PetscCall(DMSwarmInitializeFieldRegister(*sw));
-  for (const Field3 &f : fields3())
-    if (needed(f, affine, boundary))
-      PetscCall(DMSwarmRegisterPetscDatatypeField(*sw, f.name, f.components, f.type));
-  PetscCall(DMSwarmFinalizeFieldRegister(*sw));
-  for (const auto &[mark, on] : {std::pair{"gimp3_affine", affine}, {"gimp3_boundary", boundary}}) {
-    if (!on) continue;
-    PetscContainer c;
-    PetscCall(PetscContainerCreate(comm, &c));
-    PetscCall(PetscObjectCompose(reinterpret_cast<PetscObject>(*sw), mark,
-                                 reinterpret_cast<PetscObject>(c)));
-    PetscCall(PetscContainerDestroy(&c));
-  }
-  return PETSC_SUCCESS;
-}
+namespace gimp {
 
 namespace {
 
@@ -144,8 +41,11 @@ PetscInt faceCondition(const Faces &faces, int kind, const Body<3> &body, int b,
 
 } // namespace
 
-PetscErrorCode seedParticles3(const Scene<3> &sc, const Grid<3> &grid, PetscMPIInt rank, DM sw,
-                              int &overlapping, LoadConflict &conflict) {
+template <>
+PetscErrorCode seedParticles<3>(const Scene<3> &sc, const Grid<3> &grid, DM sw,
+                                LoadConflict &conflict) {
+  PetscMPIInt rank = 0;
+  PetscCallMPI(MPI_Comm_rank(PetscObjectComm(reinterpret_cast<PetscObject>(sw)), &rank));
   struct Seed {
     double x[3], l, V;
     PetscInt64 id;
@@ -193,10 +93,10 @@ PetscErrorCode seedParticles3(const Scene<3> &sc, const Grid<3> &grid, PetscMPII
     });
     cellBase += nc;
   }
-  overlapping = overlap;
+  conflict.noteOverlap(overlap);
   const PetscInt n = static_cast<PetscInt>(seeds.size());
   PetscCall(DMSwarmSetLocalSizes(sw, n, 4));
-  Particles3 p;
+  ParticleView<3> p;
   PetscCall(p.get(sw));
   const double tol = 1e-9 * grid.hMin();
   for (PetscInt k = 0; k < n; ++k) {
@@ -218,7 +118,7 @@ PetscErrorCode seedParticles3(const Scene<3> &sc, const Grid<3> &grid, PetscMPII
     }
     p.id[k] = s.id;
     p.rank[k] = rank;
-    if (!p.boundary) continue;
+    if (!p.trac) continue;
     for (int a = 0; a < 3; ++a) {
       p.trac[3 * k + a] = p.dbc[3 * k + a] = -1;
       for (double nrm : {-1.0, 1.0}) {
@@ -238,4 +138,4 @@ PetscErrorCode seedParticles3(const Scene<3> &sc, const Grid<3> &grid, PetscMPII
   return PETSC_SUCCESS;
 }
 
-} // namespace gimp::three
+} // namespace gimp
