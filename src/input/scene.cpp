@@ -87,7 +87,7 @@ PetscErrorCode readOutputOptions(MPI_Comm comm, Scene<2> &sc, RunOptions &o) {
   const char *const *mmss = kMms;
   PetscCall(checkChoice("-gimp_mms", kMms, 2));
   PetscOptionsBegin(comm, nullptr, "gimp scene: outputs and measures", "gimp");
-  PetscCall(PetscOptionsString("-gimp_scene", "Scene<2> name (output/<name> by default)",
+  PetscCall(PetscOptionsString("-gimp_scene", "Scene name (output/<name> by default)",
                                "docs/options.md", name, name, sizeof(o.name), nullptr));
   PetscCall(PetscOptionsString("-gimp_output_dir", "Output directory (default output/<scene>)",
                                "docs/options.md", outdir, outdir, sizeof(o.outdir), nullptr));
@@ -175,7 +175,7 @@ PetscErrorCode readMethodOptions(MPI_Comm comm, Scene<2> &sc, RunOptions &o) {
                              sc.h, &sc.h, &setH));
   PetscCall(
       PetscOptionsRealArray("-gimp_domain",
-                            "Grid<2> domain x0,y0,x1,y1 [m] (default: the bodies' bounding box "
+                            "Grid domain x0,y0,x1,y1 [m] (default: the bodies' bounding box "
                             "padded by -gimp_pad cells)",
                             "docs/options.md", dom, &ndom, &setDom));
   PetscCall(PetscOptionsInt("-gimp_pad",

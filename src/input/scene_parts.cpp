@@ -71,7 +71,7 @@ PetscErrorCode readBodyMaterial(MPI_Comm comm, const std::string &p, const Scene
   PetscInt model = m.model == MaterialModel::Linear ? 0 : 1;
   PetscBool setE = PETSC_FALSE, setRho = PETSC_FALSE;
   PetscCall(checkChoice(p + "material", models, 2));
-  PetscOptionsBegin(comm, nullptr, ("Body<2> material " + p + "*").c_str(), "gimp");
+  PetscOptionsBegin(comm, nullptr, ("Body material " + p + "*").c_str(), "gimp");
   PetscCall(PetscOptionsEList((p + "material").c_str(),
                               "The body's constitutive model (default: -gimp_material)",
                               "docs/options.md", models, 2, models[model], &model, nullptr));
@@ -187,7 +187,7 @@ PetscErrorCode readShape(MPI_Comm comm, const std::string &p, const Scene<2> &sc
   PetscReal ab[401] = {0}, ac[301] = {0}, ae[401] = {0};
   PetscInt nab = 401, nac = 301, nae = 401, nap = 0;
   PetscCall(checkChoice(p + "shape", shapes, 5));
-  PetscOptionsBegin(comm, nullptr, ("Body<2> shape " + p + "*").c_str(), "gimp");
+  PetscOptionsBegin(comm, nullptr, ("Body shape " + p + "*").c_str(), "gimp");
   PetscCall(PetscOptionsEList((p + "shape").c_str(),
                               "Shape of the body: rectangle (_box), circle (_circle), ellipse "
                               "(_ellipse), polygon (_polygon) or particles from a file (_file)",
@@ -196,18 +196,18 @@ PetscErrorCode readShape(MPI_Comm comm, const std::string &p, const Scene<2> &sc
                                "CSV file of the body's particles: x,y and lx,ly or V, optionally "
                                "vx,vy (shape file)",
                                "docs/options.md", file, file, sizeof(file), &setFile));
-  PetscCall(PetscOptionsRealArray((p + "box").c_str(), "Body<2> rectangle x0,y0,x1,y1 [m]",
+  PetscCall(PetscOptionsRealArray((p + "box").c_str(), "Body rectangle x0,y0,x1,y1 [m]",
                                   "docs/options.md", box, &nbox, &setBox));
   PetscCall(PetscOptionsRealArray((p + "circle").c_str(),
-                                  "Body<2> circle cx,cy,r [m] (shape circle)", "docs/options.md",
+                                  "Body circle cx,cy,r [m] (shape circle)", "docs/options.md",
                                   circ, &ncirc, &setCirc));
   PetscCall(
       PetscOptionsRealArray((p + "ellipse").c_str(),
-                            "Body<2> ellipse cx,cy,a,b, half-axes a along x and b along y [m] "
+                            "Body ellipse cx,cy,a,b, half-axes a along x and b along y [m] "
                             "(shape ellipse)",
                             "docs/options.md", ell, &nell, &setEll));
   PetscCall(PetscOptionsRealArray((p + "polygon").c_str(),
-                                  "Body<2> polygon x0,y0,x1,y1,... (a simple polygon, at most 200 "
+                                  "Body polygon x0,y0,x1,y1,... (a simple polygon, at most 200 "
                                   "vertices) [m] (shape polygon)",
                                   "docs/options.md", poly, &npoly, &setPoly));
   PetscCall(PetscOptionsRealArray((p + "hole_ellipses").c_str(),
@@ -399,7 +399,7 @@ PetscErrorCode readBodies(MPI_Comm comm, Scene<2> &sc) {
     PetscInt profile = 0;
     PetscReal band = 0, k0 = 0, spin = 0;
     PetscCall(checkChoice(p + "velocity_profile", profiles, 2));
-    PetscOptionsBegin(comm, nullptr, ("Body<2> " + p + "*").c_str(), "gimp");
+    PetscOptionsBegin(comm, nullptr, ("Body " + p + "*").c_str(), "gimp");
     PetscCall(PetscOptionsRealArray((p + "holes").c_str(),
                                     "Circular holes removed from the body: cx,cy,r,... [m]",
                                     "docs/options.md", holes, &nholes, &setHoles));
@@ -507,7 +507,7 @@ PetscErrorCode readSegment(MPI_Comm comm, const std::string &p, const char *what
   PetscBool setR = PETSC_FALSE;
   PetscCall(checkChoice(p + "side", kSides, 4));
   PetscOptionsBegin(comm, nullptr, (std::string(what) + " segment " + p + "*").c_str(), "gimp");
-  PetscCall(PetscOptionsInt((p + "body").c_str(), "Body<2> it acts on", "docs/options.md", body,
+  PetscCall(PetscOptionsInt((p + "body").c_str(), "Body it acts on", "docs/options.md", body,
                             &body, nullptr));
   PetscCall(PetscOptionsEList((p + "side").c_str(), "Side of the body's rectangle",
                               "docs/options.md", kSides, 4, kSides[1], &side, nullptr));
@@ -535,10 +535,10 @@ PetscErrorCode readTraction(MPI_Comm comm, PetscInt k, Scene<2> &sc) {
   PetscInt nv = 3;
   PetscReal val[3] = {0, 0, 0};
   PetscBool setV = PETSC_FALSE;
-  PetscCall(readSegment(comm, p, "Traction<2>", sc, t));
-  PetscOptionsBegin(comm, nullptr, ("Traction<2> " + p + "*").c_str(), "gimp");
+  PetscCall(readSegment(comm, p, "Traction", sc, t));
+  PetscOptionsBegin(comm, nullptr, ("Traction " + p + "*").c_str(), "gimp");
   PetscCall(PetscOptionsRealArray((p + "value").c_str(),
-                                  "Traction<2> vector tx,ty at full load [Pa]", "docs/options.md",
+                                  "Traction vector tx,ty at full load [Pa]", "docs/options.md",
                                   val, &nv, &setV));
   PetscOptionsEnd();
   PetscCall(readRamp(comm, p + "ramp", t.ramp, sc.help));
@@ -589,7 +589,7 @@ PetscErrorCode readNodeBC(MPI_Comm comm, PetscInt k, Scene<2> &sc) {
   PetscInt nr = 3, type = 0;
   const char *types[] = {"fixed", "roller"};
   PetscCall(checkChoice(p + "type", types, 2));
-  PetscOptionsBegin(comm, nullptr, ("Grid<2>-node constraint " + p + "*").c_str(), "gimp");
+  PetscOptionsBegin(comm, nullptr, ("Grid-node constraint " + p + "*").c_str(), "gimp");
   PetscCall(PetscOptionsReal((p + "x").c_str(),
                              "Constrain the grid nodes on the line x = value [m]",
                              "docs/options.md", x, &x, &setX));
@@ -628,9 +628,9 @@ PetscErrorCode readProbe(MPI_Comm comm, PetscInt k, Scene<2> &sc) {
   PetscInt nx = 3;
   PetscBool setX = PETSC_FALSE;
   pr.name = "probe" + std::to_string(k);
-  PetscOptionsBegin(comm, nullptr, ("Probe<2> " + p + "*").c_str(), "gimp");
+  PetscOptionsBegin(comm, nullptr, ("Probe " + p + "*").c_str(), "gimp");
   PetscCall(PetscOptionsString((p + "name").c_str(),
-                               "Probe<2> name in history.csv and summary.json", "docs/options.md",
+                               "Probe name in history.csv and summary.json", "docs/options.md",
                                pr.name.c_str(), name, sizeof(name), nullptr));
   PetscCall(PetscOptionsRealArray((p + "x").c_str(),
                                   "Initial position x,y; the probe follows the particle nearest "
@@ -660,7 +660,7 @@ PetscErrorCode readLoads(MPI_Comm comm, Scene<2> &sc) {
   PetscBool setG = PETSC_FALSE, setPenalty = PETSC_FALSE, setPtrac = PETSC_FALSE;
   PetscBool ptrac = sc.penaltyTraction ? PETSC_TRUE : PETSC_FALSE;
   PetscOptionsBegin(comm, nullptr, "Loads and constraints", "gimp");
-  PetscCall(PetscOptionsRealArray("-gimp_gravity", "Body<2> force per unit mass gx,gy [m/s^2]",
+  PetscCall(PetscOptionsRealArray("-gimp_gravity", "Body force per unit mass gx,gy [m/s^2]",
                                   "docs/options.md", g, &ng, &setG));
   PetscCall(PetscOptionsInt("-gimp_tractions", "Number of traction loads -gimp_tractionK_*",
                             "docs/options.md", nt, &nt, nullptr));
@@ -710,7 +710,7 @@ PetscErrorCode readLoads(MPI_Comm comm, Scene<2> &sc) {
 
 PetscErrorCode readLevels(MPI_Comm comm, Scene<2> &sc) {
   PetscInt n = 1;
-  PetscOptionsBegin(comm, nullptr, "Grid<2> levels", "gimp");
+  PetscOptionsBegin(comm, nullptr, "Grid levels", "gimp");
   PetscCall(PetscOptionsInt("-gimp_levels",
                             "Number of grid levels (1: uniform); level k > 0 is set by "
                             "-gimp_levelK_box and -gimp_levelK_ratio",
@@ -723,9 +723,9 @@ PetscErrorCode readLevels(MPI_Comm comm, Scene<2> &sc) {
     PetscReal box[5] = {0, 0, 0, 0, 0}, ratio = 2;
     PetscInt nbox = 5;
     PetscBool setBox = PETSC_FALSE;
-    PetscOptionsBegin(comm, nullptr, ("Grid<2> level " + p + "*").c_str(), "gimp");
+    PetscOptionsBegin(comm, nullptr, ("Grid level " + p + "*").c_str(), "gimp");
     PetscCall(PetscOptionsRealArray((p + "box").c_str(),
-                                    "BoxOf<2> x0,y0,x1,y1 of this level, corners on the parent "
+                                    "Box x0,y0,x1,y1 of this level, corners on the parent "
                                     "level's grid lines [m]",
                                     "docs/options.md", box, &nbox, &setBox));
     PetscCall(PetscOptionsReal((p + "ratio").c_str(),

@@ -221,7 +221,7 @@ Face<3> readFace(MPI_Comm comm, const std::string &p, const Scene<3> &sc) {
     bad(p + "body", std::to_string(f.body),
         "must be a body index 0.." + std::to_string(sc.bodies.size() - 1));
   f.side = choiceOpt(comm, "-" + p + "side",
-                     "Face<3> of the body's box: left, right (x), bottom, top (y), back, front (z)",
+                     "Face of the body's box: left, right (x), bottom, top (y), back, front (z)",
                      kSides, 6, 1);
   f.hasRange = realsOpt(comm, "-" + p + "range",
                         "Rectangle on the face: from,to along its first in-face axis, then the "
@@ -547,7 +547,7 @@ void readSolidSceneOptions(MPI_Comm comm, Scene<3> &sc) {
   sc.h = realOpt(comm, "-gimp_h", "Cell size of level 0 [m]", 0.0);
   sc.pad =
       intOpt(comm, "-gimp_pad", "Cells of padding around the bodies for the default domain", 2);
-  sc.domainGiven = realsOpt(comm, "-gimp_domain", "Grid<2> domain x0,y0,z0,x1,y1,z1 [m]",
+  sc.domainGiven = realsOpt(comm, "-gimp_domain", "Grid domain x0,y0,z0,x1,y1,z1 [m]",
                             sc.domain.data(), 6, "6 values x0,y0,z0,x1,y1,z1 [m]");
   if (!sc.help) {
     if (!(sc.h > 0)) bad("gimp_h", formatNumber(sc.h), "must be > 0 [m]");

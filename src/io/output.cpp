@@ -332,8 +332,8 @@ PetscErrorCode Output::writeXdmf() const {
   if (rank_ == 0) {
     const char *head =
         "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n<Domain>\n"
-        "<Grid<2> Name=\"%s\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
-    const char *tail = "</Grid<2>>\n</Domain>\n</Xdmf>\n";
+        "<Grid Name=\"%s\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
+    const char *tail = "</Grid>\n</Domain>\n</Xdmf>\n";
     std::fprintf(fp, head, "particles");
     std::fprintf(fg, head, "grid");
     PetscCall(writeParticleXdmf(fp));
@@ -350,7 +350,7 @@ PetscErrorCode Output::writeParticleXdmf(FILE *fp) const {
   for (const Frame &fr : frames_) {
     const std::string g = frameGroup(fr.step);
     std::fprintf(fp,
-                 " <Grid<2> Name=\"%s\" GridType=\"Uniform\">\n  <Time Value=\"%.12e\"/>\n"
+                 " <Grid Name=\"%s\" GridType=\"Uniform\">\n  <Time Value=\"%.12e\"/>\n"
                  "  <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"%lld\"/>\n"
                  "  <Geometry GeometryType=\"XY\"><DataItem Dimensions=\"%lld 2\" "
                  "NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">fields.h5:/particles/%s/x"
@@ -367,7 +367,7 @@ PetscErrorCode Output::writeParticleXdmf(FILE *fp) const {
                    fs->name, fs->components == 1 ? "Scalar" : "Matrix", fr.particles, dims.c_str(),
                    g.c_str(), fs->name);
     }
-    std::fprintf(fp, " </Grid<2>>\n");
+    std::fprintf(fp, " </Grid>\n");
   }
   return PETSC_SUCCESS;
 }
@@ -376,7 +376,7 @@ PetscErrorCode Output::writeGridXdmf(FILE *fg) const {
   for (const Frame &fr : frames_) {
     const std::string g = frameGroup(fr.step);
     std::fprintf(fg,
-                 " <Grid<2> Name=\"%s\" GridType=\"Collection\" CollectionType=\"Spatial\">\n"
+                 " <Grid Name=\"%s\" GridType=\"Collection\" CollectionType=\"Spatial\">\n"
                  "  <Time Value=\"%.12e\"/>\n",
                  g.c_str(), fr.t);
     for (size_t k = 0; k < grid_.levels.size(); ++k) {
@@ -384,7 +384,7 @@ PetscErrorCode Output::writeGridXdmf(FILE *fg) const {
       const long long N = L.n[1], M = L.n[0];
       const std::string ref = "fields.h5:/grid/" + g + "/level_" + std::to_string(k);
       std::fprintf(fg,
-                   "  <Grid<2> Name=\"level_%zu\" GridType=\"Uniform\">\n"
+                   "  <Grid Name=\"level_%zu\" GridType=\"Uniform\">\n"
                    "   <Topology TopologyType=\"2DCoRectMesh\" Dimensions=\"%lld %lld\"/>\n"
                    "   <Geometry GeometryType=\"ORIGIN_DXDY\">\n"
                    "    <DataItem Dimensions=\"2\" NumberType=\"Float\" Format=\"XML\">%.17g %.17g"
@@ -396,10 +396,10 @@ PetscErrorCode Output::writeGridXdmf(FILE *fg) const {
                    "%s/mass</DataItem></Attribute>\n"
                    "   <Attribute Name=\"velocity\" AttributeType=\"Matrix\" Center=\"Node\">"
                    "<DataItem Dimensions=\"%lld %lld 2\" NumberType=\"Float\" Precision=\"8\" "
-                   "Format=\"HDF\">%s/velocity</DataItem></Attribute>\n  </Grid<2>>\n",
+                   "Format=\"HDF\">%s/velocity</DataItem></Attribute>\n  </Grid>\n",
                    k, N, M, L.box[1], L.box[0], L.h, L.h, N, M, ref.c_str(), N, M, ref.c_str());
     }
-    std::fprintf(fg, " </Grid<2>>\n");
+    std::fprintf(fg, " </Grid>\n");
   }
   return PETSC_SUCCESS;
 }

@@ -16,7 +16,7 @@ PetscErrorCode readStepClock(TS ts, bool halfStepStart, StepClock &c) {
 PetscErrorCode StepStages::registerAll() {
   PetscCall(PetscLogStageRegister("P2G", &p2g));
   PetscCall(PetscLogStageRegister("Forces", &forces));
-  PetscCall(PetscLogStageRegister("Grid<2> update", &grid));
+  PetscCall(PetscLogStageRegister("Grid update", &grid));
   PetscCall(PetscLogStageRegister("G2P", &g2p));
   PetscCall(PetscLogStageRegister("Stress", &stress));
   PetscCall(PetscLogStageRegister("Output", &output));

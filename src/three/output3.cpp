@@ -156,9 +156,9 @@ PetscErrorCode Solver3::writeXdmf() {
   // temporary file and renamed: a failure leaves the previous version.
   std::string error;
   if (rank_ == 0) {
-    const char *head = "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n<Domain>\n<Grid<2> "
+    const char *head = "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n<Domain>\n<Grid "
                        "Name=\"%s\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
-    const char *tail = "</Grid<2>>\n</Domain>\n</Xdmf>\n";
+    const char *tail = "</Grid>\n</Domain>\n</Xdmf>\n";
     for (const char *name : {"particles", "grid"}) {
       const std::string path = sc_.outputDir + "/" + name + ".xmf";
       FILE *f = std::fopen((path + ".tmp").c_str(), "w");
@@ -185,7 +185,7 @@ PetscErrorCode Solver3::writeXdmf() {
 void Solver3::particleXdmf(FILE *f, const Frame &fr) const {
   const std::string g = frameGroup(fr.step);
   std::fprintf(f,
-               " <Grid<2> Name=\"%s\" GridType=\"Uniform\">\n  <Time Value=\"%.12e\"/>\n"
+               " <Grid Name=\"%s\" GridType=\"Uniform\">\n  <Time Value=\"%.12e\"/>\n"
                "  <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"%lld\"/>\n"
                "  <Geometry GeometryType=\"XYZ\"><DataItem Dimensions=\"%lld 3\" "
                "NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">fields.h5:/particles/"
@@ -202,13 +202,13 @@ void Solver3::particleXdmf(FILE *f, const Frame &fr) const {
                  "fields.h5:/particles/%s/%s</DataItem></Attribute>\n",
                  w.name, type, dims.c_str(), g.c_str(), w.name);
   }
-  std::fprintf(f, " </Grid<2>>\n");
+  std::fprintf(f, " </Grid>\n");
 }
 
 void Solver3::gridXdmf(FILE *f, const Frame &fr) const {
   const std::string g = frameGroup(fr.step);
   std::fprintf(f,
-               " <Grid<2> Name=\"%s\" GridType=\"Collection\" CollectionType=\"Spatial\">\n"
+               " <Grid Name=\"%s\" GridType=\"Collection\" CollectionType=\"Spatial\">\n"
                "  <Time Value=\"%.12e\"/>\n",
                g.c_str(), fr.t);
   for (size_t k = 0; k < grid_.levels.size(); ++k) {
@@ -216,7 +216,7 @@ void Solver3::gridXdmf(FILE *f, const Frame &fr) const {
     const long long P = L.n[2], N = L.n[1], M = L.n[0];
     const std::string ref = "fields.h5:/grid/" + g + "/level_" + std::to_string(k);
     std::fprintf(f,
-                 "  <Grid<2> Name=\"level_%zu\" GridType=\"Uniform\">\n"
+                 "  <Grid Name=\"level_%zu\" GridType=\"Uniform\">\n"
                  "   <Topology TopologyType=\"3DCoRectMesh\" Dimensions=\"%lld %lld %lld\"/>\n"
                  "   <Geometry GeometryType=\"ORIGIN_DXDYDZ\">\n"
                  "    <DataItem Dimensions=\"3\" NumberType=\"Float\" Format=\"XML\">%.17g %.17g "
@@ -228,11 +228,11 @@ void Solver3::gridXdmf(FILE *f, const Frame &fr) const {
                  "Format=\"HDF\">%s/mass</DataItem></Attribute>\n"
                  "   <Attribute Name=\"velocity\" AttributeType=\"Vector\" Center=\"Node\">"
                  "<DataItem Dimensions=\"%lld %lld %lld 3\" NumberType=\"Float\" Precision=\"8\" "
-                 "Format=\"HDF\">%s/velocity</DataItem></Attribute>\n  </Grid<2>>\n",
+                 "Format=\"HDF\">%s/velocity</DataItem></Attribute>\n  </Grid>\n",
                  k, P, N, M, L.box[2], L.box[1], L.box[0], L.h, L.h, L.h, P, N, M, ref.c_str(), P,
                  N, M, ref.c_str());
   }
-  std::fprintf(f, " </Grid<2>>\n");
+  std::fprintf(f, " </Grid>\n");
 }
 
 PetscErrorCode Solver3::writeParticleDump() {
