@@ -1,6 +1,5 @@
 // gimp: explicit GIMP solid dynamics on a structured grid. See README.md and docs/.
 #include "gimp/solver/solver.hpp"
-#include "gimp/three/solver3.hpp"
 
 #include "gimp/core/interrupt.hpp"
 #include "gimp/input/options_file.hpp"
@@ -16,6 +15,24 @@ static const char help[] =
     "gimp: explicit Generalized Interpolation Material Point solver.\n"
     "Usage: gimp -options_file options/plate.opts [-ts_max_steps N] [-log_view]\n"
     "Options are listed below and in docs/options.md (SI units).\n";
+
+namespace {
+
+/// Set up and run the solver of dimension D; the process's exit code: 3 for a run that went
+/// unstable (its outputs written), 128 + the signal for an interrupted one (checkpoint, last
+/// frame and summary written; as a shell reports a process the signal ended: 130 SIGINT, 143
+/// SIGTERM), 1 for a PETSc error.
+template <int D> int runScene() {
+  gimp::Solver<D> sim(PETSC_COMM_WORLD);
+  PetscErrorCode ierr = sim.setup();
+  if (!ierr) ierr = sim.run();
+  if (ierr) return 1;
+  if (sim.failed()) return 3;
+  if (sim.interrupted()) return 128 + sim.interrupted();
+  return 0;
+}
+
+} // namespace
 
 int main(int argc, char **argv) {
   // -options_file names are read here, nested ones relative to the file that names them.
@@ -41,9 +58,8 @@ int main(int argc, char **argv) {
     (void)PetscPrintf(PETSC_COMM_WORLD, "gimp: warning: cannot handle SIGINT/SIGTERM\n");
   int code = 0;
   try {
-    PetscErrorCode ierr;
     PetscInt dim = 2;
-    ierr = gimp::readOptionsOneLine([&] {
+    const PetscErrorCode ierr = gimp::readOptionsOneLine([&] {
       PetscOptionsBegin(PETSC_COMM_WORLD, nullptr, "gimp: dimension", "gimp");
       PetscCall(PetscOptionsInt("-gimp_dim", "Spatial dimension of the scene: 2 or 3",
                                 "docs/options.md", dim, &dim, nullptr));
@@ -52,27 +68,7 @@ int main(int argc, char **argv) {
     });
     if (!ierr && dim != 2 && dim != 3)
       throw gimp::InputError("option -gimp_dim " + std::to_string(dim) + ": must be 2 or 3");
-    if (ierr) {
-    } else if (dim == 3) {
-      gimp::three::Solver3 sim(PETSC_COMM_WORLD);
-      ierr = sim.setup();
-      if (!ierr) ierr = sim.run();
-      if (!ierr && sim.failed())
-        code = 3;
-      else if (!ierr && sim.interrupted())
-        code = 128 + sim.interrupted();
-    } else {
-      gimp::Solver sim(PETSC_COMM_WORLD);
-      ierr = sim.setup();
-      if (!ierr) ierr = sim.run();
-      // An unstable run stopped early with its outputs written: exit non-zero.
-      if (!ierr && sim.failed()) code = 3;
-      // Interrupted: checkpoint, last frame and summary written; 128 + the signal, as a shell
-      // reports a process the signal ended (130 SIGINT, 143 SIGTERM).
-      else if (!ierr && sim.interrupted())
-        code = 128 + sim.interrupted();
-    }
-    if (ierr) code = 1;
+    code = ierr ? 1 : dim == 3 ? runScene<3>() : runScene<2>();
   } catch (const gimp::InputError &e) {
     PetscMPIInt rank = 0;
     MPI_Comm_rank(PETSC_COMM_WORLD, &rank);

@@ -1,4 +1,4 @@
-"""The 2D kernels in lanes of four particles (-gimp_lanes, transfer/lanes2.hpp) against the scalar
+"""The 2D kernels in lanes of four particles (-gimp_lanes, transfer/lane_loops.hpp) against the scalar
 kernels: every scene kind must give the same bits.
 
 Each case runs twice, with -gimp_lanes true and false, and compares the last frame of

@@ -46,7 +46,7 @@ using gimp::ParticleView;
 using gimp::Scene;
 using gimp::Side;
 using gimp::Traction;
-using gimp::physics::Boundary;
+using Boundary = gimp::physics::Boundary<2>;
 using gimp::test::at;
 using gimp::test::Worst;
 using Stencils = gimp::Stencils<2>;
@@ -288,7 +288,7 @@ TEST(Boundary, EdgeShapeIsAPartitionOfUnity) {
           const double edge = P.x[2 * k + a] + (isSide ? nrm * P.l[2 * k + a] : 0.0);
           double sum = 0;
           for (PetscInt e = st.start[k]; e < st.start[k + 1]; ++e)
-            sum += gimp::physics::edgeShape(g, st, e, a, nrm, edge);
+            sum += gimp::physics::faceShape<2>(g, st, e, a, nrm, edge);
           (isSide ? onSide : centre).update(std::abs(sum - 1.0), [&] {
             return c.name() + " " + kSideName[q] + " " +
                    at({{"particle", double(k)}, {"x", P.x[2 * k]}, {"y", P.x[2 * k + 1]}});

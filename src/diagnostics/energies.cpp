@@ -5,28 +5,49 @@
 
 namespace gimp {
 
-PetscErrorCode particleEnergies(MPI_Comm comm, const Scene<2> &sc, DM sw, const WorkLedger &work,
+namespace {
+
+/// The strain energy of particle k (2D: with the out-of-plane stress).
+double strainEnergyOf(const Scene<2> &sc, const ParticleView<2> &p, PetscInt k) {
+  return material::strainEnergy(sc.materialOf(p.id[k]), tensorAt<2>(p.s, k), p.szz[k],
+                                tensorAt<2>(p.F, k), p.V0[k], p.V[k]);
+}
+double strainEnergyOf(const Scene<3> &sc, const ParticleView<3> &p, PetscInt k) {
+  return material::strainEnergy(sc.materialOf(p.id[k]), Tensor<3>(tensorAt<3>(p.s, k)),
+                                Tensor<3>(tensorAt<3>(p.F, k)), p.V0[k], p.V[k]);
+}
+
+} // namespace
+
+template <int D>
+PetscErrorCode particleEnergies(MPI_Comm comm, const Scene<D> &sc, DM sw, const WorkLedger &work,
                                 Energies &e) {
-  ParticleView<2> p;
+  ParticleView<D> p;
   PetscCall(p.get(sw));
-  double loc[4] = {0, 0, 0, 0}, glob[4];
+  double loc[2 + D] = {}, glob[2 + D];
   for (PetscInt k = 0; k < p.n; ++k) {
-    const double vx = p.v[2 * k], vy = p.v[2 * k + 1];
-    loc[0] += 0.5 * p.m[k] * (vx * vx + vy * vy);
-    loc[1] += material::strainEnergy(sc.materialOf(p.id[k]), tensorAt<2>(p.s, k), p.szz[k],
-                                     tensorAt<2>(p.F, k), p.V0[k], p.V[k]);
-    loc[2] += p.m[k] * vx;
-    loc[3] += p.m[k] * vy;
+    double v2 = 0;
+    for (int a = 0; a < D; ++a)
+      v2 += p.v[D * k + a] * p.v[D * k + a];
+    loc[0] += 0.5 * p.m[k] * v2;
+    loc[1] += strainEnergyOf(sc, p, k);
+    for (int a = 0; a < D; ++a)
+      loc[2 + a] += p.m[k] * p.v[D * k + a];
   }
   PetscCall(p.restore(sw));
-  PetscCallMPI(MPI_Allreduce(loc, glob, 4, MPI_DOUBLE, MPI_SUM, comm));
+  PetscCallMPI(MPI_Allreduce(loc, glob, 2 + D, MPI_DOUBLE, MPI_SUM, comm));
   e.kinetic = glob[0];
   e.strain = glob[1];
-  e.momentum[0] = glob[2];
-  e.momentum[1] = glob[3];
+  for (int a = 0; a < D; ++a)
+    e.momentum[a] = glob[2 + a];
   e.externalWork = work.external;
   e.damping = work.damping;
   return PETSC_SUCCESS;
 }
+
+template PetscErrorCode particleEnergies<2>(MPI_Comm, const Scene<2> &, DM, const WorkLedger &,
+                                            Energies &);
+template PetscErrorCode particleEnergies<3>(MPI_Comm, const Scene<3> &, DM, const WorkLedger &,
+                                            Energies &);
 
 } // namespace gimp

@@ -12,16 +12,39 @@
 
 namespace gimp {
 
-PetscErrorCode findProbes(MPI_Comm comm, const Scene<2> &sc, DM sw, std::vector<PetscInt64> &ids) {
-  ParticleView<2> p;
+template <> const std::vector<const char *> &stressComponents<2>() {
+  static const std::vector<const char *> c = {"xx", "yy", "xy", "zz"};
+  return c;
+}
+template <> const std::vector<const char *> &stressComponents<3>() {
+  static const std::vector<const char *> c = {"xx", "yy", "zz", "yz", "xz", "xy"};
+  return c;
+}
+
+template <> void stressOf<2>(const ParticleView<2> &p, PetscInt k, double *out) {
+  const auto s = tensorAt<2>(p.s, k);
+  const double v[4] = {s(0, 0), s(1, 1), s(0, 1), p.szz[k]};
+  std::copy(v, v + 4, out);
+}
+template <> void stressOf<3>(const ParticleView<3> &p, PetscInt k, double *out) {
+  const auto s = tensorAt<3>(p.s, k);
+  const double v[6] = {s(0, 0), s(1, 1), s(2, 2), s(1, 2), s(0, 2), s(0, 1)};
+  std::copy(v, v + 6, out);
+}
+
+template <int D>
+PetscErrorCode findProbes(MPI_Comm comm, const Scene<D> &sc, DM sw, std::vector<PetscInt64> &ids) {
+  // The particle nearest each point (the smallest id among equals), fixed for the run.
+  ParticleView<D> p;
   PetscCall(p.get(sw));
   ids.clear();
-  for (const Probe<2> &pr : sc.probes) {
+  for (const Probe<D> &pr : sc.probes) {
     double best = 1e300;
     PetscInt64 bestId = INT64_MAX;
     for (PetscInt k = 0; k < p.n; ++k) {
-      const double dx = p.X0[2 * k] - pr.x[0], dy = p.X0[2 * k + 1] - pr.x[1];
-      const double d2 = dx * dx + dy * dy;
+      double d2 = 0;
+      for (int a = 0; a < D; ++a)
+        d2 += (p.X0[D * k + a] - pr.x[a]) * (p.X0[D * k + a] - pr.x[a]);
       if (d2 < best || (d2 == best && p.id[k] < bestId)) {
         best = d2;
         bestId = p.id[k];
@@ -37,53 +60,55 @@ PetscErrorCode findProbes(MPI_Comm comm, const Scene<2> &sc, DM sw, std::vector<
   return PETSC_SUCCESS;
 }
 
+template <int D>
 PetscErrorCode probeStates(MPI_Comm comm, DM sw, const std::vector<PetscInt64> &ids,
                            std::vector<ProbeState> &out) {
-  ParticleView<2> p;
+  ParticleView<D> p;
   PetscCall(p.get(sw));
-  constexpr int kCols = 8;
-  std::vector<double> loc(ids.size() * kCols, 0.0), glob(ids.size() * kCols, 0.0);
+  const int ns = static_cast<int>(stressComponents<D>().size()), cols = 2 * D + ns;
+  std::vector<double> loc(ids.size() * cols, 0.0), glob(ids.size() * cols, 0.0);
   for (PetscInt k = 0; k < p.n; ++k)
     for (size_t q = 0; q < ids.size(); ++q)
       if (p.id[k] == ids[q]) {
-        double *r = &loc[kCols * q];
-        const auto s = tensorAt<2>(p.s, k);
-        const double row[kCols] = {p.X0[2 * k],
-                                   p.X0[2 * k + 1],
-                                   p.x[2 * k] - p.X0[2 * k],
-                                   p.x[2 * k + 1] - p.X0[2 * k + 1],
-                                   s(0, 0),
-                                   s(1, 1),
-                                   s(0, 1),
-                                   p.szz[k]};
-        std::copy(row, row + kCols, r);
+        double *r = &loc[cols * q];
+        for (int a = 0; a < D; ++a) {
+          r[a] = p.X0[D * k + a];
+          r[D + a] = p.x[D * k + a] - p.X0[D * k + a];
+        }
+        stressOf<D>(p, k, r + 2 * D);
       }
   PetscCall(p.restore(sw));
   PetscCallMPI(MPI_Allreduce(loc.data(), glob.data(), static_cast<int>(loc.size()), MPI_DOUBLE,
                              MPI_SUM, comm));
   out.assign(ids.size(), ProbeState{});
   for (size_t q = 0; q < ids.size(); ++q) {
-    const double *r = &glob[kCols * q];
+    const double *r = &glob[cols * q];
     out[q].id = ids[q];
-    std::copy(r, r + 2, out[q].X0);
-    std::copy(r + 2, r + 4, out[q].u);
-    std::copy(r + 4, r + 8, out[q].stress);
+    std::copy(r, r + D, out[q].X0);
+    std::copy(r + D, r + 2 * D, out[q].u);
+    std::copy(r + 2 * D, r + cols, out[q].stress);
   }
   return PETSC_SUCCESS;
 }
 
-PetscErrorCode mmsErrors(MPI_Comm comm, const Scene<2> &sc, DM sw, double t, double &linf,
+template <int D>
+PetscErrorCode mmsErrors(MPI_Comm comm, const Scene<D> &sc, DM sw, double t, double &linf,
                          double &rms) {
+  // The displacement error against the manufactured solution: largest and volume-weighted RMS
+  // over the particles (the displacement across x is exactly 0).
   linf = rms = 0;
   if (sc.mms == Mms::None) return PETSC_SUCCESS;
-  const mms::Skb1d ex(sc);
-  ParticleView<2> p;
+  const mms::AxialWave ex(sc);
+  ParticleView<D> p;
   PetscCall(p.get(sw));
   double loc[3] = {0, 0, 0}, glob[3];
   for (PetscInt k = 0; k < p.n; ++k) {
-    const double X = p.X0[2 * k];
-    const double ex_ = p.x[2 * k] - X - ex.u(X, t), ey = p.x[2 * k + 1] - p.X0[2 * k + 1];
-    const double e2 = ex_ * ex_ + ey * ey;
+    const double X = p.X0[D * k];
+    double e2 = 0;
+    for (int a = 0; a < D; ++a) {
+      const double e = p.x[D * k + a] - p.X0[D * k + a] - (a == 0 ? ex.u(X, t) : 0.0);
+      e2 += e * e;
+    }
     loc[0] = std::max(loc[0], std::sqrt(e2));
     loc[1] += e2 * p.V0[k];
     loc[2] += p.V0[k];
@@ -95,6 +120,16 @@ PetscErrorCode mmsErrors(MPI_Comm comm, const Scene<2> &sc, DM sw, double t, dou
   rms = std::sqrt(glob[1] / glob[2]);
   return PETSC_SUCCESS;
 }
+
+#define GIMP_INSTANTIATE(D)                                                                        \
+  template PetscErrorCode findProbes<D>(MPI_Comm, const Scene<D> &, DM,                            \
+                                        std::vector<PetscInt64> &);                                \
+  template PetscErrorCode probeStates<D>(MPI_Comm, DM, const std::vector<PetscInt64> &,            \
+                                         std::vector<ProbeState> &);                               \
+  template PetscErrorCode mmsErrors<D>(MPI_Comm, const Scene<D> &, DM, double, double &, double &);
+GIMP_INSTANTIATE(2)
+GIMP_INSTANTIATE(3)
+#undef GIMP_INSTANTIATE
 
 namespace {
 

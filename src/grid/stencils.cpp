@@ -290,7 +290,7 @@ GIMP_LANES bool blockRunLanes(const Grid<2> &grid, const std::uint8_t *block3,
   // come from memory.
   if (const size_t ahead = static_cast<size_t>(s.nBlocks + 4 * prefetch::kAheadGroups);
       ahead + 4 <= s.blocks.size())
-    prefetch::span<sizeof(LaneBlocks2), true>(s.blocks.data() + ahead);
+    prefetch::span<sizeof(LaneBlocks), true>(s.blocks.data() + ahead);
   prefetch::fields(k, static_cast<long>(s.start.size()) - 1, prefetch::Field<2>{x},
                    prefetch::Field<2>{l}); // (start has n + 1 entries)
   // x and y of the four particles (and of their half-sizes) in lanes
@@ -379,7 +379,7 @@ GIMP_LANES bool blockRunLanes(const Grid<2> &grid, const std::uint8_t *block3,
     g[a][1] = (1.0 - _mm256_andnot_pd(_mm256_set1_pd(-0.0), B - 1.0) - A) * i2lh;
     g[a][2] = c * i2lh;
   }
-  // The four blocks, factor-major in the room of four (LaneBlocks2).
+  // The four blocks, factor-major in the room of four (LaneBlocks).
   std::uint8_t group = Stencils<2>::kLaneGroup;
   for (int j = 1; j < 4; ++j)
     if (base[j] != base[j - 1]) group |= static_cast<std::uint8_t>(1u << (j - 1));
@@ -388,7 +388,7 @@ GIMP_LANES bool blockRunLanes(const Grid<2> &grid, const std::uint8_t *block3,
     s.blockOf[k + j] = (s.nBlocks + j) | Stencils<2>::kLaneBlock;
   s.nBlocks += 4;
   unsigned char *r = s.laneBlocks(k / 4);
-  double *f = reinterpret_cast<double *>(r + offsetof(LaneBlocks2, f));
+  double *f = reinterpret_cast<double *>(r + offsetof(LaneBlocks, f));
   for (int i = 0; i < 3; ++i) {
     _mm256_storeu_pd(f + 4 * i, w[0][i]);
     _mm256_storeu_pd(f + 4 * (3 + i), w[1][i]);
@@ -396,8 +396,8 @@ GIMP_LANES bool blockRunLanes(const Grid<2> &grid, const std::uint8_t *block3,
     _mm256_storeu_pd(f + 4 * (9 + i), g[1][i]);
   }
   const PetscInt stride[4] = {L.wn(0), L.wn(0), L.wn(0), L.wn(0)};
-  std::memcpy(r + offsetof(LaneBlocks2, base), base, sizeof(base));
-  std::memcpy(r + offsetof(LaneBlocks2, stride), stride, sizeof(stride));
+  std::memcpy(r + offsetof(LaneBlocks, base), base, sizeof(base));
+  std::memcpy(r + offsetof(LaneBlocks, stride), stride, sizeof(stride));
   return true;
 }
 } // namespace

@@ -12,10 +12,16 @@ namespace gimp {
 
 namespace {
 
-long double overlap(const BoxOf<2> &a, const BoxOf<2> &b) {
-  const long double w = std::min<long double>(a[2], b[2]) - std::max<long double>(a[0], b[0]);
-  const long double h = std::min<long double>(a[3], b[3]) - std::max<long double>(a[1], b[1]);
-  return w > 0 && h > 0 ? w * h : 0;
+/// The area (2D) or volume (3D) two boxes share.
+template <int D> long double overlap(const BoxOf<D> &a, const BoxOf<D> &b) {
+  long double v = 1;
+  for (int d = 0; d < D; ++d) {
+    const long double w =
+        std::min<long double>(a[D + d], b[D + d]) - std::max<long double>(a[d], b[d]);
+    if (!(w > 0)) return 0;
+    v *= w;
+  }
+  return v;
 }
 
 std::string approx(long double v) {
@@ -30,9 +36,42 @@ std::string gigabytes(long double bytes) {
   return b;
 }
 
-std::string boxText(const BoxOf<2> &b) {
-  return formatNumber(b[0]) + "," + formatNumber(b[1]) + "," + formatNumber(b[2]) + "," +
-         formatNumber(b[3]);
+template <int D> std::string boxText(const BoxOf<D> &b) {
+  std::string r;
+  for (int i = 0; i < 2 * D; ++i)
+    r += (i ? "," : "") + formatNumber(b[i]);
+  return r;
+}
+
+/// The largest particles per cell of a body (2D: also the hole band's).
+int largestPpc(const Body<2> &b) {
+  return std::max(b.ppc, b.holePpc);
+}
+int largestPpc(const Body<3> &b) {
+  return b.ppc;
+}
+
+/// The particles a 2D body adds in the bands around its holes at hole_ppc, on the finest cells
+/// (an upper bound); none in 3D.
+long double holeBands(const Body<2> &body, long double h) {
+  long double n = 0;
+  for (const Hole &c : body.holes) {
+    const long double band = body.holeBand > 0 ? body.holeBand : h;
+    const long double area = M_PI * ((c.r + band) * (c.r + band) - c.r * c.r);
+    n += area / (h * h) * std::max(body.holePpc - body.ppc, 0);
+  }
+  return n;
+}
+long double holeBands(const Body<3> &, long double) {
+  return 0;
+}
+
+/// The particles of a body from a particle file (2D), or -1.
+long double fileParticles(const Body<2> &b) {
+  return b.file.empty() ? -1 : static_cast<long double>(b.fromFile.particles.size());
+}
+long double fileParticles(const Body<3> &) {
+  return -1;
 }
 
 /// Physical memory of the nodes the ranks run on: each rank adds its node's memory divided by
@@ -51,62 +90,72 @@ PetscErrorCode physicalMemory(MPI_Comm comm, long double &bytes) {
 }
 
 /// The option most likely to be wrong when the estimate is too large, with its value.
-std::string culprit(const Scene<2> &sc, const SizeEstimate &e, const ItemBytes &cost) {
+template <int D>
+std::string culprit(const Scene<D> &sc, const SizeEstimate &e, const ItemBytes &cost) {
   const auto nodeMax = std::max_element(e.levelNodes.begin(), e.levelNodes.end());
   const auto bodyMax = std::max_element(e.bodyParticles.begin(), e.bodyParticles.end());
   if (e.nodes * cost.node >= e.particles * cost.particle) {
     const size_t k = static_cast<size_t>(nodeMax - e.levelNodes.begin());
-    if (k > 0) return "-gimp_level" + std::to_string(k) + "_box " + boxText(sc.levels[k].box);
-    if (sc.domainGiven) return "-gimp_domain " + boxText(sc.domain);
-    if (static_cast<long double>(sc.pad) * sc.h >
-        0.25L * std::max(sc.domain[2] - sc.domain[0], sc.domain[3] - sc.domain[1]))
+    if (k > 0) return "-gimp_level" + std::to_string(k) + "_box " + boxText<D>(sc.levels[k].box);
+    if (sc.domainGiven) return "-gimp_domain " + boxText<D>(sc.domain);
+    double widest = 0;
+    for (int d = 0; d < D; ++d)
+      widest = std::max(widest, sc.domain[D + d] - sc.domain[d]);
+    if (static_cast<long double>(sc.pad) * sc.h > 0.25L * widest)
       return "-gimp_pad " + std::to_string(sc.pad);
     return "-gimp_h " + formatNumber(sc.h);
   }
   const size_t b = static_cast<size_t>(bodyMax - e.bodyParticles.begin());
-  const Body<2> &body = sc.bodies[b];
+  const Body<D> &body = sc.bodies[b];
   const std::string p = "-gimp_body" + std::to_string(b) + "_";
-  if (std::max(body.ppc, body.holePpc) >= 256)
-    return body.holePpc > body.ppc ? p + "hole_ppc " + std::to_string(body.holePpc)
-                                   : p + "ppc " + std::to_string(body.ppc);
-  const double w = body.box[2] - body.box[0], h = body.box[3] - body.box[1];
-  if (std::max(w, h) > 1000 * std::min(w, h)) return p + "box " + boxText(body.box);
+  if (largestPpc(body) >= 256)
+    return largestPpc(body) > body.ppc ? p + "hole_ppc " + std::to_string(largestPpc(body))
+                                       : p + "ppc " + std::to_string(body.ppc);
+  double longest = 0, shortest = 1e300;
+  for (int d = 0; d < D; ++d) {
+    longest = std::max(longest, body.box[D + d] - body.box[d]);
+    shortest = std::min(shortest, body.box[D + d] - body.box[d]);
+  }
+  if (longest > 1000 * shortest) return p + body.shapeOption + " " + boxText<D>(body.box);
   return "-gimp_h " + formatNumber(sc.h);
 }
 
 } // namespace
 
-SizeEstimate estimateSize(const Scene<2> &sc, const ItemBytes &cost) {
+template <int D> SizeEstimate estimateSize(const Scene<D> &sc, const ItemBytes &cost) {
   SizeEstimate e;
   const size_t K = sc.levels.size();
-  std::vector<long double> h(K);
+  std::vector<long double> h(K), cell(K);
   for (size_t k = 0; k < K; ++k) {
     h[k] = k ? h[k - 1] / sc.levels[k].ratio : static_cast<long double>(sc.h);
-    const BoxOf<2> &b = k ? sc.levels[k].box : sc.domain;
-    e.levelM.push_back(std::round((static_cast<long double>(b[2]) - b[0]) / h[k]) + 1);
-    e.levelN.push_back(std::round((static_cast<long double>(b[3]) - b[1]) / h[k]) + 1);
-    e.levelNodes.push_back(e.levelM.back() * e.levelN.back());
-    e.nodes += e.levelNodes.back();
+    cell[k] = h[k];
+    for (int d = 1; d < D; ++d)
+      cell[k] *= h[k];
+    const BoxOf<D> &b = k ? sc.levels[k].box : sc.domain;
+    std::vector<long double> axes(D);
+    long double nodes = 1;
+    for (int d = 0; d < D; ++d) {
+      axes[d] = std::round((static_cast<long double>(b[D + d]) - b[d]) / h[k]) + 1;
+      nodes *= axes[d];
+    }
+    e.levelAxes.push_back(axes);
+    e.levelNodes.push_back(nodes);
+    e.nodes += nodes;
   }
-  for (const Body<2> &body : sc.bodies) {
-    if (!body.file.empty()) { // a particle file: its particles
-      e.bodyParticles.push_back(static_cast<long double>(body.fromFile.particles.size()));
-      e.particles += e.bodyParticles.back();
+  for (const Body<D> &body : sc.bodies) {
+    if (const long double file = fileParticles(body); file >= 0) { // a particle file's
+      e.bodyParticles.push_back(file);
+      e.particles += file;
       continue;
     }
-    // Each level seeds the part of the body it covers and no finer level does.
+    // Each level seeds the part of the body's box it covers and no finer level does.
     long double n = 0;
     for (size_t k = 0; k < K; ++k) {
-      const long double here = overlap(body.box, k ? sc.levels[k].box : sc.domain);
-      const long double finer = k + 1 < K ? overlap(body.box, sc.levels[k + 1].box) : 0;
-      n += std::max<long double>(here - finer, 0) / (h[k] * h[k]) * body.ppc;
+      const long double here = overlap<D>(body.box, k ? sc.levels[k].box : sc.domain);
+      const long double finer = k + 1 < K ? overlap<D>(body.box, sc.levels[k + 1].box) : 0;
+      n += std::max<long double>(here - finer, 0) / cell[k] * body.ppc;
     }
-    // The band around each hole at hole_ppc, on the finest cells (an upper bound).
-    for (const Hole &c : body.holes) {
-      const long double band = body.holeBand > 0 ? body.holeBand : h[K - 1];
-      const long double area = M_PI * ((c.r + band) * (c.r + band) - c.r * c.r);
-      n += area / (h[K - 1] * h[K - 1]) * std::max(body.holePpc - body.ppc, 0);
-    }
+    n += holeBands(body, h[K - 1]);
     e.bodyParticles.push_back(n);
     e.particles += n;
   }
@@ -114,20 +163,25 @@ SizeEstimate estimateSize(const Scene<2> &sc, const ItemBytes &cost) {
   return e;
 }
 
-PetscErrorCode checkProblemSize(MPI_Comm comm, const Scene<2> &sc, const ItemBytes &cost) {
+template <int D>
+PetscErrorCode checkProblemSize(MPI_Comm comm, const Scene<D> &sc, const ItemBytes &cost) {
   const SizeEstimate e = estimateSize(sc, cost);
   PetscMPIInt size = 1;
   PetscCallMPI(MPI_Comm_size(comm, &size));
   const long double maxInt = static_cast<long double>(PETSC_MAX_INT);
   const std::string what = "the scene needs about " + approx(e.particles) + " particles and " +
                            approx(e.nodes) + " grid nodes";
-  for (size_t k = 0; k < e.levelNodes.size(); ++k)
-    if (2 * e.levelNodes[k] > maxInt)
-      throw InputError("option " + culprit(sc, e, cost) + ": " + what + " (level " +
-                       std::to_string(k) + ": " + approx(e.levelM[k]) + " x " +
-                       approx(e.levelN[k]) + "), more than PetscInt can index (" + approx(maxInt) +
-                       " values per level); use a coarser grid or a smaller "
-                       "domain");
+  for (size_t k = 0; k < e.levelNodes.size(); ++k) {
+    if (!(D * e.levelNodes[k] > maxInt)) continue;
+    std::string axes;
+    for (int d = 0; d < D; ++d)
+      axes += (d ? " x " : "") + approx(e.levelAxes[k][d]);
+    throw InputError("option " + culprit(sc, e, cost) + ": " + what + " (level " +
+                     std::to_string(k) + ": " + axes + "), more than PetscInt can index (" +
+                     approx(maxInt) +
+                     " values per level); use a coarser grid or a smaller "
+                     "domain");
+  }
   if (e.particles / size > maxInt)
     throw InputError("option " + culprit(sc, e, cost) + ": " + what +
                      ", more per rank than "
@@ -143,5 +197,10 @@ PetscErrorCode checkProblemSize(MPI_Comm comm, const Scene<2> &sc, const ItemByt
                      "; use a coarser grid, fewer particles per cell or smaller bodies");
   return PETSC_SUCCESS;
 }
+
+template SizeEstimate estimateSize<2>(const Scene<2> &, const ItemBytes &);
+template SizeEstimate estimateSize<3>(const Scene<3> &, const ItemBytes &);
+template PetscErrorCode checkProblemSize<2>(MPI_Comm, const Scene<2> &, const ItemBytes &);
+template PetscErrorCode checkProblemSize<3>(MPI_Comm, const Scene<3> &, const ItemBytes &);
 
 } // namespace gimp

@@ -17,9 +17,20 @@ namespace gimp {
 
 namespace {
 
-std::string boxText(const BoxOf<2> &b) {
-  return formatNumber(b[0]) + "," + formatNumber(b[1]) + "," + formatNumber(b[2]) + "," +
-         formatNumber(b[3]);
+template <int D> std::string boxText(const BoxOf<D> &b) {
+  std::string r;
+  for (int i = 0; i < 2 * D; ++i)
+    r += (i ? "," : "") + formatNumber(b[i]);
+  return r;
+}
+
+/// The value of the option that gave a body's shape, as written in error lines: a plane body's
+/// file or bounding box, a solid's box.
+std::string shapeValue(const Body<2> &b) {
+  return b.file.empty() ? boxText<2>(b.box) : b.file;
+}
+std::string shapeValue(const Body<3> &b) {
+  return boxText<3>(b.box);
 }
 
 /// While options are read, PETSc's own parsing errors are kept as one message.
@@ -183,8 +194,8 @@ PetscErrorCode checkOptionValues() {
 
 } // namespace
 
-PetscErrorCode readSceneOneLine(MPI_Comm comm, Scene<2> &sc) {
-  return readOptionsOneLine([&] { return readScene(comm, sc); });
+template <int D> PetscErrorCode readSceneOneLine(MPI_Comm comm, Scene<D> &sc) {
+  return readOptionsOneLine([&] { return readScene<D>(comm, sc); });
 }
 
 PetscErrorCode readOptionsOneLine(const std::function<PetscErrorCode()> &read) {
@@ -194,7 +205,7 @@ PetscErrorCode readOptionsOneLine(const std::function<PetscErrorCode()> &read) {
   return readOneLine(read);
 }
 
-void checkSceneCombinations(const Scene<2> &sc) {
+template <int D> void checkSceneCombinations(const Scene<D> &sc) {
   // -gimp_multirate is built for tensor-product GIMP weights with the FLIP/PIC blend or APIC, and
   // with cracks for PIC or APIC (docs/method.md, "Multi-rate time steps per level").
   if (sc.multirate && !sc.cracks.empty() && sc.transfer == Transfer::Flip && sc.flip > 0)
@@ -232,22 +243,25 @@ void checkSceneCombinations(const Scene<2> &sc) {
       throw InputError("option -gimp_body" + std::to_string(b) +
                        "_material neohookean: needs -gimp_plane strain (the plane-stress "
                        "neo-Hookean model is not implemented)");
-  for (size_t b = 0; b < sc.bodies.size(); ++b)
-    if (std::max(sc.bodies[b].ppc, sc.bodies[b].holePpc) > 64 * 64)
-      throw InputError("option -gimp_body" + std::to_string(b) +
-                       "_ppc: at most 4096 particles per cell (64 x 64)");
+  if constexpr (D == 2) // (the ids of 2D particles hold 64 x 64 sub-cells)
+    for (size_t b = 0; b < sc.bodies.size(); ++b)
+      if (std::max(sc.bodies[b].ppc, sc.bodies[b].holePpc) > 64 * 64)
+        throw InputError("option -gimp_body" + std::to_string(b) +
+                         "_ppc: at most 4096 particles per cell (64 x 64)");
 }
 
 namespace {
 
-/// Every traction and penalty condition reaches some particle edge (collective).
-PetscErrorCode checkSegmentsReached(MPI_Comm comm, const Scene<2> &sc, const ParticleView<2> &p) {
+/// Every traction and penalty condition reaches some particle edge (2D) or face (3D)
+/// (collective).
+template <int D>
+PetscErrorCode checkFacesReached(MPI_Comm comm, const Scene<D> &sc, const ParticleView<D> &p) {
   const size_t nt = sc.tractions.size(), nd = sc.dbcs.size();
   std::vector<PetscInt64> hits(nt + nd, 0), gHits(nt + nd, 0);
   for (PetscInt k = 0; k < p.n && p.trac; ++k)
-    for (int a = 0; a < 2; ++a) {
-      if (p.trac[2 * k + a] >= 0) ++hits[p.trac[2 * k + a]];
-      if (p.dbc[2 * k + a] >= 0) ++hits[nt + p.dbc[2 * k + a]];
+    for (int a = 0; a < D; ++a) {
+      if (p.trac[D * k + a] >= 0) ++hits[p.trac[D * k + a]];
+      if (p.dbc[D * k + a] >= 0) ++hits[nt + p.dbc[D * k + a]];
     }
   if (!hits.empty())
     PetscCallMPI(MPI_Allreduce(hits.data(), gHits.data(), static_cast<int>(hits.size()),
@@ -255,24 +269,27 @@ PetscErrorCode checkSegmentsReached(MPI_Comm comm, const Scene<2> &sc, const Par
   for (size_t q = 0; q < gHits.size(); ++q) {
     if (gHits[q] != 0) continue;
     const bool isTraction = q < nt;
-    const Face<2> &seg = isTraction ? static_cast<const Face<2> &>(sc.tractions[q])
-                                    : static_cast<const Face<2> &>(sc.dbcs[q - nt]);
+    const Face<D> &seg = isTraction ? static_cast<const Face<D> &>(sc.tractions[q])
+                                    : static_cast<const Face<D> &>(sc.dbcs[q - nt]);
     const std::string name =
         (isTraction ? "gimp_traction" : "gimp_dbc") + std::to_string(isTraction ? q : q - nt);
-    const char *sides[] = {"left", "right", "bottom", "top"};
-    throw InputError("option -" + name + "_side " + sides[static_cast<int>(seg.side)] +
-                     ": no particle edge of body " + std::to_string(seg.body) +
-                     " lies on that side" + (seg.hasRange ? " within -" + name + "_range" : "") +
-                     " (particles fill whole sub-cells: put the body's edges on grid lines)");
+    const char *sides[] = {"left", "right", "bottom", "top", "back", "front"};
+    throw InputError(
+        "option -" + name + "_side " + sides[seg.side] + ": no particle " +
+        (D == 2 ? "edge" : "face") + " of body " + std::to_string(seg.body) + " lies on that side" +
+        (seg.hasRange ? " within -" + name + "_range" : "") + (D == 3 ? " (or its disk)" : "") +
+        " (particles fill whole sub-cells: put the body's " + (D == 2 ? "edges" : "faces") +
+        " on grid " + (D == 2 ? "lines" : "planes") + ")");
   }
   return PETSC_SUCCESS;
 }
 
 } // namespace
 
-PetscErrorCode checkSeeding(MPI_Comm comm, const Scene<2> &sc, const Grid<2> &grid,
-                            const ParticleView<2> &p, PetscInt64 &count, double &meanMass) {
-  const PetscInt64 slots = bodyIdSlots<2>(grid);
+template <int D>
+PetscErrorCode checkSeeding(MPI_Comm comm, const Scene<D> &sc, const Grid<D> &grid,
+                            const ParticleView<D> &p, PetscInt64 &count, double &meanMass) {
+  const PetscInt64 slots = bodyIdSlots<D>(grid);
   std::vector<PetscInt64> mine(sc.bodies.size(), 0), total(sc.bodies.size(), 0);
   double msum = 0, mtot = 0;
   for (PetscInt k = 0; k < p.n; ++k) {
@@ -286,32 +303,35 @@ PetscErrorCode checkSeeding(MPI_Comm comm, const Scene<2> &sc, const Grid<2> &gr
   for (size_t b = 0; b < total.size(); ++b) {
     if (total[b] == 0)
       throw InputError("option -gimp_body" + std::to_string(b) + "_" + sc.bodies[b].shapeOption +
-                       " " +
-                       (sc.bodies[b].file.empty() ? boxText(sc.bodies[b].box) : sc.bodies[b].file) +
+                       " " + shapeValue(sc.bodies[b]) +
                        ": the body holds no particle (its cells are all removed by holes "
                        "or it is thinner than a particle); enlarge it or refine -gimp_h");
     count += total[b];
   }
   meanMass = mtot / static_cast<double>(count);
-  PetscCall(checkSegmentsReached(comm, sc, p));
+  PetscCall(checkFacesReached(comm, sc, p));
   // Inside; on the edge is warned of: a particle whose domain ends on the grid's edge deforms
   // past it (where there are no nodes) within a few hundred steps of any deformation, even on a
   // roller there.
   const double margin = 1e-6 * sc.h;
   PetscInt64 outside = INT64_MAX, gOutside = INT64_MAX, onEdge = INT64_MAX, gOnEdge = INT64_MAX;
+  const BoxOf<D> &d = sc.domain;
   for (PetscInt k = 0; k < p.n; ++k) {
-    const double x = p.x[2 * k], y = p.x[2 * k + 1], lx = p.l[2 * k], ly = p.l[2 * k + 1];
-    const BoxOf<2> &d = sc.domain;
-    if (x - lx < d[0] || x + lx > d[2] || y - ly < d[1] || y + ly > d[3])
+    bool out = false, edge = false;
+    for (int a = 0; a < D; ++a) {
+      const double lo = p.x[D * k + a] - p.l[D * k + a], hi = p.x[D * k + a] + p.l[D * k + a];
+      out = out || lo < d[a] || hi > d[D + a];
+      edge = edge || lo < d[a] + margin || hi > d[D + a] - margin;
+    }
+    if (out)
       outside = std::min(outside, p.id[k]);
-    else if (x - lx < d[0] + margin || x + lx > d[2] - margin || y - ly < d[1] + margin ||
-             y + ly > d[3] - margin)
+    else if (edge)
       onEdge = std::min(onEdge, p.id[k]);
   }
   PetscCallMPI(MPI_Allreduce(&outside, &gOutside, 1, MPI_INT64_T, MPI_MIN, comm));
   PetscCallMPI(MPI_Allreduce(&onEdge, &gOnEdge, 1, MPI_INT64_T, MPI_MIN, comm));
   if (gOutside != INT64_MAX)
-    throw InputError("option -gimp_domain " + boxText(sc.domain) + ": particle " +
+    throw InputError("option -gimp_domain " + boxText<D>(sc.domain) + ": particle " +
                      std::to_string(gOutside) + " of body " + std::to_string(gOutside / slots) +
                      " is not inside the grid; enlarge the domain or -gimp_pad");
   if (gOnEdge != INT64_MAX) // (a body at rest may fill the grid: the paper's Fig. 2)
@@ -321,12 +341,13 @@ PetscErrorCode checkSeeding(MPI_Comm comm, const Scene<2> &sc, const Grid<2> &gr
                           "no nodes, and stop the run; leave at least a cell between the bodies "
                           "and the domain's edges (a symmetry roller goes on the body's edge "
                           "inside the domain; the default domain pads -gimp_pad cells)\n",
-                          boxText(sc.domain).c_str(), static_cast<long long>(gOnEdge / slots),
+                          boxText<D>(sc.domain).c_str(), static_cast<long long>(gOnEdge / slots),
                           static_cast<long long>(gOnEdge)));
   return PETSC_SUCCESS;
 }
 
-PetscErrorCode timeStepFromOptions(TS ts, const Scene<2> &sc, const Lattice<2> &grid) {
+template <int D>
+PetscErrorCode timeStepFromOptions(TS ts, const Scene<D> &sc, const Lattice<D> &grid) {
   return timeStepFromOptions(ts, sc.maxWaveSpeed(), grid.hMin(), sc.stabilityCheck, sc.damping);
 }
 
@@ -418,5 +439,15 @@ PetscErrorCode rejectUnusedOptions(int dim) {
                    "docs/options.md");
   return PETSC_SUCCESS;
 }
+
+#define GIMP_INSTANTIATE(D)                                                                        \
+  template PetscErrorCode readSceneOneLine<D>(MPI_Comm, Scene<D> &);                               \
+  template void checkSceneCombinations<D>(const Scene<D> &);                                       \
+  template PetscErrorCode checkSeeding<D>(MPI_Comm, const Scene<D> &, const Grid<D> &,             \
+                                          const ParticleView<D> &, PetscInt64 &, double &);        \
+  template PetscErrorCode timeStepFromOptions<D>(TS, const Scene<D> &, const Lattice<D> &);
+GIMP_INSTANTIATE(2)
+GIMP_INSTANTIATE(3)
+#undef GIMP_INSTANTIATE
 
 } // namespace gimp

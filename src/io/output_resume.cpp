@@ -34,7 +34,7 @@ void dropChildren(hid_t f, const char *group, const std::set<std::string> &keep)
 
 /// Whether /particles/<g> is the frame `fr` (its time and particle count), not a frame of the same
 /// step written by another run into the same directory.
-bool sameFrame(hid_t f, const std::string &g, const Output::Frame &fr) {
+bool sameFrame(hid_t f, const std::string &g, const OutputFrame &fr) {
   const hid_t grp = H5Gopen2(f, ("/particles/" + g).c_str(), H5P_DEFAULT);
   if (grp < 0) return false;
   double t = NAN;
@@ -62,9 +62,9 @@ bool sameFrame(hid_t f, const std::string &g, const Output::Frame &fr) {
 /// The frames of `keep` that fields.h5 holds whole (both groups, the same time and particle
 /// count); every other frame group is deleted. Rank 0 only; a file HDF5 cannot open counts as
 /// holding none.
-std::vector<Output::Frame> pruneFields(const std::string &file,
-                                       const std::vector<Output::Frame> &keep) {
-  std::vector<Output::Frame> kept;
+std::vector<OutputFrame> pruneFields(const std::string &file,
+                                     const std::vector<OutputFrame> &keep) {
+  std::vector<OutputFrame> kept;
   std::error_code ec;
   if (!std::filesystem::exists(file, ec)) return kept;
   {
@@ -72,7 +72,7 @@ std::vector<Output::Frame> pruneFields(const std::string &file,
     const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
     if (f >= 0) {
       std::set<std::string> names;
-      for (const Output::Frame &fr : keep) {
+      for (const OutputFrame &fr : keep) {
         const std::string g = frameGroup(fr.step);
         if (H5Lexists(f, "/particles", H5P_DEFAULT) > 0 && H5Lexists(f, "/grid", H5P_DEFAULT) > 0 &&
             H5Lexists(f, ("/particles/" + g).c_str(), H5P_DEFAULT) > 0 &&
@@ -92,7 +92,7 @@ std::vector<Output::Frame> pruneFields(const std::string &file,
 
 } // namespace
 
-PetscErrorCode Output::historyText(std::string &text) const {
+PetscErrorCode OutputFiles::historyText(std::string &text) const {
   text.clear();
   std::string error;
   if (rank_ == 0) {
@@ -111,10 +111,10 @@ PetscErrorCode Output::historyText(std::string &text) const {
   return PETSC_SUCCESS;
 }
 
-PetscErrorCode Output::resumeFrames(const std::vector<Frame> &keep) {
+PetscErrorCode OutputFiles::keepFrames(const std::vector<OutputFrame> &keep) {
   std::vector<double> kept; // step, t, particles of each frame kept (rank 0, then every rank)
   if (rank_ == 0)
-    for (const Frame &fr : pruneFields(dir_ + "/fields.h5", keep))
+    for (const OutputFrame &fr : pruneFields(dir_ + "/fields.h5", keep))
       kept.insert(kept.end(),
                   {static_cast<double>(fr.step), fr.t, static_cast<double>(fr.particles)});
   long long n = static_cast<long long>(kept.size());
@@ -125,9 +125,7 @@ PetscErrorCode Output::resumeFrames(const std::vector<Frame> &keep) {
   for (size_t q = 0; q < kept.size(); q += 3)
     frames_.push_back(
         {static_cast<PetscInt>(kept[q]), kept[q + 1], static_cast<long long>(kept[q + 2])});
-  if (!frames_.empty()) {
-    PetscCall(writeXdmf());
-  } else if (rank_ == 0) {
+  if (frames_.empty() && rank_ == 0) { // (else the caller lists the frames in the XDMF files)
     std::error_code ec;
     for (const char *name : {"fields.h5", "particles.xmf", "grid.xmf"})
       std::filesystem::remove(dir_ + "/" + name, ec);

@@ -20,30 +20,39 @@ std::string fileError(const std::string &option, const std::string &file, const 
 
 } // namespace
 
-PetscErrorCode writeParticleDump(MPI_Comm comm, DM sw, const std::string &file) {
-  constexpr int kCols = 12;
-  ParticleView<2> p;
+template <int D> PetscErrorCode writeParticleDump(MPI_Comm comm, DM sw, const std::string &file) {
+  // id, x, v, the stress components, V, l: 12 columns in 2D, 17 in 3D.
+  static const char *const axes[] = {"x", "y", "z"};
+  std::string header = "id";
+  for (const char *what : {"", "v"})
+    for (int a = 0; a < D; ++a)
+      header += std::string(",") + what + axes[a];
+  for (const char *c : stressComponents<D>())
+    header += std::string(",s") + c;
+  header += ",V";
+  for (int a = 0; a < D; ++a)
+    header += std::string(",l") + axes[a];
+  const int ns = static_cast<int>(stressComponents<D>().size()), cols = 2 + 3 * D + ns;
+  ParticleView<D> p;
   PetscCall(p.get(sw));
-  std::vector<double> loc(static_cast<size_t>(p.n) * kCols);
+  std::vector<double> loc(static_cast<size_t>(p.n) * cols);
   for (PetscInt k = 0; k < p.n; ++k) {
-    const auto s = tensorAt<2>(p.s, k);
-    const double row[kCols] = {static_cast<double>(p.id[k]),
-                               p.x[2 * k],
-                               p.x[2 * k + 1],
-                               p.v[2 * k],
-                               p.v[2 * k + 1],
-                               s(0, 0),
-                               s(1, 1),
-                               s(0, 1),
-                               p.szz[k],
-                               p.V[k],
-                               p.l[2 * k],
-                               p.l[2 * k + 1]};
-    std::copy(row, row + kCols, &loc[static_cast<size_t>(k) * kCols]);
+    double *r = &loc[static_cast<size_t>(k) * cols];
+    r[0] = static_cast<double>(p.id[k]);
+    for (int a = 0; a < D; ++a) {
+      r[1 + a] = p.x[D * k + a];
+      r[1 + D + a] = p.v[D * k + a];
+      r[2 + 2 * D + ns + a] = p.l[D * k + a];
+    }
+    stressOf<D>(p, k, r + 1 + 2 * D);
+    r[1 + 2 * D + ns] = p.V[k];
   }
   PetscCall(p.restore(sw));
-  return writeRowsById(comm, file, "id,x,y,vx,vy,sxx,syy,sxy,szz,V,lx,ly", kCols, loc);
+  return writeRowsById(comm, file, header.c_str(), cols, loc);
 }
+
+template PetscErrorCode writeParticleDump<2>(MPI_Comm, DM, const std::string &);
+template PetscErrorCode writeParticleDump<3>(MPI_Comm, DM, const std::string &);
 
 PetscErrorCode writeRowsById(MPI_Comm comm, const std::string &file, const char *header, int cols,
                              const std::vector<double> &loc) {

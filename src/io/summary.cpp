@@ -50,10 +50,20 @@ std::string jsonString(const std::string &s) {
 }
 
 namespace {
+
 const auto num = jsonNumber;
+
+/// "[a, b, ...]": n numbers of v.
+std::string numbers(const double *v, int n) {
+  std::string r = "[";
+  for (int i = 0; i < n; ++i)
+    r += (i ? ", " : "") + num(v[i]);
+  return r + "]";
+}
+
 } // namespace
 
-PetscErrorCode Output::writeSummary(const SummaryReport &r) {
+template <int D> PetscErrorCode Output<D>::writeSummary(const SummaryReport &r) {
   FILE *f = nullptr;
   PetscCall(openOnRoot("summary.json", &f, true));
   if (rank_ == 0) {
@@ -65,72 +75,78 @@ PetscErrorCode Output::writeSummary(const SummaryReport &r) {
   return closeOnRoot("summary.json", f, true);
 }
 
-void Output::summaryRun(FILE *f, const SummaryReport &r) const {
-  std::fprintf(f, "{\n  \"scene\": %s,\n  \"version\": %s,\n  \"status\": %s,\n",
-               jsonString(sc_.name).c_str(), jsonString(GIMP_VERSION).c_str(),
-               jsonString(r.status).c_str());
+template <int D> void Output<D>::summaryRun(FILE *f, const SummaryReport &r) const {
+  std::fprintf(f,
+               "{\n  \"scene\": %s,\n  \"version\": %s,\n  \"dim\": %d,\n  \"status\": %s,\n"
+               "  \"failure\": %s,\n",
+               jsonString(sc_.name).c_str(), jsonString(GIMP_VERSION).c_str(), D,
+               jsonString(r.status).c_str(), jsonString(r.failure).c_str());
   std::fprintf(f,
                "  \"ranks\": %d,\n  \"steps\": %lld,\n  \"time\": %s,\n  \"dt\": %s,\n"
                "  \"wall_seconds\": %s,\n  \"cpu_seconds\": %s,\n  \"particles\": %lld,\n",
                r.ranks, static_cast<long long>(r.steps), num(r.t).c_str(), num(r.dt).c_str(),
                num(r.wallSeconds).c_str(), num(r.cpuSeconds).c_str(),
                static_cast<long long>(r.particles));
+  std::fprintf(
+      f, "  \"particle_steps_per_second\": %s,\n",
+      num(static_cast<double>(r.particles) * static_cast<double>(r.steps) / r.wallSeconds).c_str());
   std::fprintf(f, "  \"dt_critical\": %s,\n", num(r.dtCritical).c_str());
   std::fprintf(f, "  \"levels\": [");
   for (size_t k = 0; k < grid_.levels.size(); ++k) {
-    const Level<2> &L = grid_.levels[k];
+    // One level per line (bench/run_bench.sh reads level 0's line).
+    const Level<D> &L = grid_.levels[k];
+    std::string nodes = "[";
+    for (int a = 0; a < D; ++a)
+      nodes += (a ? ", " : "") + std::to_string(static_cast<long long>(L.n[a]));
+    nodes += "]";
     std::fprintf(f,
-                 "%s\n    {\"h\": %s, \"ratio\": %d, \"box\": [%s, %s, %s, %s], "
-                 "\"nodes\": [%lld, %lld], \"active_nodes\": %lld}",
-                 k ? "," : "", num(L.h).c_str(), k ? sc_.levels[k].ratio : 1, num(L.box[0]).c_str(),
-                 num(L.box[1]).c_str(), num(L.box[2]).c_str(), num(L.box[3]).c_str(),
-                 static_cast<long long>(L.n[0]), static_cast<long long>(L.n[1]),
+                 "%s\n    {\"h\": %s, \"ratio\": %d, \"box\": %s, \"nodes\": %s, "
+                 "\"active_nodes\": %lld}",
+                 k ? "," : "", num(L.h).c_str(), k ? sc_.levels[k].ratio : 1,
+                 numbers(L.box.data(), 2 * D).c_str(), nodes.c_str(),
                  static_cast<long long>(grid_.activeNodes(static_cast<int>(k))));
   }
   std::fprintf(f, "],\n");
 }
 
-void Output::summaryState(FILE *f, const SummaryReport &r) const {
+template <int D> void Output<D>::summaryState(FILE *f, const SummaryReport &r) const {
   const Energies &e = r.energy;
   std::fprintf(f,
                "  \"energy\": {\"kinetic\": %s, \"strain\": %s, \"external_work\": %s, "
-               "\"damping\": %s},\n",
+               "\"damping\": %s, \"total\": %s},\n",
                num(e.kinetic).c_str(), num(e.strain).c_str(), num(e.externalWork).c_str(),
-               num(e.damping).c_str());
-  std::fprintf(f, "  \"momentum\": [%s, %s],\n", num(e.momentum[0]).c_str(),
-               num(e.momentum[1]).c_str());
+               num(e.damping).c_str(), num(e.total()).c_str());
+  std::fprintf(f, "  \"momentum\": %s,\n", numbers(e.momentum, D).c_str());
   std::fprintf(f, "  \"reactions\": {");
   for (size_t q = 0; q < sc_.dbcs.size(); ++q)
-    std::fprintf(f, "%s\"dbc%zu\": [%s, %s]", q ? ", " : "", q, num(r.reactions[2 * q]).c_str(),
-                 num(r.reactions[2 * q + 1]).c_str());
-  std::fprintf(f, "},\n");
+    std::fprintf(f, "%s\"dbc%zu\": %s", q ? ", " : "", q, numbers(&r.reactions[D * q], D).c_str());
+  std::fprintf(f, "},\n  \"penalty\": %s,\n", num(r.penalty).c_str());
   if (!sc_.dbcs.empty()) {
-    std::fprintf(f, "  \"penalty\": %s,\n  \"constraint_violation\": {", num(r.penalty).c_str());
+    std::fprintf(f, "  \"constraint_violation\": {");
     for (size_t q = 0; q < sc_.dbcs.size(); ++q)
       std::fprintf(f, "%s\"dbc%zu\": {\"final\": %s, \"max\": %s}", q ? ", " : "", q,
                    num(r.gaps[q]).c_str(), num(r.maxGaps[q]).c_str());
     std::fprintf(f, "},\n");
   }
   std::fprintf(f, "  \"probes\": {");
+  const int ns = static_cast<int>(stressComponents<D>().size());
   for (size_t q = 0; q < r.probes.size(); ++q) {
     const ProbeState &p = r.probes[q];
-    std::fprintf(f,
-                 "%s\n    %s: {\"id\": %lld, \"x0\": [%s, %s], \"u\": [%s, %s], "
-                 "\"stress\": [%s, %s, %s, %s]}",
+    std::fprintf(f, "%s\n    %s: {\"id\": %lld, \"x0\": %s, \"u\": %s, \"stress\": %s}",
                  q ? "," : "", jsonString(sc_.probes[q].name).c_str(), static_cast<long long>(p.id),
-                 num(p.X0[0]).c_str(), num(p.X0[1]).c_str(), num(p.u[0]).c_str(),
-                 num(p.u[1]).c_str(), num(p.stress[0]).c_str(), num(p.stress[1]).c_str(),
-                 num(p.stress[2]).c_str(), num(p.stress[3]).c_str());
+                 numbers(p.X0, D).c_str(), numbers(p.u, D).c_str(), numbers(p.stress, ns).c_str());
   }
 }
 
-void Output::summaryMeasures(FILE *f, const SummaryReport &r) const {
+template <int D> void Output<D>::summaryMeasures(FILE *f, const SummaryReport &r) const {
   const RunMeasures &m = r.measures;
   std::fprintf(f, "%s},\n  \"measures\": {", r.probes.empty() ? "" : "\n  ");
   std::fprintf(f, "\"particles_migrated\": %lld", static_cast<long long>(m.migrated));
-  std::fprintf(f, ", \"separation_strain\": %s", num(m.separationStrain).c_str());
-  std::fprintf(f, ", \"max_strain\": %s, \"max_separation\": %s", num(m.maxStrain).c_str(),
-               num(m.maxSeparation).c_str());
+  if (D == 2) { // the separation measure
+    std::fprintf(f, ", \"separation_strain\": %s", num(m.separationStrain).c_str());
+    std::fprintf(f, ", \"max_strain\": %s, \"max_separation\": %s", num(m.maxStrain).c_str(),
+                 num(m.maxSeparation).c_str());
+  }
   if (r.hole) {
     // kt_edge: the same edge value as kt, under the name earlier versions gave it.
     std::fprintf(f, ", \"kt\": %s, \"kt_edge\": %s, \"kt_particle\": %s", num(r.hole->kt).c_str(),
@@ -143,23 +159,24 @@ void Output::summaryMeasures(FILE *f, const SummaryReport &r) const {
     std::fprintf(f, ", \"mms_linf\": %s, \"mms_rms\": %s", num(m.mmsLinf).c_str(),
                  num(m.mmsRms).c_str());
   std::fprintf(f, "}");
-  if (!r.tips.empty()) {
-    std::fprintf(f, ",\n  \"cracks\": [");
-    for (size_t q = 0; q < r.tips.size(); ++q) {
-      const cracks::TipMeasure &m = r.tips[q];
-      std::fprintf(
-          f,
-          "%s\n    {\"crack\": %d, \"end\": %d, \"tip\": [%s, %s], \"G_vcct\": %s, "
-          "\"GII_vcct\": %s, \"G_J\": %s, \"KI_vcct\": %s, \"KII_vcct\": %s, \"KI_J\": %s, "
-          "\"KII_J\": %s, \"h\": %s, \"opening\": [%s, %s]}",
-          q ? "," : "", m.crack, m.end, num(m.tip[0]).c_str(), num(m.tip[1]).c_str(),
-          num(m.G_vcct).c_str(), num(m.GII_vcct).c_str(), num(m.G_J).c_str(),
-          num(m.KI_vcct).c_str(), num(m.KII_vcct).c_str(), num(m.KI_J).c_str(),
-          num(m.KII_J).c_str(), num(m.h).c_str(), num(m.opening[0]).c_str(),
-          num(m.opening[1]).c_str());
-    }
-    std::fprintf(f, "]");
+  if (r.tips.empty()) return;
+  std::fprintf(f, ",\n  \"cracks\": [");
+  for (size_t q = 0; q < r.tips.size(); ++q) {
+    const cracks::TipMeasure &t = r.tips[q];
+    std::fprintf(f,
+                 "%s\n    {\"crack\": %d, \"end\": %d, \"tip\": [%s, %s], \"G_vcct\": %s, "
+                 "\"GII_vcct\": %s, \"G_J\": %s, \"KI_vcct\": %s, \"KII_vcct\": %s, \"KI_J\": %s, "
+                 "\"KII_J\": %s, \"h\": %s, \"opening\": [%s, %s]}",
+                 q ? "," : "", t.crack, t.end, num(t.tip[0]).c_str(), num(t.tip[1]).c_str(),
+                 num(t.G_vcct).c_str(), num(t.GII_vcct).c_str(), num(t.G_J).c_str(),
+                 num(t.KI_vcct).c_str(), num(t.KII_vcct).c_str(), num(t.KI_J).c_str(),
+                 num(t.KII_J).c_str(), num(t.h).c_str(), num(t.opening[0]).c_str(),
+                 num(t.opening[1]).c_str());
   }
+  std::fprintf(f, "]");
 }
+
+template PetscErrorCode Output<2>::writeSummary(const SummaryReport &);
+template PetscErrorCode Output<3>::writeSummary(const SummaryReport &);
 
 } // namespace gimp

@@ -6,76 +6,127 @@ namespace gimp::physics {
 
 namespace {
 
-/// Level-0 grid line of constraint b, as finest-lattice units; throws when it is off the lines.
-std::int64_t constraintLine(const Scene<2> &sc, const Grid<2> &grid, size_t b) {
-  const NodeBC<2> &bc = sc.bcs[b];
+const char *const kAxes[] = {"x", "y", "z"};
+
+/// Level-0 grid line (2D) or plane (3D) of constraint b, as finest-lattice units; throws when it
+/// is off the lines.
+template <int D> std::int64_t constraintLine(const Scene<D> &sc, const Grid<D> &grid, size_t b) {
+  const NodeBC<D> &bc = sc.bcs[b];
   const PetscInt line = grid.lineIndex(bc.axis, bc.coord);
   if (line < 0) {
-    const double o = bc.axis == 0 ? grid.origin[0] : grid.origin[1];
-    throw InputError("option -gimp_bc" + std::to_string(b) + (bc.axis == 0 ? "_x " : "_y ") +
-                     formatNumber(bc.coord) +
-                     ": not on a level-0 grid line inside the domain (lines at " + formatNumber(o) +
+    const char *what = D == 2 ? "line" : "plane";
+    throw InputError("option -gimp_bc" + std::to_string(b) + "_" + kAxes[bc.axis] + " " +
+                     formatNumber(bc.coord) + ": not on a level-0 grid " + what +
+                     " inside the domain (" + what + "s at " + formatNumber(grid.origin[bc.axis]) +
                      " + i * " + formatNumber(grid.h0()) + ")");
   }
-  const Level<2> &L0 = grid.levels[0];
-  return (bc.axis == 0 ? L0.lo[0] : L0.lo[1]) + line * L0.step;
+  const Level<D> &L0 = grid.levels[0];
+  return L0.lo[bc.axis] + line * L0.step;
 }
 
-} // namespace
-
-namespace {
-
-/// Whether constraint b fixes level k's node (i, j), on its line `line` [lattice units].
-bool constrains(const Scene<2> &sc, const Grid<2> &grid, size_t b, std::int64_t line, int k,
-                PetscInt i, PetscInt j) {
-  const NodeBC<2> &bc = sc.bcs[b];
-  const Level<2> &L = grid.levels[k];
-  const std::int64_t u = bc.axis == 0 ? L.at(0, i) : L.at(1, j);
-  if (u != line || !grid.nodeActive(k, {i, j})) return false;
-  const double along = bc.axis == 0 ? grid.nodeCoordinate(k, 1, j) : grid.nodeCoordinate(k, 0, i);
+/// Whether constraint b fixes level k's active node i, on its line or plane `line` [lattice
+/// units], within its range.
+template <int D>
+bool constrains(const Scene<D> &sc, const Grid<D> &grid, size_t b, std::int64_t line, int k,
+                const LatticeIndex<D> &i) {
+  const NodeBC<D> &bc = sc.bcs[b];
+  const Level<D> &L = grid.levels[k];
+  if (L.at(bc.axis, i[bc.axis]) != line || !grid.nodeActive(k, i)) return false;
   const double tol = 1e-9 * L.h;
-  return !bc.hasRange || (along >= bc.range[0] - tol && along <= bc.range[1] + tol);
+  int r = 0;
+  for (int a = 0; a < D && bc.hasRange; ++a) {
+    if (a == bc.axis) continue;
+    const double along = grid.nodeCoordinate(k, a, i[a]);
+    if (!(along >= bc.range[2 * r] - tol && along <= bc.range[2 * r + 1] + tol)) return false;
+    ++r;
+  }
+  return true;
+}
+
+/// The masks of level k's owned nodes (sub: its part of bcMask, x fastest, D dofs a node); counts
+/// the nodes each constraint fixes into hits.
+template <int D>
+PetscErrorCode maskLevel(const Scene<D> &sc, const Grid<D> &grid, int k,
+                         const std::vector<std::int64_t> &lines, Vec sub,
+                         std::vector<PetscInt64> &hits) {
+  PetscInt s[3] = {0, 0, 0}, m[3] = {1, 1, 1};
+  PetscCall(DMDAGetCorners(grid.da[k], &s[0], &s[1], &s[2], &m[0], &m[1], &m[2]));
+  PetscScalar *mk = nullptr;
+  PetscCall(VecGetArray(sub, &mk));
+  std::array<PetscInt, D> n;
+  for (int a = 0; a < D; ++a)
+    n[a] = m[a];
+  forEachIndex<D>(n, [&](const LatticeIndex<D> &o) {
+    LatticeIndex<D> i;
+    PetscInt at = 0;
+    for (int a = D - 1; a >= 0; --a) {
+      i[a] = s[a] + o[a];
+      at = at * m[a] + static_cast<PetscInt>(o[a]);
+    }
+    for (size_t b = 0; b < sc.bcs.size(); ++b) {
+      if (!constrains<D>(sc, grid, b, lines[b], k, i)) continue;
+      ++hits[b];
+      for (int c = 0; c < D; ++c)
+        if (sc.bcs[b].fix[c]) mk[D * at + c] = 0.0;
+    }
+  });
+  PetscCall(VecRestoreArray(sub, &mk));
+  return PETSC_SUCCESS;
+}
+
+/// A cracked node's second field is fixed like its first (2D; the crack part of the composite).
+PetscErrorCode maskCrackFields(const Scene<2> &sc, const Grid<2> &grid,
+                               const std::vector<std::int64_t> &lines, Vec sub) {
+  PetscMPIInt rank = 0;
+  PetscCallMPI(MPI_Comm_rank(PetscObjectComm(reinterpret_cast<PetscObject>(sub)), &rank));
+  PetscScalar *mk = nullptr;
+  PetscCall(VecGetArray(sub, &mk));
+  for (const Grid<2>::CrackedNode &cn : grid.crackedNodes()) {
+    if (cn.owner != rank) continue;
+    for (size_t b = 0; b < sc.bcs.size(); ++b)
+      if (constrains<2>(sc, grid, b, lines[b], cn.k, {cn.i, cn.j}))
+        for (int c = 0; c < 2; ++c)
+          if (sc.bcs[b].fix[c]) mk[2 * cn.ownerPos + c] = 0.0;
+  }
+  PetscCall(VecRestoreArray(sub, &mk));
+  return PETSC_SUCCESS;
 }
 
 } // namespace
 
-PetscErrorCode nodeConstraints(const Scene<2> &sc, const Grid<2> &grid, Vec bcMask) {
+template <int D>
+PetscErrorCode nodeConstraints(const Scene<D> &sc, const Grid<D> &grid, Vec bcMask) {
+  PetscCall(VecSet(bcMask, 1.0));
+  if (sc.bcs.empty()) return PETSC_SUCCESS;
   std::vector<std::int64_t> lines;
   for (size_t b = 0; b < sc.bcs.size(); ++b)
     lines.push_back(constraintLine(sc, grid, b));
   const int K = static_cast<int>(grid.levels.size());
   const int parts = K + (grid.crackDm ? 1 : 0);
   std::vector<Vec> sub(parts);
-  PetscCall(VecSet(bcMask, 1.0));
+  std::vector<PetscInt64> hits(sc.bcs.size(), 0); // the nodes each constraint fixes
   PetscCall(DMCompositeGetAccessArray(grid.dm, bcMask, parts, nullptr, sub.data()));
-  for (int k = 0; k < K; ++k) {
-    PetscInt xs, ys, xm, ym;
-    PetscScalar ***mk;
-    PetscCall(DMDAGetCorners(grid.da[k], &xs, &ys, nullptr, &xm, &ym, nullptr));
-    PetscCall(DMDAVecGetArrayDOF(grid.da[k], sub[k], &mk));
-    for (size_t b = 0; b < sc.bcs.size(); ++b)
-      for (PetscInt j = ys; j < ys + ym; ++j)
-        for (PetscInt i = xs; i < xs + xm; ++i)
-          if (constrains(sc, grid, b, lines[b], k, i, j))
-            for (int c = 0; c < 2; ++c)
-              if (sc.bcs[b].fix[c]) mk[j][i][c] = 0.0;
-    PetscCall(DMDAVecRestoreArrayDOF(grid.da[k], sub[k], &mk));
-  }
-  if (grid.crackDm) { // a cracked node's second field is fixed like its first
-    PetscMPIInt rank = 0;
-    PetscCallMPI(MPI_Comm_rank(PetscObjectComm(reinterpret_cast<PetscObject>(bcMask)), &rank));
-    PetscScalar *mk = nullptr;
-    PetscCall(VecGetArray(sub[K], &mk));
-    for (const Grid<2>::CrackedNode &cn : grid.crackedNodes()) {
-      if (cn.owner != rank) continue;
-      for (size_t b = 0; b < sc.bcs.size(); ++b)
-        if (constrains(sc, grid, b, lines[b], cn.k, cn.i, cn.j))
-          for (int c = 0; c < 2; ++c)
-            if (sc.bcs[b].fix[c]) mk[2 * cn.ownerPos + c] = 0.0;
-    }
-    PetscCall(VecRestoreArray(sub[K], &mk));
-  }
+  for (int k = 0; k < K; ++k)
+    PetscCall(maskLevel(sc, grid, k, lines, sub[k], hits));
+  if constexpr (D == 2)
+    if (grid.crackDm) PetscCall(maskCrackFields(sc, grid, lines, sub[K]));
   PetscCall(DMCompositeRestoreAccessArray(grid.dm, bcMask, parts, nullptr, sub.data()));
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, hits.data(), static_cast<int>(hits.size()), MPI_INT64_T,
+                             MPI_SUM, PetscObjectComm(reinterpret_cast<PetscObject>(bcMask))));
+  const std::string what = D == 2 ? "line" : "plane";
+  for (size_t b = 0; b < hits.size(); ++b) {
+    const NodeBC<D> &bc = sc.bcs[b];
+    if (hits[b] > 0) continue;
+    std::string range;
+    for (size_t r = 0; r < bc.range.size(); ++r)
+      range += (r ? "," : "") + formatNumber(bc.range[r]);
+    const std::string opt = "option -gimp_bc" + std::to_string(b);
+    if (bc.hasRange)
+      throw InputError(opt + "_range " + range + ": no active grid node of the " + what +
+                       " lies in the range");
+    throw InputError(opt + "_" + kAxes[bc.axis] + " " + formatNumber(bc.coord) +
+                     ": no active grid node lies on the " + what);
+  }
   return PETSC_SUCCESS;
 }
 
@@ -101,5 +152,8 @@ PetscErrorCode massMask(Vec mass, Vec bcMask, double cut, Vec mask, Vec invMass,
   PetscCall(VecRestoreArrayRead(mass, &m));
   return PETSC_SUCCESS;
 }
+
+template PetscErrorCode nodeConstraints<2>(const Scene<2> &, const Grid<2> &, Vec);
+template PetscErrorCode nodeConstraints<3>(const Scene<3> &, const Grid<3> &, Vec);
 
 } // namespace gimp::physics

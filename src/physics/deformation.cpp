@@ -6,8 +6,9 @@
 
 namespace gimp::physics {
 
-void updateDeformation(const Scene<2> &sc, ParticleView<2> &p, const double *L, double dt,
-                       PetscInt k0, PetscInt k1) {
+template <>
+void updateDeformation<2>(const Scene<2> &sc, ParticleView<2> &p, const double *L, double dt,
+                          PetscInt k0, PetscInt k1) {
   using simd::Pair;
   for (PetscInt k = k0; k < k1; ++k) {
     const Material &mat = sc.materialOf(p.id[k]);
@@ -25,6 +26,25 @@ void updateDeformation(const Scene<2> &sc, ParticleView<2> &p, const double *L, 
     else
       material::neoHookeanStress(mat, tensorAt<2>(p.F, k), tensorAt<2>(p.s, k), p.szz[k]);
     tracking::updateDomain(sc, p, k, Lk, dt);
+  }
+}
+
+template <>
+void updateDeformation<3>(const Scene<3> &sc, ParticleView<3> &p, const double *L, double dt,
+                          PetscInt k0, PetscInt k1) {
+  for (PetscInt k = k0; k < k1; ++k) {
+    const Material &mat = sc.materialOf(p.id[k]);
+    const Tensor<3> Lk = tensorAt<3>(L, k - k0);
+    auto F = tensorAt<3>(p.F, k);
+    F += dt * product<3>(Lk, F);
+    p.V[k] = determinant3(F) * p.V0[k];
+    if (mat.model == MaterialModel::Linear)
+      material::jaumannUpdate(mat, Lk, dt, tensorAt<3>(p.s, k));
+    else
+      material::neoHookeanStress(mat, Tensor<3>(F), tensorAt<3>(p.s, k));
+    if (sc.tracking == Tracking::Stretch) // l_a = |F e_a| l0_a
+      for (int a = 0; a < 3; ++a)
+        p.l[3 * k + a] = F.col(a).norm() * p.l0[3 * k + a];
   }
 }
 

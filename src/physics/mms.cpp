@@ -8,19 +8,18 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 }
 
-Skb1d::Skb1d(const Scene<2> &sc) : Skb1d(sc.mmsAmplitude, sc.material) {}
+AxialWave::AxialWave(double amplitude, const Material &m)
+    : A(amplitude), c(std::sqrt(m.E / m.rho)) {}
 
-Skb1d::Skb1d(double amplitude, const Material &m) : A(amplitude), c(std::sqrt(m.E / m.rho)) {}
-
-double Skb1d::u(double X, double t) const {
+double AxialWave::u(double X, double t) const {
   return A * std::sin(2 * kPi * X) * std::cos(c * kPi * t);
 }
 
-double Skb1d::F(double X, double t) const {
+double AxialWave::F(double X, double t) const {
   return 1.0 + 2 * kPi * A * std::cos(2 * kPi * X) * std::cos(c * kPi * t);
 }
 
-double Skb1d::bodyForce(double X, double t) const {
+double AxialWave::bodyForce(double X, double t) const {
   const double f = F(X, t);
   return c * c * kPi * kPi * u(X, t) * (1.0 + 2.0 / (f * f));
 }

@@ -1,11 +1,5 @@
-// Checkpoint and restart (docs/output.md, checkpoint.h5): the whole state a step hands to the
-// next, through PETSc's HDF5 viewer. Particles: every field of the swarm's field table, each
-// rank's part in its order, and the ranks' local sizes, so that a restart on as many ranks
-// continues bit for bit. State: TS's step, time and dt, the work ledger, the run measures, the
-// rest criterion's counters, the penalty conditions' largest violations, the frames written and
-// history.csv's bytes. The nodal momenta carry nothing across steps (P2G rebuilds them), nor does
-// crack contact (its contact set is decided each step).
-#include "gimp/solver/solver.hpp"
+// Checkpoint and restart (solver/checkpoint.hpp).
+#include "gimp/solver/checkpoint.hpp"
 
 #include "gimp/io/checked.hpp"
 
@@ -68,7 +62,8 @@ PetscErrorCode readArray(MPI_Comm comm, PetscViewer v, const char *name, std::ve
 }
 
 /// A Vec of this rank's n particles' values of field fs (integers as doubles: exact).
-PetscErrorCode fieldVec(MPI_Comm comm, const FieldSpec<2> &fs, PetscInt n, Vec *x) {
+template <int D>
+PetscErrorCode fieldVec(MPI_Comm comm, const FieldSpec<D> &fs, PetscInt n, Vec *x) {
   PetscCall(VecCreate(comm, x));
   PetscCall(VecSetSizes(*x, fs.components * n, PETSC_DETERMINE));
   PetscCall(VecSetBlockSize(*x, fs.components));
@@ -87,7 +82,8 @@ template <typename T> void copyAs(T *d, PetscScalar *a, PetscInt count, bool toS
 }
 
 /// Copy field fs between the swarm and the array a (toSwarm: a -> swarm).
-PetscErrorCode copyField(DM sw, const FieldSpec<2> &fs, PetscScalar *a, PetscInt count,
+template <int D>
+PetscErrorCode copyField(DM sw, const FieldSpec<D> &fs, PetscScalar *a, PetscInt count,
                          bool toSwarm) {
   void *data = nullptr;
   PetscCall(DMSwarmGetField(sw, fs.name, nullptr, nullptr, &data));
@@ -102,12 +98,12 @@ PetscErrorCode copyField(DM sw, const FieldSpec<2> &fs, PetscScalar *a, PetscInt
 }
 
 /// The swarm's fields (those registered) into the viewer's current group, or back from it.
-PetscErrorCode transferFields(MPI_Comm comm, PetscViewer v, DM sw, bool load) {
+template <int D> PetscErrorCode transferFields(MPI_Comm comm, PetscViewer v, DM sw, bool load) {
   OptionalFields optional;
   PetscCall(swarmOptionalFields(sw, optional));
   PetscInt n = 0;
   PetscCall(DMSwarmGetLocalSize(sw, &n));
-  for (const FieldSpec<2> &fs : particleFields<2>()) {
+  for (const FieldSpec<D> &fs : particleFields<D>()) {
     if (!optional.has(fs.need)) continue;
     Vec x;
     PetscScalar *a = nullptr;
@@ -123,11 +119,14 @@ PetscErrorCode transferFields(MPI_Comm comm, PetscViewer v, DM sw, bool load) {
 }
 
 /// The levels as h, box and node counts: a checkpoint belongs to the grid that wrote it.
-std::vector<double> gridDescription(const Grid<2> &g) {
+template <int D> std::vector<double> gridDescription(const Grid<D> &g) {
   std::vector<double> d;
-  for (const Level<2> &L : g.levels)
-    d.insert(d.end(), {L.h, L.box[0], L.box[1], L.box[2], L.box[3], static_cast<double>(L.n[0]),
-                       static_cast<double>(L.n[1])});
+  for (const Level<D> &L : g.levels) {
+    d.push_back(L.h);
+    d.insert(d.end(), L.box.begin(), L.box.end());
+    for (int a = 0; a < D; ++a)
+      d.push_back(static_cast<double>(L.n[a]));
+  }
   return d;
 }
 
@@ -151,7 +150,7 @@ bool looksLikeCheckpoint(const std::string &file) {
 
 namespace {
 
-/// The scalar attributes of /state, in the order of Solver::stateScalars.
+/// The scalar attributes of /state, in this order.
 constexpr const char *kScalars[] = {"format",
                                     "step",
                                     "time",
@@ -193,127 +192,132 @@ std::string roomFor(const std::string &dir, long double bytes) {
 
 } // namespace
 
-PetscErrorCode Solver::writeCheckpoint(PetscInt step, double t) {
+template <int D> PetscErrorCode Checkpoint<D>::write(PetscInt step, double t) {
+  RunState<D> &s = s_;
   // Room for the file first (twice its data, history.csv's bytes and 1 MB of metadata), so that
   // HDF5 does not meet a full disk; a write that still fails is one line on every rank, the
   // previous checkpoint whole and no .tmp left.
-  const std::string where = "option -gimp_output_dir " + sc_.outputDir +
+  const std::string where = "option -gimp_output_dir " + s.sc.outputDir +
                             ": cannot write checkpoint.h5 at step " +
                             std::to_string(static_cast<long long>(step)) + " (";
   std::string error;
-  if (rank_ == 0) {
+  if (s.rank == 0) {
     long double components = 0;
-    for (const FieldSpec<2> &fs : particleFields<2>())
+    for (const FieldSpec<D> &fs : particleFields<D>())
       components += fs.components;
     struct stat st {};
     const long double history =
-        ::stat((sc_.outputDir + "/history.csv").c_str(), &st) == 0 ? st.st_size : 0;
+        ::stat((s.sc.outputDir + "/history.csv").c_str(), &st) == 0 ? st.st_size : 0;
     const std::string why =
-        roomFor(sc_.outputDir, 2 * (8 * components * nParticles_ + history) + (1 << 20));
+        roomFor(s.sc.outputDir, 2 * (8 * components * s.nParticles + history) + (1 << 20));
     if (!why.empty()) error = where + why + ")";
   }
-  PetscCall(agree(comm_, error));
+  PetscCall(agree(s.comm, error));
   PetscErrorCode ierr;
   int err;
   { // (a failed rename throws on every rank; the guard restores the handlers then too)
     const QuietErrors quiet(true);
     errno = 0;
-    ierr = writeCheckpointFile(step, t);
+    ierr = writeFile(step, t);
     err = errno;
   }
   if (ierr) {
     error = where + (err ? std::strerror(err) : "the HDF5 write failed") + ")";
-    if (rank_ == 0) std::remove((sc_.outputDir + "/checkpoint.h5.tmp").c_str());
+    if (s.rank == 0) std::remove((s.sc.outputDir + "/checkpoint.h5.tmp").c_str());
   }
-  PetscCall(agree(comm_, error));
+  PetscCall(agree(s.comm, error));
   return PETSC_SUCCESS;
 }
 
-PetscErrorCode Solver::writeCheckpointFile(PetscInt step, double t) {
+template <int D> PetscErrorCode Checkpoint<D>::writeFile(PetscInt step, double t) {
   // Every rank writes into checkpoint.h5.tmp; when all have closed it, rank 0 renames it into
   // place, so a crash while writing leaves the previous checkpoint whole.
-  PetscCall(PetscLogStagePush(stages_.output));
-  const std::string file = sc_.outputDir + "/checkpoint.h5", tmp = file + ".tmp";
+  RunState<D> &s = s_;
+  const MPI_Comm comm = s.comm;
+  PetscCall(PetscLogStagePush(s.stages.output));
+  const std::string file = s.sc.outputDir + "/checkpoint.h5", tmp = file + ".tmp";
   PetscViewer v;
-  PetscCall(PetscViewerHDF5Open(comm_, tmp.c_str(), FILE_MODE_WRITE, &v));
+  PetscCall(PetscViewerHDF5Open(comm, tmp.c_str(), FILE_MODE_WRITE, &v));
   PetscCall(PetscViewerHDF5PushGroup(v, "/particles"));
-  PetscCall(transferFields(comm_, v, sw_, false));
+  PetscCall(transferFields<D>(comm, v, s.sw, false));
   PetscInt nloc = 0;
-  PetscCall(DMSwarmGetLocalSize(sw_, &nloc));
+  PetscCall(DMSwarmGetLocalSize(s.sw, &nloc));
   PetscInt64 mine = nloc;
-  std::vector<PetscInt64> sizes(static_cast<size_t>(size_));
-  PetscCallMPI(MPI_Gather(&mine, 1, MPI_INT64_T, sizes.data(), 1, MPI_INT64_T, 0, comm_));
-  PetscCall(writeArray(comm_, v, "local_sizes", std::vector<double>(sizes.begin(), sizes.end())));
+  std::vector<PetscInt64> sizes(static_cast<size_t>(s.size));
+  PetscCallMPI(MPI_Gather(&mine, 1, MPI_INT64_T, sizes.data(), 1, MPI_INT64_T, 0, comm));
+  PetscCall(writeArray(comm, v, "local_sizes", std::vector<double>(sizes.begin(), sizes.end())));
   PetscCall(PetscViewerHDF5PopGroup(v));
   PetscCall(PetscViewerHDF5PushGroup(v, "/state"));
-  PetscCall(writeArray(comm_, v, "grid", gridDescription(grid_)));
-  PetscCall(writeArray(comm_, v, "max_gaps", boundary_.maxGap()));
+  PetscCall(writeArray(comm, v, "grid", gridDescription(s.grid)));
+  PetscCall(writeArray(comm, v, "max_gaps", s.boundary.maxGap()));
   std::vector<double> force, gap; // of the last step, for a restart that runs no step
-  PetscCall(boundary_.lastReactions(comm_, force, gap));
-  PetscCall(writeArray(comm_, v, "reactions", force));
-  PetscCall(writeArray(comm_, v, "gaps", gap));
+  PetscCall(s.boundary.lastReactions(comm, force, gap));
+  PetscCall(writeArray(comm, v, "reactions", force));
+  PetscCall(writeArray(comm, v, "gaps", gap));
   std::vector<double> frames;
-  for (const Output::Frame &fr : out_->frames())
+  for (const OutputFrame &fr : reporter_.output().frames())
     frames.insert(frames.end(),
                   {static_cast<double>(fr.step), fr.t, static_cast<double>(fr.particles)});
-  PetscCall(writeArray(comm_, v, "frames", frames));
+  PetscCall(writeArray(comm, v, "frames", frames));
   std::string text; // history.csv's bytes, 8 to a value, after their count
-  PetscCall(out_->historyText(text));
+  PetscCall(reporter_.output().historyText(text));
   std::vector<double> history(1 + (text.size() + 7) / 8, 0.0);
   history[0] = static_cast<double>(text.size());
   std::memcpy(history.data() + 1, text.data(), text.size());
-  PetscCall(writeArray(comm_, v, "history", history));
+  PetscCall(writeArray(comm, v, "history", history));
   PetscReal dt = 0;
-  PetscCall(TSGetTimeStep(ts_, &dt));
+  PetscCall(TSGetTimeStep(s.ts, &dt));
+  const RunMeasures &m = s.measures;
   const double values[kNScalars] = {kFormat,
                                     static_cast<double>(step),
                                     t,
                                     dt,
-                                    static_cast<double>(size_),
-                                    static_cast<double>(nParticles_),
-                                    meanParticleMass_,
-                                    work_.external,
-                                    work_.damping,
-                                    static_cast<double>(measures_.migrated),
-                                    measures_.separationStrain,
-                                    measures_.maxStrain,
-                                    measures_.maxSeparation,
-                                    measures_.mmsLinf,
-                                    measures_.mmsRms,
-                                    static_cast<double>(restRows_),
-                                    restStrain_,
-                                    atRest_ ? 1.0 : 0.0,
-                                    dtCritical_};
+                                    static_cast<double>(s.size),
+                                    static_cast<double>(s.nParticles),
+                                    s.meanParticleMass,
+                                    s.work.external,
+                                    s.work.damping,
+                                    static_cast<double>(m.migrated),
+                                    m.separationStrain,
+                                    m.maxStrain,
+                                    m.maxSeparation,
+                                    m.mmsLinf,
+                                    m.mmsRms,
+                                    static_cast<double>(s.status.restRows),
+                                    s.status.restStrain,
+                                    s.status.atRest ? 1.0 : 0.0,
+                                    m.dtCritical};
   for (size_t q = 0; q < kNScalars; ++q)
     PetscCall(PetscViewerHDF5WriteAttribute(v, "/state", kScalars[q], PETSC_DOUBLE, &values[q]));
   PetscCall(PetscViewerHDF5PopGroup(v));
   PetscCall(PetscViewerDestroy(&v));
-  PetscCallMPI(MPI_Barrier(comm_));
+  PetscCallMPI(MPI_Barrier(comm));
   std::string error;
-  if (rank_ == 0) {
+  if (s.rank == 0) {
     std::error_code ec;
     std::filesystem::rename(tmp, file, ec);
     if (ec)
-      error = "option -gimp_output_dir " + sc_.outputDir + ": cannot move " + tmp + " to " + file +
+      error = "option -gimp_output_dir " + s.sc.outputDir + ": cannot move " + tmp + " to " + file +
               " (" + ec.message() + ")";
   }
-  PetscCall(agree(comm_, error));
+  PetscCall(agree(comm, error));
   PetscCall(PetscInfo(nullptr, "step %" PetscInt_FMT ": checkpoint written\n", step));
   PetscCall(PetscLogStagePop());
   return PETSC_SUCCESS;
 }
 
-PetscErrorCode Solver::checkCheckpoint(PetscViewer v, const std::vector<double> &s) {
+template <int D> PetscErrorCode Checkpoint<D>::check(PetscViewer v, const std::vector<double> &sv) {
   // The checkpoint must come from this scene: the same grid, particles and fields, conditions
   // and time step. Every rank read the same values, so every rank finds the same mismatch.
+  RunState<D> &s = s_;
   std::vector<double> grid, gaps;
-  PetscCall(readArray(comm_, v, "/state/grid", grid));
-  PetscCall(readArray(comm_, v, "/state/max_gaps", gaps));
+  PetscCall(readArray(s.comm, v, "/state/grid", grid));
+  PetscCall(readArray(s.comm, v, "/state/max_gaps", gaps));
   // The optional particle fields it holds must be the scene's (tracking and transfer).
-  const OptionalFields optional = optionalFieldsOf(sc_);
+  const OptionalFields optional = optionalFieldsOf(s.sc);
   std::string fieldWhy;
-  for (const FieldSpec<2> &fs : particleFields<2>()) {
-    if (fs.need == FieldNeed::Always || !fieldWhy.empty()) continue;
+  for (const FieldSpec<D> &fs : particleFields<D>()) {
+    if (fs.need == FieldNeed::Always || fs.need == FieldNeed::Never || !fieldWhy.empty()) continue;
     PetscBool has = PETSC_FALSE;
     PetscCall(PetscViewerHDF5HasDataset(v, ("/particles/" + std::string(fs.name)).c_str(), &has));
     if ((has == PETSC_TRUE) != optional.has(fs.need))
@@ -322,110 +326,128 @@ PetscErrorCode Solver::checkCheckpoint(PetscViewer v, const std::vector<double> 
                  " (the tracking, the transfer, the boundary conditions or -gimp_multirate differ)";
   }
   PetscReal dt = 0;
-  PetscCall(TSGetTimeStep(ts_, &dt));
+  PetscCall(TSGetTimeStep(s.ts, &dt));
   std::string why;
-  if (s[0] != kFormat)
-    why = "its layout version " + formatNumber(s[0]) + " is not " + formatNumber(kFormat);
-  else if (grid != gridDescription(grid_))
+  if (sv[0] != kFormat)
+    why = "its layout version " + formatNumber(sv[0]) + " is not " + formatNumber(kFormat);
+  else if (grid != gridDescription(s.grid))
     why = "its grid differs from the scene's (levels, cell sizes, boxes)";
-  else if (s[5] != static_cast<double>(nParticles_))
-    why = "it holds " + formatNumber(s[5]) + " particles, the scene seeds " +
-          std::to_string(nParticles_);
+  else if (sv[5] != static_cast<double>(s.nParticles))
+    why = "it holds " + formatNumber(sv[5]) + " particles, the scene seeds " +
+          std::to_string(s.nParticles);
   else if (!fieldWhy.empty())
     why = fieldWhy;
-  else if (gaps.size() != sc_.dbcs.size())
+  else if (gaps.size() != s.sc.dbcs.size())
     why = "it has " + std::to_string(gaps.size()) + " displacement conditions, the scene " +
-          std::to_string(sc_.dbcs.size());
+          std::to_string(s.sc.dbcs.size());
   // (A step chosen from the eigen-solver's estimate differs in its last bits with the rank
   // count; the restart continues with the checkpoint's.)
-  else if (std::fabs(s[3] - dt) > 1e-9 * dt)
-    why = "its time step " + formatNumber(s[3]) + " s differs from the scene's " + formatNumber(dt);
+  else if (std::fabs(sv[3] - dt) > 1e-9 * dt)
+    why =
+        "its time step " + formatNumber(sv[3]) + " s differs from the scene's " + formatNumber(dt);
   if (!why.empty()) {
     PetscCall(PetscViewerDestroy(&v));
-    throw InputError("option -gimp_restart " + sc_.restart + ": " + why +
+    throw InputError("option -gimp_restart " + s.sc.restart + ": " + why +
                      ": give the options of the run that wrote it");
   }
   std::vector<double> force, gap;
-  PetscCall(readArray(comm_, v, "/state/reactions", force));
-  PetscCall(readArray(comm_, v, "/state/gaps", gap));
-  boundary_.restore(gaps, force, gap, rank_ == 0);
+  PetscCall(readArray(s.comm, v, "/state/reactions", force));
+  PetscCall(readArray(s.comm, v, "/state/gaps", gap));
+  s.boundary.restore(gaps, force, gap, s.rank == 0);
   return PETSC_SUCCESS;
 }
 
-PetscErrorCode Solver::loadCheckpoint(Output::Resume &resume) {
+template <int D> PetscErrorCode Checkpoint<D>::load(OutputResume &resume) {
   // Runs after setup has seeded the scene: the particles are replaced by the checkpoint's, each
   // rank's own in their order on as many ranks, split evenly and migrated on another count.
-  PetscCall(agree(comm_, rank_ == 0 && !looksLikeCheckpoint(sc_.restart)
-                             ? "option -gimp_restart " + sc_.restart +
-                                   ": not a gimp checkpoint (no HDF5 file with /state and "
-                                   "/particles there)"
-                             : std::string()));
+  RunState<D> &s = s_;
+  const std::string &file = s.sc.restart;
+  PetscCall(agree(s.comm, s.rank == 0 && !looksLikeCheckpoint(file)
+                              ? "option -gimp_restart " + file +
+                                    ": not a gimp checkpoint (no HDF5 file with /state and "
+                                    "/particles there)"
+                              : std::string()));
   PetscViewer v;
-  PetscCall(PetscViewerHDF5Open(comm_, sc_.restart.c_str(), FILE_MODE_READ, &v));
-  std::vector<double> s(kNScalars);
+  PetscCall(PetscViewerHDF5Open(s.comm, file.c_str(), FILE_MODE_READ, &v));
+  std::vector<double> sv(kNScalars);
   // The layout version first: a checkpoint of another layout may lack the later attributes.
-  PetscCall(PetscViewerHDF5ReadAttribute(v, "/state", kScalars[0], PETSC_DOUBLE, nullptr, &s[0]));
-  for (size_t q = 1; q < kNScalars && s[0] == kFormat; ++q)
-    PetscCall(PetscViewerHDF5ReadAttribute(v, "/state", kScalars[q], PETSC_DOUBLE, nullptr, &s[q]));
-  PetscCall(checkCheckpoint(v, s)); // destroys v when it throws
+  PetscCall(PetscViewerHDF5ReadAttribute(v, "/state", kScalars[0], PETSC_DOUBLE, nullptr, &sv[0]));
+  for (size_t q = 1; q < kNScalars && sv[0] == kFormat; ++q)
+    PetscCall(
+        PetscViewerHDF5ReadAttribute(v, "/state", kScalars[q], PETSC_DOUBLE, nullptr, &sv[q]));
+  PetscCall(check(v, sv)); // destroys v when it throws
   std::vector<double> sizes, frames, history;
-  PetscCall(readArray(comm_, v, "/particles/local_sizes", sizes));
-  PetscCall(readArray(comm_, v, "/state/frames", frames));
-  PetscCall(readArray(comm_, v, "/state/history", history));
-  const bool same = sizes.size() == static_cast<size_t>(size_);
-  const PetscInt total = static_cast<PetscInt>(s[5]);
-  const PetscInt nloc = same ? static_cast<PetscInt>(sizes[static_cast<size_t>(rank_)])
-                             : total / size_ + (rank_ < total % size_ ? 1 : 0);
-  PetscCall(DMSwarmSetLocalSizes(sw_, nloc, 16));
+  PetscCall(readArray(s.comm, v, "/particles/local_sizes", sizes));
+  PetscCall(readArray(s.comm, v, "/state/frames", frames));
+  PetscCall(readArray(s.comm, v, "/state/history", history));
+  const bool same = sizes.size() == static_cast<size_t>(s.size);
+  const PetscInt total = static_cast<PetscInt>(sv[5]);
+  const PetscInt nloc = same ? static_cast<PetscInt>(sizes[static_cast<size_t>(s.rank)])
+                             : total / s.size + (s.rank < total % s.size ? 1 : 0);
+  PetscCall(DMSwarmSetLocalSizes(s.sw, nloc, 16));
   PetscCall(PetscViewerHDF5PushGroup(v, "/particles"));
-  PetscCall(transferFields(comm_, v, sw_, true));
+  PetscCall(transferFields<D>(s.comm, v, s.sw, true));
   PetscCall(PetscViewerHDF5PopGroup(v));
   PetscCall(PetscViewerDestroy(&v));
   PetscInt *owner = nullptr;
-  PetscCall(
-      DMSwarmGetField(sw_, DMSwarmField_rank, nullptr, nullptr, reinterpret_cast<void **>(&owner)));
-  std::fill(owner, owner + nloc, static_cast<PetscInt>(rank_));
-  PetscCall(DMSwarmRestoreField(sw_, DMSwarmField_rank, nullptr, nullptr,
+  PetscCall(DMSwarmGetField(s.sw, DMSwarmField_rank, nullptr, nullptr,
+                            reinterpret_cast<void **>(&owner)));
+  std::fill(owner, owner + nloc, static_cast<PetscInt>(s.rank));
+  PetscCall(DMSwarmRestoreField(s.sw, DMSwarmField_rank, nullptr, nullptr,
                                 reinterpret_cast<void **>(&owner)));
-  if (!same) PetscCall(migrate());
-  PetscCall(TSSetStepNumber(ts_, static_cast<PetscInt>(s[1])));
-  PetscCall(TSSetTime(ts_, s[2]));
-  PetscCall(TSSetTimeStep(ts_, s[3])); // the step of the run that wrote it, to the last bit
-  // A run that would end before its checkpoint is refused (every rank read the same one); one
-  // that ends on it runs no step and reports that step again.
-  PetscInt maxSteps = 0;
-  PetscReal maxTime = 0;
-  PetscCall(TSGetMaxSteps(ts_, &maxSteps));
-  PetscCall(TSGetMaxTime(ts_, &maxTime));
-  if (maxSteps < static_cast<PetscInt>(s[1]))
-    throw InputError("option -ts_max_steps " + std::to_string(maxSteps) + ": the checkpoint " +
-                     sc_.restart + " is at step " + std::to_string(static_cast<PetscInt>(s[1])) +
-                     ", past the run's end; -ts_max_steps counts from step 0");
-  if (maxTime < s[2])
-    throw InputError("option -ts_max_time " + formatNumber(maxTime) + ": the checkpoint " +
-                     sc_.restart + " is at t = " + formatNumber(s[2]) + " s, past the run's end");
-  meanParticleMass_ = s[6];
-  work_.external = s[7];
-  work_.damping = s[8];
-  measures_.migrated = static_cast<PetscInt64>(s[9]);
-  measures_.separationStrain = s[10];
-  measures_.maxStrain = s[11];
-  measures_.maxSeparation = s[12];
-  measures_.mmsLinf = s[13];
-  measures_.mmsRms = s[14];
-  restRows_ = static_cast<int>(s[15]);
-  restStrain_ = s[16];
-  atRest_ = s[17] != 0;
-  // The smallest critical step of the run so far (re-checks before the checkpoint included).
-  dtCritical_ = std::fmin(dtCritical_, s[18]);
+  if (!same) PetscCall(step_.migrate());
+  PetscCall(restoreState(sv));
   for (size_t q = 0; q + 2 < frames.size(); q += 3)
     resume.frames.push_back(
         {static_cast<PetscInt>(frames[q]), frames[q + 1], static_cast<long long>(frames[q + 2])});
   resume.history.assign(static_cast<size_t>(history.at(0)), '\0');
   std::memcpy(resume.history.data(), history.data() + 1, resume.history.size());
-  PetscCall(PetscPrintf(comm_, "gimp: restart from %s at step %" PetscInt_FMT " t %.9g s\n",
-                        sc_.restart.c_str(), static_cast<PetscInt>(s[1]), s[2]));
+  PetscCall(PetscPrintf(s.comm, "gimp: restart from %s at step %" PetscInt_FMT " t %.9g s\n",
+                        file.c_str(), static_cast<PetscInt>(sv[1]), sv[2]));
   return PETSC_SUCCESS;
 }
+
+template <int D> PetscErrorCode Checkpoint<D>::restoreState(const std::vector<double> &sv) {
+  RunState<D> &s = s_;
+  PetscCall(TSSetStepNumber(s.ts, static_cast<PetscInt>(sv[1])));
+  PetscCall(TSSetTime(s.ts, sv[2]));
+  PetscCall(TSSetTimeStep(s.ts, sv[3])); // the step of the run that wrote it, to the last bit
+  // A run that would end before its checkpoint is refused (every rank read the same one); one
+  // that ends on it runs no step and reports that step again.
+  PetscInt maxSteps = 0;
+  PetscReal maxTime = 0;
+  PetscCall(TSGetMaxSteps(s.ts, &maxSteps));
+  PetscCall(TSGetMaxTime(s.ts, &maxTime));
+  if (maxSteps < static_cast<PetscInt>(sv[1]))
+    throw InputError("option -ts_max_steps " + std::to_string(maxSteps) + ": the checkpoint " +
+                     s.sc.restart + " is at step " + std::to_string(static_cast<PetscInt>(sv[1])) +
+                     ", past the run's end; -ts_max_steps counts from step 0");
+  if (maxTime < sv[2])
+    throw InputError("option -ts_max_time " + formatNumber(maxTime) + ": the checkpoint " +
+                     s.sc.restart + " is at t = " + formatNumber(sv[2]) + " s, past the run's end");
+  RunMeasures &m = s.measures;
+  s.meanParticleMass = sv[6];
+  s.work.external = sv[7];
+  s.work.damping = sv[8];
+  m.migrated = static_cast<PetscInt64>(sv[9]);
+  m.separationStrain = sv[10];
+  m.maxStrain = sv[11];
+  m.maxSeparation = sv[12];
+  m.mmsLinf = sv[13];
+  m.mmsRms = sv[14];
+  s.status.restRows = static_cast<int>(sv[15]);
+  s.status.restStrain = sv[16];
+  s.status.atRest = sv[17] != 0;
+  // The smallest critical step of the run so far (re-checks before the checkpoint included).
+  m.dtCritical = std::fmin(m.dtCritical, sv[18]);
+  return PETSC_SUCCESS;
+}
+
+#define GIMP_INSTANTIATE(D)                                                                        \
+  template PetscErrorCode Checkpoint<D>::write(PetscInt, double);                                  \
+  template PetscErrorCode Checkpoint<D>::load(OutputResume &);
+GIMP_INSTANTIATE(2)
+GIMP_INSTANTIATE(3)
+#undef GIMP_INSTANTIATE
 
 } // namespace gimp

@@ -9,7 +9,8 @@ Nodal::~Nodal() {
     if (*v) (void)VecDestroy(v);
 }
 
-PetscErrorCode Nodal::create(const Grid<2> &grid, bool external, bool cracks, bool xpic) {
+template <int D>
+PetscErrorCode Nodal::create(const Grid<D> &grid, bool external, bool cracks, bool xpic) {
   PetscCall(DMCreateGlobalVector(grid.dm, &P));
   PetscCall(PetscObjectSetName(reinterpret_cast<PetscObject>(P), "momentum"));
   for (Vec *v : {&mass, &vel, &acc, &f, &rhs, &bcMask, &mask, &invMass})
@@ -32,5 +33,8 @@ PetscErrorCode Nodal::create(const Grid<2> &grid, bool external, bool cracks, bo
   }
   return PETSC_SUCCESS;
 }
+
+template PetscErrorCode Nodal::create<2>(const Grid<2> &, bool, bool, bool);
+template PetscErrorCode Nodal::create<3>(const Grid<3> &, bool, bool, bool);
 
 } // namespace gimp

@@ -1,7 +1,7 @@
 // The critical time step of the current configuration (the stability room's eigenvalues) and
 // what the run does with it: the step chosen without -ts_dt, the refusals of an explicit -ts_dt
 // and of -gimp_penalty, and the re-checks every -gimp_stability_interval steps.
-#include "gimp/solver/solver.hpp"
+#include "gimp/solver/stability_check.hpp"
 
 #include <cmath>
 #include <complex>
@@ -37,79 +37,88 @@ void refuseGrowingModes(const stability::Estimate &e, double alpha) {
 
 } // namespace
 
-PetscErrorCode Solver::stabilityEstimate(bool springs, bool smallest, stability::Estimate &e) {
+template <int D>
+PetscErrorCode StabilityCheck<D>::estimate(bool springs, bool smallest, stability::Estimate &e) {
   // The step's own phases build the stencils and the nodal mass and masks; the next step
   // rebuilds them, so the nodal vectors may be overwritten here.
+  RunState<D> &s = s_;
   PetscCall(slepc_.start());
-  PetscCall(migrate());
-  ParticleView<2> p;
-  PetscCall(p.get(sw_));
-  const double *centres = stencilCentres(p);
-  PetscCall(buildStencils(p, centres));
-  centres = affineCentres(p, centres);
-  PetscCall(particlesToGrid(p, centres));
-  stability::OperatorInput in;
-  in.sc = &sc_;
-  in.grid = &grid_;
-  in.st = &st_;
+  PetscCall(step_.migrate());
+  ParticleView<D> p;
+  PetscCall(p.get(s.sw));
+  const double *centres = step_.stencilCentres(p);
+  PetscCall(step_.buildStencils(p, centres));
+  centres = step_.affineCentres(p, centres);
+  PetscCall(step_.particlesToGrid(p, centres));
+  stability::OperatorInput<D> in;
+  in.sc = &s.sc;
+  in.grid = &s.grid;
+  in.st = &s.st;
   in.p = &p;
-  in.boundary = sc_.dbcs.empty() ? nullptr : &boundary_;
+  in.boundary = s.sc.dbcs.empty() ? nullptr : &s.boundary;
   in.springs = springs;
-  in.stressOnUpdated = !scheme_.stressFromReprojection && !scheme_.stressBeforeGridUpdate;
-  in.mask = nodal_.mask;
-  in.invMass = nodal_.invMass;
-  if (sc_.transfer == Transfer::Apic) { // R: APIC's affine re-projection
+  in.stressOnUpdated = !s.scheme.stressFromReprojection && !s.scheme.stressBeforeGridUpdate;
+  in.mask = s.nodal.mask;
+  in.invMass = s.nodal.invMass;
+  if (s.sc.transfer == Transfer::Apic) { // R: APIC's affine re-projection
     in.centres = centres;
-    in.slotX = slotCoordinates();
+    in.slotX = step_.slotCoordinates();
   }
   try {
-    PetscCall(stability::estimate(comm_, in, smallest, e));
+    PetscCall(stability::estimate<D>(s.comm, in, smallest, e));
   } catch (...) {
-    (void)p.restore(sw_);
+    (void)p.restore(s.sw);
     throw;
   }
-  PetscCall(p.restore(sw_));
+  PetscCall(p.restore(s.sw));
   return PETSC_SUCCESS;
 }
 
-PetscErrorCode Solver::stabilityAtStart() {
+template <int D> PetscErrorCode StabilityCheck<D>::atStart() {
+  RunState<D> &s = s_;
   PetscBool explicitDt = PETSC_FALSE;
   PetscCall(PetscOptionsHasName(nullptr, nullptr, "-ts_dt", &explicitDt));
-  const bool traction = !sc_.dbcs.empty() && sc_.penaltyTraction;
+  const bool traction = !s.sc.dbcs.empty() && s.sc.penaltyTraction;
   stability::Estimate e;
-  PetscCall(stabilityEstimate(true, traction, e));
-  dtCritical_ = e.dtCritical;
+  PetscCall(estimate(true, traction, e));
+  s.measures.dtCritical = e.dtCritical;
   PetscReal dt = 0;
-  PetscCall(TSGetTimeStep(ts_, &dt));
+  PetscCall(TSGetTimeStep(s.ts, &dt));
   if (!explicitDt) {
-    dt = sc_.cfl * e.dtCritical;
-    PetscCall(TSSetTimeStep(ts_, dt));
+    dt = s.sc.cfl * e.dtCritical;
+    PetscCall(TSSetTimeStep(s.ts, dt));
   }
   PetscCall(PetscPrintf(
-      comm_,
+      s.comm,
       "gimp: stability: omega_max = %.6g rad/s (eigenvalue %.6g%+.3gi of B = "
       "M^-1 (K_U %s + K_W (2 - R)), %" PetscInt_FMT " iterations), dt_critical = %.6g s, dt = %.6g "
       "s (%s)\n",
       e.omega, e.lambdaRe, e.lambdaIm,
-      scheme_.stressFromReprojection || scheme_.stressBeforeGridUpdate ? "R" : "(2 - R)",
+      s.scheme.stressFromReprojection || s.scheme.stressBeforeGridUpdate ? "R" : "(2 - R)",
       e.iterations, e.dtCritical, dt, explicitDt ? "-ts_dt" : "-gimp_cfl x dt_critical"));
-  if (sc_.transfer == Transfer::Xpic)
-    PetscCall(PetscPrintf(comm_, "gimp: stability: R is the PIC re-projection: with xpic "
-                                 "dt_critical is an estimate not verified (docs/method.md)\n"));
+  if (s.sc.transfer == Transfer::Xpic)
+    PetscCall(PetscPrintf(s.comm, "gimp: stability: R is the PIC re-projection: with xpic "
+                                  "dt_critical is an estimate not verified (docs/method.md)\n"));
   if (e.hasSmallest)
     PetscCall(PetscPrintf(
-        comm_,
+        s.comm,
         "gimp: stability: smallest real part %.6g%+.3gi (%" PetscInt_FMT
         " iterations), largest imaginary part %.6g%+.3gi (%" PetscInt_FMT " iterations%s)\n",
         e.smallestRe, e.smallestIm, e.smallestIterations, e.complexRe, e.complexIm,
         e.complexIterations, e.complexConverged ? "" : ", not converged"));
-  if (e.hasSmallest) refuseGrowingModes(e, boundary_.alpha());
-  if (!(dt > e.dtCritical) || sc_.allowUnstableDt) return PETSC_SUCCESS;
-  if (!sc_.dbcs.empty()) { // is it the penalty springs that make the step unstable?
+  if (e.hasSmallest) refuseGrowingModes(e, s.boundary.alpha());
+  if (!(dt > e.dtCritical) || s.sc.allowUnstableDt) return PETSC_SUCCESS;
+  return refuseStep(dt, e);
+}
+
+template <int D>
+PetscErrorCode StabilityCheck<D>::refuseStep(double dt, const stability::Estimate &e) {
+  const RunState<D> &s = s_;
+  if (!s.sc.dbcs.empty()) { // is it the penalty springs that make the step unstable?
     stability::Estimate free;
-    PetscCall(stabilityEstimate(false, false, free));
+    PetscCall(estimate(false, false, free));
     if (dt <= free.dtCritical)
-      throw InputError("option -gimp_penalty " + formatNumber(boundary_.alpha()) +
+      throw InputError("option -gimp_penalty " + formatNumber(s.boundary.alpha()) +
                        ": its springs lower dt_critical to " + formatNumber(e.dtCritical) +
                        " s, below -ts_dt " + formatNumber(dt) + " (without them " +
                        formatNumber(free.dtCritical) + " s); lower it, or -ts_dt");
@@ -120,30 +129,36 @@ PetscErrorCode Solver::stabilityAtStart() {
                    formatNumber(e.dtCritical) + ", or -gimp_allow_unstable_dt to run it anyway");
 }
 
-PetscErrorCode Solver::stabilityRecheck(PetscInt step, double t) {
+template <int D> PetscErrorCode StabilityCheck<D>::recheck(PetscInt step, double t) {
+  RunState<D> &s = s_;
   stability::Estimate e;
-  PetscCall(stabilityEstimate(true, false, e));
-  dtCritical_ = std::fmin(dtCritical_, e.dtCritical);
+  PetscCall(estimate(true, false, e));
+  s.measures.dtCritical = std::fmin(s.measures.dtCritical, e.dtCritical);
   PetscReal dt = 0;
-  PetscCall(TSGetTimeStep(ts_, &dt));
+  PetscCall(TSGetTimeStep(s.ts, &dt));
   PetscCall(PetscInfo(nullptr,
                       "step %" PetscInt_FMT ": dt_critical %g s (%" PetscInt_FMT " iterations)\n",
                       step, e.dtCritical, e.iterations));
   if (!(dt > e.dtCritical)) return PETSC_SUCCESS;
-  if (sc_.allowUnstableDt) {
-    PetscCall(PetscPrintf(comm_,
+  if (s.sc.allowUnstableDt) {
+    PetscCall(PetscPrintf(s.comm,
                           "gimp: warning: step %" PetscInt_FMT " t %.9g s: dt %.6g s exceeds the "
                           "critical step %.6g s of the current configuration\n",
                           step, t, dt, e.dtCritical));
     return PETSC_SUCCESS;
   }
-  failed_ = true; // every rank has the same eigenvalue
-  PetscCall(PetscPrintf(comm_,
-                        "gimp: error: step %" PetscInt_FMT " t %.9g s: dt %.6g s exceeds the "
-                        "critical step %.6g s of the current configuration (the run would go "
-                        "unstable; reduce -ts_dt)\n",
-                        step, t, dt, e.dtCritical));
+  s.status.failed = true; // every rank has the same eigenvalue
+  char line[256];
+  std::snprintf(line, sizeof(line),
+                "step %lld t %.9g s: dt %.6g s exceeds the critical step %.6g s of the current "
+                "configuration (the run would go unstable; reduce -ts_dt)",
+                static_cast<long long>(step), t, dt, e.dtCritical);
+  s.status.failure = line;
+  PetscCall(PetscPrintf(s.comm, "gimp: error: %s\n", line));
   return PETSC_SUCCESS;
 }
+
+template class StabilityCheck<2>;
+template class StabilityCheck<3>;
 
 } // namespace gimp

@@ -5,196 +5,239 @@
 //   xpic  XPIC(m): v_p <- S (v* + dt a), v* the start velocity filtered by m - 1 projections
 // Particles always move by dt S v with v the updated grid velocity.
 #include "gimp/physics/constraints.hpp"
-#include "gimp/solver/solver.hpp"
+#include "gimp/solver/step.hpp"
 #include "gimp/transfer/affine.hpp"
-#include "gimp/transfer/lanes2.hpp"
+#include "gimp/transfer/lane_loops.hpp"
 #include "gimp/transfer/transfer.hpp"
 
 #include <algorithm>
 
 namespace gimp {
 
-const double *Solver::stencilCentres(const ParticleView<2> &p) {
+template <int D> const double *Step<D>::stencilCentres(const ParticleView<D> &p) {
   // With APIC the re-projection's affine moments are taken about the stencils' centres: where
   // those are the positions, each particle is re-projected before it moves (gridToParticles,
   // in one pass), so no copy is needed.
-  return tracking::domainCentres(p, centres_, sc_.tracking);
+  if constexpr (D == 2) return tracking::domainCentres(p, centres_, s_.sc.tracking);
+  return p.x;
 }
 
-const double *Solver::affineCentres(const ParticleView<2> &p, const double *centres) {
+template <int D>
+const double *Step<D>::affineCentres(const ParticleView<D> &p, const double *centres) {
   // cpdi2's weights integrate the quadrilateral of the corners, whose centroid drifts from the
   // material point that G2P moves; moments about the material point would read the particle's
   // velocity times that offset as a velocity gradient (and divide it by D_p, ratio^2 smaller on
   // a finer level). Corners and GIMP domains are centred where their weights are.
-  if (sc_.transfer != Transfer::Apic || sc_.tracking != Tracking::Cpdi2) return centres;
-  centres_.resize(kDim * static_cast<size_t>(p.n));
-  transfer::weightCentroids<kDim>(st_, p.n, slotCoordinates(), centres_.data());
+  if (s_.sc.transfer != Transfer::Apic || s_.sc.tracking != Tracking::Cpdi2) return centres;
+  centres_.resize(D * static_cast<size_t>(p.n));
+  transfer::weightCentroids<D>(s_.st, p.n, slotCoordinates(), centres_.data());
   return centres_.data();
 }
 
-const double *Solver::slotCoordinates() {
-  if (slotX_.size() != kDim * static_cast<size_t>(grid_.nSlots)) {
-    slotX_.resize(kDim * static_cast<size_t>(grid_.nSlots));
-    for (PetscInt s = 0; s < grid_.nSlots; ++s) { // a crack's second slot: its node's place
-      const PetscInt nd = grid_.slotNode[s];
-      slotX_[kDim * s] = grid_.X[nd];
-      slotX_[kDim * s + 1] = grid_.Y[nd];
-    }
+template <int D> const double *Step<D>::slotCoordinates() {
+  const Grid<D> &g = s_.grid;
+  if (slotX_.size() != D * static_cast<size_t>(g.nSlots)) {
+    slotX_.resize(D * static_cast<size_t>(g.nSlots));
+    for (PetscInt s = 0; s < g.nSlots; ++s) // a crack's second slot: its node's place
+      for (int a = 0; a < D; ++a)
+        slotX_[D * s + a] = g.coordinates(a)[g.slotNode[s]];
   }
   return slotX_.data();
 }
 
-void Solver::projectMomentum(const Stencils<kDim> &st, const ParticleView<2> &p,
-                             const double *centres, double *mom, double *mass) {
-  if (sc_.transfer != Transfer::Apic) {
-    transfer::particlesToGrid<kDim>(st, p.n, p.m, p.v, mom, mass);
+template <int D>
+void Step<D>::projectMomentum(const Stencils<D> &st, const ParticleView<D> &p,
+                              const double *centres, double *mom, double *mass) {
+  if (s_.sc.transfer != Transfer::Apic) {
+    transfer::particlesToGrid<D>(st, p.n, p.m, p.v, mom, mass);
     return;
   }
   // C_p = B_p D_p^-1 per particle from its stencil, at the step's P2G and at the re-projection.
-  if (lanes_)
-    transfer::lanes2::particlesToGridAffineB(st, p.n, p.m, p.v, p.B, centres, slotCoordinates(),
-                                             mom, mass);
-  else
-    transfer::particlesToGridAffineB<kDim>(st, p.n, p.m, p.v, p.B, centres, slotCoordinates(), mom,
-                                           mass);
+  if constexpr (D == 2)
+    if (s_.lanes) {
+      transfer::laneLoops::particlesToGridAffineB(st, p.n, p.m, p.v, p.B, centres,
+                                                  slotCoordinates(), mom, mass);
+      return;
+    }
+  transfer::particlesToGridAffineB<D>(st, p.n, p.m, p.v, p.B, centres, slotCoordinates(), mom,
+                                      mass);
 }
 
-PetscErrorCode Solver::particlesToGrid(const ParticleView<2> &p, const double *centres) {
+template <int D>
+PetscErrorCode Step<D>::particlesToGrid(const ParticleView<D> &p, const double *centres) {
   // Mass and momentum to the nodes, masked (constraints, empty nodes); the nodal velocity.
+  RunState<D> &s = s_;
+  Nodal &n = s.nodal;
   PetscScalar *mom = nullptr, *mass = nullptr;
-  PetscCall(VecZeroEntries(nodal_.sumW));
-  PetscCall(VecZeroEntries(nodal_.massW));
-  PetscCall(VecGetArray(nodal_.sumW, &mom));
-  PetscCall(VecGetArray(nodal_.massW, &mass));
-  projectMomentum(st_, p, centres, mom, mass);
-  PetscCall(VecRestoreArray(nodal_.massW, &mass));
-  PetscCall(VecRestoreArray(nodal_.sumW, &mom));
-  PetscCall(VecZeroEntries(nodal_.P));
-  PetscCall(grid_.addFromWindow(nodal_.sumW, nodal_.P));
-  PetscCall(VecZeroEntries(nodal_.mass));
-  PetscCall(grid_.addFromWindow(nodal_.massW, nodal_.mass));
-  PetscCall(physics::massMask(nodal_.mass, nodal_.bcMask, sc_.massCutoff * meanParticleMass_,
-                              nodal_.mask, nodal_.invMass));
-  PetscCall(VecPointwiseMult(nodal_.P, nodal_.P, nodal_.mask));
-  PetscCall(VecPointwiseMult(nodal_.vel, nodal_.P, nodal_.invMass));
-  if (scheme_.stressBeforeGridUpdate) PetscCall(grid_.toWindow(nodal_.vel, nodal_.velW));
+  PetscCall(VecZeroEntries(n.sumW));
+  PetscCall(VecZeroEntries(n.massW));
+  PetscCall(VecGetArray(n.sumW, &mom));
+  PetscCall(VecGetArray(n.massW, &mass));
+  projectMomentum(s.st, p, centres, mom, mass);
+  PetscCall(VecRestoreArray(n.massW, &mass));
+  PetscCall(VecRestoreArray(n.sumW, &mom));
+  PetscCall(VecZeroEntries(n.P));
+  PetscCall(s.grid.addFromWindow(n.sumW, n.P));
+  PetscCall(VecZeroEntries(n.mass));
+  PetscCall(s.grid.addFromWindow(n.massW, n.mass));
+  PetscCall(physics::massMask(n.mass, n.bcMask, s.sc.massCutoff * s.meanParticleMass, n.mask,
+                              n.invMass, D));
+  PetscCall(VecPointwiseMult(n.P, n.P, n.mask));
+  PetscCall(VecPointwiseMult(n.vel, n.P, n.invMass));
+  if (s.scheme.stressBeforeGridUpdate) PetscCall(s.grid.toWindow(n.vel, n.velW));
   return PETSC_SUCCESS;
 }
 
-PetscErrorCode Solver::xpicFilter(const ParticleView<2> &p, const StepClock &c) {
+template <int D> PetscErrorCode Step<D>::xpicFilter(const ParticleView<D> &p, const StepClock &c) {
   // v^n = v^{n+1} - dt a (what TS started from, masked); v* = sum_{k=0}^{m-1} (I - Q)^k v^n with
   // Q = M^-1 S^T M_p S the lumped projection through the particles (the step's stencils): the
   // truncated series of the consistent-mass projection Q^-1 v^n.
-  PetscCall(VecWAXPY(nodal_.term, -c.dt, nodal_.acc, nodal_.vel));
-  PetscCall(VecCopy(nodal_.term, nodal_.vstar));
-  xpicVp_.resize(kDim * static_cast<size_t>(p.n));
-  for (int k = 1; k < sc_.xpicOrder; ++k) {
-    PetscCall(grid_.toWindow(nodal_.term, nodal_.vstarW));
+  RunState<D> &s = s_;
+  Nodal &n = s.nodal;
+  PetscCall(VecWAXPY(n.term, -c.dt, n.acc, n.vel));
+  PetscCall(VecCopy(n.term, n.vstar));
+  xpicVp_.resize(D * static_cast<size_t>(p.n));
+  for (int k = 1; k < s.sc.xpicOrder; ++k) {
+    PetscCall(s.grid.toWindow(n.term, n.vstarW));
     const PetscScalar *t = nullptr;
     PetscScalar *mom = nullptr;
-    PetscCall(VecGetArrayRead(nodal_.vstarW, &t));
-    transfer::interpolate<kDim>(st_, p.n, t, xpicVp_.data());
-    PetscCall(VecRestoreArrayRead(nodal_.vstarW, &t));
-    PetscCall(VecZeroEntries(nodal_.sumW));
-    PetscCall(VecGetArray(nodal_.sumW, &mom));
-    transfer::particlesToGrid<kDim>(st_, p.n, p.m, xpicVp_.data(), mom, nullptr);
-    PetscCall(VecRestoreArray(nodal_.sumW, &mom));
-    PetscCall(VecZeroEntries(nodal_.f)); // free after the grid update: Q t
-    PetscCall(grid_.addFromWindow(nodal_.sumW, nodal_.f));
-    PetscCall(VecPointwiseMult(nodal_.f, nodal_.f, nodal_.invMass));
-    PetscCall(VecAXPY(nodal_.term, -1.0, nodal_.f)); // (I - Q) t
-    PetscCall(VecAXPY(nodal_.vstar, 1.0, nodal_.term));
+    PetscCall(VecGetArrayRead(n.vstarW, &t));
+    transfer::interpolate<D>(s.st, p.n, t, xpicVp_.data());
+    PetscCall(VecRestoreArrayRead(n.vstarW, &t));
+    PetscCall(VecZeroEntries(n.sumW));
+    PetscCall(VecGetArray(n.sumW, &mom));
+    transfer::particlesToGrid<D>(s.st, p.n, p.m, xpicVp_.data(), mom, nullptr);
+    PetscCall(VecRestoreArray(n.sumW, &mom));
+    PetscCall(VecZeroEntries(n.f)); // free after the grid update: Q t
+    PetscCall(s.grid.addFromWindow(n.sumW, n.f));
+    PetscCall(VecPointwiseMult(n.f, n.f, n.invMass));
+    PetscCall(VecAXPY(n.term, -1.0, n.f)); // (I - Q) t
+    PetscCall(VecAXPY(n.vstar, 1.0, n.term));
   }
-  PetscCall(grid_.toWindow(nodal_.vstar, nodal_.vstarW));
+  PetscCall(s.grid.toWindow(n.vstar, n.vstarW));
   return PETSC_SUCCESS;
 }
 
-PetscErrorCode Solver::gridToParticles(ParticleView<2> &p, const StepClock &c,
-                                       const double *centres) {
-  PetscCall(PetscLogStagePush(stages_.g2p));
-  if (sc_.transfer == Transfer::Xpic) PetscCall(xpicFilter(p, c));
+template <int D>
+void Step<D>::gridToParticlesKernel(ParticleView<D> &p, const StepClock &c, const double *centres,
+                                    const double *vg, const double *ag, bool fused, double *mom) {
+  const Scene<D> &sc = s_.sc;
+  const Stencils<D> &st = s_.st;
+  if (sc.transfer == Transfer::Apic) {
+    const bool lanes = D == 2 && s_.lanes;
+    if constexpr (D == 2)
+      if (lanes && fused)
+        return transfer::laneLoops::gridToParticlesAffineProjected(
+            st, p.n, vg, centres, slotCoordinates(), c.dt, p.m, p.v, p.B, p.x, mom);
+    if (fused)
+      return transfer::gridToParticlesAffineProjected<D>(st, p.n, vg, centres, slotCoordinates(),
+                                                         c.dt, p.m, p.v, p.B, p.x, mom);
+    if constexpr (D == 2)
+      if (lanes)
+        return transfer::laneLoops::gridToParticlesAffine(st, p.n, vg, centres, slotCoordinates(),
+                                                          c.dt, p.v, p.B, p.x);
+    return transfer::gridToParticlesAffine<D>(st, p.n, vg, centres, slotCoordinates(), c.dt, p.v,
+                                              p.B, p.x);
+  }
+  if (fused)
+    return transfer::gridToParticlesProjected<D>(st, p.n, vg, ag, c.dt, sc.flip, p.m, p.v, p.x,
+                                                 mom);
+  transfer::gridToParticles<D>(st, p.n, vg, ag, c.dt, sc.flip, p.v, p.x);
+}
+
+template <int D>
+PetscErrorCode Step<D>::gridToParticles(ParticleView<D> &p, const StepClock &c,
+                                        const double *centres) {
+  RunState<D> &s = s_;
+  Nodal &n = s.nodal;
+  PetscCall(PetscLogStagePush(s.stages.g2p));
+  const bool xpic = s.sc.transfer == Transfer::Xpic;
+  if (xpic) PetscCall(xpicFilter(p, c));
   const PetscScalar *vg = nullptr, *ag = nullptr;
-  PetscCall(VecGetArrayRead(nodal_.velW, &vg));
-  PetscCall(VecGetArrayRead(nodal_.accW, &ag));
-  const bool reprojects = scheme_.stressFromReprojection || tracksCorners(sc_.tracking);
+  PetscCall(VecGetArrayRead(n.velW, &vg));
+  PetscCall(VecGetArrayRead(n.accW, &ag));
+  const bool reprojects = s.scheme.stressFromReprojection || tracksCorners(s.sc.tracking);
   // With a re-projection (FLIP/PIC and APIC) each particle's new momentum goes back to the grid
   // with the same stencil right after its G2P, in one pass over the particles.
-  const bool fused = reprojects && sc_.transfer != Transfer::Xpic;
+  const bool fused = reprojects && !xpic;
   PetscScalar *mom = nullptr;
   if (fused) {
-    PetscCall(VecZeroEntries(nodal_.sumW));
-    PetscCall(VecGetArray(nodal_.sumW, &mom));
+    PetscCall(VecZeroEntries(n.sumW));
+    PetscCall(VecGetArray(n.sumW, &mom));
   }
-  if (sc_.transfer == Transfer::Apic && fused && lanes_) {
-    transfer::lanes2::gridToParticlesAffineProjected(st_, p.n, vg, centres, slotCoordinates(), c.dt,
-                                                     p.m, p.v, p.B, p.x, mom);
-  } else if (sc_.transfer == Transfer::Apic && fused) {
-    transfer::gridToParticlesAffineProjected<kDim>(st_, p.n, vg, centres, slotCoordinates(), c.dt,
-                                                   p.m, p.v, p.B, p.x, mom);
-  } else if (sc_.transfer == Transfer::Apic && lanes_) {
-    transfer::lanes2::gridToParticlesAffine(st_, p.n, vg, centres, slotCoordinates(), c.dt, p.v,
-                                            p.B, p.x);
-  } else if (sc_.transfer == Transfer::Apic) {
-    transfer::gridToParticlesAffine<kDim>(st_, p.n, vg, centres, slotCoordinates(), c.dt, p.v, p.B,
-                                          p.x);
-  } else if (sc_.transfer == Transfer::Xpic) {
+  if (xpic) {
     const PetscScalar *vs = nullptr;
-    PetscCall(VecGetArrayRead(nodal_.vstarW, &vs));
-    transfer::gridToParticlesFiltered<kDim>(st_, p.n, vg, ag, vs, c.dt, p.v, p.x);
-    PetscCall(VecRestoreArrayRead(nodal_.vstarW, &vs));
-  } else if (fused) {
-    transfer::gridToParticlesProjected<kDim>(st_, p.n, vg, ag, c.dt, sc_.flip, p.m, p.v, p.x, mom);
+    PetscCall(VecGetArrayRead(n.vstarW, &vs));
+    transfer::gridToParticlesFiltered<D>(s.st, p.n, vg, ag, vs, c.dt, p.v, p.x);
+    PetscCall(VecRestoreArrayRead(n.vstarW, &vs));
   } else {
-    transfer::gridToParticles<kDim>(st_, p.n, vg, ag, c.dt, sc_.flip, p.v, p.x);
+    gridToParticlesKernel(p, c, centres, vg, ag, fused, mom);
   }
-  if (fused) PetscCall(VecRestoreArray(nodal_.sumW, &mom));
-  PetscCall(VecRestoreArrayRead(nodal_.accW, &ag));
-  PetscCall(VecRestoreArrayRead(nodal_.velW, &vg));
+  if (fused) PetscCall(VecRestoreArray(n.sumW, &mom));
+  PetscCall(VecRestoreArrayRead(n.accW, &ag));
+  PetscCall(VecRestoreArrayRead(n.velW, &vg));
   if (reprojects) PetscCall(reproject(p, c, centres, fused));
   PetscCall(PetscLogStagePop());
   return PETSC_SUCCESS;
 }
 
-PetscErrorCode Solver::reproject(ParticleView<2> &p, const StepClock &c, const double *centres,
-                                 bool projected) {
+template <int D>
+PetscErrorCode Step<D>::reproject(ParticleView<D> &p, const StepClock &c, const double *centres,
+                                  bool projected) {
   // Re-project the updated particle momentum (acc is free now) with the step's own P2G (APIC:
   // the affine fields of the new B_p): the velocity field of MUSL's stress update, and the one
   // the corners follow. Unlike p^n+1 / m it is a weighted mean of particle velocities, so a
   // node that a particle barely touches (tiny mass, huge F / m) cannot throw a corner away.
+  RunState<D> &s = s_;
+  Nodal &n = s.nodal;
   if (!projected) { // (else G2P put the momenta on the window already)
     PetscScalar *mom = nullptr;
-    PetscCall(VecZeroEntries(nodal_.sumW));
-    PetscCall(VecGetArray(nodal_.sumW, &mom));
-    projectMomentum(st_, p, centres, mom, nullptr);
-    PetscCall(VecRestoreArray(nodal_.sumW, &mom));
+    PetscCall(VecZeroEntries(n.sumW));
+    PetscCall(VecGetArray(n.sumW, &mom));
+    projectMomentum(s.st, p, centres, mom, nullptr);
+    PetscCall(VecRestoreArray(n.sumW, &mom));
   }
-  PetscCall(VecZeroEntries(nodal_.acc));
-  PetscCall(grid_.addFromWindow(nodal_.sumW, nodal_.acc));
-  PetscCall(VecPointwiseMult(nodal_.acc, nodal_.acc, nodal_.invMass));
-  PetscCall(grid_.toWindow(nodal_.acc, nodal_.accW));
+  PetscCall(VecZeroEntries(n.acc));
+  PetscCall(s.grid.addFromWindow(n.sumW, n.acc));
+  PetscCall(VecPointwiseMult(n.acc, n.acc, n.invMass));
+  PetscCall(s.grid.toWindow(n.acc, n.accW));
   // The re-projected fields of a cracked node may approach each other again: the same contact
   // (faces of this step), or MUSL's strain would see the faces interpenetrate.
-  if (!sc_.cracks.empty()) PetscCall(crackContact(c, nodal_.accW, nodal_.acc, nullptr, nullptr));
-  if (scheme_.stressFromReprojection) {
-    PetscCall(VecCopy(nodal_.acc, nodal_.vel));
-    PetscCall(VecCopy(nodal_.accW, nodal_.velW));
+  if (!s.sc.cracks.empty()) PetscCall(crackContact(c, n.accW, n.acc, nullptr, nullptr));
+  if (s.scheme.stressFromReprojection) {
+    PetscCall(VecCopy(n.acc, n.vel));
+    PetscCall(VecCopy(n.accW, n.velW));
   }
-  if (tracksCorners(sc_.tracking)) {
-    PetscCall(grid_.toWindow(nodal_.mass, nodal_.massW)); // the summed mass on the window
-    const PetscScalar *va = nullptr, *mw = nullptr;
-    PetscCall(VecGetArrayRead(nodal_.accW, &va));
-    PetscCall(VecGetArrayRead(nodal_.massW, &mw));
-    // cpdi2 moves its corners with the grid's point shape functions (Sadeghirad et al. 2013).
-    const double size = sc_.tracking == Tracking::Cpdi2 ? 0.0 : sc_.cornerSize;
-    const bool ok =
-        corners_.move(grid_, sc_.cracks, size, sc_.massCutoff * meanParticleMass_, c.dt, va, mw, p);
-    PetscCall(VecRestoreArrayRead(nodal_.massW, &mw));
-    PetscCall(VecRestoreArrayRead(nodal_.accW, &va));
-    if (!ok)
-      localFailure_ = "a tracked corner's particle is larger than a level-0 cell, or a corner "
-                      "left the grid";
-  }
+  if constexpr (D == 2)
+    if (tracksCorners(s.sc.tracking)) {
+      PetscCall(s.grid.toWindow(n.mass, n.massW)); // the summed mass on the window
+      const PetscScalar *va = nullptr, *mw = nullptr;
+      PetscCall(VecGetArrayRead(n.accW, &va));
+      PetscCall(VecGetArrayRead(n.massW, &mw));
+      // cpdi2 moves its corners with the grid's point shape functions (Sadeghirad et al. 2013).
+      const double size = s.sc.tracking == Tracking::Cpdi2 ? 0.0 : s.sc.cornerSize;
+      const bool ok = corners_.move(s.grid, s.sc.cracks, size, s.sc.massCutoff * s.meanParticleMass,
+                                    c.dt, va, mw, p);
+      PetscCall(VecRestoreArrayRead(n.massW, &mw));
+      PetscCall(VecRestoreArrayRead(n.accW, &va));
+      if (!ok)
+        s.status.localFailure = "a tracked corner's particle is larger than a level-0 cell, or a "
+                                "corner left the grid";
+    }
   return PETSC_SUCCESS;
 }
+
+#define GIMP_INSTANTIATE(D)                                                                        \
+  template const double *Step<D>::stencilCentres(const ParticleView<D> &);                         \
+  template const double *Step<D>::affineCentres(const ParticleView<D> &, const double *);          \
+  template const double *Step<D>::slotCoordinates();                                               \
+  template void Step<D>::projectMomentum(const Stencils<D> &, const ParticleView<D> &,             \
+                                         const double *, double *, double *);                      \
+  template PetscErrorCode Step<D>::particlesToGrid(const ParticleView<D> &, const double *);       \
+  template PetscErrorCode Step<D>::gridToParticles(ParticleView<D> &, const StepClock &,           \
+                                                   const double *);
+GIMP_INSTANTIATE(2)
+GIMP_INSTANTIATE(3)
+#undef GIMP_INSTANTIATE
 
 } // namespace gimp

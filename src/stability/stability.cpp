@@ -25,9 +25,22 @@ double criticalStep(double omega, double damping) {
 
 namespace {
 
+/// The linear tangent of the material at zero stress, into ds (Hooke with lambda*, mu; the
+/// small-strain tangent for neo-Hookean): the Jaumann update of a zero stress over dt = 1.
+template <int D> void tangentStress(const Material &m, const double *L, double *ds) {
+  auto dsk = tensorAt<D>(ds, 0);
+  dsk.setZero();
+  if constexpr (D == 2) {
+    double szz = 0;
+    material::jaumannUpdate(m, tensorAt<2>(L, 0), 1.0, dsk, szz);
+  } else {
+    material::jaumannUpdate(m, Tensor<3>(tensorAt<3>(L, 0)), 1.0, dsk);
+  }
+}
+
 /// The shell matrix's context: the input and the work vectors of one application.
-struct Shell {
-  OperatorInput in;
+template <int D> struct Shell {
+  OperatorInput<D> in;
   Vec xm = nullptr, r = nullptr, w = nullptr; // global
   Vec uW = nullptr, fW = nullptr;             // window
   std::vector<double> L, ds, vp, xp, B, C;    // B, C: APIC's affine fields
@@ -37,28 +50,28 @@ struct Shell {
 /// out = R in, R = M^-1 M_c the re-projection of MUSL: `in` interpolated to the particles (G2P
 /// with dt = 0 and no FLIP, on scratch arrays) and projected back (P2G, masked, over the nodal
 /// mass).
-PetscErrorCode reproject(Shell &s, Vec in, Vec out) {
-  const ParticleView<2> &p = *s.in.p;
+template <int D> PetscErrorCode reproject(Shell<D> &s, Vec in, Vec out) {
+  const ParticleView<D> &p = *s.in.p;
   PetscCall(s.in.grid->toWindow(in, s.uW));
   const PetscScalar *u = nullptr;
   PetscScalar *mom = nullptr;
   const bool affine = s.in.centres != nullptr;
   PetscCall(VecGetArrayRead(s.uW, &u));
   if (affine) {
-    transfer::gridToParticlesAffine<2>(*s.in.st, p.n, u, s.in.centres, s.in.slotX, 0.0, s.vp.data(),
+    transfer::gridToParticlesAffine<D>(*s.in.st, p.n, u, s.in.centres, s.in.slotX, 0.0, s.vp.data(),
                                        s.B.data(), s.xp.data());
-    transfer::affineVelocity<2>(*s.in.st, p.n, s.in.centres, s.in.slotX, s.B.data(), s.C.data());
+    transfer::affineVelocity<D>(*s.in.st, p.n, s.in.centres, s.in.slotX, s.B.data(), s.C.data());
   } else {
-    transfer::gridToParticles<2>(*s.in.st, p.n, u, u, 0.0, 0.0, s.vp.data(), s.xp.data());
+    transfer::gridToParticles<D>(*s.in.st, p.n, u, u, 0.0, 0.0, s.vp.data(), s.xp.data());
   }
   PetscCall(VecRestoreArrayRead(s.uW, &u));
   PetscCall(VecZeroEntries(s.fW));
   PetscCall(VecGetArray(s.fW, &mom));
   if (affine)
-    transfer::particlesToGridAffine<2>(*s.in.st, p.n, p.m, s.vp.data(), s.C.data(), s.in.centres,
+    transfer::particlesToGridAffine<D>(*s.in.st, p.n, p.m, s.vp.data(), s.C.data(), s.in.centres,
                                        s.in.slotX, mom, nullptr);
   else
-    transfer::particlesToGrid<2>(*s.in.st, p.n, p.m, s.vp.data(), mom, nullptr);
+    transfer::particlesToGrid<D>(*s.in.st, p.n, p.m, s.vp.data(), mom, nullptr);
   PetscCall(VecRestoreArray(s.fW, &mom));
   PetscCall(VecZeroEntries(out));
   PetscCall(s.in.grid->addFromWindow(s.fW, out));
@@ -69,11 +82,11 @@ PetscErrorCode reproject(Shell &s, Vec in, Vec out) {
 /// y = M^-1 (K_U R x + K_W (2 - R) x) (USL: K_U (2 - R) x) on the masked x (see the header): K_U
 /// from the stress (internal force, and the penalty's change of F and traction term), K_W the
 /// penalty springs on the particles' positions. With USL the stress part is on (2 - R) x as well.
-PetscErrorCode applyOperator(Mat A, Vec x, Vec y) {
-  Shell *s = nullptr;
+template <int D> PetscErrorCode applyOperator(Mat A, Vec x, Vec y) {
+  Shell<D> *s = nullptr;
   PetscCall(MatShellGetContext(A, &s));
-  const OperatorInput &in = s->in;
-  const ParticleView<2> &p = *in.p;
+  const OperatorInput<D> &in = s->in;
+  const ParticleView<D> &p = *in.p;
   PetscCall(VecPointwiseMult(s->xm, x, in.mask));
   PetscCall(reproject(*s, s->xm, s->r));
   const bool positions = in.boundary && in.springs;
@@ -83,17 +96,13 @@ PetscErrorCode applyOperator(Mat A, Vec x, Vec y) {
   const PetscScalar *u = nullptr;
   PetscScalar *f = nullptr;
   PetscCall(VecGetArrayRead(s->uW, &u));
-  transfer::velocityGradient<2>(*in.st, p.n, u, s->L.data());
+  transfer::velocityGradient<D>(*in.st, p.n, u, s->L.data());
   PetscCall(VecRestoreArrayRead(s->uW, &u));
-  for (PetscInt k = 0; k < p.n; ++k) { // the linear tangent: Hooke from zero stress
-    auto dsk = tensorAt<2>(s->ds.data(), k);
-    dsk.setZero();
-    double szz = 0;
-    material::jaumannUpdate(in.sc->materialOf(p.id[k]), tensorAt<2>(s->L.data(), k), 1.0, dsk, szz);
-  }
+  for (PetscInt k = 0; k < p.n; ++k) // the linear tangent: Hooke from zero stress
+    tangentStress<D>(in.sc->materialOf(p.id[k]), s->L.data() + D * D * k, s->ds.data() + D * D * k);
   PetscCall(VecZeroEntries(s->fW));
   PetscCall(VecGetArray(s->fW, &f));
-  physics::internalForce<2>(*in.st, p.n, p.V, s->ds.data(), f);
+  physics::internalForce<D>(*in.st, p.n, p.V, s->ds.data(), f);
   if (in.boundary)
     in.boundary->penaltyIncrement(*in.sc, *in.grid, *in.st, p, nullptr, s->L.data(), s->ds.data(),
                                   in.springs, f);
@@ -157,7 +166,8 @@ PetscErrorCode solveOne(MPI_Comm comm, Mat A, EPSWhich which, const char *what, 
 /// of dt^2 B + 2 d dt R reaches 4, found by bisection between (2 / omega)(sqrt(1 + xi^2) - xi),
 /// xi = d / (2 omega) (every r_m taken as 1: below every mode's bound) and min(2 / omega, 2 / d).
 /// The lower end of the last bracket is returned (stable side).
-PetscErrorCode dampedStep(MPI_Comm comm, Mat A, Shell &s, double omega, double d, double &dt,
+template <int D>
+PetscErrorCode dampedStep(MPI_Comm comm, Mat A, Shell<D> &s, double omega, double d, double &dt,
                           PetscInt &its) {
   double lo = criticalStep(omega, d), hi = std::min(2.0 / omega, 2.0 / d);
   for (int k = 0; k < 14 && hi > lo * (1.0 + 1e-4); ++k) {
@@ -176,16 +186,18 @@ PetscErrorCode dampedStep(MPI_Comm comm, Mat A, Shell &s, double omega, double d
   return PETSC_SUCCESS;
 }
 
-PetscErrorCode estimate(MPI_Comm comm, const OperatorInput &in, bool smallest, Estimate &e) {
-  Shell s;
+template <int D>
+PetscErrorCode estimate(MPI_Comm comm, const OperatorInput<D> &in, bool smallest, Estimate &e) {
+  Shell<D> s;
   s.in = in;
-  s.L.assign(4 * static_cast<size_t>(in.p->n), 0.0);
-  s.ds.assign(4 * static_cast<size_t>(in.p->n), 0.0);
-  s.vp.assign(2 * static_cast<size_t>(in.p->n), 0.0);
-  s.xp.assign(2 * static_cast<size_t>(in.p->n), 0.0);
+  const size_t n = static_cast<size_t>(in.p->n);
+  s.L.assign(D * D * n, 0.0);
+  s.ds.assign(D * D * n, 0.0);
+  s.vp.assign(D * n, 0.0);
+  s.xp.assign(D * n, 0.0);
   if (in.centres) {
-    s.B.assign(4 * static_cast<size_t>(in.p->n), 0.0);
-    s.C.assign(4 * static_cast<size_t>(in.p->n), 0.0);
+    s.B.assign(D * D * n, 0.0);
+    s.C.assign(D * D * n, 0.0);
   }
   PetscCall(DMCreateGlobalVector(in.grid->dm, &s.xm));
   PetscCall(VecDuplicate(s.xm, &s.r));
@@ -197,7 +209,8 @@ PetscErrorCode estimate(MPI_Comm comm, const OperatorInput &in, bool smallest, E
   PetscCall(VecGetSize(s.xm, &nGlobal));
   Mat A = nullptr;
   PetscCall(MatCreateShell(comm, nLocal, nLocal, nGlobal, nGlobal, &s, &A));
-  PetscCall(MatShellSetOperation(A, MATOP_MULT, reinterpret_cast<void (*)(void)>(applyOperator)));
+  PetscCall(
+      MatShellSetOperation(A, MATOP_MULT, reinterpret_cast<void (*)(void)>(applyOperator<D>)));
   PetscCall(MatShellSetVecType(A, VECSTANDARD));
   try {
     PetscCall(
@@ -231,6 +244,9 @@ PetscErrorCode estimate(MPI_Comm comm, const OperatorInput &in, bool smallest, E
   return PETSC_SUCCESS;
 }
 
+template PetscErrorCode estimate<2>(MPI_Comm, const OperatorInput<2> &, bool, Estimate &);
+template PetscErrorCode estimate<3>(MPI_Comm, const OperatorInput<3> &, bool, Estimate &);
+
 SlepcSession::~SlepcSession() {
   if (started_) (void)SlepcFinalize();
 }
@@ -246,9 +262,11 @@ PetscErrorCode SlepcSession::start() {
 
 #else // without SLEPc the option is refused when the scene is read
 
-PetscErrorCode estimate(MPI_Comm, const OperatorInput &, bool, Estimate &) {
+template <int D> PetscErrorCode estimate(MPI_Comm, const OperatorInput<D> &, bool, Estimate &) {
   throw InputError("option -gimp_stability_check true: needs gimp built with SLEPc");
 }
+template PetscErrorCode estimate<2>(MPI_Comm, const OperatorInput<2> &, bool, Estimate &);
+template PetscErrorCode estimate<3>(MPI_Comm, const OperatorInput<3> &, bool, Estimate &);
 
 SlepcSession::~SlepcSession() = default;
 

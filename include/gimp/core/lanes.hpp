@@ -1,7 +1,7 @@
 // Four doubles in one 256-bit register (AVX2) for the 2D kernels that run four particles at a
-// time (transfer/lanes2.hpp, GridT::blockRun): the shuffles they share. Every helper here is
+// time (transfer/lane_loops.hpp, GridT::blockRun): the shuffles they share. Every helper here is
 // compiled for AVX2 whatever the build's flags, so it may be called only from functions that are
-// too (GIMP_LANES), and those only where transfer::lanes2::available() is true. No fused
+// too (GIMP_LANES), and those only where transfer::laneLoops::available() is true. No fused
 // multiply-add: the lane arithmetic rounds as the scalar code does.
 #pragma once
 

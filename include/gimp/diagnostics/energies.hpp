@@ -9,7 +9,7 @@ namespace gimp {
 
 struct Energies {
   double kinetic = 0, strain = 0, externalWork = 0, damping = 0;
-  double momentum[2] = {0, 0};
+  double momentum[3] = {0, 0, 0}; // the first D components
   double total() const { return kinetic + strain - externalWork + damping; }
 };
 
@@ -20,7 +20,8 @@ struct WorkLedger {
 };
 
 /// Kinetic and strain energy and momentum of all particles (collective), with the ledger's work.
-PetscErrorCode particleEnergies(MPI_Comm comm, const Scene<2> &sc, DM sw, const WorkLedger &work,
+template <int D>
+PetscErrorCode particleEnergies(MPI_Comm comm, const Scene<D> &sc, DM sw, const WorkLedger &work,
                                 Energies &e);
 
 } // namespace gimp

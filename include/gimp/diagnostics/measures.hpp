@@ -4,6 +4,7 @@
 #pragma once
 
 #include "gimp/grid/lattice.hpp"
+#include "gimp/particles/swarm.hpp"
 
 #include <petscdm.h>
 
@@ -14,11 +15,18 @@
 
 namespace gimp {
 
+/// A probe's particle: its id, initial position and displacement (D components each) and stress
+/// (stressComponents<D>() of them: 2D sxx, syy, sxy, szz; 3D sxx, syy, szz, syz, sxz, sxy).
 struct ProbeState {
   PetscInt64 id = -1;
-  double X0[2] = {0, 0}, u[2] = {0, 0};
-  double stress[4] = {0, 0, 0, 0}; // sxx, syy, sxy, szz
+  double X0[3] = {0, 0, 0}, u[3] = {0, 0, 0};
+  double stress[6] = {0, 0, 0, 0, 0, 0};
 };
+
+/// The stress components a probe, a history row and the particle dump report, by name (xx, ...):
+/// 2D the in-plane ones and the out-of-plane szz, 3D the six of the symmetric tensor (Voigt
+/// order).
+template <int D> const std::vector<const char *> &stressComponents();
 
 /// Measures kept over the whole run.
 struct RunMeasures {
@@ -26,6 +34,7 @@ struct RunMeasures {
   double maxStrain = 0, maxSeparation = 0;
   double mmsLinf = 0, mmsRms = 0; // largest errors over the history rows
   PetscInt64 migrated = 0;        // particles that changed rank, summed over the run
+  double dtCritical = std::numeric_limits<double>::quiet_NaN(); // smallest critical step computed
 };
 
 /// The hole measure (-gimp_hole_measure): the hoop stress / p at the hole's edge as a curve over
@@ -49,13 +58,18 @@ struct HoleMeasure {
 };
 
 /// Ids of the particles nearest to each probe's initial position (ties: smallest id).
-PetscErrorCode findProbes(MPI_Comm comm, const Scene<2> &sc, DM sw, std::vector<PetscInt64> &ids);
+template <int D>
+PetscErrorCode findProbes(MPI_Comm comm, const Scene<D> &sc, DM sw, std::vector<PetscInt64> &ids);
 /// Displacement and stress of the probe particles.
+template <int D>
 PetscErrorCode probeStates(MPI_Comm comm, DM sw, const std::vector<PetscInt64> &ids,
                            std::vector<ProbeState> &out);
 /// Largest and volume-weighted RMS displacement error against the manufactured solution at t.
-PetscErrorCode mmsErrors(MPI_Comm comm, const Scene<2> &sc, DM sw, double t, double &linf,
+template <int D>
+PetscErrorCode mmsErrors(MPI_Comm comm, const Scene<D> &sc, DM sw, double t, double &linf,
                          double &rms);
+/// particle k's stress components (stressComponents<D>() order) into out.
+template <int D> void stressOf(const ParticleView<D> &p, PetscInt k, double *out);
 /// Largest gap between particles that started as neighbours, relative to their size, and the
 /// engineering strain of the particles' extent along x. Neighbours that a crack separates (the
 /// segment between their initial positions crosses one of `cracks`) are not compared: their

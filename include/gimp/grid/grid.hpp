@@ -157,10 +157,10 @@ private:
   /// comparisons (levelReach decides then). Where it is not 0, buildStencils' general path gives
   /// the same block.
   int soleBlock(int q, const double *x, const double *l, PetscInt *i0) const;
-  /// (2D, with lanes: transfer/lanes2.hpp) Particles k .. k+3 (k a multiple of 4, s.laneGroup
+  /// (2D, with lanes: transfer/lane_loops.hpp) Particles k .. k+3 (k a multiple of 4, s.laneGroup
   /// sized for the particles) as lane group k / 4: 3-node blocks of one level, when soleBlock
   /// gives each of them side 3 on the same level, their factors computed as setBlock computes
-  /// them, in four lanes (AVX2), bit for bit, and stored factor-major (LaneBlocks2); the group
+  /// them, in four lanes (AVX2), bit for bit, and stored factor-major (LaneBlocks); the group
   /// marked in s.laneGroup. False, with nothing written, otherwise.
   bool blockRun(PetscInt k, const double *x, const double *l, Stencils<D> &s) const;
   /// Particle k keeps level q's 3-node block from node i0.

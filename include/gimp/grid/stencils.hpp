@@ -17,7 +17,7 @@
 // (Block<2, 4>, 136 bytes, shape::uniformWeights4: the rows' values to round-off) instead of 6 to
 // 16 entries. Kernels with a tensor-product form sum along one axis, then the other. With lanes
 // (2D), aligned groups of four block particles keep their four blocks factor-major in the same
-// room (LaneBlocks2, laneGroup); block(k) reads either form.
+// room (LaneBlocks, laneGroup); block(k) reads either form.
 //
 // forEach(k, f) calls f(slot, weight, gradient) for every entry of particle k in either form; it
 // is the way kernels read stencils. The arrays keep their capacity between steps: only the first
@@ -58,11 +58,11 @@ template <int D, int N = 3> struct Block {
 /// Block<2> they replace: factor c of particle q at f[c][q] (factor-major: one load gives a factor
 /// of all four), the factors in the order w[0][0..2], w[1][0..2], g[0][0..2], g[1][0..2]; then the
 /// four first slots and row strides.
-struct LaneBlocks2 {
+struct LaneBlocks {
   double f[12][4];
   PetscInt base[4], stride[4];
 };
-static_assert(sizeof(LaneBlocks2) == 4 * sizeof(Block<2>),
+static_assert(sizeof(LaneBlocks) == 4 * sizeof(Block<2>),
               "a lane group's blocks take the room of four blocks");
 
 /// An allocator that leaves new elements uninitialised (resize() of a vector of doubles does not
@@ -99,7 +99,7 @@ template <int D> struct Stencils {
   StencilArray<Block<D, 4>> blocks4; // the 4-node blocks (2D), in particle order
   // Groups of four particles for the lane kernels (2D, GridT::buildStencils with lanes): for
   // particles 4g .. 4g+3, kLaneGroup when the four are 3-node blocks of one level, built in lanes
-  // (their blocks in the room of blocks[blockOf[4g]] .. +3, factor-major: LaneBlocks2), ored with
+  // (their blocks in the room of blocks[blockOf[4g]] .. +3, factor-major: LaneBlocks), ored with
   // bit q-1 when particle q's first slot differs from particle q-1's; 0 otherwise. Empty without
   // lanes: then no group is one.
   static constexpr std::uint8_t kLaneGroup = 0x80;
@@ -145,7 +145,7 @@ template <int D> struct Stencils {
       if (o & kLaneBlock) return laneBlock(k);
     return blocks[o];
   }
-  /// The room of lane group g's blocks (laneGroupOf(g) != 0), read as LaneBlocks2.
+  /// The room of lane group g's blocks (laneGroupOf(g) != 0), read as LaneBlocks.
   const unsigned char *laneBlocks(PetscInt g) const {
     return reinterpret_cast<const unsigned char *>(blocks.data() + (blockOf[4 * g] & ~kLaneBlock));
   }
@@ -155,13 +155,13 @@ template <int D> struct Stencils {
   /// Asks for the cache lines of lane group g's room (2D), if g is a lane group.
   void prefetchGroup(PetscInt g) const {
     if constexpr (D == 2)
-      if (laneGroupOf(g)) prefetch::span<sizeof(LaneBlocks2)>(laneBlocks(g));
+      if (laneGroupOf(g)) prefetch::span<sizeof(LaneBlocks)>(laneBlocks(g));
   }
   /// Particle k's block out of its lane group's factor-major room (2D).
   Block<2> laneBlock(PetscInt k) const {
     const unsigned char *r = laneBlocks(k / 4);
     const size_t q = static_cast<size_t>(k % 4), d = sizeof(double), i = sizeof(PetscInt);
-    const auto factor = [&](size_t c) { return r + offsetof(LaneBlocks2, f) + (4 * c + q) * d; };
+    const auto factor = [&](size_t c) { return r + offsetof(LaneBlocks, f) + (4 * c + q) * d; };
     Block<2> b;
     for (size_t c = 0; c < 3; ++c) {
       std::memcpy(&b.w[0][c], factor(c), d);
@@ -169,8 +169,8 @@ template <int D> struct Stencils {
       std::memcpy(&b.g[0][c], factor(6 + c), d);
       std::memcpy(&b.g[1][c], factor(9 + c), d);
     }
-    std::memcpy(&b.base, r + offsetof(LaneBlocks2, base) + q * i, i);
-    std::memcpy(&b.stride[0], r + offsetof(LaneBlocks2, stride) + q * i, i);
+    std::memcpy(&b.base, r + offsetof(LaneBlocks, base) + q * i, i);
+    std::memcpy(&b.stride[0], r + offsetof(LaneBlocks, stride) + q * i, i);
     return b;
   }
   /// The 1D factors of 4-node block particle k (isBlock4(k)).

@@ -15,15 +15,16 @@ struct ItemBytes {
 struct SizeEstimate {
   long double nodes = 0, particles = 0, bytes = 0;
   std::vector<long double> levelNodes, bodyParticles;
-  std::vector<long double> levelM, levelN; // nodes in x and y per level
+  std::vector<std::vector<long double>> levelAxes; // nodes along each axis per level
 };
 
 /// Nodes and particles the scene asks for, counted in long double (no overflow).
-SizeEstimate estimateSize(const Scene<2> &sc, const ItemBytes &cost);
+template <int D> SizeEstimate estimateSize(const Scene<D> &sc, const ItemBytes &cost);
 
 /// Collective: throws InputError (every rank alike) when a level has more nodes than PetscInt
 /// can index, a rank would hold more particles than PetscInt counts, or the estimate exceeds
 /// -gimp_memory_limit (by default the physical memory of the nodes the ranks run on).
-PetscErrorCode checkProblemSize(MPI_Comm comm, const Scene<2> &sc, const ItemBytes &cost);
+template <int D>
+PetscErrorCode checkProblemSize(MPI_Comm comm, const Scene<D> &sc, const ItemBytes &cost);
 
 } // namespace gimp

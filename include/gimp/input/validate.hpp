@@ -13,24 +13,28 @@
 namespace gimp {
 
 /// readScene, with PETSc's own parse errors (a number that is not one) as one line.
-PetscErrorCode readSceneOneLine(MPI_Comm comm, Scene<2> &sc);
+template <int D> PetscErrorCode readSceneOneLine(MPI_Comm comm, Scene<D> &sc);
 
 /// Check every option's value (given, finite, in range of PetscInt), then run `read` with PETSc's
 /// option errors turned into one InputError line (readSceneOneLine is this with readScene).
 PetscErrorCode readOptionsOneLine(const std::function<PetscErrorCode()> &read);
 
-/// Combinations readScene cannot judge alone: the model and plane, particle density limits.
-void checkSceneCombinations(const Scene<2> &sc);
+/// Combinations readScene cannot judge alone: the model and plane, particle density limits, the
+/// multi-rate step's limits.
+template <int D> void checkSceneCombinations(const Scene<D> &sc);
 
 /// The seeded particles: every body holds some, every traction and penalty condition reaches a
-/// particle edge, every particle lies inside the grid. Returns the count and mean mass.
-PetscErrorCode checkSeeding(MPI_Comm comm, const Scene<2> &sc, const Grid<2> &grid,
-                            const ParticleView<2> &p, PetscInt64 &count, double &meanMass);
+/// particle edge (2D) or face (3D), every particle lies inside the grid. Returns the count and
+/// mean mass.
+template <int D>
+PetscErrorCode checkSeeding(MPI_Comm comm, const Scene<D> &sc, const Grid<D> &grid,
+                            const ParticleView<D> &p, PetscInt64 &count, double &meanMass);
 
 /// TSSetFromOptions with parse errors as one line, then the time stepper's type, adaptivity and
 /// step checked (explicit euler, fixed dt > 0 and, unless -gimp_stability_check bounds it by the
 /// eigenvalue instead, below the stable h_min / c_p).
-PetscErrorCode timeStepFromOptions(TS ts, const Scene<2> &sc, const Lattice<2> &grid);
+template <int D>
+PetscErrorCode timeStepFromOptions(TS ts, const Scene<D> &sc, const Lattice<D> &grid);
 /// The same for any scene: TSSetFromOptions, then -ts_type euler and -ts_adapt_type none only,
 /// -ts_max_steps >= 0, -ts_max_time > 0, 0 < -ts_dt <= hMin / cp unless unstableAllowed; with
 /// damping (1/s) a warning above the damped step's bound (hMin / cp)(sqrt(1 + xi^2) - xi).

@@ -16,15 +16,16 @@ struct HistoryRow {
   PetscInt step = 0;
   double t = 0;
   Energies energy;
-  double separation = 0, strainX = 0;
+  double separation = 0, strainX = 0; // 2D: the separation measure
   std::vector<ProbeState> probes;
-  std::vector<double> reactions, gaps; // per penalty condition: (fx, fy) and |u - u_bar|
+  std::vector<double> reactions, gaps; // per penalty condition: (fx, fy[, fz]) and |u - u_bar|
   double mmsLinf = 0, mmsRms = 0;
   std::vector<cracks::TipMeasure> tips; // per crack tip: G and K by VCCT and by J
 };
 
 struct SummaryReport {
-  std::string status; // completed, at_rest or unstable
+  std::string status;  // completed, at_rest, interrupted or unstable
+  std::string failure; // why an unstable run stopped: the first failing rank's line
   int ranks = 1;
   PetscInt steps = 0;
   double t = 0, dt = 0, wallSeconds = 0;

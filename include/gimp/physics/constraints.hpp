@@ -6,12 +6,14 @@
 namespace gimp::physics {
 
 /// bcMask (global, dof layout of the momentum): 1 for a free dof, 0 for a dof fixed by a
-/// grid-node constraint (-gimp_bcK_*) on a level-0 grid line, applied to the active nodes of
-/// every level. A constraint off the level-0 lines is an input error (on every rank alike).
-PetscErrorCode nodeConstraints(const Scene<2> &sc, const Grid<2> &grid, Vec bcMask);
+/// grid-node constraint (-gimp_bcK_*) on a level-0 grid line (2D) or plane (3D), applied to the
+/// active nodes of every level within the constraint's range. A constraint off the level-0
+/// lines, or whose range holds no active node, is an input error (on every rank alike).
+template <int D>
+PetscErrorCode nodeConstraints(const Scene<D> &sc, const Grid<D> &grid, Vec bcMask);
 
 /// mask = bcMask where the node's mass exceeds `cut`, else 0; invMass = mask / m. The mass sits
-/// in component 0 of each node's `dof` values (2 in 2D, 3 in 3D).
-PetscErrorCode massMask(Vec mass, Vec bcMask, double cut, Vec mask, Vec invMass, int dof = 2);
+/// in component 0 of each node's `dof` values (D).
+PetscErrorCode massMask(Vec mass, Vec bcMask, double cut, Vec mask, Vec invMass, int dof);
 
 } // namespace gimp::physics

@@ -8,9 +8,12 @@
 namespace gimp::physics {
 
 /// F <- (I + dt L) F, V = det(F) V0, stress by the material model, domain by the tracking mode,
-/// for particles k0 <= k < k1. L is row-major 2 x 2 per particle, L[4 (k - k0)] for particle k
-/// (the solver passes a chunk of particles at a time).
-void updateDeformation(const Scene<2> &sc, ParticleView<2> &p, const double *L, double dt,
+/// for particles k0 <= k < k1. L is row-major D x D per particle, L[D^2 (k - k0)] for particle k
+/// (the solver passes a chunk of particles at a time). 2D: the rows of F as pairs and the
+/// out-of-plane stress of plane strain; every tracking mode. 3D: the 3 x 3 materials; the
+/// domain by none or stretch.
+template <int D>
+void updateDeformation(const Scene<D> &sc, ParticleView<D> &p, const double *L, double dt,
                        PetscInt k0, PetscInt k1);
 
 } // namespace gimp::physics

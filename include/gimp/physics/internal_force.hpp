@@ -2,7 +2,7 @@
 #pragma once
 
 #include "gimp/grid/stencils.hpp"
-#include "gimp/transfer/block2.hpp"
+#include "gimp/transfer/block_kernels.hpp"
 
 namespace gimp::physics {
 
@@ -15,11 +15,11 @@ void internalForce(const Stencils<D> &st, PetscInt k0, PetscInt k1, const double
     const Tensor<D> A = -V[k] * tensorAt<D>(stress, k);
     if constexpr (D == 2) { // f_ij = A (g_i w_j, w_i g_j), both components at once
       if (st.isBlock(k)) {
-        transfer::block2::internalForce(st.block(k), A, f);
+        transfer::blocks::internalForce(st.block(k), A, f);
         continue;
       }
       if (st.isBlock4(k)) {
-        transfer::block2::internalForce(st.block4(k), A, f);
+        transfer::blocks::internalForce(st.block4(k), A, f);
         continue;
       }
     }

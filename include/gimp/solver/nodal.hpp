@@ -1,4 +1,4 @@
-// The nodal vectors of the composite grid. Global Vecs (DMComposite of the level DMDAs, dof 2)
+// The nodal vectors of the composite grid (dof D). Global Vecs (DMComposite of the level DMDAs)
 // live on the owning ranks; window Vecs hold this rank's window of every level, where the
 // particle kernels add and read (Grid::toWindow / addFromWindow move between them).
 #pragma once
@@ -7,8 +7,8 @@
 
 namespace gimp {
 
-struct Nodal {
-  // Global.
+/// The global vectors.
+struct NodalGlobal {
   Vec P = nullptr;       // momentum: the TS solution
   Vec mass = nullptr;    // nodal mass, in component 0 (dof layout of the momentum)
   Vec vel = nullptr;     // nodal velocity
@@ -21,16 +21,22 @@ struct Nodal {
   Vec invMass = nullptr; // mask / mass
   Vec face = nullptr;    // with cracks: where each field's material ends toward the other
   Vec vstar = nullptr, term = nullptr; // XPIC: the filtered velocity and its series' term
-  // Window.
+};
+
+/// The window vectors.
+struct NodalWindow {
   Vec sumW = nullptr, massW = nullptr, velW = nullptr, accW = nullptr, extW = nullptr;
   Vec faceW = nullptr, maskW = nullptr; // with cracks: faces; mask on the window
   Vec vstarW = nullptr;                 // XPIC: the filtered velocity on the window
+};
 
+struct Nodal : NodalGlobal, NodalWindow {
   Nodal() = default;
   Nodal(const Nodal &) = delete;
   Nodal &operator=(const Nodal &) = delete;
   ~Nodal();
-  PetscErrorCode create(const Grid<2> &grid, bool external, bool cracks, bool xpic);
+  template <int D>
+  PetscErrorCode create(const Grid<D> &grid, bool external, bool cracks, bool xpic);
 };
 
 } // namespace gimp

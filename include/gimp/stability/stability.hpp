@@ -39,13 +39,13 @@ namespace gimp::stability {
 double criticalStep(double omega, double damping);
 
 /// What the operator reads: the configuration the step would see, and the masks of P2G.
-struct OperatorInput {
-  const Scene<2> *sc = nullptr;
-  const Grid<2> *grid = nullptr;
-  const Stencils<2> *st = nullptr;
-  const ParticleView<2> *p = nullptr;
-  const physics::Boundary *boundary = nullptr; // null: no penalty conditions
-  bool springs = true;                         // false: the penalty springs left out
+template <int D> struct OperatorInput {
+  const Scene<D> *sc = nullptr;
+  const Grid<D> *grid = nullptr;
+  const Stencils<D> *st = nullptr;
+  const ParticleView<D> *p = nullptr;
+  const physics::Boundary<D> *boundary = nullptr; // null: no penalty conditions
+  bool springs = true;                            // false: the penalty springs left out
   bool stressOnUpdated = false;          // USL: the stress follows V^n + dt a^n, (2 - R) x, not R x
   Vec mask = nullptr, invMass = nullptr; // global, from P2G
   // APIC: R is the affine re-projection, about the stencils' centres with the slots' coordinates
@@ -73,7 +73,8 @@ struct Estimate {
 /// Largest magnitude eigenvalue of B and, when `smallest`, the ones of smallest real part and
 /// largest imaginary part (collective). Throws an InputError on every rank when the eigen-solver
 /// does not converge.
-PetscErrorCode estimate(MPI_Comm comm, const OperatorInput &in, bool smallest, Estimate &e);
+template <int D>
+PetscErrorCode estimate(MPI_Comm comm, const OperatorInput<D> &in, bool smallest, Estimate &e);
 
 /// SLEPc started after PETSc for the solver's lifetime (no-op without SLEPc).
 class SlepcSession {

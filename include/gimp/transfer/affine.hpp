@@ -9,7 +9,7 @@
 #pragma once
 
 #include "gimp/grid/stencils.hpp"
-#include "gimp/transfer/block2.hpp"
+#include "gimp/transfer/block_kernels.hpp"
 #include "gimp/transfer/transfer.hpp"
 
 #include <Eigen/LU>
@@ -137,8 +137,8 @@ GIMP_ALWAYS_INLINE void particleToGridAffineB(const Stencils<D> &st, PetscInt k,
                                               const double *xk, const double *xs, double *mom,
                                               double *mass) {
   if constexpr (D == 2) {
-    if (st.isBlock(k)) return block2::affineToGrid(st.block(k), mp, vk, Bk, xk, xs, mom, mass);
-    if (st.isBlock4(k)) return block2::affineToGrid(st.block4(k), mp, vk, Bk, xk, xs, mom, mass);
+    if (st.isBlock(k)) return blocks::affineToGrid(st.block(k), mp, vk, Bk, xk, xs, mom, mass);
+    if (st.isBlock4(k)) return blocks::affineToGrid(st.block4(k), mp, vk, Bk, xk, xs, mom, mass);
   }
   if constexpr (D == 3)
     if (st.isBlock(k)) { // the same in 3D: D_k from the three axes' 1D moments, rows along x
@@ -200,8 +200,8 @@ GIMP_ALWAYS_INLINE void particleFromGridAffine(const Stencils<D> &st, PetscInt k
     vp[c] = 0.0;
   Bk = Tensor<D>::Zero();
   if constexpr (D == 2) { // row sums along x, then along y; both components at once
-    if (st.isBlock(k)) return block2::affineFromGrid(st.block(k), vg, xk, xs, vp, Bk);
-    if (st.isBlock4(k)) return block2::affineFromGrid(st.block4(k), vg, xk, xs, vp, Bk);
+    if (st.isBlock(k)) return blocks::affineFromGrid(st.block(k), vg, xk, xs, vp, Bk);
+    if (st.isBlock4(k)) return blocks::affineFromGrid(st.block4(k), vg, xk, xs, vp, Bk);
   }
   if constexpr (D == 3)
     if (st.isBlock(k)) { // row sums along x, then the (y, z) factors
@@ -249,9 +249,9 @@ GIMP_ALWAYS_INLINE void particleFromAndToGridAffine(const Stencils<D> &st, Petsc
                                                     const double *xs, double *vp, Tensor<D> &Bk,
                                                     double *mom) {
   if constexpr (D == 2) {
-    if (st.isBlock(k)) return block2::affineFromAndToGrid(st.block(k), mp, vg, xk, xs, vp, Bk, mom);
+    if (st.isBlock(k)) return blocks::affineFromAndToGrid(st.block(k), mp, vg, xk, xs, vp, Bk, mom);
     if (st.isBlock4(k))
-      return block2::affineFromAndToGrid(st.block4(k), mp, vg, xk, xs, vp, Bk, mom);
+      return blocks::affineFromAndToGrid(st.block4(k), mp, vg, xk, xs, vp, Bk, mom);
   }
   particleFromGridAffine<D>(st, k, vg, xk, xs, vp, Bk);
   particleToGridAffineB<D>(st, k, mp, vp, Bk, xk, xs, mom, nullptr);

@@ -7,7 +7,7 @@
 #pragma once
 
 #include "gimp/grid/stencils.hpp"
-#include "gimp/transfer/block2.hpp"
+#include "gimp/transfer/block_kernels.hpp"
 
 namespace gimp::transfer {
 
@@ -20,8 +20,8 @@ GIMP_ALWAYS_INLINE void particleToGrid(const Stencils<D> &st, PetscInt k, double
   for (int c = 0; c < D; ++c)
     pk[c] = mp * vk[c];
   if constexpr (D == 2) { // sums along x for each row of nodes, both components at once
-    if (st.isBlock(k)) return block2::toGrid(st.block(k), mp, pk, mom, mass);
-    if (st.isBlock4(k)) return block2::toGrid(st.block4(k), mp, pk, mom, mass);
+    if (st.isBlock(k)) return blocks::toGrid(st.block(k), mp, pk, mom, mass);
+    if (st.isBlock4(k)) return blocks::toGrid(st.block4(k), mp, pk, mom, mass);
   }
   st.forEach(k, [&](PetscInt nd, double w, const Vector<D> &) {
     for (int c = 0; c < D; ++c)
@@ -46,8 +46,8 @@ GIMP_ALWAYS_INLINE void particleFromGrid(const Stencils<D> &st, PetscInt k, cons
   for (int c = 0; c < D; ++c)
     vp[c] = ap[c] = 0.0;
   if constexpr (D == 2) {
-    if (st.isBlock(k)) return block2::fromGrid(st.block(k), vg, ag, vp, ap);
-    if (st.isBlock4(k)) return block2::fromGrid(st.block4(k), vg, ag, vp, ap);
+    if (st.isBlock(k)) return blocks::fromGrid(st.block(k), vg, ag, vp, ap);
+    if (st.isBlock4(k)) return blocks::fromGrid(st.block4(k), vg, ag, vp, ap);
   }
   st.forEach(k, [&](PetscInt nd, double w, const Vector<D> &) {
     for (int c = 0; c < D; ++c) {
@@ -84,8 +84,8 @@ GIMP_ALWAYS_INLINE void interpolateAt(const Stencils<D> &st, PetscInt k, const d
   for (int c = 0; c < D; ++c)
     fp[c] = 0.0;
   if constexpr (D == 2) {
-    if (st.isBlock(k)) return block2::interpolate(st.block(k), fg, fp);
-    if (st.isBlock4(k)) return block2::interpolate(st.block4(k), fg, fp);
+    if (st.isBlock(k)) return blocks::interpolate(st.block(k), fg, fp);
+    if (st.isBlock4(k)) return blocks::interpolate(st.block4(k), fg, fp);
   }
   st.forEach(k, [&](PetscInt nd, double w, const Vector<D> &) {
     for (int c = 0; c < D; ++c)
@@ -117,11 +117,11 @@ void gridToParticlesProjected(const Stencils<D> &st, PetscInt n, const double *v
   for (PetscInt k = 0; k < n; ++k) {
     if constexpr (D == 2) { // a block read once for both
       if (st.isBlock(k)) {
-        block2::fromAndToGrid(st.block(k), vg, ag, dt, flip, m[k], v + 2 * k, x + 2 * k, mom);
+        blocks::fromAndToGrid(st.block(k), vg, ag, dt, flip, m[k], v + 2 * k, x + 2 * k, mom);
         continue;
       }
       if (st.isBlock4(k)) {
-        block2::fromAndToGrid(st.block4(k), vg, ag, dt, flip, m[k], v + 2 * k, x + 2 * k, mom);
+        blocks::fromAndToGrid(st.block4(k), vg, ag, dt, flip, m[k], v + 2 * k, x + 2 * k, mom);
         continue;
       }
     }
@@ -141,8 +141,8 @@ GIMP_ALWAYS_INLINE Tensor<D> velocityGradientAt(const Stencils<D> &st, PetscInt 
                                                 const double *vg) {
   Tensor<D> Lk = Tensor<D>::Zero();
   if constexpr (D == 2) {
-    if (st.isBlock(k)) return block2::gradient(st.block(k), vg);
-    if (st.isBlock4(k)) return block2::gradient(st.block4(k), vg);
+    if (st.isBlock(k)) return blocks::gradient(st.block(k), vg);
+    if (st.isBlock4(k)) return blocks::gradient(st.block4(k), vg);
   }
   if constexpr (D == 3)
     if (st.isBlock(k)) { // rows along x: sum_i g_i v_c and sum_i w_i v_c, then the (y, z) factors

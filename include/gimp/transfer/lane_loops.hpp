@@ -7,7 +7,7 @@
 // the stencil build (GridT::buildStencils with lanes) made in lanes and marked in
 // Stencils::laneGroup (stencils built without lanes have none, and everything runs scalar), and
 // does the per-particle arithmetic of the scalar kernel of
-// transfer/block2.hpp in four lanes of a 256-bit register, each lane evaluating the scalar
+// transfer/block_kernels.hpp in four lanes of a 256-bit register, each lane evaluating the scalar
 // expression in its order (no fused multiply-add); the other particles, and the tail, go
 // through the scalar kernels. Scatters add each particle's contributions to the nodes in
 // particle order, as the scalar loop does, so the results are bit for bit the scalar ones
@@ -24,7 +24,7 @@
 
 #include <petscsys.h>
 
-namespace gimp::transfer::lanes2 {
+namespace gimp::transfer::laneLoops {
 
 /// True when the lane kernels can run here (x86-64 with AVX2 enabled by the OS).
 bool available();
@@ -71,4 +71,4 @@ PetscInt checkParticles(PetscInt n, const double *x, const double *l, const doub
                         const double *own0, const double *own1, bool count, PetscInt &bad,
                         PetscInt64 &leaving);
 
-} // namespace gimp::transfer::lanes2
+} // namespace gimp::transfer::laneLoops

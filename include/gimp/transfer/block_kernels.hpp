@@ -23,7 +23,7 @@ inline Tensor<2> inverseInertia2(double a, double b, double c, double d) {
   return r;
 }
 
-namespace block2 {
+namespace blocks {
 
 using simd::Pair;
 
@@ -288,6 +288,6 @@ GIMP_ALWAYS_INLINE void affineFromAndToGrid(const Block<2, N> &b, double mp, con
   affineScatter(b, mp, vp, product<2>(Bk, Di), dx, dy, mom, nullptr);
 }
 
-} // namespace block2
+} // namespace blocks
 
 } // namespace gimp::transfer

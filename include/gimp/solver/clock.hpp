@@ -1,5 +1,5 @@
-// What the 2D and 3D steps share around their phases: the clock a step reads from TS and the
-// -log_view stages its phases run in.
+// The clock a step reads from TS, the -log_view stages its phases run in, and which steps a
+// report falls due in.
 #pragma once
 
 #include "gimp/core/petsc_compat.hpp"
@@ -25,5 +25,10 @@ struct StepStages {
   PetscLogStage p2g = 0, forces = 0, grid = 0, g2p = 0, stress = 0, output = 0;
   PetscErrorCode registerAll();
 };
+
+/// Whether a multiple of `interval` lies in [a, b): a report due within a (coarse) step.
+inline bool dueIn(PetscInt a, PetscInt b, PetscInt interval) {
+  return interval > 0 && (b - 1) / interval * interval >= a;
+}
 
 } // namespace gimp

@@ -1,4 +1,4 @@
-#include "gimp/solver/step_common.hpp"
+#include "gimp/solver/clock.hpp"
 
 namespace gimp {
 

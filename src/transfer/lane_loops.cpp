@@ -1,8 +1,9 @@
-// Lanes of four 2D block particles (AVX2): see transfer/lanes2.hpp. Every lane expression below
-// is the scalar one of transfer/block2.hpp (named next to it) in the same order; these functions
-// have no FMA target and the build no floating-point contraction (-ffp-contract=off, which also
-// holds in a build for a processor with FMA), so each lane rounds as the scalar code does.
-#include "gimp/transfer/lanes2.hpp"
+// Lanes of four 2D block particles (AVX2): see transfer/lane_loops.hpp. Every lane expression below
+// is the scalar one of transfer/block_kernels.hpp (named next to it) in the same order; these
+// functions have no FMA target and the build no floating-point contraction (-ffp-contract=off,
+// which also holds in a build for a processor with FMA), so each lane rounds as the scalar code
+// does.
+#include "gimp/transfer/lane_loops.hpp"
 
 #include "gimp/physics/deformation.hpp"
 #include "gimp/physics/internal_force.hpp"
@@ -15,7 +16,7 @@
 
 #include "gimp/core/lanes.hpp"
 
-namespace gimp::transfer::lanes2 {
+namespace gimp::transfer::laneLoops {
 
 #if GIMP_HAVE_LANES
 
@@ -98,9 +99,9 @@ GIMP_LANES_INLINE void forGroups(const Stencils<2> &st, PetscInt k0, PetscInt k1
 template <bool Slopes>
 GIMP_LANES_INLINE void loadRun(const Stencils<2> &st, PetscInt k, std::uint8_t group, Run &R) {
   R.split = group & 7;
-  // The group's blocks are factor-major (LaneBlocks2): a factor of the four in one load.
+  // The group's blocks are factor-major (LaneBlocks): a factor of the four in one load.
   const unsigned char *r = st.laneBlocks(k / 4);
-  const double *f = reinterpret_cast<const double *>(r + offsetof(LaneBlocks2, f));
+  const double *f = reinterpret_cast<const double *>(r + offsetof(LaneBlocks, f));
   for (int i = 0; i < 3; ++i) {
     R.wx[i] = _mm256_loadu_pd(f + 4 * i);
     R.wy[i] = _mm256_loadu_pd(f + 4 * (3 + i));
@@ -111,24 +112,24 @@ GIMP_LANES_INLINE void loadRun(const Stencils<2> &st, PetscInt k, std::uint8_t g
   }
   if constexpr (sizeof(PetscInt) == 4) { // the rows' first slots, times 2, four at a time
     const __m128i base2 =
-        _mm_slli_epi32(_mm_loadu_si128((const __m128i *)(r + offsetof(LaneBlocks2, base))), 1);
+        _mm_slli_epi32(_mm_loadu_si128((const __m128i *)(r + offsetof(LaneBlocks, base))), 1);
     const __m128i step2 =
-        _mm_slli_epi32(_mm_loadu_si128((const __m128i *)(r + offsetof(LaneBlocks2, stride))), 1);
+        _mm_slli_epi32(_mm_loadu_si128((const __m128i *)(r + offsetof(LaneBlocks, stride))), 1);
     const __m128i r1 = _mm_add_epi32(base2, step2);
     _mm_store_si128((__m128i *)R.row[0], base2);
     _mm_store_si128((__m128i *)R.row[1], r1);
     _mm_store_si128((__m128i *)R.row[2], _mm_add_epi32(r1, step2));
   } else {
     PetscInt base[4], stride[4];
-    std::memcpy(base, r + offsetof(LaneBlocks2, base), sizeof(base));
-    std::memcpy(stride, r + offsetof(LaneBlocks2, stride), sizeof(stride));
+    std::memcpy(base, r + offsetof(LaneBlocks, base), sizeof(base));
+    std::memcpy(stride, r + offsetof(LaneBlocks, stride), sizeof(stride));
     for (int q = 0; q < 4; ++q)
       for (int j = 0; j < 3; ++j)
         R.row[j][q] = 2 * (base[q] + j * stride[q]);
   }
 }
 
-/// block2::offsets for a run: the offsets dx, dy of its node lines from the centres (XP, YP).
+/// blocks::offsets for a run: the offsets dx, dy of its node lines from the centres (XP, YP).
 GIMP_LANES_INLINE void offsets(const Run &R, V4 XP, V4 YP, const double *xs, V4 *dx, V4 *dy) {
   for (int i = 0; i < 3; ++i) {
     const PetscInt o = 2 * i;
@@ -141,7 +142,7 @@ GIMP_LANES_INLINE void offsets(const Run &R, V4 XP, V4 YP, const double *xs, V4 
   }
 }
 
-/// block2::offsetsAndInverseInertia (N = 3): the offsets dx, dy of the run's node lines from
+/// blocks::offsetsAndInverseInertia (N = 3): the offsets dx, dy of the run's node lines from
 /// the centres (XP, YP) and D^-1 (xx, xy, yx, yy), 0 where D is singular (inverseInertia2).
 GIMP_LANES_INLINE void offsetsAndInverseInertia(const Run &R, V4 XP, V4 YP, const double *xs,
                                                 V4 *dx, V4 *dy, V4 *Di) {
@@ -265,7 +266,7 @@ GIMP_LANES_INLINE void addToNodes(const Run &R, const NodeValues &N, double *f, 
   }
 }
 
-/// block2::affineScatter: node (i, j) gets m w_j [w_i (v + C e_y dy_j) + w_i dx_i C e_x] and, with
+/// blocks::affineScatter: node (i, j) gets m w_j [w_i (v + C e_y dy_j) + w_i dx_i C e_x] and, with
 /// mass, m w_i w_j.
 GIMP_LANES_INLINE void affineScatter(const Run &R, V4 mp, V4 VX, V4 VY, const V4 *C, const V4 *dx,
                                      const V4 *dy, double *mom, double *mass) {
@@ -321,7 +322,7 @@ GIMP_LANES void internalForce(const Stencils<2> &st, PetscInt n, const double *V
     loadTensors(stress, k, S);
     const V4 nV = _mm256_xor_pd(_mm256_loadu_pd(V + k), splat(-0.0));
     const V4 A00 = nV * S[0], A01 = nV * S[1], A10 = nV * S[2], A11 = nV * S[3];
-    // block2::internalForce: f_ij += g_i (A0 w_j) + w_i (A1 g_j), A0 = (A00, A10), A1 = (A01, A11)
+    // blocks::internalForce: f_ij += g_i (A0 w_j) + w_i (A1 g_j), A0 = (A00, A10), A1 = (A01, A11)
     NodeValues N;
     for (int j = 0; j < 3; ++j) {
       const V4 ax = A00 * R.wy[j], ay = A10 * R.wy[j], cx = A01 * R.gy[j], cy = A11 * R.gy[j];
@@ -338,7 +339,7 @@ GIMP_LANES void internalForce(const Stencils<2> &st, PetscInt n, const double *V
 
 namespace {
 
-/// block2::affineGather for a run: v_p = sum_j w_j t_j, B0 = sum_j w_j u_j, B1 = sum_j (w_j dy_j)
+/// blocks::affineGather for a run: v_p = sum_j w_j t_j, B0 = sum_j w_j u_j, B1 = sum_j (w_j dy_j)
 /// t_j with t_j = sum_i w_i v_ij, u_j = sum_i (w_i v_ij) dx_i; B_p = (B0x, B1x; B0y, B1y).
 GIMP_LANES_INLINE void affineGather(const Run &R, const double *vg, const V4 *dx, const V4 *dy,
                                     V4 &vx, V4 &vy, V4 *Bk) {
@@ -451,7 +452,7 @@ GIMP_LANES void velocityGradients(const Stencils<2> &st, PetscInt k0, PetscInt k
   const auto lane = [&](PetscInt k, std::uint8_t group) GIMP_LANES_LAMBDA {
     Run R;
     loadRun<true>(st, k, group, R);
-    // block2::gradient: L0 = sum_j w_j sum_i g_i v_ij, L1 = sum_j g_j sum_i w_i v_ij
+    // blocks::gradient: L0 = sum_j w_j sum_i g_i v_ij, L1 = sum_j g_j sum_i w_i v_ij
     V4 L0x = splat(0), L0y = splat(0), L1x = splat(0), L1y = splat(0);
     for (int j = 0; j < 3; ++j) {
       const double *r[4] = {vg + R.row[j][0], vg + R.row[j][1], vg + R.row[j][2], vg + R.row[j][3]};
@@ -616,4 +617,4 @@ PetscInt checkParticles(PetscInt, const double *, const double *, const double *
 
 #endif
 
-} // namespace gimp::transfer::lanes2
+} // namespace gimp::transfer::laneLoops

@@ -1,0 +1,118 @@
+// The multi-rate step of -gimp_multirate (docs/method.md, "Multi-rate time steps per level").
+//
+// One call advances R = levels[0].step fine steps of dt (one TSStep each, on the same composite
+// momentum as the single-rate step). The particles whose stencils reach level c at most form
+// class c and step every levels[c].step fine steps: class c starts at the sub-steps j with
+// j mod m_c = 0 (its stencils, its P2G onto the nodes, its forces times m_c as one impulse) and
+// ends at the sub-steps with (j + 1) mod m_c = 0 (G2P from what the nodes did since its start,
+// its stress over m_c dt, and the removal of the momentum its particles took). Between its start
+// and end its mass and momentum ride on the nodes with every other class's, so mass and momentum
+// are exact. The phases are the single-rate step's (Step), run on each class's slice of the
+// particles.
+#pragma once
+
+#include "gimp/solver/step.hpp"
+
+#include <vector>
+
+namespace gimp {
+
+/// Which particles step how: class c holds this rank's particles [begin[c], begin[c + 1]).
+template <int D> struct RateClasses {
+  int n = 0;                      // classes: one per level
+  std::vector<PetscInt> every;    // fine steps per step of class c (levels[c].step)
+  std::vector<PetscInt> begin;    // the classes' ranges of this rank's particles
+  std::vector<PetscInt64> size;   // particles of class c on all ranks (0: the class is skipped)
+  std::vector<PetscInt> switched; // particles of class c that were in another class before
+  std::vector<double> kickScale;  // per particle of this coarse step: its first kick's weight
+                                  // over its class's step, (m_old + m_new) / (2 m_new)
+  std::vector<Stencils<D>> st;    // class c's stencils, from its last start
+  std::vector<PetscInt> start;    // the sub-step of class c's last start
+  std::vector<char> live; // a class stepping every sub-step: inc holds its increments (else dt a)
+};
+
+/// Global, per class (dof layout of the momentum): what it brought to the nodes at its start and
+/// what the nodes did since.
+struct ClassSums {
+  ClassSums() = default;
+  ClassSums(const ClassSums &) = delete;
+  ClassSums &operator=(const ClassSums &) = delete;
+  ~ClassSums();
+  // Its mass (component 0) and momentum at its start, the sum of the grid velocity increments
+  // and of the grid velocities since.
+  std::vector<Vec> mass, mom, inc, vsum;
+  // Node rule only: its force at its last start (internal and external, times that step's kick
+  // weight) and that force at the start of each node's anchor step (base); with external forces
+  // the external part again, on its own, and its base.
+  std::vector<Vec> force, base, fext, baseExt;
+  // Node rule: each node's rate, the step of the slowest class whose mass is on it now (its
+  // anchor; every dof), set where a class starts.
+  Vec nodeRate = nullptr;
+  // With cracks, per class on the window: its crack faces from its start (Contact::faces; its
+  // stencils and positions do not change until its end).
+  std::vector<Vec> faces;
+};
+
+/// Scratch vectors of the coarse step.
+struct RateScratch {
+  RateScratch() = default;
+  RateScratch(const RateScratch &) = delete;
+  RateScratch &operator=(const RateScratch &) = delete;
+  ~RateScratch();
+  Vec taken = nullptr, field = nullptr;  // global: what the ending classes took, a field
+  Vec corr = nullptr, corrSum = nullptr; // MUSL: a class's re-projection correction, their sum
+  Vec fieldW = nullptr, meanW = nullptr, forceW = nullptr; // window
+};
+
+template <int D> class MultiRate {
+public:
+  MultiRate(RunState<D> &s, Step<D> &step) : s_(s), step_(step) {}
+  /// The classes and their vectors (like: a global nodal Vec).
+  PetscErrorCode create(Vec like);
+  /// R fine steps, up to the checks at the coarse step's end; `done` is the step and time it
+  /// reached.
+  PetscErrorCode run(StepClock &done);
+  /// The classes' stencils' memory back (every class ended with the coarse step).
+  void releaseStencils() {
+    for (Stencils<D> &st : r_.st)
+      st.release();
+  }
+
+private:
+  /// Each particle's class, the swarm ordered by class, the slices and the kick weights.
+  PetscErrorCode classify(PetscInt step);
+  /// Sub-step j: the classes that start (stencils, P2G), the total mass and mask.
+  PetscErrorCode startClasses(ParticleView<D> &p, PetscInt j);
+  /// A starting class's stencils, P2G and crack faces (startClasses, class k).
+  PetscErrorCode startClass(ParticleView<D> &p, int k, PetscInt j);
+  /// The summed mass of the classes, with the node rule the node rates, and the masks.
+  PetscErrorCode classMass();
+  /// The starting classes' forces, each times its step in sub-steps, into nodal.f.
+  PetscErrorCode classForces(const ParticleView<D> &p, const StepClock &c, PetscInt j,
+                             StartPower &power);
+  /// The node rule's delivery of class k's force (and external force) at sub-step j.
+  PetscErrorCode deliverNodeRule(int k, PetscInt j, double kick, bool external);
+  /// After the grid update with cracks: contact on the new velocities, the momentum follows.
+  PetscErrorCode contactAfterUpdate(const StepClock &c);
+  /// After the grid update of sub-step j: each class's sums since its start.
+  PetscErrorCode accumulate(const StepClock &c, PetscInt j);
+  /// What class k's particles take from the nodes at their G2P, into (or added to) out.
+  PetscErrorCode takenBy(int k, double flip, double dt, Vec out, bool add);
+  /// After the grid update of sub-step j: the ending classes' G2P, stress and momentum removal.
+  PetscErrorCode endClasses(ParticleView<D> &p, const StepClock &c, PetscInt j,
+                            const StartPower &power);
+  /// Every class ends with a FLIP/PIC blend: the momentum no particle took goes to them.
+  PetscErrorCode spreadRemainder(const std::vector<int> &ending, const StepClock &c, double flip);
+  /// Class k's G2P and stress at its end (the e-th of the ending classes).
+  PetscErrorCode endClass(ParticleView<D> &p, const StepClock &c, int k, size_t e, double flip);
+  /// MUSL: class k's re-projection correction and the stress velocity into meanW.
+  PetscErrorCode correction(const StepClock &c, int k, size_t e);
+
+  RunState<D> &s_;
+  Step<D> &step_;
+  RateClasses<D> r_;
+  ClassSums sums_;
+  RateScratch scratch_;
+};
+
+} // namespace gimp

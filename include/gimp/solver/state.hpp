@@ -1,0 +1,64 @@
+// What the parts of a run share (docs/architecture.md, "One solver"): the scene, the grid, the
+// particles, the nodal vectors, the stencils, the scheme, the boundary terms, the work done so
+// far and how the run stands. The step (Step), the multi-rate step (MultiRate), the reports
+// (Reporter), checkpoints (Checkpoint) and the stability check (StabilityCheck) each hold a
+// reference to it and keep their own scratch.
+#pragma once
+
+#include "gimp/diagnostics/energies.hpp"
+#include "gimp/diagnostics/measures.hpp"
+#include "gimp/grid/grid.hpp"
+#include "gimp/physics/boundary.hpp"
+#include "gimp/solver/clock.hpp"
+#include "gimp/solver/nodal.hpp"
+#include "gimp/solver/scheme.hpp"
+
+#include <petscts.h>
+
+#include <string>
+
+namespace gimp {
+
+/// How the run stands: a failure, an interrupt, the rest criterion.
+struct RunStatus {
+  bool failed = false;      // stopped: it went unstable (a particle, the energy balance)
+  int interrupt = 0;        // SIGINT or SIGTERM received on some rank, agreed by the checks
+  std::string localFailure; // a failure found on this rank inside the step, for the checks
+  std::string failure;      // the first failing rank's line (summary.json)
+  PetscInt64 leaving = -1;  // particles outside their rank's cells after the last check
+  bool atRest = false;      // stopped by the rest criterion (-gimp_static_tol)
+  int restRows = 0;         // consecutive history rows that meet it
+  double restStrain = 0;    // strain energy at the first of them
+};
+
+template <int D> struct RunState {
+  RunState() = default;
+  RunState(const RunState &) = delete;
+  RunState &operator=(const RunState &) = delete;
+  ~RunState() {
+    if (ts) (void)TSDestroy(&ts);
+    if (sw) (void)DMDestroy(&sw);
+  }
+  /// Fine steps per step: R = h_0 / h_min with -gimp_multirate, else 1.
+  PetscInt stride() const { return sc.multirate ? grid.levels[0].step : 1; }
+
+  MPI_Comm comm = MPI_COMM_NULL;
+  PetscMPIInt rank = 0, size = 1;
+  Scene<D> sc;
+  Scheme scheme{};
+  Grid<D> grid;
+  DM sw = nullptr; // the particles (DMSwarm)
+  TS ts = nullptr; // explicit Euler on the nodal momentum
+  Nodal nodal;
+  Stencils<D> st;                // particle -> node weights, rebuilt each step
+  physics::Boundary<D> boundary; // external forces and penalty conditions
+  bool lanes = false;            // 2D block kernels four particles at a time (AVX2)
+  PetscInt64 nParticles = 0;
+  double meanParticleMass = 0;
+  WorkLedger work;      // work of the external and damping forces
+  RunMeasures measures; // what the run keeps of its measures (and dt_critical)
+  RunStatus status;
+  StepStages stages;
+};
+
+} // namespace gimp

@@ -1,0 +1,168 @@
+// The check after every step: a particle that is not finite, left the grid, or is inverted or
+// larger than a level-0 cell stops the run on every rank (the first such particle of each rank
+// is named); one reduction also counts the particles leaving their rank's cells (the next step's
+// migration) and agrees on SIGINT / SIGTERM.
+#include "gimp/core/interrupt.hpp"
+#include "gimp/core/pair.hpp"
+#include "gimp/solver/step.hpp"
+#include "gimp/transfer/lane_loops.hpp"
+
+#include <cmath>
+#include <csignal>
+#include <cstdio>
+
+namespace gimp {
+
+namespace {
+
+/// The plane particles' test, both axes at once (the lanes of four first, where they run).
+PetscInt firstBad2(const RunState<2> &s, const ParticleView<2> &p, double margin,
+                   PetscInt64 &leaving) {
+  using simd::Pair;
+  const double *d = s.sc.domain.data(), h0 = s.grid.h0();
+  double box[4] = {-INFINITY, -INFINITY, INFINITY, INFINITY};
+  if (s.size > 1) s.grid.ownedBox(s.rank, box);
+  const Pair lo = {d[0] - margin, d[1] - margin}, hi = {d[2] + margin, d[3] + margin},
+             own0 = {box[0], box[1]}, own1 = {box[2], box[3]}, hmax = simd::splat(h0),
+             zero = {0, 0};
+  PetscInt bad = -1, k0 = 0;
+  if (s.lanes) {
+    const double lo2[2] = {lo[0], lo[1]}, hi2[2] = {hi[0], hi[1]};
+    k0 = transfer::laneLoops::checkParticles(p.n, p.x, p.l, p.s, p.V, lo2, hi2, h0, box, box + 2,
+                                             s.size > 1, bad, leaving);
+  }
+  for (PetscInt k = k0; k < p.n; ++k) {
+    const Pair X = simd::load(p.x + 2 * k), l = simd::load(p.l + 2 * k);
+    if (s.size > 1) leaving += !(simd::bothLe(own0, X) && simd::bothLt(X, own1));
+    if (bad >= 0) continue;
+    const double sum = p.s[4 * k] + p.s[4 * k + 3] + p.s[4 * k + 1];
+    // NaN fails every comparison: the test is written so that it lands in the bad branch.
+    const bool ok = std::isfinite(X[0] + X[1] + sum) && p.V[k] > 0 && simd::bothLe(lo, X - l) &&
+                    simd::bothLe(X + l, hi) && simd::bothLt(zero, l) && simd::bothLe(l, hmax);
+    if (!ok) bad = k;
+  }
+  return bad;
+}
+
+/// The solid particles' test.
+PetscInt firstBad3(const RunState<3> &s, const ParticleView<3> &p, double margin,
+                   PetscInt64 &leaving) {
+  const double *d = s.sc.domain.data(), h0 = s.grid.h0();
+  double box[6] = {-INFINITY, -INFINITY, -INFINITY, INFINITY, INFINITY, INFINITY};
+  if (s.size > 1) s.grid.ownedBox(s.rank, box);
+  PetscInt bad = -1;
+  for (PetscInt k = 0; k < p.n; ++k) {
+    const double *x = p.x + 3 * k, *l = p.l + 3 * k;
+    bool mine = true, ok = p.V[k] > 0 && std::isfinite(p.V[k]) && tensorAt<3>(p.s, k).allFinite();
+    for (int a = 0; a < 3; ++a) {
+      mine = mine && x[a] >= box[a] && x[a] < box[3 + a];
+      // NaN fails every comparison: written so that it lands in the bad branch.
+      ok = ok && std::isfinite(x[a] + p.v[3 * k + a]) && x[a] - l[a] >= d[a] - margin &&
+           x[a] + l[a] <= d[3 + a] + margin && l[a] > 0 && l[a] <= h0;
+    }
+    leaving += !mine;
+    if (!ok && bad < 0) bad = k;
+  }
+  return bad;
+}
+
+/// "(x, y[, z])" with 9 digits.
+template <int D> std::string point(const double *x) {
+  std::string r = "(";
+  for (int a = 0; a < D; ++a) {
+    char b[40];
+    std::snprintf(b, sizeof(b), "%s%.9g", a ? ", " : "", x[a]);
+    r += b;
+  }
+  return r + ")";
+}
+
+} // namespace
+
+template <int D>
+PetscInt Step<D>::firstBadParticle(const ParticleView<D> &p, PetscInt64 &leaving) const {
+  // A body flush with the domain's edge (on a symmetry roller, say) moves its edge particles'
+  // domains past it by round-off (1e-18 m): a margin of 1e-8 h0 tells that from leaving.
+  const double margin = 1e-8 * s_.grid.h0();
+  if constexpr (D == 2)
+    return firstBad2(s_, p, margin, leaving);
+  else
+    return firstBad3(s_, p, margin, leaving);
+}
+
+template <int D>
+std::string Step<D>::failureOf(const ParticleView<D> &p, PetscInt k, PetscInt step,
+                               double t) const {
+  const double *x = p.x + D * k, *l = p.l + D * k, *d = s_.sc.domain.data();
+  const double margin = 1e-8 * s_.grid.h0();
+  bool finite = tensorAt<D>(p.s, k).allFinite(), inside = true, in = true;
+  for (int a = 0; a < D; ++a) {
+    finite = finite && std::isfinite(x[a]);
+    inside = inside && x[a] - l[a] >= d[a] - margin && x[a] + l[a] <= d[D + a] + margin;
+    in = in && x[a] >= d[a] && x[a] <= d[D + a];
+  }
+  std::string why;
+  if (!finite)
+    why = "its position or stress is not finite: the run went unstable (reduce -ts_dt)";
+  else if (!(p.V[k] > 0))
+    why = "its volume " + formatNumber(p.V[k]) + (D == 2 ? " m^2" : " m^3") +
+          " is not positive: the particle is inverted (det F <= 0): the run went unstable "
+          "(reduce -ts_dt)";
+  else if (!inside)
+    why = "it left the grid domain (enlarge -gimp_domain or -gimp_pad: a body on the domain's "
+          "edge deforms past it)";
+  else
+    why = "its half-size " + point<D>(l) +
+          " is not in (0, h0]: the particle is inverted or stretched beyond one level-0 cell";
+  // The level whose leaf cell holds the particle (none when it is not finite or outside).
+  const std::string level = in && finite ? std::to_string(s_.grid.leafLevelAt(x)) : "none";
+  char head[128];
+  std::snprintf(head, sizeof(head), "step %lld t %.9g s: particle %lld at ",
+                static_cast<long long>(step), t, static_cast<long long>(p.id[k]));
+  return head + point<D>(x) + " on level " + level + ": " + why;
+}
+
+template <int D> PetscErrorCode Step<D>::checks(const ParticleView<D> &p, PetscInt step, double t) {
+  RunState<D> &s = s_;
+  RunStatus &st = s.status;
+  PetscInt64 leaving = 0;
+  const PetscInt bad = firstBadParticle(p, leaving);
+  std::string line;
+  if (bad >= 0) {
+    line = failureOf(p, bad, step, t);
+  } else if (!st.localFailure.empty()) {
+    char head[64];
+    std::snprintf(head, sizeof(head), "step %lld t %.9g s: ", static_cast<long long>(step), t);
+    line = head + st.localFailure;
+  }
+  st.localFailure.clear();
+  if (!line.empty())
+    PetscCall(PetscSynchronizedFPrintf(s.comm, PETSC_STDERR, "gimp: error: %s\n", line.c_str()));
+  // One reduction for all: ranks that failed, got SIGINT, got SIGTERM, and the particles that
+  // leave their rank (the step's only collective call besides the scatters).
+  const int sig = interruptSignal();
+  const PetscInt64 mine[4] = {line.empty() ? 0 : 1, sig == SIGINT ? 1 : 0, sig == SIGTERM ? 1 : 0,
+                              leaving};
+  PetscInt64 any[4] = {0, 0, 0, 0};
+  PetscCallMPI(MPI_Allreduce(mine, any, 4, MPI_INT64_T, MPI_SUM, s.comm));
+  st.interrupt = any[2] ? SIGTERM : any[1] ? SIGINT : 0;
+  st.leaving = any[3];
+  if (any[0] == 0) return PETSC_SUCCESS;
+  st.failed = true;
+  // The failing ranks' lines (collective, so only when some rank failed); the lowest failing
+  // rank's goes into summary.json.
+  PetscCall(PetscSynchronizedFlush(s.comm, PETSC_STDERR));
+  PetscMPIInt first = s.size, me = line.empty() ? s.size : s.rank;
+  PetscCallMPI(MPI_Allreduce(&me, &first, 1, MPI_INT, MPI_MIN, s.comm));
+  int len = static_cast<int>(line.size());
+  PetscCallMPI(MPI_Bcast(&len, 1, MPI_INT, first, s.comm));
+  line.resize(static_cast<size_t>(len));
+  PetscCallMPI(MPI_Bcast(line.data(), len, MPI_CHAR, first, s.comm));
+  st.failure = line;
+  return PETSC_SUCCESS;
+}
+
+template PetscErrorCode Step<2>::checks(const ParticleView<2> &, PetscInt, double);
+template PetscErrorCode Step<3>::checks(const ParticleView<3> &, PetscInt, double);
+
+} // namespace gimp

@@ -1,0 +1,376 @@
+// The multi-rate step (solver/multirate.hpp): the starting classes' forces, the sums over a
+// class's step, and the ending classes' G2P, stress and removal from the nodes.
+#include "gimp/physics/internal_force.hpp"
+#include "gimp/solver/multirate.hpp"
+#include "gimp/transfer/affine.hpp"
+#include "gimp/transfer/transfer.hpp"
+
+#include <algorithm>
+
+namespace gimp {
+
+template <int D>
+PetscErrorCode MultiRate<D>::classForces(const ParticleView<D> &p, const StepClock &c, PetscInt j,
+                                         StartPower &power) {
+  // Each starting class's force f_c (internal and external), and the sub-step's nodal force
+  // from it by the rule of -gimp_multirate_forces (docs/method.md). Impulse: m_c f_c at the
+  // class's start. Node: a node of rate m_i (its anchor's step, MultiRate::classMass) takes, at
+  // the start of each of its own steps, m_i times the force of every class that reaches it; at a
+  // later start of a faster class c inside that step, m_c times the change of c's force since.
+  // Either way each node gets exactly m_c dt f_c over a class's step; with the node rule, where
+  // the classes' forces balance at the start of a node's step, no node moves.
+  RunState<D> &s = s_;
+  RateClasses<D> &r = r_;
+  Nodal &n = s.nodal;
+  Vec w0 = scratch_.forceW;
+  PetscCall(PetscLogStagePush(s.stages.forces));
+  const bool external = s.boundary.active(), nodeRule = s.sc.multirateNodeRule;
+  std::vector<double> V; // the volumes of a class with particles that switched class
+  // (Boundary keeps the penalty reactions of its last call: the penalty particles are all in the
+  // finest class, which comes last here, and it starts at every sub-step.)
+  PetscCall(VecZeroEntries(n.f));
+  if (external) PetscCall(VecZeroEntries(n.fext));
+  if (!nodeRule) PetscCall(VecZeroEntries(n.sumW));
+  if (!nodeRule && external) PetscCall(VecZeroEntries(n.extW));
+  for (int k = 0; k < r.n; ++k) {
+    if (r.size[k] == 0 || j % r.every[k] != 0) continue;
+    ParticleView<D> q = p.slice(r.begin[k], r.begin[k + 1]);
+    const double *scale = nullptr;
+    if (j == 0 && r.switched[k] > 0) { // their first kick: the mean of the old and new steps
+      V.assign(q.V, q.V + q.n);
+      for (PetscInt i = 0; i < q.n; ++i)
+        V[i] *= r.kickScale[r.begin[k] + i];
+      q.V = V.data();
+      scale = r.kickScale.data() + r.begin[k];
+    }
+    const double mk = static_cast<double>(r.every[k]);
+    PetscScalar *w = nullptr;
+    PetscCall(VecZeroEntries(w0));
+    PetscCall(VecGetArray(w0, &w));
+    physics::internalForce<D>(r.st[k], q.n, q.V, q.s, w);
+    PetscCall(VecRestoreArray(w0, &w));
+    if (!nodeRule) // the impulse m_c f_c, summed on the window
+      PetscCall(VecAXPY(n.sumW, mk, w0));
+    else {
+      PetscCall(VecZeroEntries(sums_.force[k]));
+      PetscCall(s.grid.addFromWindow(w0, sums_.force[k]));
+    }
+    if (external) {
+      PetscCall(VecZeroEntries(w0));
+      PetscCall(VecGetArray(w0, &w));
+      s.boundary.externalForces(s.sc, s.grid, r.st[k], q, c.t, w, scale);
+      PetscCall(VecRestoreArray(w0, &w));
+      if (!nodeRule) {
+        PetscCall(VecAXPY(n.sumW, mk, w0));
+        PetscCall(VecAXPY(n.extW, mk, w0));
+      } else {
+        PetscCall(VecZeroEntries(sums_.fext[k]));
+        PetscCall(s.grid.addFromWindow(w0, sums_.fext[k]));
+        PetscCall(VecAXPY(sums_.force[k], 1.0, sums_.fext[k]));
+      }
+    }
+    if (nodeRule) PetscCall(deliverNodeRule(k, j, c.kick, external));
+  }
+  if (!nodeRule) {
+    PetscCall(s.grid.addFromWindow(n.sumW, n.f));
+    if (external) PetscCall(s.grid.addFromWindow(n.extW, n.fext));
+  } else if (c.kick != 1.0) { // the RHS applies the sub-step's kick weight again: undo it here
+    PetscCall(VecScale(n.f, 1.0 / c.kick));
+    if (external) PetscCall(VecScale(n.fext, 1.0 / c.kick));
+  }
+  // The power of the damping and of the delivered external force at the sub-step's start.
+  if (s.sc.damping > 0) {
+    PetscScalar pv = 0;
+    PetscCall(VecDot(n.P, n.vel, &pv));
+    power.damping = s.sc.damping * pv;
+  }
+  if (external) PetscCall(VecDot(n.fext, n.vel, &power.external));
+  PetscCall(PetscLogStagePop());
+  return PETSC_SUCCESS;
+}
+
+template <int D>
+PetscErrorCode MultiRate<D>::deliverNodeRule(int k, PetscInt j, double kick, bool external) {
+  // The forces carry this step's kick weight (the half step that starts a run lasts a whole
+  // class step for a slow class); the RHS multiplies by the sub-step's kick, so the sum is divided
+  // by it in classForces.
+  Nodal &n = s_.nodal;
+  const double mk = static_cast<double>(r_.every[k]);
+  PetscInt nloc = 0;
+  PetscCall(VecGetLocalSize(n.P, &nloc));
+  const PetscScalar *rate = nullptr;
+  PetscCall(VecGetArrayRead(sums_.nodeRate, &rate));
+  auto deliver = [&](Vec fcv, Vec bcv, Vec outv) -> PetscErrorCode {
+    PetscScalar *fc = nullptr, *bc = nullptr, *out = nullptr;
+    PetscCall(VecGetArray(fcv, &fc));
+    PetscCall(VecGetArray(bcv, &bc));
+    PetscCall(VecGetArray(outv, &out));
+    for (PetscInt i = 0; i < nloc; ++i) {
+      fc[i] *= kick; // (exact: the kick weight is 1 or 1/2)
+      if (j % static_cast<PetscInt>(rate[i]) == 0) {
+        out[i] += rate[i] * fc[i];
+        bc[i] = fc[i];
+      } else {
+        out[i] += mk * (fc[i] - bc[i]);
+      }
+    }
+    PetscCall(VecRestoreArray(outv, &out));
+    PetscCall(VecRestoreArray(bcv, &bc));
+    PetscCall(VecRestoreArray(fcv, &fc));
+    return PETSC_SUCCESS;
+  };
+  PetscCall(deliver(sums_.force[k], sums_.base[k], n.f));
+  if (external) PetscCall(deliver(sums_.fext[k], sums_.baseExt[k], n.fext));
+  PetscCall(VecRestoreArrayRead(sums_.nodeRate, &rate));
+  return PETSC_SUCCESS;
+}
+
+template <int D> PetscErrorCode MultiRate<D>::accumulate(const StepClock &c, PetscInt j) {
+  // A class that steps over several sub-steps sums the grid velocity increments and the grid
+  // velocities since its start; one that steps every sub-step reads them as they are.
+  RunState<D> &s = s_;
+  RateClasses<D> &r = r_;
+  PetscCall(PetscLogStagePush(s.stages.grid));
+  PetscInt nloc = 0;
+  PetscCall(VecGetLocalSize(s.nodal.P, &nloc));
+  const PetscScalar *a = nullptr, *v = nullptr;
+  PetscCall(VecGetArrayRead(s.nodal.acc, &a));
+  PetscCall(VecGetArrayRead(s.nodal.vel, &v));
+  // The increments only where a FLIP fraction reads them (not APIC, not PIC).
+  const bool increments = s.sc.transfer != Transfer::Apic && s.sc.flip > 0;
+  for (int k = 0; k < r.n; ++k) {
+    if (r.size[k] == 0 || r.every[k] == 1) continue;
+    PetscScalar *d = nullptr, *w = nullptr;
+    PetscCall(VecGetArray(sums_.vsum[k], &w));
+    if (r.start[k] == j)
+      std::copy(v, v + nloc, w);
+    else
+      for (PetscInt i = 0; i < nloc; ++i)
+        w[i] += v[i];
+    PetscCall(VecRestoreArray(sums_.vsum[k], &w));
+    if (!increments) continue;
+    PetscCall(VecGetArray(sums_.inc[k], &d));
+    if (r.start[k] == j)
+      for (PetscInt i = 0; i < nloc; ++i)
+        d[i] = c.dt * a[i];
+    else
+      for (PetscInt i = 0; i < nloc; ++i)
+        d[i] += c.dt * a[i];
+    PetscCall(VecRestoreArray(sums_.inc[k], &d));
+  }
+  PetscCall(VecRestoreArrayRead(s.nodal.vel, &v));
+  PetscCall(VecRestoreArrayRead(s.nodal.acc, &a));
+  PetscCall(PetscLogStagePop());
+  return PETSC_SUCCESS;
+}
+
+template <int D>
+PetscErrorCode MultiRate<D>::takenBy(int k, double flip, double dt, Vec out, bool add) {
+  // What the particles of class k take from the nodes at their G2P: flip (p_k + m_k inc_k) +
+  // (1 - flip) m_k v, with p_k and m_k the class's momentum and mass at its start, inc_k the grid
+  // velocity increments since (dt a for a class stepping every sub-step, unless materialised)
+  // and v the grid velocity now (APIC: flip 0).
+  Nodal &n = s_.nodal;
+  PetscInt nloc = 0;
+  PetscCall(VecGetLocalSize(out, &nloc));
+  const bool summed = r_.every[k] > 1 || r_.live[k];
+  const PetscScalar *v = nullptr, *m = nullptr, *p = nullptr, *d = nullptr;
+  PetscScalar *t = nullptr;
+  PetscCall(VecGetArrayRead(n.vel, &v));
+  PetscCall(VecGetArrayRead(sums_.mass[k], &m));
+  PetscCall(VecGetArrayRead(sums_.mom[k], &p));
+  PetscCall(VecGetArrayRead(summed ? sums_.inc[k] : n.acc, &d));
+  PetscCall(VecGetArray(out, &t));
+  const double ds = summed ? 1.0 : dt;
+  for (PetscInt i = 0; i < nloc; i += D)
+    for (int q = 0; q < D; ++q) {
+      // (with flip 0 the increments are not summed: not read)
+      const double took =
+          flip > 0 ? flip * (p[i + q] + m[i] * ds * d[i + q]) + (1.0 - flip) * m[i] * v[i + q]
+                   : m[i] * v[i + q];
+      t[i + q] = add ? t[i + q] + took : took;
+    }
+  PetscCall(VecRestoreArray(out, &t));
+  PetscCall(VecRestoreArrayRead(summed ? sums_.inc[k] : n.acc, &d));
+  PetscCall(VecRestoreArrayRead(sums_.mom[k], &p));
+  PetscCall(VecRestoreArrayRead(sums_.mass[k], &m));
+  PetscCall(VecRestoreArrayRead(n.vel, &v));
+  return PETSC_SUCCESS;
+}
+
+template <int D>
+PetscErrorCode MultiRate<D>::endClasses(ParticleView<D> &p, const StepClock &c, PetscInt j,
+                                        const StartPower &power) {
+  RunState<D> &s = s_;
+  RateClasses<D> &r = r_;
+  const double flip = s.sc.transfer == Transfer::Apic ? 0.0 : s.sc.flip;
+  const bool musl = s.scheme.stressFromReprojection;
+  std::vector<int> ending, present;
+  for (int k = 0; k < r.n; ++k)
+    if (r.size[k] > 0) {
+      present.push_back(k);
+      if ((j + 1) % r.every[k] == 0) ending.push_back(k);
+    }
+  PetscCall(PetscLogStagePush(s.stages.g2p));
+  if (ending.size() == present.size() && present.size() > 1 && flip > 0 && flip < 1)
+    PetscCall(spreadRemainder(ending, c, flip));
+  for (size_t e = 0; e < ending.size(); ++e)
+    PetscCall(endClass(p, c, ending[e], e, flip));
+  PetscCall(PetscLogStagePop());
+  // Work of the damping and of the delivered external force every sub-step, with MUSL's
+  // velocity at the end (the grid velocity plus the ending classes' corrections), as in the
+  // single-rate step.
+  const bool corrected = musl && !ending.empty(); // (USF is refused with -gimp_multirate)
+  if (corrected) PetscCall(VecAXPY(s.nodal.vel, 1.0, scratch_.corrSum));
+  PetscCall(step_.work(c, power));
+  // The ending classes leave the nodes; at the coarse end every class does and the next coarse
+  // step starts from P = 0, so P keeps the nodal momentum for the monitor and the frames.
+  if (!ending.empty() && j + 1 < s.stride()) PetscCall(VecAXPY(s.nodal.P, -1.0, scratch_.taken));
+  return PETSC_SUCCESS;
+}
+
+template <int D>
+PetscErrorCode MultiRate<D>::spreadRemainder(const std::vector<int> &ending, const StepClock &c,
+                                             double flip) {
+  // Every class ends: with a FLIP/PIC blend the nodes may keep momentum K that no particle
+  // took (the blend's share of the velocity jumps where classes re-entered). It goes to the
+  // particles in proportion to their mass, through the FLIP increments: nothing is carried.
+  Nodal &n = s_.nodal;
+  for (int k : ending)
+    if (r_.every[k] == 1) { // its increments as a vector of their own
+      PetscCall(VecAXPBY(sums_.inc[k], c.dt, 0.0, n.acc));
+      r_.live[k] = 1;
+    }
+  for (size_t e = 0; e < ending.size(); ++e)
+    PetscCall(takenBy(ending[e], flip, c.dt, scratch_.taken, e > 0));
+  PetscCall(VecWAXPY(scratch_.field, -1.0, scratch_.taken, n.P));
+  PetscCall(VecPointwiseMult(scratch_.field, scratch_.field, n.invMass));
+  for (int k : ending)
+    PetscCall(VecAXPY(sums_.inc[k], 1.0 / flip, scratch_.field));
+  return PETSC_SUCCESS;
+}
+
+template <int D>
+PetscErrorCode MultiRate<D>::endClass(ParticleView<D> &p, const StepClock &c, int k, size_t e,
+                                      double flip) {
+  RunState<D> &s = s_;
+  RateClasses<D> &r = r_;
+  RateScratch &w0 = scratch_;
+  Nodal &n = s.nodal;
+  const bool apic = s.sc.transfer == Transfer::Apic, musl = s.scheme.stressFromReprojection;
+  ParticleView<D> q = p.slice(r.begin[k], r.begin[k + 1]);
+  const double every = static_cast<double>(r.every[k]);
+  const bool summed = r.every[k] > 1 || r.live[k];
+  // The velocity update field flip inc + (1 - flip) v (APIC: v) and the mean grid velocity over
+  // the class's step (a class stepping every sub-step: v), on the window.
+  Vec u = n.velW, w = n.velW;
+  if (!apic || r.every[k] > 1) {
+    PetscInt nloc = 0;
+    PetscCall(VecGetLocalSize(n.P, &nloc));
+    Vec dv = summed ? sums_.inc[k] : n.acc, vs = r.every[k] > 1 ? sums_.vsum[k] : n.vel;
+    const PetscScalar *v = nullptr, *d = nullptr, *vsum = nullptr;
+    PetscScalar *uf = nullptr, *wf = nullptr;
+    PetscCall(VecGetArrayRead(n.vel, &v));
+    PetscCall(VecGetArrayRead(dv, &d));
+    PetscCall(VecGetArrayRead(vs, &vsum));
+    PetscCall(VecGetArray(w0.field, &uf));
+    PetscCall(VecGetArray(w0.corr, &wf)); // (free until the re-projection)
+    const double ds = summed ? 1.0 : c.dt;
+    for (PetscInt i = 0; i < nloc; ++i) {
+      uf[i] = flip > 0 ? flip * ds * d[i] + (1.0 - flip) * v[i] : v[i];
+      wf[i] = vsum[i] / every;
+    }
+    PetscCall(VecRestoreArray(w0.corr, &wf));
+    PetscCall(VecRestoreArray(w0.field, &uf));
+    PetscCall(VecRestoreArrayRead(vs, &vsum));
+    PetscCall(VecRestoreArrayRead(dv, &d));
+    PetscCall(VecRestoreArrayRead(n.vel, &v));
+    if (!apic) {
+      PetscCall(s.grid.toWindow(w0.field, w0.fieldW));
+      u = w0.fieldW;
+    }
+    if (r.every[k] > 1) {
+      PetscCall(s.grid.toWindow(w0.corr, w0.meanW));
+      w = w0.meanW;
+    }
+  }
+  PetscScalar *mom = nullptr;
+  if (musl) {
+    PetscCall(VecZeroEntries(n.sumW));
+    PetscCall(VecGetArray(n.sumW, &mom));
+  }
+  const PetscScalar *ug = nullptr, *wg = nullptr;
+  PetscCall(VecGetArrayRead(u, &ug));
+  PetscCall(VecGetArrayRead(w, &wg));
+  if (apic)
+    transfer::gridToParticlesAffineRated<D>(r.st[k], q.n, ug, wg, step_.slotCoordinates(),
+                                            every * c.dt, q.m, q.v, q.B, q.x, mom);
+  else
+    transfer::gridToParticlesRated<D>(r.st[k], q.n, ug, wg, every * c.dt, flip, q.m, q.v, q.x, mom);
+  PetscCall(VecRestoreArrayRead(w, &wg));
+  PetscCall(VecRestoreArrayRead(u, &ug));
+  if (musl) PetscCall(VecRestoreArray(n.sumW, &mom));
+  // What the class took from the nodes (into field), summed over the ending classes.
+  PetscCall(takenBy(k, flip, c.dt, w0.field, false));
+  if (e == 0)
+    PetscCall(VecCopy(w0.field, w0.taken));
+  else
+    PetscCall(VecAXPY(w0.taken, 1.0, w0.field));
+  if (musl) {
+    PetscCall(correction(c, k, e));
+    w = w0.meanW;
+  }
+  return step_.stress(r.st[k], q, w, every * c.dt);
+}
+
+template <int D> PetscErrorCode MultiRate<D>::correction(const StepClock &c, int k, size_t e) {
+  // The stress from the mean grid velocity over the class's step (what moved it); with MUSL
+  // plus the class's own re-projection correction (its new momenta minus what it took, over the
+  // nodal mass): with one class MUSL's velocity, with several each class's share of it.
+  RunState<D> &s = s_;
+  RateScratch &w0 = scratch_;
+  Nodal &n = s.nodal;
+  const double every = static_cast<double>(r_.every[k]);
+  PetscInt nloc = 0;
+  PetscCall(VecGetLocalSize(n.P, &nloc));
+  PetscCall(VecZeroEntries(w0.corr));
+  PetscCall(s.grid.addFromWindow(n.sumW, w0.corr));
+  Vec vsv = r_.every[k] > 1 ? sums_.vsum[k] : n.vel;
+  const PetscScalar *t = nullptr, *im = nullptr, *vs = nullptr;
+  PetscScalar *cr = nullptr, *cs = nullptr, *sf = nullptr;
+  PetscCall(VecGetArrayRead(w0.field, &t));
+  PetscCall(VecGetArrayRead(n.invMass, &im));
+  PetscCall(VecGetArrayRead(vsv, &vs));
+  PetscCall(VecGetArray(w0.corr, &cr));
+  PetscCall(VecGetArray(w0.corrSum, &cs));
+  PetscCall(VecGetArray(n.f, &sf)); // (free after the grid update)
+  for (PetscInt i = 0; i < nloc; ++i) {
+    cr[i] = (cr[i] - t[i]) * im[i];
+    cs[i] = e == 0 ? cr[i] : cs[i] + cr[i];
+    sf[i] = vs[i] / every + cr[i];
+  }
+  PetscCall(VecRestoreArray(n.f, &sf));
+  PetscCall(VecRestoreArray(w0.corrSum, &cs));
+  PetscCall(VecRestoreArray(w0.corr, &cr));
+  PetscCall(VecRestoreArrayRead(vsv, &vs));
+  PetscCall(VecRestoreArrayRead(n.invMass, &im));
+  PetscCall(VecRestoreArrayRead(w0.field, &t));
+  PetscCall(s.grid.toWindow(n.f, w0.meanW));
+  // The re-projected fields of a cracked node may approach each other again: the same contact
+  // as the single-rate step's (Step::reproject), or the strain would see the faces
+  // interpenetrate.
+  if (!s.sc.cracks.empty()) PetscCall(step_.crackContact(c, w0.meanW, n.f, nullptr, nullptr));
+  return PETSC_SUCCESS;
+}
+
+#define GIMP_INSTANTIATE(D)                                                                        \
+  template PetscErrorCode MultiRate<D>::classForces(const ParticleView<D> &, const StepClock &,    \
+                                                    PetscInt, StartPower &);                       \
+  template PetscErrorCode MultiRate<D>::accumulate(const StepClock &, PetscInt);                   \
+  template PetscErrorCode MultiRate<D>::endClasses(ParticleView<D> &, const StepClock &, PetscInt, \
+                                                   const StartPower &);
+GIMP_INSTANTIATE(2)
+GIMP_INSTANTIATE(3)
+#undef GIMP_INSTANTIATE
+
+} // namespace gimp
