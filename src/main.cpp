@@ -2,6 +2,7 @@
 #include "gimp/solver/solver.hpp"
 
 #include "gimp/core/interrupt.hpp"
+#include "gimp/input/options.hpp"
 #include "gimp/input/options_file.hpp"
 #include "gimp/input/validate.hpp"
 
@@ -58,16 +59,24 @@ int main(int argc, char **argv) {
     (void)PetscPrintf(PETSC_COMM_WORLD, "gimp: warning: cannot handle SIGINT/SIGTERM\n");
   int code = 0;
   try {
+    PetscBool help = PETSC_FALSE, markdown = PETSC_FALSE;
+    PetscCall(PetscOptionsHasHelp(nullptr, &help));
+    PetscCall(PetscOptionsHasName(nullptr, nullptr, "-gimp_options_markdown", &markdown));
+    if (markdown) { // the option list of docs/options.md
+      PetscCall(PetscPrintf(PETSC_COMM_WORLD, "%s", gimp::input::optionsMarkdown().c_str()));
+      PetscCall(PetscOptionsClearValue(nullptr, "-gimp_options_markdown"));
+      PetscCall(PetscFinalize());
+      return 0;
+    }
     PetscInt dim = 2;
     const PetscErrorCode ierr = gimp::readOptionsOneLine([&] {
-      PetscOptionsBegin(PETSC_COMM_WORLD, nullptr, "gimp: dimension", "gimp");
-      PetscCall(PetscOptionsInt("-gimp_dim", "Spatial dimension of the scene: 2 or 3",
-                                "docs/options.md", dim, &dim, nullptr));
-      PetscOptionsEnd();
+      try {
+        dim = gimp::input::Options(PETSC_COMM_WORLD, 2, help).integer("gimp_dim", 2);
+      } catch (const gimp::input::OptionsReadError &e) {
+        return e.code;
+      }
       return PETSC_SUCCESS;
     });
-    if (!ierr && dim != 2 && dim != 3)
-      throw gimp::InputError("option -gimp_dim " + std::to_string(dim) + ": must be 2 or 3");
     code = ierr ? 1 : dim == 3 ? runScene<3>() : runScene<2>();
   } catch (const gimp::InputError &e) {
     PetscMPIInt rank = 0;

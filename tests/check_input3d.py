@@ -9,7 +9,7 @@ args = gimptest.parse_args()
 c = gimptest.Checks()
 cases = [
     # (name, extra options, text the error line must contain)
-    ("bad dimension", ["-gimp_dim", "4"], "-gimp_dim 4: must be 2 or 3"),
+    ("bad dimension", ["-gimp_dim", "4"], "-gimp_dim 4: must be an integer from 2 to 3"),
     ("2D box in 3D", ["-gimp_body0_box", "0,0,1,0.4"], "-gimp_body0_box 0,0,1,0.4: needs 6 values"),
     ("3D box inverted", ["-gimp_body0_box", "0,0,0.4,1,0.4,0"], "needs x0 < x1, y0 < y1 and z0 < z1"),
     ("2D domain in 3D", ["-gimp_domain", "-0.2,-0.2,1.2,0.6"], "-gimp_domain -0.2,-0.2,1.2,0.6"),
@@ -18,9 +18,9 @@ cases = [
     ("ppc not a cube", ["-gimp_body0_ppc", "4"], "-gimp_body0_ppc 4: must be a perfect cube"),
     ("2D velocity", ["-gimp_body0_velocity", "1,0"], "-gimp_body0_velocity 1,0: needs 3 values"),
     ("2D gravity", ["-gimp_gravity", "0,-9.8"], "-gimp_gravity 0,-9.8: needs 3 values"),
-    # a 3D option the 3D scene does not use (the body is a box): unused, not "a 3D option"
+    # a 3D option of another shape than the body's
     ("sphere of a box body", ["-gimp_body0_sphere", "0.5,0.2,0.2,0.1"],
-     "-gimp_body0_sphere 0.5,0.2,0.2,0.1: unknown option (misspelled, or not used by this scene)"),
+     "-gimp_body0_sphere (given): is for shape sphere, but -gimp_body0_shape is box"),
     ("sphere radius", ["-gimp_bodies", "2", "-gimp_body1_shape", "sphere", "-gimp_body1_sphere",
                        "2,0.2,0.2,0"], "-gimp_body1_sphere 2,0.2,0.2,0: needs r > 0"),
     ("sphere missing", ["-gimp_bodies", "2", "-gimp_body1_shape", "sphere"],
@@ -30,7 +30,7 @@ cases = [
                             "-gimp_body1_sphere", "0.9,0.2,0.2,0.15"],
      "-gimp_body1_sphere: the body overlaps an earlier body"),
     ("empty body", ["-gimp_body0_hole_cylinders", "0.2,0.2,2", "-gimp_body0_hole_cylinder_axis", "x"],
-     "-gimp_body0_box: the body holds no particle"),
+     "-gimp_body0_box 0,0,0,1,0.4,0.4: the body holds no particle"),
     ("hole group", ["-gimp_body0_hole_spheres", "0.5,0.2,0.2"], "-gimp_body0_hole_spheres 0.5,0.2,0.2"),
     ("bad face", ["-gimp_traction0_side", "inside"], "-gimp_traction0_side inside"),
     ("2D traction value", ["-gimp_traction0_value", "100,0"], "-gimp_traction0_value 100,0: needs 3 values"),
@@ -48,10 +48,11 @@ cases = [
      "-gimp_bc0_range 1,0,1,0: needs a0 < a1 and b0 < b1"),
     ("bc range off the grid", ["-gimp_bcs", "1", "-gimp_bc0_x", "0", "-gimp_bc0_range", "5,6,5,6"],
      "-gimp_bc0_range 5,6,5,6: no active grid node"),
-    ("penalty without conditions", ["-gimp_penalty", "1e9"], "-gimp_penalty (given): acts only"),
+    ("penalty without conditions", ["-gimp_penalty", "1e9"], "-gimp_penalty 1e9: acts only"),
     ("wavenumber without sine", ["-gimp_body0_wavenumber", "3"],
-     "-gimp_body0_wavenumber (given): acts only with -gimp_body0_velocity_profile sine_x"),
-    ("mms amplitude without mms", ["-gimp_mms_amplitude", "1e-3"], "-gimp_mms_amplitude (given)"),
+     "-gimp_body0_wavenumber 3: acts only with -gimp_body0_velocity_profile sine_x"),
+    ("mms amplitude without mms", ["-gimp_mms_amplitude", "1e-3"],
+     "-gimp_mms_amplitude 1e-3: acts only with -gimp_mms skb1d"),
     ("bc on two planes", ["-gimp_bcs", "1", "-gimp_bc0_x", "0", "-gimp_bc0_z", "0"], "exactly one"),
     ("dbc component", ["-gimp_dbcs", "1", "-gimp_dbc0_side", "left", "-gimp_dbc0_components", "x",
                        "-gimp_dbc0_uz", "0,0,1,0.001"], "-gimp_dbc0_uz (given)"),
@@ -68,20 +69,22 @@ cases = [
     ("nan", ["-gimp_rho", "nan"], "-gimp_rho nan"),
     ("nu 0.5 in 3D", ["-gimp_nu", "0.5"], "-gimp_nu 0.5"),
     ("unknown option", ["-gimp_dampnig", "10"], "-gimp_dampnig"),
-    # 2D-only options given in 3D.
-    ("cracks in 3D", ["-gimp_cracks", "1"], "-gimp_cracks: not available with -gimp_dim 3"),
-    ("plane stress in 3D", ["-gimp_plane", "stress"], "-gimp_plane: not available with -gimp_dim 3"),
-    ("multirate in 3D", ["-gimp_multirate", "true"], "-gimp_multirate: not available"),
-    ("circle in 3D", ["-gimp_body0_circle", "0.5,0.2,0.1"], "-gimp_body0_circle: a 2D body option"),
-    ("2D holes in 3D", ["-gimp_body0_holes", "0.5,0.2,0.1"], "-gimp_body0_holes: a 2D body option"),
-    ("corner tracking in 3D", ["-gimp_tracking", "corners"], "-gimp_tracking corners: 3D scenes take"),
-    ("xpic in 3D", ["-gimp_transfer", "xpic"], "-gimp_transfer xpic: 3D scenes take"),
-    ("restart in 3D", ["-gimp_restart", "x.h5"], "-gimp_restart: not available with -gimp_dim 3"),
-    ("cut cells in 3D", ["-gimp_cut_cells", "false"], "-gimp_cut_cells: not available"),
-    ("stability check in 3D", ["-gimp_stability_check", "true"], "-gimp_stability_check: not"),
-    ("hole measure in 3D", ["-gimp_hole_measure", "0.5,0.2,0.1"], "-gimp_hole_measure: not"),
-    ("usf in 3D", ["-gimp_update", "usf"], "-gimp_update usf: 3D scenes take"),
-    ("cpdi in 3D", ["-gimp_tracking", "cpdi"], "-gimp_tracking cpdi: 3D scenes take"),
+    # What exists in 2D only (the dimension table), given in 3D: refused with its reason.
+    ("cracks in 3D", ["-gimp_cracks", "1"], "-gimp_cracks 1: not available with -gimp_dim 3"),
+    ("plane stress in 3D", ["-gimp_plane", "stress"],
+     "-gimp_plane stress: not available with -gimp_dim 3 (plane models)"),
+    ("multirate in 3D", ["-gimp_multirate", "true"], "-gimp_multirate true: not available"),
+    ("circle in 3D", ["-gimp_body0_circle", "0.5,0.2,0.1"],
+     "-gimp_body0_circle 0.5,0.2,0.1: not available with -gimp_dim 3"),
+    ("2D holes in 3D", ["-gimp_body0_holes", "0.5,0.2,0.1"],
+     "-gimp_body0_holes 0.5,0.2,0.1: not available with -gimp_dim 3"),
+    ("corner tracking in 3D", ["-gimp_tracking", "corners"],
+     "-gimp_tracking corners: not available with -gimp_dim 3"),
+    ("cut cells in 3D", ["-gimp_cut_cells", "false"], "-gimp_cut_cells false: not available"),
+    ("hole measure in 3D", ["-gimp_hole_measure", "0.5,0.2,0.1"], "-gimp_hole_measure 0.5,0.2,0.1: not"),
+    ("cpdi in 3D", ["-gimp_tracking", "cpdi"], "-gimp_tracking cpdi: not available with -gimp_dim 3"),
+    ("lanes in 3D", ["-gimp_lanes", "false"], "-gimp_lanes false: not available with -gimp_dim 3"),
+    ("restart from no checkpoint", ["-gimp_restart", "x.h5"], "-gimp_restart x.h5: not a gimp checkpoint"),
 ]
 for name, extra, needle in cases:
     p = gimptest.run(args, "options/patch3d.opts", extra + ["-ts_max_steps", "1"],
@@ -94,8 +97,10 @@ for name, extra, needle in cases:
 
 # 3D-only options given in 2D are refused (the 2D scene does not read them).
 for name, extra, needle in (
-        ("sphere in 2D", ["-gimp_body0_sphere", "0.5,0.2,0.2,0.1"], "a 3D option, not available in 2D"),
-        ("disk in 2D", ["-gimp_traction0_disk", "0.2,0.2,0.1"], "-gimp_traction0_disk 0.2,0.2,0.1: a 3D option")):
+        ("sphere in 2D", ["-gimp_body0_sphere", "0.5,0.2,0.2,0.1"],
+         "-gimp_body0_sphere 0.5,0.2,0.2,0.1: not available with -gimp_dim 2 (solid bodies)"),
+        ("disk in 2D", ["-gimp_traction0_disk", "0.2,0.2,0.1"],
+         "-gimp_traction0_disk 0.2,0.2,0.1: not available with -gimp_dim 2")):
     p = gimptest.run(args, "options/patch.opts", extra + ["-ts_max_steps", "1"], expect_ok=False,
                      outdir=os.path.join(args.work, "bad2d"))
     lines = [l for l in p.stderr.splitlines() if l.strip()]

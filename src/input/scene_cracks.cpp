@@ -52,12 +52,11 @@ bool reachesABody(const Scene<2> &sc, const Crack &c, double hmin) {
 }
 
 /// The crack of option q from its n values: the polyline checked, its ends classified.
-void makeCrack(const Scene<2> &sc, const std::string &q, const PetscReal *v, PetscInt n, Crack &c) {
-  const std::string all = fmtList(v, n);
-  if (n < 4 || n % 2) bad(q, all, "needs pairs x,y of at least two points [m]");
-  for (PetscInt i = 0; i < n; ++i)
-    if (!std::isfinite(v[i])) bad(q, all, "the coordinates must be finite numbers [m]");
-  for (PetscInt i = 0; i < n; i += 2)
+void makeCrack(const Scene<2> &sc, const std::string &q, const std::vector<double> &v, Crack &c) {
+  const size_t n = v.size();
+  const std::string all = fmtList(v.data(), n);
+  if (n < 4) Options::bad(q, all, "needs pairs x,y of at least two points [m]");
+  for (size_t i = 0; i < n; i += 2)
     c.points.push_back({v[i], v[i + 1]});
   double hmin = sc.h;
   for (size_t k = 1; k < sc.levels.size(); ++k)
@@ -65,15 +64,17 @@ void makeCrack(const Scene<2> &sc, const std::string &q, const PetscReal *v, Pet
   const cracks::PolylineFault f = cracks::findFault(c, 1e-9 * hmin);
   const std::string i = std::to_string(f.i), j = std::to_string(f.j);
   if (f.kind == cracks::PolylineFault::ZeroLength)
-    bad(q, all, "points " + i + " and " + j + " coincide: segments must have a length");
+    Options::bad(q, all, "points " + i + " and " + j + " coincide: segments must have a length");
   if (f.kind == cracks::PolylineFault::FoldsBack)
-    bad(q, all,
-        "segments " + i + " and " + j +
-            " fold back onto each other: a crack may not retrace itself");
+    Options::bad(q, all,
+                 "segments " + i + " and " + j +
+                     " fold back onto each other: a crack may not retrace itself");
   if (f.kind == cracks::PolylineFault::Intersects)
-    bad(q, all, "segments " + i + " and " + j + " intersect: a crack may not cross itself");
+    Options::bad(q, all,
+                 "segments " + i + " and " + j + " intersect: a crack may not cross itself");
   if (!reachesABody(sc, c, hmin))
-    bad(q, all,
+    Options::bad(
+        q, all,
         "no point of the crack lies inside a body (in its box, not on an edge or in a hole): a "
         "crack must run into a body");
   for (int e = 0; e < 2; ++e) {
@@ -96,54 +97,33 @@ void checkTips(const Scene<2> &sc) {
         std::vector<double> v;
         for (const auto &p : c.points)
           v.insert(v.end(), p.begin(), p.end());
-        bad("gimp_crack" + std::to_string(k) + "_points",
-            fmtList(v.data(), static_cast<PetscInt>(v.size())),
-            "its tip " + formatNumber(x[0]) + "," + formatNumber(x[1]) + " is " + formatNumber(d) +
-                " m from crack " + std::to_string(m) + ", less than one cell (" + formatNumber(h) +
-                " m): a tip must be at least one cell from another crack");
+        Options::bad("gimp_crack" + std::to_string(k) + "_points", fmtList(v.data(), v.size()),
+                     "its tip " + formatNumber(x[0]) + "," + formatNumber(x[1]) + " is " +
+                         formatNumber(d) + " m from crack " + std::to_string(m) +
+                         ", less than one cell (" + formatNumber(h) +
+                         " m): a tip must be at least one cell from another crack");
       }
     }
 }
 
 } // namespace
 
-PetscErrorCode readCracks(MPI_Comm comm, Scene<2> &sc) {
-  PetscInt nc = 0;
-  PetscBool setR = PETSC_FALSE;
-  PetscOptionsBegin(comm, nullptr, "Cracks", "gimp");
-  PetscCall(PetscOptionsInt("-gimp_cracks",
-                            "Number of cracks, each given by -gimp_crackK_points, K = 0..N-1",
-                            "docs/options.md", nc, &nc, nullptr));
-  PetscCall(PetscOptionsReal("-gimp_crack_j_radius",
-                             "Radius of the J-integral's domain around each tip [m] (default: 5 "
-                             "finest cells)",
-                             "docs/options.md", sc.crackJRadius, &sc.crackJRadius, &setR));
-  PetscOptionsEnd();
-  if (!sc.help && nc < 0) bad("gimp_cracks", std::to_string(nc), "must be >= 0");
-  if (!sc.help && setR && !(sc.crackJRadius > 0 && std::isfinite(sc.crackJRadius)))
-    bad("gimp_crack_j_radius", formatNumber(sc.crackJRadius), "must be a finite length > 0 [m]");
-  if (!sc.help && setR && nc == 0)
-    bad("gimp_crack_j_radius", formatNumber(sc.crackJRadius), "needs cracks (-gimp_cracks)");
-  for (PetscInt k = 0; k < (sc.help ? 1 : nc); ++k) {
-    const std::string p = "-gimp_crack" + std::to_string(k) + "_points";
-    PetscReal v[201] = {0};
-    PetscInt n = 201;
-    PetscBool set = PETSC_FALSE;
-    PetscOptionsBegin(comm, nullptr, ("Crack " + p).c_str(), "gimp");
-    PetscCall(PetscOptionsRealArray(p.c_str(),
-                                    "Crack polyline x0,y0,x1,y1,... [m]: an end strictly inside "
-                                    "a body is a tip, one on or outside its edge a mouth",
-                                    "docs/options.md", v, &n, &set));
-    PetscOptionsEnd();
-    if (sc.help) continue;
-    if (!set) bad(p.substr(1), "(missing)", "each crack needs its polyline x0,y0,x1,y1,... [m]");
-    if (n > 200) bad(p.substr(1), "(more than 100 points)", "at most 100 points (200 values) [m]");
+void readCracks(const Options &o, Scene<2> &sc) {
+  const PetscInt nc = o.integer("gimp_cracks", 0);
+  bool radiusGiven = false;
+  sc.crackJRadius = o.real("gimp_crack_j_radius", sc.crackJRadius, &radiusGiven);
+  o.needs(nc > 0, "gimp_crack_j_radius", "cracks (-gimp_cracks)");
+  for (PetscInt k = 0; k < (o.help() ? 1 : nc); ++k) {
+    const std::string q = "gimp_crack" + std::to_string(k) + "_points";
+    const std::vector<double> v = o.reals(q, !o.help());
+    if (o.help()) continue;
+    if (v.size() > 200)
+      Options::bad(q, "(more than 100 points)", "at most 100 points (200 values) [m]");
     Crack c;
-    makeCrack(sc, p.substr(1), v, n, c);
+    makeCrack(sc, q, v, c);
     sc.cracks.push_back(c);
   }
-  if (!sc.help) checkTips(sc);
-  return PETSC_SUCCESS;
+  if (!o.help()) checkTips(sc);
 }
 
 } // namespace gimp::input

@@ -1,36 +1,48 @@
-// Helpers shared by the readers of the scene's options (src/input only).
+// The readers of the scene's parts (src/input only), each from the options by their declarations
+// (input/options.hpp).
 #pragma once
 
+#include "gimp/input/options.hpp"
 #include "gimp/input/scene.hpp"
 
 #include <string>
 
 namespace gimp::input {
 
-/// "v0,v1,..." as written in error messages.
-std::string fmtList(const double *v, PetscInt n);
-
-/// Throw the one-line error for option -opt with the given value and what would be valid.
-[[noreturn]] void bad(const std::string &opt, const std::string &value, const std::string &valid);
-
 bool isPerfectSquare(int n);
 
-/// The run's intervals in steps (-gimp_output_interval >= 0, -gimp_history_interval >= 1,
-/// -gimp_monitor_interval >= 0, -gimp_sort_interval >= 0), 2D and 3D alike.
-void checkRunIntervals(int output, int history, int monitor, int sort);
+/// Every gimp option given that exists in the other dimension only (or a choice of it) is
+/// refused with the feature table's reason, before anything is read.
+void refuseOtherDimension(int dim);
 
-/// PETSc's EList stops with a trace on an unknown value; check it first and say it in one line.
-PetscErrorCode checkChoice(const std::string &opt, const char *const *list, int n);
-
-// The parts of the scene, each from its options (collective; sc.help lists them only).
-PetscErrorCode readMaterial(MPI_Comm comm, Scene<2> &sc);
-/// mu, lambda and the 2D model's lambda from E and nu.
+/// mu, lambda and the model's lambda* from E and nu.
 void deriveMaterial(Material &m);
-PetscErrorCode readBodies(MPI_Comm comm, Scene<2> &sc);
-PetscErrorCode readLoads(MPI_Comm comm, Scene<2> &sc);
-PetscErrorCode readLevels(MPI_Comm comm, Scene<2> &sc);
+/// The scene's material (-gimp_material, _E, _nu, _rho; 2D: _plane, _thickness).
+template <int D> void readMaterial(const Options &o, Scene<D> &sc);
+/// A body's own material (-gimp_bodyK_material, _E, _nu, _rho), each the scene's unless given;
+/// p is "gimp_bodyK_".
+void readBodyMaterial(const Options &o, const std::string &p, const Material &scene, bool sceneE,
+                      bool sceneRho, Material &m);
+
+/// The bodies: plane bodies (bodies_plane.cpp) or solids (bodies_solid.cpp).
+void readBodies(const Options &o, Scene<2> &sc);
+void readBodies(const Options &o, Scene<3> &sc);
+/// Bodies do not overlap (2D: from their shapes) and lie in the domain; the manufactured
+/// solution fits the material.
+void checkBodies(const Scene<2> &sc);
+void checkBodies(const Scene<3> &sc);
+/// The default domain: the bodies' bounding box padded by -gimp_pad cells, whole cells from its
+/// low corner (2D) or on the grid lines through the origin (3D).
+void domainAroundBodies(Scene<2> &sc);
+void domainAroundBodies(Scene<3> &sc);
+/// -gimp_hole_measure and its load (2D).
+void readHoleMeasure(const Options &o, Scene<2> &sc);
+
+/// Body force, tractions, penalty conditions, node constraints and probes (loads.cpp).
+template <int D> void readLoads(const Options &o, Scene<D> &sc);
+
 /// After the levels and bodies (scene_cracks.cpp): -gimp_cracks and each -gimp_crackK_points,
 /// checked; each end classified as a tip (strictly inside a body) or a mouth.
-PetscErrorCode readCracks(MPI_Comm comm, Scene<2> &sc);
+void readCracks(const Options &o, Scene<2> &sc);
 
 } // namespace gimp::input

@@ -1,5 +1,7 @@
 #include "gimp/input/validate.hpp"
 
+#include "gimp/input/options.hpp"
+
 #include "gimp/particles/seed.hpp"
 
 #include <algorithm>
@@ -82,37 +84,27 @@ template <class Read> PetscErrorCode readOneLine(Read read) {
   return PETSC_SUCCESS;
 }
 
-bool endsWith(const std::string &s, const char *tail) {
-  const size_t n = std::strlen(tail);
-  return s.size() >= n && s.compare(s.size() - n, n, tail) == 0;
+/// The declared kind of a gimp option, or of the time stepper's step, end time and step count.
+const input::OptionSpec *declared(const std::string &name) {
+  return name.rfind("gimp_", 0) == 0 ? input::findOption(name) : nullptr;
 }
 
-/// gimp options that PETSc reads as logicals: given alone they mean true. A new logical
-/// option must be added here, or given alone it is refused for its missing value.
 bool isLogical(const std::string &name) {
-  return name == "gimp_half_step_start" || name == "gimp_penalty_traction" ||
-         name == "gimp_stability_check" || name == "gimp_allow_unstable_dt" ||
-         name == "gimp_cut_cells";
+  const input::OptionSpec *s = declared(name);
+  return s && s->kind == input::Kind::Bool;
 }
 
-/// gimp options whose value is a word (a name, a path or a choice), not numbers.
+/// Options whose value is a word (a name, a path or a choice), not numbers.
 bool isWord(const std::string &name) {
-  for (const char *tail :
-       {"_scene", "_dir", "_dump", "_file", "_restart", "_name", "_material", "_plane", "_update",
-        "_transfer", "_tracking", "_mms", "_side", "_components", "_type", "_velocity_profile"})
-    if (endsWith(name, tail)) return true;
-  return false;
+  const input::OptionSpec *s = declared(name);
+  return s && (s->kind == input::Kind::Word || s->kind == input::Kind::Choice);
 }
 
 /// Options PETSc reads as one PetscInt: it keeps a value too large for one wrapped around.
 bool isInteger(const std::string &name) {
-  if (name == "ts_max_steps" || name == "gimp_pad" || name == "gimp_levels" ||
-      name == "gimp_xpic_order")
-    return true;
-  for (const char *tail : {"_ppc", "_interval", "_bodies", "_tractions", "_bcs", "_dbcs", "_probes",
-                           "_cracks", "_body"})
-    if (endsWith(name, tail)) return true;
-  return false;
+  if (name == "ts_max_steps") return true;
+  const input::OptionSpec *s = declared(name);
+  return s && s->kind == input::Kind::Int;
 }
 
 /// An integer literal outside PetscInt's range.
@@ -406,7 +398,7 @@ PetscErrorCode timeStepFromOptions(TS ts, double cp, double hMin, bool unstableA
   return PETSC_SUCCESS;
 }
 
-PetscErrorCode rejectUnusedOptions(int dim) {
+PetscErrorCode rejectUnusedOptions() {
   PetscInt nleft = 0;
   char **names = nullptr, **values = nullptr;
   PetscCall(PetscOptionsLeftGet(nullptr, &nleft, &names, &values));
@@ -423,17 +415,6 @@ PetscErrorCode rejectUnusedOptions(int dim) {
   }
   PetscCall(PetscOptionsLeftRestore(nullptr, &nleft, &names, &values));
   if (unknown.empty()) return PETSC_SUCCESS;
-  // The options that exist for 3D scenes only (-gimp_dim 3; three/scene3.cpp).
-  const std::string name = unknown.substr(0, unknown.find(' '));
-  // (In a 3D scene such an option is unused because its shape or family member is not the
-  // scene's: the generic line below.)
-  for (const char *tail :
-       {"_sphere", "_cylinder", "_cylinder_axis", "_hole_spheres", "_hole_cylinders", "_hole_boxes",
-        "_hole_cylinder_axis", "_disk", "_z", "_uz"})
-    if (dim == 2 && name.rfind("gimp_", 0) == 0 && endsWith(name, tail))
-      throw InputError("option -" + unknown +
-                       ": a 3D option, not available in 2D scenes (give -gimp_dim 3 for a 3D "
-                       "scene; docs/options.md)");
   throw InputError("option -" + unknown +
                    ": unknown option (misspelled, or not used by this scene); see -help and "
                    "docs/options.md");

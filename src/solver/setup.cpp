@@ -90,7 +90,7 @@ template <int D> PetscErrorCode Solver<D>::setup() {
   }
   if (s.sc.stabilityCheck) PetscCall(stability_.atStart());
   if (s.sc.multirate) PetscCall(coarseStepLimits());
-  PetscCall(rejectUnusedOptions(D));
+  PetscCall(rejectUnusedOptions());
   return openOutput();
 }
 

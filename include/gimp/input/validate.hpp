@@ -41,8 +41,8 @@ PetscErrorCode timeStepFromOptions(TS ts, const Scene<D> &sc, const Lattice<D> &
 PetscErrorCode timeStepFromOptions(TS ts, double cp, double hMin, bool unstableAllowed,
                                    double damping = 0);
 
-/// Unknown or misspelled options stop the run (options PETSc reads at exit are allowed); in a 2D
-/// scene (dim 2) an option of 3D scenes says so.
-PetscErrorCode rejectUnusedOptions(int dim);
+/// Unknown or misspelled options stop the run (options PETSc reads at exit are allowed; an option
+/// of the other dimension was refused with its reason when the scene was read).
+PetscErrorCode rejectUnusedOptions();
 
 } // namespace gimp

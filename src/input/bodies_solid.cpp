@@ -1,0 +1,153 @@
+// Solid bodies (3D): a box, sphere or cylinder along an axis, with box, spherical and
+// cylindrical holes, n^3 particles per cell, an initial velocity and its own material; the
+// check that each lies in the domain, and the default domain around them.
+#include "scene_options.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace gimp::input {
+
+namespace {
+
+int axisOf(const std::string &a) {
+  return a == "x" ? 0 : a == "y" ? 1 : 2;
+}
+
+/// The body's solid from -gimp_bodyK_shape and the option it names; p is "gimp_bodyK_".
+void readSolid(const Options &o, const std::string &p, Body<3> &b) {
+  const std::string shape = o.choice(p + "shape", "box");
+  for (const char *other : {"box", "sphere", "cylinder"})
+    if (shape != other && o.given(p + other))
+      Options::bad(p + other, "(given)",
+                   std::string("is for shape ") + other + ", but -" + p + "shape is " + shape);
+  b.shapeOption = shape;
+  b.kind = shape == "box" ? Body<3>::BoxShape : Body<3>::RoundShape;
+  const int axis = axisOf(o.choice(p + "cylinder_axis", "z"));
+  o.needs(shape == "cylinder", p + "cylinder_axis", "-" + p + "shape cylinder");
+  const std::vector<double> v = o.reals(p + shape, !o.help());
+  if (o.help()) return;
+  if (shape == "box") {
+    std::copy(v.begin(), v.end(), b.box.begin());
+    if (!(b.box[0] < b.box[3] && b.box[1] < b.box[4] && b.box[2] < b.box[5]))
+      Options::bad(p + "box", fmtList(v.data(), 6), "needs x0 < x1, y0 < y1 and z0 < z1 [m]");
+    return;
+  }
+  if (shape == "sphere") {
+    b.round.kind = Solid::Sphere;
+    b.round.c = {v[0], v[1], v[2]};
+    b.round.r = v[3];
+    if (!(v[3] > 0)) Options::bad(p + "sphere", fmtList(v.data(), 4), "needs r > 0 [m]");
+  } else {
+    b.round.kind = Solid::Cylinder;
+    b.round.axis = axis;
+    int q = 0;
+    for (int a = 0; a < 3; ++a)
+      b.round.c[a] = a == axis ? 0.0 : v[q++];
+    b.round.r = v[2];
+    b.round.lo = v[3];
+    b.round.hi = v[4];
+    if (!(v[2] > 0 && v[3] < v[4]))
+      Options::bad(p + "cylinder", fmtList(v.data(), 5), "needs r > 0 and lo < hi [m]");
+  }
+  b.box = b.round.box();
+}
+
+/// Spherical, box and cylindrical holes.
+void readSolidHoles(const Options &o, const std::string &p, Body<3> &b) {
+  const std::vector<double> hs = o.reals(p + "hole_spheres");
+  for (size_t i = 0; i < hs.size(); i += 4) {
+    Solid h;
+    h.c = {hs[i], hs[i + 1], hs[i + 2]};
+    h.r = hs[i + 3];
+    if (!(h.r > 0)) Options::bad(p + "hole_spheres", fmtList(&hs[i], 4), "needs r > 0 [m]");
+    b.holes.push_back(h);
+  }
+  const std::vector<double> hb = o.reals(p + "hole_boxes");
+  for (size_t i = 0; i < hb.size(); i += 6) {
+    Solid h;
+    h.kind = Solid::BoxHole;
+    std::copy(&hb[i], &hb[i] + 6, h.b.begin());
+    if (!(h.b[0] < h.b[3] && h.b[1] < h.b[4] && h.b[2] < h.b[5]))
+      Options::bad(p + "hole_boxes", fmtList(&hb[i], 6), "needs x0 < x1, y0 < y1 and z0 < z1 [m]");
+    b.holes.push_back(h);
+  }
+  const int axis = axisOf(o.choice(p + "hole_cylinder_axis", "z"));
+  const std::vector<double> hc = o.reals(p + "hole_cylinders");
+  o.needs(!hc.empty(), p + "hole_cylinder_axis", "-" + p + "hole_cylinders");
+  for (size_t i = 0; i < hc.size(); i += 3) {
+    Solid h;
+    h.kind = Solid::Cylinder;
+    h.axis = axis;
+    int q = 0;
+    for (int a = 0; a < 3; ++a)
+      h.c[a] = a == axis ? 0.0 : hc[i + q++];
+    h.r = hc[i + 2];
+    if (!(h.r > 0)) Options::bad(p + "hole_cylinders", fmtList(&hc[i], 3), "needs r > 0 [m]");
+    b.holes.push_back(h);
+  }
+}
+
+/// Particles per cell, the initial velocity and its profile.
+void readSolidMotion(const Options &o, const std::string &p, Body<3> &b) {
+  const PetscInt ppc = o.integer(p + "ppc", 8);
+  const std::vector<double> vel = o.reals(p + "velocity");
+  b.sineProfile = o.choice(p + "velocity_profile", "uniform") == "sine_x";
+  b.wavenumber = o.real(p + "wavenumber", 0.0);
+  if (o.help()) return;
+  const int n = static_cast<int>(std::lround(std::cbrt(static_cast<double>(ppc))));
+  if (ppc < 1 || n * n * n != ppc || n > 10)
+    Options::bad(p + "ppc", std::to_string(ppc), "must be a perfect cube n^3 with 1 <= n <= 10");
+  b.ppc = static_cast<int>(ppc);
+  if (!vel.empty()) std::copy(vel.begin(), vel.end(), b.velocity.begin());
+  o.needs(b.sineProfile, p + "wavenumber", "-" + p + "velocity_profile sine_x");
+  if (b.sineProfile && !(b.wavenumber > 0))
+    Options::bad(p + "wavenumber", formatNumber(b.wavenumber),
+                 "must be > 0 [1/m] with the sine profile");
+}
+
+} // namespace
+
+void readBodies(const Options &o, Scene<3> &sc) {
+  const PetscInt nb = o.integer("gimp_bodies", 1);
+  sc.oneMaterial = true;
+  for (PetscInt k = 0; k < (o.help() ? 1 : nb); ++k) {
+    const std::string p = "gimp_body" + std::to_string(k) + "_";
+    Body<3> b;
+    readSolid(o, p, b);
+    readSolidHoles(o, p, b);
+    readSolidMotion(o, p, b);
+    readBodyMaterial(o, p, sc.material, sc.sceneE, sc.sceneRho, b.material);
+    for (const char *m : {"material", "E", "nu", "rho"})
+      if (o.given(p + m)) sc.oneMaterial = false;
+    if (!o.help()) sc.bodies.push_back(b);
+  }
+}
+
+void checkBodies(const Scene<3> &sc) {
+  // Every body inside the grid: nothing of a body is dropped at the domain's faces.
+  for (size_t k = 0; k < sc.bodies.size(); ++k) {
+    const BoxOf<3> &b = sc.bodies[k].box;
+    for (int a = 0; a < 3; ++a)
+      if (b[a] < sc.domain[a] - 1e-9 * sc.h || b[3 + a] > sc.domain[3 + a] + 1e-9 * sc.h)
+        Options::bad("gimp_body" + std::to_string(k) + "_" + sc.bodies[k].shapeOption,
+                     fmtList(b.data(), 6),
+                     "the body (its box " + fmtList(b.data(), 6) +
+                         ") must lie inside -gimp_domain " + fmtList(sc.domain.data(), 6));
+  }
+}
+
+void domainAroundBodies(Scene<3> &sc) {
+  // The bodies' bounding box on the grid lines through the origin, padded by pad cells.
+  for (int a = 0; a < 3; ++a) {
+    double lo = 1e300, hi = -1e300;
+    for (const Body<3> &b : sc.bodies) {
+      lo = std::min(lo, b.box[a]);
+      hi = std::max(hi, b.box[3 + a]);
+    }
+    sc.domain[a] = (std::floor(lo / sc.h + 1e-9) - sc.pad) * sc.h;
+    sc.domain[3 + a] = (std::ceil(hi / sc.h - 1e-9) + sc.pad) * sc.h;
+  }
+}
+
+} // namespace gimp::input
