@@ -1,3 +1,7 @@
+// Stencils kept as rows of entries (grid/stencils.hpp): a GIMP particle's rows on one level,
+// for the particles that Grid::buildStencils (grid/stencils.cpp) keeps no block for
+// (appendBlock3, appendNodes), and the general entries of point and CPDI stencils.
+//
 // CPDI stencils (Sadeghirad et al. 2011, 2013): a particle's domain is the quadrilateral of its
 // four corners; its weights average the composite grid's point shape functions over it through
 // the quad's bilinear map, so they hold for rotated and sheared domains, which GIMP's
@@ -5,7 +9,10 @@
 #include "gimp/grid/grid.hpp"
 #include "gimp/grid/shape.hpp"
 
+#include <array>
 #include <cmath>
+#include <cstdint>
+#include <vector>
 
 namespace gimp {
 
@@ -55,6 +62,136 @@ double quadIntegrals(const double *c, double w[4], double G[8]) {
 }
 
 } // namespace
+
+template <int D>
+void Grid<D>::appendBlock3(int q, const Reach &r, const double *x, const double *l, Stencils<D> &s,
+                           size_t &m) const {
+  // A regular 3^D block of this level: closed-form weights, the same node set.
+  const Level<D> &L = levels[q];
+  const double ih = L.ih;
+  double fw[D][3], fg[D][3];
+  PetscInt n[D];
+  for (int a = 0; a < D; ++a) {
+    const double lam = l[a] * ih, i2l = 0.5 / lam;
+    shape::uniformWeights3((x[a] - (L.box[a] + r.i0[a] * L.h)) * ih, lam, i2l, i2l * ih, fw[a],
+                           fg[a]);
+    n[a] = r.i1[a] - r.i0[a] + 1;
+  }
+  size_t count = 1;
+  for (int a = 0; a < D; ++a)
+    count *= static_cast<size_t>(n[a]);
+  s.reserve(m + count);
+  PetscInt *node = s.node.data();
+  double *ws[D], *gs[D];
+  for (int a = 0; a < D; ++a) {
+    ws[a] = s.w[a].data();
+    gs[a] = s.g[a].data();
+  }
+  if constexpr (D == 2) {
+    for (PetscInt j = r.i0[1]; j <= r.i1[1]; ++j) {
+      const PetscInt row = L.offset + (j - L.w0[1]) * L.wnx() - L.w0[0];
+      for (PetscInt i = r.i0[0]; i <= r.i1[0]; ++i) {
+        node[m] = row + i;
+        ws[0][m] = fw[0][i - r.i0[0]];
+        gs[0][m] = fg[0][i - r.i0[0]];
+        ws[1][m] = fw[1][j - r.i0[1]];
+        gs[1][m] = fg[1][j - r.i0[1]];
+        ++m;
+      }
+    }
+  } else {
+    std::array<PetscInt, D> nn;
+    for (int a = 0; a < D; ++a)
+      nn[a] = n[a];
+    forEachIndex<D>(nn, [&](const Index &b) {
+      PetscInt i[D];
+      for (int a = 0; a < D; ++a) {
+        i[a] = r.i0[a] + b[a];
+        ws[a][m] = fw[a][b[a]];
+        gs[a][m] = fg[a][b[a]];
+      }
+      node[m] = windowSlot(q, i);
+      ++m;
+    });
+  }
+}
+
+template <int D>
+void Grid<D>::appendNodes(int q, const Reach &r, const double *x, const double *l, double *scratch,
+                          PetscInt maxRange, Stencils<D> &s, size_t &m) const {
+  // Any range of nodes: 1D weights of a regular stretch for every candidate, replaced by the
+  // node's own zones where it is irregular; nodes whose support misses the particle are left out.
+  const Level<D> &L = levels[q];
+  const double ih = L.ih;
+  double *rw[D], *rg[D];
+  size_t count = 1;
+  for (int a = 0; a < D; ++a) {
+    rw[a] = scratch + 2 * a * maxRange;
+    rg[a] = rw[a] + maxRange;
+    const double i2l = 0.5 / l[a];
+    for (PetscInt i = r.i0[a]; i <= r.i1[a]; ++i)
+      shape::weightAndGradientUniform(x[a] - (L.box[a] + i * L.h), l[a], L.h, ih, i2l,
+                                      rw[a][i - r.i0[a]], rg[a][i - r.i0[a]]);
+    count *= static_cast<size_t>(r.i1[a] - r.i0[a] + 1);
+  }
+  s.reserve(m + count);
+  PetscInt *node = s.node.data();
+  double *ws[D], *gs[D];
+  for (int a = 0; a < D; ++a) {
+    ws[a] = s.w[a].data();
+    gs[a] = s.g[a].data();
+  }
+  const std::vector<double> *coord[3] = {&X, &Y, &Z};
+  // One candidate node: window slot nd, offsets c[a] into the 1D tables.
+  auto add = [&](PetscInt nd, const PetscInt *c) {
+    const std::uint8_t f = flags_[nd];
+    if (!(f & kActive)) return;
+    double w[D], g[D];
+    for (int a = 0; a < D; ++a) {
+      w[a] = rw[a][c[a]];
+      g[a] = rg[a][c[a]];
+    }
+    if (f != (kActive | kRegular) || !r.inside) {
+      // Outside the box the candidate range is wider than the overlap range.
+      const double *z = &zone[2 * D * nd];
+      double d[D];
+      for (int a = 0; a < D; ++a) {
+        d[a] = x[a] - (*coord[a])[nd];
+        if (!shape::overlaps(d[a], l[a], z[2 * a], z[2 * a + 1])) return;
+      }
+      if (!(f & kRegular))
+        for (int a = 0; a < D; ++a)
+          shape::weightAndGradient(d[a], l[a], z[2 * a], z[2 * a + 1], w[a], g[a]);
+    }
+    node[m] = nd;
+    for (int a = 0; a < D; ++a) {
+      ws[a][m] = w[a];
+      gs[a][m] = g[a];
+    }
+    ++m;
+  };
+  if constexpr (D == 2) {
+    for (PetscInt j = r.i0[1]; j <= r.i1[1]; ++j) {
+      const PetscInt row = L.offset + (j - L.w0[1]) * L.wnx() - L.w0[0];
+      for (PetscInt i = r.i0[0]; i <= r.i1[0]; ++i) {
+        const PetscInt c[2] = {i - r.i0[0], j - r.i0[1]};
+        add(row + i, c);
+      }
+    }
+  } else {
+    std::array<PetscInt, D> nn;
+    for (int a = 0; a < D; ++a)
+      nn[a] = r.i1[a] - r.i0[a] + 1;
+    forEachIndex<D>(nn, [&](const Index &b) {
+      PetscInt i[D], c[D];
+      for (int a = 0; a < D; ++a) {
+        c[a] = static_cast<PetscInt>(b[a]);
+        i[a] = r.i0[a] + c[a];
+      }
+      add(windowSlot(q, i), c);
+    });
+  }
+}
 
 template <int D>
 double Grid<D>::pointShapes(const double *x, std::vector<std::pair<PetscInt, double>> &out) const {
@@ -172,6 +309,14 @@ const char *Grid<2>::buildCpdiStencils(PetscInt n, const double *corners, Stenci
   return nullptr;
 }
 
+template void Grid<2>::appendBlock3(int, const Reach &, const double *, const double *,
+                                    Stencils<2> &, size_t &) const;
+template void Grid<3>::appendBlock3(int, const Reach &, const double *, const double *,
+                                    Stencils<3> &, size_t &) const;
+template void Grid<2>::appendNodes(int, const Reach &, const double *, const double *, double *,
+                                   PetscInt, Stencils<2> &, size_t &) const;
+template void Grid<3>::appendNodes(int, const Reach &, const double *, const double *, double *,
+                                   PetscInt, Stencils<3> &, size_t &) const;
 template double Grid<2>::pointShapes(const double *,
                                      std::vector<std::pair<PetscInt, double>> &) const;
 template double Grid<3>::pointShapes(const double *,

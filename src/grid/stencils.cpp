@@ -24,6 +24,34 @@ inline PetscInt iceil(double v) {
   return i + (v > static_cast<double>(i));
 }
 
+/// Readies s for the stencils of n particles: their starts, with `compact` their blocks, with
+/// `lanes` their lane groups (none marked yet).
+template <int D> void startStencils(PetscInt n, bool compact, bool lanes, Stencils<D> &s) {
+  s.start.resize(static_cast<size_t>(n) + 1);
+  s.general = false;
+  s.compact = compact;
+  if (compact) {
+    s.blockOf.resize(static_cast<size_t>(n));
+    s.reserveBlocks();
+    s.nBlocks = 0;
+    s.nBlocks4 = 0;
+  }
+  s.laneGroup.assign(lanes ? static_cast<size_t>(n / 4) : 0, 0);
+  // Rows: room for the previous step's entries (or 10 per particle); grows below if needed.
+  if (!compact) s.reserve(10 * static_cast<size_t>(n));
+}
+
+/// Particles k+1 .. n-1 keep no entries (the first m entries are all there are) and no blocks,
+/// and s no lane groups: what buildStencils leaves when particle k is too large.
+template <int D> void abandonStencils(PetscInt k, PetscInt n, size_t m, Stencils<D> &s) {
+  for (PetscInt j = k + 1; j <= n; ++j)
+    s.start[j] = static_cast<PetscInt>(m);
+  if (s.compact)
+    for (PetscInt j = k + 1; j < n; ++j)
+      s.blockOf[j] = -1;
+  s.laneGroup.clear();
+}
+
 } // namespace
 
 template <int D> int Grid<D>::coarsestReaching(const double *x, const double *l) const {
@@ -108,136 +136,6 @@ GIMP_ALWAYS_INLINE int Grid<D>::soleBlock(int q, const double *x, const double *
 }
 
 template <int D>
-void Grid<D>::appendBlock3(int q, const Reach &r, const double *x, const double *l, Stencils<D> &s,
-                           size_t &m) const {
-  // A regular 3^D block of this level: closed-form weights, the same node set.
-  const Level<D> &L = levels[q];
-  const double ih = L.ih;
-  double fw[D][3], fg[D][3];
-  PetscInt n[D];
-  for (int a = 0; a < D; ++a) {
-    const double lam = l[a] * ih, i2l = 0.5 / lam;
-    shape::uniformWeights3((x[a] - (L.box[a] + r.i0[a] * L.h)) * ih, lam, i2l, i2l * ih, fw[a],
-                           fg[a]);
-    n[a] = r.i1[a] - r.i0[a] + 1;
-  }
-  size_t count = 1;
-  for (int a = 0; a < D; ++a)
-    count *= static_cast<size_t>(n[a]);
-  s.reserve(m + count);
-  PetscInt *node = s.node.data();
-  double *ws[D], *gs[D];
-  for (int a = 0; a < D; ++a) {
-    ws[a] = s.w[a].data();
-    gs[a] = s.g[a].data();
-  }
-  if constexpr (D == 2) {
-    for (PetscInt j = r.i0[1]; j <= r.i1[1]; ++j) {
-      const PetscInt row = L.offset + (j - L.w0[1]) * L.wnx() - L.w0[0];
-      for (PetscInt i = r.i0[0]; i <= r.i1[0]; ++i) {
-        node[m] = row + i;
-        ws[0][m] = fw[0][i - r.i0[0]];
-        gs[0][m] = fg[0][i - r.i0[0]];
-        ws[1][m] = fw[1][j - r.i0[1]];
-        gs[1][m] = fg[1][j - r.i0[1]];
-        ++m;
-      }
-    }
-  } else {
-    std::array<PetscInt, D> nn;
-    for (int a = 0; a < D; ++a)
-      nn[a] = n[a];
-    forEachIndex<D>(nn, [&](const Index &b) {
-      PetscInt i[D];
-      for (int a = 0; a < D; ++a) {
-        i[a] = r.i0[a] + b[a];
-        ws[a][m] = fw[a][b[a]];
-        gs[a][m] = fg[a][b[a]];
-      }
-      node[m] = windowSlot(q, i);
-      ++m;
-    });
-  }
-}
-
-template <int D>
-void Grid<D>::appendNodes(int q, const Reach &r, const double *x, const double *l, double *scratch,
-                          PetscInt maxRange, Stencils<D> &s, size_t &m) const {
-  // Any range of nodes: 1D weights of a regular stretch for every candidate, replaced by the
-  // node's own zones where it is irregular; nodes whose support misses the particle are left out.
-  const Level<D> &L = levels[q];
-  const double ih = L.ih;
-  double *rw[D], *rg[D];
-  size_t count = 1;
-  for (int a = 0; a < D; ++a) {
-    rw[a] = scratch + 2 * a * maxRange;
-    rg[a] = rw[a] + maxRange;
-    const double i2l = 0.5 / l[a];
-    for (PetscInt i = r.i0[a]; i <= r.i1[a]; ++i)
-      shape::weightAndGradientUniform(x[a] - (L.box[a] + i * L.h), l[a], L.h, ih, i2l,
-                                      rw[a][i - r.i0[a]], rg[a][i - r.i0[a]]);
-    count *= static_cast<size_t>(r.i1[a] - r.i0[a] + 1);
-  }
-  s.reserve(m + count);
-  PetscInt *node = s.node.data();
-  double *ws[D], *gs[D];
-  for (int a = 0; a < D; ++a) {
-    ws[a] = s.w[a].data();
-    gs[a] = s.g[a].data();
-  }
-  const std::vector<double> *coord[3] = {&X, &Y, &Z};
-  // One candidate node: window slot nd, offsets c[a] into the 1D tables.
-  auto add = [&](PetscInt nd, const PetscInt *c) {
-    const std::uint8_t f = flags_[nd];
-    if (!(f & kActive)) return;
-    double w[D], g[D];
-    for (int a = 0; a < D; ++a) {
-      w[a] = rw[a][c[a]];
-      g[a] = rg[a][c[a]];
-    }
-    if (f != (kActive | kRegular) || !r.inside) {
-      // Outside the box the candidate range is wider than the overlap range.
-      const double *z = &zone[2 * D * nd];
-      double d[D];
-      for (int a = 0; a < D; ++a) {
-        d[a] = x[a] - (*coord[a])[nd];
-        if (!shape::overlaps(d[a], l[a], z[2 * a], z[2 * a + 1])) return;
-      }
-      if (!(f & kRegular))
-        for (int a = 0; a < D; ++a)
-          shape::weightAndGradient(d[a], l[a], z[2 * a], z[2 * a + 1], w[a], g[a]);
-    }
-    node[m] = nd;
-    for (int a = 0; a < D; ++a) {
-      ws[a][m] = w[a];
-      gs[a][m] = g[a];
-    }
-    ++m;
-  };
-  if constexpr (D == 2) {
-    for (PetscInt j = r.i0[1]; j <= r.i1[1]; ++j) {
-      const PetscInt row = L.offset + (j - L.w0[1]) * L.wnx() - L.w0[0];
-      for (PetscInt i = r.i0[0]; i <= r.i1[0]; ++i) {
-        const PetscInt c[2] = {i - r.i0[0], j - r.i0[1]};
-        add(row + i, c);
-      }
-    }
-  } else {
-    std::array<PetscInt, D> nn;
-    for (int a = 0; a < D; ++a)
-      nn[a] = r.i1[a] - r.i0[a] + 1;
-    forEachIndex<D>(nn, [&](const Index &b) {
-      PetscInt i[D], c[D];
-      for (int a = 0; a < D; ++a) {
-        c[a] = static_cast<PetscInt>(b[a]);
-        i[a] = r.i0[a] + c[a];
-      }
-      add(windowSlot(q, i), c);
-    });
-  }
-}
-
-template <int D>
 GIMP_ALWAYS_INLINE void Grid<D>::setBlock(int q, const PetscInt *i0, const double *x,
                                           const double *l, Stencils<D> &s, PetscInt k) const {
   // One level's regular 3^D block from node i0: the arguments appendBlock3 gives
@@ -278,28 +176,13 @@ GIMP_ALWAYS_INLINE void Grid<D>::setBlock4(int q, const PetscInt *i0, const doub
 
 #if GIMP_HAVE_LANES
 namespace {
-/// GridT<2>::blockRun's particles of level q in lanes: soleBlock and setBlock for four particles,
-/// each lane their scalar arithmetic in its order (no FMA: this function alone is compiled for
-/// AVX2, and the build has no contraction).
-GIMP_LANES bool blockRunLanes(const Grid<2> &grid, const std::uint8_t *block3,
-                              const double *outwardReach, PetscInt k, const double *x,
-                              const double *l, Stencils<2> &s) {
-  using lanes::V4;
-  // The room this run's record will take 8 runs on is asked for now (a read prefetch; the line
-  // then needs no fetch when it is written): the record's stores otherwise wait for its lines to
-  // come from memory.
-  if (const size_t ahead = static_cast<size_t>(s.nBlocks + 4 * prefetch::kAheadGroups);
-      ahead + 4 <= s.blocks.size())
-    prefetch::span<sizeof(LaneBlocks), true>(s.blocks.data() + ahead);
-  prefetch::fields(k, static_cast<long>(s.start.size()) - 1, prefetch::Field<2>{x},
-                   prefetch::Field<2>{l}); // (start has n + 1 entries)
-  // x and y of the four particles (and of their half-sizes) in lanes
-  V4 X[2], Lh[2];
-  lanes::loadXY(x + 2 * k, X[0], X[1]);
-  lanes::loadXY(l + 2 * k, Lh[0], Lh[1]);
-  // coarsestReaching: the finest level whose box holds the particle's domain, the same for all
-  // four (or the run is not one)
-  int q = 0;
+
+using lanes::V4;
+
+/// coarsestReaching for four particles (centres X, half-sizes Lh in lanes): the finest level
+/// whose box holds every domain (0 if none), or -1 when some of the four are on a level and some
+/// coarser (the run is not one).
+GIMP_LANES_INLINE int laneLevel(const Grid<2> &grid, const V4 *X, const V4 *Lh) {
   for (int f = static_cast<int>(grid.levels.size()) - 1; f > 0; --f) {
     const BoxOf<2> &b = grid.levels[f].box;
     V4 in = _mm256_castsi256_pd(_mm256_set1_epi64x(-1));
@@ -308,17 +191,21 @@ GIMP_LANES bool blockRunLanes(const Grid<2> &grid, const std::uint8_t *block3,
       in = _mm256_and_pd(in, _mm256_cmp_pd(X[a] + Lh[a], _mm256_set1_pd(b[2 + a]), _CMP_LE_OQ));
     }
     const int mask = _mm256_movemask_pd(in);
-    if (mask == 15) {
-      q = f;
-      break;
-    }
-    if (mask != 0) return false; // some of the four on level f, some coarser
+    if (mask == 15) return f;
+    if (mask != 0) return -1; // some of the four on level f, some coarser
   }
+  return 0;
+}
+
+/// soleBlock's tests on level q for four particles in lanes, their first nodes in fi (as
+/// doubles): whether each of the four has a 3-node block there that no finer level reaches.
+GIMP_LANES_INLINE bool laneSoleBlocks(const Grid<2> &grid, const double *outwardReach, int q,
+                                      const V4 *X, const V4 *Lh, V4 *fi) {
   const Level<2> &L = grid.levels[q];
   const V4 h = _mm256_set1_pd(L.h), ih = _mm256_set1_pd(L.ih), halfH = _mm256_set1_pd(0.5 * L.h);
   // soleBlock: the centre inside the box, l <= h / 2 (3 nodes), candidates [ir, i1] in the
   // window and at most 3 wide
-  V4 ok = _mm256_castsi256_pd(_mm256_set1_epi64x(-1)), fi[2];
+  V4 ok = _mm256_castsi256_pd(_mm256_set1_epi64x(-1));
   for (int a = 0; a < 2; ++a) {
     const V4 b0 = _mm256_set1_pd(L.box[a]), b1 = _mm256_set1_pd(L.box[2 + a]);
     ok = _mm256_and_pd(ok, _mm256_cmp_pd(X[a], b0, _CMP_GE_OQ));
@@ -344,8 +231,12 @@ GIMP_LANES bool blockRunLanes(const Grid<2> &grid, const std::uint8_t *block3,
     }
     ok = _mm256_and_pd(ok, misses);
   }
-  if (_mm256_movemask_pd(ok) != 15) return false;
-  alignas(16) PetscInt base[4];
+  return _mm256_movemask_pd(ok) == 15;
+}
+
+/// The window slots of level q's nodes fi (as doubles, four in lanes) into base.
+GIMP_LANES_INLINE void laneSlots(const Grid<2> &grid, int q, const V4 *fi, PetscInt *base) {
+  const Level<2> &L = grid.levels[q];
   if constexpr (sizeof(PetscInt) == 4) { // windowSlot, four at a time
     const __m128i ix = _mm256_cvttpd_epi32(fi[0]), iy = _mm256_cvttpd_epi32(fi[1]);
     const __m128i row =
@@ -362,9 +253,14 @@ GIMP_LANES bool blockRunLanes(const Grid<2> &grid, const std::uint8_t *block3,
       base[j] = grid.windowSlot(q, c);
     }
   }
-  if (!(block3[base[0]] && block3[base[1]] && block3[base[2]] && block3[base[3]])) return false;
+}
+
+/// setBlock's factors of four particles in lanes: the weights w and derivatives g of their
+/// 3-node blocks on level L from nodes fi.
+GIMP_LANES_INLINE void laneFactors(const Level<2> &L, const V4 *X, const V4 *Lh, const V4 *fi,
+                                   V4 w[2][3], V4 g[2][3]) {
+  const V4 h = _mm256_set1_pd(L.h), ih = _mm256_set1_pd(L.ih);
   // setBlock: xi = (x - (box + i0 h)) / h, lam = l / h, then shape::uniformWeights3 per axis
-  V4 w[2][3], g[2][3];
   const V4 one = _mm256_set1_pd(1.0), zero = _mm256_setzero_pd(), half = _mm256_set1_pd(0.5);
   for (int a = 0; a < 2; ++a) {
     const V4 xi = (X[a] - (_mm256_set1_pd(L.box[a]) + fi[a] * h)) * ih, lam = Lh[a] * ih;
@@ -379,6 +275,12 @@ GIMP_LANES bool blockRunLanes(const Grid<2> &grid, const std::uint8_t *block3,
     g[a][1] = (1.0 - _mm256_andnot_pd(_mm256_set1_pd(-0.0), B - 1.0) - A) * i2lh;
     g[a][2] = c * i2lh;
   }
+}
+
+/// Particles k .. k+3 as lane group k / 4 of s: their blocks (first slots base, row stride of
+/// level L, factors w and g) stored factor-major.
+GIMP_LANES_INLINE void storeLaneGroup(const Level<2> &L, PetscInt k, const PetscInt *base,
+                                      const V4 w[2][3], const V4 g[2][3], Stencils<2> &s) {
   // The four blocks, factor-major in the room of four (LaneBlocks).
   std::uint8_t group = Stencils<2>::kLaneGroup;
   for (int j = 1; j < 4; ++j)
@@ -396,8 +298,40 @@ GIMP_LANES bool blockRunLanes(const Grid<2> &grid, const std::uint8_t *block3,
     _mm256_storeu_pd(f + 4 * (9 + i), g[1][i]);
   }
   const PetscInt stride[4] = {L.wn(0), L.wn(0), L.wn(0), L.wn(0)};
-  std::memcpy(r + offsetof(LaneBlocks, base), base, sizeof(base));
+  std::memcpy(r + offsetof(LaneBlocks, base), base, 4 * sizeof(PetscInt));
   std::memcpy(r + offsetof(LaneBlocks, stride), stride, sizeof(stride));
+}
+
+/// GridT<2>::blockRun's particles of level q in lanes: soleBlock and setBlock for four particles,
+/// each lane their scalar arithmetic in its order (no FMA: this function alone is compiled for
+/// AVX2, and the build has no contraction).
+GIMP_LANES bool blockRunLanes(const Grid<2> &grid, const std::uint8_t *block3,
+                              const double *outwardReach, PetscInt k, const double *x,
+                              const double *l, Stencils<2> &s) {
+  // The room this run's record will take 8 runs on is asked for now (a read prefetch; the line
+  // then needs no fetch when it is written): the record's stores otherwise wait for its lines to
+  // come from memory.
+  if (const size_t ahead = static_cast<size_t>(s.nBlocks + 4 * prefetch::kAheadGroups);
+      ahead + 4 <= s.blocks.size())
+    prefetch::span<sizeof(LaneBlocks), true>(s.blocks.data() + ahead);
+  prefetch::fields(k, static_cast<long>(s.start.size()) - 1, prefetch::Field<2>{x},
+                   prefetch::Field<2>{l}); // (start has n + 1 entries)
+  // x and y of the four particles (and of their half-sizes) in lanes
+  V4 X[2], Lh[2];
+  lanes::loadXY(x + 2 * k, X[0], X[1]);
+  lanes::loadXY(l + 2 * k, Lh[0], Lh[1]);
+  // coarsestReaching: the finest level whose box holds the particle's domain, the same for all
+  // four (or the run is not one)
+  const int q = laneLevel(grid, X, Lh);
+  if (q < 0) return false;
+  V4 fi[2];
+  if (!laneSoleBlocks(grid, outwardReach, q, X, Lh, fi)) return false;
+  alignas(16) PetscInt base[4];
+  laneSlots(grid, q, fi, base);
+  if (!(block3[base[0]] && block3[base[1]] && block3[base[2]] && block3[base[3]])) return false;
+  V4 w[2][3], g[2][3];
+  laneFactors(grid.levels[q], X, Lh, fi, w, g);
+  storeLaneGroup(grid.levels[q], k, base, w, g, s);
   return true;
 }
 } // namespace
@@ -417,21 +351,10 @@ template <int D>
 bool Grid<D>::buildStencils(PetscInt n, const double *x, const double *l, Stencils<D> &s,
                             bool compact, bool lanes) const {
   const int K = static_cast<int>(levels.size());
-  s.start.resize(static_cast<size_t>(n) + 1);
-  s.general = false;
-  s.compact = compact;
-  if (compact) {
-    s.blockOf.resize(static_cast<size_t>(n));
-    s.reserveBlocks();
-    s.nBlocks = 0;
-    s.nBlocks4 = 0;
-  }
   // Lane groups (2D): each aligned group of four tries blockRun, which marks the groups it builds.
   lanes = lanes && compact && D == 2;
-  s.laneGroup.assign(lanes ? static_cast<size_t>(n / 4) : 0, 0);
+  startStencils(n, compact, lanes, s);
   size_t m = 0;
-  // Rows: room for the previous step's entries (or 10 per particle); grows below if needed.
-  if (!compact) s.reserve(10 * static_cast<size_t>(n));
   // A candidate range spans at most 2 (l + Z) / h + 1 nodes with l, Z <= h0 (l is checked
   // every step): size the scratch for the finest level.
   const PetscInt maxRange = static_cast<PetscInt>(4.0 * levels[0].h / levels.back().h) + 4;
@@ -487,12 +410,7 @@ bool Grid<D>::buildStencils(PetscInt n, const double *x, const double *l, Stenci
       for (int a = 0; a < D; ++a)
         tooLarge = tooLarge || r.i1[a] - r.i0[a] >= maxRange;
       if (tooLarge) { // the rest keep no entries (the step fails at its check)
-        for (PetscInt j = k + 1; j <= n; ++j)
-          s.start[j] = static_cast<PetscInt>(m);
-        if (compact)
-          for (PetscInt j = k + 1; j < n; ++j)
-            s.blockOf[j] = -1;
-        s.laneGroup.clear();
+        abandonStencils(k, n, m, s);
         return false;
       }
       appendNodes(q, r, xp, lp, scratch.data(), maxRange, s, m);
@@ -502,14 +420,6 @@ bool Grid<D>::buildStencils(PetscInt n, const double *x, const double *l, Stenci
   return true;
 }
 
-template void Grid<2>::appendBlock3(int, const Reach &, const double *, const double *,
-                                    Stencils<2> &, size_t &) const;
-template void Grid<3>::appendBlock3(int, const Reach &, const double *, const double *,
-                                    Stencils<3> &, size_t &) const;
-template void Grid<2>::appendNodes(int, const Reach &, const double *, const double *, double *,
-                                   PetscInt, Stencils<2> &, size_t &) const;
-template void Grid<3>::appendNodes(int, const Reach &, const double *, const double *, double *,
-                                   PetscInt, Stencils<3> &, size_t &) const;
 template bool Grid<2>::levelReach(int, const double *, const double *, Reach &) const;
 template bool Grid<3>::levelReach(int, const double *, const double *, Reach &) const;
 template int Grid<2>::soleBlock(int, const double *, const double *, PetscInt *) const;

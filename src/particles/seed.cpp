@@ -98,6 +98,99 @@ bool cutByShape(const Body<2> &body, Seed &s) {
   return true;
 }
 
+/// The particles of body b read from its particle file, as they are, each on the rank of its
+/// point (slots: the ids a body has).
+void fileSeeds(const Body<2> &body, size_t b, PetscInt64 slots, const Grid<2> &g, PetscMPIInt rank,
+               std::vector<Seed> &seeds) {
+  const std::vector<FileParticle> &ps = body.fromFile.particles;
+  if (static_cast<PetscInt64>(ps.size()) > slots) // the same on every rank
+    throw InputError("option -gimp_body" + std::to_string(b) + "_file " + body.file + ": " +
+                     std::to_string(ps.size()) + " particles, more than the " +
+                     std::to_string(slots) + " ids a body has on this grid");
+  for (size_t i = 0; i < ps.size(); ++i) {
+    const FileParticle &f = ps[i];
+    if (g.ownerOf(f.x, f.y) != rank) continue;
+    Seed s{f.x,
+           f.y,
+           {f.vx, f.vy},
+           {f.lx, f.ly},
+           f.area,
+           f.x - f.lx,
+           f.x + f.lx,
+           f.y - f.ly,
+           f.y + f.ly,
+           static_cast<PetscInt64>(b) * slots + static_cast<PetscInt64>(i),
+           static_cast<int>(b)};
+    seeds.push_back(s);
+  }
+}
+
+/// The particles per cell of the body's cell from (cx0, cy0) of side h: holePpc where a hole
+/// (widened by band) reaches into the cell without holding all of it, else ppc.
+int cellPpc(const Body<2> &body, double cx0, double cy0, double h, double band) {
+  int ppc = body.ppc;
+  for (const Hole &c : body.holes) {
+    // Nearest and farthest points of the cell from the hole centre.
+    const double nx = std::clamp(c.cx, cx0, cx0 + h), ny = std::clamp(c.cy, cy0, cy0 + h);
+    const double dmin = std::hypot(nx - c.cx, ny - c.cy);
+    const double fx = std::max(std::fabs(cx0 - c.cx), std::fabs(cx0 + h - c.cx));
+    const double fy = std::max(std::fabs(cy0 - c.cy), std::fabs(cy0 + h - c.cy));
+    if (dmin <= c.r + band && std::hypot(fx, fy) >= c.r) ppc = body.holePpc;
+  }
+  return ppc;
+}
+
+/// Body b's particles on level q: its leaf cells there whose centre lies in this rank's level-0
+/// cells, cut into n x n squares whose centres lie in the body (maxCells: the most cells of a
+/// level, for the ids).
+void levelSeeds(const Scene<2> &sc, const Grid<2> &g, PetscMPIInt rank, size_t b, int q,
+                PetscInt64 maxCells, std::vector<Seed> &seeds) {
+  const Body<2> &body = sc.bodies[b];
+  const int K = static_cast<int>(g.levels.size());
+  const Level<2> &L = g.levels[q];
+  const double h = L.h;
+  const double band = body.holeBand > 0 ? body.holeBand : h;
+  const PetscInt i0 =
+      std::max<PetscInt>(0, static_cast<PetscInt>(std::floor((body.box[0] - L.box[0]) / h)));
+  const PetscInt j0 =
+      std::max<PetscInt>(0, static_cast<PetscInt>(std::floor((body.box[1] - L.box[1]) / h)));
+  const PetscInt i1 = std::min<PetscInt>(
+      L.n[0] - 1, static_cast<PetscInt>(std::ceil((body.box[2] - L.box[0]) / h)));
+  const PetscInt j1 = std::min<PetscInt>(
+      L.n[1] - 1, static_cast<PetscInt>(std::ceil((body.box[3] - L.box[1]) / h)));
+  for (PetscInt j = j0; j < j1; ++j)
+    for (PetscInt i = i0; i < i1; ++i) {
+      const double cx0 = L.box[0] + i * h, cy0 = L.box[1] + j * h;
+      if (g.leafLevelAt(cx0 + 0.5 * h, cy0 + 0.5 * h) != q) continue;
+      if (g.ownerOf(cx0 + 0.5 * h, cy0 + 0.5 * h) != rank) continue;
+      if (cx0 + h <= body.box[0] || cx0 >= body.box[2] || cy0 + h <= body.box[1] ||
+          cy0 >= body.box[3])
+        continue;
+      const int ppc = cellPpc(body, cx0, cy0, h, band);
+      const int n = static_cast<int>(std::lround(std::sqrt(static_cast<double>(ppc))));
+      const double d = h / n;
+      const PetscInt64 cell = static_cast<PetscInt64>(j) * L.n[0] + i;
+      for (int b2 = 0; b2 < n; ++b2)
+        for (int a = 0; a < n; ++a) {
+          const PetscInt64 nx = static_cast<PetscInt64>(i) * n + a,
+                           ny = static_cast<PetscInt64>(j) * n + b2;
+          Seed s{cx0 + (a + 0.5) * d,
+                 cy0 + (b2 + 0.5) * d,
+                 {0.0, 0.0},
+                 {0.5 * d, 0.5 * d},
+                 d * d,
+                 L.box[0] + nx * d,
+                 L.box[0] + (nx + 1) * d,
+                 L.box[1] + ny * d,
+                 L.box[1] + (ny + 1) * d,
+                 // Unique and independent of the rank count: body, level, cell, sub-cell.
+                 (((static_cast<PetscInt64>(b) * K + q) * maxCells + cell) * 64 + b2) * 64 + a,
+                 static_cast<int>(b)};
+          if (sc.cutCells ? cutByShape(body, s) : body.inside(s.x, s.y)) seeds.push_back(s);
+        }
+    }
+}
+
 /// The particles this rank seeds: the leaf cells of every level whose centre lies in its
 /// level-0 cells, cut into n x n squares whose centres lie in a body.
 std::vector<Seed> collectSeeds(const Scene<2> &sc, const Grid<2> &g, PetscMPIInt rank) {
@@ -112,81 +205,11 @@ std::vector<Seed> collectSeeds(const Scene<2> &sc, const Grid<2> &g, PetscMPIInt
   for (size_t b = 0; b < sc.bodies.size(); ++b) {
     const Body<2> &body = sc.bodies[b];
     if (!body.file.empty()) { // the file's particles as they are, each on the rank of its point
-      const std::vector<FileParticle> &ps = body.fromFile.particles;
-      if (static_cast<PetscInt64>(ps.size()) > slots) // the same on every rank
-        throw InputError("option -gimp_body" + std::to_string(b) + "_file " + body.file + ": " +
-                         std::to_string(ps.size()) + " particles, more than the " +
-                         std::to_string(slots) + " ids a body has on this grid");
-      for (size_t i = 0; i < ps.size(); ++i) {
-        const FileParticle &f = ps[i];
-        if (g.ownerOf(f.x, f.y) != rank) continue;
-        Seed s{f.x,
-               f.y,
-               {f.vx, f.vy},
-               {f.lx, f.ly},
-               f.area,
-               f.x - f.lx,
-               f.x + f.lx,
-               f.y - f.ly,
-               f.y + f.ly,
-               static_cast<PetscInt64>(b) * slots + static_cast<PetscInt64>(i),
-               static_cast<int>(b)};
-        seeds.push_back(s);
-      }
+      fileSeeds(body, b, slots, g, rank, seeds);
       continue;
     }
-    for (int q = 0; q < K; ++q) {
-      const Level<2> &L = g.levels[q];
-      const double h = L.h;
-      const double band = body.holeBand > 0 ? body.holeBand : h;
-      const PetscInt i0 =
-          std::max<PetscInt>(0, static_cast<PetscInt>(std::floor((body.box[0] - L.box[0]) / h)));
-      const PetscInt j0 =
-          std::max<PetscInt>(0, static_cast<PetscInt>(std::floor((body.box[1] - L.box[1]) / h)));
-      const PetscInt i1 = std::min<PetscInt>(
-          L.n[0] - 1, static_cast<PetscInt>(std::ceil((body.box[2] - L.box[0]) / h)));
-      const PetscInt j1 = std::min<PetscInt>(
-          L.n[1] - 1, static_cast<PetscInt>(std::ceil((body.box[3] - L.box[1]) / h)));
-      for (PetscInt j = j0; j < j1; ++j)
-        for (PetscInt i = i0; i < i1; ++i) {
-          const double cx0 = L.box[0] + i * h, cy0 = L.box[1] + j * h;
-          if (g.leafLevelAt(cx0 + 0.5 * h, cy0 + 0.5 * h) != q) continue;
-          if (g.ownerOf(cx0 + 0.5 * h, cy0 + 0.5 * h) != rank) continue;
-          if (cx0 + h <= body.box[0] || cx0 >= body.box[2] || cy0 + h <= body.box[1] ||
-              cy0 >= body.box[3])
-            continue;
-          int ppc = body.ppc;
-          for (const Hole &c : body.holes) {
-            // Nearest and farthest points of the cell from the hole centre.
-            const double nx = std::clamp(c.cx, cx0, cx0 + h), ny = std::clamp(c.cy, cy0, cy0 + h);
-            const double dmin = std::hypot(nx - c.cx, ny - c.cy);
-            const double fx = std::max(std::fabs(cx0 - c.cx), std::fabs(cx0 + h - c.cx));
-            const double fy = std::max(std::fabs(cy0 - c.cy), std::fabs(cy0 + h - c.cy));
-            if (dmin <= c.r + band && std::hypot(fx, fy) >= c.r) ppc = body.holePpc;
-          }
-          const int n = static_cast<int>(std::lround(std::sqrt(static_cast<double>(ppc))));
-          const double d = h / n;
-          const PetscInt64 cell = static_cast<PetscInt64>(j) * L.n[0] + i;
-          for (int b2 = 0; b2 < n; ++b2)
-            for (int a = 0; a < n; ++a) {
-              const PetscInt64 nx = static_cast<PetscInt64>(i) * n + a,
-                               ny = static_cast<PetscInt64>(j) * n + b2;
-              Seed s{cx0 + (a + 0.5) * d,
-                     cy0 + (b2 + 0.5) * d,
-                     {0.0, 0.0},
-                     {0.5 * d, 0.5 * d},
-                     d * d,
-                     L.box[0] + nx * d,
-                     L.box[0] + (nx + 1) * d,
-                     L.box[1] + ny * d,
-                     L.box[1] + (ny + 1) * d,
-                     // Unique and independent of the rank count: body, level, cell, sub-cell.
-                     (((static_cast<PetscInt64>(b) * K + q) * maxCells + cell) * 64 + b2) * 64 + a,
-                     static_cast<int>(b)};
-              if (sc.cutCells ? cutByShape(body, s) : body.inside(s.x, s.y)) seeds.push_back(s);
-            }
-        }
-    }
+    for (int q = 0; q < K; ++q)
+      levelSeeds(sc, g, rank, b, q, maxCells, seeds);
   }
   return seeds;
 }

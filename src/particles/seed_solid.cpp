@@ -2,8 +2,11 @@
 // (input/bodies.hpp), and the faces of the bodies' boxes that each particle's faces lie on.
 #include "gimp/particles/seed.hpp"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <utility>
+#include <vector>
 
 namespace gimp {
 
@@ -39,20 +42,19 @@ PetscInt faceCondition(const Faces &faces, int kind, const Body<3> &body, int b,
   return found;
 }
 
-} // namespace
+/// A particle to seed: centre, half-size, volume, id and body.
+struct Seed {
+  double x[3], l, V;
+  PetscInt64 id;
+  int body;
+};
 
-template <>
-PetscErrorCode seedParticles<3>(const Scene<3> &sc, const Grid<3> &grid, DM sw,
-                                LoadConflict &conflict) {
-  PetscMPIInt rank = 0;
-  PetscCallMPI(MPI_Comm_rank(PetscObjectComm(reinterpret_cast<PetscObject>(sw)), &rank));
-  struct Seed {
-    double x[3], l, V;
-    PetscInt64 id;
-    int body;
-  };
+/// The particles this rank seeds: n^3 per leaf cell whose centre its own level-0 cells hold, kept
+/// where their centre lies in a body; overlap is the largest body index whose particle another
+/// body also holds.
+std::vector<Seed> collectSeeds(const Scene<3> &sc, const Grid<3> &grid, PetscMPIInt rank,
+                               int &overlap) {
   std::vector<Seed> seeds;
-  int overlap = 0; // the largest body index whose particle another body also holds
   // Every rank walks every leaf cell in the same order, so a particle's id does not depend on
   // the rank count; it keeps the cells whose centre its own level-0 cells hold.
   PetscInt64 cellBase = 0;
@@ -93,6 +95,39 @@ PetscErrorCode seedParticles<3>(const Scene<3> &sc, const Grid<3> &grid, DM sw,
     });
     cellBase += nc;
   }
+  return seeds;
+}
+
+/// Particle k's traction and penalty condition per axis (seed s, tolerance tol): the face
+/// conditions its faces lie on, -1 for none; a second one on an axis is noted.
+void markFaces(const Scene<3> &sc, const Seed &s, double tol, PetscInt k, ParticleView<3> &p,
+               LoadConflict &conflict) {
+  const Body<3> &body = sc.bodies[s.body];
+  for (int a = 0; a < 3; ++a) {
+    p.trac[3 * k + a] = p.dbc[3 * k + a] = -1;
+    for (double nrm : {-1.0, 1.0}) {
+      const double at = s.x[a] + nrm * s.l;
+      const PetscInt t =
+          faceCondition(sc.tractions, 0, body, s.body, a, nrm, at, s.x, s.l, tol, conflict);
+      const PetscInt d =
+          faceCondition(sc.dbcs, 1, body, s.body, a, nrm, at, s.x, s.l, tol, conflict);
+      if (t >= 0 && p.trac[3 * k + a] >= 0) conflict.note(0, p.trac[3 * k + a], t);
+      if (d >= 0 && p.dbc[3 * k + a] >= 0) conflict.note(1, p.dbc[3 * k + a], d);
+      if (t >= 0) p.trac[3 * k + a] = t;
+      if (d >= 0) p.dbc[3 * k + a] = d;
+    }
+  }
+}
+
+} // namespace
+
+template <>
+PetscErrorCode seedParticles<3>(const Scene<3> &sc, const Grid<3> &grid, DM sw,
+                                LoadConflict &conflict) {
+  PetscMPIInt rank = 0;
+  PetscCallMPI(MPI_Comm_rank(PetscObjectComm(reinterpret_cast<PetscObject>(sw)), &rank));
+  int overlap = 0; // the largest body index whose particle another body also holds
+  const std::vector<Seed> seeds = collectSeeds(sc, grid, rank, overlap);
   conflict.noteOverlap(overlap);
   const PetscInt n = static_cast<PetscInt>(seeds.size());
   PetscCall(DMSwarmSetLocalSizes(sw, n, 4));
@@ -119,20 +154,7 @@ PetscErrorCode seedParticles<3>(const Scene<3> &sc, const Grid<3> &grid, DM sw,
     p.id[k] = s.id;
     p.rank[k] = rank;
     if (!p.trac) continue;
-    for (int a = 0; a < 3; ++a) {
-      p.trac[3 * k + a] = p.dbc[3 * k + a] = -1;
-      for (double nrm : {-1.0, 1.0}) {
-        const double at = s.x[a] + nrm * s.l;
-        const PetscInt t =
-            faceCondition(sc.tractions, 0, body, s.body, a, nrm, at, s.x, s.l, tol, conflict);
-        const PetscInt d =
-            faceCondition(sc.dbcs, 1, body, s.body, a, nrm, at, s.x, s.l, tol, conflict);
-        if (t >= 0 && p.trac[3 * k + a] >= 0) conflict.note(0, p.trac[3 * k + a], t);
-        if (d >= 0 && p.dbc[3 * k + a] >= 0) conflict.note(1, p.dbc[3 * k + a], d);
-        if (t >= 0) p.trac[3 * k + a] = t;
-        if (d >= 0) p.dbc[3 * k + a] = d;
-      }
-    }
+    markFaces(sc, s, tol, k, p, conflict);
   }
   PetscCall(p.restore(sw));
   return PETSC_SUCCESS;

@@ -21,7 +21,25 @@
 
 namespace gimp {
 
-template <int D> class Grid : public Lattice<D> {
+/// This rank's window of nodes, all levels concatenated (x fastest within a level): their
+/// slots, activity, regularity, coordinates and zones.
+struct WindowNodes {
+  // Window node data (all levels concatenated; x fastest within a level).
+  PetscInt nWindow = 0;
+  // Slots of the window arrays (D values each): the nWindow nodes, then one second velocity
+  // field per cracked window node (docs/architecture.md). slotNode[s] is the window node of slot
+  // s; crackSlot[n] the second slot of window node n, or -1.
+  PetscInt nSlots = 0;
+  std::vector<PetscInt> slotNode, crackSlot;
+  std::vector<std::uint8_t> active, regular;
+  std::vector<double> X, Y, Z; // node coordinates (Z empty in 2D)
+  std::vector<double> zone;    // 2 D per node: Lx-, Lx+, Ly-, Ly+ (, Lz-, Lz+)
+  /// Coordinates of the window nodes along axis a.
+  const std::vector<double> &coordinates(int a) const { return a == 0 ? X : a == 1 ? Y : Z; }
+};
+
+/// The composite grid: its levels (Lattice), its DMs and this rank's window (WindowNodes).
+template <int D> class Grid : public Lattice<D>, public WindowNodes {
 public:
   using Index = LatticeIndex<D>;
   using Lattice<D>::levels;
@@ -50,19 +68,6 @@ public:
   DM dm = nullptr;         // DMComposite of the level DMDAs (and crackDm, with cracks)
   DM crackDm = nullptr;    // DMShell of the cracked nodes' second fields (dof 2), or null
   std::vector<DM> da, da1; // per level: the DMDA (dof D) and its dof-1 twin (scalar output)
-
-  // Window node data (all levels concatenated; x fastest within a level).
-  PetscInt nWindow = 0;
-  // Slots of the window arrays (D values each): the nWindow nodes, then one second velocity
-  // field per cracked window node (docs/architecture.md). slotNode[s] is the window node of slot
-  // s; crackSlot[n] the second slot of window node n, or -1.
-  PetscInt nSlots = 0;
-  std::vector<PetscInt> slotNode, crackSlot;
-  std::vector<std::uint8_t> active, regular;
-  std::vector<double> X, Y, Z; // node coordinates (Z empty in 2D)
-  std::vector<double> zone;    // 2 D per node: Lx-, Lx+, Ly-, Ly+ (, Lz-, Lz+)
-  /// Coordinates of the window nodes along axis a.
-  const std::vector<double> &coordinates(int a) const { return a == 0 ? X : a == 1 ? Y : Z; }
 
   /// Vectors on the window (sequential, dof D) and moves between them and a global Vec.
   PetscErrorCode createWindowVec(Vec *v) const;

@@ -31,32 +31,47 @@ struct OptionalFields {
   }
 };
 
-template <int D> struct ParticleView {
-  static constexpr int dim = D;
-  PetscInt n = 0;
-  double *x = nullptr;   // position [D]
-  double *X0 = nullptr;  // initial position [D]
-  double *v = nullptr;   // velocity [D]
-  double *m = nullptr;   // mass
-  double *V0 = nullptr;  // initial volume (area x thickness)
-  double *V = nullptr;   // current volume
-  double *l = nullptr;   // current half-sizes [D]
-  double *l0 = nullptr;  // initial half-sizes [D]
+/// A particle view's real fields of position, motion, mass, volume and domain (null where the
+/// swarm does not carry them).
+struct ParticleKinematics {
+  double *x = nullptr;  // position [D]
+  double *X0 = nullptr; // initial position [D]
+  double *v = nullptr;  // velocity [D]
+  double *m = nullptr;  // mass
+  double *V0 = nullptr; // initial volume (area x thickness)
+  double *V = nullptr;  // current volume
+  double *l = nullptr;  // current half-sizes [D]
+  double *l0 = nullptr; // initial half-sizes [D]
+  double *B = nullptr;  // APIC affine moment sum_i S_ip v_i (x_i - x_p)^T, row-major D x D, if APIC
+  double *corners = nullptr; // tracked corners (-,-), (+,-), (+,+), (-,+) [2^D x D], if any
+};
+
+/// A particle view's fields of deformation, stress and strain.
+struct ParticleDeformation {
   double *F = nullptr;   // deformation gradient, row-major D x D
   double *s = nullptr;   // Cauchy stress, row-major D x D
   double *szz = nullptr; // 2D: out-of-plane stress (plane strain; zero in plane stress)
   double *eps = nullptr; // accumulated small-strain increments (xx, yy) [D], if strain or corners
-  double *B = nullptr; // APIC affine moment sum_i S_ip v_i (x_i - x_p)^T, row-major D x D, if APIC
-  PetscInt64 *id = nullptr;  // identity, independent of the rank count
-  PetscInt *trac = nullptr;  // traction index on its x side and y side, -1 if none [D] (null
-                             // in a scene without tractions and penalty conditions)
-  PetscInt *dbc = nullptr;   // penalty displacement condition index, likewise [D]
-  PetscInt *rate = nullptr;  // -gimp_multirate: the rate class (level) of the last coarse step,
-                             // -1 before the first
-  double *corners = nullptr; // tracked corners (-,-), (+,-), (+,+), (-,+) [2^D x D], if any
-  PetscInt *rank = nullptr;  // owner rank (DMSwarm's migration field)
-  bool hasCorners = false;   // the swarm carries the corners field (found by get())
-  OptionalFields fields;     // the optional fields it carries (found by get())
+};
+
+/// A particle view's integer fields: identity, loads, rate class and owner.
+struct ParticleTags {
+  PetscInt64 *id = nullptr; // identity, independent of the rank count
+  PetscInt *trac = nullptr; // traction index on its x side and y side, -1 if none [D] (null
+                            // in a scene without tractions and penalty conditions)
+  PetscInt *dbc = nullptr;  // penalty displacement condition index, likewise [D]
+  PetscInt *rate = nullptr; // -gimp_multirate: the rate class (level) of the last coarse step,
+                            // -1 before the first
+  PetscInt *rank = nullptr; // owner rank (DMSwarm's migration field)
+};
+
+/// Every field of a swarm's particles, borrowed (get) and handed back (restore); the fields by
+/// concept in its bases.
+template <int D> struct ParticleView : ParticleKinematics, ParticleDeformation, ParticleTags {
+  static constexpr int dim = D;
+  PetscInt n = 0;
+  bool hasCorners = false; // the swarm carries the corners field (found by get())
+  OptionalFields fields;   // the optional fields it carries (found by get())
 
   PetscErrorCode get(DM sw);
   PetscErrorCode restore(DM sw);
