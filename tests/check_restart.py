@@ -32,7 +32,7 @@ ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIR
 CRACK = ("options/crack_closure.opts", ["-gimp_tracking", "corners", "-gimp_history_interval",
                                         "10", "-gimp_output_interval", "20"])
 PATCH = ("options/patch3.opts", ["-gimp_history_interval", "10", "-gimp_output_interval", "25"])
-TIMING = ("wall_seconds", "cpu_seconds")
+TIMING = ("wall_seconds", "cpu_seconds", "particle_steps_per_second")
 
 
 def out(name):

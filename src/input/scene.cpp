@@ -164,6 +164,10 @@ template <int D> void readSceneOptions(MPI_Comm comm, Scene<D> &sc) {
   sc.help = help;
   if (!sc.help) refuseOtherDimension(D);
   const Options o(comm, D, sc.help);
+  // (main chose the solver by it; read here too, so that it counts as used)
+  if (o.integer("gimp_dim", 2) != D && !o.help())
+    Options::bad("gimp_dim", std::to_string(o.integer("gimp_dim", 2)),
+                 "the scene is read by the solver of dimension " + std::to_string(D));
   readOutputs(o, sc);
   bool hGiven = false;
   sc.h = o.real("gimp_h", 0.0, &hGiven);
