@@ -97,7 +97,9 @@ void compareWithReference(int npoints, int ncracks, int nsegments) {
       const int got = crossing(c, a[0], a[1], b[0], b[1]);
       ASSERT_EQ(got, want) << at(
           {{"crack", k}, {"ax", a[0]}, {"ay", a[1]}, {"bx", b[0]}, {"by", b[1]}});
-      if (count == 1) ASSERT_EQ(crossing(c, b[0], b[1], a[0], a[1]), -want);
+      if (count == 1) {
+        ASSERT_EQ(crossing(c, b[0], b[1], a[0], a[1]), -want);
+      }
     }
   }
   std::printf("  %d-point cracks: %ld samples compared: %ld from the right, %ld none, %ld from the "

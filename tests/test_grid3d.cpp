@@ -598,7 +598,9 @@ TEST(Grid3DMpi, RanksGiveTheOneRankAnswer) {
     long owned = static_cast<long>(mine.size()), sum = 0;
     MPI_Allreduce(&owned, &sum, 1, MPI_LONG, MPI_SUM, world);
     EXPECT_EQ(sum, np) << lay.name;
-    if (size > 1) EXPECT_LT(owned, np) << lay.name << ": one rank owns every particle";
+    if (size > 1) {
+      EXPECT_LT(owned, np) << lay.name << ": one rank owns every particle";
+    }
 
     double tw[3], ts[3];
     const std::vector<double> vw = roundTrip(gw, world, x, l, m, v, mine, tw);

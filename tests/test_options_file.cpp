@@ -171,9 +171,10 @@ TEST_F(OptionsFile, Unreadable) {
   // Permissions (root reads anyway).
   const std::string f = write("locked.opts", "-a 1\n");
   fs::permissions(f, fs::perms::none);
-  if (geteuid() != 0)
+  if (geteuid() != 0) {
     EXPECT_EQ(error({"-options_file", f}),
               "option -options_file " + f + ": cannot open the file (Permission denied)");
+  }
 }
 
 TEST_F(OptionsFile, BinaryContent) {

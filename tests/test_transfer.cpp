@@ -440,7 +440,9 @@ void blocksGiveTheRowsResults(unsigned seed, double lmin, double lmax, int side)
   // Both kinds are present: blocks inside the levels, rows at their borders.
   PetscInt nBlocks = 0, nBlocks4 = 0;
   for (PetscInt k = 0; k < f.p.n; ++k) {
-    if (side == 3) EXPECT_FALSE(blocks.isBlock4(k)) << k;
+    if (side == 3) {
+      EXPECT_FALSE(blocks.isBlock4(k)) << k;
+    }
     const bool block = blocks.isBlock(k) || blocks.isBlock4(k);
     nBlocks += block;
     nBlocks4 += blocks.isBlock4(k);
@@ -461,7 +463,9 @@ void blocksGiveTheRowsResults(unsigned seed, double lmin, double lmax, int side)
     for (const auto &e : a) // and every block entry of nonzero weight a row
       EXPECT_TRUE(e.second == 0.0 || holds(b, e)) << k;
   }
-  if (side == 4) EXPECT_GT(nBlocks4, 200);
+  if (side == 4) {
+    EXPECT_GT(nBlocks4, 200);
+  }
   // (The sample is made to straddle level borders, so most particles keep rows.)
   EXPECT_GT(nBlocks, 200);
   EXPECT_GT(f.p.n - nBlocks, 200);

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Install what gimp needs from Debian (when missing) and build it in ./build (Release).
 # Usage: tools/setup.sh            (from anywhere; builds <repo>/build)
+# With CI=true the build is configured with -DGIMP_WERROR=ON: any compiler warning fails it.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 packages=(cmake g++ make pkg-config openmpi-bin petsc-dev slepc-dev libeigen3-dev
@@ -16,5 +17,8 @@ if [ ${#missing[@]} -gt 0 ]; then
   $sudo apt-get update -qq
   DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq "${missing[@]}" >/dev/null
 fi
-cmake -S "$root" -B "$root/build" -DCMAKE_BUILD_TYPE=Release >/dev/null
+# In CI (CI=true) compiler warnings are errors; elsewhere they are only reported.
+werror=OFF
+[ "${CI:-}" = "true" ] && werror=ON
+cmake -S "$root" -B "$root/build" -DCMAKE_BUILD_TYPE=Release -DGIMP_WERROR="$werror" >/dev/null
 cmake --build "$root/build" -j"$(nproc)"

@@ -13,7 +13,7 @@
 # takes as many slots as it has ranks).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-"$root/tools/setup.sh"
+"$root/tools/setup.sh"    # configures with -DGIMP_WERROR=ON when CI=true
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 cd "$root/build"
 if [ $# -eq 0 ]; then set -- -LE 'long|verification'; fi
