@@ -113,8 +113,8 @@ SpinResult spin(const Material &m, const Tensor2 &s0, double szz0, double omega,
   // Each entry of s - R s0 R^T is a component of z_N - z0 e^{2 i theta}.
   r.bound = std::abs(zN - z0 * std::exp(std::complex<double>(0.0, 2.0 * theta)));
   r.trace = std::abs(s.trace() - s0.trace());
-  r.det = std::abs(gimp::determinant2(s) - (p * p - std::norm(zN)));
-  r.detDrift = std::abs(gimp::determinant2(s) - gimp::determinant2(s0));
+  r.det = std::abs(gimp::determinant<2>(s) - (p * p - std::norm(zN)));
+  r.detDrift = std::abs(gimp::determinant<2>(s) - gimp::determinant<2>(s0));
   r.szz = std::abs(szz - szz0);
   return r;
 }
@@ -263,7 +263,7 @@ TEST(NeoHookean, FrameIndifference) {
   Worst worst;
   for (int n = 0; n < 200; ++n) {
     Tensor2 F = Tensor2::Identity() + tensor(U(rng), U(rng), U(rng), U(rng));
-    if (gimp::determinant2(F) < 0.2) continue;
+    if (gimp::determinant<2>(F) < 0.2) continue;
     const double t = angle(rng);
     const Tensor2 R = rotation(t);
     const Stress a = neoHookean(m, F), b = neoHookean(m, R * F);
@@ -331,7 +331,7 @@ TEST(StrainEnergy, NeoHookeanDerivativeIsTheStress) {
   Worst worst;
   for (int n = 0; n < 100; ++n) {
     const Tensor2 F = Tensor2::Identity() + tensor(U(rng), U(rng), U(rng), U(rng));
-    if (gimp::determinant2(F) < 0.3) continue;
+    if (gimp::determinant<2>(F) < 0.3) continue;
     const Tensor2 dF = tensor(U(rng), U(rng), U(rng), U(rng));
     // First Piola-Kirchhoff stress P = J sigma F^-T; dW = V0 P : dF.
     const Stress c = neoHookean(m, F);

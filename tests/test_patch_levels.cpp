@@ -145,7 +145,7 @@ Particles tile(const Grid<2> &g, const CellBox &blk, int n, double sx, double sy
       for (PetscInt i = 0; i + 1 < L.n[0]; ++i) {
         const std::int64_t u = L.lo[0] + i * L.step, v = L.lo[1] + j * L.step;
         if (u < bu0 || u + L.step > bu1 || v < bv0 || v + L.step > bv1) continue;
-        if (g.leafLevelAt2(2 * u + L.step, 2 * v + L.step) != q) continue;
+        if (g.leafLevelAtDoubled(2 * u + L.step, 2 * v + L.step) != q) continue;
         const double cx = g.origin[0] + static_cast<double>(u) * g.unit;
         const double cy = g.origin[1] + static_cast<double>(v) * g.unit;
         const double d = L.h / n;

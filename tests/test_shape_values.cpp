@@ -490,7 +490,9 @@ TEST(ShapeExact, PairLanesAreTheScalarValues) {
       EXPECT_TRUE(same(gimp::simd::minOf(a, b), std::min(b, a))) << a << " " << b;
       EXPECT_TRUE(same(gimp::simd::maxOf(a, b), std::max(b, a))) << a << " " << b;
       EXPECT_TRUE(same(gimp::simd::abs(x)[1], std::fabs(b))) << b;
-      if (b >= 0) EXPECT_TRUE(same(gimp::simd::sqrt(x)[1], std::sqrt(b))) << b;
+      if (b >= 0) {
+        EXPECT_TRUE(same(gimp::simd::sqrt(x)[1], std::sqrt(b))) << b;
+      }
     }
   std::mt19937_64 rng(5);
   std::uniform_real_distribution<double> U(0.0, 1.0);
@@ -503,11 +505,11 @@ TEST(ShapeExact, PairLanesAreTheScalarValues) {
     }
     const Pair x2 = {xi[0], xi[1]}, l2 = {lam[0], lam[1]}, i2l = 0.5 / l2;
     Pair w[3], g[3];
-    gimp::shape::uniformWeights3(x2, l2, i2l, i2l * 64.0, w, g);
+    gimp::shape::threeNodeWeights(x2, l2, i2l, i2l * 64.0, w, g);
     for (int d = 0; d < 2; ++d) {
       double ws[3], gs[3];
       const double i2ls = 0.5 / lam[d];
-      gimp::shape::uniformWeights3(xi[d], lam[d], i2ls, i2ls * 64.0, ws, gs);
+      gimp::shape::threeNodeWeights(xi[d], lam[d], i2ls, i2ls * 64.0, ws, gs);
       for (int i = 0; i < 3; ++i) {
         ASSERT_TRUE(same(w[i][d], ws[i])) << t << " " << d << " " << i;
         ASSERT_TRUE(same(g[i][d], gs[i])) << t << " " << d << " " << i;
@@ -532,7 +534,7 @@ TEST(ShapeExact, FourNodeClosedForm) {
     }
     const Pair x2 = {xi[0], xi[1]}, l2 = {lam[0], lam[1]}, i2l = 0.5 / l2;
     Pair w[4], g[4];
-    gimp::shape::uniformWeights4(x2, l2, i2l, i2l * ih, w, g);
+    gimp::shape::fourNodeWeights(x2, l2, i2l, i2l * ih, w, g);
     for (int d = 0; d < 2; ++d) {
       double sum = 0, slope = 0;
       for (int i = 0; i < 4; ++i) {

@@ -1,6 +1,6 @@
 // Stencils kept as rows of entries (grid/stencils.hpp): a GIMP particle's rows on one level,
 // for the particles that Grid::buildStencils (grid/stencils.cpp) keeps no block for
-// (appendBlock3, appendNodes), and the general entries of point and CPDI stencils.
+// (appendThreeNodeBlock, appendNodes), and the general entries of point and CPDI stencils.
 //
 // CPDI stencils (Sadeghirad et al. 2011, 2013): a particle's domain is the quadrilateral of its
 // four corners; its weights average the composite grid's point shape functions over it through
@@ -64,8 +64,8 @@ double quadIntegrals(const double *c, double w[4], double G[8]) {
 } // namespace
 
 template <int D>
-void Grid<D>::appendBlock3(int q, const Reach &r, const double *x, const double *l, Stencils<D> &s,
-                           size_t &m) const {
+void Grid<D>::appendThreeNodeBlock(int q, const Reach &r, const double *x, const double *l,
+                                   Stencils<D> &s, size_t &m) const {
   // A regular 3^D block of this level: closed-form weights, the same node set.
   const Level<D> &L = levels[q];
   const double ih = L.ih;
@@ -73,8 +73,8 @@ void Grid<D>::appendBlock3(int q, const Reach &r, const double *x, const double 
   PetscInt n[D];
   for (int a = 0; a < D; ++a) {
     const double lam = l[a] * ih, i2l = 0.5 / lam;
-    shape::uniformWeights3((x[a] - (L.box[a] + r.i0[a] * L.h)) * ih, lam, i2l, i2l * ih, fw[a],
-                           fg[a]);
+    shape::threeNodeWeights((x[a] - (L.box[a] + r.i0[a] * L.h)) * ih, lam, i2l, i2l * ih, fw[a],
+                            fg[a]);
     n[a] = r.i1[a] - r.i0[a] + 1;
   }
   size_t count = 1;
@@ -309,10 +309,10 @@ const char *Grid<2>::buildCpdiStencils(PetscInt n, const double *corners, Stenci
   return nullptr;
 }
 
-template void Grid<2>::appendBlock3(int, const Reach &, const double *, const double *,
-                                    Stencils<2> &, size_t &) const;
-template void Grid<3>::appendBlock3(int, const Reach &, const double *, const double *,
-                                    Stencils<3> &, size_t &) const;
+template void Grid<2>::appendThreeNodeBlock(int, const Reach &, const double *, const double *,
+                                            Stencils<2> &, size_t &) const;
+template void Grid<3>::appendThreeNodeBlock(int, const Reach &, const double *, const double *,
+                                            Stencils<3> &, size_t &) const;
 template void Grid<2>::appendNodes(int, const Reach &, const double *, const double *, double *,
                                    PetscInt, Stencils<2> &, size_t &) const;
 template void Grid<3>::appendNodes(int, const Reach &, const double *, const double *, double *,

@@ -176,10 +176,10 @@ template <int D> void Grid<D>::fillWindowNodes() {
     });
   }
 
-  // block3_[n]: the 3^D block of n's level starting at n (n and the two nodes after it along
-  // every axis) lies in the window and is regular: buildStencils takes its closed-form path
+  // threeNodeBlocks_[n]: the 3^D block of n's level starting at n (n and the two nodes after it
+  // along every axis) lies in the window and is regular: buildStencils takes its closed-form path
   // there.
-  // block4_ the same for the 4^D block (2D: particles of half-size up to h).
+  // fourNodeBlocks_ the same for the 4^D block (2D: particles of half-size up to h).
   auto regularBlocks = [&](PetscInt side, std::vector<std::uint8_t> &flag) {
     flag.assign(nWindow, 0);
     for (int k = 0; k < K; ++k) {
@@ -208,8 +208,8 @@ template <int D> void Grid<D>::fillWindowNodes() {
       });
     }
   };
-  regularBlocks(3, block3_);
-  if (D == 2) regularBlocks(4, block4_);
+  regularBlocks(3, threeNodeBlocks_);
+  if (D == 2) regularBlocks(4, fourNodeBlocks_);
 }
 
 template <int D> PetscErrorCode Grid<D>::createScatter(MPI_Comm comm) {

@@ -97,7 +97,7 @@ template <int D> void Lattice<D>::setLevels(double h0, const std::vector<LevelBo
   }
 }
 
-template <int D> int Lattice<D>::leafLevelAt2(const Index &a) const {
+template <int D> int Lattice<D>::leafLevelAtDoubled(const Index &a) const {
   const Level<D> &L0 = levels.front();
   for (int d = 0; d < D; ++d)
     if (a[d] < 2 * L0.lo[d] || a[d] > 2 * L0.hi[d]) return -1;
@@ -152,7 +152,7 @@ template <int D> void Lattice<D>::zonesOf(int k, const Index &i, double z[2 * D]
         Index p = a;
         for (int d = 0, bit = 0; d < D; ++d)
           p[d] += d == ax ? (s ? 1 : -1) : ((c >> bit++) & 1 ? 1 : -1);
-        const int q = leafLevelAt2(p);
+        const int q = leafLevelAtDoubled(p);
         w = std::min(w, q < 0 ? std::numeric_limits<double>::infinity() : levels[q].h);
       }
       z[2 * ax + s] = std::isinf(w) ? 0.0 : w;

@@ -97,8 +97,9 @@ GIMP_ALWAYS_INLINE bool Grid<D>::levelReach(int q, const double *x, const double
     small = small && r.i1[a] - r.i0[a] <= 2 && r.i0[a] + 2 < L.w1[a] && l[a] <= 0.5 * L.h;
     four = four && r.i1[a] - r.i0[a] <= 3 && r.i0[a] + 3 < L.w1[a] && l[a] <= L.h;
   }
-  r.block3 = r.inside && first && small && block3_[windowSlot(q, r.i0)];
-  r.block4 = !r.block3 && r.inside && first && four && block4_[windowSlot(q, r.i0)];
+  r.threeNodeBlock = r.inside && first && small && threeNodeBlocks_[windowSlot(q, r.i0)];
+  r.fourNodeBlock =
+      !r.threeNodeBlock && r.inside && first && four && fourNodeBlocks_[windowSlot(q, r.i0)];
   return true;
 }
 
@@ -121,7 +122,7 @@ GIMP_ALWAYS_INLINE int Grid<D>::soleBlock(int q, const double *x, const double *
     if (ir < L.w0[a] || ir + side - 1 >= L.w1[a] || i1 - ir > side - 1) return 0;
     i0[a] = ir;
   }
-  if (!(side == 3 ? block3_ : block4_)[windowSlot(q, i0)]) return 0;
+  if (!(side == 3 ? threeNodeBlocks_ : fourNodeBlocks_)[windowSlot(q, i0)]) return 0;
   // No finer level reaches it: along some axis its reach (with half a cell to spare) misses the
   // finer box, so levelReach finds no candidate there. Coarser levels never reach it.
   for (int f = q + 1; f < static_cast<int>(levels.size()); ++f) {
@@ -138,8 +139,8 @@ GIMP_ALWAYS_INLINE int Grid<D>::soleBlock(int q, const double *x, const double *
 template <int D>
 GIMP_ALWAYS_INLINE void Grid<D>::setBlock(int q, const PetscInt *i0, const double *x,
                                           const double *l, Stencils<D> &s, PetscInt k) const {
-  // One level's regular 3^D block from node i0: the arguments appendBlock3 gives
-  // shape::uniformWeights3, so the factors are those the rows would hold.
+  // One level's regular 3^D block from node i0: the arguments appendThreeNodeBlock gives
+  // shape::threeNodeWeights, so the factors are those the rows would hold.
   const Level<D> &L = levels[q];
   double xi[D], lam[D];
   PetscInt stride[D];
@@ -154,7 +155,7 @@ GIMP_ALWAYS_INLINE void Grid<D>::setBlock(int q, const PetscInt *i0, const doubl
 template <int D>
 GIMP_ALWAYS_INLINE void Grid<D>::setBlock4(int q, const PetscInt *i0, const double *x,
                                            const double *l, Stencils<D> &s, PetscInt k) const {
-  // The 1D weights of the 4 nodes in closed form (shape::uniformWeights4): the values
+  // The 1D weights of the 4 nodes in closed form (shape::fourNodeWeights): the values
   // appendNodes gives a regular node with the particle inside its level's box, to round-off.
   if constexpr (D == 2) { // both axes at once, in closed form
     using simd::Pair;
@@ -163,7 +164,7 @@ GIMP_ALWAYS_INLINE void Grid<D>::setBlock4(int q, const PetscInt *i0, const doub
                corner = {L.box[0] + i0[0] * L.h, L.box[1] + i0[1] * L.h};
     const Pair xi = (x2 - corner) * L.ih, lam = l2 * L.ih, i2l = 0.5 / lam;
     Pair wp[4], gp[4];
-    shape::uniformWeights4(xi, lam, i2l, i2l * L.ih, wp, gp);
+    shape::fourNodeWeights(xi, lam, i2l, i2l * L.ih, wp, gp);
     double w[2][4], g[2][4];
     for (int i = 0; i < 4; ++i)
       for (int a = 0; a < 2; ++a) {
@@ -260,7 +261,7 @@ GIMP_LANES_INLINE void laneSlots(const Grid<2> &grid, int q, const V4 *fi, Petsc
 GIMP_LANES_INLINE void laneFactors(const Level<2> &L, const V4 *X, const V4 *Lh, const V4 *fi,
                                    V4 w[2][3], V4 g[2][3]) {
   const V4 h = _mm256_set1_pd(L.h), ih = _mm256_set1_pd(L.ih);
-  // setBlock: xi = (x - (box + i0 h)) / h, lam = l / h, then shape::uniformWeights3 per axis
+  // setBlock: xi = (x - (box + i0 h)) / h, lam = l / h, then shape::threeNodeWeights per axis
   const V4 one = _mm256_set1_pd(1.0), zero = _mm256_setzero_pd(), half = _mm256_set1_pd(0.5);
   for (int a = 0; a < 2; ++a) {
     const V4 xi = (X[a] - (_mm256_set1_pd(L.box[a]) + fi[a] * h)) * ih, lam = Lh[a] * ih;
@@ -305,7 +306,7 @@ GIMP_LANES_INLINE void storeLaneGroup(const Level<2> &L, PetscInt k, const Petsc
 /// GridT<2>::blockRun's particles of level q in lanes: soleBlock and setBlock for four particles,
 /// each lane their scalar arithmetic in its order (no FMA: this function alone is compiled for
 /// AVX2, and the build has no contraction).
-GIMP_LANES bool blockRunLanes(const Grid<2> &grid, const std::uint8_t *block3,
+GIMP_LANES bool blockRunLanes(const Grid<2> &grid, const std::uint8_t *threeNodeBlocks,
                               const double *outwardReach, PetscInt k, const double *x,
                               const double *l, Stencils<2> &s) {
   // The room this run's record will take 8 runs on is asked for now (a read prefetch; the line
@@ -328,7 +329,9 @@ GIMP_LANES bool blockRunLanes(const Grid<2> &grid, const std::uint8_t *block3,
   if (!laneSoleBlocks(grid, outwardReach, q, X, Lh, fi)) return false;
   alignas(16) PetscInt base[4];
   laneSlots(grid, q, fi, base);
-  if (!(block3[base[0]] && block3[base[1]] && block3[base[2]] && block3[base[3]])) return false;
+  if (!(threeNodeBlocks[base[0]] && threeNodeBlocks[base[1]] && threeNodeBlocks[base[2]] &&
+        threeNodeBlocks[base[3]]))
+    return false;
   V4 w[2][3], g[2][3];
   laneFactors(grid.levels[q], X, Lh, fi, w, g);
   storeLaneGroup(grid.levels[q], k, base, w, g, s);
@@ -341,7 +344,7 @@ template <int D>
 bool Grid<D>::blockRun(PetscInt k, const double *x, const double *l, Stencils<D> &s) const {
 #if GIMP_HAVE_LANES
   if constexpr (D == 2)
-    return blockRunLanes(*this, block3_.data(), outwardReach_.data(), k, x, l, s);
+    return blockRunLanes(*this, threeNodeBlocks_.data(), outwardReach_.data(), k, x, l, s);
 #endif
   (void)k, (void)x, (void)l, (void)s;
   return false;
@@ -391,19 +394,19 @@ bool Grid<D>::buildStencils(PetscInt n, const double *x, const double *l, Stenci
       reaches[q] = q >= first && levelReach(q, xp, lp, reach[q]);
       if (reaches[q]) ++nReach, last = q;
     }
-    if (compact && nReach == 1 && reach[last].block3) {
+    if (compact && nReach == 1 && reach[last].threeNodeBlock) {
       setBlock(last, reach[last].i0, xp, lp, s, k);
       continue;
     }
-    if (compact && nReach == 1 && reach[last].block4) {
+    if (compact && nReach == 1 && reach[last].fourNodeBlock) {
       setBlock4(last, reach[last].i0, xp, lp, s, k);
       continue;
     }
     for (int q = 0; q < K; ++q) {
       if (!reaches[q]) continue;
       const Reach &r = reach[q];
-      if (r.block3) {
-        appendBlock3(q, r, xp, lp, s, m);
+      if (r.threeNodeBlock) {
+        appendThreeNodeBlock(q, r, xp, lp, s, m);
         continue;
       }
       bool tooLarge = false; // a particle larger than h0

@@ -30,7 +30,7 @@ std::string valuesText(const OptionSpec &s) {
   case Kind::Word:
     return "word";
   case Kind::Choice: {
-    std::string out, choices = s.values2;
+    std::string out, choices = s.valuesIn2D;
     size_t at = 0;
     while (at <= choices.size()) {
       const size_t next = std::min(choices.find('|', at), choices.size());
@@ -44,8 +44,8 @@ std::string valuesText(const OptionSpec &s) {
   }
   case Kind::Reals:
   case Kind::Ramp:
-    if (!s.values3 || std::string(s.values3) == s.values2) return s.values2;
-    return std::string(s.values2) + " (2D); " + s.values3 + " (3D)";
+    if (!s.valuesIn3D || std::string(s.valuesIn3D) == s.valuesIn2D) return s.valuesIn2D;
+    return std::string(s.valuesIn2D) + " (2D); " + s.valuesIn3D + " (3D)";
   }
   return "";
 }

@@ -37,7 +37,7 @@ void updateDeformation<3>(const Scene<3> &sc, ParticleView<3> &p, const double *
     const Tensor<3> Lk = tensorAt<3>(L, k - k0);
     auto F = tensorAt<3>(p.F, k);
     F += dt * product<3>(Lk, F);
-    p.V[k] = determinant3(F) * p.V0[k];
+    p.V[k] = determinant<3>(F) * p.V0[k];
     if (mat.model == MaterialModel::Linear)
       material::jaumannUpdate(mat, Lk, dt, tensorAt<3>(p.s, k));
     else

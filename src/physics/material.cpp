@@ -4,18 +4,18 @@
 
 namespace gimp::material {
 
-void neoHookeanStress(const Material &m, const Tensor2 &F, Eigen::Ref<Tensor2> s, double &szz) {
-  const double J = determinant2(F);
+void neoHookeanStress(const Material &m, const Tensor<2> &F, Eigen::Ref<Tensor<2>> s, double &szz) {
+  const double J = determinant<2>(F);
   const double lnJ = std::log(J);
-  const Tensor2 b = product<2>(F, F.transpose());
-  s = ((m.lambda * lnJ) * Tensor2::Identity() + m.mu * (b - Tensor2::Identity())) / J;
+  const Tensor<2> b = product<2>(F, F.transpose());
+  s = ((m.lambda * lnJ) * Tensor<2>::Identity() + m.mu * (b - Tensor<2>::Identity())) / J;
   szz = m.lambda * lnJ / J;
 }
 
-double strainEnergy(const Material &m, const Tensor2 &s, double szz, const Tensor2 &F, double V0,
-                    double V) {
+double strainEnergy(const Material &m, const Tensor<2> &s, double szz, const Tensor<2> &F,
+                    double V0, double V) {
   if (m.model == MaterialModel::NeoHookean) {
-    const double J = determinant2(F);
+    const double J = determinant<2>(F);
     const double lnJ = std::log(J);
     const double I1 =
         F(0, 0) * F(0, 0) + F(0, 1) * F(0, 1) + F(1, 0) * F(1, 0) + F(1, 1) * F(1, 1) + 1.0;
@@ -29,7 +29,7 @@ double strainEnergy(const Material &m, const Tensor2 &s, double szz, const Tenso
   return w * V;
 }
 
-void jaumannUpdate(const Material &m, const Tensor3 &L, double dt, Eigen::Ref<Tensor3> s) {
+void jaumannUpdate(const Material &m, const Tensor<3> &L, double dt, Eigen::Ref<Tensor<3>> s) {
   // For a symmetric sigma and W = [[0, a, b], [-a, 0, c], [-b, -c, 0]] (the skew part of L),
   // W sigma - sigma W = M + M^T with M = W sigma: its six entries in closed form.
   const double a = 0.5 * (L(0, 1) - L(1, 0)), b = 0.5 * (L(0, 2) - L(2, 0)),
@@ -51,16 +51,17 @@ void jaumannUpdate(const Material &m, const Tensor3 &L, double dt, Eigen::Ref<Te
   s(1, 2) = s(2, 1) = s12 + dt * n12;
 }
 
-void neoHookeanStress(const Material &m, const Tensor3 &F, Eigen::Ref<Tensor3> s) {
-  const double J = determinant3(F);
+void neoHookeanStress(const Material &m, const Tensor<3> &F, Eigen::Ref<Tensor<3>> s) {
+  const double J = determinant<3>(F);
   const double lnJ = std::log(J);
-  const Tensor3 b = product<3>(F, F.transpose());
-  s = ((m.lambda * lnJ) * Tensor3::Identity() + m.mu * (b - Tensor3::Identity())) / J;
+  const Tensor<3> b = product<3>(F, F.transpose());
+  s = ((m.lambda * lnJ) * Tensor<3>::Identity() + m.mu * (b - Tensor<3>::Identity())) / J;
 }
 
-double strainEnergy(const Material &m, const Tensor3 &s, const Tensor3 &F, double V0, double V) {
+double strainEnergy(const Material &m, const Tensor<3> &s, const Tensor<3> &F, double V0,
+                    double V) {
   if (m.model == MaterialModel::NeoHookean) {
-    const double J = determinant3(F);
+    const double J = determinant<3>(F);
     const double lnJ = std::log(J);
     const double I1 = F.squaredNorm();
     return V0 * (0.5 * m.mu * (I1 - 3.0) - m.mu * lnJ + 0.5 * m.lambda * lnJ * lnJ);

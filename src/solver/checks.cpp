@@ -16,8 +16,8 @@ namespace gimp {
 namespace {
 
 /// The plane particles' test, both axes at once (the lanes of four first, where they run).
-PetscInt firstBad2(const RunState<2> &s, const ParticleView<2> &p, double margin,
-                   PetscInt64 &leaving) {
+PetscInt firstBadPlane(const RunState<2> &s, const ParticleView<2> &p, double margin,
+                       PetscInt64 &leaving) {
   using simd::Pair;
   const double *d = s.sc.domain.data(), h0 = s.grid.h0();
   double box[4] = {-INFINITY, -INFINITY, INFINITY, INFINITY};
@@ -45,8 +45,8 @@ PetscInt firstBad2(const RunState<2> &s, const ParticleView<2> &p, double margin
 }
 
 /// The solid particles' test.
-PetscInt firstBad3(const RunState<3> &s, const ParticleView<3> &p, double margin,
-                   PetscInt64 &leaving) {
+PetscInt firstBadSolid(const RunState<3> &s, const ParticleView<3> &p, double margin,
+                       PetscInt64 &leaving) {
   const double *d = s.sc.domain.data(), h0 = s.grid.h0();
   double box[6] = {-INFINITY, -INFINITY, -INFINITY, INFINITY, INFINITY, INFINITY};
   if (s.size > 1) s.grid.ownedBox(s.rank, box);
@@ -85,9 +85,9 @@ PetscInt Step<D>::firstBadParticle(const ParticleView<D> &p, PetscInt64 &leaving
   // domains past it by round-off (1e-18 m): a margin of 1e-8 h0 tells that from leaving.
   const double margin = 1e-8 * s_.grid.h0();
   if constexpr (D == 2)
-    return firstBad2(s_, p, margin, leaving);
+    return firstBadPlane(s_, p, margin, leaving);
   else
-    return firstBad3(s_, p, margin, leaving);
+    return firstBadSolid(s_, p, margin, leaving);
 }
 
 template <int D>

@@ -39,7 +39,7 @@ GIMP_LANES_INLINE void offsets(const Run &R, V4 XP, V4 YP, const double *xs, V4 
 }
 
 /// blocks::offsetsAndInverseInertia (N = 3): the offsets dx, dy of the run's node lines from
-/// the centres (XP, YP) and D^-1 (xx, xy, yx, yy), 0 where D is singular (inverseInertia2).
+/// the centres (XP, YP) and D^-1 (xx, xy, yx, yy), 0 where D is singular (invertInertia).
 GIMP_LANES_INLINE void offsetsAndInverseInertia(const Run &R, V4 XP, V4 YP, const double *xs,
                                                 V4 *dx, V4 *dy, V4 *Di) {
   offsets(R, XP, YP, xs, dx, dy);
@@ -53,7 +53,7 @@ GIMP_LANES_INLINE void offsetsAndInverseInertia(const Run &R, V4 XP, V4 YP, cons
     S2x = S2x + tx * dx[i];
     S2y = S2y + ty * dy[i];
   }
-  // inverseInertia2(a, b, b, d) with a = Sx2 Sy0, b = Sx1 Sy1, d = Sx0 Sy2
+  // invertInertia(a, b, b, d) with a = Sx2 Sy0, b = Sx1 Sy1, d = Sx0 Sy2
   const V4 a = S2x * S0y, b = S1x * S1y, d = S0x * S2y;
   const V4 det = a * d - b * b;
   const V4 half = splat(0.5) * (a + d);

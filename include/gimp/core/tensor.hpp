@@ -56,16 +56,15 @@ template <int D, class A, class B> inline Tensor<D> product(const A &a, const B 
   return c;
 }
 
-/// det(F) of a 2 x 2 tensor, F_xx F_yy - F_xy F_yx.
-template <class M> inline double determinant2(const M &F) {
-  return F(0, 0) * F(1, 1) - F(0, 1) * F(1, 0);
-}
-
-/// det(F) of a 3 x 3 tensor, expanded along the first row (a fixed summation order).
-template <class M> inline double determinant3(const M &F) {
-  return F(0, 0) * (F(1, 1) * F(2, 2) - F(1, 2) * F(2, 1)) -
-         F(0, 1) * (F(1, 0) * F(2, 2) - F(1, 2) * F(2, 0)) +
-         F(0, 2) * (F(1, 0) * F(2, 1) - F(1, 1) * F(2, 0));
+/// det(F) of a D x D tensor: F_xx F_yy - F_xy F_yx in 2D, expanded along the first row in 3D (a
+/// fixed summation order).
+template <int D, class M> inline double determinant(const M &F) {
+  if constexpr (D == 2)
+    return F(0, 0) * F(1, 1) - F(0, 1) * F(1, 0);
+  else
+    return F(0, 0) * (F(1, 1) * F(2, 2) - F(1, 2) * F(2, 1)) -
+           F(0, 1) * (F(1, 0) * F(2, 2) - F(1, 2) * F(2, 0)) +
+           F(0, 2) * (F(1, 0) * F(2, 1) - F(1, 1) * F(2, 0));
 }
 
 } // namespace gimp

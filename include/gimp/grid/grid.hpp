@@ -149,7 +149,8 @@ private:
   /// 3^D block with closed-form weights.
   struct Reach {
     PetscInt i0[D] = {}, i1[D] = {};
-    bool inside = false, block3 = false, block4 = false; // block4: 2D, a regular 4^D block
+    bool inside = false, threeNodeBlock = false,
+         fourNodeBlock = false; // four: 2D, a regular 4^D block
   };
   /// The coarsest level whose nodes can reach a particle at x with half-sizes l: the finest
   /// level whose box (closed) holds the particle (0 if none).
@@ -172,18 +173,19 @@ private:
   void setBlock(int q, const PetscInt *i0, const double *x, const double *l, Stencils<D> &s,
                 PetscInt k) const;
   /// Particle k keeps level q's 4-node block from node i0 (2D): the weights of appendNodes to
-  /// round-off (shape::uniformWeights4).
+  /// round-off (shape::fourNodeWeights).
   void setBlock4(int q, const PetscInt *i0, const double *x, const double *l, Stencils<D> &s,
                  PetscInt k) const;
-  void appendBlock3(int q, const Reach &r, const double *x, const double *l, Stencils<D> &s,
-                    size_t &m) const;
+  void appendThreeNodeBlock(int q, const Reach &r, const double *x, const double *l, Stencils<D> &s,
+                            size_t &m) const;
   void appendNodes(int q, const Reach &r, const double *x, const double *l, double *scratch,
                    PetscInt maxRange, Stencils<D> &s, size_t &m) const;
 
   static constexpr std::uint8_t kActive = 1, kRegular = 2;
-  std::vector<std::uint8_t> flags_;  // active and regular in one byte per window node
-  std::vector<std::uint8_t> block3_; // the 3^D block of one level from this node is regular
-  std::vector<std::uint8_t> block4_; // the same for the 4^D block (2D)
+  std::vector<std::uint8_t> flags_; // active and regular in one byte per window node
+  std::vector<std::uint8_t>
+      threeNodeBlocks_;                      // the 3^D block of one level from this node is regular
+  std::vector<std::uint8_t> fourNodeBlocks_; // the same for the 4^D block (2D)
   std::vector<double> outwardReach_; // per level: the largest zone of its box's boundary nodes
   std::array<std::vector<PetscInt>, D> own_; // level-0 node ownership: first node of each rank
                                              // column per axis

@@ -72,13 +72,13 @@ public:
   void zonesOf(int k, const Index &i, double z[2 * D]) const;
   /// Level whose leaf cell contains the point at doubled lattice coordinates a, which must not
   /// lie on a grid line; -1 outside the domain.
-  int leafLevelAt2(const Index &a) const;
+  int leafLevelAtDoubled(const Index &a) const;
   /// Level of the leaf cell containing the point x [m] (D coordinates).
   int leafLevelAt(const double *x) const;
   /// 2D shorthands of the two above.
   template <int E = D, std::enable_if_t<E == 2, int> = 0>
-  int leafLevelAt2(std::int64_t a, std::int64_t b) const {
-    return leafLevelAt2(Index{a, b});
+  int leafLevelAtDoubled(std::int64_t a, std::int64_t b) const {
+    return leafLevelAtDoubled(Index{a, b});
   }
   template <int E = D, std::enable_if_t<E == 2, int> = 0>
   int leafLevelAt(double x, double y) const {

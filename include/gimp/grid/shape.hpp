@@ -88,7 +88,7 @@ template <class T> inline void weightAndGradientUniform(T d, T l, T h, T ih, T i
 /// weightAndGradient on each node, in one pass (the common case of every level's interior).
 /// T is double, or simd::Pair for two axes at once (lane a of every argument and result is
 /// axis a; the same operations in the same order, so the same values).
-template <class T> inline void uniformWeights3(T xi, T lam, T i2l, T i2lh, T *w, T *g) {
+template <class T> inline void threeNodeWeights(T xi, T lam, T i2l, T i2lh, T *w, T *g) {
   const T one = simd::broadcast<T>(1.0), zero = simd::broadcast<T>(0.0);
   const T a = xi - lam, b = xi + lam; // particle ends relative to node i0, in cells
   const T bb = simd::minOf(one, b), c = simd::maxOf(zero, b - 1.0);
@@ -106,7 +106,7 @@ template <class T> inline void uniformWeights3(T xi, T lam, T i2l, T i2lh, T *w,
 /// unit tent T, w_n = (Phi(b - n) - Phi(a - n)) h / (2 l) and g_n = (T(b - n) - T(a - n)) / (2 l)
 /// for the particle's ends a, b in cells from node i0. The range of a fixes its side's terms;
 /// b - n is clamped to the tent's support. The values of weightAndGradientUniform to round-off.
-template <class T> inline void uniformWeights4(T xi, T lam, T i2l, T i2lh, T *w, T *g) {
+template <class T> inline void fourNodeWeights(T xi, T lam, T i2l, T i2lh, T *w, T *g) {
   const T one = simd::broadcast<T>(1.0), mone = simd::broadcast<T>(-1.0);
   const T a = xi - lam, b = xi + lam; // a in [0, 1): Phi(a) = 1 - ua^2 / 2, Phi(a - 1) = a^2 / 2
   const T ua = 1.0 - a;

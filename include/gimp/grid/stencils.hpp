@@ -10,11 +10,11 @@
 //
 // Blocks (with `compact` set): a particle that only one level's nodes reach, all of them regular
 // (zones h), keeps no entries but its 1D factors (Block: 2 or 3 nodes per axis, their weights and
-// derivatives from the closed form shape::uniformWeights3, the first slot and the slot strides):
+// derivatives from the closed form shape::threeNodeWeights, the first slot and the slot strides):
 // 104 bytes in 2D (blocks, in particle order; blockOf[k] finds particle k's) instead of 36 per
 // entry (4 to 9 entries), the same values the rows would hold. In 2D a particle of half-size up
 // to h that reaches 4 nodes along an axis (l > h/2, or ends on nodes) keeps a 4-node block
-// (Block<2, 4>, 136 bytes, shape::uniformWeights4: the rows' values to round-off) instead of 6 to
+// (Block<2, 4>, 136 bytes, shape::fourNodeWeights: the rows' values to round-off) instead of 6 to
 // 16 entries. Kernels with a tensor-product form sum along one axis, then the other. With lanes
 // (2D), aligned groups of four block particles keep their four blocks factor-major in the same
 // room (LaneBlocks, laneGroup); block(k) reads either form.
@@ -204,7 +204,7 @@ template <int D> struct Stencils {
       using simd::Pair;
       const Pair x2 = {xi[0], xi[1]}, l2 = {lam[0], lam[1]}, i2l = 0.5 / l2;
       Pair w[3], g[3];
-      shape::uniformWeights3(x2, l2, i2l, i2l * ih, w, g);
+      shape::threeNodeWeights(x2, l2, i2l, i2l * ih, w, g);
       for (int i = 0; i < 3; ++i)
         for (int d = 0; d < 2; ++d) {
           b.w[d][i] = w[i][d];
@@ -216,7 +216,7 @@ template <int D> struct Stencils {
     }
     for (int d = 0; d < D; ++d) {
       const double i2l = 0.5 / lam[d];
-      shape::uniformWeights3(xi[d], lam[d], i2l, i2l * ih, b.w[d], b.g[d]);
+      shape::threeNodeWeights(xi[d], lam[d], i2l, i2l * ih, b.w[d], b.g[d]);
       if (d > 0) b.stride[d - 1] = stride[d];
     }
     b.base = base;

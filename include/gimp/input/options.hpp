@@ -34,15 +34,15 @@ struct Check {
 struct OptionSpec {
   const char *name; // without the dash; a family member's index is K, a second index J
   Kind kind;
-  const char *unit;    // SI unit ("" for numbers without one, words and choices)
-  const char *def;     // the default, as docs/options.md shows it ("" none, "(required)")
-  const char *values2; // Reals: the values in 2D ("x0,y0,x1,y1"; groups end ",..."); Choice:
-                       // the choices "a|b|c" (those of one dimension only: the feature table)
-  const char *values3; // the same in 3D (nullptr: as in 2D)
+  const char *unit;       // SI unit ("" for numbers without one, words and choices)
+  const char *def;        // the default, as docs/options.md shows it ("" none, "(required)")
+  const char *valuesIn2D; // Reals: the values in 2D ("x0,y0,x1,y1"; groups end ",..."); Choice:
+                          // the choices "a|b|c" (those of one dimension only: the feature table)
+  const char *valuesIn3D; // the same in 3D (nullptr: as in 2D)
   Check check;
   const char *help;
-  /// The values' description in dimension D (values2 or values3).
-  const char *values(int dim) const { return dim == 3 && values3 ? values3 : values2; }
+  /// The values' description in dimension D (valuesIn2D or valuesIn3D).
+  const char *values(int dim) const { return dim == 3 && valuesIn3D ? valuesIn3D : valuesIn2D; }
 };
 
 /// Something that exists in some dimensions only: the options (or "option=value" choices) that

@@ -8,14 +8,11 @@
 
 namespace gimp::material {
 
-using Tensor2 = Tensor<2>;
-using Tensor3 = Tensor<3>;
-
 /// Hypoelastic linear isotropic update with the Jaumann (co-rotational) rate over dt:
 /// sigma += dt (lambda* tr(D) I + 2 mu D + W sigma - sigma W), D and W the symmetric and skew
 /// parts of L. Plane strain carries szz += dt lambda tr(D); plane stress keeps szz = 0 with the
 /// reduced lambda*. (Inline: it runs once per particle and step.)
-inline void jaumannUpdate(const Material &m, const Tensor2 &L, double dt, Eigen::Ref<Tensor2> s,
+inline void jaumannUpdate(const Material &m, const Tensor<2> &L, double dt, Eigen::Ref<Tensor<2>> s,
                           double &szz) {
   // Row by row as pairs, each entry the scalar expression
   // s += dt ((lambda* tr) I + 2 mu D + spin) in its order (D = (L + L^T) / 2).
@@ -36,25 +33,25 @@ inline void jaumannUpdate(const Material &m, const Tensor2 &L, double dt, Eigen:
 
 /// Compressible neo-Hookean Cauchy stress from F (plane strain, Fzz = 1):
 /// sigma = (lambda ln J I + mu (F F^T - I)) / J, szz = lambda ln J / J.
-void neoHookeanStress(const Material &m, const Tensor2 &F, Eigen::Ref<Tensor2> s, double &szz);
+void neoHookeanStress(const Material &m, const Tensor<2> &F, Eigen::Ref<Tensor<2>> s, double &szz);
 
 /// Stored elastic energy of a particle of reference volume V0 and current volume V.
 /// Linear: the complementary energy sigma : C^-1 : sigma / 2 (frame independent);
 /// neo-Hookean: the strain energy function.
-double strainEnergy(const Material &m, const Tensor2 &s, double szz, const Tensor2 &F, double V0,
-                    double V);
+double strainEnergy(const Material &m, const Tensor<2> &s, double szz, const Tensor<2> &F,
+                    double V0, double V);
 
 // The same in 3D (no out-of-plane component; lambda itself, never a plane-stress lambda*).
 
 /// sigma += dt (lambda tr(D) I + 2 mu D + W sigma - sigma W), for a symmetric sigma (the result
 /// is symmetric exactly).
-void jaumannUpdate(const Material &m, const Tensor3 &L, double dt, Eigen::Ref<Tensor3> s);
+void jaumannUpdate(const Material &m, const Tensor<3> &L, double dt, Eigen::Ref<Tensor<3>> s);
 
 /// sigma = (lambda ln J I + mu (F F^T - I)) / J.
-void neoHookeanStress(const Material &m, const Tensor3 &F, Eigen::Ref<Tensor3> s);
+void neoHookeanStress(const Material &m, const Tensor<3> &F, Eigen::Ref<Tensor<3>> s);
 
 /// Linear: ((1 + nu) sigma : sigma - nu tr(sigma)^2) V / (2 E); neo-Hookean:
 /// V0 (mu (tr(F^T F) - 3) / 2 - mu ln J + lambda (ln J)^2 / 2).
-double strainEnergy(const Material &m, const Tensor3 &s, const Tensor3 &F, double V0, double V);
+double strainEnergy(const Material &m, const Tensor<3> &s, const Tensor<3> &F, double V0, double V);
 
 } // namespace gimp::material

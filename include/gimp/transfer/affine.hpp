@@ -57,7 +57,7 @@ Tensor<D> inertia(const Stencils<D> &st, PetscInt k, const double *xc, const dou
 
 /// The inverse of a symmetric 3 x 3 inertia (xx, yy, zz, xy, xz, yz) by its adjugate, or 0 where
 /// it is singular (the rule of inverseInertiaAbout).
-inline Tensor<3> inverseInertia3(double xx, double yy, double zz, double xy, double xz, double yz) {
+inline Tensor<3> invertInertia(double xx, double yy, double zz, double xy, double xz, double yz) {
   const double a00 = yy * zz - yz * yz, a01 = xz * yz - xy * zz, a02 = xy * yz - xz * yy;
   const double det = xx * a00 + xy * a01 + xz * a02;
   const double third = (xx + yy + zz) / 3.0;
@@ -79,9 +79,9 @@ Tensor<D> inverseInertiaAbout(const Stencils<D> &st, PetscInt k, const double *x
   // Closed forms: no pow, no general inverse in the per-particle loop (D_p is symmetric: its
   // (a, b) and (b, a) sums are the same products in the same order).
   if constexpr (D == 2)
-    return inverseInertia2(Dp(0, 0), Dp(0, 1), Dp(1, 0), Dp(1, 1));
+    return invertInertia(Dp(0, 0), Dp(0, 1), Dp(1, 0), Dp(1, 1));
   else
-    return inverseInertia3(Dp(0, 0), Dp(1, 1), Dp(2, 2), Dp(0, 1), Dp(0, 2), Dp(1, 2));
+    return invertInertia(Dp(0, 0), Dp(1, 1), Dp(2, 2), Dp(0, 1), Dp(0, 2), Dp(1, 2));
 }
 
 /// D_p^-1 of particle k about its centre in xc.
@@ -154,9 +154,9 @@ GIMP_ALWAYS_INLINE void particleToGridAffineB(const Stencils<D> &st, PetscInt k,
           S[a][2] += w * d[a][i] * d[a][i];
         }
       const Tensor<3> Ck =
-          product<3>(Bk, inverseInertia3(S[0][2] * S[1][0] * S[2][0], S[0][0] * S[1][2] * S[2][0],
-                                         S[0][0] * S[1][0] * S[2][2], S[0][1] * S[1][1] * S[2][0],
-                                         S[0][1] * S[1][0] * S[2][1], S[0][0] * S[1][1] * S[2][1]));
+          product<3>(Bk, invertInertia(S[0][2] * S[1][0] * S[2][0], S[0][0] * S[1][2] * S[2][0],
+                                       S[0][0] * S[1][0] * S[2][2], S[0][1] * S[1][1] * S[2][0],
+                                       S[0][1] * S[1][0] * S[2][1], S[0][0] * S[1][1] * S[2][1]));
       for (int q = 0; q < 3; ++q)
         for (int j = 0; j < 3; ++j) {
           const double mw = mp * b.w[1][j] * b.w[2][q];

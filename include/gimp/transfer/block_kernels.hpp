@@ -13,7 +13,7 @@
 namespace gimp::transfer {
 
 /// The inverse of a 2 x 2 inertia (a, b; c, d), or 0 where it is singular (see below).
-inline Tensor<2> inverseInertia2(double a, double b, double c, double d) {
+inline Tensor<2> invertInertia(double a, double b, double c, double d) {
   const double det = a * d - b * c;
   const double half = 0.5 * (a + d);
   if (!(det > 1e-12 * half * half)) return Tensor<2>::Zero();
@@ -189,7 +189,7 @@ GIMP_ALWAYS_INLINE Tensor<2> offsetsAndInverseInertia(const Block<2, N> &b, cons
     }
     const Pair a = S2 * Pair{S0[1], S0[0]}; // (Sx2 Sy0, Sy2 Sx0)
     const double dxy = S1[0] * S1[1];
-    return inverseInertia2(a[0], dxy, dxy, S0[0] * S2[1]);
+    return invertInertia(a[0], dxy, dxy, S0[0] * S2[1]);
   } else {
     offsets(b, xk, xs, dx, dy);
     double Sx[3] = {0, 0, 0}, Sy[3] = {0, 0, 0};
@@ -204,7 +204,7 @@ GIMP_ALWAYS_INLINE Tensor<2> offsetsAndInverseInertia(const Block<2, N> &b, cons
       Sy[2] += b.w[1][j] * dy[j] * dy[j];
     }
     const double dxy = Sx[1] * Sy[1];
-    return inverseInertia2(Sx[2] * Sy[0], dxy, dxy, Sx[0] * Sy[2]);
+    return invertInertia(Sx[2] * Sy[0], dxy, dxy, Sx[0] * Sy[2]);
   }
 }
 
