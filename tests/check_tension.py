@@ -1,8 +1,9 @@
 """Particle domain tracking on the uniaxial tension block (paper section 4.1, options/tension.opts):
 with strain-based sizes the particles separate (the paper: near 25 % strain); with corner
 tracking they never separate up to 50 % strain. Under the held load (damped to rest) the stress
-in the middle of the bar equals the applied traction as a true stress within 8 % (the paper's
-difference to FE), and the corner size (10 %, 50 %, 80 %) changes the elongation by < 1 %."""
+of every particle in the middle 60 % of the bar equals the applied traction as a true stress
+of its column within 2 % (measured 1.62 %; the paper's difference to FE is 8 %), and the corner
+size (10 %, 50 %, 80 %) changes the elongation by < 1 %."""
 import os
 import gimptest
 
@@ -28,7 +29,37 @@ c.check("corners hold", m["separation_strain"] is None and m["max_strain"] >= 0.
         "no separation up to %.3f strain (largest gap %.2e particle sizes)" %
         (m["max_strain"], m["max_separation"]))
 
-# Held load, damped to rest; true stress = p A0 / A with A the current height in the middle.
+
+def stress_profile(d, force):
+    """Every particle of every column in the middle 60 % of the bar (away from the held and the
+    loaded end, Saint-Venant) carries sxx = the true stress force / H of its own column, H the
+    column's current height from the particles' domains. Measured: -1.28 % .. -1.62 %."""
+    order = sorted(range(len(d["x"])), key=lambda i: d["x"][i])
+    gap = min(d["lx"])  # columns lie 2 lx apart: a gap above lx starts the next one
+    cols = [[order[0]]]
+    for i in order[1:]:
+        if d["x"][i] - d["x"][cols[-1][-1]] > gap:
+            cols.append([])
+        cols[-1].append(i)
+    x0, x1 = d["x"][order[0]], d["x"][order[-1]]
+    worst, n, used = 0.0, 0, 0
+    for col in cols:
+        f = (sum(d["x"][i] for i in col) / len(col) - x0) / (x1 - x0)
+        if not 0.2 <= f <= 0.8:
+            continue
+        used += 1
+        H = max(d["y"][i] + d["ly"][i] for i in col) - min(d["y"][i] - d["ly"][i] for i in col)
+        for i in col:
+            e = d["sxx"][i] / (force / H) - 1
+            n += 1
+            if abs(e) > abs(worst):
+                worst = e
+    c.check("stress = true traction at every particle of the middle", n >= 20 and abs(worst) < 0.02,
+            "%d particles in %d columns, worst sxx / (F / H) - 1 = %+.2f %% (tol 2 %%)" %
+            (n, used, 100 * worst))
+
+
+# Held load, damped to rest; true stress = p H0 / H with H the current height of a column.
 p, H0 = 55e9, 10e-6
 elong = {}
 for size in (0.1, 0.5, 0.8):
@@ -41,15 +72,7 @@ for size in (0.1, 0.5, 0.8):
     h = gimptest.history(out)
     elong[size] = h["strain_x"][-1]
     if size == 0.5:
-        d = gimptest.read_csv(dump)
-        xm = s["probes"]["middle"]["x0"][0] + s["probes"]["middle"]["u"][0]
-        col = [i for i, x in enumerate(d["x"]) if abs(x - xm) < 1e-7]
-        H = max(d["y"][i] + d["ly"][i] for i in col) - min(d["y"][i] - d["ly"][i] for i in col)
-        true = p * H0 / H
-        sxx = s["probes"]["middle"]["stress"][0]
-        c.check("stress = true traction", abs(sxx / true - 1) < 0.08,
-                "middle sxx %.4e Pa, applied true stress %.4e Pa (height %.4f of H0): %.2f %%" %
-                (sxx, true, H / H0, 100 * (sxx / true - 1)))
+        stress_profile(gimptest.read_csv(dump), p * H0)
 # Measured: 0.3698, 0.3689, 0.3679 at 10 %, 50 %, 80 %: a spread of 0.53 %.
 spread = (max(elong.values()) - min(elong.values())) / elong[0.5]
 c.check("corner size", spread < 0.01, "elongation %s: spread %.2e" %
