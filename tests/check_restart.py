@@ -12,7 +12,6 @@ under mpiexec -n 2 too, within a timeout: SIGTERM to mpiexec (which passes it on
 odls_base_sigkill_timeout) and SIGTERM to the ranks (then restart 2 -> 2 bit for bit). A stale checkpoint.h5.tmp (a crash while writing) does
 not spoil the checkpoint beside it. A checkpoint of another scene is refused in one line. An
 unstable run names the particle's level and writes the frame of the state it failed in."""
-import json
 import os
 import re
 import shutil
@@ -24,15 +23,17 @@ import h5py
 import numpy as np
 
 import gimptest
+from restart_files import ENV, last_frame, same_bits as same_bits_on
 
 args = gimptest.parse_args()
 c = gimptest.Checks()
-ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
-           OMPI_MCA_rmaps_base_oversubscribe="1")
 CRACK = ("options/crack_closure.opts", ["-gimp_tracking", "corners", "-gimp_history_interval",
                                         "10", "-gimp_output_interval", "20"])
 PATCH = ("options/patch3.opts", ["-gimp_history_interval", "10", "-gimp_output_interval", "25"])
-TIMING = ("wall_seconds", "cpu_seconds", "particle_steps_per_second")
+
+
+def same_bits(name, ref, got, same_dir=True):
+    same_bits_on(c, name, ref, got, same_dir)
 
 
 def out(name):
@@ -48,34 +49,7 @@ def run(scene, name, extra=(), ranks=1, expect_ok=True):
                         expect_ok=expect_ok)
 
 
-def last_frame(d):
-    with h5py.File(os.path.join(d, "fields.h5"), "r") as f:
-        g = sorted(f["particles"].keys())[-1]
-        return g, {k: np.array(f["particles"][g][k]) for k in f["particles"][g]}
 
-
-def summary_minus_timing(d):
-    s = gimptest.summary(d)
-    return {k: v for k, v in s.items() if k not in TIMING}
-
-
-def same_bits(name, ref, got, same_dir=True):
-    """Last frame, history.csv, particle dump and summary identical (and the XDMF file when the
-    restart continued in the directory of its checkpoint)."""
-    gr, fr = last_frame(ref)
-    gg, fg = last_frame(got)
-    fields = gr == gg and fr.keys() == fg.keys() and all(
-        np.array_equal(fr[k].view(np.uint64), fg[k].view(np.uint64)) for k in fr)
-    # A fresh directory has no frames before the checkpoint: its XDMF lists the later ones.
-    names = ("history.csv", "particles.csv") + (("particles.xmf",) if same_dir else ())
-    files = {f: open(os.path.join(ref, f), "rb").read() == open(os.path.join(got, f), "rb").read()
-             for f in names}
-    summ = summary_minus_timing(ref) == summary_minus_timing(got)
-    c.check(name, fields and all(files.values()) and summ,
-            "last frame %s vs %s fields %s, %s, summary %s" % (
-                gr, gg, "identical" if fields else "DIFFER",
-                ", ".join("%s %s" % (f, "same" if ok else "DIFFERS") for f, ok in files.items()),
-                "same" if summ else "DIFFERS"))
 
 
 def restart_pair(scene, tag, k, n, ranks, ranks2=None):

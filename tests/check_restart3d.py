@@ -25,14 +25,16 @@ import numpy as np
 
 import compare3d
 import gimptest
+from restart_files import ENV, last_frame, same_bits as same_bits_on
 
 args = gimptest.parse_args()
 c = gimptest.Checks()
-ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
-           OMPI_MCA_rmaps_base_oversubscribe="1")
 BLOCK = ("options/migrate3d.opts", ["-gimp_history_interval", "10", "-gimp_output_interval", "50"])
 BAR = ("options/bar3d.opts", ["-gimp_history_interval", "5"])
-TIMING = ("wall_seconds", "cpu_seconds", "particle_steps_per_second")
+
+
+def same_bits(name, ref, got, same_dir=True):
+    same_bits_on(c, name, ref, got, same_dir)
 
 
 def out(name):
@@ -47,31 +49,7 @@ def run(scene, name, extra=(), ranks=1, expect_ok=True):
                         + list(extra), ranks=ranks, outdir=d, expect_ok=expect_ok)
 
 
-def last_frame(d):
-    with h5py.File(os.path.join(d, "fields.h5"), "r") as f:
-        g = sorted(f["particles"].keys())[-1]
-        return g, {k: np.array(f["particles"][g][k]) for k in f["particles"][g]}
 
-
-def summary_minus_timing(d):
-    return {k: v for k, v in gimptest.summary(d).items() if k not in TIMING}
-
-
-def same_bits(name, ref, got, same_dir=True):
-    gr, fr = last_frame(ref)
-    gg, fg = last_frame(got)
-    fields = gr == gg and fr.keys() == fg.keys() and all(
-        fr[k].shape == fg[k].shape and np.array_equal(fr[k].view(np.uint64), fg[k].view(np.uint64))
-        for k in fr)
-    names = ("history.csv", "particles.csv") + (("particles.xmf",) if same_dir else ())
-    files = {f: open(os.path.join(ref, f), "rb").read() == open(os.path.join(got, f), "rb").read()
-             for f in names}
-    summ = summary_minus_timing(ref) == summary_minus_timing(got)
-    c.check(name, fields and all(files.values()) and summ,
-            "last frame %s vs %s (%d fields) %s, %s, summary %s" % (
-                gr, gg, len(fr), "identical" if fields else "DIFFER",
-                ", ".join("%s %s" % (f, "same" if ok else "DIFFERS") for f, ok in files.items()),
-                "same" if summ else "DIFFERS"))
 
 
 def checkpoint_step(path):
