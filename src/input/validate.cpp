@@ -383,7 +383,7 @@ PetscErrorCode timeStepFromOptions(TS ts, double cp, double hMin, bool unstableA
   // Damping lowers the limit: the leapfrog step with the force -d p on the momentum keeps a mode
   // of frequency w = 2 c_p / h stable for dt < (2 / w)(sqrt(1 + xi^2) - xi), xi = d / (2 w)
   // (docs/validation.md, *Unstable runs*). A warning, as this bound is only as sharp as w (GIMP's
-  // highest frequency can lie below 2 c_p / h); in 2D -gimp_stability_check gives the step's own.
+  // highest frequency can lie below 2 c_p / h); -gimp_stability_check gives the step's own.
   const double xi = damping * hMin / (4.0 * cp);
   const double dtDamped = dtStable * (std::sqrt(1.0 + xi * xi) - xi);
   if (damping > 0 && dt > dtDamped && !unstableAllowed)
