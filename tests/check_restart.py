@@ -23,7 +23,7 @@ import h5py
 import numpy as np
 
 import gimptest
-from restart_files import ENV, last_frame, same_bits as same_bits_on
+from restart_files import ENV, last_frame, run_with_dump, same_bits as same_bits_on
 
 args = gimptest.parse_args()
 c = gimptest.Checks()
@@ -41,12 +41,7 @@ def out(name):
 
 
 def run(scene, name, extra=(), ranks=1, expect_ok=True):
-    d = out(name)
-    opts, base = scene
-    dump = ["-gimp_particle_dump", os.path.join(d, "particles.csv")]
-    os.makedirs(d, exist_ok=True)
-    return gimptest.run(args, opts, base + dump + list(extra), ranks=ranks, outdir=d,
-                        expect_ok=expect_ok)
+    return run_with_dump(args, scene, name, extra, ranks, expect_ok)
 
 
 

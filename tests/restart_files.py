@@ -13,6 +13,15 @@ ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIR
 TIMING = ("wall_seconds", "cpu_seconds", "particle_steps_per_second")
 
 
+def run_with_dump(args, scene, name, extra=(), ranks=1, expect_ok=True):
+    """Run scene = (options file, options) into args.work/name with a particle dump there."""
+    d = os.path.join(args.work, name)
+    opts, base = scene
+    os.makedirs(d, exist_ok=True)
+    return gimptest.run(args, opts, base + ["-gimp_particle_dump", os.path.join(d, "particles.csv")]
+                        + list(extra), ranks=ranks, outdir=d, expect_ok=expect_ok)
+
+
 def last_frame(d):
     """(name, {field: array}) of the last particle frame in d/fields.h5."""
     with h5py.File(os.path.join(d, "fields.h5"), "r") as f:
