@@ -12,9 +12,9 @@
 // quarter, the particles filling the leaf cells). Prints particle-steps per second and the
 // bytes of the per-particle arrays the loop holds.
 #include "gimp/grid/grid.hpp"
-#include "gimp/physics/internal_force.hpp"
 #include "gimp/physics/material.hpp"
 #include "gimp/transfer/affine.hpp"
+#include "gimp/transfer/internal_force.hpp"
 #include "gimp/transfer/transfer.hpp"
 
 #include <petscsys.h>
@@ -117,7 +117,7 @@ template <int D> struct Bench {
                                                 xs.data(), mom.data(), mass.data());
     else
       gimp::transfer::particlesToGrid<D>(st, n, m.data(), v.data(), mom.data(), mass.data());
-    gimp::physics::internalForce<D>(st, n, V.data(), s.data(), f.data());
+    gimp::transfer::internalForce<D>(st, n, V.data(), s.data(), f.data());
     const size_t slots = mass.size() / D;
     for (size_t q = 0; q < slots; ++q) {
       const double mq = mass[D * q];

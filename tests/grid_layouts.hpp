@@ -4,6 +4,7 @@
 #pragma once
 
 #include "gimp/grid/grid.hpp"
+#include "gimp/input/scene.hpp"
 
 #include <gtest/gtest.h>
 
@@ -58,7 +59,7 @@ inline Scene<2> plainScene(const BoxOf<2> &domain, double h, const std::vector<L
 
 inline std::unique_ptr<Grid<2>> makeGrid(const Scene<2> &sc) {
   auto g = std::make_unique<Grid<2>>();
-  EXPECT_EQ(static_cast<int>(g->create(PETSC_COMM_SELF, sc)), 0);
+  EXPECT_EQ(static_cast<int>(g->create(PETSC_COMM_SELF, sc.h, sc.levelBoxes(), sc.cracks)), 0);
   return g;
 }
 
@@ -210,7 +211,7 @@ private:
   std::vector<PetscInt> transition_; // active nodes with a zone other than their level's h
 };
 
-// The documented reasons for rejecting a layout, as setGeometry words them.
+// The documented reasons for rejecting a layout, as setLevels words them.
 const char *const kOffLines = "is not on a grid line of level";
 const char *const kNotInside = "(levels must be nested)";
 const char *const kEmpty = "needs x1 > x0 and y1 > y0";

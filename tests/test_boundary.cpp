@@ -203,7 +203,7 @@ TEST(Boundary, TractionResultants) {
   sc.tractions = {traction(Side::Left, -3.0e3, 1.1e3), traction(Side::Right, 2.5e3, -0.7e3),
                   traction(Side::Bottom, 0.4e3, -1.9e3), traction(Side::Top, -0.6e3, 2.2e3)};
   Grid<2> g;
-  ASSERT_EQ(static_cast<int>(g.create(PETSC_COMM_SELF, sc)), 0);
+  ASSERT_EQ(static_cast<int>(g.create(PETSC_COMM_SELF, sc.h, sc.levelBoxes(), sc.cracks)), 0);
   ASSERT_EQ(g.levels.size(), 3u);
   Boundary bd;
   ASSERT_NO_THROW(bd.setup(PETSC_COMM_SELF, sc, g, 1e-5));
@@ -268,7 +268,7 @@ TEST(Boundary, TractionResultants) {
 TEST(Boundary, EdgeShapeIsAPartitionOfUnity) {
   const Scene<2> sc = scene();
   Grid<2> g;
-  ASSERT_EQ(static_cast<int>(g.create(PETSC_COMM_SELF, sc)), 0);
+  ASSERT_EQ(static_cast<int>(g.create(PETSC_COMM_SELF, sc.h, sc.levelBoxes(), sc.cracks)), 0);
   Worst onSide, centre;
   for (const Case &c : kCases) {
     Particles P = tile(g, sc.bodies[0].box, c.n, c.sx(), c.sy());
@@ -364,7 +364,7 @@ TEST(Boundary, PenaltyForce) {
   sc.dbcs = {d};
   sc.penalty = 2.0e9; // [Pa/m], within the bounds for dt = 1e-5 (test 4)
   Grid<2> g;
-  ASSERT_EQ(static_cast<int>(g.create(PETSC_COMM_SELF, sc)), 0);
+  ASSERT_EQ(static_cast<int>(g.create(PETSC_COMM_SELF, sc.h, sc.levelBoxes(), sc.cracks)), 0);
   const double L = sc.bodies[0].box[3] - sc.bodies[0].box[1]; // the left side's length
   const double stress[3] = {-2.0e4, 7.0e3, 5.0e3};            // sxx, syy, sxy
   const double delta = 1.0e-3;
@@ -420,7 +420,7 @@ TEST(Boundary, PenaltySetupBounds) {
   d.side = static_cast<int>(Side::Left);
   sc.dbcs = {d};
   Grid<2> g;
-  ASSERT_EQ(static_cast<int>(g.create(PETSC_COMM_SELF, sc)), 0);
+  ASSERT_EQ(static_cast<int>(g.create(PETSC_COMM_SELF, sc.h, sc.levelBoxes(), sc.cracks)), 0);
   const double h = g.hMin(), rho = sc.material.rho, dt = 1.0e-5;
   const double M = sc.material.lambda + 2.0 * sc.material.mu;
   const double limit = 1.6 * rho * h / (dt * dt); // stable limit of the penalty spring

@@ -24,8 +24,8 @@
 //      and v_p its value at the centroid; about the corners' mean (not the centroid of a
 //      general quad) C_p picks up v_p times the offset.
 #include "gimp/grid/grid.hpp"
-#include "gimp/physics/internal_force.hpp"
 #include "gimp/transfer/affine.hpp"
+#include "gimp/transfer/internal_force.hpp"
 
 #include "grid_layouts.hpp"
 #include "test_util.hpp"
@@ -462,7 +462,7 @@ TEST(Cpdi, RotatedPatchUnderUniformStressIsInEquilibrium) {
   };
   auto worstInterior = [&](const Stencils &st, long &count) {
     std::vector<double> f(2 * g.nWindow, 0.0);
-    gimp::physics::internalForce<2>(st, np, V.data(), sig.data(), f.data());
+    gimp::transfer::internalForce<2>(st, np, V.data(), sig.data(), f.data());
     double worst = 0, fx = 0, fy = 0;
     count = 0;
     for (PetscInt nd = 0; nd < g.nWindow; ++nd) {

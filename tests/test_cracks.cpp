@@ -1,4 +1,4 @@
-// Unit tests of the crack geometry in include/gimp/cracks/geometry.hpp.
+// Unit tests of the crack geometry in include/gimp/geometry/crack.hpp.
 //
 //   1. crossing() against an independent brute-force reference on random straight and kinked
 //      cracks: each segment pair solved as two lines (Cramer's rule, a + t (b - a) = p + s (q - p),
@@ -13,7 +13,7 @@
 //      inside it, which holds only if every convention is that of one perturbed crack.
 //   4. distance, normalAt and nearCrack against dense sampling of the polyline; findFault.
 // Random samples use a fixed-seed std::mt19937_64.
-#include "gimp/cracks/geometry.hpp"
+#include "gimp/geometry/crack.hpp"
 
 #include "test_util.hpp"
 

@@ -1,6 +1,6 @@
-// The moments of a particle square cut by circular holes (particles/cut_cell): exact cases,
+// The moments of a particle square cut by circular holes (geometry/cut_cell): exact cases,
 // additivity over sub-rectangles, an independent quadrature, and the equivalent rectangle.
-#include "gimp/particles/cut_cell.hpp"
+#include "gimp/geometry/cut_cell.hpp"
 
 #include <gtest/gtest.h>
 

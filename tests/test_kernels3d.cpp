@@ -15,8 +15,8 @@
 // Each layout runs with B on level-0 lines and with the particles shifted by a fraction of a
 // level-0 cell along every axis (particles straddling level boundaries).
 #include "gimp/grid/grid.hpp"
-#include "gimp/physics/internal_force.hpp"
 #include "gimp/transfer/affine.hpp"
+#include "gimp/transfer/internal_force.hpp"
 #include "gimp/transfer/transfer.hpp"
 
 #include "grid_layouts3d.hpp"
@@ -131,7 +131,7 @@ void patchLayout(const Layout &lay, int n, bool shifted, PatchResult &res) {
       sigma[9 * k + 3 * b + a] = s;
     }
     std::vector<double> f(D * g.nSlots, 0.0);
-    gimp::physics::internalForce<D>(st, p.size(), p.V.data(), sigma.data(), f.data());
+    gimp::transfer::internalForce<D>(st, p.size(), p.V.data(), sigma.data(), f.data());
     double fmax = 0;
     long double total[3] = {0, 0, 0};
     for (PetscInt nd = 0; nd < g.nSlots; ++nd)

@@ -7,7 +7,7 @@
 //     f_i = - sum_p V_p sigma . grad w_ip,
 //
 // with the particles' GIMP stencils from Grid::buildStencils and the solver's internal-force
-// kernel physics::internalForce (node weight w_x w_y, gradient (g_x w_y, w_x g_y)). Since the GIMP
+// kernel transfer::internalForce (node weight w_x w_y, gradient (g_x w_y, w_x g_y)). Since the GIMP
 // weight is the average of the node's point shape function S_i (a product of tents with the node's
 // influence zones) over the particle, V_p grad w_ip is the integral of grad S_i over the particle,
 // and for particles that tile B
@@ -37,7 +37,8 @@
 // body drifts across the grid; the identities above hold for any tiling).
 #include "gimp/grid/grid.hpp"
 #include "gimp/grid/shape.hpp"
-#include "gimp/physics/internal_force.hpp"
+#include "gimp/input/scene.hpp"
+#include "gimp/transfer/internal_force.hpp"
 
 #include <gtest/gtest.h>
 
@@ -163,7 +164,7 @@ Particles tile(const Grid<2> &g, const CellBox &blk, int n, double sx, double sy
 }
 
 /// f_i = - sum_p V_p sigma . grad w_ip for sigma = (sxx, syy, sxy), 2 per window node: the
-/// solver's own internal-force kernel (physics::internalForce) on these particles.
+/// solver's own internal-force kernel (transfer::internalForce) on these particles.
 std::vector<double> internalForces(const Grid<2> &g, const Particles &p, const Stencils &s,
                                    const std::array<double, 3> &sig) {
   std::vector<double> f(2 * static_cast<size_t>(g.nWindow), 0.0);
@@ -176,7 +177,7 @@ std::vector<double> internalForces(const Grid<2> &g, const Particles &p, const S
     }
     return t;
   }();
-  gimp::physics::internalForce<2>(s, p.size(), p.V.data(), stress.data(), f.data());
+  gimp::transfer::internalForce<2>(s, p.size(), p.V.data(), stress.data(), f.data());
   return f;
 }
 
@@ -345,7 +346,8 @@ TEST(PatchLevels, InternalForcesOnThreeLevels) {
               "unity");
   for (const PatchLayout &lay : layouts()) {
     Grid<2> g;
-    ASSERT_EQ(static_cast<int>(g.create(PETSC_COMM_SELF, sceneOf(lay))), 0) << lay.name;
+    ASSERT_EQ(static_cast<int>(g.create(PETSC_COMM_SELF, kH0, sceneOf(lay).levelBoxes())), 0)
+        << lay.name;
     ASSERT_EQ(g.levels.size(), 3u);
     for (int n : {1, 2, 3})
       for (bool shifted : {false, true}) {

@@ -1,7 +1,7 @@
-// Body shapes (particles/shape): the moments of a square's part inside a rectangle, ellipse or
+// Body shapes (geometry/shape): the moments of a square's part inside a rectangle, ellipse or
 // polygon add up over a tiling to the shape's exact moments; points in and out; simple-polygon
 // validation; holes inside bodies and overlapping shapes.
-#include "gimp/particles/shape.hpp"
+#include "gimp/geometry/shape.hpp"
 
 #include <gtest/gtest.h>
 

@@ -169,12 +169,12 @@ TEST(GridStencils, ThreeLevelIdentities) {
 // 1a. Deeper refinement: up to the scene's 8 levels, ratios up to its maximum 16, total ratios
 // up to 128, and particles up to a whole level-0 cell (half-size h0, the largest a run allows).
 // Every layout is classified in advance. A layout whose corners lie on its parent's grid lines
-// (to the relative tolerance 1e-9 of setGeometry, docs/options.md), with a non-empty box inside
+// (to the relative tolerance 1e-9 of setLevels, docs/options.md), with a non-empty box inside
 // its parent, is valid (docs/method.md, "Levels"): it must be accepted and give the identities
 // of test 1 with the same tolerances and sampling coverage. Any other layout must be rejected
 // with a one-line InputError that names the offending level's option and gives the documented
 // reason. (The ratio range 2..16 and the level count 1..8 are the scene parser's checks, not
-// setGeometry's.) An earlier version skipped every rejected layout, so a setGeometry that
+// setLevels's.) An earlier version skipped every rejected layout, so a setLevels that
 // rejected everything passed.
 
 struct DeepCase {
@@ -269,7 +269,10 @@ TEST(GridStencils, DeepRefinementLayouts) {
     {
       Grid<2> probe;
       try {
-        probe.setGeometry(sceneOf(c.lay));
+        {
+          const auto sc = sceneOf(c.lay);
+          probe.setLevels(sc.h, sc.levelBoxes());
+        }
       } catch (const InputError &e) {
         threw = true;
         msg = e.what();

@@ -24,8 +24,9 @@
 // Tolerances are round-off: each particle's weights add up to 1 within a few ulp over its
 // 4-25 nodes, and the sums over particles add ~1e-16 relative per term.
 #include "gimp/grid/grid.hpp"
-#include "gimp/physics/internal_force.hpp"
+#include "gimp/input/scene.hpp"
 #include "gimp/transfer/affine.hpp"
+#include "gimp/transfer/internal_force.hpp"
 #include "gimp/transfer/transfer.hpp"
 
 #include "test_util.hpp"
@@ -98,7 +99,7 @@ struct Fixture {
   long straddling = 0, transitionEntries = 0;
 
   explicit Fixture(unsigned seed, double lmin = 0.05, double lmax = 0.5) {
-    EXPECT_EQ(static_cast<int>(g.create(PETSC_COMM_SELF, scene())), 0);
+    EXPECT_EQ(static_cast<int>(g.create(PETSC_COMM_SELF, kH0, scene().levelBoxes())), 0);
     EXPECT_EQ(g.levels.size(), 3u);
     p = randomParticles(g, 3000, seed, lmin, lmax);
     EXPECT_TRUE(g.buildStencils(p.n, p.x.data(), p.l.data(), st));
@@ -528,8 +529,8 @@ void blocksGiveTheRowsResults(unsigned seed, double lmin, double lmax, int side)
   }
   {
     auto f1 = f.nodal(), f2 = f.nodal();
-    gimp::physics::internalForce<2>(f.st, f.p.n, V.data(), stress.data(), f1.data());
-    gimp::physics::internalForce<2>(blocks, f.p.n, V.data(), stress.data(), f2.data());
+    gimp::transfer::internalForce<2>(f.st, f.p.n, V.data(), stress.data(), f1.data());
+    gimp::transfer::internalForce<2>(blocks, f.p.n, V.data(), stress.data(), f2.data());
     EXPECT_LT(rel(f2, f1), tol);
   }
   {

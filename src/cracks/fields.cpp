@@ -5,22 +5,6 @@
 
 namespace gimp::cracks {
 
-void assignFields(const Grid<2> &g, const std::vector<Crack> &cracks, PetscInt n, const double *x,
-                  Stencils<2> &st) {
-  if (g.nSlots == g.nWindow) return; // no cracked node in this window
-  PetscInt *node = st.node.data();
-  for (PetscInt k = 0; k < n; ++k)
-    for (PetscInt e = st.start[k]; e < st.start[k + 1]; ++e) {
-      const PetscInt second = g.crackSlot[node[e]];
-      if (second < 0) continue;
-      for (const Crack &c : cracks)
-        if (crossing(c, x[2 * k], x[2 * k + 1], g.X[node[e]], g.Y[node[e]]) != 0) {
-          node[e] = second;
-          break;
-        }
-    }
-}
-
 void Contact::setup(const Grid<2> &g, const std::vector<Crack> &cracks) {
   dir_.assign(2 * static_cast<size_t>(g.nSlots - g.nWindow), 0.0);
   for (PetscInt s = g.nWindow; s < g.nSlots; ++s) {

@@ -1,5 +1,5 @@
 #include "gimp/diagnostics/measures.hpp"
-#include "gimp/cracks/geometry.hpp"
+#include "gimp/geometry/crack.hpp"
 
 #include "gimp/diagnostics/gather.hpp"
 #include "gimp/particles/swarm.hpp"

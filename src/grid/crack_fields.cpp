@@ -7,8 +7,7 @@
 // finds the same list in the same order, and memory grows with the crack length, not the grid.
 // The second field of a cracked node is owned by the rank owning the node's level-0 cell and is
 // stored in a DMShell appended to the levels' DMComposite.
-#include "gimp/cracks/geometry.hpp"
-#include "gimp/grid/grid.hpp"
+#include "gimp/grid/crack_fields.hpp"
 
 #include <petscdmshell.h>
 
@@ -18,12 +17,14 @@
 
 namespace gimp {
 
-template <> std::vector<Grid<2>::CrackedNode> Grid<2>::findCrackedNodes(const Scene<2> &sc) const {
+template <>
+std::vector<Grid<2>::CrackedNode>
+Grid<2>::findCrackedNodes(const std::vector<Crack> &cracks) const {
   std::vector<CrackedNode> out;
   const double reach = h0();
   for (int k = 0; k < static_cast<int>(levels.size()); ++k) {
     const Level<2> &L = levels[k];
-    for (const Crack &c : sc.cracks)
+    for (const Crack &c : cracks)
       for (size_t s = 0; s + 1 < c.points.size(); ++s) {
         // Nodes of level k whose support, widened by the reach, may meet this segment.
         const double w = reach + h0();
@@ -57,12 +58,13 @@ template <> std::vector<Grid<2>::CrackedNode> Grid<2>::findCrackedNodes(const Sc
   return out;
 }
 
-template <> PetscErrorCode Grid<2>::addCrackFields(MPI_Comm comm, const Scene<2> &sc) {
+template <>
+PetscErrorCode Grid<2>::addCrackFields(MPI_Comm comm, const std::vector<Crack> &cracks) {
   // The window's own slots are set (GridT::build); the second fields come after them.
   PetscMPIInt rank = 0;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
-  if (sc.cracks.empty()) return PETSC_SUCCESS;
-  cracked_ = findCrackedNodes(sc);
+  if (cracks.empty()) return PETSC_SUCCESS;
+  cracked_ = findCrackedNodes(cracks);
   for (CrackedNode &c : cracked_) {
     // The rank owning the level-0 cell whose lower-left corner is at or before the node.
     const double X = nodeCoordinate(c.k, 0, c.i), Y = nodeCoordinate(c.k, 1, c.j);
@@ -93,5 +95,25 @@ template <> PetscErrorCode Grid<2>::addCrackFields(MPI_Comm comm, const Scene<2>
   PetscCall(DMCompositeAddDM(dm, crackDm));
   return PETSC_SUCCESS;
 }
+
+namespace cracks {
+
+void assignFields(const Grid<2> &g, const std::vector<Crack> &cracks, PetscInt n, const double *x,
+                  Stencils<2> &st) {
+  if (g.nSlots == g.nWindow) return; // no cracked node in this window
+  PetscInt *node = st.node.data();
+  for (PetscInt k = 0; k < n; ++k)
+    for (PetscInt e = st.start[k]; e < st.start[k + 1]; ++e) {
+      const PetscInt second = g.crackSlot[node[e]];
+      if (second < 0) continue;
+      for (const Crack &c : cracks)
+        if (crossing(c, x[2 * k], x[2 * k + 1], g.X[node[e]], g.Y[node[e]]) != 0) {
+          node[e] = second;
+          break;
+        }
+    }
+}
+
+} // namespace cracks
 
 } // namespace gimp

@@ -19,20 +19,15 @@ template <int D> Grid<D>::~Grid() {
   if (windowTemplate_) (void)VecDestroy(&windowTemplate_);
 }
 
-template <> PetscErrorCode Grid<2>::create(MPI_Comm comm, const Scene<2> &sc) {
-  setGeometry(sc);
-  PetscCall(build(comm, &sc));
-  return PETSC_SUCCESS;
-}
-
 template <int D>
-PetscErrorCode Grid<D>::create(MPI_Comm comm, double h0, const std::vector<LevelBox<D>> &boxes) {
+PetscErrorCode Grid<D>::create(MPI_Comm comm, double h0, const std::vector<LevelBox<D>> &boxes,
+                               const std::vector<Crack> &cracks) {
   this->setLevels(h0, boxes);
-  PetscCall(build(comm, nullptr));
+  PetscCall(build(comm, cracks));
   return PETSC_SUCCESS;
 }
 
-template <int D> PetscErrorCode Grid<D>::build(MPI_Comm comm, const Scene<2> *sc) {
+template <int D> PetscErrorCode Grid<D>::build(MPI_Comm comm, const std::vector<Crack> &cracks) {
   const int K = static_cast<int>(levels.size());
   static const char *const axis[3] = {"x", "y", "z"};
 
@@ -94,9 +89,9 @@ template <int D> PetscErrorCode Grid<D>::build(MPI_Comm comm, const Scene<2> *sc
   crackSlot.assign(nWindow, -1);
   crackCount_.assign(size, 0);
   if constexpr (D == 2) {
-    if (sc) PetscCall(addCrackFields(comm, *sc));
+    PetscCall(addCrackFields(comm, cracks));
   } else {
-    (void)sc;
+    (void)cracks;
   }
   PetscCall(DMSetUp(dm));
   PetscCall(createScatter(comm));

@@ -30,13 +30,6 @@ const char *const kAxisName[3] = {"x", "y", "z"};
 
 } // namespace
 
-template <> void Lattice<2>::setGeometry(const Scene<2> &sc) {
-  std::vector<LevelBox<2>> boxes;
-  for (size_t k = 0; k < sc.levels.size(); ++k)
-    boxes.push_back({k == 0 ? sc.domain : sc.levels[k].box, k == 0 ? 1 : sc.levels[k].ratio});
-  setLevels(sc.h, boxes);
-}
-
 template <int D> void Lattice<D>::setLevels(double h0, const std::vector<LevelBox<D>> &boxes) {
   const size_t K = boxes.size();
   for (int a = 0; a < D; ++a)

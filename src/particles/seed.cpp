@@ -1,7 +1,7 @@
 // Seeding: each body's cells filled with particles at the body's density.
 #include "gimp/particles/seed.hpp"
 
-#include "gimp/particles/cut_cell.hpp"
+#include "gimp/geometry/cut_cell.hpp"
 #include <limits>
 #include <string>
 

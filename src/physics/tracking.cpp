@@ -1,6 +1,6 @@
 #include "gimp/physics/tracking.hpp"
 
-#include "gimp/cracks/fields.hpp"
+#include "gimp/grid/crack_fields.hpp"
 
 namespace gimp::tracking {
 

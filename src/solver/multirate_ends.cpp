@@ -1,8 +1,8 @@
 // The multi-rate step (solver/multirate.hpp): the starting classes' forces, the sums over a
 // class's step, and the ending classes' G2P, stress and removal from the nodes.
-#include "gimp/physics/internal_force.hpp"
 #include "gimp/solver/multirate.hpp"
 #include "gimp/transfer/affine.hpp"
+#include "gimp/transfer/internal_force.hpp"
 #include "gimp/transfer/transfer.hpp"
 
 #include <algorithm>
@@ -47,7 +47,7 @@ PetscErrorCode MultiRate<D>::classForces(const ParticleView<D> &p, const StepClo
     PetscScalar *w = nullptr;
     PetscCall(VecZeroEntries(w0));
     PetscCall(VecGetArray(w0, &w));
-    physics::internalForce<D>(r.st[k], q.n, q.V, q.s, w);
+    transfer::internalForce<D>(r.st[k], q.n, q.V, q.s, w);
     PetscCall(VecRestoreArray(w0, &w));
     if (!nodeRule) // the impulse m_c f_c, summed on the window
       PetscCall(VecAXPY(n.sumW, mk, w0));

@@ -96,10 +96,7 @@ template <int D> PetscErrorCode Solver<D>::setup() {
 
 template <int D> PetscErrorCode Solver<D>::createGrid() {
   RunState<D> &s = s_;
-  if constexpr (D == 2)
-    PetscCall(s.grid.create(s.comm, s.sc)); // (with the crack fields)
-  else
-    PetscCall(s.grid.create(s.comm, s.sc.h, s.sc.levels));
+  PetscCall(s.grid.create(s.comm, s.sc.h, s.sc.levelBoxes(), s.sc.cracks));
   s.sc.idSlots = bodyIdSlots<D>(s.grid);
   if (!s.sc.gridDump.empty()) PetscCall(writeGridDump());
   return PETSC_SUCCESS;

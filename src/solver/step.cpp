@@ -4,7 +4,7 @@
 #include "gimp/solver/step.hpp"
 
 #include "gimp/physics/deformation.hpp"
-#include "gimp/physics/internal_force.hpp"
+#include "gimp/transfer/internal_force.hpp"
 #include "gimp/transfer/lane_loops.hpp"
 #include "gimp/transfer/transfer.hpp"
 
@@ -172,7 +172,7 @@ PetscErrorCode Step<D>::forces(const ParticleView<D> &p, const StepClock &c, Sta
   PetscCall(VecGetArray(n.sumW, &f));
   if constexpr (D == 2)
     if (s.lanes) transfer::laneLoops::internalForce(s.st, p.n, p.V, p.s, f);
-  if (D != 2 || !s.lanes) physics::internalForce<D>(s.st, p.n, p.V, p.s, f);
+  if (D != 2 || !s.lanes) transfer::internalForce<D>(s.st, p.n, p.V, p.s, f);
   if (s.boundary.active()) {
     PetscScalar *fe = nullptr;
     PetscCall(VecZeroEntries(n.extW));

@@ -1,8 +1,8 @@
 #include "gimp/stability/stability.hpp"
 
-#include "gimp/physics/internal_force.hpp"
 #include "gimp/physics/material.hpp"
 #include "gimp/transfer/affine.hpp"
+#include "gimp/transfer/internal_force.hpp"
 #include "gimp/transfer/transfer.hpp"
 
 #include <algorithm>
@@ -102,7 +102,7 @@ template <int D> PetscErrorCode applyOperator(Mat A, Vec x, Vec y) {
     tangentStress<D>(in.sc->materialOf(p.id[k]), s->L.data() + D * D * k, s->ds.data() + D * D * k);
   PetscCall(VecZeroEntries(s->fW));
   PetscCall(VecGetArray(s->fW, &f));
-  physics::internalForce<D>(*in.st, p.n, p.V, s->ds.data(), f);
+  transfer::internalForce<D>(*in.st, p.n, p.V, s->ds.data(), f);
   if (in.boundary)
     in.boundary->penaltyIncrement(*in.sc, *in.grid, *in.st, p, nullptr, s->L.data(), s->ds.data(),
                                   in.springs, f);

@@ -6,8 +6,8 @@
 #include "gimp/transfer/lane_loops.hpp"
 
 #include "gimp/physics/deformation.hpp"
-#include "gimp/physics/internal_force.hpp"
 #include "gimp/physics/material.hpp"
+#include "gimp/transfer/internal_force.hpp"
 #include "gimp/transfer/transfer.hpp"
 
 #include <cmath>
@@ -41,7 +41,7 @@ GIMP_LANES void internalForce(const Stencils<2> &st, PetscInt n, const double *V
     addToNodes<false>(R, N, f, nullptr);
   };
   forGroups(st, 0, n, lane,
-            [&](PetscInt k) { physics::internalForce<2>(st, k, k + 1, V, stress, f); });
+            [&](PetscInt k) { transfer::internalForce<2>(st, k, k + 1, V, stress, f); });
 }
 
 GIMP_LANES void velocityGradients(const Stencils<2> &st, PetscInt k0, PetscInt k1, const double *vg,
@@ -176,7 +176,7 @@ GIMP_LANES PetscInt checkParticles(PetscInt n, const double *x, const double *l,
 
 void internalForce(const Stencils<2> &st, PetscInt n, const double *V, const double *stress,
                    double *f) {
-  physics::internalForce<2>(st, 0, n, V, stress, f);
+  transfer::internalForce<2>(st, 0, n, V, stress, f);
 }
 void velocityGradients(const Stencils<2> &st, PetscInt k0, PetscInt k1, const double *vg,
                        double *L) {

@@ -1,19 +1,14 @@
-// The two velocity fields of explicit cracks on the grid: which field of a cracked node a
-// particle joins, and frictionless contact between the fields after the grid update.
+// Frictionless contact between the two velocity fields of explicit cracks after the grid update
+// (which field a particle joins: grid/crack_fields.hpp).
 #pragma once
 
-#include "gimp/cracks/geometry.hpp"
+#include "gimp/geometry/crack.hpp"
+#include "gimp/grid/crack_fields.hpp"
 #include "gimp/grid/grid.hpp"
 
 #include <vector>
 
 namespace gimp::cracks {
-
-/// A particle joins field 1 of a node (the node's own slot) when the segment from the particle
-/// (its weight centre x) to the node crosses no crack, and field 2 (the node's crack slot) when
-/// it crosses one: entries of cracked nodes are moved to the second slot accordingly.
-void assignFields(const Grid<2> &g, const std::vector<Crack> &cracks, PetscInt n, const double *x,
-                  Stencils<2> &st);
 
 /// Contact between the two fields of every cracked node of a window.
 class Contact {

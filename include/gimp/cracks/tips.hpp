@@ -4,6 +4,8 @@
 
 #include "gimp/cracks/williams.hpp"
 #include "gimp/grid/grid.hpp"
+#include "gimp/input/material.hpp"
+#include "gimp/input/scene.hpp"
 #include "gimp/particles/swarm.hpp"
 
 #include <vector>

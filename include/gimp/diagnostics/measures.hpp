@@ -4,6 +4,7 @@
 #pragma once
 
 #include "gimp/grid/lattice.hpp"
+#include "gimp/input/scene.hpp"
 #include "gimp/particles/swarm.hpp"
 
 #include <petscdm.h>

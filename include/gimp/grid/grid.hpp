@@ -7,6 +7,7 @@
 // arrays and finer levels need no decomposition matching level 0.
 #pragma once
 
+#include "gimp/geometry/crack.hpp"
 #include "gimp/grid/lattice.hpp"
 #include "gimp/grid/stencils.hpp"
 
@@ -59,11 +60,11 @@ public:
   Grid &operator=(const Grid &) = delete;
   ~Grid();
 
-  /// Build the levels from the 2D scene, the composite DM, this rank's window and its scatter
-  /// (collective; D = 2, with the scene's cracks).
-  PetscErrorCode create(MPI_Comm comm, const Scene<2> &sc);
-  /// The same from level 0's cell size and the level boxes (boxes[0] the domain), no cracks.
-  PetscErrorCode create(MPI_Comm comm, double h0, const std::vector<LevelBox<D>> &boxes);
+  /// Build the levels from level 0's cell size and the level boxes (boxes[0] the domain), the
+  /// composite DM, this rank's window and its scatter, and the second fields of the nodes the
+  /// cracks cut (D = 2; there are none in 3D). Collective.
+  PetscErrorCode create(MPI_Comm comm, double h0, const std::vector<LevelBox<D>> &boxes,
+                        const std::vector<Crack> &cracks = {});
 
   DM dm = nullptr;         // DMComposite of the level DMDAs (and crackDm, with cracks)
   DM crackDm = nullptr;    // DMShell of the cracked nodes' second fields (dof 2), or null
@@ -131,14 +132,14 @@ public:
   bool buildPointStencils(PetscInt n, const double *x, Stencils<D> &s) const;
 
 private:
-  /// The DMs, the window, its nodes, the crack fields (sc given, 2D) and the scatter.
-  PetscErrorCode build(MPI_Comm comm, const Scene<2> *sc);
+  /// The DMs, the window, its nodes, the crack fields (2D) and the scatter.
+  PetscErrorCode build(MPI_Comm comm, const std::vector<Crack> &cracks);
   /// Level-0 ownership and this rank's window of every level.
   PetscErrorCode setWindow();
   /// Every cracked node of the grid, in an order every rank agrees on (collective-free).
-  std::vector<CrackedNode> findCrackedNodes(const Scene<2> &sc) const;
+  std::vector<CrackedNode> findCrackedNodes(const std::vector<Crack> &cracks) const;
   /// The DMShell of the second fields, its window slots and their composite indices.
-  PetscErrorCode addCrackFields(MPI_Comm comm, const Scene<2> &sc);
+  PetscErrorCode addCrackFields(MPI_Comm comm, const std::vector<Crack> &cracks);
   /// Positions, activity, zones and regularity of the window's nodes.
   void fillWindowNodes();
   /// The scatter between the composite global Vec and the window.
@@ -197,9 +198,9 @@ private:
 };
 
 // The 2D-only members: the scene's grid (with its cracks) and CPDI's quadrilaterals.
-template <> PetscErrorCode Grid<2>::create(MPI_Comm comm, const Scene<2> &sc);
-template <> std::vector<Grid<2>::CrackedNode> Grid<2>::findCrackedNodes(const Scene<2> &sc) const;
-template <> PetscErrorCode Grid<2>::addCrackFields(MPI_Comm comm, const Scene<2> &sc);
+template <>
+std::vector<Grid<2>::CrackedNode> Grid<2>::findCrackedNodes(const std::vector<Crack> &cracks) const;
+template <> PetscErrorCode Grid<2>::addCrackFields(MPI_Comm comm, const std::vector<Crack> &cracks);
 template <>
 const char *Grid<2>::buildCpdiStencils(PetscInt n, const double *corners, Stencils<2> &s) const;
 

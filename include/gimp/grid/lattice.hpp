@@ -12,8 +12,10 @@
 #pragma once
 
 #include "gimp/core/box.hpp"
+#include "gimp/core/errors.hpp"
 #include "gimp/core/tensor.hpp"
-#include "gimp/input/scene.hpp"
+
+#include <petscsys.h>
 
 #include <array>
 #include <cstdint>
@@ -53,9 +55,6 @@ template <int D> class Lattice {
 public:
   using Index = LatticeIndex<D>;
 
-  /// Levels from a 2D scene (validated there; D = 2 only). Throws InputError for a layout that
-  /// is not properly nested; the same on every rank.
-  void setGeometry(const Scene<2> &sc);
   /// Levels from level 0's cell size h0 and the boxes (boxes[0] the domain). Throws InputError
   /// naming the option -gimp_level<k>_box for a layout that is not properly nested.
   void setLevels(double h0, const std::vector<LevelBox<D>> &boxes);
@@ -110,9 +109,6 @@ template <int D, class F> void forEachIndex(const std::array<PetscInt, D> &n, F 
     if (a == D) return;
   }
 }
-
-/// The scene is 2D: only the 2D lattice is set from it.
-template <> void Lattice<2>::setGeometry(const Scene<2> &sc);
 
 extern template class Lattice<2>;
 extern template class Lattice<3>;

@@ -7,9 +7,9 @@
 #pragma once
 
 #include "gimp/core/box.hpp"
+#include "gimp/geometry/shape.hpp"
 #include "gimp/input/material.hpp"
 #include "gimp/input/particle_file.hpp"
-#include "gimp/particles/shape.hpp"
 
 #include <array>
 #include <string>

@@ -11,7 +11,7 @@
 
 #include "gimp/core/box.hpp"
 #include "gimp/core/errors.hpp"
-#include "gimp/cracks/geometry.hpp"
+#include "gimp/geometry/crack.hpp"
 #include "gimp/input/bodies.hpp"
 #include "gimp/input/material.hpp"
 
@@ -165,6 +165,12 @@ template <int D> struct GridSpec {
   bool domainGiven = false;        // -gimp_domain given (else the bodies' box padded by pad cells)
   PetscInt pad = 2;                // cells of padding around the bodies for the default domain
   std::vector<LevelBox<D>> levels; // levels[0] is the domain
+  /// The boxes the grid is built from: the levels, level 0 being the domain.
+  std::vector<LevelBox<D>> levelBoxes() const {
+    std::vector<LevelBox<D>> b = levels;
+    if (!b.empty()) b[0] = {domain, 1};
+    return b;
+  }
 };
 
 /// The loads and constraints: body force, tractions and penalty conditions on the bodies'

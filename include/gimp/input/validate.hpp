@@ -4,7 +4,7 @@
 #pragma once
 
 #include "gimp/grid/grid.hpp"
-#include "gimp/particles/swarm.hpp"
+#include "gimp/input/scene.hpp"
 
 #include <petscts.h>
 
@@ -22,13 +22,6 @@ PetscErrorCode readOptionsOneLine(const std::function<PetscErrorCode()> &read);
 /// Combinations readScene cannot judge alone: the model and plane, particle density limits, the
 /// multi-rate step's limits.
 template <int D> void checkSceneCombinations(const Scene<D> &sc);
-
-/// The seeded particles: every body holds some, every traction and penalty condition reaches a
-/// particle edge (2D) or face (3D), every particle lies inside the grid. Returns the count and
-/// mean mass.
-template <int D>
-PetscErrorCode checkSeeding(MPI_Comm comm, const Scene<D> &sc, const Grid<D> &grid,
-                            const ParticleView<D> &p, PetscInt64 &count, double &meanMass);
 
 /// TSSetFromOptions with parse errors as one line, then the time stepper's type, adaptivity and
 /// step checked (explicit euler, fixed dt > 0 and, unless -gimp_stability_check bounds it by the

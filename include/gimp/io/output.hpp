@@ -6,6 +6,7 @@
 #pragma once
 
 #include "gimp/grid/grid.hpp"
+#include "gimp/input/scene.hpp"
 #include "gimp/io/report.hpp"
 
 #include <cstdio>

@@ -7,6 +7,7 @@
 #pragma once
 
 #include "gimp/grid/grid.hpp"
+#include "gimp/input/scene.hpp"
 #include "gimp/particles/swarm.hpp"
 
 #include <string>
@@ -43,6 +44,13 @@ struct LoadConflict {
 template <int D>
 PetscErrorCode seedParticles(const Scene<D> &sc, const Grid<D> &grid, DM sw,
                              LoadConflict &conflict);
+
+/// The seeded particles: every body holds some, every traction and penalty condition reaches a
+/// particle edge (2D) or face (3D), every particle lies inside the grid (else InputError on every
+/// rank). Returns the count and mean mass. Collective.
+template <int D>
+PetscErrorCode checkSeeding(MPI_Comm comm, const Scene<D> &sc, const Grid<D> &grid,
+                            const ParticleView<D> &p, PetscInt64 &count, double &meanMass);
 
 /// Id slots per body (see seedParticles).
 template <int D> PetscInt64 bodyIdSlots(const Lattice<D> &grid);

@@ -10,6 +10,7 @@
 
 #include "gimp/core/petsc_compat.hpp"
 #include "gimp/core/tensor.hpp"
+#include "gimp/input/scene.hpp"
 
 #include <petscdmswarm.h>
 

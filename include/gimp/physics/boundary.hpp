@@ -12,6 +12,7 @@
 
 #include "gimp/grid/grid.hpp"
 #include "gimp/grid/shape.hpp"
+#include "gimp/input/scene.hpp"
 #include "gimp/particles/swarm.hpp"
 
 #include <vector>

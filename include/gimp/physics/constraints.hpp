@@ -2,6 +2,7 @@
 #pragma once
 
 #include "gimp/grid/grid.hpp"
+#include "gimp/input/scene.hpp"
 
 namespace gimp::physics {
 

@@ -9,8 +9,9 @@
 #pragma once
 
 #include "gimp/core/pair.hpp"
-#include "gimp/cracks/geometry.hpp"
+#include "gimp/geometry/crack.hpp"
 #include "gimp/grid/grid.hpp"
+#include "gimp/input/scene.hpp"
 #include "gimp/particles/swarm.hpp"
 
 #include <algorithm>

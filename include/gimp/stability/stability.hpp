@@ -5,7 +5,7 @@
 // becomes a particle strain by transfer::velocityGradient (du read as a velocity over dt = 1), a
 // stress increment by the linear tangent (material::jaumannUpdate from zero stress: Hooke with
 // lambda*, mu; the small-strain tangent for neo-Hookean; no geometric stiffness), nodal forces
-// by physics::internalForce, plus the change of the penalty forces of Eq. 9
+// by transfer::internalForce, plus the change of the penalty forces of Eq. 9
 // (physics::Boundary::penaltyIncrement). The result is masked (constrained and empty nodes) and
 // divided by the lumped nodal mass of P2G. The traction term of Eq. 9 makes K non-symmetric.
 //
@@ -27,6 +27,7 @@
 #pragma once
 
 #include "gimp/grid/grid.hpp"
+#include "gimp/input/scene.hpp"
 #include "gimp/particles/swarm.hpp"
 #include "gimp/physics/boundary.hpp"
 

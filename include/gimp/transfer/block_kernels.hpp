@@ -3,7 +3,7 @@
 // (core/pair.hpp). N = 3 for half-sizes up to h/2, N = 4 up to h. The rows along y stop at the
 // last one the particle reaches (rowsReached); along x all N nodes are summed (the ones it does
 // not reach have weight and slope 0). The kernels of transfer.hpp, affine.hpp and
-// physics/internal_force.hpp call these for their block particles.
+// transfer/internal_force.hpp call these for their block particles.
 #pragma once
 
 #include "gimp/core/pair.hpp"

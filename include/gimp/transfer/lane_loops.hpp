@@ -34,7 +34,7 @@ void particlesToGridAffineB(const Stencils<2> &st, PetscInt n, const double *m, 
                             const double *B, const double *xc, const double *xs, double *mom,
                             double *mass);
 
-/// physics::internalForce<2> (physics/internal_force.hpp): f_i -= V_p sigma_p grad S_ip.
+/// transfer::internalForce<2> (transfer/internal_force.hpp): f_i -= V_p sigma_p grad S_ip.
 void internalForce(const Stencils<2> &st, PetscInt n, const double *V, const double *stress,
                    double *f);
 

@@ -1,6 +1,6 @@
 // Crack geometry: the crossing test of the stencils, distances, normals and the validation of
-// a polyline (see include/gimp/cracks/geometry.hpp for the conventions and the tolerance).
-#include "gimp/cracks/geometry.hpp"
+// a polyline (see include/gimp/geometry/crack.hpp for the conventions and the tolerance).
+#include "gimp/geometry/crack.hpp"
 
 #include <algorithm>
 #include <cmath>

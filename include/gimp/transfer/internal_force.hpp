@@ -4,7 +4,7 @@
 #include "gimp/grid/stencils.hpp"
 #include "gimp/transfer/block_kernels.hpp"
 
-namespace gimp::physics {
+namespace gimp::transfer {
 
 /// Accumulates the internal force of particles k0 .. k1-1 into the window array f (D values per
 /// slot). stress is the particles' row-major D x D Cauchy stress, V their current volumes.
@@ -15,11 +15,11 @@ void internalForce(const Stencils<D> &st, PetscInt k0, PetscInt k1, const double
     const Tensor<D> A = -V[k] * tensorAt<D>(stress, k);
     if constexpr (D == 2) { // f_ij = A (g_i w_j, w_i g_j), both components at once
       if (st.isBlock(k)) {
-        transfer::blocks::internalForce(st.block(k), A, f);
+        blocks::internalForce(st.block(k), A, f);
         continue;
       }
       if (st.isBlock4(k)) {
-        transfer::blocks::internalForce(st.block4(k), A, f);
+        blocks::internalForce(st.block4(k), A, f);
         continue;
       }
     }
@@ -41,4 +41,4 @@ void internalForce(const Stencils<D> &st, PetscInt n, const double *V, const dou
   internalForce<D>(st, 0, n, V, stress, f);
 }
 
-} // namespace gimp::physics
+} // namespace gimp::transfer

@@ -1,5 +1,5 @@
-// Moments of a rectangle cut by circular holes (see include/gimp/particles/cut_cell.hpp).
-#include "gimp/particles/cut_cell.hpp"
+// Moments of a rectangle cut by circular holes (see include/gimp/geometry/cut_cell.hpp).
+#include "gimp/geometry/cut_cell.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,6 +1,6 @@
-// Plane shapes (see include/gimp/particles/shape.hpp).
-#include "gimp/particles/shape.hpp"
-#include "gimp/particles/cut_cell.hpp"
+// Plane shapes (see include/gimp/geometry/shape.hpp).
+#include "gimp/geometry/shape.hpp"
+#include "gimp/geometry/cut_cell.hpp"
 
 #include <algorithm>
 #include <cmath>
