@@ -1,0 +1,179 @@
+// Seeding (the particles room): what seedParticles puts in the swarm, against what the scene
+// describes exactly. Particles tile their bodies: their volumes sum to the body's area (2D, cut
+// cells included: the moments of a square cut by a circle are exact) or volume (3D boxes), their
+// masses to rho times it, and their mass-weighted centre is the body's centroid. A leaf cell of
+// level k holds ppc = n^D particles of side h_k / n, so refining a level leaves those sums alone.
+// Ids are unique, and id / idSlots is the body. A particle's centre lies in its body's box, and
+// so does its whole domain unless an edge cuts it.
+#include "gimp/grid/grid.hpp"
+#include "gimp/input/scene.hpp"
+#include "gimp/particles/seed.hpp"
+#include "gimp/particles/swarm.hpp"
+
+#include <gtest/gtest.h>
+#include <petscsys.h>
+
+#include <cmath>
+#include <set>
+#include <string>
+#include <vector>
+
+namespace {
+
+using gimp::Grid;
+using gimp::ParticleView;
+using gimp::Scene;
+
+constexpr double kPi = 3.14159265358979323846;
+
+/// What a seeded swarm adds up to.
+struct Seeded {
+  PetscInt n = 0;
+  double volume = 0, mass = 0, centre[3] = {0, 0, 0}; // centre: mass-weighted
+  std::vector<double> sideMin, sideMax;               // per axis, over the particles
+  bool idsUnique = true, idsOfBodies = true;
+  bool centresInside = true; // every centre in its body's bounding box
+  bool domainsInside = true; // every particle's domain too (a cut particle's may reach past it)
+};
+
+/// The scene of `options` read, its grid built and its particles seeded on one rank.
+template <int D> Seeded seed(const std::string &options) {
+  Seeded out;
+  EXPECT_EQ(PetscOptionsClear(nullptr), 0);
+  EXPECT_EQ(PetscOptionsInsertString(nullptr, options.c_str()), 0);
+  Scene<D> sc;
+  EXPECT_EQ(gimp::readScene<D>(PETSC_COMM_SELF, sc), 0) << options;
+  Grid<D> grid;
+  EXPECT_EQ(grid.create(PETSC_COMM_SELF, sc.h, sc.levelBoxes(), sc.cracks), 0);
+  sc.idSlots = gimp::bodyIdSlots<D>(grid);
+  DM sw = nullptr;
+  EXPECT_EQ(gimp::createSwarm<D>(PETSC_COMM_SELF, gimp::optionalFieldsOf(sc), &sw), 0);
+  gimp::LoadConflict conflict;
+  EXPECT_EQ(gimp::seedParticles<D>(sc, grid, sw, conflict), 0);
+  ParticleView<D> p;
+  EXPECT_EQ(p.get(sw), 0);
+  out.n = p.n;
+  out.sideMin.assign(D, 1e300);
+  out.sideMax.assign(D, 0);
+  std::set<PetscInt64> ids;
+  for (PetscInt k = 0; k < p.n; ++k) {
+    out.volume += p.V[k];
+    out.mass += p.m[k];
+    for (int a = 0; a < D; ++a) {
+      out.centre[a] += p.m[k] * p.x[D * k + a];
+      out.sideMin[a] = std::min(out.sideMin[a], 2 * p.l[D * k + a]);
+      out.sideMax[a] = std::max(out.sideMax[a], 2 * p.l[D * k + a]);
+    }
+    out.idsUnique = out.idsUnique && ids.insert(p.id[k]).second;
+    const PetscInt64 body = p.id[k] / sc.idSlots;
+    if (body < 0 || body >= static_cast<PetscInt64>(sc.bodies.size())) {
+      out.idsOfBodies = false;
+      continue;
+    }
+    const auto &box = sc.bodies[body].box;
+    for (int a = 0; a < D; ++a) {
+      const double x = p.x[D * k + a], l = p.l[D * k + a];
+      out.centresInside = out.centresInside && x >= box[a] && x <= box[D + a];
+      out.domainsInside =
+          out.domainsInside && x - l >= box[a] - 1e-12 && x + l <= box[D + a] + 1e-12;
+    }
+  }
+  for (int a = 0; a < D; ++a)
+    out.centre[a] /= out.mass;
+  EXPECT_EQ(p.restore(sw), 0);
+  EXPECT_EQ(DMDestroy(&sw), 0);
+  return out;
+}
+
+const std::string kMaterial = "-gimp_E 1e7 -gimp_nu 0.3 -gimp_rho 1000 ";
+
+TEST(Seeding, RectangleTiledByPpcSquaresPerCell) {
+  // A 1 x 0.4 box on h = 0.1: 40 cells of ppc = n^2 squares of side h / n.
+  for (int ppc : {1, 2, 3, 5}) {
+    const Seeded s = seed<2>(kMaterial + "-gimp_h 0.1 -gimp_body0_box 0,0,1,0.4 -gimp_body0_ppc " +
+                             std::to_string(ppc * ppc));
+    EXPECT_EQ(s.n, 40 * ppc * ppc) << ppc;
+    EXPECT_NEAR(s.volume, 0.4, 1e-14) << ppc;
+    EXPECT_NEAR(s.mass, 400.0, 1e-11) << ppc;
+    EXPECT_NEAR(s.centre[0], 0.5, 1e-14) << ppc;
+    EXPECT_NEAR(s.centre[1], 0.2, 1e-14) << ppc;
+    for (int a = 0; a < 2; ++a) {
+      EXPECT_NEAR(s.sideMin[a], 0.1 / ppc, 1e-15) << ppc;
+      EXPECT_NEAR(s.sideMax[a], 0.1 / ppc, 1e-15) << ppc;
+    }
+    EXPECT_TRUE(s.idsUnique && s.idsOfBodies && s.centresInside && s.domainsInside) << ppc;
+  }
+}
+
+TEST(Seeding, RefinedLevelsKeepTheSums) {
+  // Two refined levels (ratios 2 and 3) over part of the body: leaf cells of h / 2 and h / 6
+  // hold ppc particles each, and the totals are those of one level.
+  const std::string levels = "-gimp_levels 3 -gimp_level1_box 0.2,0,0.8,0.4 -gimp_level1_ratio 2 "
+                             "-gimp_level2_box 0.3,0.1,0.5,0.3 -gimp_level2_ratio 3 ";
+  const Seeded s =
+      seed<2>(kMaterial + levels + "-gimp_h 0.1 -gimp_body0_box 0,0,1,0.4 -gimp_body0_ppc 4");
+  // Cells: level 0 outside level 1: 40 - 24 = 16; level 1 outside level 2: 96 - 16 = 80;
+  // level 2: (0.2 / (0.1 / 6))^2 = 144.
+  EXPECT_EQ(s.n, 4 * (16 + 80 + 144));
+  EXPECT_NEAR(s.volume, 0.4, 1e-14);
+  EXPECT_NEAR(s.mass, 400.0, 1e-11);
+  EXPECT_NEAR(s.centre[0], 0.5, 1e-13);
+  EXPECT_NEAR(s.centre[1], 0.2, 1e-13);
+  EXPECT_NEAR(s.sideMin[0], 0.1 / 12, 1e-15);
+  EXPECT_NEAR(s.sideMax[0], 0.1 / 2, 1e-15);
+  EXPECT_TRUE(s.idsUnique && s.idsOfBodies && s.centresInside && s.domainsInside);
+}
+
+TEST(Seeding, CutCellsGiveTheExactArea) {
+  // A quarter hole of radius 0.002 at the corner of a 0.03 square (the plate scene) and a
+  // circle body: the cut squares' areas sum to the exact area, their centroids to the exact
+  // first moments.
+  const double r = 0.002, a = 0.03;
+  const Seeded plate = seed<2>(kMaterial + "-gimp_h 1e-3 -gimp_body0_box 0,0,0.03,0.03 "
+                                           "-gimp_body0_holes 0,0,0.002 -gimp_body0_ppc 1 "
+                                           "-gimp_body0_hole_ppc 4");
+  const double area = a * a - kPi * r * r / 4;
+  EXPECT_NEAR(plate.volume, area, 1e-13 * area);
+  // First moment of the plate less the quarter disk (its centroid at 4r / 3 pi from the corner).
+  const double mx = a * a * a / 2 - (kPi * r * r / 4) * (4 * r / (3 * kPi));
+  EXPECT_NEAR(plate.centre[0], mx / area, 1e-12 * a);
+  EXPECT_NEAR(plate.centre[1], mx / area, 1e-12 * a);
+  EXPECT_TRUE(plate.idsUnique && plate.idsOfBodies && plate.centresInside);
+
+  const Seeded disk = seed<2>(kMaterial + "-gimp_h 0.1 -gimp_body0_shape circle "
+                                          "-gimp_body0_circle 0.55,0.45,0.37 -gimp_body0_ppc 9");
+  EXPECT_NEAR(disk.volume, kPi * 0.37 * 0.37, 1e-13);
+  EXPECT_NEAR(disk.centre[0], 0.55, 1e-13);
+  EXPECT_NEAR(disk.centre[1], 0.45, 1e-13);
+  EXPECT_TRUE(disk.idsUnique && disk.idsOfBodies && disk.centresInside);
+}
+
+TEST(Seeding, TwoBodiesHaveTheirOwnIds) {
+  const Seeded s =
+      seed<2>(kMaterial + "-gimp_h 0.1 -gimp_bodies 2 -gimp_body0_box 0,0,0.4,0.4 "
+                          "-gimp_body0_ppc 4 -gimp_body1_box 0.6,0,1,0.2 -gimp_body1_ppc 9");
+  EXPECT_EQ(s.n, 16 * 4 + 8 * 9);
+  EXPECT_NEAR(s.volume, 0.16 + 0.08, 1e-14);
+  EXPECT_TRUE(s.idsUnique && s.idsOfBodies && s.centresInside && s.domainsInside);
+}
+
+TEST(Seeding, BoxIn3DTiledByPpcCubesPerCell) {
+  // A 0.4 x 0.3 x 0.2 box on h = 0.1: 24 cells of ppc = n^3 cubes of side h / n.
+  for (int ppc : {1, 2, 3}) {
+    const Seeded s = seed<3>(kMaterial +
+                             "-gimp_dim 3 -gimp_h 0.1 -gimp_body0_box "
+                             "0,0,0,0.4,0.3,0.2 -gimp_body0_ppc " +
+                             std::to_string(ppc * ppc * ppc));
+    EXPECT_EQ(s.n, 24 * ppc * ppc * ppc) << ppc;
+    EXPECT_NEAR(s.volume, 0.024, 1e-15) << ppc;
+    EXPECT_NEAR(s.mass, 24.0, 1e-12) << ppc;
+    EXPECT_NEAR(s.centre[0], 0.2, 1e-14) << ppc;
+    EXPECT_NEAR(s.centre[1], 0.15, 1e-14) << ppc;
+    EXPECT_NEAR(s.centre[2], 0.1, 1e-14) << ppc;
+    for (int a = 0; a < 3; ++a)
+      EXPECT_NEAR(s.sideMax[a], 0.1 / ppc, 1e-15) << ppc;
+    EXPECT_TRUE(s.idsUnique && s.idsOfBodies && s.centresInside && s.domainsInside) << ppc;
+  }
+}
+
+} // namespace
