@@ -71,12 +71,13 @@ STEPS = {
     # length, or the steps until the first migrations)
     "drift": 400, "drift3": 480, "migrate3d": 300, "disks": 300,
     "drift3-multirate": 480, "drift3-cpdi": 480, "drift3-cpdi2": 480,
+    "migrate3d-corners": 300, "migrate3d-cpdi2": 300,
 }
 # Fragments that are not a scene on their own: run on top of the scene they extend.
 BASE = {"rest_tension_levels": "rest_tension.opts"}
 # Variants "<scene>-<tag>": the scene with options that no scene file sets, so that every
 # step variant is in the tier: multi-rate steps (both force rules), CPDI domains, USF, XPIC,
-# the stability check (SLEPc), 3D FLIP with USL.
+# the stability check (SLEPc), 3D FLIP with USL, 3D corner and CPDI domains (crossing ranks).
 VARIANTS = {
     "drift3-multirate": ["-gimp_multirate", "true"],
     "rest_tension_levels-multirate_node": ["-gimp_multirate", "true", "-gimp_multirate_forces",
@@ -87,6 +88,9 @@ VARIANTS = {
     "patch3-xpic": ["-gimp_transfer", "xpic", "-gimp_xpic_order", "3"],
     "patch3-stability": ["-gimp_stability_check", "true"],
     "patch3d-flip_usl": ["-gimp_transfer", "flip", "-gimp_update", "usl"],
+    "tension3d-cpdi": ["-gimp_tracking", "cpdi"],
+    "migrate3d-corners": ["-gimp_tracking", "corners"],
+    "migrate3d-cpdi2": ["-gimp_tracking", "cpdi2"],
 }
 
 SKIP_KEYS = {"wall_seconds", "cpu_seconds", "version", "particle_steps_per_second"}

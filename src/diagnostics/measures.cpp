@@ -7,6 +7,7 @@
 #include "gimp/physics/tracking.hpp"
 
 #include <algorithm>
+#include <array>
 #include <climits>
 #include <cmath>
 
@@ -133,28 +134,29 @@ GIMP_INSTANTIATE(3)
 
 namespace {
 
-// A particle's row for the separation measure: X0, the domain's centre, l, l0 (2 each).
-constexpr int kCols = 8;
-using Key = std::pair<long long, long long>;
+// A particle's row for the separation measure: X0, the domain's centre, l, l0 (D each).
+template <int D> constexpr int kCols = 4 * D;
+using Key = std::array<long long, 3>; // lattice indices z, y, x (z = 0 in 2D)
 
 /// Rows read from a particle view (this rank's particles) or from a packed array (the rows
 /// gathered on rank 0).
-struct Rows {
-  const ParticleView<2> *p = nullptr;
+template <int D> struct Rows {
+  const ParticleView<D> *p = nullptr;
   const double *packed = nullptr;
   size_t n = 0;
-  void row(size_t i, double r[kCols]) const {
+  void row(size_t i, double r[kCols<D>]) const {
     if (packed) {
-      std::copy_n(&packed[i * kCols], kCols, r);
+      std::copy_n(&packed[i * kCols<D>], kCols<D>, r);
       return;
     }
-    const ParticleView<2> &v = *p;
-    for (int d = 0; d < 2; ++d) {
-      // The particle's domain: centred on the material point, or the corners' rectangle.
-      r[d] = v.X0[2 * i + d];
-      r[2 + d] = v.hasCorners ? tracking::cornerBoxCentre(&v.corners[8 * i], d) : v.x[2 * i + d];
-      r[4 + d] = v.l[2 * i + d];
-      r[6 + d] = v.l0[2 * i + d];
+    const ParticleView<D> &v = *p;
+    const double *corners = v.hasCorners ? &v.corners[D * (1 << D) * i] : nullptr;
+    for (int d = 0; d < D; ++d) {
+      // The particle's domain: centred on the material point, or the corners' box.
+      r[d] = v.X0[D * i + d];
+      r[D + d] = corners ? tracking::cornerBoxCentre<D>(corners, d) : v.x[D * i + d];
+      r[2 * D + d] = v.l[D * i + d];
+      r[3 * D + d] = v.l0[D * i + d];
     }
   }
 };
@@ -168,56 +170,74 @@ inline long long roundKey(double v) {
   return t + (f >= 0.5) - (f <= -0.5);
 }
 
-/// A lattice point's key (step q): y first, so that rows of the lattice are runs of the keys, as
-/// the particles are stored (by cell, x fastest).
-inline Key keyOf(double x, double y, double q) {
-  return {roundKey(y / q), roundKey(x / q)};
+/// A lattice point's key (step q): the last axis first, so that rows of the lattice are runs of
+/// the keys, as the particles are stored (by cell, x fastest).
+template <int D> inline Key keyOf(const double *x, double q) {
+  Key k = {0, 0, 0};
+  for (int d = 0; d < D; ++d)
+    k[2 - d] = roundKey(x[d] / q);
+  return k;
 }
 
 /// The rows sorted by their X0 lattice key (step q), for lookups.
-std::vector<std::pair<Key, size_t>> keyed(const Rows &rows, double q) {
+template <int D> std::vector<std::pair<Key, size_t>> keyed(const Rows<D> &rows, double q) {
   std::vector<std::pair<Key, size_t>> at(rows.n);
-  double r[kCols];
+  double r[kCols<D>];
   for (size_t i = 0; i < rows.n; ++i) {
     rows.row(i, r);
-    at[i] = {keyOf(r[0], r[1], q), i};
+    at[i] = {keyOf<D>(r, q), i};
   }
   std::sort(at.begin(), at.end());
   return at;
 }
 
-/// The position in `at` of the first row whose X0 is at (x, y), or -1. The position `hint` is
-/// tried first: on a lattice, walking the rows in key order, each neighbour lies one past the
-/// previous row's (the same answer as a search, in one comparison).
-long long findAt(const std::vector<std::pair<Key, size_t>> &at, double q, double x, double y,
+/// The position in `at` of the first row whose X0 is at x, or -1. The position `hint` is tried
+/// first: on a lattice, walking the rows in key order, each neighbour lies one past the previous
+/// row's (the same answer as a search, in one comparison).
+template <int D>
+long long findAt(const std::vector<std::pair<Key, size_t>> &at, double q, const double *x,
                  size_t hint) {
-  const Key k = keyOf(x, y, q);
+  const Key k = keyOf<D>(x, q);
   if (hint < at.size() && at[hint].first == k && (hint == 0 || at[hint - 1].first != k))
     return static_cast<long long>(hint);
   const auto it = std::lower_bound(at.begin(), at.end(), std::make_pair(k, size_t{0}));
   return it != at.end() && it->first == k ? static_cast<long long>(it - at.begin()) : -1;
 }
 
-/// Over the rows: the largest gap between a particle and its former +x or +y neighbour found
-/// among the same rows (into worst); with `open`, which rows miss a neighbour on either side
-/// (a neighbour that may be another rank's particle). The rows are visited in key order, so
-/// that each lookup starts where the previous row's found its neighbour.
-void gapsOfRows(const Rows &rows, double q, const std::vector<Crack> &cracks, double &worst,
+/// Whether a crack lies between two initial positions (2D; 3D has no cracks).
+template <int D>
+bool crackBetween(const std::vector<Crack> &cracks, const double *a, const double *b) {
+  if constexpr (D == 2)
+    return std::any_of(cracks.begin(), cracks.end(), [&](const Crack &c) {
+      return cracks::crossing(c, a[0], a[1], b[0], b[1]) != 0;
+    });
+  return false;
+}
+
+/// Over the rows: the largest gap between a particle and its former neighbour on the + side of
+/// each axis found among the same rows (into worst); with `open`, which rows miss a neighbour on
+/// some side (a neighbour that may be another rank's particle). The rows are visited in key
+/// order, so that each lookup starts where the previous row's found its neighbour.
+template <int D>
+void gapsOfRows(const Rows<D> &rows, double q, const std::vector<Crack> &cracks, double &worst,
                 std::vector<char> *open) {
+  constexpr int C = kCols<D>;
   const auto at = keyed(rows, q);
   if (open) open->assign(rows.n, 0);
-  double r[kCols], o[kCols];
-  size_t last[2][2] = {{0, 0}, {0, 0}}; // [axis][side]: where the previous row's neighbour was
-  double w = worst;                     // (in a register, not through the reference)
+  double r[C], o[C];
+  size_t last[D][2] = {}; // [axis][side]: where the previous row's neighbour was
+  double w = worst;       // (in a register, not through the reference)
   for (size_t s = 0; s < at.size(); ++s) {
     const size_t i = at[s].second;
     rows.row(i, r);
-    for (int d = 0; d < 2; ++d)
+    for (int d = 0; d < D; ++d)
       for (int side = -1; side <= 1; side += 2) {
         if (side < 0 && !open) continue; // only `open` needs the lower neighbours
         size_t &hint = last[d][side > 0];
-        const long long js = findAt(at, q, r[0] + (d == 0) * side * 2 * r[6],
-                                    r[1] + (d == 1) * side * 2 * r[7], hint + 1);
+        double x[D];
+        for (int e = 0; e < D; ++e)
+          x[e] = r[e] + (d == e) * side * 2 * r[3 * D + e];
+        const long long js = findAt<D>(at, q, x, hint + 1);
         if (js < 0) {
           if (open) (*open)[i] = 1;
           continue;
@@ -225,12 +245,10 @@ void gapsOfRows(const Rows &rows, double q, const std::vector<Crack> &cracks, do
         hint = static_cast<size_t>(js);
         if (side < 0) continue; // each pair once: from its lower particle
         rows.row(at[hint].second, o);
-        if (o[6 + d] != r[6 + d]) continue; // neighbours of another size (another level)
-        if (std::any_of(cracks.begin(), cracks.end(), [&](const Crack &c) {
-              return cracks::crossing(c, r[0], r[1], o[0], o[1]) != 0;
-            }))
-          continue; // a crack between them
-        w = std::max(w, ((o[2 + d] - o[4 + d]) - (r[2 + d] + r[4 + d])) / (2.0 * r[6 + d]));
+        if (o[3 * D + d] != r[3 * D + d]) continue;  // neighbours of another size (another level)
+        if (crackBetween<D>(cracks, r, o)) continue; // a crack between them
+        w = std::max(w, ((o[D + d] - o[2 * D + d]) - (r[D + d] + r[2 * D + d])) /
+                            (2.0 * r[3 * D + d]));
       }
   }
   worst = w;
@@ -238,15 +256,17 @@ void gapsOfRows(const Rows &rows, double q, const std::vector<Crack> &cracks, do
 
 } // namespace
 
-PetscErrorCode separation(MPI_Comm comm, const Lattice<2> &grid, DM sw,
+template <int D>
+PetscErrorCode separation(MPI_Comm comm, const Lattice<D> &grid, DM sw,
                           const std::vector<Crack> &cracks, double &gap, double &strain) {
   // Each rank measures the pairs it holds; the particles missing a neighbour on some side (at a
   // rank's border, or on a body's edge) go to rank 0, which measures the pairs among them. The
   // memory and the work on rank 0 grow with the rank borders and body edges, not with the
   // particles.
-  ParticleView<2> p;
+  constexpr int C = kCols<D>;
+  ParticleView<D> p;
   PetscCall(p.get(sw));
-  const Rows mine{&p, nullptr, static_cast<size_t>(p.n)};
+  const Rows<D> mine{&p, nullptr, static_cast<size_t>(p.n)};
   // Initial positions lie on a lattice of step unit / 512.
   const double q = grid.unit / 512.0;
   double worst = 0;
@@ -254,14 +274,14 @@ PetscErrorCode separation(MPI_Comm comm, const Lattice<2> &grid, DM sw,
   gapsOfRows(mine, q, cracks, worst, &open);
   double ext[4] = {1e300, 1e300, 1e300, 1e300}; // min of lo, -hi, lo0, -hi0 along x
   std::vector<double> loc;
-  double r[kCols];
+  double r[C];
   for (size_t i = 0; i < mine.n; ++i) {
     mine.row(i, r);
-    ext[0] = std::min(ext[0], r[2] - r[4]);
-    ext[1] = std::min(ext[1], -(r[2] + r[4]));
-    ext[2] = std::min(ext[2], r[0] - r[6]);
-    ext[3] = std::min(ext[3], -(r[0] + r[6]));
-    if (open[i]) loc.insert(loc.end(), r, r + kCols);
+    ext[0] = std::min(ext[0], r[D] - r[2 * D]);
+    ext[1] = std::min(ext[1], -(r[D] + r[2 * D]));
+    ext[2] = std::min(ext[2], r[0] - r[3 * D]);
+    ext[3] = std::min(ext[3], -(r[0] + r[3 * D]));
+    if (open[i]) loc.insert(loc.end(), r, r + C);
   }
   PetscCall(p.restore(sw));
   std::vector<double> all;
@@ -269,12 +289,17 @@ PetscErrorCode separation(MPI_Comm comm, const Lattice<2> &grid, DM sw,
   PetscMPIInt rank = 0;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   if (rank == 0)
-    gapsOfRows(Rows{nullptr, all.data(), all.size() / kCols}, q, cracks, worst, nullptr);
+    gapsOfRows(Rows<D>{nullptr, all.data(), all.size() / C}, q, cracks, worst, nullptr);
   double red[5] = {-worst, ext[0], ext[1], ext[2], ext[3]}, res[5];
   PetscCallMPI(MPI_Allreduce(red, res, 5, MPI_DOUBLE, MPI_MIN, comm));
   gap = -res[0];
   strain = (-res[2] - res[1]) / (-res[4] - res[3]) - 1.0;
   return PETSC_SUCCESS;
 }
+
+template PetscErrorCode separation<2>(MPI_Comm, const Lattice<2> &, DM, const std::vector<Crack> &,
+                                      double &, double &);
+template PetscErrorCode separation<3>(MPI_Comm, const Lattice<3> &, DM, const std::vector<Crack> &,
+                                      double &, double &);
 
 } // namespace gimp

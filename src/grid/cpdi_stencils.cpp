@@ -2,10 +2,11 @@
 // for the particles that Grid::buildStencils (grid/stencils.cpp) keeps no block for
 // (appendThreeNodeBlock, appendNodes), and the general entries of point and CPDI stencils.
 //
-// CPDI stencils (Sadeghirad et al. 2011, 2013): a particle's domain is the quadrilateral of its
-// four corners; its weights average the composite grid's point shape functions over it through
-// the quad's bilinear map, so they hold for rotated and sheared domains, which GIMP's
-// axis-aligned boxes cannot represent.
+// CPDI stencils (Sadeghirad et al. 2011, 2013): a particle's domain is the quadrilateral (2D) or
+// hexahedron (3D) of its 2^D corners; its weights average the composite grid's point shape
+// functions over it through the cell's bilinear or trilinear map, so they hold for rotated and
+// sheared domains, which GIMP's axis-aligned boxes cannot represent.
+#include "gimp/grid/cpdi_cells.hpp"
 #include "gimp/grid/grid.hpp"
 #include "gimp/grid/shape.hpp"
 
@@ -61,7 +62,71 @@ double quadIntegrals(const double *c, double w[4], double G[8]) {
   return area;
 }
 
+/// The hexahedron's corner integrals (corners in the order of cpdi::cornerSign<3>): the same
+/// as quadIntegrals for the trilinear map, by 2 x 2 x 2 Gauss points, exact: M_c det J and
+/// cof(J) grad_xi M_c (= det J grad_x M_c) are at most cubic in each reference coordinate.
+/// w[c] = integral of M_c, G[3c + a] = integral of d M_c / d x_a; returns the volume, 0 when
+/// the map folds (det J <= 0 at a Gauss point).
+double hexIntegrals(const double *c, double w[8], double G[24]) {
+  const double gp = 1.0 / std::sqrt(3.0);
+  double volume = 0;
+  for (int q = 0; q < 8; ++q)
+    w[q] = 0;
+  for (int e = 0; e < 24; ++e)
+    G[e] = 0;
+  for (int g = 0; g < 8; ++g) {
+    const double xi[3] = {g & 1 ? gp : -gp, g & 2 ? gp : -gp, g & 4 ? gp : -gp};
+    double M[8], dM[8][3], J[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}; // J[i][j] = dx_i/dxi_j
+    for (int q = 0; q < 8; ++q) {
+      double f[3], s[3];
+      for (int a = 0; a < 3; ++a) {
+        s[a] = cpdi::cornerSign<3>(q, a);
+        f[a] = 0.5 * (1 + s[a] * xi[a]);
+      }
+      M[q] = f[0] * f[1] * f[2];
+      dM[q][0] = 0.5 * s[0] * f[1] * f[2];
+      dM[q][1] = 0.5 * s[1] * f[0] * f[2];
+      dM[q][2] = 0.5 * s[2] * f[0] * f[1];
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+          J[i][j] += c[3 * q + i] * dM[q][j];
+    }
+    double cof[3][3]; // cof[i][j]: the cofactor of J[i][j]; det J J^-T = cof
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) {
+        const int i1 = (i + 1) % 3, i2 = (i + 2) % 3, j1 = (j + 1) % 3, j2 = (j + 2) % 3;
+        cof[i][j] = J[i1][j1] * J[i2][j2] - J[i1][j2] * J[i2][j1];
+      }
+    const double det = J[0][0] * cof[0][0] + J[0][1] * cof[0][1] + J[0][2] * cof[0][2];
+    if (!(det > 0)) return 0;
+    volume += det;
+    for (int q = 0; q < 8; ++q) {
+      w[q] += M[q] * det;
+      for (int i = 0; i < 3; ++i)
+        G[3 * q + i] += cof[i][0] * dM[q][0] + cof[i][1] * dM[q][1] + cof[i][2] * dM[q][2];
+    }
+  }
+  return volume;
+}
+
+/// The corner integrals of a particle's CPDI domain in D dimensions.
+template <int D> double cellIntegrals(const double *c, double *w, double *G) {
+  if constexpr (D == 2)
+    return quadIntegrals(c, w, G);
+  else
+    return hexIntegrals(c, w, G);
+}
+
 } // namespace
+
+namespace cpdi {
+
+double hexVolume(const double *c) {
+  double w[8], G[24];
+  return hexIntegrals(c, w, G);
+}
+
+} // namespace cpdi
 
 template <int D>
 void Grid<D>::appendThreeNodeBlock(int q, const Reach &r, const double *x, const double *l,
@@ -252,27 +317,28 @@ bool Grid<D>::buildPointStencils(PetscInt n, const double *x, Stencils<D> &s) co
   return true;
 }
 
-template <>
-const char *Grid<2>::buildCpdiStencils(PetscInt n, const double *corners, Stencils<2> &s) const {
+template <int D>
+const char *Grid<D>::buildCpdiStencils(PetscInt n, const double *corners, Stencils<D> &s) const {
+  constexpr int nc = 1 << D; // corners per particle
   s.start.resize(static_cast<size_t>(n) + 1);
   s.general = true;
   s.compact = false;
   size_t m = 0;
-  s.reserveGeneral(16 * static_cast<size_t>(n));
+  s.reserveGeneral(size_t{1 << (2 * D)} * static_cast<size_t>(n));
   std::vector<std::pair<PetscInt, double>> pts;
   for (PetscInt k = 0; k < n; ++k) {
     s.start[k] = static_cast<PetscInt>(m);
-    const double *c = &corners[8 * k];
-    double w[4], G[8];
-    const double A = quadIntegrals(c, w, G);
+    const double *c = &corners[D * nc * k];
+    double w[nc], G[D * nc];
+    const double A = cellIntegrals<D>(c, w, G);
     if (!(A > 0)) {
       s.start[k + 1] = static_cast<PetscInt>(m);
       return "a particle's CPDI domain is inverted or collapsed (its corners cross)";
     }
     const size_t first = m;
-    for (int q = 0; q < 4; ++q) {
+    for (int q = 0; q < nc; ++q) {
       pts.clear();
-      const double sum = pointShapes(&c[2 * q], pts);
+      const double sum = pointShapes(&c[D * q], pts);
       if (!(std::fabs(sum - 1.0) < 1e-9)) {
         s.start[k + 1] = static_cast<PetscInt>(m);
         return "a particle's corner lies outside the grid or this rank's window";
@@ -284,25 +350,25 @@ const char *Grid<2>::buildCpdiStencils(PetscInt n, const double *corners, Stenci
         if (e == m) { // a new node of this particle
           s.reserveGeneral(m + 1);
           s.node[m] = nd;
-          for (int r = 0; r < 4; ++r)
-            s.cw[4 * m + r] = 0;
+          for (int r = 0; r < nc; ++r)
+            s.cw[nc * m + r] = 0;
           ++m;
         }
-        s.cw[4 * e + q] = N;
+        s.cw[nc * e + q] = N;
       }
     }
     const double iA = 1.0 / A;
     for (size_t e = first; e < m; ++e) {
-      double S = 0, gx = 0, gy = 0;
-      for (int q = 0; q < 4; ++q) {
-        const double N = s.cw[4 * e + q];
+      double S = 0, g[D] = {};
+      for (int q = 0; q < nc; ++q) {
+        const double N = s.cw[nc * e + q];
         S += w[q] * N;
-        gx += G[2 * q] * N;
-        gy += G[2 * q + 1] * N;
+        for (int a = 0; a < D; ++a)
+          g[a] += G[D * q + a] * N;
       }
       s.sw[e] = S * iA;
-      s.sg[0][e] = gx * iA;
-      s.sg[1][e] = gy * iA;
+      for (int a = 0; a < D; ++a)
+        s.sg[a][e] = g[a] * iA;
     }
   }
   s.start[n] = static_cast<PetscInt>(m);
@@ -323,5 +389,7 @@ template double Grid<3>::pointShapes(const double *,
                                      std::vector<std::pair<PetscInt, double>> &) const;
 template bool Grid<2>::buildPointStencils(PetscInt, const double *, Stencils<2> &) const;
 template bool Grid<3>::buildPointStencils(PetscInt, const double *, Stencils<3> &) const;
+template const char *Grid<2>::buildCpdiStencils(PetscInt, const double *, Stencils<2> &) const;
+template const char *Grid<3>::buildCpdiStencils(PetscInt, const double *, Stencils<3> &) const;
 
 } // namespace gimp

@@ -59,7 +59,7 @@ template <int D> void readScheme(const Options &o, Scene<D> &sc) {
   for (int t = 0; t < 6; ++t)
     if (tracking == trackings[t]) sc.tracking = static_cast<Tracking>(t);
   if (D == 2) sc.cornerSize = o.real("gimp_corner_size", sc.cornerSize);
-  if (D == 2) sc.separationThreshold = o.real("gimp_separation_threshold", 0.05);
+  sc.separationThreshold = o.real("gimp_separation_threshold", 0.05);
   sc.halfStepStart = o.flag("gimp_half_step_start", true);
   if (D == 2) sc.cutCells = o.flag("gimp_cut_cells", true);
   sc.damping = o.real("gimp_damping", 0.0);

@@ -20,7 +20,7 @@ template <int D> PetscErrorCode Output<D>::open(const OutputResume *resume) {
     std::fprintf(history_, "step,time,kinetic,strain,external_work,damping,total");
     for (int a = 0; a < D; ++a)
       std::fprintf(history_, ",momentum_%s", kAxes[a]);
-    if (D == 2) std::fprintf(history_, ",separation,strain_x");
+    std::fprintf(history_, ",separation,strain_x");
     for (const Probe<D> &p : sc_.probes) {
       for (int a = 0; a < D; ++a)
         std::fprintf(history_, ",%s_u%s", p.name.c_str(), kAxes[a]);
@@ -51,7 +51,7 @@ template <int D> PetscErrorCode Output<D>::writeHistory(const HistoryRow &r) {
                r.t, e.kinetic, e.strain, e.externalWork, e.damping, e.total());
   for (int a = 0; a < D; ++a)
     std::fprintf(history_, ",%.12e", e.momentum[a]);
-  if (D == 2) std::fprintf(history_, ",%.12e,%.12e", r.separation, r.strainX);
+  std::fprintf(history_, ",%.12e,%.12e", r.separation, r.strainX);
   const size_t ns = stressComponents<D>().size();
   for (const ProbeState &p : r.probes) {
     for (int a = 0; a < D; ++a)

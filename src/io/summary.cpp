@@ -142,11 +142,10 @@ template <int D> void Output<D>::summaryMeasures(FILE *f, const SummaryReport &r
   const RunMeasures &m = r.measures;
   std::fprintf(f, "%s},\n  \"measures\": {", r.probes.empty() ? "" : "\n  ");
   std::fprintf(f, "\"particles_migrated\": %lld", static_cast<long long>(m.migrated));
-  if (D == 2) { // the separation measure
-    std::fprintf(f, ", \"separation_strain\": %s", num(m.separationStrain).c_str());
-    std::fprintf(f, ", \"max_strain\": %s, \"max_separation\": %s", num(m.maxStrain).c_str(),
-                 num(m.maxSeparation).c_str());
-  }
+  // The separation measure.
+  std::fprintf(f, ", \"separation_strain\": %s", num(m.separationStrain).c_str());
+  std::fprintf(f, ", \"max_strain\": %s, \"max_separation\": %s", num(m.maxStrain).c_str(),
+               num(m.maxSeparation).c_str());
   if (r.hole) {
     // kt_edge: the same edge value as kt, under the name earlier versions gave it.
     std::fprintf(f, ", \"kt\": %s, \"kt_edge\": %s, \"kt_particle\": %s", num(r.hole->kt).c_str(),

@@ -2,6 +2,8 @@
 // (input/bodies.hpp), and the faces of the bodies' boxes that each particle's faces lie on.
 #include "gimp/particles/seed.hpp"
 
+#include "gimp/grid/cpdi_cells.hpp"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -42,9 +44,10 @@ PetscInt faceCondition(const Faces &faces, int kind, const Body<3> &body, int b,
   return found;
 }
 
-/// A particle to seed: centre, half-size, volume, id and body.
+/// A particle to seed: centre, half-size, volume, id and body; its cube's low and high corner
+/// coordinates from the level's sub-cell lattice, so neighbours share their corners exactly.
 struct Seed {
-  double x[3], l, V;
+  double x[3], l, V, lo[3], hi[3];
   PetscInt64 id;
   int body;
 };
@@ -79,8 +82,12 @@ std::vector<Seed> collectSeeds(const Scene<3> &sc, const Grid<3> &grid, PetscMPI
         std::array<PetscInt, 3> sub = {n, n, n};
         forEachIndex<3>(sub, [&](const LatticeIndex<3> &q) {
           Seed s;
-          for (int a = 0; a < 3; ++a)
+          for (int a = 0; a < 3; ++a) {
             s.x[a] = centre[a] - 0.5 * L.h + (q[a] + 0.5) * d;
+            const double sub = static_cast<double>(c[a] * n + q[a]);
+            s.lo[a] = L.box[a] + sub * d;
+            s.hi[a] = L.box[a] + (sub + 1) * d;
+          }
           if (!body.inside(s.x)) return;
           for (size_t o = 0; o < b; ++o) // a point two bodies hold: counted, refused by setup
             if (sc.bodies[o].inside(s.x)) overlap = std::max(overlap, static_cast<int>(b));
@@ -151,6 +158,13 @@ PetscErrorCode seedParticles<3>(const Scene<3> &sc, const Grid<3> &grid, DM sw,
       p.s[9 * k + i] = 0.0;
       if (p.B) p.B[9 * k + i] = 0.0;
     }
+    if (p.hasCorners)
+      for (int q = 0; q < 8; ++q)
+        for (int a = 0; a < 3; ++a)
+          p.corners[24 * k + 3 * q + a] = cpdi::cornerSign<3>(q, a) < 0 ? s.lo[a] : s.hi[a];
+    if (p.eps)
+      for (int a = 0; a < 3; ++a)
+        p.eps[3 * k + a] = 0.0;
     p.id[k] = s.id;
     p.rank[k] = rank;
     if (!p.trac) continue;

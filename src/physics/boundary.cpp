@@ -44,19 +44,51 @@ ParticleFace<2> edgeOf(const Scene<2> &sc, const ParticleView<2> &p, PetscInt k,
   return E;
 }
 
+/// A 3D CPDI particle's face normal to reference axis a on side n: the quadrilateral of its four
+/// corners there, its vector area's length and its centre.
+ParticleFace<3> cpdiFace(const Scene<3> &sc, const ParticleView<3> &p, PetscInt k, int a,
+                         double n) {
+  double own[24];
+  const double *c = &p.corners[24 * k];
+  if (sc.tracking == Tracking::Cpdi) {
+    tracking::cpdiParallelogram<3>(p, k, own);
+    c = own;
+  }
+  int q[4];
+  faceCorners(a, n, q);
+  ParticleFace<3> f;
+  f.cpdi = true;
+  double d1[3], d2[3];
+  for (int d = 0; d < 3; ++d) {
+    d1[d] = c[3 * q[2] + d] - c[3 * q[0] + d];
+    d2[d] = c[3 * q[3] + d] - c[3 * q[1] + d];
+    f.mid[d] = 0.25 * (c[3 * q[0] + d] + c[3 * q[1] + d] + c[3 * q[2] + d] + c[3 * q[3] + d]);
+  }
+  const double cx = d1[1] * d2[2] - d1[2] * d2[1], cy = d1[2] * d2[0] - d1[0] * d2[2],
+               cz = d1[0] * d2[1] - d1[1] * d2[0];
+  f.area = 0.5 * std::sqrt(cx * cx + cy * cy + cz * cz);
+  f.at = f.mid[a];
+  return f;
+}
+
 /// The face a traction loads: in 2D the edge of the initial length (a dead load); in 3D the
 /// initial face, or its part inside the traction's disk (in-face coordinates in axis order).
 ParticleFace<2> tractionFace(const Scene<2> &sc, const ParticleView<2> &p, PetscInt k, int a,
                              const Traction<2> &tr) {
   return edgeOf(sc, p, k, a, tr.normal(), p.l0[2 * k + 1 - a]);
 }
-ParticleFace<3> tractionFace(const Scene<3> &, const ParticleView<3> &p, PetscInt k, int a,
+ParticleFace<3> tractionFace(const Scene<3> &sc, const ParticleView<3> &p, PetscInt k, int a,
                              const Traction<3> &tr) {
   ParticleFace<3> f;
   const int b1 = (a + 1) % 3, b2 = (a + 2) % 3, c1 = std::min(b1, b2), c2 = std::max(b1, b2);
   const double *X = p.X0 + 3 * k, *l0 = p.l0 + 3 * k;
   f.area = tr.loadedArea(X[c1] - l0[c1], X[c1] + l0[c1], X[c2] - l0[c2], X[c2] + l0[c2]);
   f.at = p.x[3 * k + a] + tr.normal() * p.l[3 * k + a];
+  if (!usesCpdi(sc.tracking)) return f;
+  // CPDI: the traction acts on the current face, its loaded share as of the initial face's.
+  const double share = f.area / (4.0 * l0[c1] * l0[c2]);
+  f = cpdiFace(sc, p, k, a, tr.normal());
+  f.area *= share;
   return f;
 }
 
@@ -65,8 +97,9 @@ ParticleFace<2> penaltyFace(const Scene<2> &sc, const ParticleView<2> &p, PetscI
                             double n) {
   return edgeOf(sc, p, k, a, n, p.l[2 * k + 1 - a]);
 }
-ParticleFace<3> penaltyFace(const Scene<3> &, const ParticleView<3> &p, PetscInt k, int a,
+ParticleFace<3> penaltyFace(const Scene<3> &sc, const ParticleView<3> &p, PetscInt k, int a,
                             double n) {
+  if (usesCpdi(sc.tracking)) return cpdiFace(sc, p, k, a, n);
   ParticleFace<3> f;
   const int b1 = (a + 1) % 3, b2 = (a + 2) % 3;
   f.area = 4.0 * p.l[3 * k + b1] * p.l[3 * k + b2];

@@ -42,9 +42,7 @@ void updateDeformation<3>(const Scene<3> &sc, ParticleView<3> &p, const double *
       material::jaumannUpdate(mat, Lk, dt, tensorAt<3>(p.s, k));
     else
       material::neoHookeanStress(mat, Tensor<3>(F), tensorAt<3>(p.s, k));
-    if (sc.tracking == Tracking::Stretch) // l_a = |F e_a| l0_a
-      for (int a = 0; a < 3; ++a)
-        p.l[3 * k + a] = F.col(a).norm() * p.l0[3 * k + a];
+    tracking::updateDomain<3>(sc, p, k, Lk, dt);
   }
 }
 

@@ -77,20 +77,18 @@ template <int D> PetscErrorCode Reporter<D>::historyRow(PetscInt step, double t,
 
 template <int D>
 PetscErrorCode Reporter<D>::separationMeasure(PetscInt step, double t, HistoryRow &row) {
-  if constexpr (D == 2) {
-    RunState<D> &s = s_;
-    RunMeasures &m = s.measures;
-    PetscCall(separation(s.comm, s.grid, s.sw, s.sc.cracks, row.separation, row.strainX));
-    m.maxStrain = std::max(m.maxStrain, row.strainX);
-    m.maxSeparation = std::max(m.maxSeparation, row.separation);
-    if (row.separation > s.sc.separationThreshold && std::isnan(m.separationStrain)) {
-      m.separationStrain = row.strainX;
-      PetscCall(PetscPrintf(s.comm,
-                            "gimp: warning: step %" PetscInt_FMT " t %.6g s: particles separated: "
-                            "a gap of %.3g particle sizes between former neighbours (threshold "
-                            "%.3g) at engineering strain %.4g\n",
-                            step, t, row.separation, s.sc.separationThreshold, row.strainX));
-    }
+  RunState<D> &s = s_;
+  RunMeasures &m = s.measures;
+  PetscCall(separation<D>(s.comm, s.grid, s.sw, s.sc.cracks, row.separation, row.strainX));
+  m.maxStrain = std::max(m.maxStrain, row.strainX);
+  m.maxSeparation = std::max(m.maxSeparation, row.separation);
+  if (row.separation > s.sc.separationThreshold && std::isnan(m.separationStrain)) {
+    m.separationStrain = row.strainX;
+    PetscCall(PetscPrintf(s.comm,
+                          "gimp: warning: step %" PetscInt_FMT " t %.6g s: particles separated: "
+                          "a gap of %.3g particle sizes between former neighbours (threshold "
+                          "%.3g) at engineering strain %.4g\n",
+                          step, t, row.separation, s.sc.separationThreshold, row.strainX));
   }
   return PETSC_SUCCESS;
 }

@@ -162,8 +162,10 @@ template <int D> PetscErrorCode Solver<D>::initialState(ParticleView<D> &p) {
       p.V[k] = F * p.V0[k];
       if (D == 2 || sc.tracking == Tracking::Stretch) p.l[D * k] = F * p.l0[D * k];
       if (p.hasCorners)
-        for (int q = 0; q < 4; ++q)
-          p.corners[8 * k + 2 * q] += ex.u(p.corners[8 * k + 2 * q], 0.0);
+        for (int q = 0; q < (1 << D); ++q) {
+          double &cx = p.corners[D * ((1 << D) * k + q)];
+          cx += ex.u(cx, 0.0);
+        }
     }
   }
   for (PetscInt k = 0; k < p.n; ++k) {

@@ -144,14 +144,13 @@ PetscErrorCode Step<D>::buildStencils(const ParticleView<D> &p, const double *ce
   // The checks after every step keep each particle within one level-0 cell, so this cannot
   // fail; if it does, the failure joins those checks (no extra collective in the step).
   RunState<D> &s = s_;
-  if constexpr (D == 2)
-    if (usesCpdi(s.sc.tracking)) {
-      const char *why =
-          s.grid.buildCpdiStencils(p.n, tracking::cpdiCorners(s.sc, p, cpdiCorners_), s.st);
-      if (why) s.status.localFailure = why;
-      cracks::assignFields(s.grid, s.sc.cracks, p.n, centres, s.st);
-      return PETSC_SUCCESS;
-    }
+  if (usesCpdi(s.sc.tracking)) {
+    const char *why =
+        s.grid.buildCpdiStencils(p.n, tracking::cpdiCorners<D>(s.sc, p, cpdiCorners_), s.st);
+    if (why) s.status.localFailure = why;
+    if constexpr (D == 2) cracks::assignFields(s.grid, s.sc.cracks, p.n, centres, s.st);
+    return PETSC_SUCCESS;
+  }
   // Blocks for every particle that one level's regular nodes alone reach, unless cracks
   // re-address entries (assignFields).
   if (!s.grid.buildStencils(p.n, centres, p.l, s.st, s.sc.cracks.empty(), s.lanes))

@@ -18,8 +18,7 @@ template <int D> const double *Step<D>::stencilCentres(const ParticleView<D> &p)
   // With APIC the re-projection's affine moments are taken about the stencils' centres: where
   // those are the positions, each particle is re-projected before it moves (gridToParticles,
   // in one pass), so no copy is needed.
-  if constexpr (D == 2) return tracking::domainCentres(p, centres_, s_.sc.tracking);
-  return p.x;
+  return tracking::domainCentres<D>(p, centres_, s_.sc.tracking);
 }
 
 template <int D>
@@ -208,22 +207,21 @@ PetscErrorCode Step<D>::reproject(ParticleView<D> &p, const StepClock &c, const 
     PetscCall(VecCopy(n.acc, n.vel));
     PetscCall(VecCopy(n.accW, n.velW));
   }
-  if constexpr (D == 2)
-    if (tracksCorners(s.sc.tracking)) {
-      PetscCall(s.grid.toWindow(n.mass, n.massW)); // the summed mass on the window
-      const PetscScalar *va = nullptr, *mw = nullptr;
-      PetscCall(VecGetArrayRead(n.accW, &va));
-      PetscCall(VecGetArrayRead(n.massW, &mw));
-      // cpdi2 moves its corners with the grid's point shape functions (Sadeghirad et al. 2013).
-      const double size = s.sc.tracking == Tracking::Cpdi2 ? 0.0 : s.sc.cornerSize;
-      const bool ok = corners_.move(s.grid, s.sc.cracks, size, s.sc.massCutoff * s.meanParticleMass,
-                                    c.dt, va, mw, p);
-      PetscCall(VecRestoreArrayRead(n.massW, &mw));
-      PetscCall(VecRestoreArrayRead(n.accW, &va));
-      if (!ok)
-        s.status.localFailure = "a tracked corner's particle is larger than a level-0 cell, or a "
-                                "corner left the grid";
-    }
+  if (tracksCorners(s.sc.tracking)) {
+    PetscCall(s.grid.toWindow(n.mass, n.massW)); // the summed mass on the window
+    const PetscScalar *va = nullptr, *mw = nullptr;
+    PetscCall(VecGetArrayRead(n.accW, &va));
+    PetscCall(VecGetArrayRead(n.massW, &mw));
+    // cpdi2 moves its corners with the grid's point shape functions (Sadeghirad et al. 2013).
+    const double size = s.sc.tracking == Tracking::Cpdi2 ? 0.0 : s.sc.cornerSize;
+    const bool ok = corners_.move(s.grid, s.sc.cracks, size, s.sc.massCutoff * s.meanParticleMass,
+                                  c.dt, va, mw, p);
+    PetscCall(VecRestoreArrayRead(n.massW, &mw));
+    PetscCall(VecRestoreArrayRead(n.accW, &va));
+    if (!ok)
+      s.status.localFailure = "a tracked corner's particle is larger than a level-0 cell, or a "
+                              "corner left the grid";
+  }
   return PETSC_SUCCESS;
 }
 

@@ -75,7 +75,8 @@ template <int D> void stressOf(const ParticleView<D> &p, PetscInt k, double *out
 /// engineering strain of the particles' extent along x. Neighbours that a crack separates (the
 /// segment between their initial positions crosses one of `cracks`) are not compared: their
 /// gap is the crack opening.
-PetscErrorCode separation(MPI_Comm comm, const Lattice<2> &grid, DM sw,
+template <int D>
+PetscErrorCode separation(MPI_Comm comm, const Lattice<D> &grid, DM sw,
                           const std::vector<Crack> &cracks, double &gap, double &strain);
 /// The hole measure.
 PetscErrorCode holeMeasure(MPI_Comm comm, const Scene<2> &sc, DM sw, HoleMeasure &out);

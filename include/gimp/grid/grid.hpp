@@ -111,12 +111,13 @@ public:
                      bool compact = false, bool lanes = false) const;
 
   /// CPDI stencils (Sadeghirad et al. 2011, 2013) of n particles whose domains are the
-  /// quadrilaterals of their corners (8 values each, counter-clockwise from (-, -)): general
-  /// entries, S_ip = (1/A) sum_c w_c N_i(x_c) and grad S_ip = (1/A) sum_c N_i(x_c) G_c with w_c
-  /// the integral of the bilinear map's corner function over the quad, G_c that of its gradient,
-  /// A the quad's area, N_i the composite grid's point shape functions. Returns null, or why it
-  /// could not (a corner outside the grid or the rank window, a collapsed or inverted domain),
-  /// with s unchanged past the particles done. D = 2 only.
+  /// quadrilaterals (2D) or hexahedra (3D) of their 2^D corners (D 2^D values each, in the order
+  /// of grid/cpdi_cells.hpp): general entries, S_ip = (1/A) sum_c w_c N_i(x_c) and
+  /// grad S_ip = (1/A) sum_c N_i(x_c) G_c with w_c the integral of the bi/trilinear map's corner
+  /// function over the cell, G_c that of its gradient, A the cell's area or volume, N_i the
+  /// composite grid's point shape functions. Returns null, or why it could not (a corner outside
+  /// the grid or the rank window, a collapsed or inverted domain), with s unchanged past the
+  /// particles done.
   const char *buildCpdiStencils(PetscInt n, const double *corners, Stencils<D> &s) const;
   /// The point shape functions of the active nodes at x (D coordinates; the tent functions of
   /// Eq. 14 with the zones of transition and edge nodes): appends (slot, N) with N > 0 to `out`;
@@ -197,12 +198,10 @@ private:
   Vec windowTemplate_ = nullptr;
 };
 
-// The 2D-only members: the scene's grid (with its cracks) and CPDI's quadrilaterals.
+// The 2D-only members: the crack fields.
 template <>
 std::vector<Grid<2>::CrackedNode> Grid<2>::findCrackedNodes(const std::vector<Crack> &cracks) const;
 template <> PetscErrorCode Grid<2>::addCrackFields(MPI_Comm comm, const std::vector<Crack> &cracks);
-template <>
-const char *Grid<2>::buildCpdiStencils(PetscInt n, const double *corners, Stencils<2> &s) const;
 
 extern template class Grid<2>;
 extern template class Grid<3>;

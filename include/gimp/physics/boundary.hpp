@@ -10,6 +10,7 @@
 // (its area; in 2D also CPDI's edges between tracked corners), in boundary.cpp.
 #pragma once
 
+#include "gimp/grid/cpdi_cells.hpp"
 #include "gimp/grid/grid.hpp"
 #include "gimp/grid/shape.hpp"
 #include "gimp/input/scene.hpp"
@@ -27,6 +28,18 @@ inline void edgeCorners(int a, double n, int &c1, int &c2) {
   c2 = (c1 + 1) % 4;
 }
 
+/// The four corners of a 3D CPDI particle's face normal to the reference axis a on side n = +-1,
+/// in cyclic order around the face (grid/cpdi_cells.hpp's corner order).
+inline void faceCorners(int a, double n, int c[4]) {
+  const int b1 = a == 0 ? 1 : 0, b2 = a == 2 ? 1 : 2;
+  static const double s1[4] = {-1, 1, 1, -1}, s2[4] = {-1, -1, 1, 1};
+  for (int r = 0; r < 4; ++r)
+    for (int q = 0; q < 8; ++q)
+      if (cpdi::cornerSign<3>(q, a) == n && cpdi::cornerSign<3>(q, b1) == s1[r] &&
+          cpdi::cornerSign<3>(q, b2) == s2[r])
+        c[r] = q;
+}
+
 /// The tent of slot s's node across the face normal to axis a at coordinate `at` (Eq. 14).
 template <int D> inline double tentAcross(const Grid<D> &g, PetscInt s, int a, double at) {
   const PetscInt nd = g.slotNode[s];
@@ -36,17 +49,23 @@ template <int D> inline double tentAcross(const Grid<D> &g, PetscInt s, int a, d
 
 /// S_i of stencil entry e integrated over the particle face normal to axis a on side n = +-1,
 /// lying at coordinate `at`, per unit area: the tent across times the 1D weights along. With
-/// CPDI stencils (2D) the face is the edge between the particle's two corners on that side and
-/// S_i linear along it (the corners' N_i averaged).
+/// CPDI stencils the face is the edge (2D) or quadrilateral (3D) of the particle's corners on
+/// that side and S_i bi/linear over it (the corners' N_i averaged).
 template <int D>
 inline double faceShape(const Grid<D> &g, const Stencils<D> &st, PetscInt e, int a, double n,
                         double at) {
-  if constexpr (D == 2)
-    if (st.general) {
+  if (st.general) {
+    if constexpr (D == 2) {
       int c1, c2;
       edgeCorners(a, n, c1, c2);
       return 0.5 * (st.cw[4 * e + c1] + st.cw[4 * e + c2]);
+    } else {
+      int c[4];
+      faceCorners(a, n, c);
+      return 0.25 * (st.cw[8 * e + c[0]] + st.cw[8 * e + c[1]] + st.cw[8 * e + c[2]] +
+                     st.cw[8 * e + c[3]]);
     }
+  }
   double w = tentAcross(g, st.node[e], a, at);
   for (int d = 0; d < D; ++d)
     if (d != a) w *= st.w[d][e];

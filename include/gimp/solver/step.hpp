@@ -97,13 +97,13 @@ private:
   std::string failureOf(const ParticleView<D> &p, PetscInt k, PetscInt step, double t) const;
 
   RunState<D> &s_;
-  std::vector<double> L_;           // velocity gradients of a chunk of particles (stress)
-  std::vector<double> centres_;     // weight centres with corner tracking (cpdi2 with APIC)
-  std::vector<double> slotX_;       // window coordinates of every slot (affine transfers)
-  std::vector<double> xpicVp_;      // XPIC's interpolated field per particle (D each)
-  std::vector<double> cpdiCorners_; // the cpdi parallelograms of this step (2D)
-  tracking::CornerMotion corners_;  // corner tracking's motion of the corners (2D)
-  cracks::Contact contact_;         // contact between the two fields at cracked nodes (2D)
+  std::vector<double> L_;             // velocity gradients of a chunk of particles (stress)
+  std::vector<double> centres_;       // weight centres with corner tracking (cpdi2 with APIC)
+  std::vector<double> slotX_;         // window coordinates of every slot (affine transfers)
+  std::vector<double> xpicVp_;        // XPIC's interpolated field per particle (D each)
+  std::vector<double> cpdiCorners_;   // the cpdi parallelograms (parallelepipeds) of this step
+  tracking::CornerMotion<D> corners_; // corner tracking's motion of the corners
+  cracks::Contact contact_;           // contact between the two fields at cracked nodes (2D)
 };
 
 } // namespace gimp
