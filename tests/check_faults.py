@@ -279,12 +279,13 @@ for ranks in (1, 2):
 # --- summary.json: valid JSON, strings escaped; no stale files in a reused directory -----------
 reuse = os.path.join(W, "reuse")
 shutil.rmtree(reuse, ignore_errors=True)
-scene = 'a "quoted" \\ name'
-rc, err, _ = gimp(patch("-gimp_scene", scene, "-gimp_hole_measure", "0.5,0.2,0.1",
+probe = 'a\\b'
+rc, err, _ = gimp(patch("-gimp_probe0_name", probe, "-gimp_hole_measure", "0.5,0.2,0.1",
                         "-gimp_hole_measure_load", "1e4"), outdir=reuse)
 try:
     s = gimptest.summary(reuse)
-    c.check("summary.json escapes strings", rc == 0 and s["scene"] == scene, "scene %r" % s["scene"])
+    c.check("summary.json escapes strings", rc == 0 and list(s["probes"]) == [probe],
+            "probes %r" % list(s["probes"]))
 except (OSError, ValueError) as e:
     c.check("summary.json escapes strings", False, "exit %s: %s" % (rc, e))
 stale = ["summary.json", "hoop.csv", "fields.h5", "particles.xmf", "grid.xmf"]
