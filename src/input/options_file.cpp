@@ -285,6 +285,32 @@ std::vector<std::string> expandOptionsFiles(const std::vector<std::string> &args
   return std::move(e.out);
 }
 
+SplitArgs splitForPetsc(const std::vector<std::string> &expanded) {
+  SplitArgs split;
+  int prefixes = 0; // -prefix_push depth
+  for (std::size_t i = 0; i < expanded.size();) {
+    const std::string &a = expanded[i];
+    const bool valueNext = i + 1 < expanded.size() && !isKey(expanded[i + 1]);
+    std::string lower = a;
+    for (char &c : lower)
+      c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (isKey(a) && prefixes == 0 && lower.compare(0, 6, "-gimp_") == 0) {
+      split.late.push_back({a, valueNext ? expanded[i + 1] : "", valueNext});
+      i += valueNext ? 2 : 1;
+      continue;
+    }
+    if (is(a, "-prefix_push")) ++prefixes;
+    if (is(a, "-prefix_pop") && prefixes > 0) --prefixes;
+    const bool takesNext = is(a, "-prefix_push") || is(a, "-options_file_yaml") ||
+                           is(a, "-options_string_yaml") ||
+                           (isKey(a) && !is(a, "-prefix_pop") && valueNext);
+    split.early.push_back(a);
+    if (takesNext && i + 1 < expanded.size()) split.early.push_back(expanded[++i]);
+    ++i;
+  }
+  return split;
+}
+
 int launcherRank() {
   for (const char *name : {"OMPI_COMM_WORLD_RANK", "PMIX_RANK", "PMI_RANK"}) {
     const char *value = std::getenv(name);
