@@ -33,7 +33,8 @@ const std::vector<OptionSpec> kRun = {
      "Steps between checkpoints (checkpoint.h5 in the output directory; 0: none, but on"
      " SIGINT/SIGTERM)"},
     {"gimp_restart", Kind::Word, "", "", "", nullptr, {},
-     "Continue from this checkpoint (give the scene's options again)"},
+     "Continue from this checkpoint (give the scene's options again; a relative path given in"
+     " an options file is read beside that file)"},
     {"gimp_particle_dump", Kind::Word, "", "", "", nullptr, {},
      "Write the final particles as CSV (sorted by id) to this file"},
     {"gimp_grid_dump", Kind::Word, "", "", "", nullptr, {},

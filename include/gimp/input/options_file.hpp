@@ -10,6 +10,9 @@
 // scene's own options (-gimp_*) out of what PetscInitialize gets; main() inserts them, in
 // their order, right after it (PETSc reads none of them while it starts).
 //
+// In an options file, a relative path given to an option that names a file the run reads
+// (-gimp_bodyK_file, -gimp_restart) is resolved as a nested -options_file is: beside the file.
+//
 // Files are read as PETSc 3.18 reads them (PetscOptionsInsertFile), so a scene gives PETSc the
 // same options as before: one option per line, optionally followed by its value; `#` starts a
 // comment (even inside quotes); blanks, tabs and CR separate tokens; a value in double quotes
