@@ -221,10 +221,10 @@ rank_cases = [
      ["-gimp_grid_dump " + blocker + "/g.csv"], ok_out),
     ("grid dump is a directory", patch("-gimp_grid_dump", a_dir), ["-gimp_grid_dump " + a_dir],
      ok_out),
-    ("particle dump on a full disk", patch("-gimp_particle_dump", "/dev/full"),
-     ["-gimp_particle_dump /dev/full", "No space"], ok_out),
-    ("grid dump on a full disk", patch("-gimp_grid_dump", "/dev/full"),
-     ["-gimp_grid_dump /dev/full", "No space"], ok_out),
+    ("particle dump on a device", patch("-gimp_particle_dump", "/dev/full"),
+     ["-gimp_particle_dump /dev/full", "not a regular file"], ok_out),
+    ("grid dump on a device", patch("-gimp_grid_dump", "/dev/full"),
+     ["-gimp_grid_dump /dev/full", "not a regular file"], ok_out),
 ]
 for name, o, needles, out in rank_cases:
     for ranks in (1, 2) if "full disk" in name else (2,):
