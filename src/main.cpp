@@ -8,7 +8,9 @@
 
 #include <petscsys.h>
 
+#include <cctype>
 #include <cstdio>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -33,15 +35,40 @@ template <int D> int runScene() {
   return 0;
 }
 
+/// Insert the scene's options (-gimp_*) after PetscInitialize, in order; the one error line when
+/// PETSc's options database cannot hold them all (PETSc 3.18 holds 512 names), else "".
+std::string insertSceneOptions(const std::vector<gimp::LateOption> &late) {
+  if (PetscPushErrorHandler(PetscReturnErrorHandler, nullptr)) return "cannot set up PETSc";
+  std::string full;
+  for (const gimp::LateOption &o : late)
+    if (PetscOptionsSetValue(nullptr, o.key.c_str(), o.hasValue ? o.value.c_str() : nullptr)) {
+      full = o.key;
+      break;
+    }
+  (void)PetscPopErrorHandler();
+  if (full.empty()) return "";
+  std::set<std::string> names;
+  for (const gimp::LateOption &o : late) {
+    std::string name = o.key;
+    for (char &c : name)
+      c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    names.insert(name);
+  }
+  return "option " + full + ": the scene gives " + std::to_string(names.size()) +
+         " different options, more than PETSc's options database holds (512 names with the "
+         "other options); give fewer (fewer probes, bodies or levels)";
+}
+
 } // namespace
 
 int main(int argc, char **argv) {
   // -options_file names are read here, nested ones relative to the file that names them.
   // An error is found alike on every rank; MPI has not started: print it from rank 0.
   std::vector<std::string> args{argv[0]};
+  gimp::SplitArgs split;
   try {
-    const std::vector<std::string> expanded = gimp::expandOptionsFiles({argv + 1, argv + argc});
-    args.insert(args.end(), expanded.begin(), expanded.end());
+    split = gimp::splitForPetsc(gimp::expandOptionsFiles({argv + 1, argv + argc}));
+    args.insert(args.end(), split.early.begin(), split.early.end());
   } catch (const gimp::InputError &e) {
     if (gimp::launcherRank() <= 0) std::fprintf(stderr, "gimp: error: %s\n", e.what());
     return 2;
@@ -52,7 +79,17 @@ int main(int argc, char **argv) {
   cargs.push_back(nullptr);
   argc = static_cast<int>(args.size());
   argv = cargs.data();
+  // The scene's options are not on the command line MPI starts with (a long scene would not
+  // fit there): inserted now, in their order; they override what comes before them on the
+  // expanded command line as they did there (PETSc reads no -gimp_ option while it starts).
   PetscCall(PetscInitialize(&argc, &argv, nullptr, help));
+  if (const std::string full = insertSceneOptions(split.late); !full.empty()) {
+    PetscMPIInt rank = 0;
+    MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
+    if (rank == 0) std::fprintf(stderr, "gimp: error: %s\n", full.c_str());
+    (void)PetscFinalize();
+    return 2;
+  }
   // After PetscInitialize: SIGINT and SIGTERM stop the run at the end of a step (ours replaces
   // any handler PETSc installed for them).
   if (!gimp::installInterruptHandlers())

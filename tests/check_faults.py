@@ -221,10 +221,10 @@ rank_cases = [
      ["-gimp_grid_dump " + blocker + "/g.csv"], ok_out),
     ("grid dump is a directory", patch("-gimp_grid_dump", a_dir), ["-gimp_grid_dump " + a_dir],
      ok_out),
-    ("particle dump on a full disk", patch("-gimp_particle_dump", "/dev/full"),
-     ["-gimp_particle_dump /dev/full", "No space"], ok_out),
-    ("grid dump on a full disk", patch("-gimp_grid_dump", "/dev/full"),
-     ["-gimp_grid_dump /dev/full", "No space"], ok_out),
+    ("particle dump on a device", patch("-gimp_particle_dump", "/dev/full"),
+     ["-gimp_particle_dump /dev/full", "not a regular file"], ok_out),
+    ("grid dump on a device", patch("-gimp_grid_dump", "/dev/full"),
+     ["-gimp_grid_dump /dev/full", "not a regular file"], ok_out),
 ]
 for name, o, needles, out in rank_cases:
     for ranks in (1, 2) if "full disk" in name else (2,):
@@ -279,12 +279,13 @@ for ranks in (1, 2):
 # --- summary.json: valid JSON, strings escaped; no stale files in a reused directory -----------
 reuse = os.path.join(W, "reuse")
 shutil.rmtree(reuse, ignore_errors=True)
-scene = 'a "quoted" \\ name'
-rc, err, _ = gimp(patch("-gimp_scene", scene, "-gimp_hole_measure", "0.5,0.2,0.1",
+probe = 'a\\b'
+rc, err, _ = gimp(patch("-gimp_probe0_name", probe, "-gimp_hole_measure", "0.5,0.2,0.1",
                         "-gimp_hole_measure_load", "1e4"), outdir=reuse)
 try:
     s = gimptest.summary(reuse)
-    c.check("summary.json escapes strings", rc == 0 and s["scene"] == scene, "scene %r" % s["scene"])
+    c.check("summary.json escapes strings", rc == 0 and list(s["probes"]) == [probe],
+            "probes %r" % list(s["probes"]))
 except (OSError, ValueError) as e:
     c.check("summary.json escapes strings", False, "exit %s: %s" % (rc, e))
 stale = ["summary.json", "hoop.csv", "fields.h5", "particles.xmf", "grid.xmf"]

@@ -77,7 +77,8 @@ rank0_cases = [
     ("particle dump under a file", ["-gimp_particle_dump", os.path.join(blocker, "p.csv")],
      "option -gimp_particle_dump %s: " % os.path.join(blocker, "p.csv")),
     ("grid dump under a file", ["-gimp_grid_dump", os.path.join(blocker, "g.csv")],
-     "option -gimp_grid_dump %s: cannot open the file" % os.path.join(blocker, "g.csv")),
+     "option -gimp_grid_dump %s: %s is not a directory that exists"
+     % (os.path.join(blocker, "g.csv"), blocker)),
 ]
 env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
 for name, extra, needle in rank0_cases:

@@ -90,7 +90,7 @@ bodyopts = os.path.join(W, "vonly.opts")
 with open(bodyopts, "w") as f:
     f.write("-gimp_E 1000\n-gimp_rho 1000\n-gimp_h 0.05\n-gimp_domain 0,0,1,1\n"
             "-gimp_body0_shape file\n-gimp_body0_file %s\n-ts_max_steps 0\n" % vonly)
-rows = dump_run(bodyopts, "vonly")
+rows = dump_run(bodyopts, "vonly_dump")
 ok = len(rows) == 2 and all(abs(float(r["lx"]) - math.sqrt(float(r["V"])) / 2) < 1e-15 and
                             float(r["lx"]) == float(r["ly"]) for r in rows)
 c.check("V only: square domains", ok, "; ".join("V %s lx %s ly %s" % (r["V"], r["lx"], r["ly"])

@@ -266,3 +266,32 @@ TEST_F(OptionsFile, LauncherRank) {
 }
 
 } // namespace
+
+TEST_F(OptionsFile, InputFilePathsAreResolvedBesideTheFile) {
+  write("scenes/sub/cap.opts", "-gimp_body0_file disk.csv\n-gimp_restart ../ck.h5\n"
+                               "-gimp_body12_FILE /abs/p.csv\n-gimp_output_dir out\n"
+                               "-gimp_body0_files x.csv\n");
+  write("scenes/top.opts", "-options_file sub/cap.opts\n-gimp_body1_file b.csv\n");
+  fs::current_path(dir_);
+  EXPECT_EQ(expandOptionsFiles({"-options_file", "scenes/top.opts", "-gimp_body2_file", "c.csv"}),
+            (Args{"-gimp_body0_file", "scenes/sub/disk.csv", "-gimp_restart", "scenes/sub/../ck.h5",
+                  "-gimp_body12_FILE", "/abs/p.csv", "-gimp_output_dir", "out", "-gimp_body0_files",
+                  "x.csv", "-gimp_body1_file", "scenes/b.csv", "-gimp_body2_file", "c.csv"}));
+}
+
+TEST_F(OptionsFile, SceneOptionsAreInsertedAfterPetscStarts) {
+  const gimp::SplitArgs s = gimp::splitForPetsc(
+      {"-log_view", "-gimp_E", "1e7", "-ts_dt", "-1e-3", "-GIMP_flag", "-gimp_nu", "-0.1",
+       "-prefix_push", "a_", "-gimp_kept", "1", "-prefix_pop", "-gimp_last", ""});
+  EXPECT_EQ(s.early, (Args{"-log_view", "-ts_dt", "-1e-3", "-prefix_push", "a_", "-gimp_kept", "1",
+                           "-prefix_pop"}));
+  ASSERT_EQ(s.late.size(), 4u);
+  EXPECT_EQ(s.late[0].key + "=" + s.late[0].value, "-gimp_E=1e7");
+  EXPECT_TRUE(s.late[0].hasValue);
+  EXPECT_EQ(s.late[1].key, "-GIMP_flag");
+  EXPECT_FALSE(s.late[1].hasValue);
+  EXPECT_EQ(s.late[2].key + "=" + s.late[2].value, "-gimp_nu=-0.1");
+  EXPECT_EQ(s.late[3].key, "-gimp_last");
+  EXPECT_TRUE(s.late[3].hasValue);
+  EXPECT_EQ(s.late[3].value, "");
+}

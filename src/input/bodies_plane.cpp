@@ -136,9 +136,12 @@ void readAdded(const Options &o, const std::string &q, Body<2> &b) {
   }
   readPolygons(o, q, "add_polygon", nap, b.added);
   if (o.help()) return;
-  if (!b.added.empty() && !b.file.empty())
-    Options::bad(q + "add_boxes", "(given)",
-                 "a body of shape file cannot be joined to other shapes");
+  if (!b.file.empty())
+    for (const char *name : {"add_boxes", "add_circles", "add_ellipses", "add_polygons"})
+      if (o.given(q + name))
+        Options::bad(q + name, "(given)",
+                     "does not apply to a body of shape file: it cannot be joined to other "
+                     "shapes");
   std::vector<std::string> names = {q + b.shapeOption};
   for (size_t i = 0; i < ab.size() / 4; ++i)
     names.push_back(q + "add_boxes");
@@ -227,6 +230,16 @@ void readSeedingAndMotion(const Options &o, const std::string &q, Body<2> &b) {
   b.wavenumber = o.real(q + "wavenumber", 0.0, &k0Given);
   b.spin = o.real(q + "spin", 0.0);
   if (o.help()) return;
+  for (const char *name : {"ppc", "hole_ppc", "hole_band"})
+    if (!b.file.empty() && o.given(q + name))
+      Options::bad(q + name, "(given)",
+                   "does not apply to a body of shape file: its particles are the file's rows");
+  const bool holes = !b.holes.empty() || !b.shapeHoles.empty();
+  for (const char *name : {"hole_ppc", "hole_band"})
+    if (!holes && o.given(q + name))
+      Options::bad(q + name, "(given)",
+                   "acts on the cells next to a hole, and the body's " + b.shapeOption +
+                       " has none");
   if (!isPerfectSquare(static_cast<int>(ppc)) || ppc > 64 * 64)
     Options::bad(q + "ppc", std::to_string(ppc),
                  "must be a perfect square (1, 4, 9, 16, 25, ...), at most 4096 (64 x 64)");

@@ -17,7 +17,8 @@ const std::vector<OptionSpec> kRun = {
     {"gimp_options_markdown", Kind::Bool, "", "false", "", nullptr, {},
      "Print this option table as Markdown (the list of docs/options.md) and exit"},
     {"gimp_scene", Kind::Word, "", "scene", "", nullptr, {},
-     "Scene name (a plain word; the default output directory is output/<name>)"},
+     "Scene name, a plain file name: letters, digits, -, _ and . (not . or ..); the default"
+     " output directory is output/<name>"},
     {"gimp_output_dir", Kind::Word, "", "output/<scene>", "", nullptr, {},
      "Output directory: history.csv, summary.json, fields.h5 with its XDMF files, checkpoint.h5"},
     {"gimp_output_interval", Kind::Int, "steps", "0", "", nullptr, atLeast(0),
@@ -32,7 +33,8 @@ const std::vector<OptionSpec> kRun = {
      "Steps between checkpoints (checkpoint.h5 in the output directory; 0: none, but on"
      " SIGINT/SIGTERM)"},
     {"gimp_restart", Kind::Word, "", "", "", nullptr, {},
-     "Continue from this checkpoint (give the scene's options again)"},
+     "Continue from this checkpoint (give the scene's options again; a relative path given in"
+     " an options file is read beside that file)"},
     {"gimp_particle_dump", Kind::Word, "", "", "", nullptr, {},
      "Write the final particles as CSV (sorted by id) to this file"},
     {"gimp_grid_dump", Kind::Word, "", "", "", nullptr, {},

@@ -25,7 +25,7 @@ const std::vector<OptionSpec> &bodyShapes() {
      "The body's polygon (simple, at most 200 vertices)"},
     {"gimp_bodyK_file", Kind::Word, "", "", "", nullptr, {},
      "CSV file of the body's particles: x,y and lx,ly or V, optionally vx,vy (a relative path"
-     " from the working directory)"},
+     " given in an options file is read beside that file)"},
     {"gimp_bodyK_sphere", Kind::Reals, "m", "", "cx,cy,cz,r", nullptr, {}, "The body's sphere"},
     {"gimp_bodyK_cylinder", Kind::Reals, "m", "", "a,b,r,lo,hi", nullptr, {},
      "The body's cylinder: centre in the two other coordinates (x, y, z order), radius, extent"

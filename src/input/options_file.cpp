@@ -42,6 +42,28 @@ bool endsWith(const std::string &s, const char *tail) {
   return s.size() >= n && s.compare(s.size() - n, n, tail) == 0;
 }
 
+/// An option that names a file the run reads (-gimp_bodyK_file, -gimp_restart): in an options
+/// file a relative path is resolved beside that file, as a nested -options_file is.
+bool isInputFile(const std::string &key) {
+  std::string k = key.substr(key.compare(0, 2, "--") == 0 ? 2 : 1);
+  for (char &c : k)
+    c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (k == "gimp_restart") return true;
+  const std::string head = "gimp_body", tail = "_file";
+  if (k.size() <= head.size() + tail.size() || k.compare(0, head.size(), head) != 0 ||
+      !endsWith(k, tail.c_str()))
+    return false;
+  const std::string index = k.substr(head.size(), k.size() - head.size() - tail.size());
+  return std::all_of(index.begin(), index.end(),
+                     [](char c) { return std::isdigit(static_cast<unsigned char>(c)); });
+}
+
+/// `name` relative to the directory `dir` of the file that gave it, unless absolute.
+std::string beside(const std::string &dir, const std::string &name) {
+  if (dir.empty() || name.empty() || name[0] == '/') return name;
+  return (std::filesystem::path(dir) / name).string();
+}
+
 /// PetscTokenFind with separator ' ': tokens are separated by runs of blanks; a token that
 /// starts with '"' runs to the next '"' (or to the end) without its quotes. A string that
 /// starts with a blank gives an empty first token.
@@ -202,7 +224,7 @@ private:
         out.push_back(first);
         more = tokens.next(second);
         if (more && !isKey(second)) {
-          out.push_back(second);
+          out.push_back(isInputFile(first) ? beside(base, second) : second);
           more = tokens.next(first);
         } else {
           first = second;
@@ -283,6 +305,32 @@ std::vector<std::string> expandOptionsFiles(const std::vector<std::string> &args
   Expander e;
   e.commandLine(args);
   return std::move(e.out);
+}
+
+SplitArgs splitForPetsc(const std::vector<std::string> &expanded) {
+  SplitArgs split;
+  int prefixes = 0; // -prefix_push depth
+  for (std::size_t i = 0; i < expanded.size();) {
+    const std::string &a = expanded[i];
+    const bool valueNext = i + 1 < expanded.size() && !isKey(expanded[i + 1]);
+    std::string lower = a;
+    for (char &c : lower)
+      c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (isKey(a) && prefixes == 0 && lower.compare(0, 6, "-gimp_") == 0) {
+      split.late.push_back({a, valueNext ? expanded[i + 1] : "", valueNext});
+      i += valueNext ? 2 : 1;
+      continue;
+    }
+    if (is(a, "-prefix_push")) ++prefixes;
+    if (is(a, "-prefix_pop") && prefixes > 0) --prefixes;
+    const bool takesNext = is(a, "-prefix_push") || is(a, "-options_file_yaml") ||
+                           is(a, "-options_string_yaml") ||
+                           (isKey(a) && !is(a, "-prefix_pop") && valueNext);
+    split.early.push_back(a);
+    if (takesNext && i + 1 < expanded.size()) split.early.push_back(expanded[++i]);
+    ++i;
+  }
+  return split;
 }
 
 int launcherRank() {

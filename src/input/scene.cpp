@@ -14,9 +14,23 @@ namespace gimp::input {
 
 namespace {
 
+/// A scene name names the default output directory output/<name>: a plain file name.
+bool plainFileName(const std::string &s) {
+  if (s.empty() || s == "." || s == "..") return false;
+  for (const char c : s)
+    if (!((c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '-' ||
+          c == '_' || c == '.'))
+      return false;
+  return true;
+}
+
 /// Outputs, monitors, measures.
 template <int D> void readOutputs(const Options &o, Scene<D> &sc) {
   sc.name = o.word("gimp_scene", "scene");
+  if (!o.help() && !plainFileName(sc.name))
+    Options::bad("gimp_scene", sc.name,
+                 "a scene name is a plain file name: letters, digits, '-', '_' and '.', not '.' "
+                 "or '..' (it names the output directory output/<scene>)");
   sc.outputDir = o.word("gimp_output_dir", "output/" + sc.name);
   sc.outputInterval = static_cast<int>(o.integer("gimp_output_interval", 0));
   sc.historyInterval = static_cast<int>(o.integer("gimp_history_interval", 10));

@@ -1,6 +1,7 @@
 // Setting up a run: scene, grid, particles, nodal vectors, time stepper, boundary terms, output.
 #include "gimp/input/problem_size.hpp"
 #include "gimp/input/validate.hpp"
+#include "gimp/io/paths.hpp"
 #include "gimp/particles/seed.hpp"
 #include "gimp/physics/constraints.hpp"
 #include "gimp/physics/material.hpp"
@@ -40,6 +41,17 @@ void neoHookeanOf(const Material &mat, ParticleView<3> &p, PetscInt k) {
   material::neoHookeanStress(mat, Tensor<3>(tensorAt<3>(p.F, k)), tensorAt<3>(p.s, k));
 }
 
+/// The paths the run writes and the files it reads.
+template <int D> RunPaths runPaths(const Scene<D> &sc) {
+  RunPaths paths{sc.outputDir, {}, {{"gimp_restart", sc.restart}}};
+  if (!sc.particleDump.empty()) paths.dumps.emplace_back("gimp_particle_dump", sc.particleDump);
+  if (!sc.gridDump.empty()) paths.dumps.emplace_back("gimp_grid_dump", sc.gridDump);
+  if constexpr (D == 2)
+    for (size_t k = 0; k < sc.bodies.size(); ++k)
+      paths.inputs.emplace_back("gimp_body" + std::to_string(k) + "_file", sc.bodies[k].file);
+  return paths;
+}
+
 } // namespace
 
 template <int D>
@@ -62,6 +74,7 @@ template <int D> PetscErrorCode Solver<D>::setup() {
     return PETSC_SUCCESS;
   }
   checkSceneCombinations<D>(s.sc);
+  PetscCall(checkRunPaths(s.comm, runPaths(s.sc))); // before anything is computed or written
   PetscCall(checkProblemSize<D>(s.comm, s.sc, itemBytes(s.sc)));
   s.scheme = schemeFor(s.sc.update);
   s.lanes = D == 2 && s.sc.lanes && transfer::laneLoops::available();

@@ -3,9 +3,15 @@
 // working directory; here NAME is relative to the directory of the file that names it, so a
 // scene that includes another runs from any working directory.
 //
-// main() passes the command line through expandOptionsFiles() and gives PetscInitialize the
-// result: every `-options_file FILE` is replaced, in place, by FILE's options, so that an
-// option given later on the command line still overrides the file (the last one wins).
+// main() passes the command line through expandOptionsFiles(): every `-options_file FILE` is
+// replaced, in place, by FILE's options, so that an option given later on the command line
+// still overrides the file (the last one wins). A scene can be long (hundreds of kB of
+// polygons and probes), longer than MPI lets a command line be, so splitForPetsc() keeps the
+// scene's own options (-gimp_*) out of what PetscInitialize gets; main() inserts them, in
+// their order, right after it (PETSc reads none of them while it starts).
+//
+// In an options file, a relative path given to an option that names a file the run reads
+// (-gimp_bodyK_file, -gimp_restart) is resolved as a nested -options_file is: beside the file.
 //
 // Files are read as PETSc 3.18 reads them (PetscOptionsInsertFile), so a scene gives PETSc the
 // same options as before: one option per line, optionally followed by its value; `#` starts a
@@ -39,6 +45,21 @@ constexpr int kMaxOptionsFileDepth = 16;
 /// syntax error, a file that includes itself (directly or through a cycle), nesting deeper
 /// than kMaxOptionsFileDepth, or `-options_file` without a name.
 std::vector<std::string> expandOptionsFiles(const std::vector<std::string> &args);
+
+/// One option of the scene, inserted after PetscInitialize.
+struct LateOption {
+  std::string key, value;
+  bool hasValue = false;
+};
+
+/// The expanded command line split in two: `early`, what PetscInitialize gets (every option
+/// PETSc may read while it starts, in order), and `late`, the -gimp_* options with their
+/// values, in order (none inside a -prefix_push: those stay early with their prefix).
+struct SplitArgs {
+  std::vector<std::string> early;
+  std::vector<LateOption> late;
+};
+SplitArgs splitForPetsc(const std::vector<std::string> &expanded);
 
 /// This process's rank as its MPI launcher set it in the environment (OMPI_COMM_WORLD_RANK,
 /// PMIX_RANK or PMI_RANK), or -1 when none is set: lets main() report an error found before

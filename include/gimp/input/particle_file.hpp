@@ -26,7 +26,10 @@ struct ParticleFile {
 /// V (volume, m^3), at least the pair or V, and vx, vy (optional); a particle without lx, ly
 /// gets the square of its area, one without V the area 4 lx ly. Columns id, sxx, syy, sxy,
 /// szz of gimp's own particle dump are allowed and ignored (a file body starts unstressed);
-/// any other column is an error. `opt` names the option in the error line.
+/// any other column is an error. The file is text: a UTF-8 byte-order mark is skipped, a NUL
+/// byte (binary, UTF-16) refused. Two particles of which one's centre lies in the other's
+/// domain (the same particle twice) are refused with their lines and positions. `opt` names the
+/// option in the error line.
 PetscErrorCode readParticleFile(MPI_Comm comm, const std::string &opt, const std::string &path,
                                 double thickness, ParticleFile &out);
 
