@@ -145,6 +145,7 @@ void readCracks(const Options &o, Scene<2> &sc) {
   }
   if (o.help()) return;
   checkTips(sc);
+  setJDomains(sc, radiusGiven);
 }
 
 } // namespace gimp::input
