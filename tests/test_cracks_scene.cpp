@@ -114,6 +114,10 @@ TEST(CrackScene, JDomainClippedToTheTipsClearance) {
               "-0.1,0.2,0.5,0.2,0.55,0.25");
   ASSERT_EQ(d.size(), 1u);
   EXPECT_NEAR(d[0].radius, 0.05 * std::sqrt(2.0), 1e-12);
+  // (a vertex where the crack runs straight on is no kink: to the top and bottom edges, 0.2) ...
+  d = domains("-gimp_crack_j_radius 0.3 -gimp_cracks 1 -gimp_crack0_points "
+              "-0.1,0.2,0.3,0.2,0.45,0.2");
+  EXPECT_NEAR(d.at(0).radius, 0.2, 1e-12);
   // ... to a hole's circle (centre 0.8, radius 0.05) ...
   d = domains("-gimp_crack_j_radius 0.3 -gimp_cracks 1 -gimp_crack0_points -0.1,0.2,0.68,0.2");
   EXPECT_NEAR(d.at(0).radius, 0.07, 1e-12);

@@ -8,6 +8,7 @@
 // fits measures no J (a warning).
 #include "scene_options.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -99,6 +100,25 @@ struct Clearance {
   }
 };
 
+/// The part of crack c from its first kink seen from end e on (the points in order from the tip;
+/// a vertex where the crack runs on in the tip segment's direction, within kCrackTol, is no
+/// kink); no points when it has none.
+Crack pastTheKink(const Crack &c, int e) {
+  std::vector<Point> p = c.points;
+  if (e) std::reverse(p.begin(), p.end());
+  const double tx = p[1][0] - p[0][0], ty = p[1][1] - p[0][1], lt = std::hypot(tx, ty);
+  Crack rest;
+  for (size_t v = 1; v + 1 < p.size(); ++v) {
+    const double sx = p[v + 1][0] - p[v][0], sy = p[v + 1][1] - p[v][1];
+    const double ls = std::hypot(sx, sy);
+    if (std::fabs(tx * sy - ty * sx) <= cracks::kCrackTol * lt * ls && tx * sx + ty * sy > 0)
+      continue;
+    rest.points.assign(p.begin() + static_cast<std::ptrdiff_t>(v), p.end());
+    break;
+  }
+  return rest;
+}
+
 Clearance tipClearance(const Scene<2> &sc, size_t k, int e) {
   const Crack &c = sc.cracks[k];
   const Point x = e ? c.points.back() : c.points.front();
@@ -114,9 +134,8 @@ Clearance tipClearance(const Scene<2> &sc, size_t k, int e) {
   r.take(std::min({x[0] - g[0], g[2] - x[0], x[1] - g[1], g[3] - x[1]}), "the grid's edge");
   for (size_t m = 0; m < sc.cracks.size(); ++m)
     if (m != k) r.take(cracks::distance(sc.cracks[m], x[0], x[1]), "crack " + std::to_string(m));
-  // Its own crack past the tip's segment: a kink, and the other end when it is a tip.
-  Crack rest = c;
-  rest.points.erase(e ? rest.points.end() - 1 : rest.points.begin());
+  // Its own crack from its first kink on, and its other end when that is a tip.
+  const Crack rest = pastTheKink(c, e);
   if (rest.points.size() > 1) r.take(cracks::distance(rest, x[0], x[1]), "its own crack's kink");
   const Point &o = e ? c.points.front() : c.points.back();
   if (c.tip[1 - e]) r.take(std::hypot(o[0] - x[0], o[1] - x[1]), "its crack's other tip");
