@@ -1,13 +1,16 @@
 // The cracks of a scene as readScene makes them (src/input/scene_cracks.cpp): the points in
 // order, each end a tip (strictly inside a body) or a mouth (on or outside the body's edge,
 // including a hole's circle, within 1e-9 of the cell size), and the one-cell distance between
-// a tip and another crack measured with the finest cell at the tip. The error lines
-// themselves are checked by tests/check_input.py.
+// a tip and another crack measured with the finest cell at the tip; the J domain of each tip
+// clipped to its clearance. The error lines themselves are checked by tests/check_input.py and
+// tests/bad_input/cases2d.tsv.
 #include "gimp/input/scene.hpp"
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <string>
+#include <vector>
 
 namespace {
 
@@ -82,6 +85,53 @@ TEST(CrackScene, TipDistanceUsesTheFinestCellThere) {
                  "-gimp_crack1_points -0.1,0.21,0.3,0.35",
                  mouth),
             "");
+}
+
+/// The J domain of each tip of the base scene with a finer level around y = 0.2 and `extra`.
+std::vector<gimp::JDomain> domains(const std::string &extra) {
+  gimp::Scene<2> sc;
+  const std::string err =
+      read("-gimp_levels 2 -gimp_level1_box 0.2,0.1,0.7,0.3 -gimp_level1_ratio 4 " + extra, sc);
+  EXPECT_EQ(err, "") << extra;
+  return sc.jDomain;
+}
+
+TEST(CrackScene, JDomainClippedToTheTipsClearance) {
+  const double h = 0.1 / 4;
+  // The default, 5 cells at the tip, inside the clearance (0.2 to the top and bottom edges).
+  auto d = domains("-gimp_cracks 1 -gimp_crack0_points -0.1,0.2,0.45,0.2");
+  ASSERT_EQ(d.size(), 1u);
+  EXPECT_EQ(d[0].radius, gimp::kJCells * h);
+  EXPECT_FALSE(d[0].clipped);
+  // A radius given past the clearance: to the other tip of an interior crack (0.15) ...
+  d = domains("-gimp_crack_j_radius 0.3 -gimp_cracks 1 -gimp_crack0_points 0.3,0.2,0.45,0.2");
+  ASSERT_EQ(d.size(), 2u);
+  EXPECT_NEAR(d[0].radius, 0.15, 1e-12);
+  EXPECT_NEAR(d[1].radius, 0.15, 1e-12);
+  EXPECT_TRUE(d[0].clipped && d[1].clipped);
+  // ... to the kink of its own crack (the last segment, 0.05 sqrt 2) ...
+  d = domains("-gimp_crack_j_radius 0.3 -gimp_cracks 1 -gimp_crack0_points "
+              "-0.1,0.2,0.5,0.2,0.55,0.25");
+  ASSERT_EQ(d.size(), 1u);
+  EXPECT_NEAR(d[0].radius, 0.05 * std::sqrt(2.0), 1e-12);
+  // (a vertex where the crack runs straight on is no kink: to the top and bottom edges, 0.2) ...
+  d = domains("-gimp_crack_j_radius 0.3 -gimp_cracks 1 -gimp_crack0_points "
+              "-0.1,0.2,0.3,0.2,0.45,0.2");
+  EXPECT_NEAR(d.at(0).radius, 0.2, 1e-12);
+  // ... to a hole's circle (centre 0.8, radius 0.05) ...
+  d = domains("-gimp_crack_j_radius 0.3 -gimp_cracks 1 -gimp_crack0_points -0.1,0.2,0.68,0.2");
+  EXPECT_NEAR(d.at(0).radius, 0.07, 1e-12);
+  // ... to another crack; a radius within the clearance is kept.
+  d = domains("-gimp_crack_j_radius 0.3 -gimp_cracks 2 -gimp_crack0_points -0.1,0.2,0.45,0.2 "
+              "-gimp_crack1_points 0.6,-0.1,0.6,0.5");
+  EXPECT_NEAR(d.at(0).radius, 0.15, 1e-12);
+  d = domains("-gimp_crack_j_radius 0.1 -gimp_cracks 1 -gimp_crack0_points -0.1,0.2,0.45,0.2");
+  EXPECT_EQ(d.at(0).radius, 0.1);
+  EXPECT_FALSE(d.at(0).clipped);
+  // The default where the tip is under 2 cells (0.1 here) from the top edge: no domain (J not
+  // measured).
+  d = domains("-gimp_cracks 1 -gimp_crack0_points -0.1,0.39,0.45,0.39");
+  EXPECT_EQ(d.at(0).radius, 0.0);
 }
 
 } // namespace

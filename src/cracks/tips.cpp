@@ -5,6 +5,7 @@
 #include "gimp/physics/material.hpp"
 
 #include <cmath>
+#include <limits>
 
 namespace gimp::cracks {
 
@@ -19,6 +20,10 @@ std::vector<TipMeasure> tipsOf(const Scene<2> &sc) {
         const auto &pt = e == 0 ? sc.cracks[k].points.front() : sc.cracks[k].points.back();
         m.tip[0] = pt[0];
         m.tip[1] = pt[1];
+        if (out.size() < sc.jDomain.size()) {
+          m.jRadius = sc.jDomain[out.size()].radius;
+          m.jClipped = sc.jDomain[out.size()].clipped;
+        }
         out.push_back(m);
       }
   return out;
@@ -125,12 +130,13 @@ void finishTip(const Scene<2> &sc, const double *r, double h, TipMeasure &m) {
   m.opening[1] = dut;
   m.G_vcct = Fn * dun / (2.0 * th * h);
   m.GII_vcct = Ft * dut / (2.0 * th * h);
-  m.G_J = r[kJ] / th;
+  const double none = m.jRadius > 0 ? 1.0 : std::numeric_limits<double>::quiet_NaN();
+  m.G_J = none * r[kJ] / th;
   m.KI_vcct = std::copysign(std::sqrt(std::fabs(m.G_vcct) * Ep), m.G_vcct);
   m.KII_vcct = std::copysign(std::sqrt(std::fabs(m.GII_vcct) * Ep), dut);
   // The interaction integrals with the unit tip fields: I_m = 2 K_m / E'.
-  m.KI_J = 0.5 * Ep * r[kJ + 1] / th;
-  m.KII_J = 0.5 * Ep * r[kJ + 2] / th;
+  m.KI_J = none * 0.5 * Ep * r[kJ + 1] / th;
+  m.KII_J = none * 0.5 * Ep * r[kJ + 2] / th;
 }
 
 } // namespace
@@ -155,8 +161,7 @@ void addDomainIntegrals(const Material &mat, const ParticleView<2> &p, const dou
 }
 
 PetscErrorCode measureTips(MPI_Comm comm, const Scene<2> &sc, const Grid<2> &g,
-                           const ParticleView<2> &p, double jRadius,
-                           std::vector<TipMeasure> &tips) {
+                           const ParticleView<2> &p, std::vector<TipMeasure> &tips) {
   tips = tipsOf(sc);
   const size_t T = tips.size();
   if (T == 0) return PETSC_SUCCESS;
@@ -168,7 +173,6 @@ PetscErrorCode measureTips(MPI_Comm comm, const Scene<2> &sc, const Grid<2> &g,
     double t[2], n[2];
     tipFrame(crack, m.end, t, n);
     const double h = cell[q] = g.levels[g.leafLevelAt(m.tip[0], m.tip[1])].h;
-    const double R = jRadius > 0 ? jRadius : kJCells * h;
     // The point one cell behind the tip, on the crack line; a particle is on the side of the
     // crack's left normal there unless the segment to the point crosses the crack.
     const double bx = m.tip[0] - h * t[0], by = m.tip[1] - h * t[1];
@@ -196,7 +200,7 @@ PetscErrorCode measureTips(MPI_Comm comm, const Scene<2> &sc, const Grid<2> &g,
         o[2] += p.m[k] * w;
       }
     }
-    addDomainIntegrals(sc.materialAt(m.tip), p, m.tip, t, R, &r[kJ]);
+    if (m.jRadius > 0) addDomainIntegrals(sc.materialAt(m.tip), p, m.tip, t, m.jRadius, &r[kJ]);
   }
   PetscCallMPI(MPI_Allreduce(local.data(), global.data(), static_cast<int>(local.size()),
                              MPI_DOUBLE, MPI_SUM, comm));

@@ -151,6 +151,66 @@ bool nearCrack(const Crack &c, const double box[4], double reach) {
   return false;
 }
 
+namespace {
+
+/// Side of x relative to the line a-b: +1 left, -1 right, 0 within delta of the line.
+int lineSide(const Point &a, const Point &b, const Point &x, double delta) {
+  const double tx = b[0] - a[0], ty = b[1] - a[1];
+  const double o = cross(tx, ty, x[0] - a[0], x[1] - a[1]);
+  if (std::fabs(o) <= delta * std::sqrt(tx * tx + ty * ty)) return 0;
+  return o > 0 ? 1 : -1;
+}
+
+/// Where x falls along a-b: 0 at a, 1 at b.
+double along(const Point &a, const Point &b, const Point &x) {
+  const double tx = b[0] - a[0], ty = b[1] - a[1];
+  return ((x[0] - a[0]) * tx + (x[1] - a[1]) * ty) / (tx * tx + ty * ty);
+}
+
+/// Whether x, on the line of a-b (within delta), lies between a and b (within delta).
+bool between(const Point &a, const Point &b, const Point &x, double delta) {
+  const double s = along(a, b, x), e = delta / std::hypot(b[0] - a[0], b[1] - a[1]);
+  return s >= -e && s <= 1.0 + e;
+}
+
+} // namespace
+
+int segmentsMeet(const Point &p0, const Point &p1, const Point &q0, const Point &q1, double at[2]) {
+  const double delta = kCrackTol * (std::fabs(p1[0] - p0[0]) + std::fabs(p1[1] - p0[1]) +
+                                    std::fabs(q1[0] - q0[0]) + std::fabs(q1[1] - q0[1]));
+  const int s1 = lineSide(p0, p1, q0, delta), s2 = lineSide(p0, p1, q1, delta);
+  const int s3 = lineSide(q0, q1, p0, delta), s4 = lineSide(q0, q1, p1, delta);
+  if (s1 * s2 > 0 || s3 * s4 > 0) return 0; // one segment wholly on one side of the other's line
+  if (s1 && s2 && s3 && s4) {               // a proper crossing: where q meets p's line
+    const double d1 = cross(p1[0] - p0[0], p1[1] - p0[1], q0[0] - p0[0], q0[1] - p0[1]);
+    const double d2 = cross(p1[0] - p0[0], p1[1] - p0[1], q1[0] - p0[0], q1[1] - p0[1]);
+    const double t = d1 / (d1 - d2);
+    at[0] = q0[0] + t * (q1[0] - q0[0]);
+    at[1] = q0[1] + t * (q1[1] - q0[1]);
+    return 2;
+  }
+  // An end point on the other segment's line touches when it lies between that segment's ends
+  // (collinear segments: when one's end lies on the other, which is what overlap means).
+  const Point *ends[4][3] = {{&q0, &p0, &p1}, {&q1, &p0, &p1}, {&p0, &q0, &q1}, {&p1, &q0, &q1}};
+  const int sides[4] = {s1, s2, s3, s4};
+  for (int e = 0; e < 4; ++e)
+    if (sides[e] == 0 && between(*ends[e][1], *ends[e][2], *ends[e][0], delta)) {
+      at[0] = (*ends[e][0])[0];
+      at[1] = (*ends[e][0])[1];
+      return 1;
+    }
+  return 0;
+}
+
+int cracksMeet(const Crack &a, const Crack &b, double at[2]) {
+  for (size_t i = 0; i + 1 < a.points.size(); ++i)
+    for (size_t j = 0; j + 1 < b.points.size(); ++j)
+      if (const int m =
+              segmentsMeet(a.points[i], a.points[i + 1], b.points[j], b.points[j + 1], at))
+        return m;
+  return 0;
+}
+
 PolylineFault findFault(const Crack &c, double tol) {
   const auto &x = c.points;
   const int n = static_cast<int>(x.size()) - 1; // segments

@@ -202,8 +202,8 @@ const std::vector<OptionSpec> &gridOptions() {
     {"gimp_crackK_points", Kind::Reals, "m", "(required)", "x0,y0,x1,y1,...", nullptr, {},
      "Crack polyline (at most 100 points): an end strictly inside a body is a tip, one on or"
      " outside its edge a mouth"},
-    {"gimp_crack_j_radius", Kind::Real, "m", "5 finest cells", "", nullptr, above(0),
-     "Radius of the J-integral's domain around each tip"},
+    {"gimp_crack_j_radius", Kind::Real, "m", "5 cells at the tip", "", nullptr, above(0),
+     "Radius of the J-integral's domain around each tip, clipped to the tip's clearance"},
   };
   return t;
 }

@@ -83,6 +83,28 @@ void makeCrack(const Scene<2> &sc, const std::string &q, const std::vector<doubl
   }
 }
 
+/// The points of crack k as its option gives them.
+std::string pointsText(const Crack &c) {
+  std::vector<double> v;
+  for (const auto &p : c.points)
+    v.insert(v.end(), p.begin(), p.end());
+  return fmtList(v.data(), v.size());
+}
+
+/// Crack k crossing or touching an earlier crack (a tip on another crack, a T, an X).
+void checkMeetings(const Scene<2> &sc, size_t k) {
+  for (size_t m = 0; m < k; ++m) {
+    double at[2];
+    const int meet = cracks::cracksMeet(sc.cracks[k], sc.cracks[m], at);
+    if (!meet) continue;
+    const std::string other = "gimp_crack" + std::to_string(m) + "_points";
+    Options::bad("gimp_crack" + std::to_string(k) + "_points", pointsText(sc.cracks[k]),
+                 std::string(meet == 2 ? "crosses" : "touches") + " -" + other + " at " +
+                     formatNumber(at[0]) + "," + formatNumber(at[1]) +
+                     ": cracks must not cross or touch");
+  }
+}
+
 /// A tip closer than one cell (the finest cell at the tip) to another crack.
 void checkTips(const Scene<2> &sc) {
   for (size_t k = 0; k < sc.cracks.size(); ++k)
@@ -94,10 +116,7 @@ void checkTips(const Scene<2> &sc) {
       for (size_t m = 0; m < sc.cracks.size(); ++m) {
         const double d = cracks::distance(sc.cracks[m], x[0], x[1]);
         if (m == k || d >= h) continue;
-        std::vector<double> v;
-        for (const auto &p : c.points)
-          v.insert(v.end(), p.begin(), p.end());
-        Options::bad("gimp_crack" + std::to_string(k) + "_points", fmtList(v.data(), v.size()),
+        Options::bad("gimp_crack" + std::to_string(k) + "_points", pointsText(c),
                      "its tip " + formatNumber(x[0]) + "," + formatNumber(x[1]) + " is " +
                          formatNumber(d) + " m from crack " + std::to_string(m) +
                          ", less than one cell (" + formatNumber(h) +
@@ -122,8 +141,11 @@ void readCracks(const Options &o, Scene<2> &sc) {
     Crack c;
     makeCrack(sc, q, v, c);
     sc.cracks.push_back(c);
+    checkMeetings(sc, sc.cracks.size() - 1);
   }
-  if (!o.help()) checkTips(sc);
+  if (o.help()) return;
+  checkTips(sc);
+  setJDomains(sc, radiusGiven);
 }
 
 } // namespace gimp::input

@@ -99,7 +99,7 @@ template <int D> PetscErrorCode Reporter<D>::crackTips(std::vector<cracks::TipMe
     if (!s_.sc.cracks.empty()) {
       ParticleView<2> p;
       PetscCall(p.get(s_.sw));
-      PetscCall(cracks::measureTips(s_.comm, s_.sc, s_.grid, p, s_.sc.crackJRadius, tips));
+      PetscCall(cracks::measureTips(s_.comm, s_.sc, s_.grid, p, tips));
       PetscCall(p.restore(s_.sw));
     }
   return PETSC_SUCCESS;

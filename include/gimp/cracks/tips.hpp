@@ -21,9 +21,11 @@ struct TipMeasure {
   double opening[2] = {0, 0}; // opening (n) and sliding (t) one cell behind the tip [m]
   double G_vcct = 0, GII_vcct = 0, G_J = 0;
   double KI_vcct = 0, KII_vcct = 0, KI_J = 0, KII_J = 0;
+  double jRadius = 0;    // the J domain's radius (Scene::jDomain; 0: none fits, J not measured)
+  bool jClipped = false; // the radius asked for was clipped to the tip's clearance
 };
 
-/// The tips of all cracks, in order (crack, then end).
+/// The tips of all cracks, in order (crack, then end), with their J domains (Scene::jDomain).
 std::vector<TipMeasure> tipsOf(const Scene<2> &sc);
 
 /// The tip fields' constants of a material.
@@ -38,9 +40,6 @@ TipElastic tipElastic(const Material &m);
 void addDomainIntegrals(const Material &mat, const ParticleView<2> &p, const double tip[2],
                         const double t[2], double R, double out[3]);
 
-/// J's default domain radius in cells at the tip.
-constexpr double kJCells = 5.0;
-
 /// VCCT and J at every tip (anywhere, any direction), with h the cell of the finest level
 /// holding the tip. VCCT is crack closure over one cell: G_I = F_n du_n / (2 t h),
 /// G_II = F_t du_t / (2 t h). F is the internal force that the particles on the tip frame's n
@@ -48,12 +47,14 @@ constexpr double kJCells = 5.0;
 /// one side's grip on the tip). du is the opening at the point one cell behind the tip: the
 /// mass projection of each side's particle displacement with the same kernel, n side minus the
 /// other (a particle's side is the one crossing() gives it against that point, as for the two
-/// fields of a grid node). J by the domain integral over the particles within jRadius of the
-/// tip (0: kJCells cells), J = sum_p V_p (sigma_ij du_i/dx_1 - W delta_1j) dq/dx_j in the tip
+/// fields of a grid node). J by the domain integral over the particles within the tip's
+/// jRadius (Scene::jDomain, set at input: -gimp_crack_j_radius or kJCells cells, clipped to
+/// the tip's clearance), J = sum_p V_p (sigma_ij du_i/dx_1 - W delta_1j) dq/dx_j in the tip
 /// frame, q = (1 - r^2 / R^2)^2; K_I and K_II "by J" from the interaction integrals over the same
 /// domain (addDomainIntegrals), K_m = E' I_m / 2. VCCT's K = sqrt(G E'), signed by G_I and du_t;
-/// E' = E (plane stress) or E / (1 - nu^2) (plane strain). Collective.
+/// E' = E (plane stress) or E / (1 - nu^2) (plane strain). A tip without a J domain (jRadius 0)
+/// has G_J, KI_J and KII_J NaN (null in summary.json). Collective.
 PetscErrorCode measureTips(MPI_Comm comm, const Scene<2> &sc, const Grid<2> &g,
-                           const ParticleView<2> &p, double jRadius, std::vector<TipMeasure> &tips);
+                           const ParticleView<2> &p, std::vector<TipMeasure> &tips);
 
 } // namespace gimp::cracks

@@ -74,6 +74,18 @@ bool nearCrack(const Crack &c, const double box[4], double reach);
 double segmentDistance(const std::array<double, 2> &p0, const std::array<double, 2> &p1,
                        const std::array<double, 2> &q0, const std::array<double, 2> &q1);
 
+/// Whether the segments p0-p1 and q0-q1 cross or touch, by the orientation tests of the file
+/// comment with delta = kCrackTol (|p0p1| + |q0q1|) (1-norm lengths): an end point within delta of
+/// the other segment's line, and between its ends, touches it; collinear segments meet when they
+/// overlap. Returns 0 when they do not meet, 1 when they touch (an end point on the other
+/// segment, or collinear overlap), 2 when they cross properly; `at` is a point where they meet.
+int segmentsMeet(const std::array<double, 2> &p0, const std::array<double, 2> &p1,
+                 const std::array<double, 2> &q0, const std::array<double, 2> &q1, double at[2]);
+
+/// Where two cracks first meet (segment pairs in order): 0 when they neither cross nor touch,
+/// else segmentsMeet's 1 (touch) or 2 (cross) and the point in `at`.
+int cracksMeet(const Crack &a, const Crack &b, double at[2]);
+
 /// What is wrong with a polyline as a crack, for the scene's validation: segment i has zero
 /// length (<= tol), segments i and i + 1 fold back onto each other (one's far end within tol of
 /// the other segment), or non-adjacent segments i < j come within tol of each other.

@@ -185,11 +185,25 @@ template <int D> struct Loads {
   std::vector<Probe<D>> probes;
 };
 
+/// The J-integral's default domain radius, in cells at the tip, and the smallest radius that
+/// makes a domain (2D cracks).
+constexpr double kJCells = 5.0, kJMinCells = 2.0;
+
+/// The J-integral's domain at one crack tip: the radius used, and whether the radius asked for
+/// (-gimp_crack_j_radius, or kJCells cells) was clipped to the tip's clearance (to the nearest
+/// body edge or hole, other crack or other part of its own crack). radius 0: no domain fits (the
+/// tip is closer than kJMinCells cells to one of them), J is not measured there.
+struct JDomain {
+  double radius = 0;
+  bool clipped = false;
+};
+
 /// What a run measures beyond energies and probes: crack tips (2D) and a hole's hoop stress.
 struct Measures {
-  std::vector<Crack> cracks; // explicit cracks, ends classified as tips or mouths (2D)
-  double crackJRadius = 0;   // J-integral domain radius [m] (0: 5 finest cells)
-  bool holeMeasure = false;  // hoop stress around a hole: centre, radius, remote stress p
+  std::vector<Crack> cracks;    // explicit cracks, ends classified as tips or mouths (2D)
+  double crackJRadius = 0;      // -gimp_crack_j_radius [m] (0: not given, kJCells cells)
+  std::vector<JDomain> jDomain; // per crack tip, in order (crack, then end)
+  bool holeMeasure = false;     // hoop stress around a hole: centre, radius, remote stress p
   double hole[3] = {0, 0, 0};
   double holeLoad = 0;
 };
