@@ -154,11 +154,12 @@ std::string sceneRecord() {
             [](const std::string &a, const std::string &b) { return orderOf(a) < orderOf(b); });
   std::string record;
   for (const std::string &name : sorted) {
-    char value[4096] = "";
+    const char *value = nullptr; // (the whole value: a polygon may be long)
     PetscBool set = PETSC_FALSE;
-    if (PetscOptionsGetString(nullptr, nullptr, ("-" + name).c_str(), value, sizeof value, &set))
+    if (PetscOptionsFindPair(nullptr, nullptr, ("-" + name).c_str(), &value, &set) || !set)
       continue;
-    record += name + "\t" + canonical(*findOption(name), value) + "\t" + trim(value) + "\n";
+    const std::string text = value ? value : "";
+    record += name + "\t" + canonical(*findOption(name), text) + "\t" + trim(text) + "\n";
   }
   return record;
 }
