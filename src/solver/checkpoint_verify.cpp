@@ -164,6 +164,11 @@ std::string particlesWhy(hid_t f, const OptionalFields &need, double particles, 
       why = "holds " + std::to_string(v.size()) + " values, not " + formatNumber(particles) +
             " particles x " + std::to_string(fs.components);
     if (why.empty()) why = notFinite(v, 0, static_cast<size_t>(fs.components), "particle");
+    const bool positive = !std::strcmp(fs.name, "m") || !std::strcmp(fs.name, "V") ||
+                          !std::strcmp(fs.name, "V0"); // masses and volumes
+    for (size_t i = 0; why.empty() && positive && i < v.size(); ++i)
+      if (!(v[i] > 0))
+        why = "holds " + formatNumber(v[i]) + ", not > 0, at particle " + std::to_string(i);
     for (size_t i = 0; why.empty() && fs.type != PETSC_REAL && i < v.size(); ++i)
       if (v[i] != std::floor(v[i]))
         why = "holds " + formatNumber(v[i]) + ", not an integer, at particle " +
