@@ -231,5 +231,5 @@ refused("-gimp_multirate_forces without -gimp_multirate", "bench/block3.opts",
         ["-gimp_multirate_forces", "node"],
         "option -gimp_multirate_forces node: acts only with -gimp_multirate true")
 refused("a multi-rate checkpoint without -gimp_multirate", "options/drift3.opts",
-        ["-gimp_restart", ck], "carry the field rate")
+        ["-gimp_restart", ck], "option -gimp_multirate false (the default): the checkpoint")
 c.done()

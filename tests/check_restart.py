@@ -150,14 +150,16 @@ c.check("a fresh run removes an earlier checkpoint", not os.path.exists(ckpt), "
     os.path.basename(ckpt), os.path.exists(ckpt)))
 
 # A checkpoint of another scene, and a file that is none, are refused in one line.
-for name, extra in (("another grid", ["-gimp_h", "0.025", "-ts_dt", "1e-4"]),
-                    ("without corners", ["-gimp_tracking", "stretch"]),
-                    ("not a checkpoint", ["-gimp_restart", os.path.join(part, "history.csv")])):
+for name, extra, start in (
+        ("another grid", ["-gimp_h", "0.025", "-ts_dt", "1e-4"], "option -gimp_h 0.025: "),
+        ("without corners", ["-gimp_tracking", "stretch"], "option -gimp_tracking stretch: "),
+        ("not a checkpoint", ["-gimp_restart", os.path.join(part, "history.csv")],
+         "option -gimp_restart")):
     r = ["-ts_max_steps", "60", "-gimp_restart", os.path.join(args.work, "crack_np1_step30.h5")]
     p = run(CRACK, "crack_refused", r + extra, expect_ok=False)
     lines = p.stderr.strip().splitlines()
     c.check("restart refused: " + name, p.returncode == 2 and len(lines) == 1 and
-            lines[0].startswith("gimp: error: option -gimp_restart"),
+            lines[0].startswith("gimp: error: " + start),
             "exit %d: %s" % (p.returncode, p.stderr.strip()[:160]))
 # A restart that would do nothing (-ts_max_steps counts from step 0) is refused in one line.
 p = run(CRACK, "crack_refused", ["-ts_max_steps", "20", "-gimp_restart",

@@ -89,14 +89,16 @@ c.check("block 1 -> 2 against the 1-rank run", dd < 1e-10 and hd < 1e-10,
         "1e-10" % (dd, group, hd, col))
 
 # Checkpoints that do not fit the scene are refused in one line.
-for name, opts, extra in (
-        ("another grid", BLOCK[0], ["-gimp_h", "0.05"]),
-        ("a 3D checkpoint in a 2D scene", "options/bar.opts", [])):
+for name, opts, extra, start in (
+        ("another grid", BLOCK[0], ["-gimp_h", "0.05"], "option -gimp_h 0.05: "),
+        ("a 3D checkpoint in a 2D scene", "options/bar.opts", [],
+         "option -gimp_dim 2 (the default): the checkpoint %s was written with -gimp_dim 3"
+         % ckpt1)):
     p = gimptest.run(args, opts, extra + ["-ts_max_steps", "300", "-gimp_restart", ckpt1],
                      outdir=out("refused"), expect_ok=False)
     lines = p.stderr.strip().splitlines()
     c.check("restart refused: " + name, p.returncode == 2 and len(lines) == 1 and
-            lines[0].startswith("gimp: error: option -gimp_restart"),
+            lines[0].startswith("gimp: error: " + start),
             "exit %d: %s" % (p.returncode, p.stderr.strip()[:200]))
 
 

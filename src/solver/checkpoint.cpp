@@ -1,6 +1,9 @@
 // Checkpoint and restart (solver/checkpoint.hpp).
 #include "gimp/solver/checkpoint.hpp"
 
+#include "checkpoint_file.hpp"
+#include "gimp/input/scene_record.hpp"
+
 #include "gimp/io/checked.hpp"
 
 #include <hdf5.h>
@@ -16,9 +19,11 @@
 
 namespace gimp {
 
-namespace {
+using ckpt::kFormat;
+using ckpt::kNScalars;
+using ckpt::kScalars;
 
-constexpr double kFormat = 4; // layout version of checkpoint.h5
+namespace {
 
 /// An array known on rank 0, written as [n, values...] (never an empty dataset).
 PetscErrorCode writeArray(MPI_Comm comm, PetscViewer v, const char *name,
@@ -130,48 +135,6 @@ template <int D> std::vector<double> gridDescription(const Grid<D> &g) {
   return d;
 }
 
-/// Whether `file` is an HDF5 file with /state's format attribute (rank 0).
-bool looksLikeCheckpoint(const std::string &file) {
-  const QuietErrors quiet(false);
-  bool ok = false;
-  std::error_code ec;
-  if (std::filesystem::is_regular_file(file, ec) && H5Fis_hdf5(file.c_str()) > 0) {
-    const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
-    if (f >= 0) {
-      ok = H5Aexists_by_name(f, "/state", "format", H5P_DEFAULT) > 0 &&
-           H5Lexists(f, "/particles", H5P_DEFAULT) > 0;
-      H5Fclose(f);
-    }
-  }
-  return ok;
-}
-
-} // namespace
-
-namespace {
-
-/// The scalar attributes of /state, in this order.
-constexpr const char *kScalars[] = {"format",
-                                    "step",
-                                    "time",
-                                    "dt",
-                                    "ranks",
-                                    "particles",
-                                    "mean_particle_mass",
-                                    "work_external",
-                                    "work_damping",
-                                    "migrated",
-                                    "separation_strain",
-                                    "max_strain",
-                                    "max_separation",
-                                    "mms_linf",
-                                    "mms_rms",
-                                    "rest_rows",
-                                    "rest_strain",
-                                    "at_rest",
-                                    "dt_critical"};
-constexpr size_t kNScalars = sizeof(kScalars) / sizeof(kScalars[0]);
-
 } // namespace
 
 namespace {
@@ -201,6 +164,7 @@ template <int D> PetscErrorCode Checkpoint<D>::write(PetscInt step, double t) {
                             ": cannot write checkpoint.h5 at step " +
                             std::to_string(static_cast<long long>(step)) + " (";
   std::string error;
+  if (s.rank == 0 && record_.empty()) record_ = input::sceneRecord(); // once: it hashes files
   if (s.rank == 0) {
     long double components = 0;
     for (const FieldSpec<D> &fs : particleFields<D>())
@@ -261,10 +225,8 @@ template <int D> PetscErrorCode Checkpoint<D>::writeFile(PetscInt step, double t
   PetscCall(writeArray(comm, v, "frames", frames));
   std::string text; // history.csv's bytes, 8 to a value, after their count
   PetscCall(reporter_.output().historyText(text));
-  std::vector<double> history(1 + (text.size() + 7) / 8, 0.0);
-  history[0] = static_cast<double>(text.size());
-  std::memcpy(history.data() + 1, text.data(), text.size());
-  PetscCall(writeArray(comm, v, "history", history));
+  PetscCall(writeArray(comm, v, "history", ckpt::packText(text)));
+  PetscCall(writeArray(comm, v, "scene", ckpt::packText(record_))); // the options, rank 0's
   PetscReal dt = 0;
   PetscCall(TSGetTimeStep(s.ts, &dt));
   const RunMeasures &m = s.measures;
@@ -362,11 +324,10 @@ template <int D> PetscErrorCode Checkpoint<D>::load(OutputResume &resume) {
   // rank's own in their order on as many ranks, split evenly and migrated on another count.
   RunState<D> &s = s_;
   const std::string &file = s.sc.restart;
-  PetscCall(agree(s.comm, s.rank == 0 && !looksLikeCheckpoint(file)
-                              ? "option -gimp_restart " + file +
-                                    ": not a gimp checkpoint (no HDF5 file with /state and "
-                                    "/particles there)"
-                              : std::string()));
+  // Rank 0 inspects the whole file first (the scene it belongs to, every field's presence,
+  // size and values): PETSc's reader below meets a whole checkpoint of this scene only.
+  PetscCall(agree(s.comm, s.rank == 0 ? ckpt::checkpointRefusal<D>(file, optionalFieldsOf(s.sc))
+                                      : std::string()));
   PetscViewer v;
   PetscCall(PetscViewerHDF5Open(s.comm, file.c_str(), FILE_MODE_READ, &v));
   std::vector<double> sv(kNScalars);
@@ -400,8 +361,7 @@ template <int D> PetscErrorCode Checkpoint<D>::load(OutputResume &resume) {
   for (size_t q = 0; q + 2 < frames.size(); q += 3)
     resume.frames.push_back(
         {static_cast<PetscInt>(frames[q]), frames[q + 1], static_cast<long long>(frames[q + 2])});
-  resume.history.assign(static_cast<size_t>(history.at(0)), '\0');
-  std::memcpy(resume.history.data(), history.data() + 1, resume.history.size());
+  resume.history = ckpt::unpackText(history);
   PetscCall(PetscPrintf(s.comm, "gimp: restart from %s at step %" PetscInt_FMT " t %.9g s\n",
                         file.c_str(), static_cast<PetscInt>(sv[1]), sv[2]));
   return PETSC_SUCCESS;

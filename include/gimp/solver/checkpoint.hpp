@@ -11,6 +11,7 @@
 #include "gimp/solver/reporter.hpp"
 #include "gimp/solver/step.hpp"
 
+#include <string>
 #include <vector>
 
 namespace gimp {
@@ -36,6 +37,7 @@ private:
   RunState<D> &s_;
   Step<D> &step_;
   Reporter<D> &reporter_;
+  std::string record_; // rank 0: the scene's state-defining options (input/scene_record.hpp)
 };
 
 } // namespace gimp
