@@ -8,8 +8,11 @@
 
 #include <petscsys.h>
 
+#include <chrono>
 #include <cstdio>
+#include <new>
 #include <string>
+#include <thread>
 #include <vector>
 
 static const char help[] =
@@ -31,6 +34,23 @@ template <int D> int runScene() {
   if (sim.failed()) return 3;
   if (sim.interrupted()) return 128 + sim.interrupted();
   return 0;
+}
+
+/// An allocation failed (std::bad_alloc, or PETSc's out-of-memory error passed on as one): the
+/// rank that met it says so; the other ranks may wait in a collective call, so under MPI the run
+/// is aborted (every rank ends, exit 2). Ranks but 0 first give rank 0, which meets the same
+/// allocation when the ranks share the work alike, two seconds to abort: one line, not one a rank.
+void outOfMemory() {
+  PetscMPIInt size = 1, rank = 0;
+  MPI_Comm_size(PETSC_COMM_WORLD, &size);
+  MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
+  if (rank > 0) std::this_thread::sleep_for(std::chrono::seconds(2));
+  std::fprintf(stderr, "gimp: error: option -gimp_memory_limit: out of memory while setting up or "
+                       "running the scene (the machine has less than the run needs); use a "
+                       "coarser grid, fewer particles or more ranks, and keep -gimp_memory_limit "
+                       "at or below the memory there is\n");
+  std::fflush(stderr);
+  if (size > 1) MPI_Abort(PETSC_COMM_WORLD, 2);
 }
 
 } // namespace
@@ -82,6 +102,9 @@ int main(int argc, char **argv) {
     PetscMPIInt rank = 0;
     MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
     if (rank == 0) std::fprintf(stderr, "gimp: error: %s\n", e.what());
+    code = 2;
+  } catch (const std::bad_alloc &) {
+    outOfMemory(); // does not return under MPI
     code = 2;
   }
   // An input error is detected on every rank alike; finalize cleanly.

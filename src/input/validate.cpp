@@ -10,6 +10,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <functional>
+#include <new>
 #include <sstream>
 #include <vector>
 
@@ -88,6 +89,11 @@ PetscErrorCode readOneLine(Read read, const std::string &prefix = "",
     throw;
   }
   PetscCall(PetscPopErrorHandler());
+  // Out of memory (main: one line, every rank ends): PETSc's code, or the swarm's resize, whose
+  // failed realloc comes with its function's name and a code of its own.
+  if (ierr == PETSC_ERR_MEM || first.code == PETSC_ERR_MEM ||
+      first.message.find("DMSwarmDataFieldSetSize") != std::string::npos)
+    throw std::bad_alloc();
   if (ierr) {
     const std::string &petscMessage = first.message;
     std::string opt = optionWithValueIn(petscMessage);
