@@ -48,10 +48,18 @@ std::string optionWithValueIn(const std::string &message) {
       name = tok;
       continue;
     }
-    const bool atEnd = message.size() >= tok.size() &&
-                       message.compare(message.size() - tok.size(), tok.size(), tok) == 0;
-    if (!name.empty() && (message.find(" " + tok + " ") != std::string::npos || atEnd))
-      found = name + " " + tok;
+    // The value, or a part of a viewer's TYPE:FILE:FORMAT (PETSc names the part it refused).
+    bool named = false;
+    for (size_t at = 0; at <= tok.size() && !named;) {
+      const size_t colon = std::min(tok.find(':', at), tok.size());
+      const std::string part = at == 0 && colon == tok.size() ? tok : tok.substr(at, colon - at);
+      named = !part.empty() &&
+              (message.find(" " + part + " ") != std::string::npos ||
+               (message.size() >= part.size() &&
+                message.compare(message.size() - part.size(), part.size(), part) == 0));
+      at = colon + 1;
+    }
+    if (!name.empty() && named) found = name + " " + tok;
   }
   (void)PetscFree(all);
   return found;
