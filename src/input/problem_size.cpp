@@ -194,11 +194,6 @@ PetscErrorCode checkProblemSize(MPI_Comm comm, const Scene<D> &sc, const ItemByt
     throw InputError("option " + culprit(sc, e, cost) + ": " + what +
                      ", more than the particle swarm counts in a PetscInt (" + approx(maxInt) +
                      "); use fewer particles");
-  if (e.particles / size > maxInt / kStencil)
-    throw InputError("option " + culprit(sc, e, cost) + ": " + what + ", about " +
-                     approx(e.particles / size * kStencil) +
-                     " stencil entries per rank, more than PetscInt counts (" + approx(maxInt) +
-                     "); use fewer particles or more ranks");
   long double limit = sc.memoryLimit;
   if (!(limit > 0)) PetscCall(physicalMemory(comm, limit));
   if (limit > 0 && e.bytes > limit)
@@ -207,6 +202,12 @@ PetscErrorCode checkProblemSize(MPI_Comm comm, const Scene<D> &sc, const ItemByt
                      (sc.memoryLimit > 0 ? " of -gimp_memory_limit"
                                          : " of physical memory (-gimp_memory_limit)") +
                      "; use a coarser grid, fewer particles per cell or smaller bodies");
+  // A run the memory allows (or a limit raised above it) still needs its stencil index.
+  if (e.particles / size > maxInt / kStencil)
+    throw InputError("option " + culprit(sc, e, cost) + ": " + what + ", about " +
+                     approx(e.particles / size * kStencil) +
+                     " stencil entries per rank, more than PetscInt counts (" + approx(maxInt) +
+                     "); use fewer particles or more ranks");
   return PETSC_SUCCESS;
 }
 
