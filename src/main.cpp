@@ -22,6 +22,33 @@ static const char help[] =
 
 namespace {
 
+/// PETSc's error handler while the run steps: an out-of-memory error is noted (and printed by
+/// main as one line), any other is PETSc's trace as before.
+PetscErrorCode noteOutOfMemory(MPI_Comm comm, int line, const char *fun, const char *file,
+                               PetscErrorCode n, PetscErrorType p, const char *mess, void *ctx) {
+  if (n == PETSC_ERR_MEM) {
+    *static_cast<bool *>(ctx) = true;
+    return n;
+  }
+  return PetscTraceBackErrorHandler(comm, line, fun, file, n, p, mess, nullptr);
+}
+
+/// Run `steps` with noteOutOfMemory; PETSc's out-of-memory error leaves as std::bad_alloc.
+template <class Steps> PetscErrorCode runWatchingMemory(Steps steps) {
+  bool outOfMemory = false;
+  PetscCall(PetscPushErrorHandler(noteOutOfMemory, &outOfMemory));
+  PetscErrorCode ierr = PETSC_SUCCESS;
+  try {
+    ierr = steps();
+  } catch (...) {
+    PetscCall(PetscPopErrorHandler());
+    throw;
+  }
+  PetscCall(PetscPopErrorHandler());
+  if (ierr && outOfMemory) throw std::bad_alloc();
+  return ierr;
+}
+
 /// Set up and run the solver of dimension D; the process's exit code: 3 for a run that went
 /// unstable (its outputs written), 128 + the signal for an interrupted one (checkpoint, last
 /// frame and summary written; as a shell reports a process the signal ended: 130 SIGINT, 143
@@ -29,7 +56,7 @@ namespace {
 template <int D> int runScene() {
   gimp::Solver<D> sim(PETSC_COMM_WORLD);
   PetscErrorCode ierr = sim.setup();
-  if (!ierr) ierr = sim.run();
+  if (!ierr) ierr = runWatchingMemory([&] { return sim.run(); });
   if (ierr) return 1;
   if (sim.failed()) return 3;
   if (sim.interrupted()) return 128 + sim.interrupted();
