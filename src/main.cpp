@@ -9,9 +9,12 @@
 #include <petscsys.h>
 
 #include <cctype>
+#include <chrono>
 #include <cstdio>
+#include <new>
 #include <set>
 #include <string>
+#include <thread>
 #include <vector>
 
 static const char help[] =
@@ -21,6 +24,33 @@ static const char help[] =
 
 namespace {
 
+/// PETSc's error handler while the run steps: an out-of-memory error is noted (and printed by
+/// main as one line), any other is PETSc's trace as before.
+PetscErrorCode noteOutOfMemory(MPI_Comm comm, int line, const char *fun, const char *file,
+                               PetscErrorCode n, PetscErrorType p, const char *mess, void *ctx) {
+  if (n == PETSC_ERR_MEM) {
+    *static_cast<bool *>(ctx) = true;
+    return n;
+  }
+  return PetscTraceBackErrorHandler(comm, line, fun, file, n, p, mess, nullptr);
+}
+
+/// Run `steps` with noteOutOfMemory; PETSc's out-of-memory error leaves as std::bad_alloc.
+template <class Steps> PetscErrorCode runWatchingMemory(Steps steps) {
+  bool outOfMemory = false;
+  PetscCall(PetscPushErrorHandler(noteOutOfMemory, &outOfMemory));
+  PetscErrorCode ierr = PETSC_SUCCESS;
+  try {
+    ierr = steps();
+  } catch (...) {
+    PetscCall(PetscPopErrorHandler());
+    throw;
+  }
+  PetscCall(PetscPopErrorHandler());
+  if (ierr && outOfMemory) throw std::bad_alloc();
+  return ierr;
+}
+
 /// Set up and run the solver of dimension D; the process's exit code: 3 for a run that went
 /// unstable (its outputs written), 128 + the signal for an interrupted one (checkpoint, last
 /// frame and summary written; as a shell reports a process the signal ended: 130 SIGINT, 143
@@ -28,7 +58,7 @@ namespace {
 template <int D> int runScene() {
   gimp::Solver<D> sim(PETSC_COMM_WORLD);
   PetscErrorCode ierr = sim.setup();
-  if (!ierr) ierr = sim.run();
+  if (!ierr) ierr = runWatchingMemory([&] { return sim.run(); });
   if (ierr) return 1;
   if (sim.failed()) return 3;
   if (sim.interrupted()) return 128 + sim.interrupted();
@@ -57,6 +87,23 @@ std::string insertSceneOptions(const std::vector<gimp::LateOption> &late) {
   return "option " + full + ": the scene gives " + std::to_string(names.size()) +
          " different options, more than PETSc's options database holds (512 names with the "
          "other options); give fewer (fewer probes, bodies or levels)";
+}
+
+/// An allocation failed (std::bad_alloc, or PETSc's out-of-memory error passed on as one): the
+/// rank that met it says so; the other ranks may wait in a collective call, so under MPI the run
+/// is aborted (every rank ends, exit 2). Ranks but 0 first give rank 0, which meets the same
+/// allocation when the ranks share the work alike, two seconds to abort: one line, not one a rank.
+void outOfMemory() {
+  PetscMPIInt size = 1, rank = 0;
+  MPI_Comm_size(PETSC_COMM_WORLD, &size);
+  MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
+  if (rank > 0) std::this_thread::sleep_for(std::chrono::seconds(2));
+  std::fprintf(stderr, "gimp: error: option -gimp_memory_limit: out of memory while setting up or "
+                       "running the scene (the machine has less than the run needs); use a "
+                       "coarser grid, fewer particles or more ranks, and keep -gimp_memory_limit "
+                       "at or below the memory there is\n");
+  std::fflush(stderr);
+  if (size > 1) MPI_Abort(PETSC_COMM_WORLD, 2);
 }
 
 } // namespace
@@ -119,6 +166,9 @@ int main(int argc, char **argv) {
     PetscMPIInt rank = 0;
     MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
     if (rank == 0) std::fprintf(stderr, "gimp: error: %s\n", e.what());
+    code = 2;
+  } catch (const std::bad_alloc &) {
+    outOfMemory(); // does not return under MPI
     code = 2;
   }
   // An input error is detected on every rank alike; finalize cleanly.

@@ -182,11 +182,18 @@ PetscErrorCode checkProblemSize(MPI_Comm comm, const Scene<D> &sc, const ItemByt
                      " values per level); use a coarser grid or a smaller "
                      "domain");
   }
-  if (e.particles / size > maxInt)
+  // The composite vector of all levels (D values a node), the swarm's global count and each
+  // rank's stencil entries (kStencil nodes a particle) are PetscInts too.
+  constexpr long double kStencil = D == 2 ? 16 : 27;
+  if (D * e.nodes > maxInt)
+    throw InputError("option " + culprit(sc, e, cost) + ": " + what + " (" + approx(D * e.nodes) +
+                     " values in the composite vector of the levels), " +
+                     "more than PetscInt can index (" + approx(maxInt) +
+                     "); use a coarser grid or a smaller domain");
+  if (e.particles > maxInt)
     throw InputError("option " + culprit(sc, e, cost) + ": " + what +
-                     ", more per rank than "
-                     "PetscInt counts (" +
-                     approx(maxInt) + "); use fewer particles or more ranks");
+                     ", more than the particle swarm counts in a PetscInt (" + approx(maxInt) +
+                     "); use fewer particles");
   long double limit = sc.memoryLimit;
   if (!(limit > 0)) PetscCall(physicalMemory(comm, limit));
   if (limit > 0 && e.bytes > limit)
@@ -195,6 +202,12 @@ PetscErrorCode checkProblemSize(MPI_Comm comm, const Scene<D> &sc, const ItemByt
                      (sc.memoryLimit > 0 ? " of -gimp_memory_limit"
                                          : " of physical memory (-gimp_memory_limit)") +
                      "; use a coarser grid, fewer particles per cell or smaller bodies");
+  // A run the memory allows (or a limit raised above it) still needs its stencil index.
+  if (e.particles / size > maxInt / kStencil)
+    throw InputError("option " + culprit(sc, e, cost) + ": " + what + ", about " +
+                     approx(e.particles / size * kStencil) +
+                     " stencil entries per rank, more than PetscInt counts (" + approx(maxInt) +
+                     "); use fewer particles or more ranks");
   return PETSC_SUCCESS;
 }
 

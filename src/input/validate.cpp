@@ -10,6 +10,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <functional>
+#include <new>
 #include <sstream>
 #include <vector>
 
@@ -17,10 +18,20 @@ namespace gimp {
 
 namespace {
 
+/// The first PETSc error of a call: its code and message.
+struct PetscFirstError {
+  PetscErrorCode code = PETSC_SUCCESS;
+  std::string message;
+};
+
 /// While options are read, PETSc's own parsing errors are kept as one message.
 PetscErrorCode keepInputError(MPI_Comm, int, const char *, const char *, PetscErrorCode n,
                               PetscErrorType p, const char *mess, void *ctx) {
-  if (p == PETSC_ERROR_INITIAL && mess) *static_cast<std::string *>(ctx) = mess;
+  auto *first = static_cast<PetscFirstError *>(ctx);
+  if (p == PETSC_ERROR_INITIAL) {
+    first->code = n;
+    if (mess) first->message = mess;
+  }
   return n;
 }
 
@@ -37,19 +48,47 @@ std::string optionWithValueIn(const std::string &message) {
       name = tok;
       continue;
     }
-    const bool atEnd = message.size() >= tok.size() &&
-                       message.compare(message.size() - tok.size(), tok.size(), tok) == 0;
-    if (!name.empty() && (message.find(" " + tok + " ") != std::string::npos || atEnd))
-      found = name + " " + tok;
+    // The value, or a part of a viewer's TYPE:FILE:FORMAT (PETSc names the part it refused).
+    bool named = false;
+    for (size_t at = 0; at <= tok.size() && !named;) {
+      const size_t colon = std::min(tok.find(':', at), tok.size());
+      const std::string part = at == 0 && colon == tok.size() ? tok : tok.substr(at, colon - at);
+      named = !part.empty() &&
+              (message.find(" " + part + " ") != std::string::npos ||
+               (message.size() >= part.size() &&
+                message.compare(message.size() - part.size(), part.size(), part) == 0));
+      at = colon + 1;
+    }
+    if (!name.empty() && named) found = name + " " + tok;
   }
   (void)PetscFree(all);
   return found;
 }
 
-/// Run `read` with PETSc's error handler replaced; a PETSc error becomes one InputError line.
-template <class Read> PetscErrorCode readOneLine(Read read) {
-  std::string petscMessage;
-  PetscCall(PetscPushErrorHandler(keepInputError, &petscMessage));
+/// The options set whose names start with -prefix, as "-name value" joined by spaces.
+std::string optionsWithPrefix(const std::string &prefix) {
+  char *all = nullptr;
+  if (prefix.empty() || PetscOptionsGetAll(nullptr, &all) || !all) return "";
+  std::istringstream in(all);
+  std::string tok, found;
+  bool inside = false;
+  while (in >> tok) {
+    const bool name = tok.size() > 1 && tok[0] == '-' &&
+                      !std::isdigit(static_cast<unsigned char>(tok[1])) && tok[1] != '.';
+    if (name) inside = tok.compare(1, prefix.size(), prefix) == 0;
+    if (inside) found += (found.empty() || name ? (found.empty() ? "" : ", ") : " ") + tok;
+  }
+  (void)PetscFree(all);
+  return found;
+}
+
+/// Run `read` with PETSc's error handler replaced; a PETSc error becomes one InputError line,
+/// naming the option whose value PETSc's message holds, else those set under `prefix`.
+template <class Read>
+PetscErrorCode readOneLine(Read read, const std::string &prefix = "",
+                           const std::string &hint = "") {
+  PetscFirstError first;
+  PetscCall(PetscPushErrorHandler(keepInputError, &first));
   PetscErrorCode ierr = PETSC_SUCCESS;
   try {
     ierr = read();
@@ -58,10 +97,19 @@ template <class Read> PetscErrorCode readOneLine(Read read) {
     throw;
   }
   PetscCall(PetscPopErrorHandler());
+  // Out of memory (main: one line, every rank ends): PETSc's code, or the swarm's resize, whose
+  // failed realloc comes with its function's name and a code of its own.
+  if (ierr == PETSC_ERR_MEM || first.code == PETSC_ERR_MEM ||
+      first.message.find("DMSwarmDataFieldSetSize") != std::string::npos)
+    throw std::bad_alloc();
   if (ierr) {
-    const std::string opt = optionWithValueIn(petscMessage);
+    const std::string &petscMessage = first.message;
+    std::string opt = optionWithValueIn(petscMessage);
+    if (const std::string set = optionsWithPrefix(prefix);
+        !set.empty() && opt.compare(0, prefix.size() + 1, "-" + prefix) != 0)
+      opt = set;
     throw InputError((opt.empty() ? std::string("options: ") : "option " + opt + ": ") +
-                     petscMessage);
+                     petscMessage + hint);
   }
   return PETSC_SUCCESS;
 }
@@ -170,6 +218,33 @@ PetscErrorCode checkOptionValues() {
 
 template <int D> PetscErrorCode readSceneOneLine(MPI_Comm comm, Scene<D> &sc) {
   return readOptionsOneLine([&] { return readScene<D>(comm, sc); });
+}
+
+PetscErrorCode petscOneLine(const std::function<PetscErrorCode()> &call, const std::string &prefix,
+                            const std::string &hint) {
+  return readOneLine(call, prefix, hint);
+}
+
+PetscErrorCode checkViewerOptions(MPI_Comm comm) {
+  // Opened and closed once here: a viewer PETSc would open at the end (-ts_view after the last
+  // step, -log_view at exit) fails now, in one line, rather than after the run.
+  for (const char *name : {"-ts_view", "-log_view"}) {
+    PetscViewer viewer = nullptr;
+    PetscViewerFormat format;
+    PetscBool set = PETSC_FALSE;
+    try {
+      PetscCall(readOneLine(
+          [&] {
+            return PetscOptionsGetViewer(comm, nullptr, nullptr, name, &viewer, &format, &set);
+          },
+          name + 1));
+    } catch (const InputError &) { // PETSc would meet it again at exit (-log_view)
+      PetscCall(PetscOptionsClearValue(nullptr, name));
+      throw;
+    }
+    if (viewer) PetscCall(PetscViewerDestroy(&viewer));
+  }
+  return PETSC_SUCCESS;
 }
 
 PetscErrorCode readOptionsOneLine(const std::function<PetscErrorCode()> &read) {

@@ -85,17 +85,20 @@ PetscErrorCode checkSeeding(MPI_Comm comm, const Scene<D> &sc, const Grid<D> &gr
   }
   meanMass = mtot / static_cast<double>(count);
   PetscCall(checkFacesReached(comm, sc, p));
-  // Inside; on the edge is warned of: a particle whose domain ends on the grid's edge deforms
-  // past it (where there are no nodes) within a few hundred steps of any deformation, even on a
-  // roller there.
-  const double margin = 1e-6 * sc.h;
+  // Inside; on the edge is warned of, in 2D and 3D alike: a particle whose domain ends on the
+  // grid's edge deforms past it (where there are no nodes) within a few hundred steps of any
+  // deformation, even on a roller there; a body at rest may fill the grid (the paper's Fig. 2),
+  // so it is not refused. A body flush with the edge whose particles' domains end past it by
+  // round-off (x + l = 1.0000000000000002 for an edge at 1) is on the edge, not outside: the
+  // same tolerance as the run's check (Step::firstBadParticle, 1e-8 h0).
+  const double margin = 1e-6 * sc.h, roundoff = 1e-8 * sc.h;
   PetscInt64 outside = INT64_MAX, gOutside = INT64_MAX, onEdge = INT64_MAX, gOnEdge = INT64_MAX;
   const BoxOf<D> &d = sc.domain;
   for (PetscInt k = 0; k < p.n; ++k) {
     bool out = false, edge = false;
     for (int a = 0; a < D; ++a) {
       const double lo = p.x[D * k + a] - p.l[D * k + a], hi = p.x[D * k + a] + p.l[D * k + a];
-      out = out || lo < d[a] || hi > d[D + a];
+      out = out || lo < d[a] - roundoff || hi > d[D + a] + roundoff;
       edge = edge || lo < d[a] + margin || hi > d[D + a] - margin;
     }
     if (out)

@@ -1,7 +1,7 @@
 // The check after every step: a particle that is not finite, left the grid, or is inverted or
-// larger than a level-0 cell stops the run on every rank (the first such particle of each rank
-// is named); one reduction also counts the particles leaving their rank's cells (the next step's
-// migration) and agrees on SIGINT / SIGTERM.
+// larger than a level-0 cell stops the run on every rank (the first such particle of the lowest
+// failing rank is named, in one line); one reduction also counts the particles leaving their rank's
+// cells (the next step's migration) and agrees on SIGINT / SIGTERM.
 #include "gimp/core/interrupt.hpp"
 #include "gimp/core/pair.hpp"
 #include "gimp/solver/step.hpp"
@@ -90,6 +90,24 @@ PetscInt Step<D>::firstBadParticle(const ParticleView<D> &p, PetscInt64 &leaving
     return firstBadSolid(s_, p, margin, leaving);
 }
 
+template <int D> std::string Step<D>::grewOf(const ParticleView<D> &p, PetscInt k) const {
+  // Far outside what a solid does: a particle faster than kSpeed c_p of its material, or whose
+  // volume changed by more than a factor kVolume (docs/validation.md, *Unstable runs*).
+  constexpr double kSpeed = 2, kVolume = 100;
+  const double cp = s_.sc.materialOf(p.id[k]).waveSpeed(), J = p.V[k] / p.V0[k];
+  double v2 = 0;
+  for (int a = 0; a < D; ++a)
+    v2 += p.v[D * k + a] * p.v[D * k + a];
+  const double speed = std::sqrt(v2);
+  if (speed > kSpeed * cp)
+    return "its speed " + formatNumber(speed) + " m/s is " + formatNumber(speed / cp) +
+           " times c_p = " + formatNumber(cp) + " m/s";
+  if (J > kVolume || J < 1 / kVolume)
+    return "its volume ratio V / V0 = " + formatNumber(J) + " is outside [1/" +
+           formatNumber(kVolume) + ", " + formatNumber(kVolume) + "]";
+  return "";
+}
+
 template <int D>
 std::string Step<D>::failureOf(const ParticleView<D> &p, PetscInt k, PetscInt step,
                                double t) const {
@@ -101,13 +119,17 @@ std::string Step<D>::failureOf(const ParticleView<D> &p, PetscInt k, PetscInt st
     inside = inside && x[a] - l[a] >= d[a] - margin && x[a] + l[a] <= d[D + a] + margin;
     in = in && x[a] >= d[a] && x[a] <= d[D + a];
   }
+  const std::string unstable =
+      ": the run went unstable (reduce -ts_dt: " + s_.stepAgainstCfl() + ", or the loads)";
+  const std::string grew = finite && p.V[k] > 0 ? grewOf(p, k) : "";
   std::string why;
   if (!finite)
-    why = "its position or stress is not finite: the run went unstable (reduce -ts_dt)";
+    why = "its position or stress is not finite" + unstable;
   else if (!(p.V[k] > 0))
     why = "its volume " + formatNumber(p.V[k]) + (D == 2 ? " m^2" : " m^3") +
-          " is not positive: the particle is inverted (det F <= 0): the run went unstable "
-          "(reduce -ts_dt)";
+          " is not positive: the particle is inverted (det F <= 0)" + unstable;
+  else if (!grew.empty())
+    why = grew + unstable + (inside ? "; its half-size left (0, h0]" : "; it left the grid domain");
   else if (!inside)
     why = "it left the grid domain (enlarge -gimp_domain or -gimp_pad: a body on the domain's "
           "edge deforms past it)";
@@ -136,8 +158,6 @@ template <int D> PetscErrorCode Step<D>::checks(const ParticleView<D> &p, PetscI
     line = head + st.localFailure;
   }
   st.localFailure.clear();
-  if (!line.empty())
-    PetscCall(PetscSynchronizedFPrintf(s.comm, PETSC_STDERR, "gimp: error: %s\n", line.c_str()));
   // One reduction for all: ranks that failed, got SIGINT, got SIGTERM, and the particles that
   // leave their rank (the step's only collective call besides the scatters).
   const int sig = interruptSignal();
@@ -149,9 +169,8 @@ template <int D> PetscErrorCode Step<D>::checks(const ParticleView<D> &p, PetscI
   st.leaving = any[3];
   if (any[0] == 0) return PETSC_SUCCESS;
   st.failed = true;
-  // The failing ranks' lines (collective, so only when some rank failed); the lowest failing
-  // rank's goes into summary.json.
-  PetscCall(PetscSynchronizedFlush(s.comm, PETSC_STDERR));
+  // The lowest failing rank's line (collective, so only when some rank failed): printed once
+  // and kept for summary.json.
   PetscMPIInt first = s.size, me = line.empty() ? s.size : s.rank;
   PetscCallMPI(MPI_Allreduce(&me, &first, 1, MPI_INT, MPI_MIN, s.comm));
   int len = static_cast<int>(line.size());
@@ -159,6 +178,7 @@ template <int D> PetscErrorCode Step<D>::checks(const ParticleView<D> &p, PetscI
   line.resize(static_cast<size_t>(len));
   PetscCallMPI(MPI_Bcast(line.data(), len, MPI_CHAR, first, s.comm));
   st.failure = line;
+  PetscCall(PetscFPrintf(s.comm, PETSC_STDERR, "gimp: error: %s\n", line.c_str()));
   return PETSC_SUCCESS;
 }
 

@@ -115,7 +115,7 @@ template <int D> void Reporter<D>::energyCheck(PetscInt step, double t, const En
   s.status.failed = true;
   char head[96];
   std::snprintf(head, sizeof(head), "step %lld t %.9g s: ", static_cast<long long>(step), t);
-  s.status.failure = head + energyWatch_.why();
+  s.status.failure = head + energyWatch_.why() + "; " + s.stepAgainstCfl();
   PetscCallVoid(PetscFPrintf(s.comm, PETSC_STDERR, "gimp: error: %s\n", s.status.failure.c_str()));
 }
 

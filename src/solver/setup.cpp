@@ -82,8 +82,11 @@ template <int D> PetscErrorCode Solver<D>::setup() {
     PetscCall(
         PetscInfo(nullptr, "2D block kernels in lanes of four particles: %s\n",
                   s.lanes ? "yes" : (s.sc.lanes ? "no (no AVX2 here)" : "no (-gimp_lanes false)")));
-  PetscCall(createGrid());
-  PetscCall(createParticles());
+  // The DMDAs (-da_*), the swarm and TS read options: a PETSc error there is one line.
+  PetscCall(petscOneLine([this] { return createGrid(); }, "da_",
+                         " (-da_processors_x/y/z: the ranks along each axis of level 0, their "
+                         "product the number of ranks, each at most the level's nodes on it)"));
+  PetscCall(petscOneLine([this] { return createParticles(); }));
   PetscCall(s.nodal.create(s.grid, s.sc.hasExternalForces(), !s.sc.cracks.empty(),
                            s.sc.transfer == Transfer::Xpic));
   if constexpr (D == 2) step_.contact().setup(s.grid, s.sc.cracks);
@@ -92,7 +95,7 @@ template <int D> PetscErrorCode Solver<D>::setup() {
     s_.st.release();
     if (multirate_) multirate_->releaseStencils();
   }));
-  PetscCall(createTimeStepper());
+  PetscCall(petscOneLine([this] { return createTimeStepper(); }, "ts_"));
   PetscReal dt = 0;
   PetscCall(TSGetTimeStep(s.ts, &dt));
   // With -gimp_stability_check the penalty bounds and the step come from the eigenvalues.
@@ -101,8 +104,10 @@ template <int D> PetscErrorCode Solver<D>::setup() {
     multirate_ = std::make_unique<MultiRate<D>>(s, step_);
     PetscCall(multirate_->create(s.nodal.P));
   }
-  if (s.sc.stabilityCheck) PetscCall(stability_.atStart());
+  if (s.sc.stabilityCheck)
+    PetscCall(petscOneLine([this] { return stability_.atStart(); }, "gimp_stability_"));
   if (s.sc.multirate) PetscCall(coarseStepLimits());
+  PetscCall(checkViewerOptions(s.comm));
   PetscCall(rejectUnusedOptions());
   return openOutput();
 }

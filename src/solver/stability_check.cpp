@@ -107,8 +107,15 @@ template <int D> PetscErrorCode StabilityCheck<D>::atStart() {
         e.smallestRe, e.smallestIm, e.smallestIterations, e.complexRe, e.complexIm,
         e.complexIterations, e.complexConverged ? "" : ", not converged"));
   if (e.hasSmallest) refuseGrowingModes(e, s.boundary.alpha());
-  if (!(dt > e.dtCritical) || s.sc.allowUnstableDt) return PETSC_SUCCESS;
-  return refuseStep(dt, e);
+  if (!(dt > e.dtCritical)) return PETSC_SUCCESS;
+  if (!s.sc.allowUnstableDt) return refuseStep(dt, e);
+  // Allowed, but said at the start: such a run goes unstable, often hundreds of steps later.
+  PetscCall(PetscPrintf(s.comm,
+                        "gimp: warning: -ts_dt %s s exceeds dt_critical = %s s "
+                        "(-gimp_allow_unstable_dt): the run will likely go unstable; %s\n",
+                        formatNumber(dt).c_str(), formatNumber(e.dtCritical).c_str(),
+                        s.stepAgainstCfl().c_str()));
+  return PETSC_SUCCESS;
 }
 
 template <int D>
@@ -148,11 +155,11 @@ template <int D> PetscErrorCode StabilityCheck<D>::recheck(PetscInt step, double
     return PETSC_SUCCESS;
   }
   s.status.failed = true; // every rank has the same eigenvalue
-  char line[256];
+  char line[384];
   std::snprintf(line, sizeof(line),
                 "step %lld t %.9g s: dt %.6g s exceeds the critical step %.6g s of the current "
-                "configuration (the run would go unstable; reduce -ts_dt)",
-                static_cast<long long>(step), t, dt, e.dtCritical);
+                "configuration (the run would go unstable; reduce -ts_dt); %s",
+                static_cast<long long>(step), t, dt, e.dtCritical, s.stepAgainstCfl().c_str());
   s.status.failure = line;
   PetscCall(PetscPrintf(s.comm, "gimp: error: %s\n", line));
   return PETSC_SUCCESS;

@@ -19,6 +19,18 @@ template <int D> PetscErrorCode readSceneOneLine(MPI_Comm comm, Scene<D> &sc);
 /// option errors turned into one InputError line (readSceneOneLine is this with readScene).
 PetscErrorCode readOptionsOneLine(const std::function<PetscErrorCode()> &read);
 
+/// Run `call` (PETSc objects set up from the options: the DMDAs' -da_*, the swarm, TS, the
+/// eigen-solver's EPS and ST, viewers) with PETSc's error handler replaced: a PETSc error becomes
+/// one InputError line, naming the option whose value PETSc's message holds, else the options
+/// set under `prefix` ("da_": -da_processors_x 3). Every rank must fail alike (option values are
+/// the same on every rank), followed by `hint`. PETSc's out-of-memory error is thrown as
+/// std::bad_alloc (main ends every rank).
+PetscErrorCode petscOneLine(const std::function<PetscErrorCode()> &call,
+                            const std::string &prefix = "", const std::string &hint = "");
+
+/// The viewers of -ts_view and -log_view opened and closed once, through petscOneLine.
+PetscErrorCode checkViewerOptions(MPI_Comm comm);
+
 /// Combinations readScene cannot judge alone: the model and plane, particle density limits, the
 /// multi-rate step's limits.
 template <int D> void checkSceneCombinations(const Scene<D> &sc);

@@ -15,6 +15,7 @@
 
 #include <petscts.h>
 
+#include <cstdio>
 #include <string>
 
 namespace gimp {
@@ -38,6 +39,17 @@ template <int D> struct RunState {
   ~RunState() {
     if (ts) (void)TSDestroy(&ts);
     if (sw) (void)DMDestroy(&sw);
+  }
+  /// "dt X s = R h_min / c_p (h_min / c_p = Y s)": the time step against the CFL estimate of
+  /// the finest cells, for the line of a run that went unstable.
+  std::string stepAgainstCfl() const {
+    PetscReal dt = 0;
+    if (!ts || TSGetTimeStep(ts, &dt)) return "dt unknown";
+    const double cfl = grid.hMin() / sc.maxWaveSpeed();
+    char b[160];
+    std::snprintf(b, sizeof(b), "dt %.6g s = %.3g h_min / c_p (h_min / c_p = %.6g s)", dt, dt / cfl,
+                  cfl);
+    return b;
   }
   /// Fine steps per step: R = h_0 / h_min with -gimp_multirate, else 1.
   PetscInt stride() const { return sc.multirate ? grid.levels[0].step : 1; }

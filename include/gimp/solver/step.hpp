@@ -93,6 +93,8 @@ private:
                              const double *vg, const double *ag, bool fused, double *mom);
   /// The first failing particle of this rank (or -1) and the particles leaving its cells.
   PetscInt firstBadParticle(const ParticleView<D> &p, PetscInt64 &leaving) const;
+  /// What of particle k grew beyond anything physical (speed, volume ratio), or "".
+  std::string grewOf(const ParticleView<D> &p, PetscInt k) const;
   /// Why particle k failed, in one line.
   std::string failureOf(const ParticleView<D> &p, PetscInt k, PetscInt step, double t) const;
 
