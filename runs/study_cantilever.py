@@ -14,7 +14,6 @@ Measures as tests/check_cantilever.py (tests/elastica.py). Prints the markdown t
 docs/img/cantilever.png (rotation along the beam against the elastica, and its difference).
 """
 import argparse
-import math
 import os
 import subprocess
 import sys

@@ -6,7 +6,7 @@ Three runs: the default (APIC, MUSL, linear Jaumann material, stretch tracking),
 and the neo-Hookean material, and the default without domain tracking. (USL without tracking
 loses 22 % of the energy here, in 2D as in 3D alike: a property of the scheme, not checked.) Each
 must give:
-- the period within 0.5 % of T (the issue's bar), measured between the first and last upward
+- the period within 0.5 % of T, measured between the first and last upward
   zero crossings of the tip displacement over 5 periods [0.03 %, 0.06 %];
 - the amplitude within 2 % and the total energy within 1 % of the exact one over the run;
 - no motion across the bar: |u_y|, |u_z| at the tip below 1e-12 m (the scene is symmetric and nu

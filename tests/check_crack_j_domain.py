@@ -14,7 +14,6 @@ domain-independent to well under 1 % there). Checks:
    null while VCCT is measured; the same tip with a radius given is refused on 2 ranks with one
    error line.
 """
-import json
 import os
 
 import gimptest

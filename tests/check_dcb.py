@@ -11,7 +11,6 @@ stayed (contact lets faces part, not return) and the beam settled with K_I 11 % 
 3. the two grids' K_I (VCCT) within 0.5 % of each other (measured 0.14 %), and VCCT and J within
    2 % of each other on 0.5 mm (J converges at first order in h: 2.6 % on 1 mm).
 """
-import json
 import math
 import os
 

@@ -9,7 +9,6 @@ tests/bad_input/*.tsv).
 - A scene name that is not a plain file name is one line, and nothing is written.
 - Every path the run writes is checked at setup, in 2D and 3D: one line naming the option, the
   path and the reason, before any step (no run that is lost at the end)."""
-import json
 import math
 import os
 import shutil

@@ -1,7 +1,7 @@
 """Hole edge convergence on the effectively infinite plate with 4, 5, 6 and 7 levels (finest cell
 a / 4, a / 8, a / 16, a / 32 next to the hole; about 13 minutes on one core): the fitted edge
 curve converges monotonically to Kirsch's, its largest error at a / 32 is at most 0.03 p, and kt
-is within 1 % of 3 there (the issue's requirements; docs/validation.md "Hole edge convergence"
+is within 1 % of 3 there (the bounds of docs/validation.md "Hole edge convergence"
 gives the measured values)."""
 import check_hole
 import gimptest

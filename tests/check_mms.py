@@ -4,8 +4,8 @@ options/mms_skb1d.opts).
 Runs the scene at several resolutions h = 1/n with the time step tied to h (fixed CFL, from
 the scene file), prints a table of the displacement errors with the observed orders between
 successive resolutions, writes it to <work>/mms_convergence.csv, and asserts that the
-least-squares order of both error norms is at least 1.8 (the issue asks for 1.5; GIMP with
-the leapfrog start measures 2.0, so 1.8 catches a lost order).
+least-squares order of both error norms is at least 1.8 (GIMP with the leapfrog start
+measures 2.0, so 1.8 catches a lost order).
 
 Extra options (besides those of gimptest.parse_args):
   --levels 16,32,64,128   cells per unit length of the convergence series
@@ -15,7 +15,6 @@ Extra options (besides those of gimptest.parse_args):
 """
 import argparse
 import csv
-import math
 import os
 import sys
 import time

@@ -26,7 +26,6 @@ Extra options (besides those of gimptest.parse_args):
 """
 import argparse
 import csv
-import math
 import os
 import sys
 import time

@@ -40,14 +40,8 @@ P, A0 = 55e9, 1e-10  # the traction and the initial face: a dead load of P A0
 
 def middle_columns(d):
     """The columns of particles (one x each) in the middle 60 % of the bar."""
-    order = sorted(range(len(d["x"])), key=lambda i: d["x"][i])
-    gap = min(d["lx"])
-    cols = [[order[0]]]
-    for i in order[1:]:
-        if d["x"][i] - d["x"][cols[-1][-1]] > gap:
-            cols.append([])
-        cols[-1].append(i)
-    x0, x1 = d["x"][order[0]], d["x"][order[-1]]
+    cols = gimptest.columns_by_x(d)
+    x0, x1 = d["x"][cols[0][0]], d["x"][cols[-1][-1]]
     return [col for col in cols
             if 0.2 <= (sum(d["x"][i] for i in col) / len(col) - x0) / (x1 - x0) <= 0.8]
 

@@ -79,6 +79,19 @@ class Checks:
         print("all checks passed")
 
 
+def columns_by_x(d):
+    """The particles of a particle dump (read_csv) in columns of one initial x each, in x order:
+    a gap along x above the smallest half-size lx starts the next column."""
+    order = sorted(range(len(d["x"])), key=lambda i: d["x"][i])
+    gap = min(d["lx"])
+    cols = [[order[0]]]
+    for i in order[1:]:
+        if d["x"][i] - d["x"][cols[-1][-1]] > gap:
+            cols.append([])
+        cols[-1].append(i)
+    return cols
+
+
 def orders(rows, key, hkey="h"):
     """Observed order of rows[key] against rows[hkey] between successive rows (None first), and
     the least-squares slope over all rows."""
