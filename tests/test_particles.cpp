@@ -176,4 +176,32 @@ TEST(Seeding, BoxIn3DTiledByPpcCubesPerCell) {
   }
 }
 
+TEST(Seeding, CutCellsIn3DGiveTheExactVolume) {
+  // A sphere, a cylinder along x and a box with a spherical hole, none on the particle lattice:
+  // the cut cubes' volumes sum to the exact volumes, their centroids to the exact centres.
+  const std::string dim = kMaterial + "-gimp_dim 3 -gimp_h 0.1 -gimp_body0_ppc 8 ";
+  const double r = 0.37, V = 4 * kPi * r * r * r / 3;
+  const Seeded ball =
+      seed<3>(dim + "-gimp_body0_shape sphere -gimp_body0_sphere 0.55,0.45,0.52,0.37");
+  EXPECT_NEAR(ball.volume, V, 1e-10 * V);
+  const double c[3] = {0.55, 0.45, 0.52};
+  for (int a = 0; a < 3; ++a)
+    EXPECT_NEAR(ball.centre[a], c[a], 1e-12);
+  EXPECT_TRUE(ball.idsUnique && ball.idsOfBodies && ball.centresInside);
+
+  const Seeded rod = seed<3>(dim + "-gimp_body0_shape cylinder -gimp_body0_cylinder_axis x "
+                                   "-gimp_body0_cylinder 0.43,0.41,0.23,0.07,0.88");
+  const double Vc = kPi * 0.23 * 0.23 * 0.81;
+  EXPECT_NEAR(rod.volume, Vc, 1e-10 * Vc);
+  EXPECT_NEAR(rod.centre[0], 0.475, 1e-12);
+  EXPECT_NEAR(rod.centre[1], 0.43, 1e-12);
+  EXPECT_NEAR(rod.centre[2], 0.41, 1e-12);
+
+  const Seeded holed = seed<3>(dim + "-gimp_body0_box 0,0,0,0.6,0.5,0.4 "
+                                     "-gimp_body0_hole_spheres 0.31,0.26,0.18,0.13");
+  const double Vh = 0.6 * 0.5 * 0.4 - 4 * kPi * std::pow(0.13, 3) / 3;
+  EXPECT_NEAR(holed.volume, Vh, 1e-10 * Vh);
+  EXPECT_TRUE(holed.idsUnique && holed.idsOfBodies && holed.centresInside);
+}
+
 } // namespace

@@ -85,8 +85,9 @@ const std::vector<OptionSpec> kMethod = {
      "Start the leapfrog with a half kick (particle velocities at half steps; second order in"
      " time)"},
     {"gimp_cut_cells", Kind::Bool, "", "true", "", nullptr, {},
-     "Particles whose square a hole or a curved edge cuts take the area inside the body as"
-     " volume and its centroid as position (false: whole squares whose centre is in the body)"},
+     "Particles whose square (cube in 3D) a hole or a curved edge (surface) cuts take the area"
+     " (volume) inside the body and its centroid as position (false: whole squares or cubes"
+     " whose centre is in the body)"},
     {"gimp_damping", Kind::Real, "1/s", "0", "", nullptr, atLeast(0),
      "Artificial damping coefficient d of Eq. 16"},
     {"gimp_mass_cutoff", Kind::Real, "", "1e-14 (apic), 1e-8", "", nullptr, within(0, 1, false, true),
@@ -153,7 +154,7 @@ const std::vector<Feature> &featureTable() {
        In2D,
        {"gimp_plane", "gimp_thickness"},
        "plane strain or stress and a thickness belong to plane scenes; 3D is the full model"},
-      {"plane shapes with exact cut cells",
+      {"plane shapes",
        In2D,
        {"gimp_bodyK_shape=rectangle", "gimp_bodyK_shape=circle",  "gimp_bodyK_shape=ellipse",
         "gimp_bodyK_shape=polygon",   "gimp_bodyK_shape=file",    "gimp_bodyK_circle",
@@ -161,8 +162,8 @@ const std::vector<Feature> &featureTable() {
         "gimp_bodyK_holes",           "gimp_bodyK_hole_ellipses", "gimp_bodyK_hole_polygons",
         "gimp_bodyK_hole_polygonJ",   "gimp_bodyK_add_boxes",     "gimp_bodyK_add_circles",
         "gimp_bodyK_add_ellipses",    "gimp_bodyK_add_polygons",  "gimp_bodyK_add_polygonJ",
-        "gimp_bodyK_hole_ppc",        "gimp_bodyK_hole_band",     "gimp_cut_cells"},
-       "plane bodies and their exact cut cells; 3D bodies are boxes, spheres and cylinders with "
+        "gimp_bodyK_hole_ppc",        "gimp_bodyK_hole_band"},
+       "plane bodies; 3D bodies are boxes, spheres and cylinders with "
        "box, spherical and cylindrical holes (3D bodies: box, sphere, cylinder, hole_boxes, "
        "hole_spheres, hole_cylinders)"},
       {"a spin about the plane's normal",

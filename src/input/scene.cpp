@@ -75,7 +75,7 @@ template <int D> void readScheme(const Options &o, Scene<D> &sc) {
   if (D == 2) sc.cornerSize = o.real("gimp_corner_size", sc.cornerSize);
   sc.separationThreshold = o.real("gimp_separation_threshold", 0.05);
   sc.halfStepStart = o.flag("gimp_half_step_start", true);
-  if (D == 2) sc.cutCells = o.flag("gimp_cut_cells", true);
+  sc.cutCells = o.flag("gimp_cut_cells", true);
   sc.damping = o.real("gimp_damping", 0.0);
   sc.massCutoff = o.real("gimp_mass_cutoff", 1e-14, &cutoffGiven);
   if (!cutoffGiven) sc.massCutoff = MethodOptions::defaultMassCutoff(sc.transfer);

@@ -1,7 +1,10 @@
-// Seeding a 3D scene: n^3 particles per leaf cell, kept where their centre lies in a solid body
-// (input/bodies.hpp), and the faces of the bodies' boxes that each particle's faces lie on.
+// Seeding a 3D scene: n^3 particles per leaf cell, each cube cut to its part in a solid body
+// (input/bodies.hpp; or kept by its centre without cut cells), and the faces of the bodies'
+// boxes that each particle's faces lie on.
 #include "gimp/particles/seed.hpp"
 
+#include "gimp/geometry/cut_cell.hpp"
+#include "gimp/geometry/cut_cell3d.hpp"
 #include "gimp/grid/cpdi_cells.hpp"
 
 #include <algorithm>
@@ -17,11 +20,11 @@ namespace {
 /// The face condition (index into `faces`) that particle face (axis a, side n at coordinate
 /// `at`) of body b lies on, or -1.
 /// The part of a traction's face that a particle's face covers (the traction's loaded area).
-double loaded(const Traction<3> &t, int a, const double *x, double l) {
+double loaded(const Traction<3> &t, int a, const double *x, const double *l) {
   const int b1 = a == 0 ? 1 : 0, b2 = a == 2 ? 1 : 2;
-  return t.loadedArea(x[b1] - l, x[b1] + l, x[b2] - l, x[b2] + l);
+  return t.loadedArea(x[b1] - l[b1], x[b1] + l[b1], x[b2] - l[b2], x[b2] + l[b2]);
 }
-double loaded(const DisplacementBC<3> &, int, const double *, double) {
+double loaded(const DisplacementBC<3> &, int, const double *, const double *) {
   return 1.0;
 }
 
@@ -29,7 +32,8 @@ double loaded(const DisplacementBC<3> &, int, const double *, double) {
 /// n at coordinate `at`) of body b lies on, or -1; a second one on the same face is noted.
 template <class Faces>
 PetscInt faceCondition(const Faces &faces, int kind, const Body<3> &body, int b, int a, double n,
-                       double at, const double *x, double l, double tol, LoadConflict &conflict) {
+                       double at, const double *x, const double *l, double tol,
+                       LoadConflict &conflict) {
   PetscInt found = -1;
   for (size_t q = 0; q < faces.size(); ++q) {
     const auto &f = faces[q];
@@ -47,10 +51,99 @@ PetscInt faceCondition(const Faces &faces, int kind, const Body<3> &body, int b,
 /// A particle to seed: centre, half-size, volume, id and body; its cube's low and high corner
 /// coordinates from the level's sub-cell lattice, so neighbours share their corners exactly.
 struct Seed {
-  double x[3], l, V, lo[3], hi[3];
+  double x[3], l[3], V, lo[3], hi[3];
   PetscInt64 id;
   int body;
 };
+
+/// How a solid (a round body or a hole) meets the cube [lo, hi]: misses it, holds all of it, or
+/// cuts it.
+enum class Meets { Misses, Holds, Cuts };
+Meets meets(const Solid &so, const double *lo, const double *hi) {
+  if (so.kind == Solid::BoxHole) { // a box hole keeps or drops the cube by its centre
+    double c[3];
+    for (int a = 0; a < 3; ++a)
+      c[a] = 0.5 * (lo[a] + hi[a]);
+    return so.strictlyContains(c) ? Meets::Holds : Meets::Misses;
+  }
+  double near2 = 0, far2 = 0; // squared distances from the centre (or axis) to the cube
+  for (int a = 0; a < 3; ++a) {
+    if (so.kind == Solid::Cylinder && a == so.axis) continue;
+    const double n = std::clamp(so.c[a], lo[a], hi[a]) - so.c[a];
+    const double f = std::max(std::fabs(lo[a] - so.c[a]), std::fabs(hi[a] - so.c[a]));
+    near2 += n * n;
+    far2 += f * f;
+  }
+  const bool along = so.kind == Solid::Cylinder;
+  if (near2 >= so.r * so.r || (along && (hi[so.axis] <= so.lo || lo[so.axis] >= so.hi)))
+    return Meets::Misses;
+  if (far2 <= so.r * so.r && (!along || (lo[so.axis] >= so.lo && hi[so.axis] <= so.hi)))
+    return Meets::Holds;
+  return Meets::Cuts;
+}
+
+/// The raw moments of the part of the cube [lo, hi] in a sphere or cylinder, about the cube's
+/// centre xc (so that the moments of a cube far from the origin keep their digits).
+cut::Raw3 momentsIn(const Solid &so, const double *lo, const double *hi, const double *xc) {
+  double l[3], h[3], o[3];
+  for (int a = 0; a < 3; ++a) {
+    l[a] = lo[a] - xc[a];
+    h[a] = hi[a] - xc[a];
+    o[a] = so.c[a] - xc[a];
+  }
+  if (so.kind == Solid::Sphere) return cut::boxBallMoments(l, h, o, so.r);
+  const double z = xc[so.axis];
+  return cut::boxCylinderMoments(l, h, so.axis, o, so.r, so.lo - z, so.hi - z);
+}
+
+/// Whether the seed's cube keeps a part in the body. A cube that a sphere's or a cylinder's
+/// surface cuts (the body's or a hole's) becomes that part: its volume, centroid and the box of
+/// its second moments (its corners that box's). A box body and box holes keep or drop a cube by
+/// its centre (their faces lie on the particle lattice in the scenes made for them). A hole is
+/// taken whole where it cuts a cube: holes of a round body lie inside it.
+bool cutBySolid(const Body<3> &body, Seed &s) {
+  double w[3], xc[3], half[3];
+  for (int a = 0; a < 3; ++a) {
+    w[a] = s.hi[a] - s.lo[a];
+    xc[a] = 0.5 * (s.lo[a] + s.hi[a]);
+    half[a] = 0.5 * w[a];
+  }
+  const double whole = w[0] * w[1] * w[2];
+  cut::Raw3 mom = cut::centredBoxMoments(w);
+  bool cut = false;
+  if (body.kind == Body<3>::BoxShape) {
+    for (int a = 0; a < 3; ++a)
+      if (xc[a] < body.box[a] || xc[a] > body.box[3 + a]) return false;
+  } else {
+    const Meets m = meets(body.round, s.lo, s.hi);
+    if (m == Meets::Misses) return false;
+    if (m == Meets::Cuts) {
+      mom = momentsIn(body.round, s.lo, s.hi, xc);
+      cut = true;
+    }
+  }
+  for (const Solid &hole : body.holes) {
+    const Meets m = meets(hole, s.lo, s.hi);
+    if (m == Meets::Holds) return false;
+    if (m == Meets::Misses) continue;
+    const cut::Raw3 d = momentsIn(hole, s.lo, s.hi, xc);
+    for (int i = 0; i < 7; ++i)
+      mom[i] -= d[i];
+    cut = true;
+  }
+  if (!cut) return true;
+  const cut::Moments3 m = cut::fromRaw3(mom, xc, whole);
+  if (m.V <= 0) return false;
+  s.V = m.V;
+  cut::equivalentBox(m, s.l);
+  for (int a = 0; a < 3; ++a) { // a sliver keeps a quarter of the cube's half-size (seed.cpp)
+    s.x[a] = m.c[a];
+    s.l[a] = std::max(s.l[a], cut::kMinSliverFraction * half[a]);
+    s.lo[a] = s.x[a] - s.l[a];
+    s.hi[a] = s.x[a] + s.l[a];
+  }
+  return true;
+}
 
 /// The particles this rank seeds: n^3 per leaf cell whose centre its own level-0 cells hold, kept
 /// where their centre lies in a body; overlap is the largest body index whose particle another
@@ -88,11 +181,11 @@ std::vector<Seed> collectSeeds(const Scene<3> &sc, const Grid<3> &grid, PetscMPI
             s.lo[a] = L.box[a] + sub * d;
             s.hi[a] = L.box[a] + (sub + 1) * d;
           }
-          if (!body.inside(s.x)) return;
+          s.l[0] = s.l[1] = s.l[2] = 0.5 * d;
+          s.V = d * d * d;
+          if (!(sc.cutCells ? cutBySolid(body, s) : body.inside(s.x))) return;
           for (size_t o = 0; o < b; ++o) // a point two bodies hold: counted, refused by setup
             if (sc.bodies[o].inside(s.x)) overlap = std::max(overlap, static_cast<int>(b));
-          s.l = 0.5 * d;
-          s.V = d * d * d;
           s.body = static_cast<int>(b);
           s.id = static_cast<PetscInt64>(b) * sc.idSlots + cell * body.ppc + q[0] +
                  n * (q[1] + n * q[2]);
@@ -113,7 +206,7 @@ void markFaces(const Scene<3> &sc, const Seed &s, double tol, PetscInt k, Partic
   for (int a = 0; a < 3; ++a) {
     p.trac[3 * k + a] = p.dbc[3 * k + a] = -1;
     for (double nrm : {-1.0, 1.0}) {
-      const double at = s.x[a] + nrm * s.l;
+      const double at = s.x[a] + nrm * s.l[a];
       const PetscInt t =
           faceCondition(sc.tractions, 0, body, s.body, a, nrm, at, s.x, s.l, tol, conflict);
       const PetscInt d =
@@ -149,7 +242,7 @@ PetscErrorCode seedParticles<3>(const Scene<3> &sc, const Grid<3> &grid, DM sw,
     for (int a = 0; a < 3; ++a) {
       p.x[3 * k + a] = p.X0[3 * k + a] = s.x[a];
       p.v[3 * k + a] = body.velocity[a] * amp;
-      p.l[3 * k + a] = p.l0[3 * k + a] = s.l;
+      p.l[3 * k + a] = p.l0[3 * k + a] = s.l[a];
     }
     p.m[k] = mat.rho * s.V;
     p.V0[k] = p.V[k] = s.V;

@@ -1,0 +1,48 @@
+// The part of a particle's cube that lies in a solid body when a curved surface (a sphere's or a
+// cylinder's, of the body or of a hole) cuts it: its volume, centroid and central second
+// moments, and the box that stands for it. The 3D analogue of cut_cell.hpp; plain geometry: no
+// PETSc, no grid.
+#pragma once
+
+#include <array>
+
+namespace gimp::cut {
+
+/// Raw moments int {1, x, y, z, x^2, y^2, z^2} dV of a solid region.
+using Raw3 = std::array<double, 7>;
+
+/// Volume, centroid c and central second moments I[a] = int (x_a - c_a)^2 dV of a solid region.
+struct Moments3 {
+  double V = 0, c[3] = {0, 0, 0}, I[3] = {0, 0, 0};
+};
+
+/// The raw moments of the w[0] x w[1] x w[2] box about its centre.
+Raw3 centredBoxMoments(const double w[3]);
+
+/// Raw moments of the intersection of the box [lo, hi] with the ball of centre o and radius r.
+/// The box is sliced along z: each slice is a rectangle cut by a disk, whose moments
+/// rectDiskMoments gives exactly; the slices are integrated by adaptive Gauss-Legendre between
+/// the heights where the slice changes form (the disk reaching a side or a corner of the
+/// rectangle), to 1e-14 of the box's moments.
+Raw3 boxBallMoments(const double lo[3], const double hi[3], const double o[3], double r);
+
+/// Raw moments of the intersection of the box [lo, hi] with the cylinder of radius r along
+/// `axis` through o (o[axis] ignored), between zlo and zhi along the axis: the rectangle cut by
+/// the disk (rectDiskMoments, exact) times the length, in closed form.
+Raw3 boxCylinderMoments(const double lo[3], const double hi[3], int axis, const double o[3],
+                        double r, double zlo, double zhi);
+
+/// Raw moments of the intersection of the boxes [lo, hi] and [blo, bhi].
+Raw3 boxBoxMoments(const double lo[3], const double hi[3], const double blo[3],
+                   const double bhi[3]);
+
+/// The region's moments from its raw moments about the point xc; an empty region (V = 0) when
+/// V is at most 1e-13 of `whole` (the round-off of a removed cube).
+Moments3 fromRaw3(const Raw3 &mom, const double xc[3], double whole);
+
+/// The box standing for a cut region in GIMP's weights (the 3D equivalentRectangle): centred on
+/// the centroid, with the proportions of the region's central second moments (a box of
+/// half-sizes l has I[a] = V l_a^2 / 3), scaled to the region's volume. Half-sizes into l.
+void equivalentBox(const Moments3 &m, double l[3]);
+
+} // namespace gimp::cut
