@@ -100,21 +100,57 @@ void holeOfRows(const std::vector<double> &all, double r, HoleMeasure &out) {
   }
 }
 
+/// Whether particle k is beyond the fits' reach of the hole's edge (in-plane distance d).
+template <int D> bool beyondFits(const ParticleView<D> &p, PetscInt k, double d, double r) {
+  const double l = std::max(p.l[D * k], p.l[D * k + 1]);
+  return d - r > std::max(kDepth * r, 2.0 * kLayers * l);
+}
+
+/// The hole's layers (3D, a cylinder along z): the initial z of the particles the fits reach
+/// spans [zlo, zhi]; the measure takes the particles whose initial centre lies within 1.5
+/// half-sizes of its middle (two layers straddling it, or the one on it), whose hoop stress is
+/// the surface's halfway through the body. In 2D every particle is in the plane.
+template <int D> struct MidLayers {
+  double mid = 0;
+  PetscErrorCode find(MPI_Comm comm, const ParticleView<D> &p, const double *hole) {
+    if constexpr (D == 3) {
+      double lo = 1e300, hi = -1e300; // -min z, max z
+      for (PetscInt k = 0; k < p.n; ++k) {
+        const double d = std::hypot(p.x[3 * k] - hole[0], p.x[3 * k + 1] - hole[1]);
+        if (beyondFits<3>(p, k, d, hole[2])) continue;
+        lo = std::min(lo, p.X0[3 * k + 2] - p.l0[3 * k + 2]);
+        hi = std::max(hi, p.X0[3 * k + 2] + p.l0[3 * k + 2]);
+      }
+      double span[2] = {-lo, hi};
+      PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, span, 2, MPI_DOUBLE, MPI_MAX, comm));
+      mid = 0.5 * (span[1] - span[0]);
+    }
+    return PETSC_SUCCESS;
+  }
+  bool holds(const ParticleView<D> &p, PetscInt k) const {
+    if constexpr (D == 3) return std::fabs(p.X0[3 * k + 2] - mid) <= 1.5 * p.l0[3 * k + 2];
+    return true;
+  }
+};
+
 } // namespace
 
-PetscErrorCode holeMeasure(MPI_Comm comm, const Scene<2> &sc, DM sw, HoleMeasure &out) {
+template <int D>
+PetscErrorCode holeMeasure(MPI_Comm comm, const Scene<D> &sc, DM sw, HoleMeasure &out) {
   const double cx = sc.hole[0], cy = sc.hole[1], r = sc.hole[2], pload = sc.holeLoad;
-  ParticleView<2> p;
+  ParticleView<D> p;
   PetscCall(p.get(sw));
+  MidLayers<D> layers;
+  PetscCall(layers.find(comm, p, sc.hole));
   std::vector<double> loc;
   for (PetscInt k = 0; k < p.n; ++k) {
-    const double dx = p.x[2 * k] - cx, dy = p.x[2 * k + 1] - cy, d = std::hypot(dx, dy);
-    const double l = std::max(p.l[2 * k], p.l[2 * k + 1]);
-    if (d - r > std::max(kDepth * r, 2.0 * kLayers * l)) continue; // the fits' particles
+    const double dx = p.x[D * k] - cx, dy = p.x[D * k + 1] - cy, d = std::hypot(dx, dy);
+    if (beyondFits<D>(p, k, d, r) || !layers.holds(p, k)) continue; // the fits' particles
     const double c = dx / d, s = dy / d;
-    const auto sg = tensorAt<2>(p.s, k);
+    const auto sg = tensorAt<D>(p.s, k);
     const double hoop = sg(0, 0) * s * s - 2.0 * sg(0, 1) * s * c + sg(1, 1) * c * c;
-    loc.insert(loc.end(), {std::atan2(dy, dx), d, hoop / pload, l});
+    loc.insert(loc.end(),
+               {std::atan2(dy, dx), d, hoop / pload, std::max(p.l[D * k], p.l[D * k + 1])});
   }
   PetscCall(p.restore(sw));
   std::vector<double> all;
@@ -132,5 +168,8 @@ PetscErrorCode holeMeasure(MPI_Comm comm, const Scene<2> &sc, DM sw, HoleMeasure
   out.maxError = res[2];
   return PETSC_SUCCESS;
 }
+
+template PetscErrorCode holeMeasure<2>(MPI_Comm, const Scene<2> &, DM, HoleMeasure &);
+template PetscErrorCode holeMeasure<3>(MPI_Comm, const Scene<3> &, DM, HoleMeasure &);
 
 } // namespace gimp

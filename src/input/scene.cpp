@@ -48,10 +48,8 @@ template <int D> void readOutputs(const Options &o, Scene<D> &sc) {
   sc.mms = o.choice("gimp_mms", "none") == "skb1d" ? Mms::AxialWave : Mms::None;
   sc.mmsAmplitude = o.real("gimp_mms_amplitude", sc.mmsAmplitude);
   o.needs(sc.mms != Mms::None, "gimp_mms_amplitude", "-gimp_mms skb1d");
-  if constexpr (D == 2) {
-    sc.lanes = o.flag("gimp_lanes", true);
-    readHoleMeasure(o, sc);
-  }
+  if constexpr (D == 2) sc.lanes = o.flag("gimp_lanes", true);
+  readHoleMeasure(o, sc);
 }
 
 /// The update scheme, the transfer and the domain tracking.

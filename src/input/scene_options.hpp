@@ -35,8 +35,8 @@ void checkBodies(const Scene<3> &sc);
 /// low corner (2D) or on the grid lines through the origin (3D).
 void domainAroundBodies(Scene<2> &sc);
 void domainAroundBodies(Scene<3> &sc);
-/// -gimp_hole_measure and its load (2D).
-void readHoleMeasure(const Options &o, Scene<2> &sc);
+/// -gimp_hole_measure and its load (in 3D the hole is a cylinder along z).
+void readHoleMeasure(const Options &o, Measures &sc);
 
 /// Body force, tractions, penalty conditions, node constraints and probes (loads.cpp).
 template <int D> void readLoads(const Options &o, Scene<D> &sc);

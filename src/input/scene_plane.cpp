@@ -89,7 +89,7 @@ void domainAroundBodies(Scene<2> &sc) {
   dom[3] = dom[1] + std::ceil((dom[3] - dom[1]) / sc.h - 1e-9) * sc.h;
 }
 
-void readHoleMeasure(const Options &o, Scene<2> &sc) {
+void readHoleMeasure(const Options &o, Measures &sc) {
   const std::vector<double> hm = o.reals("gimp_hole_measure");
   bool loadGiven = false;
   sc.holeLoad = o.real("gimp_hole_measure_load", 0.0, &loadGiven);

@@ -189,12 +189,11 @@ template <int D> PetscErrorCode Reporter<D>::summary(PetscInt steps, double t) {
   RunState<D> &s = s_;
   SummaryReport r;
   HoleMeasure hole;
-  if constexpr (D == 2)
-    if (s.sc.holeMeasure) {
-      PetscCall(holeMeasure(s.comm, s.sc, s.sw, hole));
-      PetscCall(out_->writeHoop(hole));
-      r.hole = &hole;
-    }
+  if (s.sc.holeMeasure) {
+    PetscCall(holeMeasure<D>(s.comm, s.sc, s.sw, hole));
+    PetscCall(out_->writeHoop(hole));
+    r.hole = &hole;
+  }
   const RunStatus &st = s.status;
   r.status = st.failed      ? "unstable"
              : st.interrupt ? "interrupted"

@@ -78,7 +78,10 @@ template <int D> void stressOf(const ParticleView<D> &p, PetscInt k, double *out
 template <int D>
 PetscErrorCode separation(MPI_Comm comm, const Lattice<D> &grid, DM sw,
                           const std::vector<Crack> &cracks, double &gap, double &strain);
-/// The hole measure.
-PetscErrorCode holeMeasure(MPI_Comm comm, const Scene<2> &sc, DM sw, HoleMeasure &out);
+/// The hole measure. In 3D the hole is a cylinder along z through (cx, cy) and the fit takes the
+/// particles of the layers nearest the mid-thickness (holeLayers): the hoop stress at the hole's
+/// surface halfway through the body.
+template <int D>
+PetscErrorCode holeMeasure(MPI_Comm comm, const Scene<D> &sc, DM sw, HoleMeasure &out);
 
 } // namespace gimp
