@@ -3,6 +3,8 @@
 // equivalent box.
 #include "gimp/geometry/cut_cell3d.hpp"
 
+#include "gimp/geometry/cut_cell.hpp"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -218,6 +220,28 @@ TEST(CutCell3D, EquivalentBoxOfABoxIsTheBox) {
     EXPECT_NEAR(mo.c[a], xc[a], 1e-14);
     EXPECT_NEAR(l[a], 0.5 * (hi[a] - lo[a]), 1e-14);
   }
+}
+
+TEST(CutCell3D, ExtrudedCutKeepsItsSideAndThe2DRectangle) {
+  // A cube cut by a cylinder along z: the box keeps the cube's side along z, and its in-plane
+  // half-sizes are the equivalent rectangle of the disk's cut of the square.
+  const double lo[3] = {-0.5, -0.5, -0.5}, hi[3] = {0.5, 0.5, 0.5}, o[3] = {0.7, 0.6, 0.0};
+  const double side[3] = {1, 1, 1}, xc[3] = {0, 0, 0}, r = 0.8;
+  const Raw3 m3 = boxCylinderMoments(lo, hi, 2, o, r, -1, 1);
+  const gimp::cut::Moments3 m = gimp::cut::fromRaw3(m3, xc, 1.0);
+  double l[3];
+  gimp::cut::equivalentBox(m, l, side);
+  const auto d = gimp::cut::rectDiskMoments(-0.5, -0.5, 0.5, 0.5, 0.7, 0.6, r);
+  const gimp::cut::Moments m2 = gimp::cut::fromRaw(d, 0, 0, 1.0);
+  double l2[2];
+  gimp::cut::equivalentRectangle(m2, l2);
+  EXPECT_NEAR(l[0], l2[0], 1e-14);
+  EXPECT_NEAR(l[1], l2[1], 1e-14);
+  EXPECT_NEAR(l[2], 0.5, 1e-14);
+  EXPECT_NEAR(8 * l[0] * l[1] * l[2], m.V, 1e-14);
+  // Without the sides every axis takes the scaling (the volume still the region's).
+  gimp::cut::equivalentBox(m, l);
+  EXPECT_NEAR(8 * l[0] * l[1] * l[2], m.V, 1e-14);
 }
 
 } // namespace

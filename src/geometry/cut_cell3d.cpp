@@ -149,7 +149,7 @@ Moments3 fromRaw3(const Raw3 &mom, const double xc[3], double whole) {
   return m;
 }
 
-void equivalentBox(const Moments3 &m, double l[3]) {
+void equivalentBox(const Moments3 &m, double l[3], const double *side) {
   double a[3];
   for (int k = 0; k < 3; ++k)
     a[k] = std::sqrt(3.0 * m.I[k] / m.V);
@@ -157,9 +157,19 @@ void equivalentBox(const Moments3 &m, double l[3]) {
     l[0] = l[1] = l[2] = 0.5 * std::cbrt(m.V);
     return;
   }
-  const double s = std::cbrt(m.V / (8.0 * a[0] * a[1] * a[2]));
+  // An axis along which the region fills the cube's side (a cylinder's axis through it: its
+  // moments there are the side's) keeps it; the others share the scaling, so a cut extruded
+  // through the cube has the 2D rectangle of its cross-section.
+  double free = 8.0 * a[0] * a[1] * a[2];
+  int scaled = 0;
+  bool keep[3];
+  for (int k = 0; k < 3; ++k) {
+    keep[k] = side != nullptr && std::fabs(a[k] - 0.5 * side[k]) <= 1e-12 * side[k];
+    if (!keep[k]) ++scaled;
+  }
+  const double s = scaled == 0 ? 1.0 : std::pow(m.V / free, 1.0 / scaled);
   for (int k = 0; k < 3; ++k)
-    l[k] = s * a[k];
+    l[k] = keep[k] ? a[k] : s * a[k];
 }
 
 } // namespace gimp::cut

@@ -135,7 +135,7 @@ bool cutBySolid(const Body<3> &body, Seed &s) {
   const cut::Moments3 m = cut::fromRaw3(mom, xc, whole);
   if (m.V <= 0) return false;
   s.V = m.V;
-  cut::equivalentBox(m, s.l);
+  cut::equivalentBox(m, s.l, w);
   for (int a = 0; a < 3; ++a) { // a sliver keeps a quarter of the cube's half-size (seed.cpp)
     s.x[a] = m.c[a];
     s.l[a] = std::max(s.l[a], cut::kMinSliverFraction * half[a]);

@@ -42,7 +42,10 @@ Moments3 fromRaw3(const Raw3 &mom, const double xc[3], double whole);
 
 /// The box standing for a cut region in GIMP's weights (the 3D equivalentRectangle): centred on
 /// the centroid, with the proportions of the region's central second moments (a box of
-/// half-sizes l has I[a] = V l_a^2 / 3), scaled to the region's volume. Half-sizes into l.
-void equivalentBox(const Moments3 &m, double l[3]);
+/// half-sizes l has I[a] = V l_a^2 / 3), scaled to the region's volume. An axis along which
+/// the region has the second moment of the whole side of the cube (side: the cube's sides, or
+/// null), as a cut extruded along it, keeps that side and the other two take the scaling: a
+/// cylinder's cut is the 2D rectangle of its cross-section times the side. Half-sizes into l.
+void equivalentBox(const Moments3 &m, double l[3], const double *side = nullptr);
 
 } // namespace gimp::cut
