@@ -244,4 +244,50 @@ TEST(CutCell3D, ExtrudedCutKeepsItsSideAndThe2DRectangle) {
   EXPECT_NEAR(8 * l[0] * l[1] * l[2], m.V, 1e-14);
 }
 
+/// The volume of the boxes of an n^3 lattice over [-1.1, 1.1]^3 in the body and in no hole.
+double latticeVolume(const gimp::cut::Round *body, const std::vector<gimp::cut::Round> &holes) {
+  const int n = 7;
+  double V = 0;
+  for (int i = 0; i < n * n * n; ++i) {
+    const int idx[3] = {i % n, (i / n) % n, i / (n * n)};
+    double lo[3], hi[3];
+    for (int a = 0; a < 3; ++a) {
+      lo[a] = -1.1 + 2.2 * idx[a] / n;
+      hi[a] = -1.1 + 2.2 * (idx[a] + 1) / n;
+    }
+    Raw3 m{};
+    EXPECT_TRUE(gimp::cut::boxRoundsMoments(lo, hi, body, holes, m));
+    V += m[0];
+  }
+  return V;
+}
+
+TEST(CutCell3D, CrossingSurfacesCountTheirCommonPartOnce) {
+  // A ball of radius R with a cylinder of radius a through its centre along z (body: the ball
+  // minus the cylinder, 4 pi / 3 (R^2 - a^2)^1.5), and a box with both as holes (the box minus
+  // their union; their common part 4 pi / 3 (R^3 - (R^2 - a^2)^1.5)).
+  gimp::cut::Round ball, rod;
+  ball.c[0] = 0.013;
+  ball.c[1] = -0.021;
+  ball.r = 1.0;
+  rod.ball = false;
+  rod.axis = 2;
+  rod.c[0] = 0.013;
+  rod.c[1] = -0.021;
+  rod.r = 0.43;
+  const double R = 1.0, a = 0.43, ring = std::pow(R * R - a * a, 1.5);
+  const double inBall = 4 * kPi / 3 * ring;
+  EXPECT_NEAR(latticeVolume(&ball, {rod}), inBall, 1e-13);
+  const double box = 2.2 * 2.2 * 2.2;
+  const double holes = 4 * kPi / 3 + kPi * a * a * 2.2 - 4 * kPi / 3 * (R * R * R - ring);
+  EXPECT_NEAR(latticeVolume(nullptr, {ball, rod}), box - holes, 1e-12);
+  // Two cylinders across each other (along x and y): slices along z, both bands.
+  gimp::cut::Round rx = rod, ry = rod;
+  rx.axis = 0;
+  ry.axis = 1;
+  rx.c[2] = ry.c[2] = 0.02;
+  const double r = a, common = 16.0 / 3.0 * r * r * r; // the Steinmetz solid
+  EXPECT_NEAR(latticeVolume(nullptr, {rx, ry}), box - 2 * kPi * r * r * 2.2 + common, 1e-12);
+}
+
 } // namespace

@@ -202,6 +202,13 @@ TEST(Seeding, CutCellsIn3DGiveTheExactVolume) {
   const double Vh = 0.6 * 0.5 * 0.4 - 4 * kPi * std::pow(0.13, 3) / 3;
   EXPECT_NEAR(holed.volume, Vh, 1e-10 * Vh);
   EXPECT_TRUE(holed.idsUnique && holed.idsOfBodies && holed.centresInside);
+
+  // A sphere with a cylindrical hole through its centre: cubes that both surfaces cut.
+  const Seeded bead =
+      seed<3>(dim + "-gimp_body0_shape sphere -gimp_body0_sphere "
+                    "0.55,0.45,0.52,0.37 -gimp_body0_hole_cylinders 0.55,0.45,0.13");
+  const double Vb = 4 * kPi / 3 * std::pow(0.37 * 0.37 - 0.13 * 0.13, 1.5);
+  EXPECT_NEAR(bead.volume, Vb, 1e-10 * Vb);
 }
 
 } // namespace

@@ -2,6 +2,7 @@
 #include "gimp/geometry/cut_cell3d.hpp"
 
 #include "gimp/geometry/cut_cell.hpp"
+#include "slices.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -9,59 +10,7 @@
 
 namespace gimp::cut {
 
-namespace {
-
-// 8-point Gauss-Legendre nodes and weights on [-1, 1] (the positive half).
-constexpr double kX[4] = {0.1834346424956498, 0.525532409916329, 0.7966664774136267,
-                          0.9602898564975363};
-constexpr double kW[4] = {0.362683783378362, 0.3137066458778873, 0.2223810344533745,
-                          0.1012285362903763};
-
-/// The slice of the box [lo, hi] (x, y) at height z through the ball: {A, Sx, Sy, Sxx, Syy}.
-using Slice = std::array<double, 5>;
-
-struct BallSlicer {
-  const double *lo, *hi, *o;
-  double r;
-  Slice at(double z) const {
-    const double rho2 = r * r - (z - o[2]) * (z - o[2]);
-    if (rho2 <= 0) return Slice{};
-    return rectDiskMoments(lo[0], lo[1], hi[0], hi[1], o[0], o[1], std::sqrt(rho2));
-  }
-  /// The 8-point rule's moments of the slices over [a, b] (raw moments, z weighted in).
-  Raw3 rule(double a, double b) const {
-    Raw3 m{};
-    const double mid = 0.5 * (a + b), half = 0.5 * (b - a);
-    for (int q = 0; q < 8; ++q) {
-      const double z = mid + (q < 4 ? -kX[q] : kX[q - 4]) * half, w = kW[q % 4] * half;
-      const Slice s = at(z);
-      const double add[7] = {s[0], s[1], s[2], z * s[0], s[3], s[4], z * z * s[0]};
-      for (int i = 0; i < 7; ++i)
-        m[i] += w * add[i];
-    }
-    return m;
-  }
-  /// Adaptive bisection: [a, b] whose rule `whole` agrees with its halves' sum to tol[i].
-  void adapt(double a, double b, const Raw3 &whole, const Raw3 &tol, int depth, Raw3 &m) const {
-    const double mid = 0.5 * (a + b);
-    const Raw3 left = rule(a, mid), right = rule(mid, b);
-    bool ok = true;
-    for (int i = 0; i < 7; ++i)
-      ok = ok && std::fabs(left[i] + right[i] - whole[i]) <= tol[i];
-    if (ok || depth >= 40) {
-      for (int i = 0; i < 7; ++i)
-        m[i] += left[i] + right[i];
-      return;
-    }
-    Raw3 half = tol;
-    for (double &t : half)
-      t *= 0.5;
-    adapt(a, mid, left, half, depth + 1, m);
-    adapt(mid, b, right, half, depth + 1, m);
-  }
-};
-
-} // namespace
+using namespace slicing;
 
 Raw3 centredBoxMoments(const double w[3]) {
   const double V = w[0] * w[1] * w[2];
@@ -69,12 +18,10 @@ Raw3 centredBoxMoments(const double w[3]) {
 }
 
 Raw3 boxBallMoments(const double lo[3], const double hi[3], const double o[3], double r) {
-  Raw3 m{};
   const double za = std::max(lo[2], o[2] - r), zb = std::min(hi[2], o[2] + r);
-  if (zb <= za) return m;
+  if (zb <= za) return Raw3{};
   // Heights where the slice's disk (radius rho) reaches a side (rho = |d|) or a corner.
-  std::vector<double> cuts = {za, zb};
-  std::vector<double> d2;
+  std::vector<double> cuts, d2;
   for (double dx : {lo[0] - o[0], hi[0] - o[0]}) {
     d2.push_back(dx * dx);
     for (double dy : {lo[1] - o[1], hi[1] - o[1]})
@@ -82,24 +29,17 @@ Raw3 boxBallMoments(const double lo[3], const double hi[3], const double o[3], d
   }
   for (double dy : {lo[1] - o[1], hi[1] - o[1]})
     d2.push_back(dy * dy);
-  for (double d : d2) {
-    if (d >= r * r) continue;
-    const double t = std::sqrt(r * r - d);
-    for (double z : {o[2] - t, o[2] + t})
-      if (z > za && z < zb) cuts.push_back(z);
-  }
-  std::sort(cuts.begin(), cuts.end());
-  // Tolerances: 1e-15 of the moments of a box of the slab's size about the box's corner scale.
-  double s = 0;
-  for (int a = 0; a < 3; ++a)
-    s = std::max({s, std::fabs(lo[a]), std::fabs(hi[a]), hi[a] - lo[a]});
-  const double V = (hi[0] - lo[0]) * (hi[1] - lo[1]) * (hi[2] - lo[2]) * 1e-15;
-  const Raw3 tol = {V, V * s, V * s, V * s, V * s * s, V * s * s, V * s * s};
-  const BallSlicer slicer{lo, hi, o, r};
-  for (size_t i = 0; i + 1 < cuts.size(); ++i)
-    if (cuts[i + 1] > cuts[i])
-      slicer.adapt(cuts[i], cuts[i + 1], slicer.rule(cuts[i], cuts[i + 1]), tol, 0, m);
-  return m;
+  for (double d : d2)
+    if (d < r * r)
+      for (double z : {o[2] - std::sqrt(r * r - d), o[2] + std::sqrt(r * r - d)})
+        if (z > za && z < zb) cuts.push_back(z);
+  const auto ball = slices([&](double z) {
+    const double rho2 = r * r - (z - o[2]) * (z - o[2]);
+    if (rho2 <= 0) return Raw3{};
+    return lift(rectDiskMoments(lo[0], lo[1], hi[0], hi[1], o[0], o[1], std::sqrt(rho2)), 2, 0, 1,
+                z);
+  });
+  return ball.over(za, zb, cuts, tolerances(lo, hi));
 }
 
 Raw3 boxCylinderMoments(const double lo[3], const double hi[3], int axis, const double o[3],
@@ -108,7 +48,7 @@ Raw3 boxCylinderMoments(const double lo[3], const double hi[3], int axis, const 
   const double za = std::max(lo[axis], zlo), zb = std::min(hi[axis], zhi);
   if (zb <= za) return m;
   const int a = axis == 0 ? 1 : 0, b = axis == 2 ? 1 : 2; // the disk's plane, in order
-  const Slice s = rectDiskMoments(lo[a], lo[b], hi[a], hi[b], o[a], o[b], r);
+  const std::array<double, 5> s = rectDiskMoments(lo[a], lo[b], hi[a], hi[b], o[a], o[b], r);
   const double L = zb - za, Z1 = 0.5 * (zb * zb - za * za), Z2 = (zb * zb * zb - za * za * za) / 3;
   m[0] = s[0] * L;
   m[1 + a] = s[1] * L;

@@ -96,11 +96,52 @@ cut::Raw3 momentsIn(const Solid &so, const double *lo, const double *hi, const d
   return cut::boxCylinderMoments(l, h, so.axis, o, so.r, so.lo - z, so.hi - z);
 }
 
+/// A sphere or cylinder (not a box hole) about the point xc, for the geometry room.
+cut::Round roundAbout(const Solid &so, const double *xc) {
+  cut::Round r;
+  r.ball = so.kind == Solid::Sphere;
+  r.axis = so.axis;
+  r.r = so.r;
+  for (int a = 0; a < 3; ++a)
+    r.c[a] = so.c[a] - xc[a];
+  r.lo = so.lo - xc[so.axis];
+  r.hi = so.hi - xc[so.axis];
+  return r;
+}
+
+/// The raw moments about xc of the part of the cube [lo, hi] (sides w) in the round body (when
+/// its surface cuts the cube; else the whole cube) and in none of the holes that cut it. One
+/// curved surface: its closed form or slices; several: the slices of boxRoundsMoments, exact
+/// where at most one of them is a disk along some axis, else each hole subtracted whole (their
+/// common part twice).
+cut::Raw3 cutMoments(const Solid *round, const std::vector<const Solid *> &holes, const double *lo,
+                     const double *hi, const double *xc, const double *w) {
+  if (holes.size() + (round ? 1 : 0) > 1) {
+    double l[3], h[3];
+    for (int a = 0; a < 3; ++a) {
+      l[a] = lo[a] - xc[a];
+      h[a] = hi[a] - xc[a];
+    }
+    std::vector<cut::Round> rs;
+    for (const Solid *hole : holes)
+      rs.push_back(roundAbout(*hole, xc));
+    const cut::Round body = round ? roundAbout(*round, xc) : cut::Round{};
+    cut::Raw3 m;
+    if (cut::boxRoundsMoments(l, h, round ? &body : nullptr, rs, m)) return m;
+  }
+  cut::Raw3 mom = round ? momentsIn(*round, lo, hi, xc) : cut::centredBoxMoments(w);
+  for (const Solid *hole : holes) {
+    const cut::Raw3 d = momentsIn(*hole, lo, hi, xc);
+    for (int i = 0; i < 7; ++i)
+      mom[i] -= d[i];
+  }
+  return mom;
+}
+
 /// Whether the seed's cube keeps a part in the body. A cube that a sphere's or a cylinder's
 /// surface cuts (the body's or a hole's) becomes that part: its volume, centroid and the box of
 /// its second moments (its corners that box's). A box body and box holes keep or drop a cube by
-/// its centre (their faces lie on the particle lattice in the scenes made for them). A hole is
-/// taken whole where it cuts a cube: holes of a round body lie inside it.
+/// its centre (their faces lie on the particle lattice in the scenes made for them).
 bool cutBySolid(const Body<3> &body, Seed &s) {
   double w[3], xc[3], half[3];
   for (int a = 0; a < 3; ++a) {
@@ -109,29 +150,23 @@ bool cutBySolid(const Body<3> &body, Seed &s) {
     half[a] = 0.5 * w[a];
   }
   const double whole = w[0] * w[1] * w[2];
-  cut::Raw3 mom = cut::centredBoxMoments(w);
-  bool cut = false;
+  const Solid *round = nullptr; // the round body, where its surface cuts the cube
   if (body.kind == Body<3>::BoxShape) {
     for (int a = 0; a < 3; ++a)
       if (xc[a] < body.box[a] || xc[a] > body.box[3 + a]) return false;
   } else {
     const Meets m = meets(body.round, s.lo, s.hi);
     if (m == Meets::Misses) return false;
-    if (m == Meets::Cuts) {
-      mom = momentsIn(body.round, s.lo, s.hi, xc);
-      cut = true;
-    }
+    if (m == Meets::Cuts) round = &body.round;
   }
+  std::vector<const Solid *> holes; // the holes whose surface cuts the cube
   for (const Solid &hole : body.holes) {
     const Meets m = meets(hole, s.lo, s.hi);
     if (m == Meets::Holds) return false;
-    if (m == Meets::Misses) continue;
-    const cut::Raw3 d = momentsIn(hole, s.lo, s.hi, xc);
-    for (int i = 0; i < 7; ++i)
-      mom[i] -= d[i];
-    cut = true;
+    if (m == Meets::Cuts) holes.push_back(&hole);
   }
-  if (!cut) return true;
+  if (!round && holes.empty()) return true;
+  const cut::Raw3 mom = cutMoments(round, holes, s.lo, s.hi, xc, w);
   const cut::Moments3 m = cut::fromRaw3(mom, xc, whole);
   if (m.V <= 0) return false;
   s.V = m.V;

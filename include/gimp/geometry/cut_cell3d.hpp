@@ -5,6 +5,7 @@
 #pragma once
 
 #include <array>
+#include <vector>
 
 namespace gimp::cut {
 
@@ -35,6 +36,24 @@ Raw3 boxCylinderMoments(const double lo[3], const double hi[3], int axis, const 
 /// Raw moments of the intersection of the boxes [lo, hi] and [blo, bhi].
 Raw3 boxBoxMoments(const double lo[3], const double hi[3], const double blo[3],
                    const double bhi[3]);
+
+/// A ball (centre c, radius r) or a cylinder along `axis` (c[axis] ignored) from lo to hi.
+struct Round {
+  bool ball = true;
+  int axis = 2;
+  double c[3] = {0, 0, 0};
+  double r = 0, lo = -1e300, hi = 1e300;
+};
+
+/// Raw moments of the part of the box [lo, hi] in `body` (null: the whole box) and in none of
+/// the holes, where several curved surfaces cut the box (src/geometry/cut_solids.cpp). The box
+/// is sliced along an axis along which at most one of them is a disk (a ball, or a cylinder
+/// along that axis; a cylinder across the slices is a band, a rectangle); each slice's moments
+/// are exact by inclusion-exclusion over the holes (the rectangles intersect to a rectangle,
+/// cut by the one disk: rectDiskMoments), so overlapping holes are counted once; the slices are
+/// integrated as in boxBallMoments. false (m untouched) when every axis has two disks.
+bool boxRoundsMoments(const double lo[3], const double hi[3], const Round *body,
+                      const std::vector<Round> &holes, Raw3 &m);
 
 /// The region's moments from its raw moments about the point xc; an empty region (V = 0) when
 /// V is at most 1e-13 of `whole` (the round-off of a removed cube).
