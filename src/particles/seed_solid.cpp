@@ -180,9 +180,9 @@ bool cutBySolid(const Body<3> &body, Seed &s) {
   return true;
 }
 
-/// The particles this rank seeds: n^3 per leaf cell whose centre its own level-0 cells hold, kept
-/// where their centre lies in a body; overlap is the largest body index whose particle another
-/// body also holds.
+/// The particles this rank seeds: n^3 per leaf cell whose centre its own level-0 cells hold, each
+/// cube cut to its part in a body (cutBySolid; without cut cells kept where its centre lies in
+/// the body); overlap is the largest body index whose particle another body also holds.
 std::vector<Seed> collectSeeds(const Scene<3> &sc, const Grid<3> &grid, PetscMPIInt rank,
                                int &overlap) {
   std::vector<Seed> seeds;

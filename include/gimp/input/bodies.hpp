@@ -1,7 +1,8 @@
 // The bodies of a scene: a body's shape is true geometry, so it is per dimension. In 2D a body
 // is a plane shape (rectangle, ellipse, polygon, their union, holes, or a particle file) whose
 // cut particle squares keep their exact area and centroid; in 3D a solid (box, sphere or
-// cylinder with box, spherical and cylindrical holes) filled with n^3 particles per cell.
+// cylinder with box, spherical and cylindrical holes) filled with n^3 particles per cell, whose
+// cubes a curved surface cuts keep their exact volume and centroid.
 // Everything else of a body (material, particles per cell, initial velocity) is the same idea
 // in both and has the same name.
 #pragma once
