@@ -7,7 +7,8 @@
 #
 # Usage: bench/multirate.sh [rounds (default 3)] [extra gimp options]
 # Environment: GIMP_BUILD_DIR (default <repo>/build, built first unless GIMP_BENCH_NOBUILD=1),
-#   GIMP_MULTIRATE_SCENES (default "block3_tenth block3"), GIMP_MULTIRATE_TRANSFERS ("apic flip").
+#   GIMP_MULTIRATE_SCENES (default "block3_tenth block3"; a scene is bench/NAME.opts, else
+#   options/NAME.opts, e.g. block3d_multirate), GIMP_MULTIRATE_TRANSFERS ("apic flip").
 set -euo pipefail
 export OMPI_ALLOW_RUN_AS_ROOT=1
 export OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
@@ -38,7 +39,9 @@ for scene in $SCENES; do
       for i in 0 1; do
         mr=$([[ $i == 1 ]] && echo true || echo false)
         dir="$OUT/${scene}_${transfer}_$mr"
-        "$BUILD/gimp" -options_file "$ROOT/bench/$scene.opts" -gimp_transfer "$transfer" \
+        opts="$ROOT/bench/$scene.opts"
+        [[ -f "$opts" ]] || opts="$ROOT/options/$scene.opts"
+        "$BUILD/gimp" -options_file "$opts" -gimp_transfer "$transfer" \
           -gimp_multirate "$mr" -gimp_output_dir "$dir" -log_view ":$dir.log" -info \
           "$@" >"$dir.out" 2>&1
         s=$(stepping "$dir.log")

@@ -14,8 +14,8 @@ bit, to its particle in the last frame of fields.h5 (matched by position: x, v, 
 components from the row-major 3 x 3 tensor, V, l); at step 0 V = 8 lx ly lz; on 2 ranks the
 same ids and values within 1e-10 of each group's largest value [2.7e-14].
 Probes: summary.json probes with id, x0 (3), u (3), stress (6); history.csv columns NAME_ux,
-_uy, _uz, _sxx, _syy, _szz, _syz, _sxz, _sxy after momentum_z, in declaration order; the id is
-the particle nearest the point at the start (from the step-0 dump; ties the smallest id) and x0
+_uy, _uz, _sxx, _syy, _szz, _syz, _sxz, _sxy after strain_x (the separation measure), in
+declaration order; the id is the particle nearest the point at the start (from the step-0 dump; ties the smallest id) and x0
 its initial position (to the 13 digits printed); u = the dump's x - x0 and stress = the dump's
 row of that id, and the history's last row = summary.json's (to the 13 digits printed); on 2
 ranks the same ids and x0, u and stress within 1e-10 [2.5e-14], with the "far" probe's particle
@@ -102,10 +102,10 @@ def check_probes(tag, out, dump_rows, d0, probes):
     cols = list(h.keys())
     want = [p + q for p, _ in probes for q in ("_ux", "_uy", "_uz") + tuple(
         "_" + x for x in STRESS)]
-    at = cols.index("momentum_z") + 1 if "momentum_z" in cols else -1
+    at = cols.index("strain_x") + 1 if "strain_x" in cols else -1
     c.check(tag + ": history columns", at > 0 and cols[at:at + len(want)] == want,
-            "after momentum_z: %s ... (%d probe columns)" % (",".join(cols[at:at + 3]),
-                                                               len(cols) - at))
+            "after strain_x: %s ... (%d probe columns)" % (",".join(cols[at:at + 3]),
+                                                             len(cols) - at))
     sp = s["probes"]
     shape_ok = list(sp.keys()) == [p for p, _ in probes] and all(
         sorted(sp[p].keys()) == ["id", "stress", "u", "x0"] and len(sp[p]["x0"]) == 3 and

@@ -131,18 +131,19 @@ c.check("physical memory", one_line(rc, lines, p, "option -gimp_h 0.005:",
 for name, extra, needle in (
         ("nodes", ["-gimp_h", "1e-4", "-ts_dt", "1e-6"], "more than PetscInt can index"),
         ("particles", ["-gimp_h", "0.02", "-gimp_body0_ppc", "1000", "-ts_dt", "1e-4"],
-         "more per rank than PetscInt counts")):
+         "more than the particle swarm counts in a PetscInt")):
     rc, lines, p, secs, _ = refused("petscint", BAR, extra + ["-gimp_memory_limit", "1e30"])
     c.check("PetscInt: " + name, one_line(rc, lines, p, needle),
             "exit %d in %.1f s: %s" % (rc, secs, (lines or [p.stderr.strip()[-200:]])[0][:200]))
 
-# Two ranks: one line; the particles per rank halve.
+# Two ranks: one line; the swarm counts all particles in one PetscInt, so two ranks do not
+# lift that limit.
 rc, lines, p, _, _ = refused("np2_limit", BAR, ["-gimp_memory_limit", "1"], ranks=2)
 c.check("2 ranks: one line", one_line(rc, lines, p, "option -gimp_h 1:", "-gimp_memory_limit"),
         "exit %d, %d error lines: %s" % (rc, len(lines), (lines or [""])[0][:120]))
 rc, lines, p, _, _ = refused("np2_particles", BAR, ["-gimp_h", "0.02", "-gimp_body0_ppc", "1000",
                                                     "-ts_dt", "1e-4"], ranks=2)
-c.check("2 ranks: particles per rank", one_line(rc, lines, p, "option -gimp_body0_ppc 1000:",
-                                                "of physical memory"),
+c.check("2 ranks: particles in all", one_line(rc, lines, p, "option -gimp_body0_ppc 1000:",
+                                               "more than the particle swarm counts in a PetscInt"),
         "exit %d, %d error lines: %s" % (rc, len(lines), (lines or [""])[0][:160]))
 c.done()

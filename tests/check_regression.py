@@ -76,10 +76,12 @@ STEPS = {
 # Fragments that are not a scene on their own: run on top of the scene they extend.
 BASE = {"rest_tension_levels": "rest_tension.opts"}
 # Variants "<scene>-<tag>": the scene with options that no scene file sets, so that every
-# step variant is in the tier: multi-rate steps (both force rules), CPDI domains, USF, XPIC,
-# the stability check (SLEPc), 3D FLIP with USL, 3D corner and CPDI domains (crossing ranks).
+# step variant is in the tier: multi-rate steps (both force rules; in 3D too), CPDI domains, USF,
+# XPIC, the stability check (SLEPc), 3D FLIP with USL, 3D corner and CPDI domains (crossing
+# ranks).
 VARIANTS = {
     "drift3-multirate": ["-gimp_multirate", "true"],
+    "block3d_multirate-multirate": ["-gimp_multirate", "true"],
     "rest_tension_levels-multirate_node": ["-gimp_multirate", "true", "-gimp_multirate_forces",
                                            "node", "-gimp_update", "usl"],
     "drift3-cpdi": ["-gimp_tracking", "cpdi"],

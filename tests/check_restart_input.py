@@ -135,8 +135,9 @@ seed = os.path.join(W, "seed.csv")
 assert gimp(BAR2 + ["-ts_max_steps", "0", "-gimp_particle_dump", seed, "-gimp_output_dir",
                     os.path.join(W, "seed")]).returncode == 0
 with open(os.path.join(args.root, "options", "bar.opts")) as f:
+    # (a file body takes no box, velocity profile or particles per cell)
     kept = [l for l in f if not l.startswith(("-gimp_body0_box", "-gimp_body0_velocity",
-                                              "-gimp_body0_wavenumber"))]
+                                              "-gimp_body0_wavenumber", "-gimp_body0_ppc"))]
 barfile = os.path.join(W, "barfile.opts")
 with open(barfile, "w") as f:
     f.writelines(kept + ["-gimp_body0_shape file\n", "-gimp_body0_file %s\n" % seed])

@@ -102,8 +102,9 @@ for f, unstable in ((1.05, True), (0.95, False)):
 
 # APIC: R is its affine re-projection, the identity on the bar's modes (each particle's two
 # nodes carry its affine field exactly), so B = M^-1 K and dt_critical = h / c = 0.1 s, 1 / sqrt(3)
-# of FLIP's; the bar measured stable at 1.053 of it and unstable at 1.057
-# (runs/study_stability.py --transfer apic). A run at 1.2 dt_critical goes unstable, at 0.95 not.
+# of FLIP's; the bar's measured threshold is 0.999 of it (bracket 0.997 to 1.000,
+# runs/study_stability.py --cases bar --transfer apic). A run at 1.2 dt_critical goes unstable,
+# at 0.95 not.
 args.extra = args.extra.replace("-gimp_transfer flip", "-gimp_transfer apic")
 dta = gimptest.summary(gimptest.run(args, "options/bar.opts", ["-gimp_stability_check",
                        "-ts_max_steps", "1"], outdir=os.path.join(args.work, "apic")))["dt_critical"]

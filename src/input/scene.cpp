@@ -96,15 +96,13 @@ template <int D> void readRunControl(const Options &o, Scene<D> &sc) {
   sc.allowUnstableDt = o.flag("gimp_allow_unstable_dt", false);
   o.needs(sc.stabilityCheck, "gimp_stability_interval", "-gimp_stability_check");
   o.needs(sc.stabilityCheck, "gimp_allow_unstable_dt", "-gimp_stability_check");
-  if (D == 2) {
-    sc.multirate = o.flag("gimp_multirate", false);
-    sc.multirateNodeRule = o.choice("gimp_multirate_forces", "impulse") == "node";
-    o.needs(sc.multirate, "gimp_multirate_forces", "-gimp_multirate true");
-    if (!o.help() && sc.multirate && sc.stabilityInterval > 0)
-      Options::bad("gimp_stability_interval", std::to_string(sc.stabilityInterval),
-                   "re-checks the single-rate step, not -gimp_multirate's; use 0 with "
-                   "-gimp_multirate");
-  }
+  sc.multirate = o.flag("gimp_multirate", false);
+  sc.multirateNodeRule = o.choice("gimp_multirate_forces", "impulse") == "node";
+  o.needs(sc.multirate, "gimp_multirate_forces", "-gimp_multirate true");
+  if (!o.help() && sc.multirate && sc.stabilityInterval > 0)
+    Options::bad("gimp_stability_interval", std::to_string(sc.stabilityInterval),
+                 "re-checks the single-rate step, not -gimp_multirate's; use 0 with "
+                 "-gimp_multirate");
   // (A warning, not an error: a file that includes another may turn its rest criterion off.)
   if (!o.help() && staticTime && sc.staticTol == 0)
     PetscCallAbort(PETSC_COMM_WORLD,
