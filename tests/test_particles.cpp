@@ -211,4 +211,25 @@ TEST(Seeding, CutCellsIn3DGiveTheExactVolume) {
   EXPECT_NEAR(bead.volume, Vb, 1e-10 * Vb);
 }
 
+TEST(Seeding, SphereCutsThatAreNotExactAreNamed) {
+  // Two spherical surfaces that cross (a hole through a sphere body's surface, two holes that
+  // meet) are where 3D cut cells are approximate; apart or nested inside the body they are exact.
+  auto named = [](const std::string &shape) {
+    EXPECT_EQ(PetscOptionsClear(nullptr), 0);
+    EXPECT_EQ(
+        PetscOptionsInsertString(nullptr, (kMaterial + "-gimp_dim 3 -gimp_h 0.1 " + shape).c_str()),
+        0);
+    Scene<3> sc;
+    EXPECT_EQ(gimp::readScene<3>(PETSC_COMM_SELF, sc), 0) << shape;
+    return gimp::approximateCuts(sc.bodies.at(0), "gimp_body0_");
+  };
+  const std::string ball = "-gimp_body0_shape sphere -gimp_body0_sphere 0,0,0,0.5 ";
+  EXPECT_NE(named(ball + "-gimp_body0_hole_spheres 0.5,0,0,0.2").find("crosses the surface"),
+            std::string::npos);
+  EXPECT_NE(named(ball + "-gimp_body0_hole_spheres 0.15,0,0,0.2,-0.15,0,0,0.2").find("meet"),
+            std::string::npos);
+  EXPECT_EQ(named(ball + "-gimp_body0_hole_spheres 0.25,0,0,0.1,-0.25,0,0,0.1"), "");
+  EXPECT_EQ(named("-gimp_body0_box 0,0,0,1,1,1 -gimp_body0_hole_spheres 0.5,0.5,0.5,0.2"), "");
+}
+
 } // namespace

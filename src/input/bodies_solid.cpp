@@ -151,3 +151,33 @@ void domainAroundBodies(Scene<3> &sc) {
 }
 
 } // namespace gimp::input
+
+namespace gimp {
+
+std::string approximateCuts(const Body<3> &b, const std::string &prefix) {
+  auto text = [](const Solid &s) {
+    return formatNumber(s.c[0]) + "," + formatNumber(s.c[1]) + "," + formatNumber(s.c[2]) + "," +
+           formatNumber(s.r);
+  };
+  auto distance = [](const Solid &a, const Solid &c) {
+    return std::sqrt((a.c[0] - c.c[0]) * (a.c[0] - c.c[0]) + (a.c[1] - c.c[1]) * (a.c[1] - c.c[1]) +
+                     (a.c[2] - c.c[2]) * (a.c[2] - c.c[2]));
+  };
+  for (size_t i = 0; i < b.holes.size(); ++i) {
+    const Solid &h = b.holes[i];
+    if (h.kind != Solid::Sphere) continue;
+    if (b.kind == Body<3>::RoundShape && b.round.kind == Solid::Sphere) {
+      const double d = distance(h, b.round);
+      if (d < b.round.r + h.r && d > b.round.r - h.r)
+        return "-" + prefix + "hole_spheres " + text(h) + ": the hole crosses the surface of " +
+               "-" + prefix + "sphere " + text(b.round);
+    }
+    for (size_t j = i + 1; j < b.holes.size(); ++j)
+      if (b.holes[j].kind == Solid::Sphere && distance(h, b.holes[j]) < h.r + b.holes[j].r)
+        return "-" + prefix + "hole_spheres " + text(h) + " and " + text(b.holes[j]) +
+               ": the two holes meet";
+  }
+  return "";
+}
+
+} // namespace gimp

@@ -98,4 +98,10 @@ template <> struct Body<3> {
   bool inside(const double *x) const;
 };
 
+/// Where a 3D body's cut cells are not exact (docs/method.md, cut cells in 3D): two spherical
+/// surfaces that cross or nest (two spherical holes that meet, or a spherical hole that reaches
+/// a sphere body's surface), whose common part a cube cut by both loses twice. The option and
+/// the two spheres in words, or "" when every cut is exact. `prefix` is "gimp_bodyK_".
+std::string approximateCuts(const Body<3> &b, const std::string &prefix);
+
 } // namespace gimp
