@@ -54,8 +54,7 @@ ParticleFace<3> cpdiFace(const Scene<3> &sc, const ParticleView<3> &p, PetscInt 
     tracking::cpdiParallelogram<3>(p, k, own);
     c = own;
   }
-  int q[4];
-  faceCorners(a, n, q);
+  const int *q = faceCorners(a, n);
   ParticleFace<3> f;
   f.cpdi = true;
   double d1[3], d2[3];

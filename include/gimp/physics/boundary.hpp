@@ -16,6 +16,7 @@
 #include "gimp/input/scene.hpp"
 #include "gimp/particles/swarm.hpp"
 
+#include <array>
 #include <vector>
 
 namespace gimp::physics {
@@ -29,15 +30,24 @@ inline void edgeCorners(int a, double n, int &c1, int &c2) {
 }
 
 /// The four corners of a 3D CPDI particle's face normal to the reference axis a on side n = +-1,
-/// in cyclic order around the face (grid/cpdi_cells.hpp's corner order).
-inline void faceCorners(int a, double n, int c[4]) {
-  const int b1 = a == 0 ? 1 : 0, b2 = a == 2 ? 1 : 2;
-  static const double s1[4] = {-1, 1, 1, -1}, s2[4] = {-1, -1, 1, 1};
-  for (int r = 0; r < 4; ++r)
-    for (int q = 0; q < 8; ++q)
-      if (cpdi::cornerSign<3>(q, a) == n && cpdi::cornerSign<3>(q, b1) == s1[r] &&
-          cpdi::cornerSign<3>(q, b2) == s2[r])
-        c[r] = q;
+/// in cyclic order around the face (grid/cpdi_cells.hpp's corner order; 4 values).
+inline const int *faceCorners(int a, double n) {
+  // Built once from the corner order (faceShape asks for it per stencil entry).
+  static const auto table = [] {
+    std::array<std::array<std::array<int, 4>, 2>, 3> t{};
+    static const double s1[4] = {-1, 1, 1, -1}, s2[4] = {-1, -1, 1, 1};
+    for (int ax = 0; ax < 3; ++ax) {
+      const int b1 = ax == 0 ? 1 : 0, b2 = ax == 2 ? 1 : 2;
+      for (int side = 0; side < 2; ++side)
+        for (int r = 0; r < 4; ++r)
+          for (int q = 0; q < 8; ++q)
+            if (cpdi::cornerSign<3>(q, ax) == (side ? 1.0 : -1.0) &&
+                cpdi::cornerSign<3>(q, b1) == s1[r] && cpdi::cornerSign<3>(q, b2) == s2[r])
+              t[ax][side][r] = q;
+    }
+    return t;
+  }();
+  return table[a][n > 0].data();
 }
 
 /// The tent of slot s's node across the face normal to axis a at coordinate `at` (Eq. 14).
@@ -60,8 +70,7 @@ inline double faceShape(const Grid<D> &g, const Stencils<D> &st, PetscInt e, int
       edgeCorners(a, n, c1, c2);
       return 0.5 * (st.cw[4 * e + c1] + st.cw[4 * e + c2]);
     } else {
-      int c[4];
-      faceCorners(a, n, c);
+      const int *c = faceCorners(a, n);
       return 0.25 * (st.cw[8 * e + c[0]] + st.cw[8 * e + c[1]] + st.cw[8 * e + c[2]] +
                      st.cw[8 * e + c[3]]);
     }
