@@ -16,8 +16,8 @@ cases = [
      '-gimp_nu 0.5'),
     ('unknown option', ['-gimp_dampnig', '10'],
      '-gimp_dampnig'),
-    ('cracks in 3D', ['-gimp_cracks', '1'],
-     '-gimp_cracks 1: not available with -gimp_dim 3'),
+    ('crack polyline in 3D', ['-gimp_cracks', '1', '-gimp_crack0_points', '0,0,1,1'],
+     '-gimp_crack0_points 0,0,1,1: not available with -gimp_dim 3'),
 ]
 for name, extra, needle in cases:
     p = gimptest.run(args, "options/patch3d.opts", extra + ["-ts_max_steps", "1"],
@@ -41,7 +41,7 @@ for name, extra, needle in (
     c.check(name, p.returncode == 2 and needle in first, "exit %d: %s" % (p.returncode, first))
 
 # Under mpiexec an input error found alike on every rank ends every rank with one line.
-p = gimptest.run(args, "options/patch3d.opts", ["-gimp_cracks", "1"], ranks=2, expect_ok=False,
+p = gimptest.run(args, "options/patch3d.opts", ["-gimp_cracks", "1", "-gimp_crack0_points", "0,0,1,1"], ranks=2, expect_ok=False,
                  outdir=os.path.join(args.work, "bad3d_mpi"))
 lines = [l for l in p.stderr.splitlines() if "gimp: error" in l]
 c.check("2 ranks, one line", p.returncode != 0 and len(lines) == 1, "exit %d: %s" %

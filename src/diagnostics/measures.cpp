@@ -204,14 +204,11 @@ long long findAt(const std::vector<std::pair<Key, size_t>> &at, double q, const 
   return it != at.end() && it->first == k ? static_cast<long long>(it - at.begin()) : -1;
 }
 
-/// Whether a crack lies between two initial positions (2D; 3D has no cracks).
+/// Whether a crack lies between two initial positions.
 template <int D>
-bool crackBetween(const std::vector<Crack> &cracks, const double *a, const double *b) {
-  if constexpr (D == 2)
-    return std::any_of(cracks.begin(), cracks.end(), [&](const Crack &c) {
-      return cracks::crossing(c, a[0], a[1], b[0], b[1]) != 0;
-    });
-  return false;
+bool crackBetween(const std::vector<CrackOf<D>> &cracks, const double *a, const double *b) {
+  return std::any_of(cracks.begin(), cracks.end(),
+                     [&](const CrackOf<D> &c) { return cracks::crossing(c, a, b) != 0; });
 }
 
 /// Over the rows: the largest gap between a particle and its former neighbour on the + side of
@@ -219,7 +216,7 @@ bool crackBetween(const std::vector<Crack> &cracks, const double *a, const doubl
 /// some side (a neighbour that may be another rank's particle). The rows are visited in key
 /// order, so that each lookup starts where the previous row's found its neighbour.
 template <int D>
-void gapsOfRows(const Rows<D> &rows, double q, const std::vector<Crack> &cracks, double &worst,
+void gapsOfRows(const Rows<D> &rows, double q, const std::vector<CrackOf<D>> &cracks, double &worst,
                 std::vector<char> *open) {
   constexpr int C = kCols<D>;
   const auto at = keyed(rows, q);
@@ -258,7 +255,7 @@ void gapsOfRows(const Rows<D> &rows, double q, const std::vector<Crack> &cracks,
 
 template <int D>
 PetscErrorCode separation(MPI_Comm comm, const Lattice<D> &grid, DM sw,
-                          const std::vector<Crack> &cracks, double &gap, double &strain) {
+                          const std::vector<CrackOf<D>> &cracks, double &gap, double &strain) {
   // Each rank measures the pairs it holds; the particles missing a neighbour on some side (at a
   // rank's border, or on a body's edge) go to rank 0, which measures the pairs among them. The
   // memory and the work on rank 0 grow with the rank borders and body edges, not with the
@@ -297,9 +294,9 @@ PetscErrorCode separation(MPI_Comm comm, const Lattice<D> &grid, DM sw,
   return PETSC_SUCCESS;
 }
 
-template PetscErrorCode separation<2>(MPI_Comm, const Lattice<2> &, DM, const std::vector<Crack> &,
-                                      double &, double &);
-template PetscErrorCode separation<3>(MPI_Comm, const Lattice<3> &, DM, const std::vector<Crack> &,
-                                      double &, double &);
+template PetscErrorCode separation<2>(MPI_Comm, const Lattice<2> &, DM,
+                                      const std::vector<CrackOf<2>> &, double &, double &);
+template PetscErrorCode separation<3>(MPI_Comm, const Lattice<3> &, DM,
+                                      const std::vector<CrackOf<3>> &, double &, double &);
 
 } // namespace gimp

@@ -105,6 +105,15 @@ CrackSurface makeSurface(const std::vector<P3> &points, const double *normalHint
   }
   c.span = norm1(lo.data(), hi.data());
   c.front.assign(c.points.size(), 0);
+  // The vertices' mean as the centre of the quick test's circles.
+  for (const P2 &q : c.uv)
+    for (int d = 0; d < 2; ++d)
+      c.centre[d] += q[d] / static_cast<double>(c.uv.size());
+  double edge = 0;
+  const bool in = inPolygon(c, c.centre, edge);
+  c.rIn = in ? edge : 0.0;
+  for (const P2 &q : c.uv)
+    c.rOut = std::max(c.rOut, std::hypot(q[0] - c.centre[0], q[1] - c.centre[1]));
   return c;
 }
 
@@ -122,8 +131,12 @@ int crossing(const CrackSurface &c, const double a[3], const double b[3]) {
   const double t = std::clamp(da / (da - db), 0.0, 1.0);
   const double p[3] = {a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1]),
                        a[2] + t * (b[2] - a[2])};
+  const P2 q = toPlane(c, p);
+  const double r = std::hypot(q[0] - c.centre[0], q[1] - c.centre[1]);
+  if (r < c.rIn - 2 * delta) return sa; // well inside: farther than delta from every edge
+  if (r > c.rOut + 2 * delta) return 0; // outside
   double edge = 0;
-  if (!inPolygon(c, toPlane(c, p), edge) || edge <= delta) return 0;
+  if (!inPolygon(c, q, edge) || edge <= delta) return 0;
   return sa;
 }
 

@@ -3,79 +3,125 @@
 //
 // A node needs a second field when a particle-to-node segment may cross a crack: the crack comes
 // within a particle's reach (h0, the largest half-size the checks allow) of the node's support
-// [X - Lx-, X + Lx+] x [Y - Ly-, Y + Ly+]. The set depends only on the geometry, so every rank
-// finds the same list in the same order, and memory grows with the crack length, not the grid.
-// The second field of a cracked node is owned by the rank owning the node's level-0 cell and is
-// stored in a DMShell appended to the levels' DMComposite.
+// [X - Lx-, X + Lx+] x [Y - Ly-, Y + Ly+] (x [Z - Lz-, Z + Lz+]). The set depends only on the
+// geometry, so every rank finds the same list in the same order, and memory grows with the
+// crack's length (2D) or area (3D), not the grid. The second field of a cracked node is owned by
+// the rank owning the node's level-0 cell and is stored in a DMShell appended to the levels'
+// DMComposite.
 #include "gimp/grid/crack_fields.hpp"
 
 #include <petscdmshell.h>
 
 #include <algorithm>
 #include <cmath>
-#include <tuple>
 
 namespace gimp {
 
-template <>
-std::vector<Grid<2>::CrackedNode>
-Grid<2>::findCrackedNodes(const std::vector<Crack> &cracks) const {
+namespace {
+
+/// Bounding boxes (low corner, then high corner) of the pieces of a crack that the node search
+/// visits one at a time: a polyline's segments, a polygon as a whole.
+std::vector<std::array<double, 4>> pieces(const Crack &c) {
+  std::vector<std::array<double, 4>> out;
+  for (size_t s = 0; s + 1 < c.points.size(); ++s) {
+    const auto &p = c.points[s], &q = c.points[s + 1];
+    out.push_back(
+        {std::min(p[0], q[0]), std::min(p[1], q[1]), std::max(p[0], q[0]), std::max(p[1], q[1])});
+  }
+  return out;
+}
+std::vector<std::array<double, 6>> pieces(const CrackSurface &c) {
+  std::array<double, 6> b{};
+  for (int a = 0; a < 3; ++a) {
+    b[a] = b[3 + a] = c.points[0][a];
+    for (const auto &p : c.points) {
+      b[a] = std::min(b[a], p[a]);
+      b[3 + a] = std::max(b[3 + a], p[a]);
+    }
+  }
+  return {b};
+}
+
+} // namespace
+
+template <int D>
+std::vector<typename Grid<D>::CrackedNode>
+Grid<D>::findCrackedNodes(const std::vector<CrackOf<D>> &cracks) const {
   std::vector<CrackedNode> out;
-  const double reach = h0();
+  const double reach = this->h0();
   for (int k = 0; k < static_cast<int>(levels.size()); ++k) {
-    const Level<2> &L = levels[k];
-    for (const Crack &c : cracks)
-      for (size_t s = 0; s + 1 < c.points.size(); ++s) {
-        // Nodes of level k whose support, widened by the reach, may meet this segment.
-        const double w = reach + h0();
-        const double lox = std::min(c.points[s][0], c.points[s + 1][0]) - w,
-                     hix = std::max(c.points[s][0], c.points[s + 1][0]) + w,
-                     loy = std::min(c.points[s][1], c.points[s + 1][1]) - w,
-                     hiy = std::max(c.points[s][1], c.points[s + 1][1]) + w;
-        const PetscInt i0 = std::max<PetscInt>(0, std::floor((lox - L.box[0]) * L.ih)),
-                       i1 = std::min<PetscInt>(L.n[0] - 1, std::ceil((hix - L.box[0]) * L.ih)),
-                       j0 = std::max<PetscInt>(0, std::floor((loy - L.box[1]) * L.ih)),
-                       j1 = std::min<PetscInt>(L.n[1] - 1, std::ceil((hiy - L.box[1]) * L.ih));
-        for (PetscInt j = j0; j <= j1; ++j)
-          for (PetscInt i = i0; i <= i1; ++i) {
-            if (!nodeActive(k, {i, j})) continue;
-            double z[4];
-            zonesOf(k, {i, j}, z);
-            const double X = nodeCoordinate(k, 0, i), Y = nodeCoordinate(k, 1, j);
-            const double support[4] = {X - z[0], Y - z[2], X + z[1], Y + z[3]};
-            if (cracks::nearCrack(c, support, reach)) out.push_back({k, i, j, 0, 0});
+    const Level<D> &L = levels[k];
+    for (const CrackOf<D> &c : cracks)
+      for (const auto &piece : pieces(c)) {
+        // Nodes of level k whose support, widened by the reach, may meet this piece.
+        const double w = reach + this->h0();
+        Index lo{}, hi{};
+        std::array<PetscInt, D> n{};
+        for (int a = 0; a < D; ++a) {
+          lo[a] = std::max<std::int64_t>(0, std::floor((piece[a] - w - L.box[a]) * L.ih));
+          hi[a] =
+              std::min<std::int64_t>(L.n[a] - 1, std::ceil((piece[D + a] + w - L.box[a]) * L.ih));
+          n[a] = static_cast<PetscInt>(hi[a] - lo[a] + 1);
+        }
+        forEachIndex<D>(n, [&](const Index &d) {
+          Index i{};
+          for (int a = 0; a < D; ++a)
+            i[a] = lo[a] + d[a];
+          if (!this->nodeActive(k, i)) return;
+          double z[2 * D], support[2 * D];
+          this->zonesOf(k, i, z);
+          for (int a = 0; a < D; ++a) {
+            const double X = this->nodeCoordinate(k, a, i[a]);
+            support[a] = X - z[2 * a];
+            support[D + a] = X + z[2 * a + 1];
           }
+          if (cracks::nearCrack(c, support, reach)) out.push_back({k, i, 0, 0});
+        });
       }
   }
-  std::sort(out.begin(), out.end(), [](const CrackedNode &a, const CrackedNode &b) {
-    return std::tie(a.k, a.j, a.i) < std::tie(b.k, b.j, b.i);
-  });
+  // Level, then the index with its last axis slowest (the levels' node order).
+  const auto key = [](const CrackedNode &a) {
+    std::array<std::int64_t, D + 1> r{};
+    r[0] = a.k;
+    for (int d = 0; d < D; ++d)
+      r[1 + d] = a.i[D - 1 - d];
+    return r;
+  };
+  std::sort(out.begin(), out.end(),
+            [&](const CrackedNode &a, const CrackedNode &b) { return key(a) < key(b); });
   out.erase(std::unique(out.begin(), out.end(),
                         [](const CrackedNode &a, const CrackedNode &b) {
-                          return a.k == b.k && a.i == b.i && a.j == b.j;
+                          return a.k == b.k && a.i == b.i;
                         }),
             out.end());
   return out;
 }
 
-template <>
-PetscErrorCode Grid<2>::addCrackFields(MPI_Comm comm, const std::vector<Crack> &cracks) {
+template <int D>
+PetscErrorCode Grid<D>::addCrackFields(MPI_Comm comm, const std::vector<CrackOf<D>> &cracks) {
   // The window's own slots are set (GridT::build); the second fields come after them.
   PetscMPIInt rank = 0;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   if (cracks.empty()) return PETSC_SUCCESS;
   cracked_ = findCrackedNodes(cracks);
   for (CrackedNode &c : cracked_) {
-    // The rank owning the level-0 cell whose lower-left corner is at or before the node.
-    const double X = nodeCoordinate(c.k, 0, c.i), Y = nodeCoordinate(c.k, 1, c.j);
-    c.owner = ownerOf(X + 0.25 * unit, Y + 0.25 * unit);
+    // The rank owning the level-0 cell whose lower corner is at or before the node.
+    double x[D];
+    for (int a = 0; a < D; ++a)
+      x[a] = this->nodeCoordinate(c.k, a, c.i[a]) + 0.25 * unit;
+    c.owner = ownerOf(x);
     c.ownerPos = crackCount_[c.owner]++;
   }
   for (size_t g = 0; g < cracked_.size(); ++g) {
     const CrackedNode &c = cracked_[g];
-    const Level<2> &L = levels[c.k];
-    if (c.i < L.w0[0] || c.i >= L.w1[0] || c.j < L.w0[1] || c.j >= L.w1[1]) continue;
-    const PetscInt ij[2] = {c.i, c.j};
+    const Level<D> &L = levels[c.k];
+    PetscInt ij[D];
+    bool inWindow = true;
+    for (int a = 0; a < D; ++a) {
+      ij[a] = static_cast<PetscInt>(c.i[a]);
+      inWindow = inWindow && ij[a] >= L.w0[a] && ij[a] < L.w1[a];
+    }
+    if (!inWindow) continue;
     const PetscInt n = windowSlot(c.k, ij);
     crackSlot[n] = nSlots++;
     slotNode.push_back(n);
@@ -84,10 +130,10 @@ PetscErrorCode Grid<2>::addCrackFields(MPI_Comm comm, const std::vector<Crack> &
   if (cracked_.empty()) return PETSC_SUCCESS;
   Vec g, l;
   PetscCall(DMShellCreate(comm, &crackDm));
-  PetscCall(VecCreateMPI(comm, 2 * crackCount_[rank], PETSC_DETERMINE, &g));
-  PetscCall(VecSetBlockSize(g, 2));
-  PetscCall(VecCreateSeq(PETSC_COMM_SELF, 2 * crackCount_[rank], &l));
-  PetscCall(VecSetBlockSize(l, 2));
+  PetscCall(VecCreateMPI(comm, D * crackCount_[rank], PETSC_DETERMINE, &g));
+  PetscCall(VecSetBlockSize(g, D));
+  PetscCall(VecCreateSeq(PETSC_COMM_SELF, D * crackCount_[rank], &l));
+  PetscCall(VecSetBlockSize(l, D));
   PetscCall(DMShellSetGlobalVector(crackDm, g));
   PetscCall(DMShellSetLocalVector(crackDm, l));
   PetscCall(VecDestroy(&g));
@@ -96,23 +142,39 @@ PetscErrorCode Grid<2>::addCrackFields(MPI_Comm comm, const std::vector<Crack> &
   return PETSC_SUCCESS;
 }
 
+template std::vector<Grid<2>::CrackedNode>
+Grid<2>::findCrackedNodes(const std::vector<CrackOf<2>> &) const;
+template std::vector<Grid<3>::CrackedNode>
+Grid<3>::findCrackedNodes(const std::vector<CrackOf<3>> &) const;
+template PetscErrorCode Grid<2>::addCrackFields(MPI_Comm, const std::vector<CrackOf<2>> &);
+template PetscErrorCode Grid<3>::addCrackFields(MPI_Comm, const std::vector<CrackOf<3>> &);
+
 namespace cracks {
 
-void assignFields(const Grid<2> &g, const std::vector<Crack> &cracks, PetscInt n, const double *x,
-                  Stencils<2> &st) {
+template <int D>
+void assignFields(const Grid<D> &g, const std::vector<CrackOf<D>> &cracks, PetscInt n,
+                  const double *x, Stencils<D> &st) {
   if (g.nSlots == g.nWindow) return; // no cracked node in this window
   PetscInt *node = st.node.data();
   for (PetscInt k = 0; k < n; ++k)
     for (PetscInt e = st.start[k]; e < st.start[k + 1]; ++e) {
       const PetscInt second = g.crackSlot[node[e]];
       if (second < 0) continue;
-      for (const Crack &c : cracks)
-        if (crossing(c, x[2 * k], x[2 * k + 1], g.X[node[e]], g.Y[node[e]]) != 0) {
+      double X[D];
+      for (int a = 0; a < D; ++a)
+        X[a] = g.coordinates(a)[node[e]];
+      for (const CrackOf<D> &c : cracks)
+        if (crossing(c, &x[D * k], X) != 0) {
           node[e] = second;
           break;
         }
     }
 }
+
+template void assignFields(const Grid<2> &, const std::vector<CrackOf<2>> &, PetscInt,
+                           const double *, Stencils<2> &);
+template void assignFields(const Grid<3> &, const std::vector<CrackOf<3>> &, PetscInt,
+                           const double *, Stencils<3> &);
 
 } // namespace cracks
 

@@ -21,13 +21,14 @@ template <int D> Grid<D>::~Grid() {
 
 template <int D>
 PetscErrorCode Grid<D>::create(MPI_Comm comm, double h0, const std::vector<LevelBox<D>> &boxes,
-                               const std::vector<Crack> &cracks) {
+                               const std::vector<CrackOf<D>> &cracks) {
   this->setLevels(h0, boxes);
   PetscCall(build(comm, cracks));
   return PETSC_SUCCESS;
 }
 
-template <int D> PetscErrorCode Grid<D>::build(MPI_Comm comm, const std::vector<Crack> &cracks) {
+template <int D>
+PetscErrorCode Grid<D>::build(MPI_Comm comm, const std::vector<CrackOf<D>> &cracks) {
   const int K = static_cast<int>(levels.size());
   static const char *const axis[3] = {"x", "y", "z"};
 
@@ -79,7 +80,7 @@ template <int D> PetscErrorCode Grid<D>::build(MPI_Comm comm, const std::vector<
   }
   PetscCall(setWindow());
   fillWindowNodes();
-  // One slot per window node; with cracks (2D), second fields after them.
+  // One slot per window node; with cracks, second fields after them.
   PetscMPIInt size = 1;
   PetscCallMPI(MPI_Comm_size(comm, &size));
   nSlots = nWindow;
@@ -88,11 +89,7 @@ template <int D> PetscErrorCode Grid<D>::build(MPI_Comm comm, const std::vector<
     slotNode[n] = n;
   crackSlot.assign(nWindow, -1);
   crackCount_.assign(size, 0);
-  if constexpr (D == 2) {
-    PetscCall(addCrackFields(comm, cracks));
-  } else {
-    (void)cracks;
-  }
+  PetscCall(addCrackFields(comm, cracks));
   PetscCall(DMSetUp(dm));
   PetscCall(createScatter(comm));
   return PETSC_SUCCESS;

@@ -143,10 +143,16 @@ const std::vector<OptionSpec> &optionTable() {
 
 const std::vector<Feature> &featureTable() {
   static const std::vector<Feature> f = {
-      {"explicit cracks",
+      {"crack polylines",
        In2D,
-       {"gimp_cracks", "gimp_crack_j_radius", "gimp_crackK_points"},
-       "cracks are polylines in the plane; 3D crack surfaces are not built yet"},
+       {"gimp_crackK_points"},
+       "a crack in the plane is a polyline; 3D cracks are planar polygons (-gimp_crackK_polygon, "
+       "-gimp_crackK_disk)"},
+      {"crack polygons",
+       In3D,
+       {"gimp_crackK_polygon", "gimp_crackK_disk", "gimp_crack_front_spacing"},
+       "a 3D crack is a planar polygon with a front; a 2D crack is a polyline "
+       "(-gimp_crackK_points)"},
       {"plane models",
        In2D,
        {"gimp_plane", "gimp_thickness"},

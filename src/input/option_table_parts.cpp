@@ -202,8 +202,17 @@ const std::vector<OptionSpec> &gridOptions() {
     {"gimp_crackK_points", Kind::Reals, "m", "(required)", "x0,y0,x1,y1,...", nullptr, {},
      "Crack polyline (at most 100 points): an end strictly inside a body is a tip, one on or"
      " outside its edge a mouth"},
+    {"gimp_crackK_polygon", Kind::Reals, "m", "(required)", "x0,y0,z0,...", nullptr, {},
+     "3D crack as a planar polygon (at most 1000 points): an edge inside a body is a front, one"
+     " on or outside its surface a mouth"},
+    {"gimp_crackK_disk", Kind::Reals, "m", "", "cx,cy,cz,nx,ny,nz,r", nullptr, {},
+     "3D crack as a disk (centre, normal, radius), a regular polygon with edges of about one"
+     " cell; instead of -gimp_crackK_polygon"},
     {"gimp_crack_j_radius", Kind::Real, "m", "5 cells at the tip", "", nullptr, above(0),
-     "Radius of the J-integral's domain around each tip, clipped to the tip's clearance"},
+     "Radius of the J-integral's domain around each tip (2D: clipped to the tip's clearance;"
+     " 3D: around the front, and its half-length along it)"},
+    {"gimp_crack_front_spacing", Kind::Real, "m", "2 cells at the front", "", nullptr, above(0),
+     "3D: the largest distance between the front points where G and K are measured"},
   };
   return t;
 }

@@ -194,7 +194,7 @@ template <int D> void readSceneOptions(MPI_Comm comm, Scene<D> &sc) {
     checkModel(sc);
     checkBodies(sc);
   }
-  if constexpr (D == 2) readCracks(o, sc);
+  readCracks(o, sc);
 }
 
 } // namespace

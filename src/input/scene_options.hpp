@@ -44,6 +44,9 @@ template <int D> void readLoads(const Options &o, Scene<D> &sc);
 /// After the levels and bodies (scene_cracks.cpp): -gimp_cracks and each -gimp_crackK_points,
 /// checked; each end classified as a tip (strictly inside a body) or a mouth.
 void readCracks(const Options &o, Scene<2> &sc);
+/// The same in 3D (scene_cracks3d.cpp): -gimp_crackK_polygon or _disk, each polygon checked,
+/// each edge classified as a front (inside a body) or a mouth (on or outside its surface).
+void readCracks(const Options &o, Scene<3> &sc);
 /// After the cracks (crack_domains.cpp): the J-integral's domain at each tip, sc.jDomain, from
 /// -gimp_crack_j_radius (radiusGiven) or the default; refused, clipped or left out as
 /// docs/method.md's *Crack tips* says.

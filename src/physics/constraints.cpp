@@ -74,19 +74,20 @@ PetscErrorCode maskLevel(const Scene<D> &sc, const Grid<D> &grid, int k,
   return PETSC_SUCCESS;
 }
 
-/// A cracked node's second field is fixed like its first (2D; the crack part of the composite).
-PetscErrorCode maskCrackFields(const Scene<2> &sc, const Grid<2> &grid,
+/// A cracked node's second field is fixed like its first (the crack part of the composite).
+template <int D>
+PetscErrorCode maskCrackFields(const Scene<D> &sc, const Grid<D> &grid,
                                const std::vector<std::int64_t> &lines, Vec sub) {
   PetscMPIInt rank = 0;
   PetscCallMPI(MPI_Comm_rank(PetscObjectComm(reinterpret_cast<PetscObject>(sub)), &rank));
   PetscScalar *mk = nullptr;
   PetscCall(VecGetArray(sub, &mk));
-  for (const Grid<2>::CrackedNode &cn : grid.crackedNodes()) {
+  for (const typename Grid<D>::CrackedNode &cn : grid.crackedNodes()) {
     if (cn.owner != rank) continue;
     for (size_t b = 0; b < sc.bcs.size(); ++b)
-      if (constrains<2>(sc, grid, b, lines[b], cn.k, {cn.i, cn.j}))
-        for (int c = 0; c < 2; ++c)
-          if (sc.bcs[b].fix[c]) mk[2 * cn.ownerPos + c] = 0.0;
+      if (constrains<D>(sc, grid, b, lines[b], cn.k, cn.i))
+        for (int c = 0; c < D; ++c)
+          if (sc.bcs[b].fix[c]) mk[D * cn.ownerPos + c] = 0.0;
   }
   PetscCall(VecRestoreArray(sub, &mk));
   return PETSC_SUCCESS;
@@ -108,8 +109,7 @@ PetscErrorCode nodeConstraints(const Scene<D> &sc, const Grid<D> &grid, Vec bcMa
   PetscCall(DMCompositeGetAccessArray(grid.dm, bcMask, parts, nullptr, sub.data()));
   for (int k = 0; k < K; ++k)
     PetscCall(maskLevel(sc, grid, k, lines, sub[k], hits));
-  if constexpr (D == 2)
-    if (grid.crackDm) PetscCall(maskCrackFields(sc, grid, lines, sub[K]));
+  if (grid.crackDm) PetscCall(maskCrackFields(sc, grid, lines, sub[K]));
   PetscCall(DMCompositeRestoreAccessArray(grid.dm, bcMask, parts, nullptr, sub.data()));
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, hits.data(), static_cast<int>(hits.size()), MPI_INT64_T,
                              MPI_SUM, PetscObjectComm(reinterpret_cast<PetscObject>(bcMask))));

@@ -29,9 +29,9 @@ const double *cpdiCorners(const Scene<D> &sc, const ParticleView<D> &p,
 }
 
 template <int D>
-bool CornerMotion<D>::move(const Grid<D> &g, const std::vector<Crack> &cracks, double cornerSize,
-                           double cut, double dt, const double *vg, const double *mg,
-                           ParticleView<D> &p) {
+bool CornerMotion<D>::move(const Grid<D> &g, const std::vector<CrackOf<D>> &cracks,
+                           double cornerSize, double cut, double dt, const double *vg,
+                           const double *mg, ParticleView<D> &p) {
   constexpr int nc = kCorners<D>;
   const size_t nCorners = nc * static_cast<size_t>(p.n);
   if (cornerSize == 0) { // the grid's point shape functions at the corners (cpdi2)
@@ -45,15 +45,14 @@ bool CornerMotion<D>::move(const Grid<D> &g, const std::vector<Crack> &cracks, d
     if (!g.buildStencils(static_cast<PetscInt>(nCorners), p.corners, size_.data(), st_))
       return false;
   }
-  if constexpr (D == 2)
-    if (!cracks.empty()) {
-      owner_.resize(D * nCorners);
-      for (PetscInt k = 0; k < p.n; ++k)
-        for (int q = 0; q < nc; ++q)
-          for (int a = 0; a < D; ++a)
-            owner_[D * (nc * k + q) + a] = p.x[D * k + a];
-      cracks::assignFields(g, cracks, static_cast<PetscInt>(nCorners), owner_.data(), st_);
-    }
+  if (!cracks.empty()) {
+    owner_.resize(D * nCorners);
+    for (PetscInt k = 0; k < p.n; ++k)
+      for (int q = 0; q < nc; ++q)
+        for (int a = 0; a < D; ++a)
+          owner_[D * (nc * k + q) + a] = p.x[D * k + a];
+    cracks::assignFields<D>(g, cracks, static_cast<PetscInt>(nCorners), owner_.data(), st_);
+  }
   const PetscInt *start = st_.start.data(), *node = st_.node.data();
   for (size_t c = 0; c < nCorners; ++c) {
     double v[D] = {}, wsum = 0;

@@ -1,7 +1,6 @@
-// Explicit cracks in the step (2D; docs/architecture.md, "A second velocity field at cracked
+// Explicit cracks in the step (docs/architecture.md, "A second velocity field at cracked
 // nodes"): each field's face at the cracked nodes once per step, and frictionless contact
-// between the two fields on every grid velocity the step uses. A 3D scene has no cracks (the
-// dimension table refuses them), so these phases are never reached there.
+// between the two fields on every grid velocity the step uses.
 #include "gimp/solver/step.hpp"
 
 namespace gimp {
@@ -12,26 +11,24 @@ PetscErrorCode Step<D>::crackFaces(const ParticleView<D> &p, const std::vector<V
   // summed over the ranks that hold the node, back to every window. With them the summed mass
   // and the mask on the window, which the step's contact passes read. With -gimp_multirate the
   // sum runs over the rate classes (classFaces), each with its stencils from its last start.
-  if constexpr (D == 2) {
-    RunState<D> &s = s_;
-    Nodal &n = s.nodal;
-    PetscCall(s.grid.toWindow(n.mass, n.massW));
-    PetscCall(s.grid.toWindow(n.mask, n.maskW));
-    if (!classFaces) {
-      PetscScalar *f = nullptr;
-      PetscCall(VecGetArray(n.faceW, &f));
-      contact_.faces(s.grid, s.st, p.n, p.x, p.X0, p.m, f);
-      PetscCall(VecRestoreArray(n.faceW, &f));
-    } else { // the classes' faces from their starts (MultiRate::startClasses)
-      contact_.newStep();
-      PetscCall(VecZeroEntries(n.faceW));
-      for (Vec f : *classFaces)
-        PetscCall(VecAXPY(n.faceW, 1.0, f));
-    }
-    PetscCall(VecSet(n.face, 0.0));
-    PetscCall(s.grid.fromWindow(n.faceW, n.face, ADD_VALUES));
-    PetscCall(s.grid.toWindow(n.face, n.faceW));
+  RunState<D> &s = s_;
+  Nodal &n = s.nodal;
+  PetscCall(s.grid.toWindow(n.mass, n.massW));
+  PetscCall(s.grid.toWindow(n.mask, n.maskW));
+  if (!classFaces) {
+    PetscScalar *f = nullptr;
+    PetscCall(VecGetArray(n.faceW, &f));
+    contact_.faces(s.grid, s.st, p.n, p.x, p.X0, p.m, f);
+    PetscCall(VecRestoreArray(n.faceW, &f));
+  } else { // the classes' faces from their starts (MultiRate::startClasses)
+    contact_.newStep();
+    PetscCall(VecZeroEntries(n.faceW));
+    for (Vec f : *classFaces)
+      PetscCall(VecAXPY(n.faceW, 1.0, f));
   }
+  PetscCall(VecSet(n.face, 0.0));
+  PetscCall(s.grid.fromWindow(n.faceW, n.face, ADD_VALUES));
+  PetscCall(s.grid.toWindow(n.face, n.faceW));
   return PETSC_SUCCESS;
 }
 
@@ -65,35 +62,33 @@ template <int D>
 PetscErrorCode Step<D>::crackContact(const StepClock &c, Vec velW, Vec vel, Vec accW, Vec acc) {
   // Frictionless contact of the two fields at cracked nodes, on the window (every rank that
   // holds a node computes the same result), then back to the global vectors.
-  if constexpr (D == 2) {
-    RunState<D> &s = s_;
-    Nodal &n = s.nodal;
-    PetscCall(PetscLogStagePush(s.stages.grid));
-    const PetscScalar *m = nullptr, *mask = nullptr, *face = nullptr;
-    PetscScalar *v = nullptr, *a = nullptr;
-    PetscCall(VecGetArrayRead(n.massW, &m));
-    PetscCall(VecGetArrayRead(n.maskW, &mask));
-    PetscCall(VecGetArrayRead(n.faceW, &face));
-    PetscCall(VecGetArray(velW, &v));
-    if (accW) PetscCall(VecGetArray(accW, &a));
-    const PetscInt touching =
-        contact_.apply(s.grid, s.sc.massCutoff * s.meanParticleMass, c.dt, m, face, v, a);
-    for (PetscInt i = 0; i < D * s.grid.nSlots; ++i) { // constrained dofs stay fixed
-      v[i] *= mask[i];
-      if (a) a[i] *= mask[i];
-    }
-    if (accW) PetscCall(VecRestoreArray(accW, &a));
-    PetscCall(VecRestoreArray(velW, &v));
-    PetscCall(VecRestoreArrayRead(n.faceW, &face));
-    PetscCall(VecRestoreArrayRead(n.maskW, &mask));
-    PetscCall(VecRestoreArrayRead(n.massW, &m));
-    PetscCall(PetscInfo(nullptr,
-                        "step %" PetscInt_FMT ": %" PetscInt_FMT " cracked nodes in contact\n",
-                        c.step, touching));
-    PetscCall(s.grid.fromWindow(velW, vel, INSERT_VALUES));
-    if (accW) PetscCall(s.grid.fromWindow(accW, acc, INSERT_VALUES));
-    PetscCall(PetscLogStagePop());
+  RunState<D> &s = s_;
+  Nodal &n = s.nodal;
+  PetscCall(PetscLogStagePush(s.stages.grid));
+  const PetscScalar *m = nullptr, *mask = nullptr, *face = nullptr;
+  PetscScalar *v = nullptr, *a = nullptr;
+  PetscCall(VecGetArrayRead(n.massW, &m));
+  PetscCall(VecGetArrayRead(n.maskW, &mask));
+  PetscCall(VecGetArrayRead(n.faceW, &face));
+  PetscCall(VecGetArray(velW, &v));
+  if (accW) PetscCall(VecGetArray(accW, &a));
+  const PetscInt touching =
+      contact_.apply(s.grid, s.sc.massCutoff * s.meanParticleMass, c.dt, m, face, v, a);
+  for (PetscInt i = 0; i < D * s.grid.nSlots; ++i) { // constrained dofs stay fixed
+    v[i] *= mask[i];
+    if (a) a[i] *= mask[i];
   }
+  if (accW) PetscCall(VecRestoreArray(accW, &a));
+  PetscCall(VecRestoreArray(velW, &v));
+  PetscCall(VecRestoreArrayRead(n.faceW, &face));
+  PetscCall(VecRestoreArrayRead(n.maskW, &mask));
+  PetscCall(VecRestoreArrayRead(n.massW, &m));
+  PetscCall(PetscInfo(nullptr,
+                      "step %" PetscInt_FMT ": %" PetscInt_FMT " cracked nodes in contact\n",
+                      c.step, touching));
+  PetscCall(s.grid.fromWindow(velW, vel, INSERT_VALUES));
+  if (accW) PetscCall(s.grid.fromWindow(accW, acc, INSERT_VALUES));
+  PetscCall(PetscLogStagePop());
   return PETSC_SUCCESS;
 }
 

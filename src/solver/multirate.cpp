@@ -238,7 +238,7 @@ template <int D> PetscErrorCode MultiRate<D>::startClass(ParticleView<D> &p, int
     r.st[k].compact = false;
     r.st[k].start.assign(static_cast<size_t>(q.n) + 1, 0);
   }
-  if constexpr (D == 2) cracks::assignFields(s.grid, s.sc.cracks, q.n, q.x, r.st[k]);
+  cracks::assignFields<D>(s.grid, s.sc.cracks, q.n, q.x, r.st[k]);
   if (k + 1 < r.n) // the class's margin kept it off the finer levels' nodes
     for (PetscInt i = 0; i < q.n; ++i)
       if (maxSlot(s.grid, r.st[k], i) >= s.grid.levels[k + 1].offset) {

@@ -100,7 +100,7 @@ template <int D> PetscErrorCode Solver<D>::setup() {
   PetscCall(petscOneLine([this] { return createParticles(); }));
   PetscCall(s.nodal.create(s.grid, s.sc.hasExternalForces(), !s.sc.cracks.empty(),
                            s.sc.transfer == Transfer::Xpic));
-  if constexpr (D == 2) step_.contact().setup(s.grid, s.sc.cracks);
+  step_.contact().setup(s.grid, s.sc.cracks);
   PetscCall(physics::nodeConstraints<D>(s.sc, s.grid, s.nodal.bcMask));
   PetscCall(reporter_.setup(wall0, [this] {
     s_.st.release();

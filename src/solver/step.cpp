@@ -148,7 +148,7 @@ PetscErrorCode Step<D>::buildStencils(const ParticleView<D> &p, const double *ce
     const char *why =
         s.grid.buildCpdiStencils(p.n, tracking::cpdiCorners<D>(s.sc, p, cpdiCorners_), s.st);
     if (why) s.status.localFailure = why;
-    if constexpr (D == 2) cracks::assignFields(s.grid, s.sc.cracks, p.n, centres, s.st);
+    cracks::assignFields<D>(s.grid, s.sc.cracks, p.n, centres, s.st);
     return PETSC_SUCCESS;
   }
   // Blocks for every particle that one level's regular nodes alone reach, unless cracks
@@ -156,7 +156,7 @@ PetscErrorCode Step<D>::buildStencils(const ParticleView<D> &p, const double *ce
   if (!s.grid.buildStencils(p.n, centres, p.l, s.st, s.sc.cracks.empty(), s.lanes))
     s.status.localFailure = "a particle is larger than a level-0 cell (its half-size exceeds "
                             "-gimp_h)";
-  if constexpr (D == 2) cracks::assignFields(s.grid, s.sc.cracks, p.n, centres, s.st);
+  cracks::assignFields<D>(s.grid, s.sc.cracks, p.n, centres, s.st);
   return PETSC_SUCCESS;
 }
 

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "gimp/geometry/crack.hpp"
+#include "gimp/geometry/crack_surface.hpp"
 #include "gimp/grid/crack_fields.hpp"
 #include "gimp/grid/grid.hpp"
 
@@ -11,16 +12,16 @@
 namespace gimp::cracks {
 
 /// Contact between the two fields of every cracked node of a window.
-class Contact {
+template <int D> class Contact {
 public:
   /// The direction d of each cracked window node, from field 1's material toward field 2's:
   /// field 1 is on the node's side of the nearest crack, field 2 across it.
-  void setup(const Grid<2> &g, const std::vector<Crack> &cracks);
+  void setup(const Grid<D> &g, const std::vector<CrackOf<D>> &cracks);
 
   /// Each field's mass-weighted displacement along d at every cracked node, into the window
   /// array `face` (component 0 of each slot, sum over particles of m w (x - X0).d; initialised
   /// to 0 here, so ranks combine by ADD). Also starts a new step's contact set (see apply).
-  void faces(const Grid<2> &g, const Stencils<2> &st, PetscInt n, const double *x, const double *X0,
+  void faces(const Grid<D> &g, const Stencils<D> &st, PetscInt n, const double *x, const double *X0,
              const double *m, double *face);
 
   /// Starts a new step's contact set without faces() (the rate classes of -gimp_multirate keep
@@ -39,13 +40,16 @@ public:
   /// high.) Window arrays, mass in component 0; the accelerations get the same change / dt so a
   /// FLIP update sees it (acc may be null: a velocity field alone, as MUSL's re-projection).
   /// Returns the number of nodes in contact.
-  PetscInt apply(const Grid<2> &g, double cut, double dt, const double *mass, const double *face,
+  PetscInt apply(const Grid<D> &g, double cut, double dt, const double *mass, const double *face,
                  double *vel, double *acc);
 
 private:
-  std::vector<double> dir_; // 2 per crack slot (slot - nWindow)
+  std::vector<double> dir_; // D per crack slot (slot - nWindow)
   std::vector<char> touch_; // this step's contact set, per crack slot
   bool fresh_ = true;       // touch_ is to be decided by the next apply
 };
+
+extern template class Contact<2>;
+extern template class Contact<3>;
 
 } // namespace gimp::cracks

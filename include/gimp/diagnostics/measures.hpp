@@ -77,7 +77,7 @@ template <int D> void stressOf(const ParticleView<D> &p, PetscInt k, double *out
 /// gap is the crack opening.
 template <int D>
 PetscErrorCode separation(MPI_Comm comm, const Lattice<D> &grid, DM sw,
-                          const std::vector<Crack> &cracks, double &gap, double &strain);
+                          const std::vector<CrackOf<D>> &cracks, double &gap, double &strain);
 /// The hole measure. In 3D the hole is a cylinder along z through (cx, cy) and the fit takes the
 /// particles of the layers nearest the mid-thickness (holeLayers): the hoop stress at the hole's
 /// surface halfway through the body.

@@ -95,5 +95,20 @@ struct PolylineFault {
 };
 PolylineFault findFault(const Crack &c, double tol);
 
+// The same questions with points as arrays, as the code generic in the dimension asks them of a
+// crack of either kind (crack_surface.hpp has the 3D answers).
+inline int crossing(const Crack &c, const double *a, const double *b) {
+  return crossing(c, a[0], a[1], b[0], b[1]);
+}
+inline double distance(const Crack &c, const double *x) {
+  return distance(c, x[0], x[1]);
+}
+inline int normalAt(const Crack &c, const double *x, double n[2]) {
+  return normalAt(c, x[0], x[1], n);
+}
+inline int sideOf(const Crack &c, int seg, const double *x) {
+  return sideOf(c, seg, x[0], x[1]);
+}
+
 } // namespace cracks
 } // namespace gimp

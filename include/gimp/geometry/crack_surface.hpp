@@ -35,6 +35,10 @@ struct CrackSurface {
   std::array<double, 3> origin{};             // p_0
   std::vector<std::array<double, 2>> uv;      // the vertices in (e1, e2) coordinates
   double span = 0;                            // bounding-box size, 1-norm [m]
+  // A quick answer for crossing(): in the plane, points nearer than rIn to `centre` are inside
+  // the polygon, points farther than rOut outside (rIn 0 when the centre is not inside).
+  std::array<double, 2> centre{};
+  double rIn = 0, rOut = 0;
 };
 
 /// The crack type of a dimension: a polyline in 2D, a planar polygon in 3D.

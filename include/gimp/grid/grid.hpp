@@ -8,6 +8,7 @@
 #pragma once
 
 #include "gimp/geometry/crack.hpp"
+#include "gimp/geometry/crack_surface.hpp"
 #include "gimp/grid/lattice.hpp"
 #include "gimp/grid/stencils.hpp"
 
@@ -47,10 +48,10 @@ public:
   using Lattice<D>::origin;
   using Lattice<D>::unit;
 
-  /// A node whose support (widened by a particle's reach) a crack cuts (2D only).
+  /// A node whose support (widened by a particle's reach) a crack cuts.
   struct CrackedNode {
     int k;
-    PetscInt i, j;
+    Index i;
     PetscMPIInt owner; // the rank owning the node's level-0 cell
     PetscInt ownerPos; // its index among the cracked nodes of that owner
   };
@@ -62,12 +63,12 @@ public:
 
   /// Build the levels from level 0's cell size and the level boxes (boxes[0] the domain), the
   /// composite DM, this rank's window and its scatter, and the second fields of the nodes the
-  /// cracks cut (D = 2; there are none in 3D). Collective.
+  /// cracks cut. Collective.
   PetscErrorCode create(MPI_Comm comm, double h0, const std::vector<LevelBox<D>> &boxes,
-                        const std::vector<Crack> &cracks = {});
+                        const std::vector<CrackOf<D>> &cracks = {});
 
   DM dm = nullptr;         // DMComposite of the level DMDAs (and crackDm, with cracks)
-  DM crackDm = nullptr;    // DMShell of the cracked nodes' second fields (dof 2), or null
+  DM crackDm = nullptr;    // DMShell of the cracked nodes' second fields (dof D), or null
   std::vector<DM> da, da1; // per level: the DMDA (dof D) and its dof-1 twin (scalar output)
 
   /// Vectors on the window (sequential, dof D) and moves between them and a global Vec.
@@ -133,14 +134,14 @@ public:
   bool buildPointStencils(PetscInt n, const double *x, Stencils<D> &s) const;
 
 private:
-  /// The DMs, the window, its nodes, the crack fields (2D) and the scatter.
-  PetscErrorCode build(MPI_Comm comm, const std::vector<Crack> &cracks);
+  /// The DMs, the window, its nodes, the crack fields and the scatter.
+  PetscErrorCode build(MPI_Comm comm, const std::vector<CrackOf<D>> &cracks);
   /// Level-0 ownership and this rank's window of every level.
   PetscErrorCode setWindow();
   /// Every cracked node of the grid, in an order every rank agrees on (collective-free).
-  std::vector<CrackedNode> findCrackedNodes(const std::vector<Crack> &cracks) const;
+  std::vector<CrackedNode> findCrackedNodes(const std::vector<CrackOf<D>> &cracks) const;
   /// The DMShell of the second fields, its window slots and their composite indices.
-  PetscErrorCode addCrackFields(MPI_Comm comm, const std::vector<Crack> &cracks);
+  PetscErrorCode addCrackFields(MPI_Comm comm, const std::vector<CrackOf<D>> &cracks);
   /// Positions, activity, zones and regularity of the window's nodes.
   void fillWindowNodes();
   /// The scatter between the composite global Vec and the window.
@@ -197,11 +198,6 @@ private:
   VecScatter scatter_ = nullptr;
   Vec windowTemplate_ = nullptr;
 };
-
-// The 2D-only members: the crack fields.
-template <>
-std::vector<Grid<2>::CrackedNode> Grid<2>::findCrackedNodes(const std::vector<Crack> &cracks) const;
-template <> PetscErrorCode Grid<2>::addCrackFields(MPI_Comm comm, const std::vector<Crack> &cracks);
 
 extern template class Grid<2>;
 extern template class Grid<3>;

@@ -12,6 +12,7 @@
 #include "gimp/core/box.hpp"
 #include "gimp/core/errors.hpp"
 #include "gimp/geometry/crack.hpp"
+#include "gimp/geometry/crack_surface.hpp"
 #include "gimp/input/bodies.hpp"
 #include "gimp/input/material.hpp"
 
@@ -198,10 +199,11 @@ struct JDomain {
   bool clipped = false;
 };
 
-/// What a run measures beyond energies and probes: crack tips (2D) and a hole's hoop stress.
+/// What a run measures beyond energies and probes: crack tips and fronts, and a hole's hoop
+/// stress (the cracks themselves are the scene's: Scene::cracks).
 struct Measures {
-  std::vector<Crack> cracks;    // explicit cracks, ends classified as tips or mouths (2D)
   double crackJRadius = 0;      // -gimp_crack_j_radius [m] (0: not given, kJCells cells)
+  double crackFrontSpacing = 0; // -gimp_crack_front_spacing [m] (0: not given, 2 cells)
   std::vector<JDomain> jDomain; // per crack tip, in order (crack, then end)
   bool holeMeasure = false;     // hoop stress around a hole: centre, radius, remote stress p
   double hole[3] = {0, 0, 0};
@@ -212,6 +214,9 @@ template <int D>
 struct Scene : OutputOptions, MethodOptions, RunControl, GridSpec<D>, Loads<D>, Measures {
   static constexpr int dim = D;
   std::vector<Body<D>> bodies;
+  /// Explicit cracks: polylines with their ends classified as tips or mouths (2D), planar
+  /// polygons with their edges classified as front or mouth (3D).
+  std::vector<CrackOf<D>> cracks;
   Material material;       // the scene's (-gimp_E, ...): every body's unless it sets its own
   bool oneMaterial = true; // every body has the scene's material
   bool sceneE = true, sceneRho = true; // -gimp_E, -gimp_rho given (else every body gives its own)

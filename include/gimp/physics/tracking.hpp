@@ -132,7 +132,7 @@ const double *domainCentres(const ParticleView<D> &p, std::vector<double> &centr
 /// of the fictitious size -gimp_corner_size times the particle's (cornerSize 0: with the grid's
 /// point shape functions, cpdi2's corner update of Sadeghirad et al. 2013), renormalised over the
 /// nodes that carry mass. Neighbours' shared corners get the same velocity and stay together. At a
-/// cracked node (2D) a corner takes the field of its particle's side (the side of the segment
+/// cracked node a corner takes the field of its particle's side (the side of the segment
 /// from the material point to the node): a face's corners lie on the crack line, where the
 /// corner's own position would give both faces' corners one side, and the lower face's corners
 /// would follow the upper face.
@@ -140,7 +140,7 @@ template <int D> class CornerMotion {
 public:
   /// vWindow: nodal velocity on the window; mWindow: nodal mass there (component 0). False when
   /// a corner's stencil cannot be built (a particle larger than a level-0 cell).
-  bool move(const Grid<D> &g, const std::vector<Crack> &cracks, double cornerSize, double cut,
+  bool move(const Grid<D> &g, const std::vector<CrackOf<D>> &cracks, double cornerSize, double cut,
             double dt, const double *vWindow, const double *mWindow, ParticleView<D> &p);
 
 private:

@@ -78,7 +78,7 @@ public:
   /// Contact on a grid velocity (window velW, global vel) and, when accW is given, the same
   /// change / dt on the acceleration (window accW, global acc).
   PetscErrorCode crackContact(const StepClock &c, Vec velW, Vec vel, Vec accW, Vec acc);
-  cracks::Contact &contact() { return contact_; }
+  cracks::Contact<D> &contact() { return contact_; }
 
 private:
   /// XPIC(m): v* = sum_{k<m} (I - M^-1 S^T M_p S)^k v^n into nodal.vstarW.
@@ -105,7 +105,7 @@ private:
   std::vector<double> xpicVp_;        // XPIC's interpolated field per particle (D each)
   std::vector<double> cpdiCorners_;   // the cpdi parallelograms (parallelepipeds) of this step
   tracking::CornerMotion<D> corners_; // corner tracking's motion of the corners
-  cracks::Contact contact_;           // contact between the two fields at cracked nodes (2D)
+  cracks::Contact<D> contact_;        // contact between the two fields at cracked nodes
 };
 
 } // namespace gimp

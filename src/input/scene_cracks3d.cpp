@@ -1,0 +1,188 @@
+// Reading the cracks of a 3D scene (-gimp_cracks, -gimp_crackK_polygon or -gimp_crackK_disk):
+// each polygon checked against itself, the bodies and the other cracks; each edge classified as
+// a front (inside the material) or a mouth (on or outside a body's surface).
+#include "scene_options.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+namespace gimp::input {
+
+namespace {
+
+using P3 = std::array<double, 3>;
+
+/// The finest cell size among the levels whose box contains x (sc.h outside the grid).
+double cellSizeAt(const Scene<3> &sc, const double *x) {
+  double h = sc.h, at = sc.h;
+  for (size_t k = 0; k < sc.levels.size(); ++k) {
+    const BoxOf<3> &b = sc.levels[k].box;
+    h /= k ? sc.levels[k].ratio : 1;
+    bool in = true;
+    for (int a = 0; a < 3; ++a)
+      in = in && x[a] >= b[a] && x[a] <= b[3 + a];
+    if (in) at = h;
+  }
+  return at;
+}
+
+/// Strictly inside a body: x and the six points tol away from it along the axes are inside.
+bool strictlyInsideABody(const Scene<3> &sc, const double *x) {
+  const double tol = 1e-9 * cellSizeAt(sc, x);
+  for (const Body<3> &b : sc.bodies) {
+    bool in = b.inside(x);
+    for (int q = 0; q < 6 && in; ++q) {
+      double y[3] = {x[0], x[1], x[2]};
+      y[q / 2] += q % 2 ? tol : -tol;
+      in = b.inside(y);
+    }
+    if (in) return true;
+  }
+  return false;
+}
+
+/// Front (1), mouth (0) or both (-1) for the edge p-q: the inside of the edge, sampled at a
+/// quarter of the finest cell (at most 1e4 samples; its end points excluded), strictly inside a
+/// body at every sample, at none, or at some.
+int classifyEdge(const Scene<3> &sc, const P3 &p, const P3 &q) {
+  const double len = std::sqrt((q[0] - p[0]) * (q[0] - p[0]) + (q[1] - p[1]) * (q[1] - p[1]) +
+                               (q[2] - p[2]) * (q[2] - p[2]));
+  double hmin = sc.h;
+  for (size_t k = 1; k < sc.levels.size(); ++k)
+    hmin /= sc.levels[k].ratio;
+  const int n = static_cast<int>(std::clamp(std::ceil(len / (0.25 * hmin)), 2.0, 1e4));
+  int inside = 0;
+  for (int i = 0; i < n; ++i) {
+    const double s = (i + 0.5) / n;
+    const double x[3] = {p[0] + s * (q[0] - p[0]), p[1] + s * (q[1] - p[1]),
+                         p[2] + s * (q[2] - p[2])};
+    inside += strictlyInsideABody(sc, x);
+  }
+  return inside == n ? 1 : inside == 0 ? 0 : -1;
+}
+
+/// The vertices of -gimp_crackK_disk c, n, r: a regular polygon inscribed in the circle, its
+/// edges about one cell at the circle's finest level (at least 32, a multiple of 4).
+std::vector<P3> diskPolygon(const Scene<3> &sc, const std::string &q,
+                            const std::vector<double> &v) {
+  const std::string all = fmtList(v.data(), v.size());
+  if (v.size() != 7) Options::bad(q, all, "needs cx,cy,cz,nx,ny,nz,r: centre, normal, radius [m]");
+  const double nl = std::sqrt(v[3] * v[3] + v[4] * v[4] + v[5] * v[5]);
+  if (!(nl > 0)) Options::bad(q, all, "the normal nx,ny,nz must not be zero");
+  if (!(v[6] > 0)) Options::bad(q, all, "the radius must be > 0 [m]");
+  const P3 n = {v[3] / nl, v[4] / nl, v[5] / nl};
+  // e1: the axis least aligned with n, made orthogonal to it; e2 = n x e1.
+  const int least = std::fabs(n[0]) <= std::fabs(n[1]) && std::fabs(n[0]) <= std::fabs(n[2]) ? 0
+                    : std::fabs(n[1]) <= std::fabs(n[2])                                     ? 1
+                                                                                             : 2;
+  P3 e1{0, 0, 0};
+  e1[least] = 1;
+  const double en = e1[0] * n[0] + e1[1] * n[1] + e1[2] * n[2];
+  for (int a = 0; a < 3; ++a)
+    e1[a] -= en * n[a];
+  const double el = std::sqrt(e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2]);
+  for (double &c : e1)
+    c /= el;
+  const P3 e2 = {n[1] * e1[2] - n[2] * e1[1], n[2] * e1[0] - n[0] * e1[2],
+                 n[0] * e1[1] - n[1] * e1[0]};
+  double hmin = sc.h;
+  for (int k = 0; k < 64; ++k) { // the finest cell on the circle
+    const double t = 2 * M_PI * k / 64;
+    const double x[3] = {v[0] + v[6] * (std::cos(t) * e1[0] + std::sin(t) * e2[0]),
+                         v[1] + v[6] * (std::cos(t) * e1[1] + std::sin(t) * e2[1]),
+                         v[2] + v[6] * (std::cos(t) * e1[2] + std::sin(t) * e2[2])};
+    hmin = std::min(hmin, cellSizeAt(sc, x));
+  }
+  const int sides = 4 * std::max(8, static_cast<int>(std::ceil(2 * M_PI * v[6] / hmin / 4)));
+  std::vector<P3> out;
+  for (int k = 0; k < sides; ++k) {
+    const double t = 2 * M_PI * k / sides;
+    out.push_back({v[0] + v[6] * (std::cos(t) * e1[0] + std::sin(t) * e2[0]),
+                   v[1] + v[6] * (std::cos(t) * e1[1] + std::sin(t) * e2[1]),
+                   v[2] + v[6] * (std::cos(t) * e1[2] + std::sin(t) * e2[2])});
+  }
+  return out;
+}
+
+/// The crack of option q: the polygon checked, its edges classified.
+CrackSurface makeCrack(const Scene<3> &sc, const std::string &q, std::vector<P3> pts,
+                       const std::string &all) {
+  const double tol = 1e-9 * sc.h;
+  const cracks::SurfaceFault f = cracks::findFault(pts, tol);
+  const std::string i = std::to_string(f.i), j = std::to_string(f.j);
+  if (f.kind == cracks::SurfaceFault::Degenerate)
+    Options::bad(q, all, "needs at least 3 points x,y,z that span an area [m]");
+  if (f.kind == cracks::SurfaceFault::ZeroLength)
+    Options::bad(q, all, "edge " + i + " has zero length: points must differ");
+  if (f.kind == cracks::SurfaceFault::NotPlanar)
+    Options::bad(q, all, "point " + i + " is off the plane of the others: a crack is planar");
+  if (f.kind == cracks::SurfaceFault::Intersects)
+    Options::bad(q, all,
+                 "edges " + i + " and " + j + " meet: a crack polygon may not cross itself");
+  CrackSurface c = cracks::makeSurface(pts);
+  const size_t m = c.points.size();
+  for (size_t e = 0; e < m; ++e) {
+    const int kind = classifyEdge(sc, c.points[e], c.points[(e + 1) % m]);
+    if (kind < 0)
+      Options::bad(q, all,
+                   "edge " + std::to_string(e) +
+                       " runs partly inside and partly outside the bodies: end each edge on a "
+                       "body's surface (a mouth) or keep it inside (a front)");
+    c.front[e] = static_cast<char>(kind);
+  }
+  if (std::none_of(c.front.begin(), c.front.end(), [](char x) { return x != 0; }))
+    Options::bad(q, all, "no edge lies inside a body: a crack needs a front in the material");
+  return c;
+}
+
+} // namespace
+
+void readCracks(const Options &o, Scene<3> &sc) {
+  const PetscInt nc = o.integer("gimp_cracks", 0);
+  bool radiusGiven = false;
+  sc.crackJRadius = o.real("gimp_crack_j_radius", sc.crackJRadius, &radiusGiven);
+  sc.crackFrontSpacing = o.real("gimp_crack_front_spacing", 0.0);
+  o.needs(nc > 0, "gimp_crack_j_radius", "cracks (-gimp_cracks)");
+  o.needs(nc > 0, "gimp_crack_front_spacing", "cracks (-gimp_cracks)");
+  for (PetscInt k = 0; k < (o.help() ? 1 : nc); ++k) {
+    const std::string p = "gimp_crack" + std::to_string(k) + "_polygon",
+                      d = "gimp_crack" + std::to_string(k) + "_disk";
+    const bool polygon = o.given(p), disk = o.given(d);
+    if (o.help()) {
+      (void)o.reals(p);
+      (void)o.reals(d);
+      continue;
+    }
+    if (!polygon && !disk)
+      Options::bad(p, "(missing)",
+                   "give each crack a polygon (-" + p + " x,y,z,...) or a disk (-" + d +
+                       " cx,cy,cz,nx,ny,nz,r) [m]");
+    const std::vector<double> v = o.reals(disk ? d : p, true);
+    if (polygon && disk)
+      Options::bad(d, fmtList(v.data(), v.size()), "give -" + p + " or -" + d + ", not both");
+    const std::string q = disk ? d : p, all = fmtList(v.data(), v.size());
+    std::vector<P3> pts;
+    if (disk) {
+      pts = diskPolygon(sc, q, v);
+    } else {
+      if (v.size() % 3 || v.size() < 9)
+        Options::bad(q, all, "needs triples x,y,z of at least 3 points [m]");
+      if (v.size() > 3000)
+        Options::bad(q, "(more than 1000 points)", "at most 1000 points (3000 values) [m]");
+      for (size_t i = 0; i < v.size(); i += 3)
+        pts.push_back({v[i], v[i + 1], v[i + 2]});
+    }
+    sc.cracks.push_back(makeCrack(sc, q, pts, all));
+    for (size_t m = 0; m + 1 < sc.cracks.size(); ++m) {
+      double at[3];
+      if (cracks::surfacesMeet(sc.cracks.back(), sc.cracks[m], at))
+        Options::bad(q, all,
+                     "meets crack " + std::to_string(m) + " at " + fmtList(at, 3) +
+                         ": cracks must not cross or touch");
+    }
+  }
+  (void)radiusGiven;
+}
+
+} // namespace gimp::input
