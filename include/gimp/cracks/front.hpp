@@ -1,0 +1,85 @@
+// Energy release rate and stress intensity factors along a 3D crack front: the equivalent domain
+// integral (the 3D J integral) and the interaction integrals with the front's auxiliary fields
+// (frontField), over particles.
+//
+// The front. Consecutive front edges of a crack polygon form a chain (closed when every edge is a
+// front edge). A point x is measured from the chain: rho its distance to the chain, y the chain's
+// nearest point, s the arc length along the chain from the front point P to y (for a closed
+// chain, the shorter way round). At y the local frame is the front edge's (a ahead, n the normal,
+// x3 = a x n = -t); when y is a vertex between two front edges, a is the in-plane direction from
+// y toward x (its sign taken toward the two edges' a), so the frame turns continuously around a
+// convex corner.
+//
+// The weight. q(x) = q_r(rho) q_s(s), q_r = (1 - rho^2 / R^2)^2 for rho < R, q_s = (1 - s^2 /
+// L^2)^2 for |s| < L, 0 elsewhere: a tube of radius R along the front, 2 L long, centred on P.
+// grad q is analytic: grad rho = (x - y) / rho, grad s = t of y's edge (0 when y is a vertex),
+// exact for a polygon and one nearest-point search per particle (differences would need seven, and
+// a step that straddles a corner's bisector would see the jump of s there).
+//
+// The integrals at P (frame a = a_P, n, x3 = a x n), the virtual advance q(x) a:
+//   G    = sum_p V_p (sigma_ij du_i/dx_k - W delta_kj) a_k dq/dx_j / A_q,
+//   I_m  = sum_p V_p (sigma_ij du^m_i/dx_k + sigma^m_ij du_i/dx_k - sigma^m_ij eps_ij delta_kj)
+//          a_k dq/dx_j / A_q,
+//   A_q  = int_front q_s(s) (a . a_local(s)) ds (the area the virtual advance sweeps),
+// with the auxiliary fields of unit K_m (m = 1, 2, 3) at the particle's (r, theta) in the frame of
+// P (AuxFrame::Point, the default: exact elastic fields of the front's tangent at P) or of its
+// nearest front point (AuxFrame::Nearest: they follow a curved front but are then not exactly in
+// equilibrium). On a circular front of radius a carrying the local 2D fields, both err by O(R / a)
+// (that field is not an elastic solution either); P's frame by about half as much for K_II and
+// K_III (tests/test_front.cpp). Then
+// K_I = E' I_1 / 2, K_II = E' I_2 / 2, K_III = mu I_3, E' = E / (1 - nu^2), and
+// G = (K_I^2 + K_II^2) / E' + K_III^2 / (2 mu) for a linear elastic field. Signs: K_I > 0 opens the
+// crack; K_II > 0 slides the normal's side ahead (along +a) against the other side; K_III > 0
+// slides the normal's side along +x3 = a x n = -t. The crack faces are traction free (no face
+// terms); a particle with rho = 0 is skipped.
+#pragma once
+
+#include "gimp/cracks/williams.hpp"
+#include "gimp/geometry/crack_surface.hpp"
+#include "gimp/input/material.hpp"
+#include "gimp/particles/swarm.hpp"
+
+#include <array>
+#include <vector>
+
+namespace gimp::cracks {
+
+/// One front point's measures (SI units): G [J/m^2], K [Pa m^0.5], the domain's R and L [m].
+struct FrontMeasure {
+  int crack = 0, edge = 0;   // the crack and its front edge
+  std::array<double, 3> x{}; // the front point [m]
+  double G = 0, KI = 0, KII = 0, KIII = 0;
+  double R = 0, L = 0; // tube radius and half length (L as used: clipped on a closed front)
+};
+
+/// The frame of the auxiliary fields: the particle's nearest front point's, or the front point P's.
+enum class AuxFrame { Nearest, Point };
+
+/// The front fields' constants of a material: mu and the plane-strain kappa = 3 - 4 nu.
+TipElastic frontElastic(const Material &m);
+
+/// The half length actually used at f: L, clipped to half the front's length when the front is a
+/// closed chain.
+double frontHalfLength(const CrackSurface &c, const FrontPoint &f, double L);
+
+/// A_q = int_front q_s(s) (a_P . a_local(s)) ds at front point f, exact for the polygon [m].
+double frontArea(const CrackSurface &c, const FrontPoint &f, double L);
+
+/// Adds this rank's particle sums at front point f to out: out[0] = G A_q [J/m], out[m] = I_m A_q
+/// [J/m per Pa m^0.5] for m = 1, 2, 3 (see the file's comment), over the particles with 0 < rho <
+/// R and |s| < L (L clipped as frontHalfLength).
+void addFrontIntegrals(const Material &m, const ParticleView<3> &p, const CrackSurface &c,
+                       const FrontPoint &f, double R, double L, double out[4],
+                       AuxFrame aux = AuxFrame::Point);
+
+/// G and K at front point f from the summed numerators (all ranks'). crack is left 0.
+FrontMeasure finishFront(const Material &m, const CrackSurface &c, const FrontPoint &f, double R,
+                         double L, const double sums[4]);
+
+/// G and K at every front point (cracks::frontPoints(c, spacing)) of every crack, in order (crack,
+/// then front point), with one MPI_Allreduce. Collective.
+PetscErrorCode measureFronts(MPI_Comm comm, const std::vector<CrackSurface> &cracks,
+                             const Material &m, const ParticleView<3> &p, double spacing, double R,
+                             double L, std::vector<FrontMeasure> &out);
+
+} // namespace gimp::cracks

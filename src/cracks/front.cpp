@@ -1,0 +1,303 @@
+#include "gimp/cracks/front.hpp"
+
+#include "gimp/physics/material.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace gimp::cracks {
+
+namespace {
+
+using P3 = std::array<double, 3>;
+
+P3 sub(const P3 &a, const P3 &b) {
+  return {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
+}
+double dot(const P3 &a, const P3 &b) {
+  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+P3 cross(const P3 &a, const P3 &b) {
+  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+}
+double norm(const P3 &a) {
+  return std::sqrt(dot(a, a));
+}
+
+/// The chain of consecutive front edges holding front point f's edge: its edges in order, the arc
+/// length at each one's start, the chain's length, and the arc length of f from the chain's start
+/// [m]. A closed chain (every edge a front edge) starts at f's edge.
+struct Chain {
+  std::vector<int> edges;
+  std::vector<double> s0;
+  double length = 0, sP = 0;
+  bool closed = false;
+};
+
+Chain chainOf(const CrackSurface &c, const FrontPoint &f) {
+  const int m = static_cast<int>(c.points.size());
+  Chain ch;
+  ch.closed = std::all_of(c.front.begin(), c.front.end(), [](char e) { return e != 0; });
+  int first = f.edge;
+  if (!ch.closed)
+    while (c.front[static_cast<size_t>((first + m - 1) % m)])
+      first = (first + m - 1) % m;
+  for (int k = 0; k < m; ++k) {
+    const int e = (first + k) % m;
+    if (!c.front[static_cast<size_t>(e)]) break;
+    const P3 &p = c.points[static_cast<size_t>(e)];
+    if (e == f.edge) ch.sP = ch.length + norm(sub(f.x, p));
+    ch.edges.push_back(e);
+    ch.s0.push_back(ch.length);
+    ch.length += norm(sub(c.points[static_cast<size_t>((e + 1) % m)], p));
+  }
+  return ch;
+}
+
+/// Where a point is seen from the front: rho, the nearest point y, its arc length s from P (in
+/// (-length / 2, length / 2] on a closed chain), grad s (the edge's t, or 0 at a vertex), and the
+/// local frame at y (a ahead, x3 = a x n).
+struct Place {
+  double rho = 0, s = 0;
+  P3 y{}, gradS{}, a{}, x3{};
+};
+
+/// The in-plane ahead direction at chain vertex k (the start of chain edge k, 0 < k or closed)
+/// seen from x: the in-plane part of x - y, its sign toward the two edges' a; their mean when x
+/// is on the vertex's normal line.
+P3 vertexAhead(const CrackSurface &c, const Chain &ch, size_t k, const P3 &d) {
+  const size_t K = ch.edges.size();
+  double a0[3], a1[3], n[3], t[3];
+  frontFrame(c, ch.edges[(k + K - 1) % K], a0, n, t);
+  frontFrame(c, ch.edges[k], a1, n, t);
+  const P3 mean = {a0[0] + a1[0], a0[1] + a1[1], a0[2] + a1[2]};
+  const double dn = dot(d, c.normal);
+  P3 dp = {d[0] - dn * c.normal[0], d[1] - dn * c.normal[1], d[2] - dn * c.normal[2]};
+  double len = norm(dp);
+  if (len <= 1e-12 * norm(d)) {
+    dp = mean;
+    len = norm(dp);
+  }
+  const double sign = dot(dp, mean) < 0 ? -1.0 : 1.0;
+  return {sign * dp[0] / len, sign * dp[1] / len, sign * dp[2] / len};
+}
+
+/// The place of x: the chain's nearest point (the first edge's on a tie) and what follows from it.
+Place placeOf(const CrackSurface &c, const Chain &ch, const P3 &x) {
+  const size_t m = c.points.size(), K = ch.edges.size();
+  Place best;
+  best.rho = -1;
+  size_t kb = 0;
+  double lamb = 0, lenb = 0;
+  for (size_t k = 0; k < K; ++k) {
+    const P3 &p = c.points[static_cast<size_t>(ch.edges[k])];
+    const P3 e = sub(c.points[(static_cast<size_t>(ch.edges[k]) + 1) % m], p);
+    const double len = norm(e);
+    const double lam = std::clamp(dot(sub(x, p), e) / len, 0.0, len);
+    const P3 y = {p[0] + lam / len * e[0], p[1] + lam / len * e[1], p[2] + lam / len * e[2]};
+    const double r = norm(sub(x, y));
+    if (best.rho < 0 || r < best.rho) {
+      best.rho = r;
+      best.y = y;
+      kb = k;
+      lamb = lam;
+      lenb = len;
+    }
+  }
+  best.s = ch.s0[kb] + lamb - ch.sP;
+  if (ch.closed && best.s > 0.5 * ch.length) best.s -= ch.length;
+  double a[3], n[3], t[3];
+  frontFrame(c, ch.edges[kb], a, n, t);
+  const bool atStart = lamb <= 0 && (kb > 0 || ch.closed);
+  const bool atEnd = lamb >= lenb && (kb + 1 < K || ch.closed);
+  if (atStart || atEnd) {
+    best.a = vertexAhead(c, ch, atStart ? kb : (kb + 1) % K, sub(x, best.y));
+  } else {
+    best.a = {a[0], a[1], a[2]};
+    if (lamb > 0 && lamb < lenb) best.gradS = {t[0], t[1], t[2]};
+  }
+  best.x3 = cross(best.a, c.normal);
+  return best;
+}
+
+/// int of (1 - s^2 / L^2)^2 ds from -L to u, |u| <= L.
+double qsIntegral(double u, double L) {
+  const double v = u / L;
+  return L * (v - 2.0 * v * v * v / 3.0 + v * v * v * v * v / 5.0 + 8.0 / 15.0);
+}
+
+/// The auxiliary fields' stress S and displacement gradient G of unit mode m in global axes at
+/// local position (x1, x2) of the frame (e1, e2 = normal, e3).
+void auxGlobal(int mode, const TipElastic &el, double x1, double x2, const P3 &e1, const P3 &e2,
+               const P3 &e3, double S[3][3], double G[3][3]) {
+  double sl[3][3], gl[3][3];
+  frontField(mode, std::hypot(x1, x2), std::atan2(x2, x1), el, sl, gl);
+  const P3 B[3] = {e1, e2, e3}; // B[a][i]: local axis a's global component i
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) {
+      double s = 0, g = 0;
+      for (int a = 0; a < 3; ++a)
+        for (int b = 0; b < 3; ++b) {
+          s += B[a][i] * sl[a][b] * B[b][j];
+          g += B[a][i] * gl[a][b] * B[b][j];
+        }
+      S[i][j] = s;
+      G[i][j] = g;
+    }
+}
+
+/// What one evaluation of the integrands needs of the front point: P, its frame, the material,
+/// the domain and the choice of auxiliary frame.
+struct FrontDomain {
+  const Material *mat = nullptr;
+  TipElastic el;
+  P3 P{}, a{}, n{}, x3{};
+  double R = 0, L = 0;
+  AuxFrame aux = AuxFrame::Nearest;
+};
+
+/// Particle k's terms, at place pl (rho < R, |s| < L), added to out (see addFrontIntegrals).
+void particleTerms(const FrontDomain &d, const ParticleView<3> &p, PetscInt k, const Place &pl,
+                   double out[4]) {
+  const auto sg = tensorAt<3>(p.s, k);
+  const auto F = tensorAt<3>(p.F, k);
+  const P3 x = {p.x[3 * k], p.x[3 * k + 1], p.x[3 * k + 2]};
+  const double R2 = d.R * d.R, L2 = d.L * d.L;
+  const double qr = (1.0 - pl.rho * pl.rho / R2) * (1.0 - pl.rho * pl.rho / R2);
+  const double qs = (1.0 - pl.s * pl.s / L2) * (1.0 - pl.s * pl.s / L2);
+  const double dqr = -4.0 * pl.rho / R2 * (1.0 - pl.rho * pl.rho / R2);
+  const double dqs = -4.0 * pl.s / L2 * (1.0 - pl.s * pl.s / L2);
+  double dq[3], H[3][3], Ha[3] = {0, 0, 0};
+  for (int j = 0; j < 3; ++j)
+    dq[j] = dqr * qs * (x[j] - pl.y[j]) / pl.rho + qr * dqs * pl.gradS[j];
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) {
+      H[i][j] = F(i, j) - (i == j ? 1.0 : 0.0);
+      Ha[i] += H[i][j] * d.a[j];
+    }
+  const double W = material::strainEnergy(*d.mat, sg, F, p.V0[k], p.V[k]) / p.V[k];
+  double j0 = 0;
+  for (int j = 0; j < 3; ++j)
+    j0 += (sg(0, j) * Ha[0] + sg(1, j) * Ha[1] + sg(2, j) * Ha[2] - W * d.a[j]) * dq[j];
+  out[0] += p.V[k] * j0;
+  // The auxiliary fields' frame and the particle's position in it.
+  const bool atP = d.aux == AuxFrame::Point;
+  const P3 r = sub(x, atP ? d.P : pl.y);
+  const P3 &e1 = atP ? d.a : pl.a, &e3 = atP ? d.x3 : pl.x3;
+  const double x1 = dot(r, e1), x2 = dot(r, d.n);
+  if (std::hypot(x1, x2) <= 0) return;
+  for (int mode = 1; mode <= 3; ++mode) {
+    double S[3][3], G[3][3], Ga[3] = {0, 0, 0}, Wi = 0;
+    auxGlobal(mode, d.el, x1, x2, e1, d.n, e3, S, G);
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) {
+        Ga[i] += G[i][j] * d.a[j];
+        Wi += S[i][j] * 0.5 * (H[i][j] + H[j][i]);
+      }
+    double v = 0;
+    for (int j = 0; j < 3; ++j)
+      for (int i = 0; i < 3; ++i)
+        v += (sg(i, j) * Ga[i] + S[i][j] * Ha[i] - (i == j ? Wi * d.a[i] : 0.0)) * dq[j];
+    out[mode] += p.V[k] * v;
+  }
+}
+
+} // namespace
+
+TipElastic frontElastic(const Material &m) {
+  TipElastic e;
+  e.mu = m.E / (2.0 * (1.0 + m.nu));
+  e.kappa = 3.0 - 4.0 * m.nu;
+  return e;
+}
+
+double frontHalfLength(const CrackSurface &c, const FrontPoint &f, double L) {
+  const Chain ch = chainOf(c, f);
+  return ch.closed ? std::min(L, 0.5 * ch.length) : L;
+}
+
+double frontArea(const CrackSurface &c, const FrontPoint &f, double L) {
+  const Chain ch = chainOf(c, f);
+  if (ch.closed) L = std::min(L, 0.5 * ch.length);
+  const size_t m = c.points.size();
+  double A = 0;
+  for (size_t k = 0; k < ch.edges.size(); ++k) {
+    const size_t e = static_cast<size_t>(ch.edges[k]);
+    const double len = norm(sub(c.points[(e + 1) % m], c.points[e]));
+    double a[3], n[3], t[3];
+    frontFrame(c, ch.edges[k], a, n, t);
+    const double cosine = a[0] * f.a[0] + a[1] * f.a[1] + a[2] * f.a[2];
+    // The edge's arc interval from P, and on a closed chain its image one length back.
+    for (int image = 0; image < (ch.closed ? 2 : 1); ++image) {
+      const double u0 = ch.s0[k] - ch.sP - image * ch.length, u1 = u0 + len;
+      const double lo = std::max(u0, -L), hi = std::min(u1, L);
+      if (hi > lo) A += cosine * (qsIntegral(hi, L) - qsIntegral(lo, L));
+    }
+  }
+  return A;
+}
+
+void addFrontIntegrals(const Material &m, const ParticleView<3> &p, const CrackSurface &c,
+                       const FrontPoint &f, double R, double L, double out[4], AuxFrame aux) {
+  const Chain ch = chainOf(c, f);
+  FrontDomain d;
+  d.mat = &m;
+  d.el = frontElastic(m);
+  d.P = f.x;
+  d.a = f.a;
+  d.n = c.normal;
+  d.x3 = cross(f.a, c.normal);
+  d.R = R;
+  d.L = ch.closed ? std::min(L, 0.5 * ch.length) : L;
+  d.aux = aux;
+  // A point of the tube is within R of the front and within L of P along it: within R + L of P.
+  const double reach2 = (R + d.L) * (R + d.L);
+  for (PetscInt k = 0; k < p.n; ++k) {
+    const P3 x = {p.x[3 * k], p.x[3 * k + 1], p.x[3 * k + 2]};
+    const P3 r = sub(x, d.P);
+    if (dot(r, r) >= reach2) continue;
+    const Place pl = placeOf(c, ch, x);
+    if (pl.rho > 0 && pl.rho < R && std::fabs(pl.s) < d.L) particleTerms(d, p, k, pl, out);
+  }
+}
+
+FrontMeasure finishFront(const Material &m, const CrackSurface &c, const FrontPoint &f, double R,
+                         double L, const double sums[4]) {
+  FrontMeasure o;
+  o.edge = f.edge;
+  o.x = f.x;
+  o.R = R;
+  o.L = frontHalfLength(c, f, L);
+  const double A = frontArea(c, f, L);
+  const double Ep = m.E / (1.0 - m.nu * m.nu), mu = m.E / (2.0 * (1.0 + m.nu));
+  o.G = sums[0] / A;
+  o.KI = 0.5 * Ep * sums[1] / A;
+  o.KII = 0.5 * Ep * sums[2] / A;
+  o.KIII = mu * sums[3] / A;
+  return o;
+}
+
+PetscErrorCode measureFronts(MPI_Comm comm, const std::vector<CrackSurface> &cracks,
+                             const Material &m, const ParticleView<3> &p, double spacing, double R,
+                             double L, std::vector<FrontMeasure> &out) {
+  std::vector<std::pair<int, FrontPoint>> points;
+  for (size_t c = 0; c < cracks.size(); ++c)
+    for (const FrontPoint &f : frontPoints(cracks[c], spacing))
+      points.emplace_back(static_cast<int>(c), f);
+  out.clear();
+  if (points.empty()) return PETSC_SUCCESS;
+  std::vector<double> local(4 * points.size(), 0.0), global(local.size());
+  for (size_t q = 0; q < points.size(); ++q)
+    addFrontIntegrals(m, p, cracks[static_cast<size_t>(points[q].first)], points[q].second, R, L,
+                      &local[4 * q]);
+  PetscCallMPI(MPI_Allreduce(local.data(), global.data(), static_cast<int>(local.size()),
+                             MPI_DOUBLE, MPI_SUM, comm));
+  for (size_t q = 0; q < points.size(); ++q) {
+    const CrackSurface &c = cracks[static_cast<size_t>(points[q].first)];
+    out.push_back(finishFront(m, c, points[q].second, R, L, &global[4 * q]));
+    out.back().crack = points[q].first;
+  }
+  return PETSC_SUCCESS;
+}
+
+} // namespace gimp::cracks
