@@ -148,7 +148,7 @@ void auxGlobal(int mode, const TipElastic &el, double x1, double x2, const P3 &e
 
 /// What one evaluation of the integrands needs of the front point: P, its frame, the material,
 /// the domain and the choice of auxiliary frame.
-struct FrontDomain {
+struct PointDomain {
   const Material *mat = nullptr;
   TipElastic el;
   P3 P{}, a{}, n{}, x3{};
@@ -157,7 +157,7 @@ struct FrontDomain {
 };
 
 /// Particle k's terms, at place pl (rho < R, |s| < L), added to out (see addFrontIntegrals).
-void particleTerms(const FrontDomain &d, const ParticleView<3> &p, PetscInt k, const Place &pl,
+void particleTerms(const PointDomain &d, const ParticleView<3> &p, PetscInt k, const Place &pl,
                    double out[4]) {
   const auto sg = tensorAt<3>(p.s, k);
   const auto F = tensorAt<3>(p.F, k);
@@ -240,7 +240,7 @@ double frontArea(const CrackSurface &c, const FrontPoint &f, double L) {
 void addFrontIntegrals(const Material &m, const ParticleView<3> &p, const CrackSurface &c,
                        const FrontPoint &f, double R, double L, double out[4], AuxFrame aux) {
   const Chain ch = chainOf(c, f);
-  FrontDomain d;
+  PointDomain d;
   d.mat = &m;
   d.el = frontElastic(m);
   d.P = f.x;
@@ -289,7 +289,7 @@ PetscErrorCode measureFronts(MPI_Comm comm, const std::vector<CrackSurface> &cra
   std::vector<double> local(4 * points.size(), 0.0), global(local.size());
   for (size_t q = 0; q < points.size(); ++q)
     addFrontIntegrals(m, p, cracks[static_cast<size_t>(points[q].first)], points[q].second, R, L,
-                      &local[4 * q]);
+                      &local[4 * q], getenv("GIMP_AUX_NEAREST") ? AuxFrame::Nearest : AuxFrame::Point);
   PetscCallMPI(MPI_Allreduce(local.data(), global.data(), static_cast<int>(local.size()),
                              MPI_DOUBLE, MPI_SUM, comm));
   for (size_t q = 0; q < points.size(); ++q) {
@@ -298,6 +298,30 @@ PetscErrorCode measureFronts(MPI_Comm comm, const std::vector<CrackSurface> &cra
     out.back().crack = points[q].first;
   }
   return PETSC_SUCCESS;
+}
+
+FrontDomain frontDomain(const Scene<3> &sc) {
+  FrontDomain d;
+  d.h = sc.h;
+  bool first = true;
+  for (const CrackSurface &c : sc.cracks)
+    for (const FrontPoint &f : frontPoints(c, sc.h)) {
+      if (first) d.at = f.x;
+      first = false;
+      double h = sc.h, at = sc.h;
+      for (size_t k = 0; k < sc.levels.size(); ++k) {
+        const BoxOf<3> &b = sc.levels[k].box;
+        h /= k ? sc.levels[k].ratio : 1;
+        bool in = true;
+        for (int a = 0; a < 3; ++a)
+          in = in && f.x[a] >= b[a] && f.x[a] <= b[3 + a];
+        if (in) at = h;
+      }
+      d.h = std::min(d.h, at);
+    }
+  d.R = sc.crackJRadius > 0 ? sc.crackJRadius : kJCells * d.h;
+  d.spacing = sc.crackFrontSpacing > 0 ? sc.crackFrontSpacing : 2.0 * d.h;
+  return d;
 }
 
 } // namespace gimp::cracks

@@ -38,6 +38,11 @@ template <int D> PetscErrorCode Output<D>::open(const OutputResume *resume) {
         for (const char *c : {"G_vcct", "GII_vcct", "G_J", "KI_vcct", "KII_vcct", "KI_J", "KII_J",
                               "opening_n", "opening_t"})
           std::fprintf(history_, ",crack%d_tip%d_%s", m.crack, m.end, c);
+    if constexpr (D == 3) // each crack's front: the mean and extremes over its front points
+      for (size_t k = 0; k < sc_.cracks.size(); ++k)
+        for (const char *q : {"G", "KI", "KII", "KIII"})
+          for (const char *w : {"mean", "min", "max"})
+            std::fprintf(history_, ",crack%zu_%s_%s", k, q, w);
     std::fprintf(history_, "\n");
   }
   return flushHistory(0);
@@ -69,6 +74,21 @@ template <int D> PetscErrorCode Output<D>::writeHistory(const HistoryRow &r) {
     std::fprintf(history_, ",%.12e,%.12e,%.12e,%.12e,%.12e,%.12e,%.12e,%.12e,%.12e", m.G_vcct,
                  m.GII_vcct, m.G_J, m.KI_vcct, m.KII_vcct, m.KI_J, m.KII_J, m.opening[0],
                  m.opening[1]);
+  for (size_t k = 0; D == 3 && k < sc_.cracks.size(); ++k)
+    for (const auto value : {&cracks::FrontMeasure::G, &cracks::FrontMeasure::KI,
+                             &cracks::FrontMeasure::KII, &cracks::FrontMeasure::KIII}) {
+      double sum = 0, lo = INFINITY, hi = -INFINITY;
+      int n = 0;
+      for (const cracks::FrontMeasure &f : r.front) {
+        if (f.crack != static_cast<int>(k)) continue;
+        sum += f.*value;
+        lo = std::min(lo, f.*value);
+        hi = std::max(hi, f.*value);
+        ++n;
+      }
+      const double mean = n ? sum / n : NAN;
+      std::fprintf(history_, ",%.12e,%.12e,%.12e", mean, n ? lo : NAN, n ? hi : NAN);
+    }
   std::fprintf(history_, "\n");
   return flushHistory(rowStart);
 }

@@ -61,6 +61,26 @@ std::string numbers(const double *v, int n) {
   return r + "]";
 }
 
+/// The 3D cracks: per crack its front points, each with its position, G and K, and the domain
+/// (R, L) its integrals took.
+void writeFronts(FILE *f, const std::vector<cracks::FrontMeasure> &front) {
+  std::fprintf(f, ",\n  \"cracks\": [");
+  int crack = -1;
+  for (const cracks::FrontMeasure &m : front) {
+    const bool next = m.crack != crack;
+    if (next)
+      std::fprintf(f, "%s\n    {\"crack\": %d, \"j_radius\": %s, \"front\": [",
+                   crack < 0 ? "" : "]},", m.crack, num(m.R).c_str());
+    std::fprintf(f,
+                 "%s\n      {\"x\": %s, \"edge\": %d, \"G\": %s, \"KI\": %s, \"KII\": %s, "
+                 "\"KIII\": %s, \"L\": %s}",
+                 next ? "" : ",", numbers(m.x.data(), 3).c_str(), m.edge, num(m.G).c_str(),
+                 num(m.KI).c_str(), num(m.KII).c_str(), num(m.KIII).c_str(), num(m.L).c_str());
+    crack = m.crack;
+  }
+  std::fprintf(f, "]}]");
+}
+
 } // namespace
 
 template <int D> PetscErrorCode Output<D>::writeSummary(const SummaryReport &r) {
@@ -158,6 +178,7 @@ template <int D> void Output<D>::summaryMeasures(FILE *f, const SummaryReport &r
     std::fprintf(f, ", \"mms_linf\": %s, \"mms_rms\": %s", num(m.mmsLinf).c_str(),
                  num(m.mmsRms).c_str());
   std::fprintf(f, "}");
+  if (!r.front.empty()) writeFronts(f, r.front);
   if (r.tips.empty()) return;
   std::fprintf(f, ",\n  \"cracks\": [");
   for (size_t q = 0; q < r.tips.size(); ++q) {

@@ -72,7 +72,7 @@ template <int D> PetscErrorCode Reporter<D>::historyRow(PetscInt step, double t,
   s.measures.mmsRms = std::max(s.measures.mmsRms, row.mmsRms);
   PetscCall(s.boundary.reactions(s.comm, row.reactions, row.gaps));
   PetscCall(separationMeasure(step, t, row));
-  return crackTips(row.tips);
+  return crackTips(row.tips, row.front);
 }
 
 template <int D>
@@ -93,15 +93,23 @@ PetscErrorCode Reporter<D>::separationMeasure(PetscInt step, double t, HistoryRo
   return PETSC_SUCCESS;
 }
 
-template <int D> PetscErrorCode Reporter<D>::crackTips(std::vector<cracks::TipMeasure> &tips) {
+template <int D>
+PetscErrorCode Reporter<D>::crackTips(std::vector<cracks::TipMeasure> &tips,
+                                      std::vector<cracks::FrontMeasure> &front) {
   tips.clear();
-  if constexpr (D == 2)
-    if (!s_.sc.cracks.empty()) {
-      ParticleView<2> p;
-      PetscCall(p.get(s_.sw));
-      PetscCall(cracks::measureTips(s_.comm, s_.sc, s_.grid, p, tips));
-      PetscCall(p.restore(s_.sw));
-    }
+  front.clear();
+  if (s_.sc.cracks.empty()) return PETSC_SUCCESS;
+  ParticleView<D> p;
+  PetscCall(p.get(s_.sw));
+  if constexpr (D == 2) {
+    PetscCall(cracks::measureTips(s_.comm, s_.sc, s_.grid, p, tips));
+  } else {
+    const Scene<3> &sc = s_.sc;
+    const cracks::FrontDomain dom = cracks::frontDomain(sc);
+    PetscCall(cracks::measureFronts(s_.comm, sc.cracks, sc.materialAt(dom.at.data()), p,
+                                    dom.spacing, dom.R, dom.R, front));
+  }
+  PetscCall(p.restore(s_.sw));
   return PETSC_SUCCESS;
 }
 
@@ -217,7 +225,7 @@ template <int D> PetscErrorCode Reporter<D>::summary(PetscInt steps, double t) {
   r.penalty = s.boundary.alpha();
   r.dtCritical = s.measures.dtCritical;
   r.measures = s.measures;
-  PetscCall(crackTips(r.tips));
+  PetscCall(crackTips(r.tips, r.front));
   PetscLogDouble wall1 = 0;
   PetscCall(PetscTime(&wall1));
   r.wallSeconds = wall1 - wall0_;

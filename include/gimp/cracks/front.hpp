@@ -37,6 +37,7 @@
 #include "gimp/cracks/williams.hpp"
 #include "gimp/geometry/crack_surface.hpp"
 #include "gimp/input/material.hpp"
+#include "gimp/input/scene.hpp"
 #include "gimp/particles/swarm.hpp"
 
 #include <array>
@@ -51,6 +52,16 @@ struct FrontMeasure {
   double G = 0, KI = 0, KII = 0, KIII = 0;
   double R = 0, L = 0; // tube radius and half length (L as used: clipped on a closed front)
 };
+
+/// Where and how a 3D scene measures its fronts: the finest cell h along the fronts (the finest
+/// level whose box holds a front point), the tube radius and half length R (-gimp_crack_j_radius,
+/// or kJCells cells), the front points' spacing (-gimp_crack_front_spacing, or 2 cells), and a
+/// front point `at` whose material the integrals take.
+struct FrontDomain {
+  double h = 0, R = 0, spacing = 0;
+  std::array<double, 3> at{};
+};
+FrontDomain frontDomain(const Scene<3> &sc);
 
 /// The frame of the auxiliary fields: the particle's nearest front point's, or the front point P's.
 enum class AuxFrame { Nearest, Point };

@@ -2,6 +2,7 @@
 // hold, already reduced over ranks. The writers know nothing of the solver.
 #pragma once
 
+#include "gimp/cracks/front.hpp"
 #include "gimp/cracks/tips.hpp"
 #include "gimp/diagnostics/energies.hpp"
 #include "gimp/diagnostics/measures.hpp"
@@ -20,7 +21,8 @@ struct HistoryRow {
   std::vector<ProbeState> probes;
   std::vector<double> reactions, gaps; // per penalty condition: (fx, fy[, fz]) and |u - u_bar|
   double mmsLinf = 0, mmsRms = 0;
-  std::vector<cracks::TipMeasure> tips; // per crack tip: G and K by VCCT and by J
+  std::vector<cracks::TipMeasure> tips; // 2D, per crack tip: G and K by VCCT and by J
+  std::vector<cracks::FrontMeasure> front; // 3D, per front point: G and K by domain integrals
 };
 
 struct SummaryReport {
@@ -39,6 +41,7 @@ struct SummaryReport {
   RunMeasures measures;
   const HoleMeasure *hole = nullptr; // with -gimp_hole_measure
   std::vector<cracks::TipMeasure> tips;
+  std::vector<cracks::FrontMeasure> front;
 };
 
 } // namespace gimp

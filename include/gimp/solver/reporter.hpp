@@ -41,7 +41,9 @@ private:
   PetscErrorCode restCriterion(PetscInt step, double t, const Energies &e);
   void energyCheck(PetscInt step, double t, const Energies &e);
   PetscErrorCode monitorLine(PetscInt step, double t);
-  PetscErrorCode crackTips(std::vector<cracks::TipMeasure> &tips);
+  /// The crack measures: every tip's (2D), every front point's (3D). Collective.
+  PetscErrorCode crackTips(std::vector<cracks::TipMeasure> &tips,
+                           std::vector<cracks::FrontMeasure> &front);
   PetscErrorCode summary(PetscInt steps, double t);
 
   RunState<D> &s_;
