@@ -62,9 +62,15 @@ TEST(CrackSurface, PointsOnThePlaneAreOnItsNormalSide) {
   EXPECT_EQ(cracks::crossing(c, below, on), -1);
   EXPECT_EQ(cracks::sideOf(c, 0, on), 1);
   EXPECT_EQ(cracks::sideOf(c, 0, below), -1);
-  // Through an edge, or beside the polygon: no crossing.
+  // Through a front edge, or beside the polygon: no crossing; through a mouth edge: crossing.
   const double e0[3] = {1.0, 0.5, 0.5}, e1[3] = {1.0, 0.5, 0.0};
-  EXPECT_EQ(cracks::crossing(c, e0, e1), 0);
+  EXPECT_EQ(cracks::crossing(c, e0, e1), 1); // every edge a mouth
+  CrackSurface f = c;
+  f.front = {0, 1, 0, 0}; // the edge x = 1 a front
+  EXPECT_EQ(cracks::crossing(f, e0, e1), 0);
+  // A node on the plane at a corner where the front meets a mouth: outside.
+  const double k0[3] = {1.0, 1.0, 0.5}, k1[3] = {1.0, 1.0, 0.0};
+  EXPECT_EQ(cracks::crossing(f, k0, k1), 0);
   const double o0[3] = {1.2, 0.5, 0.5}, o1[3] = {1.2, 0.5, 0.0};
   EXPECT_EQ(cracks::crossing(c, o0, o1), 0);
 }

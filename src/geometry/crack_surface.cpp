@@ -54,17 +54,20 @@ double segDist2(const P2 &q, const P2 &a, const P2 &b) {
 }
 
 /// Whether q is inside the polygon (crossing number; boundary undecided) and its distance to
-/// the polygon's boundary.
-bool inPolygon(const CrackSurface &c, const P2 &q, double &edgeDist) {
+/// the polygon's boundary; with `front`, its distance to the front edges alone.
+bool inPolygon(const CrackSurface &c, const P2 &q, double &edgeDist, double *front = nullptr) {
   bool in = false;
   edgeDist = 1e300;
+  if (front) *front = 1e300;
   const size_t m = c.uv.size();
   for (size_t i = 0, j = m - 1; i < m; j = i++) {
     const P2 &a = c.uv[i], &b = c.uv[j];
     if ((a[1] > q[1]) != (b[1] > q[1]) &&
         q[0] < (b[0] - a[0]) * (q[1] - a[1]) / (b[1] - a[1]) + a[0])
       in = !in;
-    edgeDist = std::min(edgeDist, segDist2(q, a, b));
+    const double d = segDist2(q, a, b);
+    edgeDist = std::min(edgeDist, d);
+    if (front && j < c.front.size() && c.front[j]) *front = std::min(*front, d); // edge j: j -> i
   }
   return in;
 }
@@ -135,9 +138,13 @@ int crossing(const CrackSurface &c, const double a[3], const double b[3]) {
   const double r = std::hypot(q[0] - c.centre[0], q[1] - c.centre[1]);
   if (r < c.rIn - 2 * delta) return sa; // well inside: farther than delta from every edge
   if (r > c.rOut + 2 * delta) return 0; // outside
-  double edge = 0;
-  if (!inPolygon(c, q, edge) || edge <= delta) return 0;
-  return sa;
+  double edge = 0, front = 0;
+  const bool in = inPolygon(c, q, edge, &front);
+  // Within delta of the boundary: outside at a front edge (the crack ends there), inside at a
+  // mouth edge (it opens through the body's surface there).
+  if (front <= delta) return 0;
+  if (edge <= delta) return sa;
+  return in ? sa : 0;
 }
 
 double distance(const CrackSurface &c, const double x[3]) {

@@ -42,24 +42,61 @@ bool strictlyInsideABody(const Scene<3> &sc, const double *x) {
   return false;
 }
 
-/// Front (1), mouth (0) or both (-1) for the edge p-q: the inside of the edge, sampled at a
-/// quarter of the finest cell (at most 1e4 samples; its end points excluded), strictly inside a
-/// body at every sample, at none, or at some.
-int classifyEdge(const Scene<3> &sc, const P3 &p, const P3 &q) {
+/// Where the edge p-q (sampled at a quarter of the finest cell, at most 1e4 samples, its ends
+/// excluded) passes between strictly inside a body and not: each change located by bisection to
+/// 1e-12 of the edge, as parameters in (0, 1), in order.
+std::vector<double> surfaceCrossings(const Scene<3> &sc, const P3 &p, const P3 &q) {
+  const auto at = [&](double s) {
+    const double x[3] = {p[0] + s * (q[0] - p[0]), p[1] + s * (q[1] - p[1]),
+                         p[2] + s * (q[2] - p[2])};
+    return strictlyInsideABody(sc, x);
+  };
   const double len = std::sqrt((q[0] - p[0]) * (q[0] - p[0]) + (q[1] - p[1]) * (q[1] - p[1]) +
                                (q[2] - p[2]) * (q[2] - p[2]));
   double hmin = sc.h;
   for (size_t k = 1; k < sc.levels.size(); ++k)
     hmin /= sc.levels[k].ratio;
   const int n = static_cast<int>(std::clamp(std::ceil(len / (0.25 * hmin)), 2.0, 1e4));
-  int inside = 0;
-  for (int i = 0; i < n; ++i) {
-    const double s = (i + 0.5) / n;
-    const double x[3] = {p[0] + s * (q[0] - p[0]), p[1] + s * (q[1] - p[1]),
-                         p[2] + s * (q[2] - p[2])};
-    inside += strictlyInsideABody(sc, x);
+  std::vector<double> out;
+  double s0 = 0.5 / n;
+  bool in0 = at(s0);
+  for (int i = 1; i < n; ++i) {
+    const double s1 = (i + 0.5) / n;
+    const bool in1 = at(s1);
+    if (in1 != in0) {
+      double lo = s0, hi = s1;
+      while (hi - lo > 1e-12)
+        (at(0.5 * (lo + hi)) == in0 ? lo : hi) = 0.5 * (lo + hi);
+      out.push_back(0.5 * (lo + hi));
+    }
+    s0 = s1;
+    in0 = in1;
   }
-  return inside == n ? 1 : inside == 0 ? 0 : -1;
+  return out;
+}
+
+/// The polygon with its edges cut where they pass through a body's surface, each piece a front
+/// (its middle strictly inside a body) or a mouth.
+CrackSurface classifyEdges(const Scene<3> &sc, const CrackSurface &c0) {
+  std::vector<P3> pts;
+  std::vector<char> front;
+  const size_t m = c0.points.size();
+  for (size_t e = 0; e < m; ++e) {
+    const P3 &p = c0.points[e], &q = c0.points[(e + 1) % m];
+    std::vector<double> cuts = surfaceCrossings(sc, p, q);
+    cuts.insert(cuts.begin(), 0.0);
+    cuts.push_back(1.0);
+    for (size_t k = 0; k + 1 < cuts.size(); ++k) {
+      const double s = cuts[k], mid = 0.5 * (cuts[k] + cuts[k + 1]);
+      pts.push_back({p[0] + s * (q[0] - p[0]), p[1] + s * (q[1] - p[1]), p[2] + s * (q[2] - p[2])});
+      const double x[3] = {p[0] + mid * (q[0] - p[0]), p[1] + mid * (q[1] - p[1]),
+                           p[2] + mid * (q[2] - p[2])};
+      front.push_back(static_cast<char>(strictlyInsideABody(sc, x)));
+    }
+  }
+  CrackSurface c = cracks::makeSurface(pts, c0.normal.data());
+  c.front = front; // makeSurface keeps the order: the normal is the same
+  return c;
 }
 
 /// The vertices of -gimp_crackK_disk c, n, r: a regular polygon inscribed in the circle, its
@@ -120,17 +157,7 @@ CrackSurface makeCrack(const Scene<3> &sc, const std::string &q, std::vector<P3>
   if (f.kind == cracks::SurfaceFault::Intersects)
     Options::bad(q, all,
                  "edges " + i + " and " + j + " meet: a crack polygon may not cross itself");
-  CrackSurface c = cracks::makeSurface(pts);
-  const size_t m = c.points.size();
-  for (size_t e = 0; e < m; ++e) {
-    const int kind = classifyEdge(sc, c.points[e], c.points[(e + 1) % m]);
-    if (kind < 0)
-      Options::bad(q, all,
-                   "edge " + std::to_string(e) +
-                       " runs partly inside and partly outside the bodies: end each edge on a "
-                       "body's surface (a mouth) or keep it inside (a front)");
-    c.front[e] = static_cast<char>(kind);
-  }
+  const CrackSurface c = classifyEdges(sc, cracks::makeSurface(pts));
   if (std::none_of(c.front.begin(), c.front.end(), [](char x) { return x != 0; }))
     Options::bad(q, all, "no edge lies inside a body: a crack needs a front in the material");
   return c;

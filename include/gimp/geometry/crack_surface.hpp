@@ -6,8 +6,10 @@
 // of a point x is the sign of n.(x - p_0): +1 is the normal's side (the 2D crack's left).
 //
 // What crossing() answers is exact for a perturbed crack, as in 2D: the polygon moved by an
-// infinitesimal distance against its normal and shrunk infinitesimally within its plane. A point
-// on the plane is then on the + side, and a segment through the polygon's edge does not cross.
+// infinitesimal distance against its normal, shrunk infinitesimally at its front edges and grown
+// infinitesimally at its mouth edges. A point on the plane is then on the + side; a segment
+// through a front edge does not cross, one through a mouth edge does (a grid node on a body's
+// surface, where a mouth edge lies, belongs to one side of the crack, not to both).
 // "On the plane" means |n.(x - p_0)| within delta = kCrackTol (|ab| + span) for a segment a-b
 // (kCrackTol span for a point alone), span the polygon's bounding-box size in the 1-norm;
 // "inside the polygon" means farther than delta inside its edges.

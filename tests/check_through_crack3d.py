@@ -1,0 +1,45 @@
+"""A straight crack through a slab (options/through_crack3d.opts), held in plane strain by
+rollers on its faces, against the same scene in 2D plane strain (options/through_crack2d.opts):
+an edge crack of length a = 10 mm in a 40 x 80 mm plate under remote tension, three levels to
+1 mm, damped to rest.
+
+The slab's crack polygon reaches 1 mm beyond both faces; input cuts its edge x = a at the faces,
+so the front is the part inside the slab, and the grid nodes on the faces belong to one side of
+the crack (a mouth edge lies there).
+
+Checked (measured in brackets): at every front point, K_I by the interaction integral within 2 %
+of the 2D K_I (the J-integral's interaction integral at the tip) [+0.14 %], and K from G,
+sqrt(G E / (1 - nu^2)), within 2 % of the 2D one [+0.07 %]; K_II and K_III below 0.5 % of K_I
+[1e-14]; the front points lie on the front inside the slab; both runs at rest (K_I changed by
+less than 0.1 % over their last 400 steps)."""
+import math
+import gimptest
+
+args = gimptest.parse_args()
+E, nu, t = 2.3e9, 0.3, 0.004
+Ep = E / (1 - nu * nu)
+d2 = gimptest.run(args, "options/through_crack2d.opts")
+d3 = gimptest.run(args, "options/through_crack3d.opts")
+tip = gimptest.summary(d2)["cracks"][0]
+front = gimptest.summary(d3)["cracks"][0]["front"]
+K2, KG2 = tip["KI_J"], math.sqrt(tip["G_J"] * Ep)
+c = gimptest.Checks()
+c.check("front points", len(front) >= 2 and all(
+    abs(f["x"][0] - 0.01) < 1e-9 and abs(f["x"][1] - 0.04) < 1e-9 and 0 < f["x"][2] < t
+    for f in front), "%d points at z = %s mm" % (len(front), ", ".join(
+        "%.3f" % (1e3 * f["x"][2]) for f in front)))
+for f in front:
+    z = "z = %.2f mm" % (1e3 * f["x"][2])
+    eI = f["KI"] / K2 - 1
+    eG = math.sqrt(max(f["G"], 0) * Ep) / KG2 - 1
+    c.check("K_I at " + z, abs(eI) <= 0.02,
+            "%.1f kPa m^0.5 against 2D %.1f: %+.2f %% (tol 2 %%)" % (f["KI"] / 1e3, K2 / 1e3, 100 * eI))
+    c.check("K from G at " + z, abs(eG) <= 0.02, "%+.2f %% against 2D (tol 2 %%)" % (100 * eG))
+    other = max(abs(f["KII"]), abs(f["KIII"])) / f["KI"]
+    c.check("K_II, K_III at " + z, other <= 0.005, "max |K_II|, |K_III| = %.1e K_I" % other)
+h2, h3 = gimptest.history(d2), gimptest.history(d3)
+for name, h, col in (("2D", h2, "crack0_tip1_KI_J"), ("3D", h3, "crack0_KI_mean")):
+    k = h[col]
+    change = abs(k[-1] / k[-3] - 1)
+    c.check(name + " at rest", change <= 1e-3, "K_I changed by %.1e over the last rows" % change)
+c.done()
