@@ -452,20 +452,17 @@ TEST(FrontIntegrals, CircularFrontRecoversTheKs) {
   const CrackSurface c = circleCrack(pl, ac, 64);
   const std::vector<FrontPoint> fp = gimp::cracks::frontPoints(c, 10 * kH);
   ASSERT_EQ(fp.size(), 64u);
-  // A_q of the 64-gon at an edge's midpoint: q_s times the cosine of the angle 2 pi k / 64 of edge
-  // k from P's, integrated by the midpoint rule.
-  const double edge = 2 * ac * std::sin(kPi / 64);
-  double Aq = 0;
-  const int steps = 200000;
-  for (int i = 0; i < steps; ++i) {
-    const double s = -L + (i + 0.5) * 2 * L / steps, v = 1 - s * s / (L * L);
-    Aq += v * v * std::cos(2 * kPi / 64 * std::floor(s / edge + 0.5)) * 2 * L / steps;
-  }
+  // A_q: the advance runs along each edge's own ahead direction, so the area it sweeps is the
+  // integral of q_s alone, 16 L / 15 away from the chain's ends.
+  const double Aq = 16.0 * L / 15.0;
   EXPECT_NEAR(gimp::cracks::frontArea(c, fp[0], L), Aq, 1e-8 * Aq);
   // The local field of a curved front is not an elastic solution (its stress has a divergence of
-  // order K / (a sqrt(r))), so its J depends on the domain, by about -0.6 R / a for modes II and
-  // III: at R / a = 1 / 8 the K's are off by several per cent (below), with either frame.
-  const double bound[2][4] = {{0.05, 0.02, 0.11, 0.10}, {0.05, 0.01, 0.07, 0.06}};
+  // order K / (a sqrt(r))), so its J depends on the domain, linearly in R / a (below): at R / a =
+  // 1 / 8 the measures are off by -2.5 to -3.4 % (G), about -1.1 % (K_I), -7 to -10 % (K_II) and
+  // -4 to -8 % (K_III) with the nearest point's frame, by +0.3 % (K_I), -4 to -6 % (K_II) and -1 to
+  // -5 % (K_III) with P's. The bounds say where they are; the penny crack in the solver (an
+  // elastic field: tests/check_penny3d.py) is the check of accuracy.
+  const double bound[2][4] = {{0.04, 0.015, 0.11, 0.09}, {0.04, 0.006, 0.07, 0.06}};
   for (size_t q : {0u, 13u, 40u})
     for (int f = 0; f < 2; ++f) {
       const AuxFrame aux = f == 0 ? AuxFrame::Nearest : AuxFrame::Point;
@@ -481,25 +478,22 @@ TEST(FrontIntegrals, CircularFrontRecoversTheKs) {
 }
 
 TEST(FrontIntegrals, CircularFrontConvergesAsTheDomainShrinks) {
-  // The error is linear in R / a: from R = 10 h and 20 h on a circle of 80 h, 2 E(10 h) -
-  // E(20 h), the measure extrapolated to R = 0, is within 1.5 % for both frames.
+  // The error of that field is linear in R / a: on a circle of 80 h with the nearest point's
+  // frame, the measure extrapolated to R = 0 from R = 10 h and 20 h, 2 E(10 h) - E(20 h), is
+  // within 1 %.
   const Material mat = material();
   const double ac = 80 * kH, L = 10 * kH;
   const Placement pl = placement(true);
   const CrackSurface c = circleCrack(pl, ac, 128);
   const FrontPoint f = gimp::cracks::frontPoints(c, 10 * kH)[0];
-  for (int fr = 0; fr < 2; ++fr) {
-    const AuxFrame aux = fr == 0 ? AuxFrame::Nearest : AuxFrame::Point;
-    const auto e10 = circleErrors(mat, pl, c, ac, f, 10 * kH, L, aux);
-    const auto e20 = circleErrors(mat, pl, c, ac, f, 20 * kH, L, aux);
-    for (int m = 0; m < 4; ++m) {
-      const size_t i = static_cast<size_t>(m);
-      std::printf("circle a = 80 h, aux frame %-7s, measure %d: R = 10 h %+.2f %%, 20 h %+.2f %%, "
-                  "extrapolated to 0 %+.2f %%\n",
-                  fr == 0 ? "nearest" : "P", m, 100 * e10[i], 100 * e20[i],
-                  100 * (2 * e10[i] - e20[i]));
-      EXPECT_LT(std::fabs(2 * e10[i] - e20[i]), 1.5e-2) << "frame " << fr << " measure " << m;
-    }
+  const auto e10 = circleErrors(mat, pl, c, ac, f, 10 * kH, L, AuxFrame::Nearest);
+  const auto e20 = circleErrors(mat, pl, c, ac, f, 20 * kH, L, AuxFrame::Nearest);
+  for (int m = 0; m < 4; ++m) {
+    const size_t i = static_cast<size_t>(m);
+    std::printf("circle a = 80 h, measure %d: R = 10 h %+.2f %%, 20 h %+.2f %%, extrapolated to 0 "
+                "%+.2f %%\n",
+                m, 100 * e10[i], 100 * e20[i], 100 * (2 * e10[i] - e20[i]));
+    EXPECT_LT(std::fabs(2 * e10[i] - e20[i]), 1e-2) << "measure " << m;
   }
 }
 

@@ -60,29 +60,33 @@ Chain chainOf(const CrackSurface &c, const FrontPoint &f) {
 struct Place {
   double rho = 0, s = 0;
   P3 y{}, gradS{}, a{}, x3{};
+  double dA[3][3] = {}; // d a_k / d x_j (nonzero in a vertex's wedge, where a turns)
 };
 
-/// The in-plane ahead direction at chain vertex k (the start of chain edge k, 0 < k or closed)
-/// seen from x: the in-plane part of x - y, its sign toward the two edges' a; their mean when x
-/// is on the vertex's normal line.
-P3 vertexAhead(const CrackSurface &c, const Chain &ch, size_t k, const P3 &d) {
-  const size_t K = ch.edges.size();
-  double a0[3], a1[3], n[3], t[3];
-  frontFrame(c, ch.edges[(k + K - 1) % K], a0, n, t);
-  frontFrame(c, ch.edges[k], a1, n, t);
-  const P3 mean = {a0[0] + a1[0], a0[1] + a1[1], a0[2] + a1[2]};
-  const double dn = dot(d, c.normal);
-  P3 dp = {d[0] - dn * c.normal[0], d[1] - dn * c.normal[1], d[2] - dn * c.normal[2]};
-  double len = norm(dp);
-  if (len <= 1e-12 * norm(d)) {
-    dp = mean;
-    len = norm(dp);
-  }
-  const double sign = dot(dp, mean) < 0 ? -1.0 : 1.0;
-  return {sign * dp[0] / len, sign * dp[1] / len, sign * dp[2] / len};
+/// The ahead direction at polygon vertex v as the advance field takes it: the mean of its two
+/// edges' ahead directions where both are front edges, or where a mouth edge continues the front
+/// (turning by less than 45 degrees: a curved front that the polygon continues past a body's
+/// surface or a symmetry plane, where the mean is the front's normal at the surface); otherwise
+/// the front edge's own.
+P3 vertexAhead(const CrackSurface &c, size_t v) {
+  const size_t m = c.points.size(), ep = (v + m - 1) % m, en = v;
+  double ap[3], an[3], n[3], tp[3], tn[3];
+  frontFrame(c, static_cast<int>(ep), ap, n, tp);
+  frontFrame(c, static_cast<int>(en), an, n, tn);
+  const bool both = c.front[ep] && c.front[en];
+  const bool continues = tp[0] * tn[0] + tp[1] * tn[1] + tp[2] * tn[2] > std::sqrt(0.5);
+  if (!both && !continues) return c.front[ep] ? P3{ap[0], ap[1], ap[2]} : P3{an[0], an[1], an[2]};
+  P3 a = {ap[0] + an[0], ap[1] + an[1], ap[2] + an[2]};
+  const double len = norm(a);
+  return {a[0] / len, a[1] / len, a[2] / len};
 }
 
 /// The place of x: the chain's nearest point (the first edge's on a tie) and what follows from it.
+/// The ahead direction is interpolated along the nearest edge between its vertices' (vertexAhead):
+/// a = A / |A|, A = (1 - lambda) a_0 + lambda a_1, lambda the nearest point's fraction of the edge,
+/// so that the advance q a is continuous across the bisectors between edges on both sides of the
+/// front; da/dx = (I - a a) / |A| (a_1 - a_0) t^T / |edge| where lambda moves, 0 where it is held
+/// at a vertex.
 Place placeOf(const CrackSurface &c, const Chain &ch, const P3 &x) {
   const size_t m = c.points.size(), K = ch.edges.size();
   Place best;
@@ -107,14 +111,24 @@ Place placeOf(const CrackSurface &c, const Chain &ch, const P3 &x) {
   best.s = ch.s0[kb] + lamb - ch.sP;
   if (ch.closed && best.s > 0.5 * ch.length) best.s -= ch.length;
   double a[3], n[3], t[3];
+  const size_t e = static_cast<size_t>(ch.edges[kb]);
   frontFrame(c, ch.edges[kb], a, n, t);
-  const bool atStart = lamb <= 0 && (kb > 0 || ch.closed);
-  const bool atEnd = lamb >= lenb && (kb + 1 < K || ch.closed);
-  if (atStart || atEnd) {
-    best.a = vertexAhead(c, ch, atStart ? kb : (kb + 1) % K, sub(x, best.y));
-  } else {
-    best.a = {a[0], a[1], a[2]};
-    if (lamb > 0 && lamb < lenb) best.gradS = {t[0], t[1], t[2]};
+  const P3 a0 = vertexAhead(c, e), a1 = vertexAhead(c, (e + 1) % m);
+  const double lam = lamb / lenb;
+  const P3 A = {(1 - lam) * a0[0] + lam * a1[0], (1 - lam) * a0[1] + lam * a1[1],
+                (1 - lam) * a0[2] + lam * a1[2]};
+  const double An = norm(A);
+  best.a = {A[0] / An, A[1] / An, A[2] / An};
+  if (lamb > 0 && lamb < lenb) {
+    best.gradS = {t[0], t[1], t[2]};
+    const P3 d = sub(a1, a0);
+    for (int i = 0; i < 3; ++i) {
+      double w = 0; // ((I - a a) d)_i / |A|
+      for (int q = 0; q < 3; ++q)
+        w += ((i == q ? 1.0 : 0.0) - best.a[i] * best.a[q]) * d[q];
+      for (int j = 0; j < 3; ++j)
+        best.dA[i][j] = w / An * t[j] / lenb;
+    }
   }
   best.x3 = cross(best.a, c.normal);
   return best;
@@ -167,18 +181,26 @@ void particleTerms(const PointDomain &d, const ParticleView<3> &p, PetscInt k, c
   const double qs = (1.0 - pl.s * pl.s / L2) * (1.0 - pl.s * pl.s / L2);
   const double dqr = -4.0 * pl.rho / R2 * (1.0 - pl.rho * pl.rho / R2);
   const double dqs = -4.0 * pl.s / L2 * (1.0 - pl.s * pl.s / L2);
-  double dq[3], H[3][3], Ha[3] = {0, 0, 0};
+  // The virtual advance v = q a (a the local ahead direction): dv_k/dx_j = a_k dq/dx_j + q
+  // da_k/dx_j.
+  const double q = qr * qs;
+  double dq[3], H[3][3], dv[3][3];
   for (int j = 0; j < 3; ++j)
     dq[j] = dqr * qs * (x[j] - pl.y[j]) / pl.rho + qr * dqs * pl.gradS[j];
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) {
       H[i][j] = F(i, j) - (i == j ? 1.0 : 0.0);
-      Ha[i] += H[i][j] * d.a[j];
+      dv[i][j] = pl.a[i] * dq[j] + q * pl.dA[i][j];
     }
   const double W = material::strainEnergy(*d.mat, sg, F, p.V0[k], p.V[k]) / p.V[k];
   double j0 = 0;
-  for (int j = 0; j < 3; ++j)
-    j0 += (sg(0, j) * Ha[0] + sg(1, j) * Ha[1] + sg(2, j) * Ha[2] - W * d.a[j]) * dq[j];
+  for (int kk = 0; kk < 3; ++kk)
+    for (int j = 0; j < 3; ++j) {
+      double sH = -(kk == j ? W : 0.0);
+      for (int i = 0; i < 3; ++i)
+        sH += sg(i, j) * H[i][kk];
+      j0 += sH * dv[kk][j];
+    }
   out[0] += p.V[k] * j0;
   // The auxiliary fields' frame and the particle's position in it.
   const bool atP = d.aux == AuxFrame::Point;
@@ -187,17 +209,19 @@ void particleTerms(const PointDomain &d, const ParticleView<3> &p, PetscInt k, c
   const double x1 = dot(r, e1), x2 = dot(r, d.n);
   if (std::hypot(x1, x2) <= 0) return;
   for (int mode = 1; mode <= 3; ++mode) {
-    double S[3][3], G[3][3], Ga[3] = {0, 0, 0}, Wi = 0;
+    double S[3][3], G[3][3], Wi = 0;
     auxGlobal(mode, d.el, x1, x2, e1, d.n, e3, S, G);
     for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) {
-        Ga[i] += G[i][j] * d.a[j];
+      for (int j = 0; j < 3; ++j)
         Wi += S[i][j] * 0.5 * (H[i][j] + H[j][i]);
-      }
     double v = 0;
-    for (int j = 0; j < 3; ++j)
-      for (int i = 0; i < 3; ++i)
-        v += (sg(i, j) * Ga[i] + S[i][j] * Ha[i] - (i == j ? Wi * d.a[i] : 0.0)) * dq[j];
+    for (int kk = 0; kk < 3; ++kk)
+      for (int j = 0; j < 3; ++j) {
+        double t = -(kk == j ? Wi : 0.0);
+        for (int i = 0; i < 3; ++i)
+          t += sg(i, j) * G[i][kk] + S[i][j] * H[i][kk];
+        v += t * dv[kk][j];
+      }
     out[mode] += p.V[k] * v;
   }
 }
@@ -226,7 +250,7 @@ double frontArea(const CrackSurface &c, const FrontPoint &f, double L) {
     const double len = norm(sub(c.points[(e + 1) % m], c.points[e]));
     double a[3], n[3], t[3];
     frontFrame(c, ch.edges[k], a, n, t);
-    const double cosine = a[0] * f.a[0] + a[1] * f.a[1] + a[2] * f.a[2];
+    const double cosine = 1.0; // the advance is along each edge's own a
     // The edge's arc interval from P, and on a closed chain its image one length back.
     for (int image = 0; image < (ch.closed ? 2 : 1); ++image) {
       const double u0 = ch.s0[k] - ch.sP - image * ch.length, u1 = u0 + len;
@@ -289,7 +313,7 @@ PetscErrorCode measureFronts(MPI_Comm comm, const std::vector<CrackSurface> &cra
   std::vector<double> local(4 * points.size(), 0.0), global(local.size());
   for (size_t q = 0; q < points.size(); ++q)
     addFrontIntegrals(m, p, cracks[static_cast<size_t>(points[q].first)], points[q].second, R, L,
-                      &local[4 * q], getenv("GIMP_AUX_NEAREST") ? AuxFrame::Nearest : AuxFrame::Point);
+                      &local[4 * q]);
   PetscCallMPI(MPI_Allreduce(local.data(), global.data(), static_cast<int>(local.size()),
                              MPI_DOUBLE, MPI_SUM, comm));
   for (size_t q = 0; q < points.size(); ++q) {

@@ -16,17 +16,27 @@
 // exact for a polygon and one nearest-point search per particle (differences would need seven, and
 // a step that straddles a corner's bisector would see the jump of s there).
 //
-// The integrals at P (frame a = a_P, n, x3 = a x n), the virtual advance q(x) a:
-//   G    = sum_p V_p (sigma_ij du_i/dx_k - W delta_kj) a_k dq/dx_j / A_q,
+// The integrals at P, the virtual advance v(x) = q(x) a(x): each piece of the front advances along
+// its own normal in the plane. a is interpolated along x's nearest front edge between the ahead
+// directions of its two vertices (a vertex's: the mean of its two edges' where both are front, or
+// where a mouth edge continues the front by turning less than 45 degrees, as a disk's polygon does
+// past a symmetry plane or a body's surface: there the mean is the front's normal at the surface;
+// otherwise the front edge's own), so that v is continuous across the bisectors between edges on
+// both sides of the front and tangent to a symmetry plane that a curved front meets at a right
+// angle. (A fixed advance along P's direction put K 8 % high at a quarter penny crack's ends; the
+// nearest edge's own direction, jumping across the bisectors behind the front, 4 % low between
+// them.)
+//   G    = sum_p V_p (sigma_ij du_i/dx_k - W delta_kj) dv_k/dx_j / A_q,
 //   I_m  = sum_p V_p (sigma_ij du^m_i/dx_k + sigma^m_ij du_i/dx_k - sigma^m_ij eps_ij delta_kj)
-//          a_k dq/dx_j / A_q,
-//   A_q  = int_front q_s(s) (a . a_local(s)) ds (the area the virtual advance sweeps),
-// with the auxiliary fields of unit K_m (m = 1, 2, 3) at the particle's (r, theta) in the frame of
-// P (AuxFrame::Point, the default: exact elastic fields of the front's tangent at P) or of its
-// nearest front point (AuxFrame::Nearest: they follow a curved front but are then not exactly in
-// equilibrium). On a circular front of radius a carrying the local 2D fields, both err by O(R / a)
-// (that field is not an elastic solution either); P's frame by about half as much for K_II and
-// K_III (tests/test_front.cpp). Then
+//          dv_k/dx_j / A_q,
+//   A_q  = int_front q_s(s) ds (the area the virtual advance sweeps),
+// dv_k/dx_j = a_k dq/dx_j + q da_k/dx_j. The auxiliary fields of unit K_m (m = 1, 2, 3) are taken
+// at the particle's (r, theta) in the frame of its nearest front point (AuxFrame::Nearest, the
+// default: the frame the advance uses) or of P (AuxFrame::Point: the exact elastic fields of the
+// front's tangent at P, whose advance direction then differs from v's away from P). On a circular
+// front of radius a carrying the local 2D fields (not an elastic solution) every measure errs
+// linearly in R / a, by a few per cent at R / a = 1/8 (tests/test_front.cpp); on the penny crack
+// in the solver (tests/check_penny3d.py) the nearest frame's K_I is the closer. Then
 // K_I = E' I_1 / 2, K_II = E' I_2 / 2, K_III = mu I_3, E' = E / (1 - nu^2), and
 // G = (K_I^2 + K_II^2) / E' + K_III^2 / (2 mu) for a linear elastic field. Signs: K_I > 0 opens the
 // crack; K_II > 0 slides the normal's side ahead (along +a) against the other side; K_III > 0
@@ -81,7 +91,7 @@ double frontArea(const CrackSurface &c, const FrontPoint &f, double L);
 /// R and |s| < L (L clipped as frontHalfLength).
 void addFrontIntegrals(const Material &m, const ParticleView<3> &p, const CrackSurface &c,
                        const FrontPoint &f, double R, double L, double out[4],
-                       AuxFrame aux = AuxFrame::Point);
+                       AuxFrame aux = AuxFrame::Nearest);
 
 /// G and K at front point f from the summed numerators (all ranks'). crack is left 0.
 FrontMeasure finishFront(const Material &m, const CrackSurface &c, const FrontPoint &f, double R,
