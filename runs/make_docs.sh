@@ -127,6 +127,8 @@ done
 step halfspace3d "$py" "$root/tests/check_halfspace3d.py" --gimp "$gimp" --root "$root" \
   --work "$work/halfspace3d" --mpiexec "$mpiexec"
 step plot_halfspace3d "$py" "$root/tools/plot_halfspace3d.py" "$work/halfspace3d"
+step penny_inclined3d "$py" "$root/tests/check_penny_inclined3d.py" --gimp "$gimp" \
+  --root "$root" --work "$work/penny_inclined3d" --mpiexec "$mpiexec"
 step speed_error3d "$py" "$root/runs/speed_error3d.py" --gimp "$gimp" --work "$work/speed_error3d"
 
 # Scenes report (docs/scenes.md: indentation, plate and slab studies), the plate maps, the

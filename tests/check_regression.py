@@ -67,6 +67,8 @@ DEFAULT_STEPS = 60  # past the first particle sort (-gimp_sort_interval 50)
 STEPS = {
     # 3D blocks of 1e5 particles, 0.06 s a step
     "block3d": 30, "block3d_levels": 30,
+    # an inclined penny crack in a block of 1.3e5 particles on four levels
+    "penny_inclined3d": 30,
     # bodies that move far enough for particles to change rank on 2 ranks (the scene's own
     # length, or the steps until the first migrations)
     "drift": 400, "drift3": 480, "migrate3d": 300, "disks": 300,
