@@ -70,13 +70,14 @@ void williamsDisplacement(int mode, double r, double theta, const TipElastic &e,
 void williamsField(int mode, double r, double theta, const TipElastic &e, double s[3],
                    double du1[2]) {
   williamsStress(mode, r, theta, s);
-  double f[2], df[2], g[2];
+  // d/dx1 = cos(theta) d/dr - sin(theta) / r d/dtheta on u = sqrt(r / 2 pi) f / (2 mu), in the
+  // order of operations the 2D tips have always used (polarGradient's would move their round-off).
+  double f[2], df[2];
   angular(mode, theta, e.kappa, f, df);
-  const double A = 1.0 / (2.0 * e.mu * std::sqrt(kTwoPi));
-  for (int i = 0; i < 2; ++i) {
-    polarGradient(A, r, theta, f[i], df[i], g);
-    du1[i] = g[0];
-  }
+  const double k = 1.0 / std::sqrt(kTwoPi * r);
+  const double ct = std::cos(theta), st = std::sin(theta);
+  for (int i = 0; i < 2; ++i)
+    du1[i] = k / (2.0 * e.mu) * (0.5 * ct * f[i] - st * df[i]);
 }
 
 void frontDisplacement(int mode, double r, double theta, const TipElastic &e, double u[3]) {
