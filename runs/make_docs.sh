@@ -127,8 +127,14 @@ done
 step halfspace3d "$py" "$root/tests/check_halfspace3d.py" --gimp "$gimp" --root "$root" \
   --work "$work/halfspace3d" --mpiexec "$mpiexec"
 step plot_halfspace3d "$py" "$root/tools/plot_halfspace3d.py" "$work/halfspace3d"
-step penny_inclined3d "$py" "$root/tests/check_penny_inclined3d.py" --gimp "$gimp" \
-  --root "$root" --work "$work/penny_inclined3d" --mpiexec "$mpiexec"
+# 3D cracks (docs/validation.md, *3D cracks*, *Inclined penny crack (3D)*; docs/performance.md,
+# *Penny crack: speed against error*, docs/img/speed_error_penny3d.png, about 25 minutes).
+for t in through_crack3d penny3d penny_inclined3d; do
+  step "$t" "$py" "$root/tests/check_$t.py" --gimp "$gimp" --root "$root" --work "$work/$t" \
+    --mpiexec "$mpiexec"
+done
+step speed_error_penny3d "$py" "$root/runs/speed_error_penny3d.py" --gimp "$gimp" \
+  --work "$work/speed_error_penny3d"
 step speed_error3d "$py" "$root/runs/speed_error3d.py" --gimp "$gimp" --work "$work/speed_error3d"
 
 # Scenes report (docs/scenes.md: indentation, plate and slab studies), the plate maps, the
