@@ -176,7 +176,8 @@ const std::vector<Feature> &featureTable() {
       {"four-particle lanes",
        In2D,
        {"gimp_lanes"},
-       "the AVX2 loops of four particles are built for the 2D block kernels"},
+       "a choice between two implementations of the 2D kernels that give the same bits (AVX2 loops "
+       "of four particles or scalar loops); the 3D kernels have one implementation"},
       {"solid bodies",
        In3D,
        {"gimp_bodyK_shape=box", "gimp_bodyK_shape=sphere", "gimp_bodyK_shape=cylinder",
