@@ -5,7 +5,8 @@ and on levels refined around the front. The error is that of K at the front poin
 infinite body's K_I = 2 sigma sqrt(a / pi): K from G (sqrt(G E'), the domain integral) and K_I by
 the interaction integral, each as the mean and the worst over the quarter of the front; the
 front integrals' tube is 6 finest cells on every grid. Writes a
-Markdown table to stdout and docs/img/speed_error_penny3d.png.
+Markdown table to stdout (costs in CPU seconds, which other work on the machine does not
+inflate) and docs/img/speed_error_penny3d.png.
 
 Usage: /usr/bin/python3 runs/speed_error_penny3d.py [--gimp build/gimp] [--work DIR] [--no-run]
 (about 25 minutes on one core: the uniform 2 mm grid and the five levels take most of it)
@@ -59,8 +60,8 @@ def main():
     # The front integrals' tube: 6 finest cells on every grid, as the scene's on its own.
     runs = [(n, base, e + ["-gimp_crack_j_radius", repr(6 * k[1])], k) for n, e, k in RUNS]
     for name, kind, _, s in series.run_series(a, runs):
-        rows.append((name, kind, s["particles"], s["steps"], s["wall_seconds"], errors(s)))
-    print("| grid | finest cell | a / h | particles | steps | wall [s] | K(G) mean | K(G) worst |"
+        rows.append((name, kind, s["particles"], s["steps"], s["cpu_seconds"], errors(s)))
+    print("| grid | finest cell | a / h | particles | steps | CPU [s] | K(G) mean | K(G) worst |"
           " K_I mean | K_I worst |")
     print("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |")
     for name, kind, n, st, w, e in rows:
@@ -80,7 +81,7 @@ def main():
         ax.loglog([r[4] for r in sel], [abs(r[5][1]) for r in sel], mk, label=label + ", worst")
         ax.loglog([r[4] for r in sel], [abs(r[5][0]) for r in sel], mk, alpha=0.5,
                   label=label + ", mean")
-    ax.set_xlabel("wall time, one core [s]")
+    ax.set_xlabel("CPU time, one core [s]")
     ax.set_ylabel(r"$|K(G) / K_I^{exact} - 1|$ along the front")
     ax.set_title("3D penny-shaped crack under tension", fontsize=10)
     ax.grid(alpha=0.3, which="both")
