@@ -332,16 +332,7 @@ FrontDomain frontDomain(const Scene<3> &sc) {
     for (const FrontPoint &f : frontPoints(c, sc.h)) {
       if (first) d.at = f.x;
       first = false;
-      double h = sc.h, at = sc.h;
-      for (size_t k = 0; k < sc.levels.size(); ++k) {
-        const BoxOf<3> &b = sc.levels[k].box;
-        h /= k ? sc.levels[k].ratio : 1;
-        bool in = true;
-        for (int a = 0; a < 3; ++a)
-          in = in && f.x[a] >= b[a] && f.x[a] <= b[3 + a];
-        if (in) at = h;
-      }
-      d.h = std::min(d.h, at);
+      d.h = std::min(d.h, sc.cellSizeAt(f.x.data()));
     }
   d.R = sc.crackJRadius > 0 ? sc.crackJRadius : kJCells * d.h;
   d.spacing = sc.crackFrontSpacing > 0 ? sc.crackFrontSpacing : 2.0 * d.h;

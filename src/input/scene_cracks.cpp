@@ -12,13 +12,8 @@ namespace {
 
 /// The finest cell size among the levels whose box contains (x, y) (sc.h outside the grid).
 double cellSizeAt(const Scene<2> &sc, double x, double y) {
-  double h = sc.h, at = sc.h;
-  for (size_t k = 0; k < sc.levels.size(); ++k) {
-    const BoxOf<2> &b = sc.levels[k].box;
-    h /= k ? sc.levels[k].ratio : 1;
-    if (x >= b[0] && x <= b[2] && y >= b[1] && y <= b[3]) at = h;
-  }
-  return at;
+  const double p[2] = {x, y};
+  return sc.cellSizeAt(p);
 }
 
 /// In the body and farther than tol from its edge (the box's sides and the holes' circles).

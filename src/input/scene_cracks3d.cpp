@@ -13,23 +13,9 @@ namespace {
 
 using P3 = std::array<double, 3>;
 
-/// The finest cell size among the levels whose box contains x (sc.h outside the grid).
-double cellSizeAt(const Scene<3> &sc, const double *x) {
-  double h = sc.h, at = sc.h;
-  for (size_t k = 0; k < sc.levels.size(); ++k) {
-    const BoxOf<3> &b = sc.levels[k].box;
-    h /= k ? sc.levels[k].ratio : 1;
-    bool in = true;
-    for (int a = 0; a < 3; ++a)
-      in = in && x[a] >= b[a] && x[a] <= b[3 + a];
-    if (in) at = h;
-  }
-  return at;
-}
-
 /// Strictly inside a body: x and the six points tol away from it along the axes are inside.
 bool strictlyInsideABody(const Scene<3> &sc, const double *x) {
-  const double tol = 1e-9 * cellSizeAt(sc, x);
+  const double tol = 1e-9 * sc.cellSizeAt(x);
   for (const Body<3> &b : sc.bodies) {
     bool in = b.inside(x);
     for (int q = 0; q < 6 && in; ++q) {
@@ -129,7 +115,7 @@ std::vector<P3> diskPolygon(const Scene<3> &sc, const std::string &q,
     const double x[3] = {v[0] + v[6] * (std::cos(t) * e1[0] + std::sin(t) * e2[0]),
                          v[1] + v[6] * (std::cos(t) * e1[1] + std::sin(t) * e2[1]),
                          v[2] + v[6] * (std::cos(t) * e1[2] + std::sin(t) * e2[2])};
-    hmin = std::min(hmin, cellSizeAt(sc, x));
+    hmin = std::min(hmin, sc.cellSizeAt(x));
   }
   const int sides = 4 * std::max(8, static_cast<int>(std::ceil(2 * M_PI * v[6] / hmin / 4)));
   std::vector<P3> out;

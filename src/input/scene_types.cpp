@@ -37,7 +37,7 @@ std::vector<const Shape *> Body<2>::parts() const {
 }
 
 std::array<double, 5> Body<2>::unionMomentsIn(double x0, double y0, double x1, double y1, double ox,
-                                           double oy) const {
+                                              double oy) const {
   const std::vector<const Shape *> all = parts();
   std::array<double, 5> m{};
   for (const Shape *s : all) {
@@ -101,6 +101,19 @@ bool bodiesOverlap(const Body<2> &a, const Body<2> &b) {
       [&](double x, double y) { return b.strictlyInside(x, y); });
 }
 
+template <int D> double Scene<D>::cellSizeAt(const double *x) const {
+  double hk = this->h, at = this->h;
+  for (size_t k = 0; k < this->levels.size(); ++k) {
+    const BoxOf<D> &b = this->levels[k].box;
+    hk /= k ? this->levels[k].ratio : 1;
+    bool in = true;
+    for (int a = 0; a < D; ++a)
+      in = in && x[a] >= b[a] && x[a] <= b[D + a];
+    if (in) at = hk;
+  }
+  return at;
+}
+
 template <int D> const Material &Scene<D>::materialAt(const double *x) const {
   for (const Body<D> &b : bodies)
     if (b.inside(x)) return b.material;
@@ -122,7 +135,6 @@ double Material::lambdaEff() const {
 double Material::waveSpeed() const {
   return std::sqrt((lambdaEff() + 2.0 * mu) / rho);
 }
-
 
 template <int D> bool Scene<D>::hasExternalForces() const {
   bool gravity = false;

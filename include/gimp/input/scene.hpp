@@ -227,6 +227,9 @@ struct Scene : OutputOptions, MethodOptions, RunControl, GridSpec<D>, Loads<D>, 
   }
   /// The material of the body that holds the point (the scene's if none does).
   const Material &materialAt(const double *x) const;
+  /// The cell size of the finest level whose (closed) box holds x (h, level 0's, outside every
+  /// refined box) [m].
+  double cellSizeAt(const double *x) const;
   /// The largest P-wave speed of the bodies' materials [m/s].
   double maxWaveSpeed() const;
   /// Whether the scene puts external forces on the nodes (body force, tractions, penalty
