@@ -21,7 +21,7 @@ struct HistoryRow {
   std::vector<ProbeState> probes;
   std::vector<double> reactions, gaps; // per penalty condition: (fx, fy[, fz]) and |u - u_bar|
   double mmsLinf = 0, mmsRms = 0;
-  std::vector<cracks::TipMeasure> tips; // 2D, per crack tip: G and K by VCCT and by J
+  std::vector<cracks::TipMeasure> tips;    // 2D, per crack tip: G and K by VCCT and by J
   std::vector<cracks::FrontMeasure> front; // 3D, per front point: G and K by domain integrals
 };
 
