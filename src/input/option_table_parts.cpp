@@ -198,7 +198,7 @@ const std::vector<OptionSpec> &gridOptions() {
     {"gimp_levelK_ratio", Kind::Real, "", "2", "", nullptr, intFrom(2, 16),
      "Refinement ratio of level K to its parent"},
     {"gimp_cracks", Kind::Int, "", "0", "", nullptr, atLeast(0),
-     "Number of cracks, each -gimp_crackK_points"},
+     "Number of cracks, each -gimp_crackK_points (2D) or -gimp_crackK_polygon or _disk (3D)"},
     {"gimp_crackK_points", Kind::Reals, "m", "(required)", "x0,y0,x1,y1,...", nullptr, {},
      "Crack polyline (at most 100 points): an end strictly inside a body is a tip, one on or"
      " outside its edge a mouth"},
