@@ -53,9 +53,7 @@ void makeCrack(const Scene<2> &sc, const std::string &q, const std::vector<doubl
   if (n < 4) Options::bad(q, all, "needs pairs x,y of at least two points [m]");
   for (size_t i = 0; i < n; i += 2)
     c.points.push_back({v[i], v[i + 1]});
-  double hmin = sc.h;
-  for (size_t k = 1; k < sc.levels.size(); ++k)
-    hmin /= sc.levels[k].ratio;
+  const double hmin = sc.finestCell();
   const cracks::PolylineFault f = cracks::findFault(c, 1e-9 * hmin);
   const std::string i = std::to_string(f.i), j = std::to_string(f.j);
   if (f.kind == cracks::PolylineFault::ZeroLength)

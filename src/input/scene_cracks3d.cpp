@@ -39,9 +39,7 @@ std::vector<double> surfaceCrossings(const Scene<3> &sc, const P3 &p, const P3 &
   };
   const double len = std::sqrt((q[0] - p[0]) * (q[0] - p[0]) + (q[1] - p[1]) * (q[1] - p[1]) +
                                (q[2] - p[2]) * (q[2] - p[2]));
-  double hmin = sc.h;
-  for (size_t k = 1; k < sc.levels.size(); ++k)
-    hmin /= sc.levels[k].ratio;
+  const double hmin = sc.finestCell();
   const int n = static_cast<int>(std::clamp(std::ceil(len / (0.25 * hmin)), 2.0, 1e4));
   std::vector<double> out;
   double s0 = 0.5 / n;

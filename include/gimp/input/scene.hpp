@@ -230,6 +230,13 @@ struct Scene : OutputOptions, MethodOptions, RunControl, GridSpec<D>, Loads<D>, 
   /// The cell size of the finest level whose (closed) box holds x (h, level 0's, outside every
   /// refined box) [m].
   double cellSizeAt(const double *x) const;
+  /// The cell size of the finest level [m].
+  double finestCell() const {
+    double hk = this->h;
+    for (size_t k = 1; k < this->levels.size(); ++k)
+      hk /= this->levels[k].ratio;
+    return hk;
+  }
   /// The largest P-wave speed of the bodies' materials [m/s].
   double maxWaveSpeed() const;
   /// Whether the scene puts external forces on the nodes (body force, tractions, penalty
