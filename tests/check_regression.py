@@ -76,7 +76,7 @@ STEPS = {
     "migrate3d-corners": 300, "migrate3d-cpdi2": 300,
 }
 # Fragments that are not a scene on their own: run on top of the scene they extend.
-BASE = {"rest_tension_levels": "rest_tension.opts"}
+BASE = {"rest_tension_levels": "rest_tension.opts", "spin3d_levels": "spin3d.opts"}
 # Variants "<scene>-<tag>": the scene with options that no scene file sets, so that every
 # step variant is in the tier: multi-rate steps (both force rules; in 3D too), CPDI domains, USF,
 # XPIC, the stability check (SLEPc), 3D FLIP with USL, 3D corner and CPDI domains (crossing

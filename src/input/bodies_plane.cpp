@@ -228,7 +228,8 @@ void readSeedingAndMotion(const Options &o, const std::string &q, Body<2> &b) {
   bool k0Given = false;
   b.sineProfile = o.choice(q + "velocity_profile", "uniform") == "sine_x";
   b.wavenumber = o.real(q + "wavenumber", 0.0, &k0Given);
-  b.spin = o.real(q + "spin", 0.0);
+  const std::vector<double> spin = o.reals(q + "spin");
+  b.spin = spin.empty() ? 0.0 : spin[0];
   if (o.help()) return;
   for (const char *name : {"ppc", "hole_ppc", "hole_band"})
     if (!b.file.empty() && o.given(q + name))

@@ -88,10 +88,10 @@ void readSolidHoles(const Options &o, const std::string &p, Body<3> &b) {
   }
 }
 
-/// Particles per cell, the initial velocity and its profile.
+/// Particles per cell, the initial velocity, its profile and the spin.
 void readSolidMotion(const Options &o, const std::string &p, Body<3> &b) {
   const PetscInt ppc = o.integer(p + "ppc", 8);
-  const std::vector<double> vel = o.reals(p + "velocity");
+  const std::vector<double> vel = o.reals(p + "velocity"), spin = o.reals(p + "spin");
   b.sineProfile = o.choice(p + "velocity_profile", "uniform") == "sine_x";
   b.wavenumber = o.real(p + "wavenumber", 0.0);
   if (o.help()) return;
@@ -100,6 +100,7 @@ void readSolidMotion(const Options &o, const std::string &p, Body<3> &b) {
     Options::bad(p + "ppc", std::to_string(ppc), "must be a perfect cube n^3 with 1 <= n <= 10");
   b.ppc = static_cast<int>(ppc);
   if (!vel.empty()) std::copy(vel.begin(), vel.end(), b.velocity.begin());
+  if (!spin.empty()) std::copy(spin.begin(), spin.end(), b.spin.begin());
   o.needs(b.sineProfile, p + "wavenumber", "-" + p + "velocity_profile sine_x");
   if (b.sineProfile && !(b.wavenumber > 0))
     Options::bad(p + "wavenumber", formatNumber(b.wavenumber),

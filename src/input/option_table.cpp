@@ -169,10 +169,6 @@ const std::vector<Feature> &featureTable() {
        "plane bodies; 3D bodies are boxes, spheres and cylinders with "
        "box, spherical and cylindrical holes (3D bodies: box, sphere, cylinder, hole_boxes, "
        "hole_spheres, hole_cylinders)"},
-      {"a spin about the plane's normal",
-       In2D,
-       {"gimp_bodyK_spin"},
-       "a rigid rotation about the normal of the plane; 3D bodies start with -gimp_bodyK_velocity"},
       {"four-particle lanes",
        In2D,
        {"gimp_lanes"},

@@ -85,8 +85,9 @@ const std::vector<OptionSpec> &bodyParticles() {
      " x"},
     {"gimp_bodyK_wavenumber", Kind::Real, "1/m", "", "", nullptr, {},
      "Wavenumber k of the sine_x profile"},
-    {"gimp_bodyK_spin", Kind::Real, "rad/s", "0", "", nullptr, {},
-     "Initial rigid rotation about the box's centre, added to the velocity"},
+    {"gimp_bodyK_spin", Kind::Reals, "rad/s", "0", "w", "wx,wy,wz", {},
+     "Initial rigid rotation about the centre of the body's box, added to the velocity: the"
+     " angular velocity (about the plane's normal in 2D, a vector in 3D)"},
     {"gimp_bodyK_material", Kind::Choice, "", "-gimp_material", "linear|neohookean", nullptr, {},
      "The body's constitutive model"},
     {"gimp_bodyK_E", Kind::Real, "Pa", "-gimp_E", "", nullptr, above(0),

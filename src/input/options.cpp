@@ -299,7 +299,7 @@ std::vector<double> Options::reals(const std::string &name, bool required) const
   if (help_) return {};
   const std::string needs =
       "needs " +
-      (!c.groups  ? std::to_string(c.n) + " values " + c.what
+      (!c.groups  ? std::to_string(c.n) + (c.n == 1 ? " value " : " values ") + c.what
        : c.n == 2 ? "pairs x,y (" + c.what + ",...)"
                   : "groups of " + std::to_string(c.n) + " values " + c.what) +
       unitText(s);

@@ -274,9 +274,16 @@ PetscErrorCode seedParticles<3>(const Scene<3> &sc, const Grid<3> &grid, DM sw,
     const Body<3> &body = sc.bodies[s.body];
     const Material &mat = sc.oneMaterial ? sc.material : body.material;
     const double amp = body.sineProfile ? std::sin(body.wavenumber * (s.x[0] - body.box[0])) : 1.0;
+    // A rigid rotation omega x (X - c) about the box's centre c.
+    double r[3];
+    for (int a = 0; a < 3; ++a)
+      r[a] = s.x[a] - 0.5 * (body.box[a] + body.box[3 + a]);
+    const Coords<3> &w = body.spin;
+    const double spin[3] = {w[1] * r[2] - w[2] * r[1], w[2] * r[0] - w[0] * r[2],
+                            w[0] * r[1] - w[1] * r[0]};
     for (int a = 0; a < 3; ++a) {
       p.x[3 * k + a] = p.X0[3 * k + a] = s.x[a];
-      p.v[3 * k + a] = body.velocity[a] * amp;
+      p.v[3 * k + a] = body.velocity[a] * amp + spin[a];
       p.l[3 * k + a] = p.l0[3 * k + a] = s.l[a];
     }
     p.m[k] = mat.rho * s.V;

@@ -93,6 +93,7 @@ template <> struct Body<3> {
   int ppc = 8; // particles per cell, a perfect cube (1, 8, 27, ...)
   Coords<3> velocity{};
   bool sineProfile = false; // v = velocity sin(k (X - x0)) along x
+  Coords<3> spin{};         // initial rigid rotation omega about the box's centre [rad/s]
   double wavenumber = 0;
   /// In the shape and in no hole (boundaries count as inside the shape, holes are open).
   bool inside(const double *x) const;
