@@ -20,6 +20,8 @@
 //   4. A uniform stress that leaves the faces free (s11, s33, s13 in the front's frame) gives K
 //      within 0.25 % of s0 sqrt(pi R) of 0.
 //   5. measureFronts: every front point of every crack, as addFrontIntegrals and finishFront.
+//   6. A symmetry plane: a front that ends on it, with half the particles and their mirror images,
+//      gives the whole body's measures to round-off; a plane the crack lies in gives no image.
 #include "gimp/cracks/front.hpp"
 
 #include <gtest/gtest.h>
@@ -543,8 +545,9 @@ TEST(FrontIntegrals, MeasureFrontsIsTheSumOfItsPoints) {
       pl, {-R - kH, -R - kH, -Z}, {R + kH, R + kH, Z}, kH,
       [&](const P3 &x, double s[3][3], double g[3][3]) { mixedField(kK, e, x[0], x[1], s, g); });
   std::vector<gimp::cracks::FrontMeasure> out;
-  ASSERT_EQ(gimp::cracks::measureFronts(PETSC_COMM_WORLD, {c, c}, mat, p.view, 10 * kH, R, L, out),
-            PETSC_SUCCESS);
+  ASSERT_EQ(
+      gimp::cracks::measureFronts(PETSC_COMM_WORLD, {c, c}, mat, p.view, 10 * kH, R, L, {}, out),
+      PETSC_SUCCESS);
   const std::vector<FrontPoint> fp = gimp::cracks::frontPoints(c, 10 * kH);
   ASSERT_EQ(out.size(), 2 * fp.size());
   for (size_t q = 0; q < out.size(); ++q) {
@@ -561,6 +564,57 @@ TEST(FrontIntegrals, MeasureFrontsIsTheSumOfItsPoints) {
     EXPECT_EQ(out[q].R, R);
     EXPECT_EQ(out[q].L, L);
   }
+}
+
+TEST(FrontIntegrals, MirrorImageCompletesTheTubeAtASymmetryPlane) {
+  const Material mat = material();
+  const TipElastic e = gimp::cracks::frontElastic(mat);
+  const double R = 5 * kH, L = 5 * kH, Z = 20 * kH;
+  const double K[3] = {1e6, 0.5e6, 0}; // modes I and II: a field the mirror z -> -z keeps
+  const Placement pl = placement(false);
+  const auto field = [&](const P3 &x, double s[3][3], double g[3][3]) {
+    mixedField(K, e, x[0], x[1], s, g);
+  };
+  // The half body z >= 0 with its front from z = 0 (on the plane) to Z, and the whole body.
+  const CrackSurface half =
+      placedCrack(pl, {{-30 * kH, 0, 0}, {0, 0, 0}, {0, 0, Z}, {-30 * kH, 0, Z}}, false);
+  const CrackSurface whole =
+      placedCrack(pl, {{-30 * kH, 0, -Z}, {0, 0, -Z}, {0, 0, Z}, {-30 * kH, 0, Z}}, false);
+  const double top = 2 * kH + L + 2 * kH;
+  const Particles ph(pl, {-R - kH, -R - kH, 0}, {R + kH, R + kH, top}, kH, field);
+  const Particles pw(pl, {-R - kH, -R - kH, -top}, {R + kH, R + kH, top}, kH, field);
+  const auto at = [&](const CrackSurface &c) { // the front point at z = 2 h
+    for (const FrontPoint &f : gimp::cracks::frontPoints(c, 4 * kH))
+      if (std::fabs(f.x[2] - 2 * kH) < 1e-9) return f;
+    ADD_FAILURE() << "no front point at z = 2 h";
+    return FrontPoint{};
+  };
+  const FrontPoint fh = at(half), fw = at(whole);
+  const std::vector<gimp::cracks::MirrorPlane> planes = {{2, 0.0}};
+  double sh[4] = {0, 0, 0, 0}, sw[4] = {0, 0, 0, 0};
+  gimp::cracks::addFrontIntegrals(mat, ph.view, half, fh, R, L, sh, AuxFrame::Nearest, planes);
+  gimp::cracks::addFrontIntegrals(mat, pw.view, whole, fw, R, L, sw, AuxFrame::Nearest, {});
+  const auto mh = gimp::cracks::finishFront(mat, half, fh, R, L, sh, planes);
+  const auto mw = gimp::cracks::finishFront(mat, whole, fw, R, L, sw, {});
+  EXPECT_EQ(mh.images, 1);
+  EXPECT_EQ(mw.images, 0);
+  EXPECT_NEAR(gimp::cracks::frontArea(half, fh, L, R, planes), 16 * L / 15, 1e-12 * L);
+  const double Ks = std::hypot(K[0], K[1]);
+  EXPECT_NEAR(mh.G, mw.G, 1e-11 * mw.G);
+  EXPECT_NEAR(mh.KI, mw.KI, 1e-11 * Ks);
+  EXPECT_NEAR(mh.KII, mw.KII, 1e-11 * Ks);
+  EXPECT_NEAR(mh.KIII, mw.KIII, 1e-11 * Ks);
+  EXPECT_LT(std::fabs(mh.KI / K[0] - 1), 1e-2);
+  // Without the image the tube ends on the plane, where the mode II field's sigma_33 (plane
+  // strain) meets the mode III auxiliary field's du_3/dx_1: a false K_III.
+  double so[4] = {0, 0, 0, 0};
+  gimp::cracks::addFrontIntegrals(mat, ph.view, half, fh, R, L, so);
+  const auto mo = gimp::cracks::finishFront(mat, half, fh, R, L, so);
+  std::printf("half tube at a symmetry plane: K_III / |K| %.1e with the image, %.1e without\n",
+              mh.KIII / Ks, mo.KIII / Ks);
+  EXPECT_GT(std::fabs(mo.KIII), 1e-2 * Ks);
+  // A plane along the crack's normal (y = 0 here) holds no chain end: no image.
+  EXPECT_EQ(gimp::cracks::finishFront(mat, half, fh, R, L, sh, {{1, 0.0}}).images, 0);
 }
 
 } // namespace

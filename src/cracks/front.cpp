@@ -140,6 +140,77 @@ double qsIntegral(double u, double L) {
   return L * (v - 2.0 * v * v * v / 3.0 + v * v * v * v * v / 5.0 + 8.0 / 15.0);
 }
 
+/// What the integrands need of one particle (or of its mirror image): position, stress,
+/// displacement gradient H = F - I, volume and strain energy density.
+struct ParticleState {
+  P3 x{};
+  Tensor<3> sg, H;
+  double V = 0, W = 0;
+};
+
+ParticleState stateOf(const Material &m, const ParticleView<3> &p, PetscInt k) {
+  ParticleState st;
+  st.x = {p.x[3 * k], p.x[3 * k + 1], p.x[3 * k + 2]};
+  st.sg = tensorAt<3>(p.s, k);
+  const Tensor<3> F = tensorAt<3>(p.F, k);
+  st.H = F - Tensor<3>::Identity();
+  st.V = p.V[k];
+  st.W = material::strainEnergy(m, st.sg, F, p.V0[k], p.V[k]) / p.V[k];
+  return st;
+}
+
+/// A mirror image of the front across a symmetry plane that one end of the chain lies on: the
+/// plane (axis, coordinate) and the end's arc length from P. The image continues the chain past
+/// its end: the point at arc s' from P mirrors the chain's point at arc 2 sE - s'.
+struct Image {
+  int axis = 0;
+  double coord = 0, sE = 0;
+};
+
+/// The images of f's chain: one per chain end that lies on a mirror plane (within tol) of a crack
+/// whose plane the mirror maps to itself (the normal has no component along the plane's axis). A
+/// closed chain has none.
+std::vector<Image> imagesOf(const CrackSurface &c, const Chain &ch,
+                            const std::vector<MirrorPlane> &planes, double tol) {
+  std::vector<Image> out;
+  if (ch.closed || ch.edges.empty()) return out;
+  const size_t m = c.points.size();
+  const P3 &start = c.points[static_cast<size_t>(ch.edges.front())];
+  const P3 &end = c.points[(static_cast<size_t>(ch.edges.back()) + 1) % m];
+  for (const MirrorPlane &pl : planes) {
+    if (std::fabs(c.normal[static_cast<size_t>(pl.axis)]) > 1e-9) continue;
+    if (std::fabs(start[static_cast<size_t>(pl.axis)] - pl.coord) <= tol)
+      out.push_back({pl.axis, pl.coord, -ch.sP});
+    if (std::fabs(end[static_cast<size_t>(pl.axis)] - pl.coord) <= tol)
+      out.push_back({pl.axis, pl.coord, ch.length - ch.sP});
+  }
+  return out;
+}
+
+/// Where the chain ends are taken to lie on a mirror plane: within this fraction of R.
+constexpr double kMirrorTol = 1e-6;
+
+/// The mirror image across `im`'s plane of a particle's state and of its place seen from the
+/// chain: x' = M x, sigma' = M sigma M, H' = M H M, y' = M y, a' = M a, da' = M da M, s' = 2 sE -
+/// s, grad s' = -M grad s (M flips the plane's axis; the crack's normal n = M n).
+void mirror(const Image &im, const CrackSurface &c, ParticleState &st, Place &pl) {
+  const int b = im.axis;
+  const auto flip = [b](int i) { return i == b ? -1.0 : 1.0; };
+  st.x[static_cast<size_t>(b)] = 2.0 * im.coord - st.x[static_cast<size_t>(b)];
+  pl.y[static_cast<size_t>(b)] = 2.0 * im.coord - pl.y[static_cast<size_t>(b)];
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) {
+      st.sg(i, j) *= flip(i) * flip(j);
+      st.H(i, j) *= flip(i) * flip(j);
+      pl.dA[i][j] *= flip(i) * flip(j);
+    }
+    pl.a[static_cast<size_t>(i)] *= flip(i);
+    pl.gradS[static_cast<size_t>(i)] *= -flip(i);
+  }
+  pl.s = 2.0 * im.sE - pl.s;
+  pl.x3 = cross(pl.a, c.normal);
+}
+
 /// The auxiliary fields' stress S and displacement gradient G of unit mode m in global axes at
 /// local position (x1, x2) of the frame (e1, e2 = normal, e3).
 void auxGlobal(int mode, const TipElastic &el, double x1, double x2, const P3 &e1, const P3 &e2,
@@ -170,12 +241,10 @@ struct PointDomain {
   AuxFrame aux = AuxFrame::Nearest;
 };
 
-/// Particle k's terms, at place pl (rho < R, |s| < L), added to out (see addFrontIntegrals).
-void particleTerms(const PointDomain &d, const ParticleView<3> &p, PetscInt k, const Place &pl,
-                   double out[4]) {
-  const auto sg = tensorAt<3>(p.s, k);
-  const auto F = tensorAt<3>(p.F, k);
-  const P3 x = {p.x[3 * k], p.x[3 * k + 1], p.x[3 * k + 2]};
+/// A particle's terms, at place pl (rho < R, |s| < L), added to out (see addFrontIntegrals).
+void particleTerms(const PointDomain &d, const ParticleState &st, const Place &pl, double out[4]) {
+  const Tensor<3> &sg = st.sg, &H = st.H;
+  const P3 &x = st.x;
   const double R2 = d.R * d.R, L2 = d.L * d.L;
   const double qr = (1.0 - pl.rho * pl.rho / R2) * (1.0 - pl.rho * pl.rho / R2);
   const double qs = (1.0 - pl.s * pl.s / L2) * (1.0 - pl.s * pl.s / L2);
@@ -184,24 +253,22 @@ void particleTerms(const PointDomain &d, const ParticleView<3> &p, PetscInt k, c
   // The virtual advance v = q a (a the local ahead direction): dv_k/dx_j = a_k dq/dx_j + q
   // da_k/dx_j.
   const double q = qr * qs;
-  double dq[3], H[3][3], dv[3][3];
+  double dq[3], dv[3][3];
   for (int j = 0; j < 3; ++j)
     dq[j] = dqr * qs * (x[j] - pl.y[j]) / pl.rho + qr * dqs * pl.gradS[j];
   for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) {
-      H[i][j] = F(i, j) - (i == j ? 1.0 : 0.0);
+    for (int j = 0; j < 3; ++j)
       dv[i][j] = pl.a[i] * dq[j] + q * pl.dA[i][j];
-    }
-  const double W = material::strainEnergy(*d.mat, sg, F, p.V0[k], p.V[k]) / p.V[k];
+  const double W = st.W;
   double j0 = 0;
   for (int kk = 0; kk < 3; ++kk)
     for (int j = 0; j < 3; ++j) {
       double sH = -(kk == j ? W : 0.0);
       for (int i = 0; i < 3; ++i)
-        sH += sg(i, j) * H[i][kk];
+        sH += sg(i, j) * H(i, kk);
       j0 += sH * dv[kk][j];
     }
-  out[0] += p.V[k] * j0;
+  out[0] += st.V * j0;
   // The auxiliary fields' frame and the particle's position in it.
   const bool atP = d.aux == AuxFrame::Point;
   const P3 r = sub(x, atP ? d.P : pl.y);
@@ -213,16 +280,16 @@ void particleTerms(const PointDomain &d, const ParticleView<3> &p, PetscInt k, c
     auxGlobal(mode, d.el, x1, x2, e1, d.n, e3, S, G);
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j)
-        Wi += S[i][j] * 0.5 * (H[i][j] + H[j][i]);
+        Wi += S[i][j] * 0.5 * (H(i, j) + H(j, i));
     double v = 0;
     for (int kk = 0; kk < 3; ++kk)
       for (int j = 0; j < 3; ++j) {
         double t = -(kk == j ? Wi : 0.0);
         for (int i = 0; i < 3; ++i)
-          t += sg(i, j) * G[i][kk] + S[i][j] * H[i][kk];
+          t += sg(i, j) * G[i][kk] + S[i][j] * H(i, kk);
         v += t * dv[kk][j];
       }
-    out[mode] += p.V[k] * v;
+    out[mode] += st.V * v;
   }
 }
 
@@ -240,8 +307,10 @@ double frontHalfLength(const CrackSurface &c, const FrontPoint &f, double L) {
   return ch.closed ? std::min(L, 0.5 * ch.length) : L;
 }
 
-double frontArea(const CrackSurface &c, const FrontPoint &f, double L) {
+double frontArea(const CrackSurface &c, const FrontPoint &f, double L, double R,
+                 const std::vector<MirrorPlane> &mirrors) {
   const Chain ch = chainOf(c, f);
+  const std::vector<Image> images = imagesOf(c, ch, mirrors, kMirrorTol * R);
   if (ch.closed) L = std::min(L, 0.5 * ch.length);
   const size_t m = c.points.size();
   double A = 0;
@@ -257,12 +326,18 @@ double frontArea(const CrackSurface &c, const FrontPoint &f, double L) {
       const double lo = std::max(u0, -L), hi = std::min(u1, L);
       if (hi > lo) A += cosine * (qsIntegral(hi, L) - qsIntegral(lo, L));
     }
+    for (const Image &im : images) { // the edge's image: arcs 2 sE - u1 .. 2 sE - u0
+      const double u0 = ch.s0[k] - ch.sP, u1 = u0 + len;
+      const double lo = std::max(2.0 * im.sE - u1, -L), hi = std::min(2.0 * im.sE - u0, L);
+      if (hi > lo) A += qsIntegral(hi, L) - qsIntegral(lo, L);
+    }
   }
   return A;
 }
 
 void addFrontIntegrals(const Material &m, const ParticleView<3> &p, const CrackSurface &c,
-                       const FrontPoint &f, double R, double L, double out[4], AuxFrame aux) {
+                       const FrontPoint &f, double R, double L, double out[4], AuxFrame aux,
+                       const std::vector<MirrorPlane> &mirrors) {
   const Chain ch = chainOf(c, f);
   PointDomain d;
   d.mat = &m;
@@ -276,23 +351,44 @@ void addFrontIntegrals(const Material &m, const ParticleView<3> &p, const CrackS
   d.aux = aux;
   // A point of the tube is within R of the front and within L of P along it: within R + L of P.
   const double reach2 = (R + d.L) * (R + d.L);
+  // The mirror images of the tube across symmetry planes the chain ends on: a particle's image is
+  // in the tube at P when the particle is within R + L of P's image.
+  const std::vector<Image> images = imagesOf(c, ch, mirrors, kMirrorTol * R);
+  std::vector<P3> imageP;
+  for (const Image &im : images) {
+    P3 q = d.P;
+    q[static_cast<size_t>(im.axis)] = 2.0 * im.coord - q[static_cast<size_t>(im.axis)];
+    imageP.push_back(q);
+  }
   for (PetscInt k = 0; k < p.n; ++k) {
     const P3 x = {p.x[3 * k], p.x[3 * k + 1], p.x[3 * k + 2]};
     const P3 r = sub(x, d.P);
-    if (dot(r, r) >= reach2) continue;
-    const Place pl = placeOf(c, ch, x);
-    if (pl.rho > 0 && pl.rho < R && std::fabs(pl.s) < d.L) particleTerms(d, p, k, pl, out);
+    if (dot(r, r) < reach2) {
+      const Place pl = placeOf(c, ch, x);
+      if (pl.rho > 0 && pl.rho < R && std::fabs(pl.s) < d.L)
+        particleTerms(d, stateOf(m, p, k), pl, out);
+    }
+    for (size_t i = 0; i < images.size(); ++i) {
+      const P3 ri = sub(x, imageP[i]);
+      if (dot(ri, ri) >= reach2) continue;
+      Place pl = placeOf(c, ch, x);
+      if (!(pl.rho > 0 && pl.rho < R)) continue;
+      ParticleState st = stateOf(m, p, k);
+      mirror(images[i], c, st, pl);
+      if (std::fabs(pl.s) < d.L) particleTerms(d, st, pl, out);
+    }
   }
 }
 
 FrontMeasure finishFront(const Material &m, const CrackSurface &c, const FrontPoint &f, double R,
-                         double L, const double sums[4]) {
+                         double L, const double sums[4], const std::vector<MirrorPlane> &mirrors) {
   FrontMeasure o;
+  o.images = static_cast<int>(imagesOf(c, chainOf(c, f), mirrors, kMirrorTol * R).size());
   o.edge = f.edge;
   o.x = f.x;
   o.R = R;
   o.L = frontHalfLength(c, f, L);
-  const double A = frontArea(c, f, L);
+  const double A = frontArea(c, f, L, R, mirrors);
   const double Ep = m.E / (1.0 - m.nu * m.nu), mu = m.E / (2.0 * (1.0 + m.nu));
   o.G = sums[0] / A;
   o.KI = 0.5 * Ep * sums[1] / A;
@@ -303,7 +399,8 @@ FrontMeasure finishFront(const Material &m, const CrackSurface &c, const FrontPo
 
 PetscErrorCode measureFronts(MPI_Comm comm, const std::vector<CrackSurface> &cracks,
                              const Material &m, const ParticleView<3> &p, double spacing, double R,
-                             double L, std::vector<FrontMeasure> &out) {
+                             double L, const std::vector<MirrorPlane> &mirrors,
+                             std::vector<FrontMeasure> &out) {
   std::vector<std::pair<int, FrontPoint>> points;
   for (size_t c = 0; c < cracks.size(); ++c)
     for (const FrontPoint &f : frontPoints(cracks[c], spacing))
@@ -313,12 +410,12 @@ PetscErrorCode measureFronts(MPI_Comm comm, const std::vector<CrackSurface> &cra
   std::vector<double> local(4 * points.size(), 0.0), global(local.size());
   for (size_t q = 0; q < points.size(); ++q)
     addFrontIntegrals(m, p, cracks[static_cast<size_t>(points[q].first)], points[q].second, R, L,
-                      &local[4 * q]);
+                      &local[4 * q], AuxFrame::Nearest, mirrors);
   PetscCallMPI(MPI_Allreduce(local.data(), global.data(), static_cast<int>(local.size()),
                              MPI_DOUBLE, MPI_SUM, comm));
   for (size_t q = 0; q < points.size(); ++q) {
     const CrackSurface &c = cracks[static_cast<size_t>(points[q].first)];
-    out.push_back(finishFront(m, c, points[q].second, R, L, &global[4 * q]));
+    out.push_back(finishFront(m, c, points[q].second, R, L, &global[4 * q], mirrors));
     out.back().crack = points[q].first;
   }
   return PETSC_SUCCESS;
@@ -335,6 +432,22 @@ FrontDomain frontDomain(const Scene<3> &sc) {
       d.h = std::min(d.h, sc.cellSizeAt(f.x.data()));
     }
   d.R = sc.crackJRadius > 0 ? sc.crackJRadius : kJCells * d.h;
+  // Symmetry planes: rollers (the normal component alone held) over a whole plane that the
+  // bodies touch from one side.
+  const double tol = 1e-9 * sc.h;
+  for (const NodeBC<3> &b : sc.bcs) {
+    const size_t a = static_cast<size_t>(b.axis);
+    const bool roller = b.fix[a] && !b.fix[(a + 1) % 3] && !b.fix[(a + 2) % 3];
+    if (!roller || b.hasRange || sc.bodies.empty()) continue;
+    bool above = true, below = true, touches = false;
+    for (const Body<3> &body : sc.bodies) {
+      const double lo = body.box[a], hi = body.box[3 + a];
+      above = above && lo >= b.coord - tol;
+      below = below && hi <= b.coord + tol;
+      touches = touches || std::fabs(lo - b.coord) <= tol || std::fabs(hi - b.coord) <= tol;
+    }
+    if ((above || below) && touches) d.mirrors.push_back({b.axis, b.coord});
+  }
   d.spacing = sc.crackFrontSpacing > 0 ? sc.crackFrontSpacing : 2.0 * d.h;
   return d;
 }

@@ -73,9 +73,10 @@ void writeFronts(FILE *f, const std::vector<cracks::FrontMeasure> &front) {
                    crack < 0 ? "" : "]},", m.crack, num(m.R).c_str());
     std::fprintf(f,
                  "%s\n      {\"x\": %s, \"edge\": %d, \"G\": %s, \"KI\": %s, \"KII\": %s, "
-                 "\"KIII\": %s, \"L\": %s}",
+                 "\"KIII\": %s, \"L\": %s, \"images\": %d}",
                  next ? "" : ",", numbers(m.x.data(), 3).c_str(), m.edge, num(m.G).c_str(),
-                 num(m.KI).c_str(), num(m.KII).c_str(), num(m.KIII).c_str(), num(m.L).c_str());
+                 num(m.KI).c_str(), num(m.KII).c_str(), num(m.KIII).c_str(), num(m.L).c_str(),
+                 m.images);
     crack = m.crack;
   }
   std::fprintf(f, "]}]");

@@ -42,6 +42,15 @@
 // crack; K_II > 0 slides the normal's side ahead (along +a) against the other side; K_III > 0
 // slides the normal's side along +x3 = a x n = -t. The crack faces are traction free (no face
 // terms); a particle with rho = 0 is skipped.
+//
+// Symmetry planes. Where an end of the front's chain lies on a symmetry plane of the scene (a
+// MirrorPlane: frontDomain lists them) and the crack's plane crosses it at a right angle, the
+// body is half of a symmetric one: the tube at P then takes, besides the particles, their mirror
+// images across the plane (x' = M x, sigma' = M sigma M, grad u' = M grad u M, M flipping the
+// plane's axis), around the chain's image past that end, and A_q the image's part of the front.
+// The tube is then whole where the plane would cut it, as in the full body, and no term of the
+// plane's own tractions (the roller's normal stress, which the mode III auxiliary field would
+// meet) enters.
 #pragma once
 
 #include "gimp/cracks/williams.hpp"
@@ -55,9 +64,17 @@
 
 namespace gimp::cracks {
 
+/// A symmetry plane x_axis = coord: the bodies lie on one side of it and touch it, and every node
+/// on it has its normal velocity held and only that (a roller over the whole plane).
+struct MirrorPlane {
+  int axis = 0;
+  double coord = 0;
+};
+
 /// One front point's measures (SI units): G [J/m^2], K [Pa m^0.5], the domain's R and L [m].
 struct FrontMeasure {
   int crack = 0, edge = 0;   // the crack and its front edge
+  int images = 0;            // ends of the front's chain on a symmetry plane (0, 1 or 2)
   std::array<double, 3> x{}; // the front point [m]
   double G = 0, KI = 0, KII = 0, KIII = 0;
   double R = 0, L = 0; // tube radius and half length (L as used: clipped on a closed front)
@@ -66,10 +83,11 @@ struct FrontMeasure {
 /// Where and how a 3D scene measures its fronts: the finest cell h along the fronts (the finest
 /// level whose box holds a front point), the tube radius and half length R (-gimp_crack_j_radius,
 /// or kJCells cells), the front points' spacing (-gimp_crack_front_spacing, or 2 cells), and a
-/// front point `at` whose material the integrals take.
+/// front point `at` whose material the integrals take, and the symmetry planes.
 struct FrontDomain {
   double h = 0, R = 0, spacing = 0;
   std::array<double, 3> at{};
+  std::vector<MirrorPlane> mirrors; // the scene's symmetry planes (MirrorPlane)
 };
 FrontDomain frontDomain(const Scene<3> &sc);
 
@@ -83,24 +101,30 @@ TipElastic frontElastic(const Material &m);
 /// closed chain.
 double frontHalfLength(const CrackSurface &c, const FrontPoint &f, double L);
 
-/// A_q = int_front q_s(s) (a_P . a_local(s)) ds at front point f, exact for the polygon [m].
-double frontArea(const CrackSurface &c, const FrontPoint &f, double L);
+/// A_q = int_front q_s(s) ds at front point f, exact for the polygon, with the chain's mirror
+/// images across the planes its ends lie on (within 1e-6 R) [m].
+double frontArea(const CrackSurface &c, const FrontPoint &f, double L, double R = 0,
+                 const std::vector<MirrorPlane> &mirrors = {});
 
 /// Adds this rank's particle sums at front point f to out: out[0] = G A_q [J/m], out[m] = I_m A_q
 /// [J/m per Pa m^0.5] for m = 1, 2, 3 (see the file's comment), over the particles with 0 < rho <
-/// R and |s| < L (L clipped as frontHalfLength).
+/// R and |s| < L (L clipped as frontHalfLength), and their mirror images across the planes of
+/// `mirrors` that an end of f's chain lies on.
 void addFrontIntegrals(const Material &m, const ParticleView<3> &p, const CrackSurface &c,
                        const FrontPoint &f, double R, double L, double out[4],
-                       AuxFrame aux = AuxFrame::Nearest);
+                       AuxFrame aux = AuxFrame::Nearest,
+                       const std::vector<MirrorPlane> &mirrors = {});
 
 /// G and K at front point f from the summed numerators (all ranks'). crack is left 0.
 FrontMeasure finishFront(const Material &m, const CrackSurface &c, const FrontPoint &f, double R,
-                         double L, const double sums[4]);
+                         double L, const double sums[4],
+                         const std::vector<MirrorPlane> &mirrors = {});
 
 /// G and K at every front point (cracks::frontPoints(c, spacing)) of every crack, in order (crack,
 /// then front point), with one MPI_Allreduce. Collective.
 PetscErrorCode measureFronts(MPI_Comm comm, const std::vector<CrackSurface> &cracks,
                              const Material &m, const ParticleView<3> &p, double spacing, double R,
-                             double L, std::vector<FrontMeasure> &out);
+                             double L, const std::vector<MirrorPlane> &mirrors,
+                             std::vector<FrontMeasure> &out);
 
 } // namespace gimp::cracks
