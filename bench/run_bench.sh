@@ -162,7 +162,7 @@ echo "stage times [s] (-log_view, average over ranks):"
 printf '%-14s' stage
 for n in $RANKS; do printf '%12s' "$n rank(s)"; done
 echo
-for s in 'Main Stage' P2G Forces 'Grid update' G2P Stress Output; do
+for s in 'Main Stage' Setup P2G Forces 'Grid update' G2P Stress Output; do
   printf '%-14s' "$s"
   for n in $RANKS; do
     printf '%12s' "$(awk -F'\t' -v s="$s" '$1 == s { printf "%.3f", $2 }' <<<"${STAGE_REPORT[$n]}")"

@@ -10,7 +10,7 @@ Each scene (options/*.opts, or the --only names) runs with
     -gimp_output_interval 0
 from the scenes directory (scenes include others by relative name). The outputs compared:
 
-summary.json  every leaf, recursively. Keys 'wall_seconds', 'cpu_seconds',
+summary.json  every leaf, recursively. Keys 'wall_seconds', 'setup_seconds', 'cpu_seconds',
     'particle_steps_per_second' (timings) and 'version' are skipped. Strings and nulls must be equal (else difference = inf). Numbers are compared within a *family*:
     the leaf's path with list indices and digits removed (levels[2].box[1] -> levels[].box,
     probes.tip.stress[3] -> probes.tip.stress, measures.hoop_45 -> measures.hoop_), and the
@@ -43,7 +43,8 @@ import subprocess
 import sys
 import time
 
-SKIP_KEYS = {"wall_seconds", "cpu_seconds", "particle_steps_per_second", "version"}
+SKIP_KEYS = {"wall_seconds", "setup_seconds", "cpu_seconds", "particle_steps_per_second",
+             "version"}
 SHARED_UNIT_DICTS = {"energy"}
 
 

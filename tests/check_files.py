@@ -84,7 +84,8 @@ def differences(a, b, path=""):
     if isinstance(a, dict) and isinstance(b, dict):
         if set(a) != set(b):
             return [path + " keys"]
-        skip = ("ranks", "wall_seconds", "cpu_seconds", "particle_steps_per_second")
+        skip = ("ranks", "wall_seconds", "setup_seconds", "cpu_seconds",
+                "particle_steps_per_second")
         return [d for k in a if k not in skip for d in differences(a[k], b[k], path + "/" + k)]
     if isinstance(a, list) and isinstance(b, list):
         if len(a) != len(b):

@@ -97,7 +97,8 @@ VARIANTS = {
     "migrate3d-cpdi2": ["-gimp_tracking", "cpdi2"],
 }
 
-SKIP_KEYS = {"wall_seconds", "cpu_seconds", "version", "particle_steps_per_second"}
+SKIP_KEYS = {"wall_seconds", "setup_seconds", "cpu_seconds", "version",
+             "particle_steps_per_second"}
 SHARED_UNIT_DICTS = {"energy"}
 FULL_ROWS = 128  # particle dumps up to this many rows are stored whole
 BLOCK = 1024     # particles per block of a digest

@@ -10,7 +10,7 @@ import gimptest
 
 ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
            OMPI_MCA_rmaps_base_oversubscribe="1")
-TIMING = ("wall_seconds", "cpu_seconds", "particle_steps_per_second")
+TIMING = ("wall_seconds", "setup_seconds", "cpu_seconds", "particle_steps_per_second")
 
 
 def run_with_dump(args, scene, name, extra=(), ranks=1, expect_ok=True):

@@ -104,9 +104,10 @@ template <int D> void Output<D>::summaryRun(FILE *f, const SummaryReport &r) con
                jsonString(r.status).c_str(), jsonString(r.failure).c_str());
   std::fprintf(f,
                "  \"ranks\": %d,\n  \"steps\": %lld,\n  \"time\": %s,\n  \"dt\": %s,\n"
-               "  \"wall_seconds\": %s,\n  \"cpu_seconds\": %s,\n  \"particles\": %lld,\n",
+               "  \"wall_seconds\": %s,\n  \"setup_seconds\": %s,\n  \"cpu_seconds\": %s,\n"
+               "  \"particles\": %lld,\n",
                r.ranks, static_cast<long long>(r.steps), num(r.t).c_str(), num(r.dt).c_str(),
-               num(r.wallSeconds).c_str(), num(r.cpuSeconds).c_str(),
+               num(r.wallSeconds).c_str(), num(r.setupSeconds).c_str(), num(r.cpuSeconds).c_str(),
                static_cast<long long>(r.particles));
   std::fprintf(
       f, "  \"particle_steps_per_second\": %s,\n",

@@ -26,6 +26,7 @@ PetscErrorCode stage(const char *name, PetscLogStage &s) {
 } // namespace
 
 PetscErrorCode StepStages::registerAll() {
+  PetscCall(stage("Setup", setup));
   PetscCall(stage("P2G", p2g));
   PetscCall(stage("Forces", forces));
   PetscCall(stage("Grid update", grid));

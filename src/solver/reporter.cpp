@@ -229,6 +229,7 @@ template <int D> PetscErrorCode Reporter<D>::summary(PetscInt steps, double t) {
   PetscLogDouble wall1 = 0;
   PetscCall(PetscTime(&wall1));
   r.wallSeconds = wall1 - wall0_;
+  r.setupSeconds = setupSeconds_;
   // CPU time of the process (all ranks summed): unlike the wall time, it does not grow when
   // other work shares the machine.
   // (PetscGetCPUTime reads a clock that does not count this process's time on every system.)

@@ -67,6 +67,25 @@ template <int D> PetscErrorCode Solver<D>::setup() {
   PetscCallMPI(MPI_Comm_rank(s.comm, &s.rank));
   PetscCallMPI(MPI_Comm_size(s.comm, &s.size));
   PetscCall(s.stages.registerAll());
+  // -log_view's "Setup" stage; popped on the way out of an input error too (the in-process
+  // bad-input test sets up many scenes in one process).
+  struct StagePop {
+    bool pushed = false;
+    ~StagePop() {
+      if (pushed) (void)PetscLogStagePop();
+    }
+  } pop;
+  PetscCall(PetscLogStagePush(s.stages.setup));
+  pop.pushed = true;
+  PetscCall(setupInStage(wall0));
+  pop.pushed = false;
+  PetscCall(PetscLogStagePop());
+  if (!s.sc.help) PetscCall(reporter_.markSetupEnd());
+  return PETSC_SUCCESS;
+}
+
+template <int D> PetscErrorCode Solver<D>::setupInStage(PetscLogDouble wall0) {
+  RunState<D> &s = s_;
   PetscCall(readSceneOneLine<D>(s.comm, s.sc));
   if (s.sc.help) { // list the time stepper's options too, then stop
     PetscCall(TSCreate(s.comm, &s.ts));

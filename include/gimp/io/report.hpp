@@ -31,6 +31,7 @@ struct SummaryReport {
   int ranks = 1;
   PetscInt steps = 0;
   double t = 0, dt = 0, wallSeconds = 0;
+  double setupSeconds = 0; // wall time of the setup (scene to the first step) [s]
   double cpuSeconds = 0;   // process CPU time, summed over ranks
   double dtCritical = NAN; // smallest critical step computed (-gimp_stability_check), else NaN
   PetscInt64 particles = 0;

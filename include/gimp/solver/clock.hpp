@@ -20,9 +20,10 @@ struct StepClock {
 /// order in time.
 PetscErrorCode readStepClock(TS ts, bool halfStepStart, StepClock &c);
 
-/// The step's -log_view stages: P2G, Forces, Grid update, G2P, Stress, Output.
+/// The run's -log_view stages: Setup, and the step's P2G, Forces, Grid update, G2P, Stress,
+/// Output.
 struct StepStages {
-  PetscLogStage p2g = 0, forces = 0, grid = 0, g2p = 0, stress = 0, output = 0;
+  PetscLogStage setup = 0, p2g = 0, forces = 0, grid = 0, g2p = 0, stress = 0, output = 0;
   PetscErrorCode registerAll();
 };
 

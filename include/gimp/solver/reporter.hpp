@@ -33,6 +33,13 @@ public:
   /// the frame of the state it failed in, to look at.
   PetscErrorCode finish(PetscInt steps, double t);
   const Output<D> &output() const { return *out_; }
+  /// The setup's end: summary.json's setup_seconds is the wall time from setup's start to here.
+  PetscErrorCode markSetupEnd() {
+    PetscLogDouble now = 0;
+    PetscCall(PetscTime(&now));
+    setupSeconds_ = now - wall0_;
+    return PETSC_SUCCESS;
+  }
 
 private:
   PetscErrorCode historyRow(PetscInt step, double t, HistoryRow &row);
@@ -52,6 +59,7 @@ private:
   EnergyWatch energyWatch_; // the energy balance at the history rows (energyCheck)
   std::function<void()> release_;
   PetscLogDouble wall0_ = 0;
+  double setupSeconds_ = 0; // wall time of Solver::setup (markSetupEnd)
 };
 
 } // namespace gimp

@@ -34,6 +34,8 @@ public:
   int interrupted() const { return s_.status.interrupt; }
 
 private:
+  /// setup's work, in the Setup stage; wall0 its start.
+  PetscErrorCode setupInStage(PetscLogDouble wall0);
   PetscErrorCode createGrid();
   PetscErrorCode createParticles();
   /// The manufactured solution's initial state, and the neo-Hookean stress of the seeded F.
