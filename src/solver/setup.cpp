@@ -125,6 +125,7 @@ template <int D> PetscErrorCode Solver<D>::setup() {
 
 template <int D> PetscErrorCode Solver<D>::createGrid() {
   RunState<D> &s = s_;
+  reserveCrackGrowth();
   PetscCall(s.grid.create(s.comm, s.sc.h, s.sc.levelBoxes(), s.sc.cracks));
   s.sc.idSlots = bodyIdSlots<D>(s.grid);
   if (!s.sc.gridDump.empty()) PetscCall(writeGridDump());
@@ -135,6 +136,7 @@ template <int D> PetscErrorCode Solver<D>::openOutput() {
   if (s_.sc.restart.empty()) return reporter_.open(nullptr);
   OutputResume resume;
   PetscCall(checkpoint_.load(resume));
+  PetscCall(followCracks()); // the checkpoint's cracks may have grown
   return reporter_.open(&resume);
 }
 
