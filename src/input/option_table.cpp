@@ -157,7 +157,7 @@ const std::vector<Feature> &featureTable() {
        "(-gimp_crackK_points)"},
       {"crack growth",
        In2D,
-       {"gimp_crack_growth=mts", "gimp_crack_growth_step", "gimp_crack_growth_length",
+       {"gimp_crack_growth", "gimp_crack_growth_step", "gimp_crack_growth_length",
         "gimp_crack_growth_interval", "gimp_Gc", "gimp_bodyK_Gc"},
        "2D crack tips grow (-gimp_crack_growth mts); 3D crack polygons do not grow yet"},
       {"plane models",
