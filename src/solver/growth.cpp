@@ -36,6 +36,17 @@ template <int D> PetscErrorCode Solver<D>::growCracks(PetscInt step, double t) {
     PetscCall(p.get(s.sw));
     PetscCall(cracks::measureTips(s.comm, s.sc, s.grid, p, tips));
     PetscCall(p.restore(s.sw));
+    // The reduced sums are the same on every rank in the MPI libraries in use, but MPI does not
+    // promise it: rank 0's values decide, so every rank grows the same crack.
+    std::vector<double> decide;
+    for (const cracks::TipMeasure &m : tips)
+      decide.insert(decide.end(), {m.G_J, m.KI_J, m.KII_J});
+    PetscCallMPI(MPI_Bcast(decide.data(), static_cast<int>(decide.size()), MPI_DOUBLE, 0, s.comm));
+    for (size_t q = 0; q < tips.size(); ++q) {
+      tips[q].G_J = decide[3 * q];
+      tips[q].KI_J = decide[3 * q + 1];
+      tips[q].KII_J = decide[3 * q + 2];
+    }
     std::vector<std::string> stops;
     const std::vector<cracks::GrowthRecord> grown = cracks::growTips(s.sc, tips, t, stops);
     for (const std::string &line : stops)
