@@ -23,8 +23,9 @@
    K_I sin th + K_II (3 cos th - 1) = 0, th = 2 atan[(K_I - sqrt(K_I^2 + 8 K_II^2)) / (4 K_II)]:
    -43.22, -53.13 and -60.00 degrees (counter-clockwise positive in the tip frame: the tips turn
    clockwise, toward the x axis, at both ends). A wrong sign convention of the kink (or of K_II)
-   gives +43 degrees and fails, as does a kink from the measured K_II / K_I off by more than
-   about 4 % at 30 degrees.
+   gives +43 degrees and fails (tried: with the sign of mtsKink flipped the 30-degree tips
+   kink by +42.97 degrees), as does a measured K_II / K_I off by more than 9 % (30 degrees),
+   12 % (45) or 17 % (60) from tan(beta).
 
    The kink is read twice: the growth record's `kink`, and from the geometry, the angle of the
    new point from the old tip against the crack's direction there (they must agree to 1e-9
