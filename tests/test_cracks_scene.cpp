@@ -2,8 +2,12 @@
 // order, each end a tip (strictly inside a body) or a mouth (on or outside the body's edge,
 // including a hole's circle, within 1e-9 of the cell size), and the one-cell distance between
 // a tip and another crack measured with the finest cell at the tip; the J domain of each tip
-// clipped to its clearance. The error lines themselves are checked by tests/check_input.py and
-// tests/bad_input/cases2d.tsv.
+// clipped to its clearance; crack growth (cracks::growTips): each tip's increment and length, the
+// new point at the end that grew, kinked by the maximum hoop stress angle in the tip frame, no
+// growth below the toughness or without J, a tip that stops at its growth length, and the J
+// domain after growth not clipped by the grown kink. The error lines themselves are checked by
+// tests/check_input.py and tests/bad_input/cases2d.tsv.
+#include "gimp/cracks/growth.hpp"
 #include "gimp/input/scene.hpp"
 
 #include <gtest/gtest.h>
@@ -132,6 +136,84 @@ TEST(CrackScene, JDomainClippedToTheTipsClearance) {
   // measured).
   d = domains("-gimp_cracks 1 -gimp_crack0_points -0.1,0.39,0.45,0.39");
   EXPECT_EQ(d.at(0).radius, 0.0);
+}
+
+/// A tip measure of tip q of sc with G_J, K_I and K_II by J.
+gimp::cracks::TipMeasure measure(const gimp::Scene<2> &sc, size_t q, double G, double KI,
+                                 double KII) {
+  gimp::cracks::TipMeasure m = gimp::cracks::tipsOf(sc).at(q);
+  m.G_J = G;
+  m.KI_J = KI;
+  m.KII_J = KII;
+  return m;
+}
+
+TEST(CrackScene, GrowthIncrements) {
+  gimp::Scene<2> sc;
+  // An interior crack along y = 0.2 with two tips; cell 0.05, J radius 0.2 (the top and bottom
+  // edges are 0.2 away).
+  ASSERT_EQ(read("-gimp_h 0.05 -gimp_cracks 1 -gimp_crack0_points 0.3,0.2,0.5,0.2 "
+                 "-gimp_crack_growth mts -gimp_Gc 2",
+                 sc),
+            "");
+  ASSERT_EQ(sc.tipGrowth.size(), 2u);
+  EXPECT_EQ(sc.tipGrowth[0].end, 0);
+  EXPECT_EQ(sc.tipGrowth[1].end, 1);
+  EXPECT_NEAR(sc.tipGrowth[0].step, 0.05, 1e-15);  // one cell at the tip
+  EXPECT_NEAR(sc.tipGrowth[0].length, 1.0, 1e-14); // 20 increments
+  EXPECT_EQ(sc.growthInterval, 10);
+  const double th = gimp::cracks::mtsKink(1.0, 0.5), c = std::cos(th), s = std::sin(th);
+  std::vector<std::string> stops;
+  // Tip 0 below the toughness, tip 1 at it with K_II / K_I = 0.5: only tip 1 grows.
+  auto grown = gimp::cracks::growTips(
+      sc, {measure(sc, 0, 1.99, 1.0, 0.0), measure(sc, 1, 2.0, 1.0, 0.5)}, 1e-3, stops);
+  ASSERT_EQ(grown.size(), 1u);
+  EXPECT_TRUE(stops.empty());
+  // At end 1 the tip frame is t = (1, 0), n = (0, 1): the new point is tip + 0.05 (cos, sin).
+  ASSERT_EQ(sc.cracks[0].points.size(), 3u);
+  EXPECT_NEAR(sc.cracks[0].points[2][0], 0.5 + 0.05 * c, 1e-15);
+  EXPECT_NEAR(sc.cracks[0].points[2][1], 0.2 + 0.05 * s, 1e-15);
+  EXPECT_EQ(sc.cracks[0].grown[1], 1);
+  EXPECT_EQ(grown[0].end, 1);
+  EXPECT_EQ(grown[0].t, 1e-3);
+  EXPECT_NEAR(grown[0].kink, th * 180.0 / 3.141592653589793, 1e-12);
+  EXPECT_LT(grown[0].kink, 0.0); // K_II > 0: clockwise
+  // Tip 0 with the same K: at end 0 the frame is t = (-1, 0), n = (0, -1), so a clockwise kink
+  // turns the crack toward +y there (the tip frame turned by 180 degrees).
+  grown = gimp::cracks::growTips(
+      sc, {measure(sc, 0, 2.5, 1.0, 0.5), measure(sc, 1, std::nan(""), 1.0, 0.0)}, 2e-3, stops);
+  ASSERT_EQ(grown.size(), 1u); // (G_J null at tip 1: no growth)
+  ASSERT_EQ(sc.cracks[0].points.size(), 4u);
+  EXPECT_NEAR(sc.cracks[0].points[0][0], 0.3 - 0.05 * c, 1e-15);
+  EXPECT_NEAR(sc.cracks[0].points[0][1], 0.2 - 0.05 * s, 1e-15);
+  EXPECT_EQ(sc.cracks[0].grown[0], 1);
+  // The J domains after growth: the grown kinks, one increment (under 2 cells) behind each tip,
+  // do not clip them; the nearest edge does (the bottom one for tip 1, the top for tip 0).
+  gimp::updateJDomains(sc);
+  ASSERT_EQ(sc.jDomain.size(), 2u);
+  EXPECT_NEAR(sc.jDomain[0].radius, 0.2 + 0.05 * s, 1e-12);
+  EXPECT_NEAR(sc.jDomain[1].radius, 0.2 + 0.05 * s, 1e-12);
+  EXPECT_TRUE(sc.jDomain[0].clipped && sc.jDomain[1].clipped);
+}
+
+TEST(CrackScene, GrowthStopsAtItsLength) {
+  gimp::Scene<2> sc;
+  ASSERT_EQ(read("-gimp_cracks 1 -gimp_crack0_points -0.1,0.2,0.5,0.2 -gimp_crack_growth mts "
+                 "-gimp_Gc 2 -gimp_crack_growth_step 0.05 -gimp_crack_growth_length 0.1",
+                 sc),
+            "");
+  ASSERT_EQ(sc.tipGrowth.size(), 1u); // (end 0 is a mouth)
+  std::vector<std::string> stops;
+  for (int k = 0; k < 2; ++k)
+    EXPECT_EQ(gimp::cracks::growTips(sc, {measure(sc, 0, 3.0, 1.0, 0.0)}, k, stops).size(), 1u);
+  EXPECT_NEAR(sc.cracks[0].points.back()[0], 0.6, 1e-15); // straight on: no K_II
+  EXPECT_EQ(sc.cracks[0].points.back()[1], 0.2);
+  EXPECT_TRUE(gimp::cracks::growTips(sc, {measure(sc, 0, 3.0, 1.0, 0.0)}, 2, stops).empty());
+  ASSERT_EQ(stops.size(), 1u);
+  EXPECT_NE(stops[0].find("it has grown its growth length 0.1 m"), std::string::npos) << stops[0];
+  EXPECT_TRUE(sc.tipGrowth[0].stopped);
+  EXPECT_TRUE(gimp::cracks::growTips(sc, {measure(sc, 0, 3.0, 1.0, 0.0)}, 3, stops).empty());
+  EXPECT_EQ(stops.size(), 1u); // stopped for good: said once
 }
 
 } // namespace

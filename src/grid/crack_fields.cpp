@@ -5,9 +5,10 @@
 // within a particle's reach (h0, the largest half-size the checks allow) of the node's support
 // [X - Lx-, X + Lx+] x [Y - Ly-, Y + Ly+] (x [Z - Lz-, Z + Lz+]). The set depends only on the
 // geometry, so every rank finds the same list in the same order, and memory grows with the
-// crack's length (2D) or area (3D), not the grid. The second field of a cracked node is owned by
-// the rank owning the node's level-0 cell and is stored in a DMShell appended to the levels'
-// DMComposite.
+// crack's length (2D) or area (3D), not the grid. Where a crack may grow (Grid::crackReserve),
+// every node within the reach of that disk gets one too, at setup. The second field of a cracked
+// node is owned by the rank owning the node's level-0 cell and is stored in a DMShell appended to
+// the levels' DMComposite.
 #include "gimp/grid/crack_fields.hpp"
 
 #include <petscdmshell.h>
@@ -78,6 +79,35 @@ Grid<D>::findCrackedNodes(const std::vector<CrackOf<D>> &cracks) const {
           if (cracks::nearCrack(c, support, reach)) out.push_back({k, i, 0, 0});
         });
       }
+  }
+  // The nodes where a crack may grow: support, widened by the reach, within the disk's radius
+  // of its centre.
+  for (int k = 0; k < static_cast<int>(levels.size()); ++k) {
+    const Level<D> &L = levels[k];
+    for (const std::array<double, D + 1> &disk : crackReserve) {
+      const double w = disk[D] + reach + this->h0();
+      Index lo{}, hi{};
+      std::array<PetscInt, D> n{};
+      for (int a = 0; a < D; ++a) {
+        lo[a] = std::max<std::int64_t>(0, std::floor((disk[a] - w - L.box[a]) * L.ih));
+        hi[a] = std::min<std::int64_t>(L.n[a] - 1, std::ceil((disk[a] + w - L.box[a]) * L.ih));
+        n[a] = static_cast<PetscInt>(hi[a] - lo[a] + 1);
+      }
+      forEachIndex<D>(n, [&](const Index &d) {
+        Index i{};
+        for (int a = 0; a < D; ++a)
+          i[a] = lo[a] + d[a];
+        if (!this->nodeActive(k, i)) return;
+        double z[2 * D], gap2 = 0;
+        this->zonesOf(k, i, z);
+        for (int a = 0; a < D; ++a) {
+          const double X = this->nodeCoordinate(k, a, i[a]);
+          const double g = std::max({0.0, X - z[2 * a] - disk[a], disk[a] - (X + z[2 * a + 1])});
+          gap2 += g * g;
+        }
+        if (std::sqrt(gap2) <= disk[D] + reach) out.push_back({k, i, 0, 0});
+      });
+    }
   }
   // Level, then the index with its last axis slowest (the levels' node order).
   const auto key = [](const CrackedNode &a) {

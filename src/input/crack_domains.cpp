@@ -12,7 +12,8 @@
 #include <cmath>
 #include <limits>
 
-namespace gimp::input {
+namespace gimp {
+namespace input {
 
 namespace {
 
@@ -134,8 +135,11 @@ Clearance tipClearance(const Scene<2> &sc, size_t k, int e) {
   r.take(std::min({x[0] - g[0], g[2] - x[0], x[1] - g[1], g[3] - x[1]}), "the grid's edge");
   for (size_t m = 0; m < sc.cracks.size(); ++m)
     if (m != k) r.take(cracks::distance(sc.cracks[m], x[0], x[1]), "crack " + std::to_string(m));
-  // Its own crack from its first kink on, and its other end when that is a tip.
-  const Crack rest = pastTheKink(c, e);
+  // Its own crack from its first kink on, and its other end when that is a tip. The kinks that
+  // growth made are not counted: the crack as given, without its grown points, is searched.
+  Crack given = c;
+  given.points.assign(c.points.begin() + c.grown[0], c.points.end() - c.grown[1]);
+  const Crack rest = pastTheKink(given, e);
   if (rest.points.size() > 1) r.take(cracks::distance(rest, x[0], x[1]), "its own crack's kink");
   const Point &o = e ? c.points.front() : c.points.back();
   if (c.tip[1 - e]) r.take(std::hypot(o[0] - x[0], o[1] - x[1]), "its crack's other tip");
@@ -174,7 +178,10 @@ void warn(const std::string &line) {
 
 } // namespace
 
-void setJDomains(Scene<2> &sc, bool radiusGiven) {
+namespace {
+
+/// The J domains of every tip; quiet: after growth, no warnings and no refusals.
+void jDomains(Scene<2> &sc, bool radiusGiven, bool quiet) {
   sc.jDomain.clear();
   for (size_t k = 0; k < sc.cracks.size(); ++k)
     for (int e = 0; e < 2; ++e) {
@@ -185,16 +192,21 @@ void setJDomains(Scene<2> &sc, bool radiusGiven) {
       const double R = radiusGiven ? sc.crackJRadius : kJCells * h;
       const Clearance cl = tipClearance(sc, k, e);
       const std::string tip = tipName(x, k);
-      if (radiusGiven) checkGiven(R, h, cl, tip);
+      if (radiusGiven && !quiet) checkGiven(R, h, cl, tip);
       JDomain j{R, false};
       if (cl.d < kJMinCells * h) {
         j.radius = 0;
-        warn(tip + " is " + formatNumber(cl.d) + " m from " + cl.what + ", less than 2 cells (" +
-             formatNumber(kJMinCells * h) +
-             " m): no J domain fits, G_J, KI_J and KII_J are not measured there (null in "
-             "summary.json)");
+        if (!quiet)
+          warn(tip + " is " + formatNumber(cl.d) + " m from " + cl.what + ", less than 2 cells (" +
+               formatNumber(kJMinCells * h) +
+               " m): no J domain fits, G_J, KI_J and KII_J are not measured there (null in "
+               "summary.json)");
       } else if (R > cl.d) {
         j = {cl.d, true};
+        if (quiet) {
+          sc.jDomain.push_back(j);
+          continue;
+        }
         const std::string asked = radiusGiven
                                       ? "option -gimp_crack_j_radius " + formatNumber(R)
                                       : "the default J radius " + formatNumber(R) + " m (5 cells)";
@@ -206,4 +218,16 @@ void setJDomains(Scene<2> &sc, bool radiusGiven) {
     }
 }
 
-} // namespace gimp::input
+} // namespace
+
+void setJDomains(Scene<2> &sc, bool radiusGiven) {
+  jDomains(sc, radiusGiven, false);
+}
+
+} // namespace input
+
+void updateJDomains(Scene<2> &sc) {
+  input::jDomains(sc, sc.crackJRadius > 0, true);
+}
+
+} // namespace gimp

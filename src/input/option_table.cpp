@@ -125,6 +125,8 @@ const std::vector<OptionSpec> kMaterial = {
     {"gimp_plane", Kind::Choice, "", "strain", "strain|stress", nullptr, {},
      "The plane model: plane strain or plane stress"},
     {"gimp_thickness", Kind::Real, "m", "1", "", nullptr, above(0), "Out-of-plane thickness"},
+    {"gimp_Gc", Kind::Real, "J/m^2", "(none)", "", nullptr, above(0),
+     "Toughness: a crack tip grows when G by J reaches it (with -gimp_crack_growth mts)"},
 };
 
 } // namespace
@@ -153,6 +155,11 @@ const std::vector<Feature> &featureTable() {
        {"gimp_crackK_polygon", "gimp_crackK_disk", "gimp_crack_front_spacing"},
        "a 3D crack is a planar polygon with a front; a 2D crack is a polyline "
        "(-gimp_crackK_points)"},
+      {"crack growth",
+       In2D,
+       {"gimp_crack_growth", "gimp_crack_growth_step", "gimp_crack_growth_length",
+        "gimp_crack_growth_interval", "gimp_Gc", "gimp_bodyK_Gc"},
+       "2D crack tips grow (-gimp_crack_growth mts); 3D crack polygons do not grow yet"},
       {"plane models",
        In2D,
        {"gimp_plane", "gimp_thickness"},

@@ -96,6 +96,9 @@ const std::vector<OptionSpec> &bodyParticles() {
      "The body's Poisson's ratio"},
     {"gimp_bodyK_rho", Kind::Real, "kg/m^3", "-gimp_rho", "", nullptr, above(0),
      "The body's mass density"},
+    {"gimp_bodyK_Gc", Kind::Real, "J/m^2", "-gimp_Gc", "", nullptr, above(0),
+     "The body's toughness: a crack tip in it grows when G by J reaches it (with"
+     " -gimp_crack_growth mts)"},
   };
   return t;
 }
@@ -214,6 +217,16 @@ const std::vector<OptionSpec> &gridOptions() {
      " 3D: around the front, and its half-length along it)"},
     {"gimp_crack_front_spacing", Kind::Real, "m", "2 cells at the front", "", nullptr, above(0),
      "3D: the largest distance between the front points where G and K are measured"},
+    {"gimp_crack_growth", Kind::Choice, "", "none", "none|mts", nullptr, {},
+     "Crack growth (2D): none, or mts: a tip whose G by J reaches the toughness -gimp_Gc grows by"
+     " one increment in the direction of the maximum hoop stress from its K_I and K_II"},
+    {"gimp_crack_growth_step", Kind::Real, "m", "one cell at the tip", "", nullptr, above(0),
+     "Length of a growth increment (at most the tip's J radius)"},
+    {"gimp_crack_growth_length", Kind::Real, "m", "20 growth steps", "", nullptr, above(0),
+     "The longest each tip may grow in all; the nodes within it of the tip's start get second"
+     " velocity fields at setup"},
+    {"gimp_crack_growth_interval", Kind::Int, "steps", "10", "", nullptr, intFrom(1, 1e9),
+     "Steps between growth checks (each measures every tip's G and K by J)"},
   };
   return t;
 }

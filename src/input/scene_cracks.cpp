@@ -1,5 +1,6 @@
 // Reading the cracks of a scene (-gimp_cracks, -gimp_crackK_points): each polyline checked
-// against itself, the bodies and the other cracks; each end classified as a tip or a mouth.
+// against itself, the bodies and the other cracks; each end classified as a tip or a mouth; and
+// their growth (-gimp_crack_growth and its options).
 #include "scene_options.hpp"
 
 #include <algorithm>
@@ -118,6 +119,70 @@ void checkTips(const Scene<2> &sc) {
     }
 }
 
+/// Crack growth (-gimp_crack_growth mts): each tip's increment and the longest it may grow, and
+/// the refusals of what would not grow as asked. After the J domains are set.
+void readGrowth(const Options &o, Scene<2> &sc, PetscInt nc) {
+  sc.growth = o.choice("gimp_crack_growth", "none") == "mts" ? Growth::Mts : Growth::None;
+  bool stepGiven = false, lengthGiven = false;
+  const double step = o.real("gimp_crack_growth_step", 0, &stepGiven);
+  const double length = o.real("gimp_crack_growth_length", 0, &lengthGiven);
+  sc.growthInterval = static_cast<int>(o.integer("gimp_crack_growth_interval", sc.growthInterval));
+  if (o.help()) return;
+  const bool grows = sc.growth == Growth::Mts;
+  o.needs(nc > 0, "gimp_crack_growth", "cracks (-gimp_cracks)");
+  for (const char *q :
+       {"gimp_crack_growth_step", "gimp_crack_growth_length", "gimp_crack_growth_interval"})
+    o.needs(grows, q, "-gimp_crack_growth mts");
+  // A toughness without growth would do nothing: refused.
+  std::vector<std::string> tough;
+  if (o.given("gimp_Gc")) tough.push_back("gimp_Gc");
+  for (size_t b = 0; b < sc.bodies.size(); ++b)
+    if (o.given("gimp_body" + std::to_string(b) + "_Gc"))
+      tough.push_back("gimp_body" + std::to_string(b) + "_Gc");
+  for (const std::string &q : tough)
+    o.needs(grows, q, "-gimp_crack_growth mts (a toughness alone grows no crack)");
+  if (!grows) return;
+  bool anyTough = false;
+  for (size_t k = 0; k < sc.cracks.size(); ++k)
+    for (int e = 0; e < 2; ++e) {
+      const Crack &c = sc.cracks[k];
+      if (!c.tip[e]) continue;
+      const auto &x = e ? c.points.back() : c.points.front();
+      const double h = cellSizeAt(sc, x[0], x[1]);
+      anyTough = anyTough || sc.materialAt(x.data()).Gc > 0;
+      TipGrowth g;
+      g.crack = static_cast<int>(k);
+      g.end = e;
+      g.origin = x;
+      g.step = stepGiven ? step : h;
+      g.length = lengthGiven ? length : 20.0 * g.step;
+      const double R = sc.jDomain[sc.tipGrowth.size()].radius;
+      const std::string tip = "the tip " + formatNumber(x[0]) + "," + formatNumber(x[1]) +
+                              " of crack " + std::to_string(k);
+      if (R <= 0)
+        Options::bad("gimp_crack_growth", "mts",
+                     "no J domain fits at " + tip +
+                         " (it is closer than 2 cells to an edge or crack): growth needs G by J at "
+                         "every tip; use -gimp_crack_growth none");
+      if (g.step > R)
+        Options::bad("gimp_crack_growth_step", formatNumber(g.step),
+                     "larger than the J radius " + formatNumber(R) + " m at " + tip +
+                         ": valid up to the J radius");
+      if (g.length < g.step)
+        Options::bad("gimp_crack_growth_length", formatNumber(g.length),
+                     "shorter than the growth step " + formatNumber(g.step) + " m at " + tip +
+                         ": valid from one growth step");
+      sc.tipGrowth.push_back(g);
+    }
+  if (sc.tipGrowth.empty())
+    Options::bad("gimp_crack_growth", "mts",
+                 "no crack has a tip (an end strictly inside a body): nothing can grow");
+  if (!anyTough)
+    Options::bad("gimp_crack_growth", "mts",
+                 "needs a toughness: -gimp_Gc [J/m^2] (or -gimp_bodyK_Gc for the bodies that hold "
+                 "the tips)");
+}
+
 } // namespace
 
 void readCracks(const Options &o, Scene<2> &sc) {
@@ -136,9 +201,10 @@ void readCracks(const Options &o, Scene<2> &sc) {
     sc.cracks.push_back(c);
     checkMeetings(sc, sc.cracks.size() - 1);
   }
-  if (o.help()) return;
+  if (o.help()) return readGrowth(o, sc, nc);
   checkTips(sc);
   setJDomains(sc, radiusGiven);
+  readGrowth(o, sc, nc);
 }
 
 } // namespace gimp::input

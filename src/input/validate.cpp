@@ -255,6 +255,12 @@ PetscErrorCode readOptionsOneLine(const std::function<PetscErrorCode()> &read) {
 }
 
 template <int D> void checkSceneCombinations(const Scene<D> &sc) {
+  // Crack growth changes the cracks between steps; a coarse step's rate classes keep their
+  // stencils across it (docs/method.md, *Crack growth*).
+  if (sc.multirate && sc.growth != Growth::None)
+    throw InputError("option -gimp_crack_growth mts: not built with -gimp_multirate true (its rate "
+                     "classes keep their crack fields over a coarse step); use -gimp_multirate "
+                     "false");
   // -gimp_multirate is built for tensor-product GIMP weights with the FLIP/PIC blend or APIC, and
   // with cracks for PIC or APIC (docs/method.md, "Multi-rate time steps per level").
   if (sc.multirate && !sc.cracks.empty() && sc.transfer == Transfer::Flip && sc.flip > 0)

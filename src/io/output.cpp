@@ -38,6 +38,11 @@ template <int D> PetscErrorCode Output<D>::open(const OutputResume *resume) {
         for (const char *c : {"G_vcct", "GII_vcct", "G_J", "KI_vcct", "KII_vcct", "KI_J", "KII_J",
                               "opening_n", "opening_t"})
           std::fprintf(history_, ",crack%d_tip%d_%s", m.crack, m.end, c);
+    if constexpr (D == 2) // with growth, where each tip is
+      for (const cracks::TipMeasure &m : cracks::tipsOf(sc_))
+        for (const char *c : {"x", "y"})
+          if (sc_.growth != Growth::None)
+            std::fprintf(history_, ",crack%d_tip%d_%s", m.crack, m.end, c);
     if constexpr (D == 3) // each crack's front: the mean and extremes over its front points
       for (size_t k = 0; k < sc_.cracks.size(); ++k)
         for (const char *q : {"G", "KI", "KII", "KIII"})
@@ -74,6 +79,8 @@ template <int D> PetscErrorCode Output<D>::writeHistory(const HistoryRow &r) {
     std::fprintf(history_, ",%.12e,%.12e,%.12e,%.12e,%.12e,%.12e,%.12e,%.12e,%.12e", m.G_vcct,
                  m.GII_vcct, m.G_J, m.KI_vcct, m.KII_vcct, m.KI_J, m.KII_J, m.opening[0],
                  m.opening[1]);
+  for (const cracks::TipMeasure &m : r.tips)
+    if (sc_.growth != Growth::None) std::fprintf(history_, ",%.12e,%.12e", m.tip[0], m.tip[1]);
   for (size_t k = 0; D == 3 && k < sc_.cracks.size(); ++k)
     for (const auto value : {&cracks::FrontMeasure::G, &cracks::FrontMeasure::KI,
                              &cracks::FrontMeasure::KII, &cracks::FrontMeasure::KIII}) {

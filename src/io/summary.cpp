@@ -189,13 +189,27 @@ template <int D> void Output<D>::summaryMeasures(FILE *f, const SummaryReport &r
                  "%s\n    {\"crack\": %d, \"end\": %d, \"tip\": [%s, %s], \"G_vcct\": %s, "
                  "\"GII_vcct\": %s, \"G_J\": %s, \"KI_vcct\": %s, \"KII_vcct\": %s, \"KI_J\": %s, "
                  "\"KII_J\": %s, \"h\": %s, \"opening\": [%s, %s], \"j_radius\": %s, "
-                 "\"j_domain_clipped\": %s}",
+                 "\"j_domain_clipped\": %s",
                  q ? "," : "", t.crack, t.end, num(t.tip[0]).c_str(), num(t.tip[1]).c_str(),
                  num(t.G_vcct).c_str(), num(t.GII_vcct).c_str(), num(t.G_J).c_str(),
                  num(t.KI_vcct).c_str(), num(t.KII_vcct).c_str(), num(t.KI_J).c_str(),
                  num(t.KII_J).c_str(), num(t.h).c_str(), num(t.opening[0]).c_str(),
                  num(t.opening[1]).c_str(), num(t.jRadius > 0 ? t.jRadius : std::nan("")).c_str(),
                  t.jClipped ? "true" : "false");
+    if (sc_.growth != Growth::None) { // the tip's increments, in order
+      std::fprintf(f, ", \"growth\": [");
+      int n = 0;
+      for (const cracks::GrowthRecord &g : m.growth)
+        if (g.crack == t.crack && g.end == t.end)
+          std::fprintf(f,
+                       "%s{\"t\": %s, \"tip\": %d, \"x\": [%s, %s], \"G\": %s, \"KI\": %s, "
+                       "\"KII\": %s, \"kink\": %s}",
+                       n++ ? ", " : "", num(g.t).c_str(), g.end, num(g.x[0]).c_str(),
+                       num(g.x[1]).c_str(), num(g.G).c_str(), num(g.KI).c_str(), num(g.KII).c_str(),
+                       num(g.kink).c_str());
+      std::fprintf(f, "]");
+    }
+    std::fprintf(f, "}");
   }
   std::fprintf(f, "]");
 }

@@ -13,6 +13,7 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <stdexcept>
 #include <sys/resource.h>
 #include <sys/stat.h>
 #include <sys/statvfs.h>
@@ -123,6 +124,63 @@ template <int D> PetscErrorCode transferFields(MPI_Comm comm, PetscViewer v, DM 
   return PETSC_SUCCESS;
 }
 
+/// 2D crack growth's state: each crack's point count, grown points at each end and points, then
+/// each tip's stopped flag (cracks); every increment, 9 values each (growth).
+template <int D>
+void growthState(const RunState<D> &s, std::vector<double> &cracks, std::vector<double> &growth) {
+  if constexpr (D == 2) {
+    for (const Crack &c : s.sc.cracks) {
+      cracks.insert(cracks.end(),
+                    {static_cast<double>(c.points.size()), static_cast<double>(c.grown[0]),
+                     static_cast<double>(c.grown[1])});
+      for (const auto &p : c.points)
+        cracks.insert(cracks.end(), p.begin(), p.end());
+    }
+    for (const TipGrowth &g : s.sc.tipGrowth)
+      cracks.push_back(g.stopped ? 1.0 : 0.0);
+    for (const cracks::GrowthRecord &r : s.measures.growth)
+      growth.insert(growth.end(), {r.t, static_cast<double>(r.crack), static_cast<double>(r.end),
+                                   r.x[0], r.x[1], r.G, r.KI, r.KII, r.kink});
+  }
+}
+
+/// The grown cracks and the increments back into the run (the arrays of growthState, the same
+/// scene: its crack and tip counts).
+template <int D>
+void restoreGrowth(RunState<D> &s, const std::vector<double> &cracks,
+                   const std::vector<double> &growth) {
+  if constexpr (D == 2) {
+    size_t q = 0;
+    for (Crack &c : s.sc.cracks) {
+      const size_t n = static_cast<size_t>(cracks.at(q));
+      c.grown[0] = static_cast<int>(cracks.at(q + 1));
+      c.grown[1] = static_cast<int>(cracks.at(q + 2));
+      q += 3;
+      c.points.resize(n);
+      for (auto &p : c.points) {
+        p = {cracks.at(q), cracks.at(q + 1)};
+        q += 2;
+      }
+    }
+    for (TipGrowth &g : s.sc.tipGrowth)
+      g.stopped = cracks.at(q++) != 0;
+    s.measures.growth.clear();
+    for (size_t k = 0; k + 8 < growth.size(); k += 9) {
+      cracks::GrowthRecord r;
+      r.t = growth[k];
+      r.crack = static_cast<int>(growth[k + 1]);
+      r.end = static_cast<int>(growth[k + 2]);
+      r.x[0] = growth[k + 3];
+      r.x[1] = growth[k + 4];
+      r.G = growth[k + 5];
+      r.KI = growth[k + 6];
+      r.KII = growth[k + 7];
+      r.kink = growth[k + 8];
+      s.measures.growth.push_back(r);
+    }
+  }
+}
+
 /// The levels as h, box and node counts: a checkpoint belongs to the grid that wrote it.
 template <int D> std::vector<double> gridDescription(const Grid<D> &g) {
   std::vector<double> d;
@@ -227,6 +285,12 @@ template <int D> PetscErrorCode Checkpoint<D>::writeFile(PetscInt step, double t
   PetscCall(reporter_.output().historyText(text));
   PetscCall(writeArray(comm, v, "history", ckpt::packText(text)));
   PetscCall(writeArray(comm, v, "scene", ckpt::packText(record_))); // the options, rank 0's
+  if (s.sc.growth != Growth::None) {                                // the grown cracks (2D)
+    std::vector<double> cracks, growth;
+    growthState(s, cracks, growth);
+    PetscCall(writeArray(comm, v, "cracks", cracks));
+    PetscCall(writeArray(comm, v, "growth", growth));
+  }
   PetscReal dt = 0;
   PetscCall(TSGetTimeStep(s.ts, &dt));
   const RunMeasures &m = s.measures;
@@ -341,6 +405,19 @@ template <int D> PetscErrorCode Checkpoint<D>::load(OutputResume &resume) {
   PetscCall(readArray(s.comm, v, "/particles/local_sizes", sizes));
   PetscCall(readArray(s.comm, v, "/state/frames", frames));
   PetscCall(readArray(s.comm, v, "/state/history", history));
+  if (s.sc.growth != Growth::None) { // the grown cracks (their count checked: verify)
+    std::vector<double> cracks, growth;
+    PetscCall(readArray(s.comm, v, "/state/cracks", cracks));
+    PetscCall(readArray(s.comm, v, "/state/growth", growth));
+    try { // (every rank read the same arrays: every rank throws alike)
+      restoreGrowth(s, cracks, growth);
+    } catch (const std::out_of_range &) {
+      PetscCall(PetscViewerDestroy(&v));
+      throw InputError("option -gimp_restart " + file +
+                       ": its field /state/cracks is shorter than the scene's cracks need (a "
+                       "damaged checkpoint)");
+    }
+  }
   const bool same = sizes.size() == static_cast<size_t>(s.size);
   const PetscInt total = static_cast<PetscInt>(sv[5]);
   const PetscInt nloc = same ? static_cast<PetscInt>(sizes[static_cast<size_t>(s.rank)])

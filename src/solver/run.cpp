@@ -48,7 +48,8 @@ template <int D> PetscErrorCode Solver<D>::advance() {
     PetscCall(multirate_->run(done)); // R fine steps, a step per level (multirate.cpp)
   else
     PetscCall(step_.run(done));
-  return reporter_.report(done.step, done.t);
+  PetscCall(reporter_.report(done.step, done.t));
+  return growCracks(done.step, done.t);
 }
 
 template PetscErrorCode Solver<2>::run();

@@ -144,6 +144,7 @@ template <int D> PetscErrorCode Solver<D>::setupInStage(PetscLogDouble wall0) {
 
 template <int D> PetscErrorCode Solver<D>::createGrid() {
   RunState<D> &s = s_;
+  reserveCrackGrowth();
   PetscCall(s.grid.create(s.comm, s.sc.h, s.sc.levelBoxes(), s.sc.cracks));
   s.sc.idSlots = bodyIdSlots<D>(s.grid);
   if (!s.sc.gridDump.empty()) PetscCall(writeGridDump());
@@ -154,6 +155,7 @@ template <int D> PetscErrorCode Solver<D>::openOutput() {
   if (s_.sc.restart.empty()) return reporter_.open(nullptr);
   OutputResume resume;
   PetscCall(checkpoint_.load(resume));
+  PetscCall(followCracks()); // the checkpoint's cracks may have grown
   return reporter_.open(&resume);
 }
 

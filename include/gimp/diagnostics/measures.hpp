@@ -3,6 +3,7 @@
 // function of the particles; the results go into the io reports.
 #pragma once
 
+#include "gimp/cracks/growth.hpp"
 #include "gimp/grid/lattice.hpp"
 #include "gimp/input/scene.hpp"
 #include "gimp/particles/swarm.hpp"
@@ -36,6 +37,7 @@ struct RunMeasures {
   double mmsLinf = 0, mmsRms = 0; // largest errors over the history rows
   PetscInt64 migrated = 0;        // particles that changed rank, summed over the run
   double dtCritical = std::numeric_limits<double>::quiet_NaN(); // smallest critical step computed
+  std::vector<cracks::GrowthRecord> growth; // 2D crack growth: every increment, in order
 };
 
 /// The hole measure (-gimp_hole_measure): the hoop stress / p at the hole's edge as a curve over

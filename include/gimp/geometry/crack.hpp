@@ -31,6 +31,7 @@ namespace gimp {
 struct Crack {
   std::vector<std::array<double, 2>> points;
   bool tip[2] = {false, false};
+  int grown[2] = {0, 0}; // points added at each end by crack growth (the first and last ones)
 };
 
 namespace cracks {

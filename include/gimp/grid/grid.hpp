@@ -67,6 +67,10 @@ public:
   PetscErrorCode create(MPI_Comm comm, double h0, const std::vector<LevelBox<D>> &boxes,
                         const std::vector<CrackOf<D>> &cracks = {});
 
+  /// Disks (2D; balls in 3D) where cracks may grow, centre then radius: set before create(),
+  /// their nodes get second fields as the nodes a crack cuts do (empty: none).
+  std::vector<std::array<double, D + 1>> crackReserve;
+
   DM dm = nullptr;         // DMComposite of the level DMDAs (and crackDm, with cracks)
   DM crackDm = nullptr;    // DMShell of the cracked nodes' second fields (dof D), or null
   std::vector<DM> da, da1; // per level: the DMDA (dof D) and its dof-1 twin (scalar output)

@@ -199,13 +199,31 @@ struct JDomain {
   bool clipped = false;
 };
 
+/// Crack growth at one 2D crack tip (-gimp_crack_growth mts), in the order of the tips (crack,
+/// then end): where the tip started, the length of an increment, the longest it may grow in all
+/// (the grid gives second fields to the nodes within that of the start), and whether it stopped
+/// (an increment it could not take: it would leave that disk or its body, or meet a crack).
+struct TipGrowth {
+  int crack = 0, end = 0;
+  std::array<double, 2> origin{};
+  double step = 0, length = 0;
+  bool stopped = false;
+};
+
+/// The crack growth criterion (2D): none, or the tip grows when G by J reaches the toughness, in
+/// the direction of the maximum hoop stress (docs/method.md, *Crack growth*).
+enum class Growth { None, Mts };
+
 /// What a run measures beyond energies and probes: crack tips and fronts, and a hole's hoop
 /// stress (the cracks themselves are the scene's: Scene::cracks).
 struct Measures {
-  double crackJRadius = 0;      // -gimp_crack_j_radius [m] (0: not given, kJCells cells)
-  double crackFrontSpacing = 0; // -gimp_crack_front_spacing [m] (0: not given, 2 cells)
-  std::vector<JDomain> jDomain; // per crack tip, in order (crack, then end)
-  bool holeMeasure = false;     // hoop stress around a hole: centre, radius, remote stress p
+  double crackJRadius = 0;          // -gimp_crack_j_radius [m] (0: not given, kJCells cells)
+  double crackFrontSpacing = 0;     // -gimp_crack_front_spacing [m] (0: not given, 2 cells)
+  std::vector<JDomain> jDomain;     // per crack tip, in order (crack, then end)
+  Growth growth = Growth::None;     // -gimp_crack_growth
+  int growthInterval = 10;          // -gimp_crack_growth_interval: steps between growth checks
+  std::vector<TipGrowth> tipGrowth; // per crack tip, in order, with growth (else empty)
+  bool holeMeasure = false;         // hoop stress around a hole: centre, radius, remote stress p
   double hole[3] = {0, 0, 0};
   double holeLoad = 0;
 };
@@ -243,6 +261,11 @@ struct Scene : OutputOptions, MethodOptions, RunControl, GridSpec<D>, Loads<D>, 
   /// conditions, a manufactured solution's body force).
   bool hasExternalForces() const;
 };
+
+/// The J domains of the 2D crack tips after the cracks grew (Measures::jDomain): the radius asked
+/// for clipped to each tip's clearance as at input, without warnings; a crack's kinks from growth
+/// do not clip it (docs/method.md, *Crack growth*).
+void updateJDomains(Scene<2> &sc);
 
 /// Read and validate the scene from the options database (collective).
 template <int D> PetscErrorCode readScene(MPI_Comm comm, Scene<D> &scene);

@@ -48,6 +48,13 @@ private:
   PetscErrorCode openOutput();
   /// One (coarse) step and its reports.
   PetscErrorCode advance();
+  /// 2D crack growth (-gimp_crack_growth mts): the grid's second fields where the tips may grow
+  /// (before the grid is built), and after a restart the things that follow the grown cracks.
+  void reserveCrackGrowth();
+  PetscErrorCode followCracks();
+  /// One growth check after `step` at t, when due: tips measured, grown, and what follows them
+  /// updated (collective; every rank decides alike from the reduced measures).
+  PetscErrorCode growCracks(PetscInt step, double t);
 
   stability::SlepcSession slepc_; // first member: finalised after every other one
   RunState<D> s_;

@@ -1,0 +1,103 @@
+#include "gimp/cracks/growth.hpp"
+
+#include "gimp/geometry/crack.hpp"
+
+#include <cmath>
+#include <cstdio>
+
+namespace gimp::cracks {
+
+double mtsKink(double KI, double KII) {
+  if (KII == 0) return 0.0;
+  const double S = std::sqrt(KI * KI + 8.0 * KII * KII);
+  if (KI >= 0) return 2.0 * std::atan(-2.0 * KII / (KI + S));
+  return 2.0 * std::atan((KI - S) / (4.0 * KII));
+}
+
+namespace {
+
+std::string fmt(double v) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.6g", v);
+  return b;
+}
+
+/// Why the tip of crack k at end e may not move to x, or "".
+std::string refusal(const Scene<2> &sc, const TipGrowth &g, const std::array<double, 2> &from,
+                    const std::array<double, 2> &x) {
+  const Crack &c = sc.cracks[static_cast<size_t>(g.crack)];
+  const int done = c.grown[g.end];
+  if ((done + 1) * g.step > g.length * (1 + 1e-12))
+    return "it has grown its growth length " + fmt(g.length) + " m (-gimp_crack_growth_length)";
+  bool inBody = false;
+  for (const Body<2> &b : sc.bodies)
+    inBody = inBody || (b.inside(from[0], from[1]) && b.inside(x[0], x[1]));
+  if (!inBody) return "the next increment would leave its body";
+  const double h = sc.cellSizeAt(x.data());
+  for (size_t m = 0; m < sc.cracks.size(); ++m) {
+    if (static_cast<int>(m) == g.crack) continue;
+    const Crack &o = sc.cracks[m];
+    for (size_t s = 0; s + 1 < o.points.size(); ++s)
+      if (segmentDistance(from, x, o.points[s], o.points[s + 1]) < h)
+        return "the next increment would come within a cell of crack " + std::to_string(m);
+  }
+  Crack longer = c;
+  if (g.end == 0)
+    longer.points.insert(longer.points.begin(), x);
+  else
+    longer.points.push_back(x);
+  if (findFault(longer, 1e-9 * h).kind != PolylineFault::None)
+    return "the next increment would cross or retrace its own crack";
+  return "";
+}
+
+} // namespace
+
+std::vector<GrowthRecord> growTips(Scene<2> &sc, const std::vector<TipMeasure> &tips, double t,
+                                   std::vector<std::string> &stops) {
+  std::vector<GrowthRecord> out;
+  for (size_t q = 0; q < tips.size() && q < sc.tipGrowth.size(); ++q) {
+    const TipMeasure &m = tips[q];
+    TipGrowth &g = sc.tipGrowth[q];
+    if (g.stopped) continue;
+    const double Gc = sc.materialAt(m.tip).Gc;
+    // NaN (no J domain) never reaches it.
+    if (!(Gc > 0 && m.G_J >= Gc)) continue;
+    Crack &c = sc.cracks[static_cast<size_t>(g.crack)];
+    const size_t n = c.points.size();
+    const std::array<double, 2> tip = g.end == 0 ? c.points[0] : c.points[n - 1];
+    const std::array<double, 2> &back = g.end == 0 ? c.points[1] : c.points[n - 2];
+    const double dx = tip[0] - back[0], dy = tip[1] - back[1], len = std::hypot(dx, dy);
+    const double tt[2] = {dx / len, dy / len}, nn[2] = {-tt[1], tt[0]};
+    const double theta = mtsKink(m.KI_J, m.KII_J), ct = std::cos(theta), st = std::sin(theta);
+    const std::array<double, 2> x = {tip[0] + g.step * (ct * tt[0] + st * nn[0]),
+                                     tip[1] + g.step * (ct * tt[1] + st * nn[1])};
+    const std::string why = refusal(sc, g, tip, x);
+    if (!why.empty()) {
+      g.stopped = true;
+      stops.push_back("crack " + std::to_string(g.crack) + " tip " + std::to_string(g.end) +
+                      " at " + fmt(tip[0]) + "," + fmt(tip[1]) + " stops growing at t " + fmt(t) +
+                      " s: " + why);
+      continue;
+    }
+    if (g.end == 0)
+      c.points.insert(c.points.begin(), x);
+    else
+      c.points.push_back(x);
+    ++c.grown[g.end];
+    GrowthRecord r;
+    r.t = t;
+    r.crack = g.crack;
+    r.end = g.end;
+    r.x[0] = x[0];
+    r.x[1] = x[1];
+    r.G = m.G_J;
+    r.KI = m.KI_J;
+    r.KII = m.KII_J;
+    r.kink = theta * 180.0 / M_PI;
+    out.push_back(r);
+  }
+  return out;
+}
+
+} // namespace gimp::cracks
