@@ -116,6 +116,11 @@ step cantilever "$py" "$root/runs/study_cantilever.py" --gimp "$gimp" --root "$r
 # Cracks: the DCB grid study at rest (table, docs/img/dcb_speed_error.png; about 30 minutes of
 # CPU, most of it the uniform 0.5 mm reference) and the large-load DCB (docs/img/dcb_large.png).
 step dcb_study "$py" "$root/runs/study_dcb.py" --gimp "$gimp" --work "$work/dcb_study"
+# A growing crack that curves toward a hole at two grid sizes (docs/img/crack_hole_path.png,
+# about 2 minutes).
+step crack_path "$py" "$root/tests/check_crack_path.py" --gimp "$gimp" --root "$root" \
+  --work "$work/crack_path" --mpiexec "$mpiexec"
+step plot_crack_path "$py" "$root/runs/crack_path.py" "$work/crack_path"
 step dcb_large sh -c "cd '$root/options' && '$gimp' -options_file dcb_large.opts \
   -gimp_output_dir '$work/dcb_large' >/dev/null && '$py' '$root/tools/plot_dcb_large.py' '$work/dcb_large'"
 

@@ -61,7 +61,14 @@ std::vector<GrowthRecord> growTips(Scene<2> &sc, const std::vector<TipMeasure> &
     TipGrowth &g = sc.tipGrowth[q];
     if (g.stopped) continue;
     const double Gc = sc.materialAt(m.tip).Gc;
-    // NaN (no J domain) never reaches it.
+    if (std::isnan(m.G_J)) { // no J domain fits: the tip cannot be measured, so it stops (said)
+      g.stopped = true;
+      stops.push_back("crack " + std::to_string(g.crack) + " tip " + std::to_string(g.end) +
+                      " at " + fmt(m.tip[0]) + "," + fmt(m.tip[1]) + " stops growing at t " +
+                      fmt(t) + " s: no J-integral domain fits at the tip (it is within " +
+                      fmt(kJMinCells) + " cells of its body's edge, a hole or a crack)");
+      continue;
+    }
     if (!(Gc > 0 && m.G_J >= Gc)) continue;
     Crack &c = sc.cracks[static_cast<size_t>(g.crack)];
     const size_t n = c.points.size();
