@@ -660,3 +660,24 @@ TEST(Grid3D, BadLayoutsRejected) {
 }
 
 } // namespace
+
+TEST(Grid3D, BalancedRanges) {
+  // Cells 0..7 between nodes 0..8; the work sits in cells 4 and 5.
+  const std::vector<double> work = {1, 1, 1, 1, 10, 10, 1, 1};
+  const std::vector<PetscInt> two = gimp::balancedRanges(work, 9, 2);
+  ASSERT_EQ(two.size(), 2u);
+  EXPECT_EQ(two[0] + two[1], 9);
+  EXPECT_EQ(two[0], 5); // cells 0..4 (14) against 5..7 (12): the nearest split of 26
+  // Every rank at least one node, whatever the work.
+  const std::vector<PetscInt> many = gimp::balancedRanges({0, 0, 0, 100}, 5, 4);
+  PetscInt sum = 0;
+  for (PetscInt r : many) {
+    EXPECT_GE(r, 1);
+    sum += r;
+  }
+  EXPECT_EQ(sum, 5);
+  // Even work gives the even split.
+  const std::vector<PetscInt> even = gimp::balancedRanges(std::vector<double>(8, 1.0), 9, 2);
+  EXPECT_EQ(even[0], 4);
+  EXPECT_EQ(even[1], 5);
+}

@@ -48,6 +48,7 @@ PetscErrorCode Grid<D>::build(MPI_Comm comm, const std::vector<CrackOf<D>> &crac
                              PETSC_DECIDE, D, 0, nullptr, nullptr, nullptr, &da[k]));
     if (k == 0) PetscCall(DMSetFromOptions(da[k])); // -da_processors_x/y/z choose the rank layout
     PetscCall(DMSetUp(da[k]));
+    if (k == 0 && cellWork) PetscCall(balanceLevel0(comm));
     for (int a = 0; a < D; ++a)
       PetscCall(DMDASetFieldName(da[k], a, axis[a]));
     PetscCall(DMDASetUniformCoordinates(da[k], L.box[0], L.box[D], L.box[1], L.box[D + 1],
@@ -92,6 +93,85 @@ PetscErrorCode Grid<D>::build(MPI_Comm comm, const std::vector<CrackOf<D>> &crac
   PetscCall(addCrackFields(comm, cracks));
   PetscCall(DMSetUp(dm));
   PetscCall(createScatter(comm));
+  return PETSC_SUCCESS;
+}
+
+template <int D> std::vector<std::vector<double>> Grid<D>::workAlongAxes() const {
+  // Every leaf cell's work, added to the level-0 cell holding its centre, per axis.
+  const Level<D> &L0 = levels[0];
+  std::vector<std::vector<double>> w(D);
+  for (int a = 0; a < D; ++a)
+    w[a].assign(static_cast<size_t>(L0.n[a] - 1), 0.0);
+  for (int k = 0; k < static_cast<int>(levels.size()); ++k) {
+    const Level<D> &L = levels[k];
+    std::array<PetscInt, D> cells;
+    for (int a = 0; a < D; ++a)
+      cells[a] = L.n[a] - 1;
+    forEachIndex<D>(cells, [&](const Index &c) {
+      double centre[D];
+      for (int a = 0; a < D; ++a)
+        centre[a] = this->nodeCoordinate(k, a, c[a]) + 0.5 * L.h;
+      if (this->leafLevelAt(centre) != k) return;
+      const double work = cellWork(centre, L.h);
+      if (!(work > 0)) return;
+      for (int a = 0; a < D; ++a) {
+        const auto i = static_cast<std::int64_t>(std::floor((centre[a] - L0.box[a]) * L0.ih));
+        w[a][static_cast<size_t>(std::clamp<std::int64_t>(i, 0, L0.n[a] - 2))] += work;
+      }
+    });
+  }
+  return w;
+}
+
+std::vector<PetscInt> balancedRanges(const std::vector<double> &work, PetscInt nodes, PetscInt np) {
+  // Rank r owns the cells whose lowest node it owns: its first node s_r is where the cumulative
+  // work of the cells before it comes nearest r / np of the total, at least one node apart.
+  std::vector<double> cum(work.size() + 1, 0.0);
+  for (size_t i = 0; i < work.size(); ++i)
+    cum[i + 1] = cum[i] + work[i];
+  const double total = cum.back();
+  std::vector<PetscInt> start(static_cast<size_t>(np) + 1, 0);
+  start[static_cast<size_t>(np)] = nodes;
+  for (PetscInt r = 1; r < np; ++r) {
+    const double target = total * static_cast<double>(r) / static_cast<double>(np);
+    PetscInt best = start[static_cast<size_t>(r) - 1] + 1;
+    for (PetscInt s = best; s <= nodes - (np - r); ++s)
+      if (std::fabs(cum[static_cast<size_t>(std::min<PetscInt>(s, nodes - 1))] - target) <
+          std::fabs(cum[static_cast<size_t>(std::min<PetscInt>(best, nodes - 1))] - target))
+        best = s;
+    start[static_cast<size_t>(r)] = best;
+  }
+  std::vector<PetscInt> ranges(static_cast<size_t>(np));
+  for (PetscInt r = 0; r < np; ++r)
+    ranges[static_cast<size_t>(r)] =
+        start[static_cast<size_t>(r) + 1] - start[static_cast<size_t>(r)];
+  return ranges;
+}
+
+template <int D> PetscErrorCode Grid<D>::balanceLevel0(MPI_Comm comm) {
+  // PETSc chose the layout (or -da_processors_*); a second DMDA keeps it with the nodes of each
+  // axis split by work instead of evenly. Every rank computes the same ranges.
+  PetscInt np[3] = {1, 1, 1};
+  PetscCall(DMDAGetInfo(da[0], nullptr, nullptr, nullptr, nullptr, &np[0], &np[1], &np[2], nullptr,
+                        nullptr, nullptr, nullptr, nullptr, nullptr));
+  if (np[0] * np[1] * np[2] == 1) return PETSC_SUCCESS;
+  const std::vector<std::vector<double>> work = workAlongAxes();
+  std::vector<PetscInt> ranges[3];
+  for (int a = 0; a < D; ++a)
+    ranges[a] = balancedRanges(work[static_cast<size_t>(a)], levels[0].n[a], np[a]);
+  DM balanced = nullptr;
+  const Level<D> &L = levels[0];
+  if constexpr (D == 2)
+    PetscCall(DMDACreate2d(comm, DM_BOUNDARY_NONE, DM_BOUNDARY_NONE, DMDA_STENCIL_BOX, L.n[0],
+                           L.n[1], np[0], np[1], D, 0, ranges[0].data(), ranges[1].data(),
+                           &balanced));
+  else
+    PetscCall(DMDACreate3d(comm, DM_BOUNDARY_NONE, DM_BOUNDARY_NONE, DM_BOUNDARY_NONE,
+                           DMDA_STENCIL_BOX, L.n[0], L.n[1], L.n[2], np[0], np[1], np[2], D, 0,
+                           ranges[0].data(), ranges[1].data(), ranges[2].data(), &balanced));
+  PetscCall(DMSetUp(balanced));
+  PetscCall(DMDestroy(&da[0]));
+  da[0] = balanced;
   return PETSC_SUCCESS;
 }
 

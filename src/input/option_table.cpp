@@ -39,6 +39,10 @@ const std::vector<OptionSpec> kRun = {
      "Write the final particles as CSV (sorted by id) to this file"},
     {"gimp_grid_dump", Kind::Word, "", "", "", nullptr, {},
      "Write the active grid nodes as CSV (level, coordinates, zones) to this file"},
+    {"gimp_balance", Kind::Bool, "", "true", "", nullptr, {},
+     "Split level 0 among the ranks so that each holds about as many particles (counted from the"
+     " bodies and the levels before seeding) along each axis the ranks divide; false: the same"
+     " number of level-0 nodes each"},
     {"gimp_lanes", Kind::Bool, "", "true", "", nullptr, {},
      "Run the 2D kernels of block particles four at a time (AVX2, where the processor has it;"
      " bit for bit the same results)"},

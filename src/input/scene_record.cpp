@@ -32,6 +32,7 @@ const std::set<std::string> kKept = {"gimp_options_markdown",
                                      "gimp_particle_dump",
                                      "gimp_grid_dump",
                                      "gimp_lanes",
+                                     "gimp_balance",
                                      "gimp_memory_limit"};
 
 std::string lower(std::string s) {

@@ -145,6 +145,13 @@ template <int D> PetscErrorCode Solver<D>::setupInStage(PetscLogDouble wall0) {
 template <int D> PetscErrorCode Solver<D>::createGrid() {
   RunState<D> &s = s_;
   reserveCrackGrowth();
+  if (s.sc.balance) // the particles a leaf cell will hold: the bodies' particles per cell
+    s.grid.cellWork = [&sc = s.sc](const double *centre, double) {
+      double w = 0;
+      for (const Body<D> &b : sc.bodies)
+        if (b.inside(centre)) w += b.ppc;
+      return w;
+    };
   PetscCall(s.grid.create(s.comm, s.sc.h, s.sc.levelBoxes(), s.sc.cracks));
   s.sc.idSlots = bodyIdSlots<D>(s.grid);
   if (!s.sc.gridDump.empty()) PetscCall(writeGridDump());

@@ -17,6 +17,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <type_traits>
 #include <utility>
 #include <vector>
@@ -70,6 +71,14 @@ public:
   /// Disks (2D; balls in 3D) where cracks may grow, centre then radius: set before create(),
   /// their nodes get second fields as the nodes a crack cuts do (empty: none).
   std::vector<std::array<double, D + 1>> crackReserve;
+
+  /// The work of a leaf cell (centre, cell size): the particles it will hold. Set before
+  /// create(), level 0 is split among the ranks so that each holds about the same work along
+  /// every axis the ranks divide (balancedRanges); empty: PETSc's even split of the nodes.
+  std::function<double(const double *centre, double h)> cellWork;
+
+  /// Per axis, the work of the leaf cells (cellWork) summed per level-0 cell index along it.
+  std::vector<std::vector<double>> workAlongAxes() const;
 
   DM dm = nullptr;         // DMComposite of the level DMDAs (and crackDm, with cracks)
   DM crackDm = nullptr;    // DMShell of the cracked nodes' second fields (dof D), or null
@@ -142,6 +151,8 @@ private:
   PetscErrorCode build(MPI_Comm comm, const std::vector<CrackOf<D>> &cracks);
   /// Level-0 ownership and this rank's window of every level.
   PetscErrorCode setWindow();
+  /// Level 0's DMDA again with the same rank layout and its nodes split by cellWork.
+  PetscErrorCode balanceLevel0(MPI_Comm comm);
   /// Every cracked node of the grid, in an order every rank agrees on (collective-free).
   std::vector<CrackedNode> findCrackedNodes(const std::vector<CrackOf<D>> &cracks) const;
   /// The DMShell of the second fields, its window slots and their composite indices.
@@ -205,5 +216,10 @@ private:
 
 extern template class Grid<2>;
 extern template class Grid<3>;
+
+/// Ownership ranges of `nodes` lattice nodes among np ranks along one axis, each rank's first
+/// node where the cumulative work of the cells before it (work[i]: cell i, between nodes i and
+/// i + 1) is nearest r / np of the total; every rank at least one node.
+std::vector<PetscInt> balancedRanges(const std::vector<double> &work, PetscInt nodes, PetscInt np);
 
 } // namespace gimp
