@@ -23,17 +23,26 @@ Measured points. The history is written every growth check (10 steps), before th
 check, with the measures that check uses: the row where the tip is at x_n for the last time is
 the one whose G by J reached Gc, i.e. the load at which a crack of length x_n starts to grow.
 P there is the mean of the two arms' reactions, (dbc0_fy - dbc1_fy) / 2. The first such row
-(a = a0, the as-given crack) is printed but not compared: it comes 2 ms after the fast first ramp
-with the arms still settling. Every later one (a0 + 1 mm on, 21 points) is compared with P(a):
+(a = a0) is printed but not compared: its crack is the given one, not one the run grew (it
+reads +0.80 %, in line with the rest). Every later one (a0 + 1 mm on, 21 points) is compared with P(a):
 the crack there has grown, and those are the points of the curve the issue asks for.
 
-Checks: every compared point within TOL of P(a); the tip grows at least 20 mm; it stays on
-y = 12 mm within a cell (mode I). What bounds the agreement (docs/validation.md, *Crack growth*):
-G by J reads about 2.8 % low on the 1 mm cells (the DCB grid study), so each increment waits for
-G 2.8 % past Gc and P reads +1.4 % high; the mass-proportional damping's drag on the moving arms
-adds to the reaction (proportional to d / T); lighter damping leaves each increment's ringing,
-and a ringing arm grows the next increment early (P 5-6 % low at every second increment with d =
-1000 1/s over 20 ms).
+Checks: every compared point within TOL = 3 % of P(a) (measured +0.83 % at 51 mm rising to
++1.59 % at 71 mm); the tip grows at least 20 mm (22 mm, the growth length); it stays on y = 12 mm
+within a cell (measured 5e-14 m: mode I, no kink). What the agreement is made of
+(docs/validation.md, *Crack growth*, measured on variants of the scene):
+- the mass-proportional damping's drag on the moving arms adds to the reaction in proportion to
+  d / T: d = 4000 1/s over a ramp of 20 ms gave +2.8 ... +4.9 %; linear in d / T, the drag-free
+  error is +0.15 % at a0 and +0.45 % at 70 mm, so the rise with a is the drag (longer, heavier,
+  faster arms);
+- lighter damping leaves each increment's ringing, and a ringing arm grows the next increment
+  early: d = 1000 1/s over 20 ms put every second increment 5-6 % low; the damping must bring the
+  arms' first mode (0.6-1 kHz) to rest between increments, which with the drag sets the run's
+  length (95000 steps);
+- a fast ramp is not quasi-static: over 2 ms (the arms' first period is about 1 ms) P was 67 %
+  above beam theory;
+- G by J reads 2.8 % low at rest on 1 mm cells (the DCB grid study), which would put P 1.4 % high;
+  loaded here J and VCCT agree at onset (0.998) and the drag-free error above is at most 0.5 %.
 """
 import math
 
