@@ -25,7 +25,7 @@ the one whose G by J reached Gc, i.e. the load at which a crack of length x_n st
 P there is the mean of the two arms' reactions, (dbc0_fy - dbc1_fy) / 2. The first such row
 (a = a0) is printed but not compared: its crack is the given one, not one the run grew (it
 reads +0.80 %, in line with the rest). Every later one (a0 + 1 mm on, 21 points) is compared with P(a):
-the crack there has grown, and those are the points of the curve the issue asks for.
+the crack there has grown: these are the grown crack's P(a).
 
 Checks: every compared point within TOL = 3 % of P(a) (measured +0.83 % at 51 mm rising to
 +1.59 % at 71 mm); the tip grows at least 20 mm (22 mm, the growth length); it stays on y = 12 mm
