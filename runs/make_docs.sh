@@ -123,6 +123,9 @@ step crack_path "$py" "$root/tests/check_crack_path.py" --gimp "$gimp" --root "$
 step plot_crack_path "$py" "$root/runs/crack_path.py" "$work/crack_path"
 step dcb_large sh -c "cd '$root/options' && '$gimp' -options_file dcb_large.opts \
   -gimp_output_dir '$work/dcb_large' >/dev/null && '$py' '$root/tools/plot_dcb_large.py' '$work/dcb_large'"
+# Stable growth in the DCB under a prescribed opening (table, docs/img/dcb_growth.png; about 4
+# minutes).
+step dcb_growth "$py" "$root/runs/dcb_growth.py" --gimp "$gimp" --work "$work/dcb_growth"
 
 # 3D scenes (docs/validation.md, *3D scenes*; docs/img/halfspace3d.png).
 for t in bar3d patch3d penalty3d mms3d thin_plate3d mpi3d shapes3d; do
