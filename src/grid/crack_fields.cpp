@@ -50,65 +50,54 @@ std::vector<typename Grid<D>::CrackedNode>
 Grid<D>::findCrackedNodes(const std::vector<CrackOf<D>> &cracks) const {
   std::vector<CrackedNode> out;
   const double reach = this->h0();
-  for (int k = 0; k < static_cast<int>(levels.size()); ++k) {
+  // Visits the active nodes of level k whose support may meet the box [lo, hi] widened by w,
+  // with their support [X - z-, X + z+] along each axis (lows, then highs).
+  const auto nodesNear = [&](int k, const double *lo, const double *hi, double w, auto &&visit) {
     const Level<D> &L = levels[k];
-    for (const CrackOf<D> &c : cracks)
-      for (const auto &piece : pieces(c)) {
-        // Nodes of level k whose support, widened by the reach, may meet this piece.
-        const double w = reach + this->h0();
-        Index lo{}, hi{};
-        std::array<PetscInt, D> n{};
-        for (int a = 0; a < D; ++a) {
-          lo[a] = std::max<std::int64_t>(0, std::floor((piece[a] - w - L.box[a]) * L.ih));
-          hi[a] =
-              std::min<std::int64_t>(L.n[a] - 1, std::ceil((piece[D + a] + w - L.box[a]) * L.ih));
-          n[a] = static_cast<PetscInt>(hi[a] - lo[a] + 1);
-        }
-        forEachIndex<D>(n, [&](const Index &d) {
-          Index i{};
-          for (int a = 0; a < D; ++a)
-            i[a] = lo[a] + d[a];
-          if (!this->nodeActive(k, i)) return;
-          double z[2 * D], support[2 * D];
-          this->zonesOf(k, i, z);
-          for (int a = 0; a < D; ++a) {
-            const double X = this->nodeCoordinate(k, a, i[a]);
-            support[a] = X - z[2 * a];
-            support[D + a] = X + z[2 * a + 1];
-          }
-          if (cracks::nearCrack(c, support, reach)) out.push_back({k, i, 0, 0});
-        });
+    Index i0{};
+    std::array<PetscInt, D> n{};
+    for (int a = 0; a < D; ++a) {
+      i0[a] = std::max<std::int64_t>(0, std::floor((lo[a] - w - L.box[a]) * L.ih));
+      const std::int64_t i1 =
+          std::min<std::int64_t>(L.n[a] - 1, std::ceil((hi[a] + w - L.box[a]) * L.ih));
+      n[a] = static_cast<PetscInt>(i1 - i0[a] + 1);
+    }
+    forEachIndex<D>(n, [&](const Index &d) {
+      Index i{};
+      for (int a = 0; a < D; ++a)
+        i[a] = i0[a] + d[a];
+      if (!this->nodeActive(k, i)) return;
+      double z[2 * D], support[2 * D];
+      this->zonesOf(k, i, z);
+      for (int a = 0; a < D; ++a) {
+        const double X = this->nodeCoordinate(k, a, i[a]);
+        support[a] = X - z[2 * a];
+        support[D + a] = X + z[2 * a + 1];
       }
-  }
+      visit(i, support);
+    });
+  };
+  for (int k = 0; k < static_cast<int>(levels.size()); ++k)
+    for (const CrackOf<D> &c : cracks)
+      for (const auto &piece : pieces(c)) // nodes whose support, widened by the reach, meets it
+        nodesNear(k, piece.data(), piece.data() + D, reach + this->h0(),
+                  [&](const Index &i, const double *support) {
+                    if (cracks::nearCrack(c, support, reach)) out.push_back({k, i, 0, 0});
+                  });
   // The nodes where a crack may grow: support, widened by the reach, within the disk's radius
   // of its centre.
-  for (int k = 0; k < static_cast<int>(levels.size()); ++k) {
-    const Level<D> &L = levels[k];
-    for (const std::array<double, D + 1> &disk : crackReserve) {
-      const double w = disk[D] + reach + this->h0();
-      Index lo{}, hi{};
-      std::array<PetscInt, D> n{};
-      for (int a = 0; a < D; ++a) {
-        lo[a] = std::max<std::int64_t>(0, std::floor((disk[a] - w - L.box[a]) * L.ih));
-        hi[a] = std::min<std::int64_t>(L.n[a] - 1, std::ceil((disk[a] + w - L.box[a]) * L.ih));
-        n[a] = static_cast<PetscInt>(hi[a] - lo[a] + 1);
-      }
-      forEachIndex<D>(n, [&](const Index &d) {
-        Index i{};
-        for (int a = 0; a < D; ++a)
-          i[a] = lo[a] + d[a];
-        if (!this->nodeActive(k, i)) return;
-        double z[2 * D], gap2 = 0;
-        this->zonesOf(k, i, z);
-        for (int a = 0; a < D; ++a) {
-          const double X = this->nodeCoordinate(k, a, i[a]);
-          const double g = std::max({0.0, X - z[2 * a] - disk[a], disk[a] - (X + z[2 * a + 1])});
-          gap2 += g * g;
-        }
-        if (std::sqrt(gap2) <= disk[D] + reach) out.push_back({k, i, 0, 0});
-      });
-    }
-  }
+  for (int k = 0; k < static_cast<int>(levels.size()); ++k)
+    for (const std::array<double, D + 1> &disk : crackReserve)
+      nodesNear(
+          k, disk.data(), disk.data(), disk[D] + reach + this->h0(),
+          [&](const Index &i, const double *support) {
+            double gap2 = 0;
+            for (int a = 0; a < D; ++a) {
+              const double g = std::max({0.0, support[a] - disk[a], disk[a] - support[D + a]});
+              gap2 += g * g;
+            }
+            if (std::sqrt(gap2) <= disk[D] + reach) out.push_back({k, i, 0, 0});
+          });
   // Level, then the index with its last axis slowest (the levels' node order).
   const auto key = [](const CrackedNode &a) {
     std::array<std::int64_t, D + 1> r{};

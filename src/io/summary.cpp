@@ -107,11 +107,11 @@ template <int D> void Output<D>::summaryRun(FILE *f, const SummaryReport &r) con
                "  \"wall_seconds\": %s,\n  \"setup_seconds\": %s,\n  \"cpu_seconds\": %s,\n"
                "  \"particles\": %lld,\n",
                r.ranks, static_cast<long long>(r.steps), num(r.t).c_str(), num(r.dt).c_str(),
-               num(r.wallSeconds).c_str(), num(r.setupSeconds).c_str(), num(r.cpuSeconds).c_str(),
-               static_cast<long long>(r.particles));
-  std::fprintf(
-      f, "  \"particle_steps_per_second\": %s,\n",
-      num(static_cast<double>(r.particles) * static_cast<double>(r.steps) / r.wallSeconds).c_str());
+               num(r.seconds.wall).c_str(), num(r.seconds.setup).c_str(),
+               num(r.seconds.cpu).c_str(), static_cast<long long>(r.particles));
+  std::fprintf(f, "  \"particle_steps_per_second\": %s,\n",
+               num(static_cast<double>(r.particles) * static_cast<double>(r.steps) / r.seconds.wall)
+                   .c_str());
   std::fprintf(f, "  \"dt_critical\": %s,\n", num(r.dtCritical).c_str());
   std::fprintf(f, "  \"levels\": [");
   for (size_t k = 0; k < grid_.levels.size(); ++k) {

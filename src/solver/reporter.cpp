@@ -228,8 +228,8 @@ template <int D> PetscErrorCode Reporter<D>::summary(PetscInt steps, double t) {
   PetscCall(crackTips(r.tips, r.front));
   PetscLogDouble wall1 = 0;
   PetscCall(PetscTime(&wall1));
-  r.wallSeconds = wall1 - wall0_;
-  r.setupSeconds = setupSeconds_;
+  r.seconds.wall = wall1 - wall0_;
+  r.seconds.setup = setupSeconds_;
   // CPU time of the process (all ranks summed): unlike the wall time, it does not grow when
   // other work shares the machine.
   // (PetscGetCPUTime reads a clock that does not count this process's time on every system.)
@@ -238,7 +238,7 @@ template <int D> PetscErrorCode Reporter<D>::summary(PetscInt steps, double t) {
   if (getrusage(RUSAGE_SELF, &use) == 0)
     mineCpu = static_cast<double>(use.ru_utime.tv_sec + use.ru_stime.tv_sec) +
               1e-6 * static_cast<double>(use.ru_utime.tv_usec + use.ru_stime.tv_usec);
-  PetscCallMPI(MPI_Allreduce(&mineCpu, &r.cpuSeconds, 1, MPI_DOUBLE, MPI_SUM, s.comm));
+  PetscCallMPI(MPI_Allreduce(&mineCpu, &r.seconds.cpu, 1, MPI_DOUBLE, MPI_SUM, s.comm));
   return out_->writeSummary(r);
 }
 

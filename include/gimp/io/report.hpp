@@ -30,9 +30,12 @@ struct SummaryReport {
   std::string failure; // why an unstable run stopped: the first failing rank's line
   int ranks = 1;
   PetscInt steps = 0;
-  double t = 0, dt = 0, wallSeconds = 0;
-  double setupSeconds = 0; // wall time of the setup (scene to the first step) [s]
-  double cpuSeconds = 0;   // process CPU time, summed over ranks
+  double t = 0, dt = 0;
+  /// The run's times [s]: wall (setup to the end), the setup's wall time, and the process CPU
+  /// time summed over ranks.
+  struct Seconds {
+    double wall = 0, setup = 0, cpu = 0;
+  } seconds;
   double dtCritical = NAN; // smallest critical step computed (-gimp_stability_check), else NaN
   PetscInt64 particles = 0;
   Energies energy;
