@@ -162,5 +162,8 @@ for o in block3d block3d_levels; do
       GIMP_BENCH_OPTS="$root/bench/$o.opts" "$root/bench/run_bench.sh" -gimp_transfer "$t"
   done
 done
+# Setup time and memory against the particle count in 3D (docs/performance.md, *Large runs*; about
+# 4 minutes, 4.7 GB at its largest run).
+step setup_scaling "$py" "$root/bench/setup_scaling.py" --gimp "$gimp" --work "$work/setup_scaling"
 
 echo "make_docs: all steps done in $((SECONDS - start_all)) s; tables in $work/logs/, figures in $root/docs/img/"
