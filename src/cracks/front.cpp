@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 namespace gimp::cracks {
 
@@ -362,18 +363,28 @@ void addFrontIntegrals(const Material &m, const ParticleView<3> &p, const CrackS
   }
   for (PetscInt k = 0; k < p.n; ++k) {
     const P3 x = {p.x[3 * k], p.x[3 * k + 1], p.x[3 * k + 2]};
+    // The particle's place and state, found once for P's tube and its images.
+    std::optional<Place> place;
+    std::optional<ParticleState> state;
+    const auto placed = [&]() -> const Place & {
+      if (!place) place = placeOf(c, ch, x);
+      return *place;
+    };
+    const auto stated = [&]() -> const ParticleState & {
+      if (!state) state = stateOf(m, p, k);
+      return *state;
+    };
     const P3 r = sub(x, d.P);
     if (dot(r, r) < reach2) {
-      const Place pl = placeOf(c, ch, x);
-      if (pl.rho > 0 && pl.rho < R && std::fabs(pl.s) < d.L)
-        particleTerms(d, stateOf(m, p, k), pl, out);
+      const Place &pl = placed();
+      if (pl.rho > 0 && pl.rho < R && std::fabs(pl.s) < d.L) particleTerms(d, stated(), pl, out);
     }
     for (size_t i = 0; i < images.size(); ++i) {
       const P3 ri = sub(x, imageP[i]);
       if (dot(ri, ri) >= reach2) continue;
-      Place pl = placeOf(c, ch, x);
+      Place pl = placed();
       if (!(pl.rho > 0 && pl.rho < R)) continue;
-      ParticleState st = stateOf(m, p, k);
+      ParticleState st = stated();
       mirror(images[i], c, st, pl);
       if (std::fabs(pl.s) < d.L) particleTerms(d, st, pl, out);
     }

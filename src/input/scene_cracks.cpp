@@ -99,24 +99,32 @@ void checkMeetings(const Scene<2> &sc, size_t k) {
   }
 }
 
-/// A tip closer than one cell (the finest cell at the tip) to another crack.
-void checkTips(const Scene<2> &sc) {
+/// Calls visit(k, e, x, h) for every crack tip in order (crack k, then end e), x the tip and h
+/// the finest cell there.
+template <class Visit> void forEachTip(const Scene<2> &sc, Visit &&visit) {
   for (size_t k = 0; k < sc.cracks.size(); ++k)
     for (int e = 0; e < 2; ++e) {
       const Crack &c = sc.cracks[k];
       if (!c.tip[e]) continue;
       const auto &x = e ? c.points.back() : c.points.front();
-      const double h = cellSizeAt(sc, x[0], x[1]);
-      for (size_t m = 0; m < sc.cracks.size(); ++m) {
-        const double d = cracks::distance(sc.cracks[m], x[0], x[1]);
-        if (m == k || d >= h) continue;
-        Options::bad("gimp_crack" + std::to_string(k) + "_points", pointsText(c),
-                     "its tip " + formatNumber(x[0]) + "," + formatNumber(x[1]) + " is " +
-                         formatNumber(d) + " m from crack " + std::to_string(m) +
-                         ", less than one cell (" + formatNumber(h) +
-                         " m): a tip must be at least one cell from another crack");
-      }
+      visit(k, e, x, cellSizeAt(sc, x[0], x[1]));
     }
+}
+
+/// A tip closer than one cell (the finest cell at the tip) to another crack.
+void checkTips(const Scene<2> &sc) {
+  forEachTip(sc, [&](size_t k, int, const std::array<double, 2> &x, double h) {
+    const Crack &c = sc.cracks[k];
+    for (size_t m = 0; m < sc.cracks.size(); ++m) {
+      const double d = cracks::distance(sc.cracks[m], x[0], x[1]);
+      if (m == k || d >= h) continue;
+      Options::bad("gimp_crack" + std::to_string(k) + "_points", pointsText(c),
+                   "its tip " + formatNumber(x[0]) + "," + formatNumber(x[1]) + " is " +
+                       formatNumber(d) + " m from crack " + std::to_string(m) +
+                       ", less than one cell (" + formatNumber(h) +
+                       " m): a tip must be at least one cell from another crack");
+    }
+  });
 }
 
 /// Crack growth (-gimp_crack_growth mts): each tip's increment and the longest it may grow, and
@@ -143,37 +151,32 @@ void readGrowth(const Options &o, Scene<2> &sc, PetscInt nc) {
     o.needs(grows, q, "-gimp_crack_growth mts (a toughness alone grows no crack)");
   if (!grows) return;
   bool anyTough = false;
-  for (size_t k = 0; k < sc.cracks.size(); ++k)
-    for (int e = 0; e < 2; ++e) {
-      const Crack &c = sc.cracks[k];
-      if (!c.tip[e]) continue;
-      const auto &x = e ? c.points.back() : c.points.front();
-      const double h = cellSizeAt(sc, x[0], x[1]);
-      anyTough = anyTough || sc.materialAt(x.data()).Gc > 0;
-      TipGrowth g;
-      g.crack = static_cast<int>(k);
-      g.end = e;
-      g.origin = x;
-      g.step = stepGiven ? step : h;
-      g.length = lengthGiven ? length : 20.0 * g.step;
-      const double R = sc.jDomain[sc.tipGrowth.size()].radius;
-      const std::string tip = "the tip " + formatNumber(x[0]) + "," + formatNumber(x[1]) +
-                              " of crack " + std::to_string(k);
-      if (R <= 0)
-        Options::bad("gimp_crack_growth", "mts",
-                     "no J domain fits at " + tip +
-                         " (it is closer than 2 cells to an edge or crack): growth needs G by J at "
-                         "every tip; use -gimp_crack_growth none");
-      if (g.step > R)
-        Options::bad("gimp_crack_growth_step", formatNumber(g.step),
-                     "larger than the J radius " + formatNumber(R) + " m at " + tip +
-                         ": valid up to the J radius");
-      if (g.length < g.step)
-        Options::bad("gimp_crack_growth_length", formatNumber(g.length),
-                     "shorter than the growth step " + formatNumber(g.step) + " m at " + tip +
-                         ": valid from one growth step");
-      sc.tipGrowth.push_back(g);
-    }
+  forEachTip(sc, [&](size_t k, int e, const std::array<double, 2> &x, double h) {
+    anyTough = anyTough || sc.materialAt(x.data()).Gc > 0;
+    TipGrowth g;
+    g.crack = static_cast<int>(k);
+    g.end = e;
+    g.origin = x;
+    g.step = stepGiven ? step : h;
+    g.length = lengthGiven ? length : 20.0 * g.step;
+    const double R = sc.jDomain[sc.tipGrowth.size()].radius;
+    const std::string tip = "the tip " + formatNumber(x[0]) + "," + formatNumber(x[1]) +
+                            " of crack " + std::to_string(k);
+    if (R <= 0)
+      Options::bad("gimp_crack_growth", "mts",
+                   "no J domain fits at " + tip +
+                       " (it is closer than 2 cells to an edge or crack): growth needs G by J at "
+                       "every tip; use -gimp_crack_growth none");
+    if (g.step > R)
+      Options::bad("gimp_crack_growth_step", formatNumber(g.step),
+                   "larger than the J radius " + formatNumber(R) + " m at " + tip +
+                       ": valid up to the J radius");
+    if (g.length < g.step)
+      Options::bad("gimp_crack_growth_length", formatNumber(g.length),
+                   "shorter than the growth step " + formatNumber(g.step) + " m at " + tip +
+                       ": valid from one growth step");
+    sc.tipGrowth.push_back(g);
+  });
   if (sc.tipGrowth.empty())
     Options::bad("gimp_crack_growth", "mts",
                  "no crack has a tip (an end strictly inside a body): nothing can grow");
