@@ -9,6 +9,10 @@
 namespace gimp {
 
 template <int D> Grid<D>::~Grid() {
+  destroyPetsc();
+}
+
+template <int D> void Grid<D>::destroyPetsc() {
   for (DM &d : da)
     if (d) (void)DMDestroy(&d);
   for (DM &d : da1)
@@ -17,6 +21,22 @@ template <int D> Grid<D>::~Grid() {
   if (dm) (void)DMDestroy(&dm);
   if (scatter_) (void)VecScatterDestroy(&scatter_);
   if (windowTemplate_) (void)VecDestroy(&windowTemplate_);
+}
+
+template <int D> void Grid<D>::clear() {
+  destroyPetsc();
+  static_cast<Lattice<D> &>(*this) = Lattice<D>();
+  static_cast<WindowNodes &>(*this) = WindowNodes();
+  da.clear();
+  da1.clear();
+  flags_.clear();
+  threeNodeBlocks_.clear();
+  fourNodeBlocks_.clear();
+  outwardReach_.clear();
+  own_ = {};
+  cracked_.clear();
+  crackedOfSlot_.clear();
+  crackCount_.clear();
 }
 
 template <int D>

@@ -201,6 +201,13 @@ const std::vector<OptionSpec> &gridOptions() {
      "Box of level K, its corners on the parent level's grid lines"},
     {"gimp_levelK_ratio", Kind::Real, "", "2", "", nullptr, intFrom(2, 16),
      "Refinement ratio of level K to its parent"},
+    {"gimp_levelK_follow", Kind::Word, "", "none", "", nullptr, {},
+     "What level K's box follows: none, crackC_tipT (2D: crack C's tip T, 0 its first point, 1"
+     " its last) or probeN (probe N's particle); the box keeps its size and moves by whole cells"
+     " of its parent when the point comes within _follow_margin of a face, and the particles it"
+     " newly covers are split to its particle size"},
+    {"gimp_levelK_follow_margin", Kind::Real, "m", "a quarter of the box's smallest side", "",
+     nullptr, above(0), "How near a face of level K's box the point it follows may come"},
     {"gimp_cracks", Kind::Int, "", "0", "", nullptr, atLeast(0),
      "Number of cracks, each -gimp_crackK_points (2D) or -gimp_crackK_polygon or _disk (3D)"},
     {"gimp_crackK_points", Kind::Reals, "m", "(required)", "x0,y0,x1,y1,...", nullptr, {},

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <climits>
 #include <cmath>
+#include <regex>
 
 namespace gimp::input {
 
@@ -144,6 +145,42 @@ template <int D> void setDomain(const Options &o, Scene<D> &sc) {
   }
 }
 
+/// -gimp_levelK_follow and _follow_margin: none, crackC_tipT or probeN (the crack, tip and probe
+/// checked against the scene in validate.cpp), the margin within half the box's smallest side.
+template <int D> LevelFollow readFollow(const Options &o, size_t k, const BoxOf<D> &box) {
+  const std::string p = "gimp_level" + std::to_string(k) + "_";
+  const std::string what = o.word(p + "follow", "none");
+  bool marginGiven = false;
+  const double margin = o.real(p + "follow_margin", 0.0, &marginGiven);
+  LevelFollow f;
+  if (o.help()) return f;
+  const std::string valid = "none, crackC_tipT (crack C's tip T: 0 its first point, 1 its last) "
+                            "or probeN (the particle of probe N)";
+  static const std::regex tipForm("crack([0-9]{1,4})_tip([01])"), probeForm("probe([0-9]{1,4})");
+  std::smatch m;
+  if (what == "none") {
+    f.kind = LevelFollow::Kind::None;
+  } else if (std::regex_match(what, m, tipForm)) {
+    f = {LevelFollow::Kind::CrackTip, std::stoi(m[1]), std::stoi(m[2]), 0};
+  } else if (std::regex_match(what, m, probeForm)) {
+    f = {LevelFollow::Kind::Probe, std::stoi(m[1]), 0, 0};
+  } else {
+    Options::bad(p + "follow", what, valid);
+  }
+  double side = 1e300;
+  for (int d = 0; d < D; ++d)
+    side = std::min(side, box[D + d] - box[d]);
+  f.margin = marginGiven ? margin : 0.25 * side;
+  if (marginGiven && f.kind == LevelFollow::Kind::None)
+    Options::bad(p + "follow_margin", formatNumber(margin),
+                 "it acts with -" + p + "follow (a crack tip or a probe), which is not given");
+  if (marginGiven && !(margin < 0.5 * side))
+    Options::bad(p + "follow_margin", formatNumber(margin),
+                 "a distance > 0 below half the box's smallest side, " + formatNumber(0.5 * side) +
+                     " m");
+  return f;
+}
+
 /// The levels: level 0 the domain, level K > 0 a box and a ratio to its parent.
 template <int D> void readLevels(const Options &o, Scene<D> &sc) {
   const PetscInt n = o.integer("gimp_levels", 1);
@@ -158,6 +195,9 @@ template <int D> void readLevels(const Options &o, Scene<D> &sc) {
     L.ratio = static_cast<int>(ratio);
     sc.levels.push_back(L);
   }
+  sc.follow.assign(sc.levels.size(), LevelFollow{});
+  for (size_t k = 1; k < (o.help() ? 2 : sc.levels.size()); ++k)
+    sc.follow[o.help() ? 0 : k] = readFollow<D>(o, k, o.help() ? BoxOf<D>{} : sc.levels[k].box);
 }
 
 /// The manufactured solution's model: one neo-Hookean material with nu = 0.

@@ -254,7 +254,49 @@ PetscErrorCode readOptionsOneLine(const std::function<PetscErrorCode()> &read) {
   return readOneLine(read);
 }
 
+/// -gimp_levelK_follow against the scene: the crack tip or probe exists, finer levels follow the
+/// same point (a fixed box inside a moving one would leave it), no rate classes.
+template <int D> void checkFollow(const Scene<D> &sc) {
+  for (size_t k = 1; k < sc.follow.size(); ++k) {
+    const LevelFollow &f = sc.follow[k];
+    if (f.kind == LevelFollow::Kind::None) continue;
+    const std::string name = "option -gimp_level" + std::to_string(k) + "_follow ";
+    const std::string what =
+        f.kind == LevelFollow::Kind::Probe
+            ? "probe" + std::to_string(f.index)
+            : "crack" + std::to_string(f.index) + "_tip" + std::to_string(f.end);
+    if (sc.multirate)
+      throw InputError(name + what +
+                       ": not built with -gimp_multirate true (its rate classes are built once "
+                       "for the levels as they are); use -gimp_multirate false");
+    if (f.kind == LevelFollow::Kind::Probe && static_cast<size_t>(f.index) >= sc.probes.size())
+      throw InputError(name + what + ": the scene has " + std::to_string(sc.probes.size()) +
+                       " probes (-gimp_probes); give probeN with N below that");
+    if (f.kind == LevelFollow::Kind::CrackTip) {
+      if constexpr (D == 3) {
+        throw InputError(name + what +
+                         ": crack tips are points of 2D cracks; a 3D crack has a front (follow "
+                         "a probe instead)");
+      } else {
+        if (static_cast<size_t>(f.index) >= sc.cracks.size())
+          throw InputError(name + what + ": the scene has " + std::to_string(sc.cracks.size()) +
+                           " cracks (-gimp_cracks)");
+        if (!sc.cracks[f.index].tip[f.end])
+          throw InputError(name + what + ": that end of the crack is a mouth (on or outside a " +
+                           "body's edge), not a tip");
+      }
+    }
+    for (size_t q = k + 1; q < sc.follow.size(); ++q)
+      if (!(sc.follow[q] == f))
+        throw InputError("option -gimp_level" + std::to_string(q) + "_follow: level " +
+                         std::to_string(q) + " lies in level " + std::to_string(k) +
+                         ", which follows " + what + "; it must follow the same point (give -" +
+                         "gimp_level" + std::to_string(q) + "_follow " + what + ")");
+  }
+}
+
 template <int D> void checkSceneCombinations(const Scene<D> &sc) {
+  checkFollow(sc);
   // Crack growth changes the cracks between steps; a coarse step's rate classes keep their
   // stencils across it (docs/method.md, *Crack growth*).
   if (sc.multirate && sc.growth != Growth::None)

@@ -179,6 +179,24 @@ template <int D> void Output<D>::summaryMeasures(FILE *f, const SummaryReport &r
   if (sc_.mms != Mms::None)
     std::fprintf(f, ", \"mms_linf\": %s, \"mms_rms\": %s", num(m.mmsLinf).c_str(),
                  num(m.mmsRms).c_str());
+  if (sc_.follows()) { // the moves of the level boxes that follow a point
+    std::fprintf(f, ", \"regrids\": [");
+    const auto sums = [&](const Conserved &c) {
+      return "{\"mass\": " + num(c.mass) + ", \"momentum\": " + numbers(c.momentum, D) +
+             ", \"angular_momentum\": " + numbers(c.angular, D == 2 ? 3 : D) +
+             ", \"energy\": " + num(c.energy) + "}";
+    };
+    for (size_t q = 0; q < m.regrids.size(); ++q) {
+      const RegridRecord &g = m.regrids[q];
+      std::fprintf(f,
+                   "%s{\"t\": %s, \"step\": %lld, \"level\": %d, \"box\": %s, "
+                   "\"particles_added\": %lld, \"before\": %s, \"after\": %s}",
+                   q ? ", " : "", num(g.t).c_str(), static_cast<long long>(g.step), g.level,
+                   numbers(g.box.data(), 2 * D).c_str(), static_cast<long long>(g.added),
+                   sums(g.before).c_str(), sums(g.after).c_str());
+    }
+    std::fprintf(f, "]");
+  }
   std::fprintf(f, "}");
   if (!r.front.empty()) writeFronts(f, r.front);
   if (r.tips.empty()) return;

@@ -159,7 +159,36 @@ template <int D> PetscErrorCode permuteSwarm(DM sw, const std::vector<PetscInt> 
   return PETSC_SUCCESS;
 }
 
+template <int D> PetscErrorCode appendCopies(DM sw, const std::vector<PetscInt> &from) {
+  OptionalFields optional;
+  PetscCall(swarmOptionalFields(sw, optional));
+  PetscInt n0 = 0;
+  PetscCall(DMSwarmGetLocalSize(sw, &n0));
+  PetscCall(DMSwarmAddNPoints(sw, static_cast<PetscInt>(from.size())));
+  std::vector<const char *> names;
+  for (const FieldSpec<D> &f : particleFields<D>())
+    if (optional.has(f.need)) names.push_back(f.name);
+  names.push_back(DMSwarmField_pid);
+  names.push_back(DMSwarmField_rank);
+  for (const char *name : names) {
+    PetscInt bs = 0;
+    PetscDataType type;
+    void *data = nullptr;
+    PetscCall(DMSwarmGetField(sw, name, &bs, &type, &data));
+    size_t size = 0;
+    PetscCall(PetscDataTypeGetSize(type, &size));
+    const size_t row = size * static_cast<size_t>(bs);
+    char *rows = static_cast<char *>(data);
+    for (size_t j = 0; j < from.size(); ++j)
+      std::memcpy(rows + (static_cast<size_t>(n0) + j) * row,
+                  rows + static_cast<size_t>(from[j]) * row, row);
+    PetscCall(DMSwarmRestoreField(sw, name, &bs, &type, &data));
+  }
+  return PETSC_SUCCESS;
+}
+
 #define GIMP_INSTANTIATE(D)                                                                        \
+  template PetscErrorCode appendCopies<D>(DM, const std::vector<PetscInt> &);                      \
   template const std::vector<FieldSpec<D>> &particleFields<D>();                                   \
   template OptionalFields optionalFieldsOf<D>(const Scene<D> &);                                   \
   template struct ParticleView<D>;                                                                 \

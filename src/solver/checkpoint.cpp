@@ -2,6 +2,7 @@
 #include "gimp/solver/checkpoint.hpp"
 
 #include "checkpoint_file.hpp"
+#include "checkpoint_state.hpp"
 #include "gimp/input/scene_record.hpp"
 
 #include "gimp/io/checked.hpp"
@@ -124,63 +125,6 @@ template <int D> PetscErrorCode transferFields(MPI_Comm comm, PetscViewer v, DM 
   return PETSC_SUCCESS;
 }
 
-/// 2D crack growth's state: each crack's point count, grown points at each end and points, then
-/// each tip's stopped flag (cracks); every increment, 9 values each (growth).
-template <int D>
-void growthState(const RunState<D> &s, std::vector<double> &cracks, std::vector<double> &growth) {
-  if constexpr (D == 2) {
-    for (const Crack &c : s.sc.cracks) {
-      cracks.insert(cracks.end(),
-                    {static_cast<double>(c.points.size()), static_cast<double>(c.grown[0]),
-                     static_cast<double>(c.grown[1])});
-      for (const auto &p : c.points)
-        cracks.insert(cracks.end(), p.begin(), p.end());
-    }
-    for (const TipGrowth &g : s.sc.tipGrowth)
-      cracks.push_back(g.stopped ? 1.0 : 0.0);
-    for (const cracks::GrowthRecord &r : s.measures.growth)
-      growth.insert(growth.end(), {r.t, static_cast<double>(r.crack), static_cast<double>(r.end),
-                                   r.x[0], r.x[1], r.G, r.KI, r.KII, r.kink});
-  }
-}
-
-/// The grown cracks and the increments back into the run (the arrays of growthState, the same
-/// scene: its crack and tip counts).
-template <int D>
-void restoreGrowth(RunState<D> &s, const std::vector<double> &cracks,
-                   const std::vector<double> &growth) {
-  if constexpr (D == 2) {
-    size_t q = 0;
-    for (Crack &c : s.sc.cracks) {
-      const size_t n = static_cast<size_t>(cracks.at(q));
-      c.grown[0] = static_cast<int>(cracks.at(q + 1));
-      c.grown[1] = static_cast<int>(cracks.at(q + 2));
-      q += 3;
-      c.points.resize(n);
-      for (auto &p : c.points) {
-        p = {cracks.at(q), cracks.at(q + 1)};
-        q += 2;
-      }
-    }
-    for (TipGrowth &g : s.sc.tipGrowth)
-      g.stopped = cracks.at(q++) != 0;
-    s.measures.growth.clear();
-    for (size_t k = 0; k + 8 < growth.size(); k += 9) {
-      cracks::GrowthRecord r;
-      r.t = growth[k];
-      r.crack = static_cast<int>(growth[k + 1]);
-      r.end = static_cast<int>(growth[k + 2]);
-      r.x[0] = growth[k + 3];
-      r.x[1] = growth[k + 4];
-      r.G = growth[k + 5];
-      r.KI = growth[k + 6];
-      r.KII = growth[k + 7];
-      r.kink = growth[k + 8];
-      s.measures.growth.push_back(r);
-    }
-  }
-}
-
 /// The levels as h, box and node counts: a checkpoint belongs to the grid that wrote it.
 template <int D> std::vector<double> gridDescription(const Grid<D> &g) {
   std::vector<double> d;
@@ -251,6 +195,21 @@ template <int D> PetscErrorCode Checkpoint<D>::write(PetscInt step, double t) {
   return PETSC_SUCCESS;
 }
 
+namespace {
+
+/// What moved in the run: the grown cracks (2D) and the levels that follow a point.
+template <int D> PetscErrorCode writeMoves(MPI_Comm comm, PetscViewer v, const RunState<D> &s) {
+  if (s.sc.follows()) PetscCall(writeArray(comm, v, "follow", followState(s)));
+  if (s.sc.growth == Growth::None) return PETSC_SUCCESS;
+  std::vector<double> cracks, growth;
+  growthState(s, cracks, growth);
+  PetscCall(writeArray(comm, v, "cracks", cracks));
+  PetscCall(writeArray(comm, v, "growth", growth));
+  return PETSC_SUCCESS;
+}
+
+} // namespace
+
 template <int D> PetscErrorCode Checkpoint<D>::writeFile(PetscInt step, double t) {
   // Every rank writes into checkpoint.h5.tmp; when all have closed it, rank 0 renames it into
   // place, so a crash while writing leaves the previous checkpoint whole.
@@ -285,12 +244,7 @@ template <int D> PetscErrorCode Checkpoint<D>::writeFile(PetscInt step, double t
   PetscCall(reporter_.output().historyText(text));
   PetscCall(writeArray(comm, v, "history", ckpt::packText(text)));
   PetscCall(writeArray(comm, v, "scene", ckpt::packText(record_))); // the options, rank 0's
-  if (s.sc.growth != Growth::None) {                                // the grown cracks (2D)
-    std::vector<double> cracks, growth;
-    growthState(s, cracks, growth);
-    PetscCall(writeArray(comm, v, "cracks", cracks));
-    PetscCall(writeArray(comm, v, "growth", growth));
-  }
+  PetscCall(writeMoves(comm, v, s));
   PetscReal dt = 0;
   PetscCall(TSGetTimeStep(s.ts, &dt));
   const RunMeasures &m = s.measures;
@@ -383,7 +337,32 @@ template <int D> PetscErrorCode Checkpoint<D>::check(PetscViewer v, const std::v
   return PETSC_SUCCESS;
 }
 
-template <int D> PetscErrorCode Checkpoint<D>::load(OutputResume &resume) {
+template <int D>
+PetscErrorCode Checkpoint<D>::loadFollow(
+    PetscViewer v, const std::function<PetscErrorCode(const std::vector<LevelBox<D>> &)> &regrid) {
+  RunState<D> &s = s_;
+  std::vector<double> grid, follow;
+  PetscCall(readArray(s.comm, v, "/state/grid", grid));
+  PetscCall(readArray(s.comm, v, "/state/follow", follow));
+  const std::vector<double> now = gridDescription(s.grid);
+  if (grid.size() != now.size()) return PETSC_SUCCESS; // another grid: check() refuses it
+  std::vector<LevelBox<D>> boxes = s.sc.levelBoxes();
+  const size_t per = 1 + 3 * D; // h, box, nodes per axis
+  for (size_t k = 1; k < boxes.size(); ++k)
+    std::copy(grid.begin() + static_cast<std::ptrdiff_t>(k * per + 1),
+              grid.begin() + static_cast<std::ptrdiff_t>(k * per + 1 + 2 * D),
+              boxes[k].box.begin());
+  if (grid != now) PetscCall(regrid(boxes));
+  // The split ids and moves; a checkpoint whose particles were split holds more than the scene
+  // seeds (check() compares the count seeding gave).
+  if (restoreFollow(s, follow)) s.nParticles = -1; // the checkpoint's count, set below
+  return PETSC_SUCCESS;
+}
+
+template <int D>
+PetscErrorCode
+Checkpoint<D>::load(OutputResume &resume,
+                    const std::function<PetscErrorCode(const std::vector<LevelBox<D>> &)> &regrid) {
   // Runs after setup has seeded the scene: the particles are replaced by the checkpoint's, each
   // rank's own in their order on as many ranks, split evenly and migrated on another count.
   RunState<D> &s = s_;
@@ -400,7 +379,9 @@ template <int D> PetscErrorCode Checkpoint<D>::load(OutputResume &resume) {
   for (size_t q = 1; q < kNScalars && sv[0] == kFormat; ++q)
     PetscCall(
         PetscViewerHDF5ReadAttribute(v, "/state", kScalars[q], PETSC_DOUBLE, nullptr, &sv[q]));
-  PetscCall(check(v, sv)); // destroys v when it throws
+  if (s.sc.follows()) PetscCall(loadFollow(v, regrid));
+  if (s.nParticles < 0) s.nParticles = static_cast<PetscInt64>(sv[5]); // split before it
+  PetscCall(check(v, sv));                                             // destroys v when it throws
   std::vector<double> sizes, frames, history;
   PetscCall(readArray(s.comm, v, "/particles/local_sizes", sizes));
   PetscCall(readArray(s.comm, v, "/state/frames", frames));
@@ -482,7 +463,8 @@ template <int D> PetscErrorCode Checkpoint<D>::restoreState(const std::vector<do
 
 #define GIMP_INSTANTIATE(D)                                                                        \
   template PetscErrorCode Checkpoint<D>::write(PetscInt, double);                                  \
-  template PetscErrorCode Checkpoint<D>::load(OutputResume &);
+  template PetscErrorCode Checkpoint<D>::load(                                                     \
+      OutputResume &, const std::function<PetscErrorCode(const std::vector<LevelBox<D>> &)> &);
 GIMP_INSTANTIATE(2)
 GIMP_INSTANTIATE(3)
 #undef GIMP_INSTANTIATE

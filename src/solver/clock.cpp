@@ -33,6 +33,7 @@ PetscErrorCode StepStages::registerAll() {
   PetscCall(stage("G2P", g2p));
   PetscCall(stage("Stress", stress));
   PetscCall(stage("Output", output));
+  PetscCall(stage("Regrid", regrid));
   return PETSC_SUCCESS;
 }
 

@@ -3,6 +3,10 @@
 namespace gimp {
 
 Nodal::~Nodal() {
+  destroy();
+}
+
+void Nodal::destroy() {
   for (Vec *v :
        {&P,     &mass, &vel,  &acc,   &f,    &rhs,  &fext, &bcMask, &mask,  &invMass, &face,
         &vstar, &term, &sumW, &massW, &velW, &accW, &extW, &faceW,  &maskW, &vstarW})

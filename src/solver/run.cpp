@@ -49,7 +49,8 @@ template <int D> PetscErrorCode Solver<D>::advance() {
   else
     PetscCall(step_.run(done));
   PetscCall(reporter_.report(done.step, done.t));
-  return growCracks(done.step, done.t);
+  PetscCall(growCracks(done.step, done.t));
+  return followLevels(done.step, done.t);
 }
 
 template PetscErrorCode Solver<2>::run();

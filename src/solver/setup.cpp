@@ -161,7 +161,10 @@ template <int D> PetscErrorCode Solver<D>::createGrid() {
 template <int D> PetscErrorCode Solver<D>::openOutput() {
   if (s_.sc.restart.empty()) return reporter_.open(nullptr);
   OutputResume resume;
-  PetscCall(checkpoint_.load(resume));
+  PetscCall(checkpoint_.load(resume, [this](const std::vector<LevelBox<D>> &boxes) {
+    PetscInt64 added = 0;
+    return regrid(boxes, false, added);
+  }));
   PetscCall(followCracks()); // the checkpoint's cracks may have grown
   return reporter_.open(&resume);
 }

@@ -30,6 +30,24 @@ struct ProbeState {
 /// order).
 template <int D> const std::vector<const char *> &stressComponents();
 
+/// What a regrid must keep, over all particles: mass, momentum, the angular momentum about the
+/// origin sum m (x × v) + m ε:Bᵀ (APIC's B; z only in 2D), kinetic + strain energy.
+struct Conserved {
+  double mass = 0, momentum[3] = {0, 0, 0}, angular[3] = {0, 0, 0}, energy = 0;
+};
+
+/// A move of a level box that follows a point (-gimp_levelK_follow): when, which level, its new
+/// box (D low then D high coordinates), the particles split where it moved, and the particles'
+/// conserved sums just before and just after.
+struct RegridRecord {
+  double t = 0;
+  PetscInt64 step = 0;
+  int level = 0;
+  std::array<double, 6> box{};
+  PetscInt64 added = 0;
+  Conserved before, after;
+};
+
 /// Measures kept over the whole run.
 struct RunMeasures {
   double separationStrain = std::numeric_limits<double>::quiet_NaN(); // strain at first warning
@@ -38,6 +56,7 @@ struct RunMeasures {
   PetscInt64 migrated = 0;        // particles that changed rank, summed over the run
   double dtCritical = std::numeric_limits<double>::quiet_NaN(); // smallest critical step computed
   std::vector<cracks::GrowthRecord> growth; // 2D crack growth: every increment, in order
+  std::vector<RegridRecord> regrids;        // moves of level boxes that follow a point
 };
 
 /// The hole measure (-gimp_hole_measure): the hoop stress / p at the hole's edge as a curve over

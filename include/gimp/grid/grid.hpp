@@ -67,6 +67,9 @@ public:
   /// cracks cut. Collective.
   PetscErrorCode create(MPI_Comm comm, double h0, const std::vector<LevelBox<D>> &boxes,
                         const std::vector<CrackOf<D>> &cracks = {});
+  /// Back to an empty grid (its DMs destroyed), crackReserve and cellWork kept: create() may
+  /// build it again, from moved level boxes (levels that follow a point, solver/regrid.cpp).
+  void clear();
 
   /// Disks (2D; balls in 3D) where cracks may grow, centre then radius: set before create(),
   /// their nodes get second fields as the nodes a crack cuts do (empty: none).
@@ -147,6 +150,7 @@ public:
   bool buildPointStencils(PetscInt n, const double *x, Stencils<D> &s) const;
 
 private:
+  void destroyPetsc();
   /// The DMs, the window, its nodes, the crack fields and the scatter.
   PetscErrorCode build(MPI_Comm comm, const std::vector<CrackOf<D>> &cracks);
   /// Level-0 ownership and this rank's window of every level.

@@ -160,13 +160,34 @@ struct RunControl {
   double mmsAmplitude = 1e-4;
 };
 
+/// A level box that follows a point (-gimp_levelK_follow; solver/regrid.cpp): a crack tip (2D)
+/// or a probe's particle. The box keeps its size and moves by whole cells of its parent level when
+/// the point comes within `margin` of one of its faces.
+struct LevelFollow {
+  enum class Kind { None, CrackTip, Probe };
+  Kind kind = Kind::None;
+  int index = 0;     // the crack, or the probe
+  int end = 0;       // the crack's tip: 0 its first point, 1 its last
+  double margin = 0; // [m]
+  bool operator==(const LevelFollow &o) const {
+    return kind == o.kind && index == o.index && end == o.end;
+  }
+};
+
 /// The background grid: level 0's cell size and domain, and the refined levels.
 template <int D> struct GridSpec {
   BoxOf<D> domain{};
   double h = 0;                    // level-0 cell size
   bool domainGiven = false;        // -gimp_domain given (else the bodies' box padded by pad cells)
   PetscInt pad = 2;                // cells of padding around the bodies for the default domain
-  std::vector<LevelBox<D>> levels; // levels[0] is the domain
+  std::vector<LevelBox<D>> levels; // levels[0] is the domain (moved boxes: as they are now)
+  std::vector<LevelFollow> follow; // per level, what its box follows (follow[0]: nothing)
+  /// Whether some level's box follows a point.
+  bool follows() const {
+    for (const LevelFollow &f : follow)
+      if (f.kind != LevelFollow::Kind::None) return true;
+    return false;
+  }
   /// The boxes the grid is built from: the levels, level 0 being the domain.
   std::vector<LevelBox<D>> levelBoxes() const {
     std::vector<LevelBox<D>> b = levels;

@@ -103,6 +103,9 @@ PetscErrorCode swarmOptionalFields(DM sw, OptionalFields &optional);
 /// Reorder this rank's particles: particle k becomes the former particle order[k], in every
 /// field (gimp's and DMSwarm's own). Not collective.
 template <int D> PetscErrorCode permuteSwarm(DM sw, const std::vector<PetscInt> &order);
+/// Append copies of this rank's particles: new particle n0 + j (n0 the local size before) a copy
+/// of particle from[j] in every field (gimp's and DMSwarm's own). Not collective.
+template <int D> PetscErrorCode appendCopies(DM sw, const std::vector<PetscInt> &from);
 
 template <int D> struct Scene;
 /// The optional fields a scene needs (its tracking and transfer).

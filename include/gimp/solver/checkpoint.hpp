@@ -11,6 +11,7 @@
 #include "gimp/solver/reporter.hpp"
 #include "gimp/solver/step.hpp"
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -25,12 +26,21 @@ public:
   PetscErrorCode write(PetscInt step, double t);
   /// After setup seeded the scene: the checkpoint's particles and state replace the seeded ones;
   /// where the output continues (collective).
-  PetscErrorCode load(OutputResume &resume);
+  /// With levels that follow a point, `regrid` rebuilds the grid on the checkpoint's level boxes
+  /// before its particles are read.
+  PetscErrorCode
+  load(OutputResume &resume,
+       const std::function<PetscErrorCode(const std::vector<LevelBox<D>> &)> &regrid);
 
 private:
   PetscErrorCode writeFile(PetscInt step, double t); // the HDF5 file, unchecked
   /// The checkpoint must come from this scene (destroys v when it throws).
   PetscErrorCode check(PetscViewer v, const std::vector<double> &scalars);
+  /// Levels that follow a point: the checkpoint's level boxes (its /state/grid) and split ids
+  /// back into the run (collective).
+  PetscErrorCode
+  loadFollow(PetscViewer v,
+             const std::function<PetscErrorCode(const std::vector<LevelBox<D>> &)> &regrid);
   /// The scalars of /state back into the run.
   PetscErrorCode restoreState(const std::vector<double> &s);
 

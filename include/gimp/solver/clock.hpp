@@ -24,6 +24,7 @@ PetscErrorCode readStepClock(TS ts, bool halfStepStart, StepClock &c);
 /// Output.
 struct StepStages {
   PetscLogStage setup = 0, p2g = 0, forces = 0, grid = 0, g2p = 0, stress = 0, output = 0;
+  PetscLogStage regrid = 0; // level boxes that follow a point: their moves
   PetscErrorCode registerAll();
 };
 

@@ -35,6 +35,8 @@ struct Nodal : NodalGlobal, NodalWindow {
   Nodal(const Nodal &) = delete;
   Nodal &operator=(const Nodal &) = delete;
   ~Nodal();
+  /// Every Vec destroyed (create() may make them again on a new grid).
+  void destroy();
   template <int D>
   PetscErrorCode create(const Grid<D> &grid, bool external, bool cracks, bool xpic);
 };

@@ -41,6 +41,9 @@ public:
     return PETSC_SUCCESS;
   }
 
+  /// The ids of the probes' particles (fixed at setup; a split particle's first part keeps it).
+  const std::vector<PetscInt64> &probeIds() const { return probeIds_; }
+
 private:
   PetscErrorCode historyRow(PetscInt step, double t, HistoryRow &row);
   /// The separation measure (2D) into the row and the run's measures.

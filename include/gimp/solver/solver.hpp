@@ -55,6 +55,14 @@ private:
   /// One growth check after `step` at t, when due: tips measured, grown, and what follows them
   /// updated (collective; every rank decides alike from the reduced measures).
   PetscErrorCode growCracks(PetscInt step, double t);
+  /// Levels that follow a point (-gimp_levelK_follow; regrid.cpp): after `step` at t, the boxes
+  /// whose point came within their margin move, and the run goes on on the new grid (collective;
+  /// every rank decides alike).
+  PetscErrorCode followLevels(PetscInt step, double t);
+  /// The grid rebuilt from the level boxes `boxes` (the scene's levels take them), with everything
+  /// built on it: nodal Vecs, node constraints, crack fields and contact, TS (its step, time and
+  /// dt kept); with `split` the particles the finer boxes newly hold are split (splitParticles).
+  PetscErrorCode regrid(const std::vector<LevelBox<D>> &boxes, bool split, PetscInt64 &added);
 
   stability::SlepcSession slepc_; // first member: finalised after every other one
   RunState<D> s_;

@@ -8,6 +8,7 @@
 #include "gimp/diagnostics/energies.hpp"
 #include "gimp/diagnostics/measures.hpp"
 #include "gimp/grid/grid.hpp"
+#include "gimp/particles/split.hpp"
 #include "gimp/physics/boundary.hpp"
 #include "gimp/solver/clock.hpp"
 #include "gimp/solver/nodal.hpp"
@@ -69,6 +70,7 @@ template <int D> struct RunState {
   double meanParticleMass = 0;
   WorkLedger work;      // work of the external and damping forces
   RunMeasures measures; // what the run keeps of its measures (and dt_critical)
+  SplitIds splitIds;    // the ids particles split by moving level boxes have taken
   RunStatus status;
   StepStages stages;
 };

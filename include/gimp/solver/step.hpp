@@ -79,6 +79,8 @@ public:
   /// change / dt on the acceleration (window accW, global acc).
   PetscErrorCode crackContact(const StepClock &c, Vec velW, Vec vel, Vec accW, Vec acc);
   cracks::Contact<D> &contact() { return contact_; }
+  /// The grid was rebuilt (levels that follow a point): what the step keeps of it is dropped.
+  void gridChanged() { slotX_.clear(); }
 
 private:
   /// XPIC(m): v* = sum_{k<m} (I - M^-1 S^T M_p S)^k v^n into nodal.vstarW.
