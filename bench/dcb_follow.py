@@ -1,0 +1,77 @@
+#!/usr/bin/env python3
+"""Crack growth in the DCB with a fine box that follows the tip, against a fixed fine box over
+the whole path and a uniform fine grid (docs/performance.md, *A fine box that follows the tip*).
+
+The scene is options/dcb_growth.opts (2 mm cells, 1 mm cells in a box from x = 40 to 84 mm that
+holds the whole 22 mm of growth with its J domains). The three grids:
+  - follow:  a 24 x 20 mm fine box around the tip (x 38 to 62 mm), -gimp_level1_follow
+             crack0_tip1 with a margin of 8 mm: it moves by whole 2 mm cells when the tip comes
+             within 8 mm of its faces, the level-0 particles it newly holds split into 2 x 2;
+  - fixed:   the scene's 44 x 20 mm box;
+  - uniform: 1 mm cells everywhere (the level-1 box over the whole beam).
+Each run is timed (summary.json: cpu_seconds, wall_seconds) with its particle count at the end,
+and its P(a) (the load at which a crack of length a starts to grow, as tests/check_dcb_growth.py
+reads it) is compared with corrected beam theory and with the uniform grid's, and its tip path
+with the uniform grid's. One run at a time, on one rank; the machine line is printed first.
+
+    /usr/bin/python3 bench/dcb_follow.py [--gimp build/gimp] [--work /tmp/dcb_follow]
+"""
+import argparse
+import json
+import math
+import os
+import subprocess
+import sys
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.join(ROOT, "tests"))
+import gimptest  # noqa: E402
+from check_dcb_growth import beam, growth_points  # noqa: E402
+
+GRIDS = {
+    "follow": ["-gimp_level1_box", "0.038,0.002,0.062,0.022", "-gimp_level1_follow", "crack0_tip1",
+               "-gimp_level1_follow_margin", "0.008"],
+    "fixed": [],
+    "uniform": ["-gimp_level1_box", "0,0,0.1,0.024"],
+}
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--gimp", default=os.path.join(ROOT, "build", "gimp"))
+    ap.add_argument("--work", default="/tmp/dcb_follow")
+    a = ap.parse_args()
+    subprocess.run(["bash", os.path.join(ROOT, "bench", "machine.sh")])
+    res = {}
+    for name, extra in GRIDS.items():
+        out = os.path.join(a.work, name)
+        cmd = [a.gimp, "-options_file", os.path.join(ROOT, "options", "dcb_growth.opts"),
+               "-gimp_output_dir", out] + extra
+        p = subprocess.run(cmd, capture_output=True, text=True)
+        if p.returncode != 0:
+            sys.stdout.write(p.stdout + p.stderr)
+            raise SystemExit("gimp failed: " + " ".join(cmd))
+        with open(os.path.join(out, "summary.json")) as f:
+            s = json.load(f)
+        res[name] = (s, growth_points(gimptest.history(out)))
+    ref = {round(x * 1e4): (P, y) for _, x, y, P in res["uniform"][1]}
+    print("%-8s %9s %9s %10s %8s %12s %14s %14s" % (
+        "grid", "particles", "moves", "cpu [s]", "speed-up", "P/CBT-1", "P/uniform-1",
+        "path [cells]"))
+    for name, (s, pts) in res.items():
+        grown = pts[1:]
+        cbt = [P / beam(x) - 1 for _, x, _, P in grown]
+        vs = [P / ref[round(x * 1e4)][0] - 1 for _, x, _, P in grown if round(x * 1e4) in ref]
+        path = max(abs(y - ref[round(x * 1e4)][1]) for _, x, y, _ in grown if round(x * 1e4) in ref)
+        moves = len(s["measures"].get("regrids", []))
+        print("%-8s %9d %9d %10.1f %8.2f %+5.2f..%+5.2f%% %+5.2f..%+5.2f%% %14.2g" % (
+            name, s["particles"], moves, s["cpu_seconds"],
+            res["uniform"][0]["cpu_seconds"] / s["cpu_seconds"], 100 * min(cbt), 100 * max(cbt),
+            100 * min(vs), 100 * max(vs), path / 1e-3))
+    print("P from %.0f to %.0f mm of crack (%d points); path: the largest |y - y_uniform| at the "
+          "same a, in 1 mm cells" % (1e3 * res["uniform"][1][1][1], 1e3 * res["uniform"][1][-1][1],
+                                     len(res["uniform"][1]) - 1))
+
+
+if __name__ == "__main__":
+    main()
