@@ -8,6 +8,7 @@ spinning at 0.1 rad/s, its fine box following the particle at its corner):
   - the split particles: every particle of the final state lies in the body (the rigid motion of
     the square), with the volume of the level that holds it or a coarser one, and the ids are
     unique;
+  - the grid frames (grid.xmf) place level 1 where it was when each frame was written;
   - the whole run keeps momentum and APIC's angular momentum to 1e-12 (the frames);
   - 2 ranks make the same moves and give the 1-rank history to round-off, and a restart from a
     checkpoint taken between moves gives the history, the particles and the moves bit for bit.
@@ -91,6 +92,23 @@ outside = np.abs(loc).max() - 2.0
 c.check("particles in the body", outside < 0.25,
         "the farthest particle centre %.3f m beyond the rigidly moved square (half a particle of "
         "level 0 is 0.25 m)" % outside)
+
+# The grid frames show level 1 where it was when each was written (after the step's report,
+# before that step's move).
+import re  # noqa: E402
+xmf = open(os.path.join(out, "grid.xmf")).read()
+frames = re.findall(r'<Grid Name="step_(\d+)".*?<Grid Name="level_1".*?Format="XML">([^<]*)<',
+                    xmf, re.S)
+wrong = []
+for step, origin in frames:
+    n = int(step)
+    later = [r for r in moves if r["step"] >= n]
+    box = later[0]["previous"] if later else s["levels"][1]["box"]
+    y0, x0 = (float(v) for v in origin.split())
+    if abs(x0 - box[0]) > 1e-12 or abs(y0 - box[1]) > 1e-12:
+        wrong.append((n, (x0, y0), box[:2]))
+c.check("grid frames at their boxes", len(frames) >= 8 and not wrong,
+        "%d frames; wrong: %s" % (len(frames), wrong))
 
 # The run's momentum and angular momentum (the frames).
 L, P = [], []

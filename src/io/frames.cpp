@@ -189,6 +189,14 @@ template <int D> void Output<D>::writeParticleXdmf(FILE *fp) const {
   }
 }
 
+template <int D> const double *Output<D>::levelOrigin(size_t k, PetscInt step) const {
+  // A frame is written after its step's report, before that step's moves: the box it shows is
+  // the one the first later move of the level left (its previous box), or the current one.
+  for (const RegridRecord &r : moves_)
+    if (r.level == static_cast<int>(k) && r.step >= step) return r.previous.data();
+  return grid_.levels[k].box.data();
+}
+
 template <int D> void Output<D>::writeGridXdmf(FILE *fg) const {
   // A co-rectilinear mesh per level: its node counts and origin slowest axis first, as the
   // DMDA's datasets are laid out.
@@ -201,10 +209,11 @@ template <int D> void Output<D>::writeGridXdmf(FILE *fg) const {
     for (size_t k = 0; k < grid_.levels.size(); ++k) {
       const Level<D> &L = grid_.levels[k];
       std::string dims, origin, step;
+      const double *lo = levelOrigin(k, fr.step);
       for (int a = D - 1; a >= 0; --a) {
         char b[64];
         dims += (dims.empty() ? "" : " ") + std::to_string(static_cast<long long>(L.n[a]));
-        std::snprintf(b, sizeof(b), "%s%.17g", origin.empty() ? "" : " ", L.box[a]);
+        std::snprintf(b, sizeof(b), "%s%.17g", origin.empty() ? "" : " ", lo[a]);
         origin += b;
         std::snprintf(b, sizeof(b), "%s%.17g", step.empty() ? "" : " ", L.h);
         step += b;

@@ -190,10 +190,11 @@ template <int D> void Output<D>::summaryMeasures(FILE *f, const SummaryReport &r
       const RegridRecord &g = m.regrids[q];
       std::fprintf(f,
                    "%s{\"t\": %s, \"step\": %lld, \"level\": %d, \"box\": %s, "
-                   "\"particles_added\": %lld, \"before\": %s, \"after\": %s}",
+                   "\"previous\": %s, \"particles_added\": %lld, \"before\": %s, "
+                   "\"after\": %s}",
                    q ? ", " : "", num(g.t).c_str(), static_cast<long long>(g.step), g.level,
-                   numbers(g.box.data(), 2 * D).c_str(), static_cast<long long>(g.added),
-                   sums(g.before).c_str(), sums(g.after).c_str());
+                   numbers(g.box.data(), 2 * D).c_str(), numbers(g.previous.data(), 2 * D).c_str(),
+                   static_cast<long long>(g.added), sums(g.before).c_str(), sums(g.after).c_str());
     }
     std::fprintf(f, "]");
   }

@@ -87,6 +87,7 @@ template <int D> std::vector<double> followState(const RunState<D> &s) {
   for (const RegridRecord &r : s.measures.regrids) {
     a.insert(a.end(), {r.t, static_cast<double>(r.step), static_cast<double>(r.level)});
     a.insert(a.end(), r.box.begin(), r.box.end());
+    a.insert(a.end(), r.previous.begin(), r.previous.end());
     a.push_back(static_cast<double>(r.added));
     putSums(r.before, a);
     putSums(r.after, a);
@@ -97,7 +98,7 @@ template <int D> std::vector<double> followState(const RunState<D> &s) {
 template <int D> bool restoreFollow(RunState<D> &s, const std::vector<double> &a) {
   if (a.size() < 2 || a[0] <= 0 || a[0] != static_cast<double>(s.nParticles)) return false;
   const auto nb = static_cast<size_t>(a[1]);
-  if (a.size() < 2 + 2 * nb || (a.size() - 2 - 2 * nb) % 26 != 0) return false;
+  if (a.size() < 2 + 2 * nb || (a.size() - 2 - 2 * nb) % 32 != 0) return false;
   SplitIds ids;
   ids.seeded = static_cast<PetscInt64>(a[0]);
   for (size_t b = 0; b < nb; ++b) {
@@ -112,8 +113,10 @@ template <int D> bool restoreFollow(RunState<D> &s, const std::vector<double> &a
     r.level = static_cast<int>(a[q + 2]);
     std::copy(a.begin() + static_cast<std::ptrdiff_t>(q + 3),
               a.begin() + static_cast<std::ptrdiff_t>(q + 9), r.box.begin());
-    r.added = static_cast<PetscInt64>(a[q + 9]);
-    q += 10;
+    std::copy(a.begin() + static_cast<std::ptrdiff_t>(q + 9),
+              a.begin() + static_cast<std::ptrdiff_t>(q + 15), r.previous.begin());
+    r.added = static_cast<PetscInt64>(a[q + 15]);
+    q += 16;
     r.before = getSums(a, q);
     r.after = getSums(a, q);
     moves.push_back(r);

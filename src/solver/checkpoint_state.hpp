@@ -20,8 +20,8 @@ void restoreGrowth(RunState<D> &s, const std::vector<double> &cracks,
                    const std::vector<double> &growth);
 
 /// Levels that follow a point: the particles seeded, the bodies, each body's seeded top and used
-/// split ids, then the moves (26 values each: t, step, level, box (6), particles added, the
-/// conserved sums before and after (8 each)).
+/// split ids, then the moves (32 values each: t, step, level, box (6), previous box (6), particles
+/// added, the conserved sums before and after (8 each)).
 template <int D> std::vector<double> followState(const RunState<D> &s);
 /// The split ids and moves of followState back into the run; false (nothing restored) when no
 /// particle had been split or the checkpoint seeded another count than this run.

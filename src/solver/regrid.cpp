@@ -109,7 +109,8 @@ template <int D> PetscErrorCode Solver<D>::followLevels(PetscInt step, double t)
     boxes[k] = b;
   }
   if (moved.empty()) return PETSC_SUCCESS;
-  std::vector<LevelBox<D>> next = s.sc.levelBoxes();
+  const std::vector<LevelBox<D>> was = s.sc.levelBoxes();
+  std::vector<LevelBox<D>> next = was;
   for (int k = 1; k < K; ++k)
     for (int a = 0; a < D; ++a) {
       next[k].box[a] = g.origin[a] + static_cast<double>(boxes[k].lo[a]) * g.unit;
@@ -129,6 +130,7 @@ template <int D> PetscErrorCode Solver<D>::followLevels(PetscInt step, double t)
     r.step = step;
     r.level = k;
     std::copy(next[k].box.begin(), next[k].box.end(), r.box.begin());
+    std::copy(was[k].box.begin(), was[k].box.end(), r.previous.begin());
     r.added = added;
     s.measures.regrids.push_back(r);
     std::string box;

@@ -15,7 +15,7 @@ PetscErrorCode Reporter<D>::setup(PetscLogDouble wall0, std::function<void()> re
   wall0_ = wall0;
   release_ = std::move(release);
   PetscCall(findProbes<D>(s_.comm, s_.sc, s_.sw, probeIds_));
-  out_ = std::make_unique<Output<D>>(s_.comm, s_.sc, s_.grid);
+  out_ = std::make_unique<Output<D>>(s_.comm, s_.sc, s_.grid, s_.measures.regrids);
   return PETSC_SUCCESS;
 }
 

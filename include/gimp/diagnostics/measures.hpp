@@ -43,7 +43,7 @@ struct RegridRecord {
   double t = 0;
   PetscInt64 step = 0;
   int level = 0;
-  std::array<double, 6> box{};
+  std::array<double, 6> box{}, previous{}; // the box after the move, and before it
   PetscInt64 added = 0;
   Conserved before, after;
 };

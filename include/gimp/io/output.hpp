@@ -75,8 +75,11 @@ protected:
 
 template <int D> class Output : public OutputFiles {
 public:
-  Output(MPI_Comm comm, const Scene<D> &sc, const Grid<D> &grid)
-      : OutputFiles(comm, sc.outputDir), sc_(sc), grid_(grid) {}
+  /// moves: the run's moves of level boxes that follow a point (RunMeasures::regrids), from which
+  /// the grid XDMF places each frame's levels where they were when it was written.
+  Output(MPI_Comm comm, const Scene<D> &sc, const Grid<D> &grid,
+         const std::vector<RegridRecord> &moves)
+      : OutputFiles(comm, sc.outputDir), sc_(sc), grid_(grid), moves_(moves) {}
 
   /// Prepare the directory and start history.csv (its header); with `resume` (a restart):
   /// history.csv is rewritten with its bytes, and fields.h5 keeps the resumed frames that it
@@ -105,8 +108,13 @@ private:
   void summaryState(FILE *f, const SummaryReport &r) const;
   void summaryMeasures(FILE *f, const SummaryReport &r) const;
 
+  /// Level k's low corner when the frame of `step` was written (before any move after that
+  /// step's report).
+  const double *levelOrigin(size_t k, PetscInt step) const;
+
   const Scene<D> &sc_;
   const Grid<D> &grid_;
+  const std::vector<RegridRecord> &moves_;
 };
 
 /// The particles sorted by id as CSV (collective): id, x, y[, z], vx, vy[, vz], the stress
