@@ -12,6 +12,9 @@ spinning at 0.1 rad/s, its fine box following the particle at its corner):
   - the whole run keeps momentum and APIC's angular momentum to 1e-12 (the frames);
   - 2 ranks make the same moves and give the 1-rank history to round-off, and a restart from a
     checkpoint taken between moves gives the history, the particles and the moves bit for bit.
+In 3D (options/follow_spin3d.opts, a box spinning about no principal axis while it moves): the
+box moves, each move keeps the sums, the run keeps the angular momentum vector to 1e-12, and 2
+ranks make the same moves and history.
 (docs/validation.md, *Levels that follow a point*)
 """
 import os
@@ -60,18 +63,24 @@ c.check("the point inside its margin at the end", clear > 0,
 def rel(a, b, scale):
     return np.abs(np.array(a) - np.array(b)).max() / scale
 
-worst = {"mass": 0.0, "momentum": 0.0, "angular momentum": 0.0, "energy": 0.0}
-for r in moves:
-    b, a = r["before"], r["after"]
-    worst["mass"] = max(worst["mass"], rel(a["mass"], b["mass"], b["mass"]))
-    worst["momentum"] = max(worst["momentum"],
-                            rel(a["momentum"], b["momentum"], np.linalg.norm(b["momentum"])))
-    worst["angular momentum"] = max(
-        worst["angular momentum"],
-        rel(a["angular_momentum"], b["angular_momentum"], np.linalg.norm(b["angular_momentum"])))
-    worst["energy"] = max(worst["energy"], rel(a["energy"], b["energy"], b["energy"]))
-for k, v in worst.items():
-    c.check("a move keeps the " + k, v < 1e-13, "largest relative change over the moves %.1e" % v)
+
+def conservation(moves, name):
+    worst = {"mass": 0.0, "momentum": 0.0, "angular momentum": 0.0, "energy": 0.0}
+    for r in moves:
+        b, a = r["before"], r["after"]
+        worst["mass"] = max(worst["mass"], rel(a["mass"], b["mass"], b["mass"]))
+        worst["momentum"] = max(worst["momentum"],
+                                rel(a["momentum"], b["momentum"], np.linalg.norm(b["momentum"])))
+        worst["angular momentum"] = max(
+            worst["angular momentum"], rel(a["angular_momentum"], b["angular_momentum"],
+                                           np.linalg.norm(b["angular_momentum"])))
+        worst["energy"] = max(worst["energy"], rel(a["energy"], b["energy"], b["energy"]))
+    for k, v in worst.items():
+        c.check("%s: a move keeps the %s" % (name, k), v < 1e-13,
+                "largest relative change over the moves %.1e" % v)
+
+
+conservation(moves, "2D")
 
 # The final particles: in the body, sizes of some level, unique ids.
 d = gimptest.read_csv(os.path.join(out, "particles.csv"))
@@ -147,4 +156,32 @@ same = all(open(os.path.join(out, f), "rb").read() == open(os.path.join(half, f)
 same = same and gimptest.summary(half)["measures"]["regrids"] == moves
 c.check("a restart between moves continues bit for bit", same,
         "restart at step %d (moves at %s)" % (stop, [r["step"] for r in moves]))
+
+# 3D: a box moving and spinning about no principal axis (options/follow_spin3d.opts).
+SCENE3 = "options/follow_spin3d.opts"
+out3 = gimptest.run(args, SCENE3, [], outdir=os.path.join(args.work, "one3d"))
+s3 = gimptest.summary(out3)
+moves3 = s3["measures"]["regrids"]
+c.check("3D: the box moves", len(moves3) >= 3 and sum(r["particles_added"] for r in moves3) > 0,
+        "%d moves, %d particles added" % (len(moves3), sum(r["particles_added"] for r in moves3)))
+conservation(moves3, "3D")
+L = []
+with h5py.File(os.path.join(out3, "fields.h5"), "r") as f:
+    for k in sorted(f["particles"].keys()):
+        g = f["particles"][k]
+        m, xx, vv, B = g["m"][:], g["x"][:], g["v"][:], g["B"][:]
+        spin = np.stack([B[:, 7] - B[:, 5], B[:, 2] - B[:, 6], B[:, 3] - B[:, 1]], axis=1)
+        L.append((m[:, None] * (np.cross(xx, vv) + spin)).sum(axis=0))
+dL = max(np.linalg.norm(l - L[0]) for l in L) / np.linalg.norm(L[0])
+c.check("3D: the run keeps the angular momentum vector", dL < 1e-12,
+        "over %d frames: |L - L0| / |L0| %.1e" % (len(L), dL))
+out32 = gimptest.run(args, SCENE3, [], ranks=2, outdir=os.path.join(args.work, "two3d"))
+h3, h32 = gimptest.history(out3), gimptest.history(out32)
+diff = max(max(abs(a - b) for a, b in zip(h3[k], h32[k])) / max(abs(a) for a in h3[k])
+           for k in ("kinetic", "strain", "momentum_x", "momentum_z", "probe0_ux", "probe0_sxx"))
+c.check("3D: 2 ranks give the 1-rank run", diff < 1e-10 and
+        [r["step"] for r in gimptest.summary(out32)["measures"]["regrids"]] ==
+        [r["step"] for r in moves3],
+        "the same moves; largest difference in a history column %.1e of its largest value"
+        % diff)
 c.done()
