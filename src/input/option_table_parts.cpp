@@ -206,6 +206,9 @@ const std::vector<OptionSpec> &gridOptions() {
      " its last) or probeN (probe N's particle); the box keeps its size and moves by whole cells"
      " of its parent when the point comes within _follow_margin of a face, and the particles it"
      " newly covers are split to its particle size"},
+    {"gimp_follow_merge", Kind::Bool, "", "false", "", nullptr, {},
+     "Where a following box moved away, merge the particles it had split (or seeded) back to the"
+     " coarser level's size; false keeps them as they are"},
     {"gimp_levelK_follow_margin", Kind::Real, "m", "a quarter of the box's smallest side", "",
      nullptr, above(0), "How near a face of level K's box the point it follows may come"},
     {"gimp_cracks", Kind::Int, "", "0", "", nullptr, atLeast(0),

@@ -198,6 +198,11 @@ template <int D> void readLevels(const Options &o, Scene<D> &sc) {
   sc.follow.assign(sc.levels.size(), LevelFollow{});
   for (size_t k = 1; k < (o.help() ? 2 : sc.levels.size()); ++k)
     sc.follow[o.help() ? 0 : k] = readFollow<D>(o, k, o.help() ? BoxOf<D>{} : sc.levels[k].box);
+  bool mergeGiven = false;
+  sc.followMerge = o.flag("gimp_follow_merge", sc.followMerge, &mergeGiven);
+  if (mergeGiven && !o.help() && !sc.follows())
+    Options::bad("gimp_follow_merge", sc.followMerge ? "true" : "false",
+                 "it acts with -gimp_levelK_follow, which no level gives");
 }
 
 /// The manufactured solution's model: one neo-Hookean material with nu = 0.

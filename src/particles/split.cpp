@@ -2,12 +2,16 @@
 #include "gimp/particles/split.hpp"
 
 #include "gimp/core/errors.hpp"
+#include "gimp/geometry/crack.hpp"
+#include "gimp/geometry/crack_surface.hpp"
 #include "gimp/grid/cpdi_cells.hpp"
 #include "gimp/particles/swarm.hpp"
 
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <functional>
+#include <map>
 
 namespace gimp {
 
@@ -155,7 +159,10 @@ void placePart(const ParentGeometry<D> &g, const std::array<int, D> &r, const st
   p.m[k] = g.m / n;
   p.V[k] = g.V / n;
   p.V0[k] = g.V0 / n;
-  if (p.corners) { // the bi/trilinear map of the corners, moved as the parent's centre is
+  // With corners: the part's centre is the bi/trilinear map of the corners at its slice's centre,
+  // moved as the parent's centre is from the map's (so the parts' mass centre is the parent's);
+  // its corners are the map's at its slice's corners (the parts tile the parent's cell).
+  if (p.corners) {
     double zero[D] = {}, centre[D], at[D];
     mapCorners<D>(g.corners.data(), zero, centre);
     mapCorners<D>(g.corners.data(), xi, at);
@@ -167,7 +174,7 @@ void placePart(const ParentGeometry<D> &g, const std::array<int, D> &r, const st
         c[a] = xi[a] + cpdi::cornerSign<D>(q, a) / r[a];
       mapCorners<D>(g.corners.data(), c, cq);
       for (int a = 0; a < D; ++a)
-        p.corners[D * ((1 << D) * k + q) + a] = cq[a] + (g.x[a] - centre[a]);
+        p.corners[D * ((1 << D) * k + q) + a] = cq[a];
     }
     for (int a = 0; a < D; ++a) { // the half-sizes: the corners' reach (tracking.hpp)
       double reach = 0;
@@ -244,6 +251,181 @@ PetscErrorCode splitParticles(MPI_Comm comm, const Scene<D> &sc, DM sw, SplitIds
   PetscCallMPI(MPI_Allreduce(&mine, &added, 1, MPI_INT64_T, MPI_SUM, comm));
   return PETSC_SUCCESS;
 }
+
+namespace {
+
+/// Whether particle k may join a merge: a body of the scene's seeding, no loaded face, a whole box.
+template <int D> bool mergeable(const Scene<D> &sc, const ParticleView<D> &p, PetscInt k) {
+  const auto b = static_cast<size_t>(p.id[k] / sc.idSlots);
+  if (b >= sc.bodies.size()) return false;
+  if constexpr (D == 2)
+    if (!sc.bodies[b].file.empty()) return false;
+  for (int a = 0; a < D; ++a)
+    if ((p.trac && p.trac[D * k + a] >= 0) || (p.dbc && p.dbc[D * k + a] >= 0)) return false;
+  double box = D == 2 ? sc.materialOf(p.id[k]).thickness : 1.0;
+  for (int a = 0; a < D; ++a)
+    box *= 2.0 * p.l0[D * k + a];
+  return std::fabs(p.V0[k] - box) <= 1e-9 * box;
+}
+
+/// The merge group of particle k: body, its slot of the coarser particle lattice, the parts per
+/// axis (all 1 when it is not finer than the level holding it seeds).
+template <int D>
+std::array<std::int64_t, 2 * D + 1> mergeKey(const Scene<D> &sc, const ParticleView<D> &p,
+                                             PetscInt k) {
+  std::array<std::int64_t, 2 * D + 1> key{};
+  const auto b = static_cast<size_t>(p.id[k] / sc.idSlots);
+  key[0] = static_cast<std::int64_t>(b);
+  const double n = std::round(std::pow(static_cast<double>(sc.bodies[b].ppc), 1.0 / D));
+  const double half = sc.cellSizeAt(p.x + D * k) / (2.0 * n);
+  for (int a = 0; a < D; ++a) {
+    const double ratio = half / p.l0[D * k + a], whole = std::round(ratio);
+    if (whole < 1 || std::fabs(ratio - whole) > 1e-6 * whole) return {};
+    key[1 + a] =
+        static_cast<std::int64_t>(std::floor((p.X0[D * k + a] - sc.domain[a]) / (2.0 * half)));
+    key[1 + D + a] = static_cast<std::int64_t>(whole);
+  }
+  return key;
+}
+
+/// Whether the particles of a group may merge: one level-0 cell now, no crack between them.
+template <int D>
+bool oneCell(const Scene<D> &sc, const ParticleView<D> &p, const std::vector<PetscInt> &g) {
+  const double *x0 = p.x + D * g[0];
+  for (PetscInt k : g) {
+    const double *x = p.x + D * k;
+    for (int a = 0; a < D; ++a)
+      if (std::floor((x[a] - sc.domain[a]) / sc.h) != std::floor((x0[a] - sc.domain[a]) / sc.h))
+        return false;
+    for (const CrackOf<D> &c : sc.cracks)
+      if (k != g[0] && cracks::crossing(c, x0, x)) return false;
+  }
+  return true;
+}
+
+/// The particles of group g into particle `keep` (one of them).
+template <int D>
+void mergeInto(const std::vector<PetscInt> &g, PetscInt keep, const std::array<int, D> &r,
+               ParticleView<D> &p) {
+  double m = 0, V = 0, V0 = 0, x[D] = {}, X0[D] = {}, v[D] = {}, l[D] = {}, F[D * D] = {},
+         S[D * D] = {}, szz = 0, eps[D] = {}, B[D * D] = {};
+  for (PetscInt k : g) {
+    const double mk = p.m[k], Vk = p.V[k];
+    m += mk;
+    V += Vk;
+    V0 += p.V0[k];
+    for (int a = 0; a < D; ++a) {
+      x[a] += mk * p.x[D * k + a];
+      X0[a] += mk * p.X0[D * k + a];
+      v[a] += mk * p.v[D * k + a];
+      l[a] += mk * p.l[D * k + a];
+      if (p.eps) eps[a] += mk * p.eps[D * k + a];
+    }
+    for (int q = 0; q < D * D; ++q) {
+      F[q] += mk * p.F[D * D * k + q];
+      S[q] += Vk * p.s[D * D * k + q];
+      if (p.B) B[q] += mk * p.B[D * D * k + q];
+    }
+    if (p.szz) szz += Vk * p.szz[k];
+  }
+  for (int a = 0; a < D; ++a) {
+    x[a] /= m;
+    X0[a] /= m;
+    v[a] /= m;
+  }
+  if (p.B) // the parts' motion about the centre, as an affine moment
+    for (PetscInt k : g)
+      for (int i = 0; i < D; ++i)
+        for (int j = 0; j < D; ++j)
+          B[D * i + j] += p.m[k] * (p.v[D * k + i] - v[i]) * (p.x[D * k + j] - x[j]);
+  if (p.corners) { // the slot's outer corners: each from the part at that corner
+    double c[D * (1 << D)];
+    for (int q = 0; q < (1 << D); ++q) {
+      PetscInt best = g[0];
+      double far = -1e300;
+      for (PetscInt k : g) {
+        double along = 0;
+        for (int a = 0; a < D; ++a)
+          along += cpdi::cornerSign<D>(q, a) * p.X0[D * k + a] / p.l0[D * k + a];
+        if (along > far) {
+          far = along;
+          best = k;
+        }
+      }
+      for (int a = 0; a < D; ++a)
+        c[D * q + a] = p.corners[D * ((1 << D) * best + q) + a];
+    }
+    std::copy(c, c + D * (1 << D), p.corners + D * (1 << D) * keep);
+  }
+  p.m[keep] = m;
+  p.V[keep] = V;
+  p.V0[keep] = V0;
+  for (int a = 0; a < D; ++a) {
+    p.l0[D * keep + a] *= r[a];
+    p.x[D * keep + a] = x[a];
+    p.X0[D * keep + a] = X0[a];
+    p.v[D * keep + a] = v[a];
+    p.l[D * keep + a] = l[a] / m * r[a];
+    if (p.eps) p.eps[D * keep + a] = eps[a] / m;
+  }
+  if (p.corners)
+    for (int a = 0; a < D; ++a) { // the half-sizes: the corners' reach
+      double reach = 0;
+      for (int q = 0; q < (1 << D); ++q)
+        reach = std::max(reach,
+                         std::fabs(p.corners[D * ((1 << D) * keep + q) + a] - p.x[D * keep + a]));
+      p.l[D * keep + a] = reach;
+    }
+  for (int q = 0; q < D * D; ++q) {
+    p.F[D * D * keep + q] = F[q] / m;
+    p.s[D * D * keep + q] = S[q] / V;
+    if (p.B) p.B[D * D * keep + q] = B[q] / m;
+  }
+  if (p.szz) p.szz[keep] = szz / V;
+}
+
+} // namespace
+
+template <int D>
+PetscErrorCode mergeParticles(MPI_Comm comm, const Scene<D> &sc, DM sw, PetscInt64 &removed) {
+  ParticleView<D> p;
+  PetscCall(p.get(sw));
+  std::map<std::array<std::int64_t, 2 * D + 1>, std::vector<PetscInt>> groups;
+  for (PetscInt k = 0; k < p.n; ++k) {
+    if (!mergeable(sc, p, k)) continue;
+    const std::array<std::int64_t, 2 *D + 1> key = mergeKey(sc, p, k);
+    std::int64_t parts = 1;
+    for (int a = 0; a < D; ++a)
+      parts *= key[1 + D + a];
+    if (parts > 1) groups[key].push_back(k);
+  }
+  std::vector<PetscInt> gone;
+  for (const auto &[key, g] : groups) {
+    std::array<int, D> r;
+    std::int64_t parts = 1;
+    for (int a = 0; a < D; ++a) {
+      r[a] = static_cast<int>(key[1 + D + a]);
+      parts *= r[a];
+    }
+    if (static_cast<std::int64_t>(g.size()) != parts || !oneCell(sc, p, g)) continue;
+    PetscInt keep = g[0];
+    for (PetscInt k : g)
+      if (p.id[k] < p.id[keep]) keep = k;
+    mergeInto<D>(g, keep, r, p);
+    for (PetscInt k : g)
+      if (k != keep) gone.push_back(k);
+  }
+  PetscCall(p.restore(sw));
+  std::sort(gone.begin(), gone.end(), std::greater<>());
+  for (PetscInt k : gone) // the last particle takes k's place: none of those left is removed
+    PetscCall(DMSwarmRemovePointAtIndex(sw, k));
+  PetscInt64 mine = static_cast<PetscInt64>(gone.size());
+  PetscCallMPI(MPI_Allreduce(&mine, &removed, 1, MPI_INT64_T, MPI_SUM, comm));
+  return PETSC_SUCCESS;
+}
+
+template PetscErrorCode mergeParticles<2>(MPI_Comm, const Scene<2> &, DM, PetscInt64 &);
+template PetscErrorCode mergeParticles<3>(MPI_Comm, const Scene<3> &, DM, PetscInt64 &);
 
 template PetscErrorCode splitParticles<2>(MPI_Comm, const Scene<2> &, DM, SplitIds &, PetscInt64 &);
 template PetscErrorCode splitParticles<3>(MPI_Comm, const Scene<3> &, DM, SplitIds &, PetscInt64 &);

@@ -172,6 +172,11 @@ PetscErrorCode Solver<D>::regrid(const std::vector<LevelBox<D>> &boxes, bool spl
   added = 0;
   if (split) {
     PetscCall(splitParticles<D>(s.comm, s.sc, s.sw, s.splitIds, added));
+    if (s.sc.followMerge) {
+      PetscInt64 removed = 0;
+      PetscCall(mergeParticles<D>(s.comm, s.sc, s.sw, removed));
+      added -= removed;
+    }
     if (added) {
       const double n = static_cast<double>(s.nParticles);
       s.nParticles += added;

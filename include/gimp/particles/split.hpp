@@ -34,4 +34,18 @@ template <int D>
 PetscErrorCode splitParticles(MPI_Comm comm, const Scene<D> &sc, DM sw, SplitIds &ids,
                               PetscInt64 &added);
 
+/// The reverse, where a finer box moved away: the particles of one slot of the coarser particle
+/// lattice now holding them (the parts a split of that slot's particle would give: prod r_a
+/// particles of the same body and initial size, whose initial centres lie in the slot, all in one
+/// level-0 cell now, no crack between them, none on a loaded face, none a cut cell) become one
+/// particle: mass and volumes summed, position, initial position, velocity, F and strain
+/// mass-weighted, stress volume-weighted, the slot's outer corners when corners are tracked, and
+/// B = sum m_j (B_j + (v_j - v)(x_j - x)ᵀ) / m, which keeps APIC's angular momentum; the smallest
+/// id stays. Mass, momentum and (with APIC) angular momentum are kept to round-off; the kinetic
+/// energy of the parts' motion relative to their centre, ½ sum m_j |v_j - v|², goes into B's
+/// affine field (APIC) or is lost (FLIP/PIC). `removed`: the particles removed over all ranks.
+/// Collective.
+template <int D>
+PetscErrorCode mergeParticles(MPI_Comm comm, const Scene<D> &sc, DM sw, PetscInt64 &removed);
+
 } // namespace gimp
