@@ -206,7 +206,7 @@ const std::vector<OptionSpec> &gridOptions() {
      " its last) or probeN (probe N's particle); the box keeps its size and moves by whole cells"
      " of its parent when the point comes within _follow_margin of a face, and the particles it"
      " newly covers are split to its particle size"},
-    {"gimp_follow_merge", Kind::Bool, "", "false", "", nullptr, {},
+    {"gimp_follow_merge", Kind::Bool, "", "true", "", nullptr, {},
      "Where a following box moved away, merge the particles it had split (or seeded) back to the"
      " coarser level's size; false keeps them as they are"},
     {"gimp_levelK_follow_margin", Kind::Real, "m", "a quarter of the box's smallest side", "",

@@ -182,7 +182,7 @@ template <int D> struct GridSpec {
   PetscInt pad = 2;                // cells of padding around the bodies for the default domain
   std::vector<LevelBox<D>> levels; // levels[0] is the domain (moved boxes: as they are now)
   std::vector<LevelFollow> follow; // per level, what its box follows (follow[0]: nothing)
-  bool followMerge = false;        // -gimp_follow_merge: merge the parts where a box moved away
+  bool followMerge = true;         // -gimp_follow_merge: merge the parts where a box moved away
   /// Whether some level's box follows a point.
   bool follows() const {
     for (const LevelFollow &f : follow)
