@@ -2,13 +2,13 @@
 """Crack growth in the DCB with a fine box that follows the tip, against a fixed fine box over
 the whole path and a uniform fine grid (docs/performance.md, *A fine box that follows the tip*).
 
-The scene is options/dcb_growth.opts (2 mm cells, 1 mm cells in a box from x = 40 to 84 mm that
-holds the whole 22 mm of growth with its J domains). The three grids:
-  - follow:  a 24 x 20 mm fine box around the tip (x 38 to 62 mm), -gimp_level1_follow
-             crack0_tip1 with a margin of 8 mm: it moves by whole 2 mm cells when the tip comes
-             within 8 mm of its faces, the level-0 particles it newly holds split into 2 x 2;
-  - fixed:   the scene's 44 x 20 mm box;
-  - uniform: 1 mm cells everywhere (the level-1 box over the whole beam).
+The scene is options/dcb_growth.opts (2 mm cells, 1 mm cells in a 16 x 16 mm box that follows
+the tip with a margin of 4 mm). The grids:
+  - follow:       the scene as it is (the parts a moved box leaves merge back);
+  - follow, keep: the same with -gimp_follow_merge false (the parts are kept);
+  - fixed:        a fixed 1 mm box from x = 40 to 84 mm, y = 2 to 22 mm, that holds the whole 22 mm
+                  of growth with its J domains;
+  - uniform:      1 mm cells everywhere (the level-1 box over the whole beam).
 Each run is timed (summary.json: cpu_seconds, wall_seconds) with its particle count at the end,
 and its P(a) (the load at which a crack of length a starts to grow, as tests/check_dcb_growth.py
 reads it) is compared with corrected beam theory and with the uniform grid's, and its tip path
@@ -28,12 +28,25 @@ sys.path.insert(0, os.path.join(ROOT, "tests"))
 import gimptest  # noqa: E402
 from check_dcb_growth import beam, growth_points  # noqa: E402
 
+# (options, whether the box follows the tip: the fixed grids drop the scene's follow options)
 GRIDS = {
-    "follow": ["-gimp_level1_box", "0.038,0.002,0.062,0.022", "-gimp_level1_follow", "crack0_tip1",
-               "-gimp_level1_follow_margin", "0.008"],
-    "fixed": [],
-    "uniform": ["-gimp_level1_box", "0,0,0.1,0.024"],
+    "follow": ([], True),
+    "keep": (["-gimp_follow_merge", "false"], True),
+    "fixed": (["-gimp_level1_box", "0.040,0.002,0.084,0.022"], False),
+    "uniform": (["-gimp_level1_box", "0,0,0.1,0.024"], False),
 }
+
+
+def scene_file(work, follows):
+    """The scene, or a copy without its follow options."""
+    src = os.path.join(ROOT, "options", "dcb_growth.opts")
+    if follows:
+        return src
+    os.makedirs(work, exist_ok=True)
+    dst = os.path.join(work, "dcb_growth_fixed.opts")
+    with open(src) as f, open(dst, "w") as g:
+        g.writelines(l for l in f if not l.startswith("-gimp_level1_follow"))
+    return dst
 
 
 def main():
@@ -43,9 +56,9 @@ def main():
     a = ap.parse_args()
     subprocess.run(["bash", os.path.join(ROOT, "bench", "machine.sh")])
     res = {}
-    for name, extra in GRIDS.items():
+    for name, (extra, follows) in GRIDS.items():
         out = os.path.join(a.work, name)
-        cmd = [a.gimp, "-options_file", os.path.join(ROOT, "options", "dcb_growth.opts"),
+        cmd = [a.gimp, "-options_file", scene_file(a.work, follows),
                "-gimp_output_dir", out] + extra
         p = subprocess.run(cmd, capture_output=True, text=True)
         if p.returncode != 0:
