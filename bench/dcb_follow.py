@@ -14,7 +14,9 @@ and its P(a) (the load at which a crack of length a starts to grow, as tests/che
 reads it) is compared with corrected beam theory and with the uniform grid's, and its tip path
 with the uniform grid's. One run at a time, on one rank; the machine line is printed first.
 
-    /usr/bin/python3 bench/dcb_follow.py [--gimp build/gimp] [--work /tmp/dcb_follow]
+    /usr/bin/python3 bench/dcb_follow.py [--gimp build/gimp] [--work /tmp/dcb_follow] [--reuse]
+
+It writes docs/img/dcb_follow.png (P(a) of each grid against corrected beam theory).
 """
 import argparse
 import json
@@ -49,10 +51,33 @@ def scene_file(work, follows):
     return dst
 
 
+def plot(res, path):
+    """P(a) / P_CBT(a) - 1 of every grid against a, its CPU time in the legend."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, ax = plt.subplots(figsize=(6.4, 4.0))
+    for name, (s, pts) in res.items():
+        a = [1e3 * x for _, x, _, _ in pts[1:]]
+        e = [100 * (P / beam(x) - 1) for _, x, _, P in pts[1:]]
+        ax.plot(a, e, "o-", ms=3, label="%s: %d particles at the end, %.0f s CPU" %
+                (name, s["particles"], s["cpu_seconds"]))
+    ax.set_xlabel("crack length a [mm]")
+    ax.set_ylabel("P / P_CBT - 1 [%]")
+    ax.set_title("DCB growth: load at each increment against corrected beam theory")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--gimp", default=os.path.join(ROOT, "build", "gimp"))
     ap.add_argument("--work", default="/tmp/dcb_follow")
+    ap.add_argument("--plot", default=os.path.join(ROOT, "docs", "img", "dcb_follow.png"))
+    ap.add_argument("--reuse", action="store_true",
+                    help="read the runs already in --work instead of running them")
     a = ap.parse_args()
     subprocess.run(["bash", os.path.join(ROOT, "bench", "machine.sh")])
     res = {}
@@ -60,8 +85,8 @@ def main():
         out = os.path.join(a.work, name)
         cmd = [a.gimp, "-options_file", scene_file(a.work, follows),
                "-gimp_output_dir", out] + extra
-        p = subprocess.run(cmd, capture_output=True, text=True)
-        if p.returncode != 0:
+        p = subprocess.run(cmd, capture_output=True, text=True) if not a.reuse else None
+        if p is not None and p.returncode != 0:
             sys.stdout.write(p.stdout + p.stderr)
             raise SystemExit("gimp failed: " + " ".join(cmd))
         with open(os.path.join(out, "summary.json")) as f:
@@ -81,6 +106,7 @@ def main():
             name, s["particles"], moves, s["cpu_seconds"],
             res["uniform"][0]["cpu_seconds"] / s["cpu_seconds"], 100 * min(cbt), 100 * max(cbt),
             100 * min(vs), 100 * max(vs), path / 1e-3))
+    plot(res, a.plot)
     print("P from %.0f to %.0f mm of crack (%d points); path: the largest |y - y_uniform| at the "
           "same a, in 1 mm cells" % (1e3 * res["uniform"][1][1][1], 1e3 * res["uniform"][1][-1][1],
                                      len(res["uniform"][1]) - 1))

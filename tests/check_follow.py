@@ -147,21 +147,7 @@ merged = [r for r in movesm if r["particles_added"] < 0]
 c.check("merge: parts merge back", merged and sm["particles"] < s["particles"],
         "%d of %d moves removed particles; %d particles at the end against %d kept"
         % (len(merged), len(movesm), sm["particles"], s["particles"]))
-worst = {"mass": 0.0, "momentum": 0.0, "angular momentum": 0.0, "energy": 0.0}
-for r in movesm:
-    b, a = r["before"], r["after"]
-    worst["mass"] = max(worst["mass"], rel(a["mass"], b["mass"], b["mass"]))
-    worst["momentum"] = max(worst["momentum"],
-                            rel(a["momentum"], b["momentum"], np.linalg.norm(b["momentum"])))
-    worst["angular momentum"] = max(worst["angular momentum"], rel(
-        a["angular_momentum"], b["angular_momentum"], np.linalg.norm(b["angular_momentum"])))
-    worst["energy"] = max(worst["energy"], rel(a["energy"], b["energy"], b["energy"]))
-for k in ("mass", "momentum", "angular momentum"):
-    c.check("merge: a move keeps the " + k, worst[k] < 1e-13,
-            "largest relative change over the moves %.1e" % worst[k])
-c.check("merge: a move keeps the energy within 1e-4", worst["energy"] < 1e-4,
-        "largest relative change over the moves %.1e (the parts' motion about their centre)"
-        % worst["energy"])
+conservation(movesm, "merge", energy=1e-4)  # the parts' motion about their centre: energy
 
 # 2 ranks, and a restart between moves, keeping and merging.
 def ranks_and_restart(extra, name, out, hist, moves):

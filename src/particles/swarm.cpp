@@ -131,16 +131,18 @@ template <int D> PetscErrorCode createSwarm(MPI_Comm comm, OptionalFields option
   return PETSC_SUCCESS;
 }
 
-template <int D> PetscErrorCode permuteSwarm(DM sw, const std::vector<PetscInt> &order) {
+namespace {
+
+/// Every field of the swarm (gimp's and DMSwarm's pid and rank) as rows of bytes: f(rows, row
+/// size) for each, between DMSwarmGetField and DMSwarmRestoreField.
+template <int D, class F> PetscErrorCode forEachFieldRows(DM sw, F &&f) {
   OptionalFields optional;
   PetscCall(swarmOptionalFields(sw, optional));
   std::vector<const char *> names;
-  for (const FieldSpec<D> &f : particleFields<D>())
-    if (optional.has(f.need)) names.push_back(f.name);
+  for (const FieldSpec<D> &fs : particleFields<D>())
+    if (optional.has(fs.need)) names.push_back(fs.name);
   names.push_back(DMSwarmField_pid);
   names.push_back(DMSwarmField_rank);
-  std::vector<char> scratch;
-  const size_t n = order.size();
   for (const char *name : names) {
     PetscInt bs = 0;
     PetscDataType type;
@@ -148,43 +150,34 @@ template <int D> PetscErrorCode permuteSwarm(DM sw, const std::vector<PetscInt> 
     PetscCall(DMSwarmGetField(sw, name, &bs, &type, &data));
     size_t size = 0;
     PetscCall(PetscDataTypeGetSize(type, &size));
-    const size_t row = size * static_cast<size_t>(bs);
-    scratch.resize(row * n);
-    const char *from = static_cast<const char *>(data);
-    for (size_t k = 0; k < n; ++k)
-      std::memcpy(&scratch[k * row], from + static_cast<size_t>(order[k]) * row, row);
-    std::memcpy(data, scratch.data(), row * n);
+    f(static_cast<char *>(data), size * static_cast<size_t>(bs));
     PetscCall(DMSwarmRestoreField(sw, name, &bs, &type, &data));
   }
   return PETSC_SUCCESS;
 }
 
+} // namespace
+
+template <int D> PetscErrorCode permuteSwarm(DM sw, const std::vector<PetscInt> &order) {
+  std::vector<char> scratch;
+  const size_t n = order.size();
+  return forEachFieldRows<D>(sw, [&](char *rows, size_t row) {
+    scratch.resize(row * n);
+    for (size_t k = 0; k < n; ++k)
+      std::memcpy(&scratch[k * row], rows + static_cast<size_t>(order[k]) * row, row);
+    std::memcpy(rows, scratch.data(), row * n);
+  });
+}
+
 template <int D> PetscErrorCode appendCopies(DM sw, const std::vector<PetscInt> &from) {
-  OptionalFields optional;
-  PetscCall(swarmOptionalFields(sw, optional));
   PetscInt n0 = 0;
   PetscCall(DMSwarmGetLocalSize(sw, &n0));
   PetscCall(DMSwarmAddNPoints(sw, static_cast<PetscInt>(from.size())));
-  std::vector<const char *> names;
-  for (const FieldSpec<D> &f : particleFields<D>())
-    if (optional.has(f.need)) names.push_back(f.name);
-  names.push_back(DMSwarmField_pid);
-  names.push_back(DMSwarmField_rank);
-  for (const char *name : names) {
-    PetscInt bs = 0;
-    PetscDataType type;
-    void *data = nullptr;
-    PetscCall(DMSwarmGetField(sw, name, &bs, &type, &data));
-    size_t size = 0;
-    PetscCall(PetscDataTypeGetSize(type, &size));
-    const size_t row = size * static_cast<size_t>(bs);
-    char *rows = static_cast<char *>(data);
+  return forEachFieldRows<D>(sw, [&](char *rows, size_t row) {
     for (size_t j = 0; j < from.size(); ++j)
       std::memcpy(rows + (static_cast<size_t>(n0) + j) * row,
                   rows + static_cast<size_t>(from[j]) * row, row);
-    PetscCall(DMSwarmRestoreField(sw, name, &bs, &type, &data));
-  }
-  return PETSC_SUCCESS;
+  });
 }
 
 #define GIMP_INSTANTIATE(D)                                                                        \
