@@ -165,5 +165,6 @@ done
 # Setup time and memory against the particle count in 3D (docs/performance.md, *Large runs*; about
 # 4 minutes, 4.7 GB at its largest run).
 step setup_scaling "$py" "$root/bench/setup_scaling.py" --gimp "$gimp" --work "$work/setup_scaling"
+step dcb_follow "$py" "$root/bench/dcb_follow.py" --gimp "$gimp" --work "$work/dcb_follow"
 
 echo "make_docs: all steps done in $((SECONDS - start_all)) s; tables in $work/logs/, figures in $root/docs/img/"
