@@ -4,8 +4,10 @@
 #include "gimp/grid/shape.hpp"
 #include "gimp/physics/material.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
+#include <vector>
 
 namespace gimp::cracks {
 
@@ -106,22 +108,121 @@ double pointKernel(const ParticleView<2> &p, PetscInt k, double X, double Y, dou
 }
 
 // The reduced row of one tip: the n side's force on the tip point (2); J and the mode I and II
-// interaction integrals, times thickness (3); then sum m w u and sum m w of each side at the
-// point one cell behind the tip (3 + 3).
-constexpr int kForce = 0, kJ = 2, kPlus = 5, kMinus = 8, kRow = 11;
+// interaction integrals, times thickness (3).
+constexpr int kForce = 0, kJ = 2, kRow = 5;
 
-/// G and K of one tip from its reduced row r; h the cell at the tip.
-void finishTip(const Scene<2> &sc, const double *r, double h, TipMeasure &m) {
+/// The nodal displacements behind the tip, fitted to the particles' displacements on a lattice
+/// of the tip's cell h centred on the point b one cell behind the tip: nodes b + (i h, j h),
+/// |i|, |j| <= kFitHalf, each with the two fields of a cracked node.
+constexpr int kFitHalf = 3, kFitSide = 2 * kFitHalf + 1, kFitNodes = kFitSide * kFitSide,
+              kFitUnknowns = 2 * kFitNodes;
+/// Its reduced sums: the normal matrix (kFitUnknowns^2), then the right-hand sides of the two
+/// displacement components (2 kFitUnknowns).
+constexpr int kFitRow = kFitUnknowns * kFitUnknowns + 2 * kFitUnknowns;
+
+/// Adds particle k's terms to the fit of one tip (sums `fit`, lattice centred on (bx, by), cell
+/// h): the mass-weighted least-squares fit of nodal displacements u_a to the particle's
+/// displacement, u_p = sum_a S_ap u_a, the inverse of the grid's interpolation. u_p is the
+/// displacement that goes with the particle's F (p.us: integrated from the velocity field that
+/// updates the stress). The entry a of a node is the field the particle joins there (field 2
+/// when the segment from the particle to the node crosses the crack, as the grid decides it).
+/// Only particles whose every weight falls on the lattice.
+void addFitTerms(const Crack &crack, const ParticleView<2> &p, PetscInt k, double bx, double by,
+                 double h, double *fit) {
+  const double dx = p.x[2 * k] - bx, dy = p.x[2 * k + 1] - by;
+  if (std::fabs(dx) + p.l[2 * k] >= kFitHalf * h || std::fabs(dy) + p.l[2 * k + 1] >= kFitHalf * h)
+    return;
+  int idx[kFitNodes];
+  double w[kFitNodes];
+  int m = 0;
+  const int i0 = std::max(-kFitHalf, static_cast<int>(std::floor(dx / h)) - 2),
+            i1 = std::min(kFitHalf, static_cast<int>(std::ceil(dx / h)) + 2),
+            j0 = std::max(-kFitHalf, static_cast<int>(std::floor(dy / h)) - 2),
+            j1 = std::min(kFitHalf, static_cast<int>(std::ceil(dy / h)) + 2);
+  for (int i = i0; i <= i1; ++i)
+    for (int j = j0; j <= j1; ++j) {
+      const double X = bx + i * h, Y = by + j * h;
+      double grad[2];
+      const double wa = pointKernel(p, k, X, Y, h, grad);
+      if (wa <= 0) continue;
+      const int field = crossing(crack, p.x[2 * k], p.x[2 * k + 1], X, Y) != 0 ? 1 : 0;
+      idx[m] = 2 * ((i + kFitHalf) * kFitSide + (j + kFitHalf)) + field;
+      w[m] = wa;
+      ++m;
+    }
+  const double u[2] = {p.us ? p.us[2 * k] : p.x[2 * k] - p.X0[2 * k],
+                       p.us ? p.us[2 * k + 1] : p.x[2 * k + 1] - p.X0[2 * k + 1]};
+  const double mp = p.m[k];
+  double *rhs = fit + kFitUnknowns * kFitUnknowns;
+  for (int a = 0; a < m; ++a) {
+    double *row = fit + static_cast<size_t>(idx[a]) * kFitUnknowns;
+    for (int b = 0; b < m; ++b)
+      row[idx[b]] += mp * w[a] * w[b];
+    for (int c = 0; c < 2; ++c)
+      rhs[c * kFitUnknowns + idx[a]] += mp * w[a] * u[c];
+  }
+}
+
+/// Solves the fit's normal equations (reduced sums `fit`, the consistent mass matrix of the
+/// lattice) and returns the displacement of the node b (the lattice's centre) in its two
+/// fields, u[field][component]. A ridge of 1e-10 of the largest diagonal term gives a field no
+/// particle joins zero.
+void solveFit(const double *fit, double u[2][2]) {
+  constexpr int n = kFitUnknowns;
+  std::vector<double> A(fit, fit + static_cast<size_t>(n) * n), r(fit + n * n, fit + n * n + 2 * n);
+  double top = 0;
+  for (int a = 0; a < n; ++a)
+    top = std::max(top, A[static_cast<size_t>(a) * n + a]);
+  for (int a = 0; a < n; ++a)
+    A[static_cast<size_t>(a) * n + a] += 1e-10 * top + std::numeric_limits<double>::min();
+  // Gaussian elimination with partial pivoting, two right-hand sides (r[c * n + a]).
+  for (int col = 0; col < n; ++col) {
+    int piv = col;
+    for (int a = col + 1; a < n; ++a)
+      if (std::fabs(A[static_cast<size_t>(a) * n + col]) >
+          std::fabs(A[static_cast<size_t>(piv) * n + col]))
+        piv = a;
+    if (piv != col) {
+      for (int b = 0; b < n; ++b)
+        std::swap(A[static_cast<size_t>(col) * n + b], A[static_cast<size_t>(piv) * n + b]);
+      for (int c = 0; c < 2; ++c)
+        std::swap(r[c * n + col], r[c * n + piv]);
+    }
+    const double d = A[static_cast<size_t>(col) * n + col];
+    for (int a = col + 1; a < n; ++a) {
+      const double f = A[static_cast<size_t>(a) * n + col] / d;
+      if (f == 0) continue;
+      for (int b = col; b < n; ++b)
+        A[static_cast<size_t>(a) * n + b] -= f * A[static_cast<size_t>(col) * n + b];
+      for (int c = 0; c < 2; ++c)
+        r[c * n + a] -= f * r[c * n + col];
+    }
+  }
+  for (int col = n - 1; col >= 0; --col)
+    for (int c = 0; c < 2; ++c) {
+      double v = r[c * n + col];
+      for (int b = col + 1; b < n; ++b)
+        v -= A[static_cast<size_t>(col) * n + b] * r[c * n + b];
+      r[c * n + col] = v / A[static_cast<size_t>(col) * n + col];
+    }
+  const int centre = 2 * (kFitHalf * kFitSide + kFitHalf);
+  for (int f = 0; f < 2; ++f)
+    for (int c = 0; c < 2; ++c)
+      u[f][c] = r[c * n + centre + f];
+}
+
+/// G and K of one tip from its reduced row r and fit sums; h the cell at the tip; plusIsField1:
+/// the n side's particles join field 1 of the node one cell behind the tip.
+void finishTip(const Scene<2> &sc, const double *r, const double *fit, bool plusIsField1, double h,
+               TipMeasure &m) {
   double t[2], n[2];
   tipFrame(sc.cracks[m.crack], m.end, t, n);
   const Material &mat = sc.materialAt(m.tip);
   const double Ep = modulus(mat), th = sc.material.thickness;
-  const double *up = &r[kPlus], *dn = &r[kMinus];
-  double dux = 0, duy = 0;
-  if (up[2] > 0 && dn[2] > 0) {
-    dux = up[0] / up[2] - dn[0] / dn[2];
-    duy = up[1] / up[2] - dn[1] / dn[2];
-  }
+  double u[2][2];
+  solveFit(fit, u);
+  const int up = plusIsField1 ? 0 : 1;
+  const double dux = u[up][0] - u[1 - up][0], duy = u[up][1] - u[1 - up][1];
   const double dun = dux * n[0] + duy * n[1], dut = dux * t[0] + duy * t[1];
   const double Fn = r[kForce] * n[0] + r[kForce + 1] * n[1],
                Ft = r[kForce] * t[0] + r[kForce + 1] * t[1];
@@ -165,21 +266,23 @@ PetscErrorCode measureTips(MPI_Comm comm, const Scene<2> &sc, const Grid<2> &g,
   tips = tipsOf(sc);
   const size_t T = tips.size();
   if (T == 0) return PETSC_SUCCESS;
-  std::vector<double> local(kRow * T, 0.0), global(kRow * T);
+  const size_t row = kRow + kFitRow;
+  std::vector<double> local(row * T, 0.0), global(row * T);
   std::vector<double> cell(T);
+  std::vector<char> plusIsField1(T);
   for (size_t q = 0; q < T; ++q) {
     const TipMeasure &m = tips[q];
     const Crack &crack = sc.cracks[m.crack];
     double t[2], n[2];
     tipFrame(crack, m.end, t, n);
     const double h = cell[q] = g.levels[g.leafLevelAt(m.tip[0], m.tip[1])].h;
-    // The point one cell behind the tip, on the crack line; a particle is on the side of the
-    // crack's left normal there unless the segment to the point crosses the crack.
+    // The point one cell behind the tip, on the crack line: a particle on the left of the crack
+    // there joins field 1 of a node at that point (crossing: a point on the line is on the left).
     const double bx = m.tip[0] - h * t[0], by = m.tip[1] - h * t[1];
     double nl[2];
     normalAt(crack, bx, by, nl);
-    const bool plusIsLeft = nl[0] * n[0] + nl[1] * n[1] > 0;
-    double *r = &local[kRow * q];
+    plusIsField1[q] = nl[0] * n[0] + nl[1] * n[1] > 0;
+    double *r = &local[row * q];
     for (PetscInt k = 0; k < p.n; ++k) {
       const double rx = p.x[2 * k] - m.tip[0], ry = p.x[2 * k + 1] - m.tip[1];
       const double across = rx * n[0] + ry * n[1];
@@ -190,22 +293,15 @@ PetscErrorCode measureTips(MPI_Comm comm, const Scene<2> &sc, const Grid<2> &g,
         for (int c = 0; c < 2; ++c)
           r[kForce + c] -= p.V[k] * (s(c, 0) * grad[0] + s(c, 1) * grad[1]);
       }
-      // Each side's displacement at the point one cell behind the tip (mass projection).
-      const double w = pointKernel(p, k, bx, by, h, grad);
-      if (w > 0) {
-        const bool left = crossing(crack, p.x[2 * k], p.x[2 * k + 1], bx, by) == 0;
-        double *o = &r[left == plusIsLeft ? kPlus : kMinus];
-        o[0] += p.m[k] * w * (p.x[2 * k] - p.X0[2 * k]);
-        o[1] += p.m[k] * w * (p.x[2 * k + 1] - p.X0[2 * k + 1]);
-        o[2] += p.m[k] * w;
-      }
+      // The nodal displacements behind the tip, fitted to the particles' displacements.
+      addFitTerms(crack, p, k, bx, by, h, r + kRow);
     }
     if (m.jRadius > 0) addDomainIntegrals(sc.materialAt(m.tip), p, m.tip, t, m.jRadius, &r[kJ]);
   }
   PetscCallMPI(MPI_Allreduce(local.data(), global.data(), static_cast<int>(local.size()),
                              MPI_DOUBLE, MPI_SUM, comm));
   for (size_t q = 0; q < T; ++q)
-    finishTip(sc, &global[kRow * q], cell[q], tips[q]);
+    finishTip(sc, &global[row * q], &global[row * q + kRow], plusIsField1[q], cell[q], tips[q]);
   return PETSC_SUCCESS;
 }
 

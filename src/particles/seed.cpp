@@ -296,6 +296,7 @@ PetscErrorCode seedParticles<2>(const Scene<2> &sc, const Grid<2> &g, DM sw,
       p.s[4 * k + c] = 0.0;
     p.szz[k] = 0.0;
     if (p.eps) p.eps[2 * k] = p.eps[2 * k + 1] = 0.0;
+    if (p.us) p.us[2 * k] = p.us[2 * k + 1] = 0.0;
     p.id[k] = s.id;
     p.rank[k] = rank;
     if (p.rate) p.rate[k] = -1; // -gimp_multirate: no rate class yet

@@ -137,7 +137,7 @@ PetscErrorCode seededTops(MPI_Comm comm, const Scene<D> &sc, const ParticleView<
 /// Particle k as part j (multi-index) of the parent whose state is in `parent` (a copy of the
 /// parent's view row: x, X0, l, l0, F, corners) with parts r.
 template <int D> struct ParentGeometry {
-  std::array<double, D> x, X0, l, l0;
+  std::array<double, D> x, X0, l, l0, us;
   std::array<double, D * D> F;
   std::array<double, D *(1 << D)> corners;
   double m, V, V0;
@@ -226,6 +226,7 @@ PetscErrorCode splitParticles(MPI_Comm comm, const Scene<D> &sc, DM sw, SplitIds
       g.X0[a] = p.X0[D * k + a];
       g.l[a] = p.l[D * k + a];
       g.l0[a] = p.l0[D * k + a];
+      g.us[a] = p.us ? p.us[D * k + a] : 0.0;
     }
     std::copy(p.F + D * D * k, p.F + D * D * (k + 1), g.F.begin());
     if (p.corners)
@@ -243,6 +244,9 @@ PetscErrorCode splitParticles(MPI_Comm comm, const Scene<D> &sc, DM sw, SplitIds
       }
       const PetscInt at = part == 0 ? k : next++;
       placePart<D>(g, pl.r, j, p, at);
+      if (p.us) // the crack scenes' displacement: the parent's, moved as x and X0 are
+        for (int a = 0; a < D; ++a)
+          p.us[D * at + a] = g.us[a] + (p.x[D * at + a] - g.x[a]) - (p.X0[D * at + a] - g.X0[a]);
       if (part > 0) p.id[at] = first[q] - (part - 1);
     }
   }
@@ -308,7 +312,7 @@ template <int D>
 void mergeInto(const std::vector<PetscInt> &g, PetscInt keep, const std::array<int, D> &r,
                ParticleView<D> &p) {
   double m = 0, V = 0, V0 = 0, x[D] = {}, X0[D] = {}, v[D] = {}, l[D] = {}, F[D * D] = {},
-         S[D * D] = {}, szz = 0, eps[D] = {}, B[D * D] = {};
+         S[D * D] = {}, szz = 0, eps[D] = {}, B[D * D] = {}, us[D] = {};
   for (PetscInt k : g) {
     const double mk = p.m[k], Vk = p.V[k];
     m += mk;
@@ -320,6 +324,7 @@ void mergeInto(const std::vector<PetscInt> &g, PetscInt keep, const std::array<i
       v[a] += mk * p.v[D * k + a];
       l[a] += mk * p.l[D * k + a];
       if (p.eps) eps[a] += mk * p.eps[D * k + a];
+      if (p.us) us[a] += mk * p.us[D * k + a];
     }
     for (int q = 0; q < D * D; ++q) {
       F[q] += mk * p.F[D * D * k + q];
@@ -367,6 +372,7 @@ void mergeInto(const std::vector<PetscInt> &g, PetscInt keep, const std::array<i
     p.v[D * keep + a] = v[a];
     p.l[D * keep + a] = l[a] / m * r[a];
     if (p.eps) p.eps[D * keep + a] = eps[a] / m;
+    if (p.us) p.us[D * keep + a] = us[a] / m;
   }
   if (p.corners)
     for (int a = 0; a < D; ++a) { // the half-sizes: the corners' reach

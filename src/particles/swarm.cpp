@@ -44,13 +44,15 @@ template <int D> const std::vector<FieldSpec<D>> &particleFields() {
        [](ParticleView &p) { return slotOf(p.B); }},
       {"corners", (1 << D) * D, PETSC_REAL, true, FieldNeed::Corners,
        [](ParticleView &p) { return slotOf(p.corners); }},
+      {"us", D, PETSC_REAL, false, FieldNeed::Cracks, [](ParticleView &p) { return slotOf(p.us); }},
   };
   return fields;
 }
 
 namespace {
-const char *const kMarks[5] = {"gimp_corners", "gimp_strain", "gimp_affine", "gimp_boundary",
-                               "gimp_multirate"};
+constexpr int kOptional = 6;
+const char *const kMarks[kOptional] = {"gimp_corners",  "gimp_strain",    "gimp_affine",
+                                       "gimp_boundary", "gimp_multirate", "gimp_cracks"};
 } // namespace
 
 template <int D> OptionalFields optionalFieldsOf(const Scene<D> &sc) {
@@ -60,13 +62,14 @@ template <int D> OptionalFields optionalFieldsOf(const Scene<D> &sc) {
   o.affine = sc.transfer == Transfer::Apic;
   o.boundary = !sc.tractions.empty() || !sc.dbcs.empty();
   o.multirate = sc.multirate;
+  o.cracks = D == 2 && !sc.cracks.empty();
   return o;
 }
 
 PetscErrorCode swarmOptionalFields(DM sw, OptionalFields &optional) {
-  bool *flag[5] = {&optional.corners, &optional.strain, &optional.affine, &optional.boundary,
-                   &optional.multirate};
-  for (int i = 0; i < 5; ++i) {
+  bool *flag[kOptional] = {&optional.corners,  &optional.strain,    &optional.affine,
+                           &optional.boundary, &optional.multirate, &optional.cracks};
+  for (int i = 0; i < kOptional; ++i) {
     PetscObject mark = nullptr;
     PetscCall(PetscObjectQuery(reinterpret_cast<PetscObject>(sw), kMarks[i], &mark));
     *flag[i] = mark != nullptr;
@@ -118,9 +121,9 @@ template <int D> PetscErrorCode createSwarm(MPI_Comm comm, OptionalFields option
       PetscCall(DMSwarmRegisterPetscDatatypeField(*sw, f.name, f.components, f.type));
   PetscCall(DMSwarmFinalizeFieldRegister(*sw));
   // Mark the swarm with its optional fields, so that ParticleView::get knows which are there.
-  const bool flag[5] = {optional.corners, optional.strain, optional.affine, optional.boundary,
-                        optional.multirate};
-  for (int i = 0; i < 5; ++i) {
+  const bool flag[kOptional] = {optional.corners,  optional.strain,    optional.affine,
+                                optional.boundary, optional.multirate, optional.cracks};
+  for (int i = 0; i < kOptional; ++i) {
     if (!flag[i]) continue;
     PetscContainer mark;
     PetscCall(PetscContainerCreate(comm, &mark));

@@ -270,6 +270,15 @@ PetscErrorCode Step<D>::stress(const Stencils<D> &st, ParticleView<D> &p, Vec ve
       tensorAt<D>(L_.data(), k - k0) = transfer::velocityGradientAt<D>(st, k, vg);
     physics::updateDeformation<D>(s.sc, p, L_.data(), dt, k0, k1);
   }
+  // 2D cracks: the displacement that goes with F, integrated from the same velocity field (the
+  // crack tips' opening reads it; with MUSL x moves with another one).
+  if (p.us)
+    for (PetscInt k = 0; k < p.n; ++k) {
+      double vp[D];
+      transfer::interpolateAt<D>(st, k, vg, vp);
+      for (int c = 0; c < D; ++c)
+        p.us[D * k + c] += dt * vp[c];
+    }
   PetscCall(VecRestoreArrayRead(velocityWindow, &vg));
   PetscCall(PetscLogStagePop());
   return PETSC_SUCCESS;

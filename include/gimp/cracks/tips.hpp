@@ -45,9 +45,11 @@ void addDomainIntegrals(const Material &mat, const ParticleView<2> &p, const dou
 /// G_II = F_t du_t / (2 t h). F is the internal force that the particles on the tip frame's n
 /// side put on a node at the tip (the grid's regular GIMP kernel of cell h centred on the tip:
 /// one side's grip on the tip). du is the opening at the point one cell behind the tip: the
-/// mass projection of each side's particle displacement with the same kernel, n side minus the
-/// other (a particle's side is the one crossing() gives it against that point, as for the two
-/// fields of a grid node). J by the domain integral over the particles within the tip's
+/// nodal displacement there of each side's field, n side minus the other, recovered by the
+/// mass-weighted least-squares fit of the nodal values of a lattice of cell h around that point
+/// (the same kernel, two fields per node joined as crossing() decides, as for the grid's
+/// fields) to the particles' displacements p.us (integrated from the velocity that updates F;
+/// x - X0 where the swarm has no us). J by the domain integral over the particles within the tip's
 /// jRadius (Scene::jDomain, set at input: -gimp_crack_j_radius or kJCells cells, clipped to
 /// the tip's clearance), J = sum_p V_p (sigma_ij du_i/dx_1 - W delta_1j) dq/dx_j in the tip
 /// frame, q = (1 - r^2 / R^2)^2; K_I and K_II "by J" from the interaction integrals over the same

@@ -25,7 +25,8 @@ struct SplitIds {
 /// the r_a equal parts of its initial box along each axis, placed by F (or, with tracked corners,
 /// by the bi/trilinear map of its corners, and given the parts of its corner cell), each with the
 /// share 1 / prod r_a of its mass and volumes, and its velocity, affine moment B, F, stress and
-/// strain. Mass, momentum and the angular momentum sum m (x × v) + m ε:Bᵀ are kept to round-off;
+/// strain (2D crack scenes' displacement us: the parent's, changed as x and X0 are). Mass,
+/// momentum and the angular momentum sum m (x × v) + m ε:Bᵀ are kept to round-off;
 /// the first part keeps the particle's id. Kept as they are: particles of a body read from a file,
 /// cut-cell particles (a volume below their box's) and particles on a loaded face (a traction or
 /// penalty condition acts on their edge). `added`: the particles added over all ranks.
@@ -38,7 +39,7 @@ PetscErrorCode splitParticles(MPI_Comm comm, const Scene<D> &sc, DM sw, SplitIds
 /// lattice now holding them (the parts a split of that slot's particle would give: prod r_a
 /// particles of the same body and initial size, whose initial centres lie in the slot, all in one
 /// level-0 cell now, no crack between them, none on a loaded face, none a cut cell) become one
-/// particle: mass and volumes summed, position, initial position, velocity, F and strain
+/// particle: mass and volumes summed, position, initial position, velocity, F, strain and us
 /// mass-weighted, stress volume-weighted, the slot's outer corners when corners are tracked, and
 /// B = sum m_j (B_j + (v_j - v)(x_j - x)ᵀ) / m, which keeps APIC's angular momentum; the smallest
 /// id stays. Mass, momentum and (with APIC) angular momentum are kept to round-off; the kinetic

@@ -19,16 +19,19 @@
 namespace gimp {
 
 /// Which scenes need a particle field.
-enum class FieldNeed { Always, Never, Corners, Strain, Affine, Boundary, Multirate };
+enum class FieldNeed { Always, Never, Corners, Strain, Affine, Boundary, Multirate, Cracks };
 
 /// The optional fields a swarm carries: corners (corner and cpdi2 tracking), eps (strain and
-/// corner tracking), B (APIC), trac and dbc (tractions or penalty conditions).
+/// corner tracking), B (APIC), trac and dbc (tractions or penalty conditions), rate (multi-rate
+/// steps), us (2D cracks).
 struct OptionalFields {
-  bool corners = false, strain = false, affine = false, boundary = false, multirate = false;
+  bool corners = false, strain = false, affine = false, boundary = false, multirate = false,
+       cracks = false;
   bool has(FieldNeed need) const {
     return need == FieldNeed::Always || (need == FieldNeed::Corners && corners) ||
            (need == FieldNeed::Strain && strain) || (need == FieldNeed::Affine && affine) ||
-           (need == FieldNeed::Boundary && boundary) || (need == FieldNeed::Multirate && multirate);
+           (need == FieldNeed::Boundary && boundary) ||
+           (need == FieldNeed::Multirate && multirate) || (need == FieldNeed::Cracks && cracks);
   }
 };
 
@@ -45,6 +48,9 @@ struct ParticleKinematics {
   double *l0 = nullptr; // initial half-sizes [D]
   double *B = nullptr;  // APIC affine moment sum_i S_ip v_i (x_i - x_p)^T, row-major D x D, if APIC
   double *corners = nullptr; // tracked corners (-,-), (+,-), (+,+), (-,+) [2^D x D], if any
+  // 2D cracks: the displacement integrated from the velocity field that updates the stress (the
+  // one F integrates; with MUSL not the one that moves x) [D]
+  double *us = nullptr;
 };
 
 /// A particle view's fields of deformation, stress and strain.
