@@ -45,7 +45,9 @@ TEST(FollowBox, MovesByWholeParentCellsToCentreThePoint) {
     EXPECT_EQ(b.lo[1], 16) << "no move along y, where the point is inside the margin";
     EXPECT_GE(b.lo[0], 0);
     EXPECT_LE(b.hi[0], 64);
-    if (b.hi[0] < 64) EXPECT_LE(std::fabs(px - 0.5 * (b.lo[0] + b.hi[0])), 2.0) << px;
+    if (b.hi[0] < 64) {
+      EXPECT_LE(std::fabs(px - 0.5 * (b.lo[0] + b.hi[0])), 2.0) << px;
+    }
   }
 }
 
