@@ -289,14 +289,14 @@ void checkRoundTrip(const std::string &scene, const std::string &from, const std
   gimp::SplitIds ids;
   PetscInt64 added = 0, removed = 0;
   ASSERT_EQ(gimp::splitParticles<D>(PETSC_COMM_SELF, a.sc, a.sw, ids, added), 0);
-  ASSERT_EQ(gimp::mergeParticles<D>(PETSC_COMM_SELF, a.sc, a.sw, removed), 0);
+  ASSERT_EQ(gimp::mergeParticles<D>(PETSC_COMM_SELF, a.sc, a.sw, {}, removed), 0);
   EXPECT_GT(added, 0);
   EXPECT_GT(removed, 0) << "the parts the box left at `from` merge";
   const std::array<double, 7> s1 = sums<D>(a.sw);
   a.sc.levels[1].box = boxOf(from);
   PetscInt64 added2 = 0, removed2 = 0;
   ASSERT_EQ(gimp::splitParticles<D>(PETSC_COMM_SELF, a.sc, a.sw, ids, added2), 0);
-  ASSERT_EQ(gimp::mergeParticles<D>(PETSC_COMM_SELF, a.sc, a.sw, removed2), 0);
+  ASSERT_EQ(gimp::mergeParticles<D>(PETSC_COMM_SELF, a.sc, a.sw, {}, removed2), 0);
   EXPECT_EQ(added2, removed) << "the box back: what merged splits again";
   EXPECT_EQ(removed2, added) << "and what split merges again";
   const std::array<double, 7> s2 = sums<D>(a.sw);

@@ -393,12 +393,15 @@ void mergeInto(const std::vector<PetscInt> &g, PetscInt keep, const std::array<i
 } // namespace
 
 template <int D>
-PetscErrorCode mergeParticles(MPI_Comm comm, const Scene<D> &sc, DM sw, PetscInt64 &removed) {
+PetscErrorCode mergeParticles(MPI_Comm comm, const Scene<D> &sc, DM sw,
+                              const std::vector<PetscInt64> &kept, PetscInt64 &removed) {
   ParticleView<D> p;
   PetscCall(p.get(sw));
   std::map<std::array<std::int64_t, 2 * D + 1>, std::vector<PetscInt>> groups;
   for (PetscInt k = 0; k < p.n; ++k) {
     if (!mergeable(sc, p, k)) continue;
+    // A kept particle stays out: its group is then short of parts, and no part of it merges.
+    if (std::find(kept.begin(), kept.end(), p.id[k]) != kept.end()) continue;
     const std::array<std::int64_t, 2 *D + 1> key = mergeKey(sc, p, k);
     std::int64_t parts = 1;
     for (int a = 0; a < D; ++a)
@@ -430,8 +433,10 @@ PetscErrorCode mergeParticles(MPI_Comm comm, const Scene<D> &sc, DM sw, PetscInt
   return PETSC_SUCCESS;
 }
 
-template PetscErrorCode mergeParticles<2>(MPI_Comm, const Scene<2> &, DM, PetscInt64 &);
-template PetscErrorCode mergeParticles<3>(MPI_Comm, const Scene<3> &, DM, PetscInt64 &);
+template PetscErrorCode mergeParticles<2>(MPI_Comm, const Scene<2> &, DM,
+                                          const std::vector<PetscInt64> &, PetscInt64 &);
+template PetscErrorCode mergeParticles<3>(MPI_Comm, const Scene<3> &, DM,
+                                          const std::vector<PetscInt64> &, PetscInt64 &);
 
 template PetscErrorCode splitParticles<2>(MPI_Comm, const Scene<2> &, DM, SplitIds &, PetscInt64 &);
 template PetscErrorCode splitParticles<3>(MPI_Comm, const Scene<3> &, DM, SplitIds &, PetscInt64 &);

@@ -13,10 +13,12 @@ namespace gimp {
 
 namespace {
 
-/// Where the point a level follows is now (every rank alike).
+/// Where the point a level follows is now (every rank alike); `found` false when no particle has
+/// the probe's id (the box then stays).
 template <int D>
 PetscErrorCode followedPoint(const RunState<D> &s, const std::vector<PetscInt64> &probeIds,
-                             const LevelFollow &f, double *x) {
+                             const LevelFollow &f, double *x, bool &found) {
+  found = true;
   if (f.kind == LevelFollow::Kind::CrackTip) {
     if constexpr (D == 2) {
       const Crack &c = s.sc.cracks[static_cast<size_t>(f.index)];
@@ -40,8 +42,9 @@ PetscErrorCode followedPoint(const RunState<D> &s, const std::vector<PetscInt64>
   PetscCall(p.restore(s.sw));
   double all[D + 1];
   PetscCallMPI(MPI_Allreduce(mine, all, D + 1, MPI_DOUBLE, MPI_SUM, s.comm));
+  found = all[D] > 0;
   for (int a = 0; a < D; ++a)
-    x[a] = all[D] > 0 ? all[a] / all[D] : 0.0;
+    x[a] = found ? all[a] / all[D] : 0.0;
   return PETSC_SUCCESS;
 }
 
@@ -100,7 +103,9 @@ template <int D> PetscErrorCode Solver<D>::followLevels(PetscInt step, double t)
     const LevelFollow &f = s.sc.follow[static_cast<size_t>(k)];
     if (f.kind == LevelFollow::Kind::None) continue;
     double x[D];
-    PetscCall(followedPoint(s, reporter_.probeIds(), f, x));
+    bool found = false;
+    PetscCall(followedPoint(s, reporter_.probeIds(), f, x, found));
+    if (!found) continue;
     for (int a = 0; a < D; ++a) // in lattice units
       x[a] = (x[a] - g.origin[a]) / g.unit;
     const LatticeBox<D> b =
@@ -174,7 +179,7 @@ PetscErrorCode Solver<D>::regrid(const std::vector<LevelBox<D>> &boxes, bool spl
     PetscCall(splitParticles<D>(s.comm, s.sc, s.sw, s.splitIds, added));
     if (s.sc.followMerge) {
       PetscInt64 removed = 0;
-      PetscCall(mergeParticles<D>(s.comm, s.sc, s.sw, removed));
+      PetscCall(mergeParticles<D>(s.comm, s.sc, s.sw, reporter_.probeIds(), removed));
       added -= removed;
     }
     if (added) {

@@ -44,9 +44,11 @@ PetscErrorCode splitParticles(MPI_Comm comm, const Scene<D> &sc, DM sw, SplitIds
 /// B = sum m_j (B_j + (v_j - v)(x_j - x)ᵀ) / m, which keeps APIC's angular momentum; the smallest
 /// id stays. Mass, momentum and (with APIC) angular momentum are kept to round-off; the kinetic
 /// energy of the parts' motion relative to their centre, ½ sum m_j |v_j - v|², goes into B's
-/// affine field (APIC) or is lost (FLIP/PIC). `removed`: the particles removed over all ranks.
-/// Collective.
+/// affine field (APIC) or is lost (FLIP/PIC). A group that holds one of the particles `kept`
+/// (the probes') is left as it is, so those particles keep their ids. `removed`: the particles
+/// removed over all ranks. Collective.
 template <int D>
-PetscErrorCode mergeParticles(MPI_Comm comm, const Scene<D> &sc, DM sw, PetscInt64 &removed);
+PetscErrorCode mergeParticles(MPI_Comm comm, const Scene<D> &sc, DM sw,
+                              const std::vector<PetscInt64> &kept, PetscInt64 &removed);
 
 } // namespace gimp
