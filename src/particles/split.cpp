@@ -29,24 +29,37 @@ template <int D> struct SplitPlan {
   }
 };
 
+/// Whether particle k may be split or merged: a body of the scene's seeding (not a particle file,
+/// whose sizes are its own), no loaded face, a whole box (not a cut cell).
+template <int D> bool resizable(const Scene<D> &sc, const ParticleView<D> &p, PetscInt k) {
+  const auto b = static_cast<size_t>(p.id[k] / sc.idSlots);
+  if (b >= sc.bodies.size()) return false;
+  if constexpr (D == 2)
+    if (!sc.bodies[b].file.empty()) return false;
+  for (int a = 0; a < D; ++a)
+    if ((p.trac && p.trac[D * k + a] >= 0) || (p.dbc && p.dbc[D * k + a] >= 0)) return false;
+  double box = D == 2 ? sc.materialOf(p.id[k]).thickness : 1.0;
+  for (int a = 0; a < D; ++a)
+    box *= 2.0 * p.l0[D * k + a];
+  return std::fabs(p.V0[k] - box) <= 1e-9 * box;
+}
+
+/// The half-size of the particles that the finest level holding particle k's centre seeds (its
+/// cell over the body's particles per cell along an axis).
+template <int D> double seededHalf(const Scene<D> &sc, const ParticleView<D> &p, PetscInt k) {
+  const auto b = static_cast<size_t>(p.id[k] / sc.idSlots);
+  const double n = std::round(std::pow(static_cast<double>(sc.bodies[b].ppc), 1.0 / D));
+  return sc.cellSizeAt(p.x + D * k) / (2.0 * n);
+}
+
 /// The parts of particle k along each axis, or none (all 1).
 template <int D>
 std::array<int, D> partsOf(const Scene<D> &sc, const ParticleView<D> &p, PetscInt k) {
   std::array<int, D> r;
   r.fill(1);
-  const auto b = static_cast<size_t>(p.id[k] / sc.idSlots);
-  if (b >= sc.bodies.size()) return r;
-  if constexpr (D == 2)
-    if (!sc.bodies[b].file.empty()) return r; // a particle file's sizes are its own
-  for (int a = 0; a < D; ++a)
-    if ((p.trac && p.trac[D * k + a] >= 0) || (p.dbc && p.dbc[D * k + a] >= 0)) return r;
+  if (!resizable(sc, p, k)) return r;
   const double *l0 = p.l0 + D * k;
-  double box = D == 2 ? sc.materialOf(p.id[k]).thickness : 1.0;
-  for (int a = 0; a < D; ++a)
-    box *= 2.0 * l0[a];
-  if (std::fabs(p.V0[k] - box) > 1e-9 * box) return r; // a cut cell
-  const double n = std::round(std::pow(static_cast<double>(sc.bodies[b].ppc), 1.0 / D));
-  const double half = sc.cellSizeAt(p.x + D * k) / (2.0 * n);
+  const double half = seededHalf(sc, p, k);
   std::array<int, D> q;
   for (int a = 0; a < D; ++a) {
     const double ratio = l0[a] / half, whole = std::round(ratio);
@@ -258,30 +271,14 @@ PetscErrorCode splitParticles(MPI_Comm comm, const Scene<D> &sc, DM sw, SplitIds
 
 namespace {
 
-/// Whether particle k may join a merge: a body of the scene's seeding, no loaded face, a whole box.
-template <int D> bool mergeable(const Scene<D> &sc, const ParticleView<D> &p, PetscInt k) {
-  const auto b = static_cast<size_t>(p.id[k] / sc.idSlots);
-  if (b >= sc.bodies.size()) return false;
-  if constexpr (D == 2)
-    if (!sc.bodies[b].file.empty()) return false;
-  for (int a = 0; a < D; ++a)
-    if ((p.trac && p.trac[D * k + a] >= 0) || (p.dbc && p.dbc[D * k + a] >= 0)) return false;
-  double box = D == 2 ? sc.materialOf(p.id[k]).thickness : 1.0;
-  for (int a = 0; a < D; ++a)
-    box *= 2.0 * p.l0[D * k + a];
-  return std::fabs(p.V0[k] - box) <= 1e-9 * box;
-}
-
 /// The merge group of particle k: body, its slot of the coarser particle lattice, the parts per
 /// axis (all 1 when it is not finer than the level holding it seeds).
 template <int D>
 std::array<std::int64_t, 2 * D + 1> mergeKey(const Scene<D> &sc, const ParticleView<D> &p,
                                              PetscInt k) {
   std::array<std::int64_t, 2 * D + 1> key{};
-  const auto b = static_cast<size_t>(p.id[k] / sc.idSlots);
-  key[0] = static_cast<std::int64_t>(b);
-  const double n = std::round(std::pow(static_cast<double>(sc.bodies[b].ppc), 1.0 / D));
-  const double half = sc.cellSizeAt(p.x + D * k) / (2.0 * n);
+  key[0] = p.id[k] / sc.idSlots;
+  const double half = seededHalf(sc, p, k);
   for (int a = 0; a < D; ++a) {
     const double ratio = half / p.l0[D * k + a], whole = std::round(ratio);
     if (whole < 1 || std::fabs(ratio - whole) > 1e-6 * whole) return {};
@@ -399,7 +396,7 @@ PetscErrorCode mergeParticles(MPI_Comm comm, const Scene<D> &sc, DM sw,
   PetscCall(p.get(sw));
   std::map<std::array<std::int64_t, 2 * D + 1>, std::vector<PetscInt>> groups;
   for (PetscInt k = 0; k < p.n; ++k) {
-    if (!mergeable(sc, p, k)) continue;
+    if (!resizable(sc, p, k)) continue;
     // A kept particle stays out: its group is then short of parts, and no part of it merges.
     if (std::find(kept.begin(), kept.end(), p.id[k]) != kept.end()) continue;
     const std::array<std::int64_t, 2 *D + 1> key = mergeKey(sc, p, k);
