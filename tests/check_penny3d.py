@@ -10,14 +10,20 @@ point's tube takes the particles' mirror images across them (docs/method.md, Sym
 "images" 2 in summary.json, checked).
 
 Checked at every front point of the quarter (measured in brackets): K_I by the interaction
-integral within 3 % [-2.6 .. +0.2 %]; K from G, sqrt(G E'), E' = E / (1 - nu^2), within 5 % of
-the exact K_I [+1.9 .. +4.2 %] and its mean over the front within 3.5 % [+2.8 %]; |K_II| and
-|K_III| below 2 % of K_I [8.1e-6]; the measures at the points mirrored about the quarter's
-diagonal x = y (the grid, the levels and the polygon are symmetric about it) equal within 1e-3
-[1.8e-4]; the run at rest (the front's mean K_I changed by less than 0.2 % over its last 400
-steps). K from G is high by the effective front's place among the nodes (most where the front
-runs along a node plane, at 0 and 90 degrees: docs/validation.md, 3D cracks) and by the cube's
-finite size (about 0.8 %).
+integral within 5 % of the exact K_I [+1.3 .. +4.4 %] (the target is 3 %: below) and within 1 % of
+K from G, sqrt(G E'), E' = E / (1 - nu^2) [-0.7 .. +0.2 %]; K from G within 5 % of the exact
+K_I [+1.9 .. +4.2 %] and its mean over the front within 3.5 % [+2.8 %]; |K_II| and |K_III| below
+2 % of K_I [8.7e-6]; the measures at the points mirrored about the quarter's diagonal x = y (the
+grid, the levels and the polygon are symmetric about it) equal within 1e-3 [1.9e-4]; the run at
+rest (the front's mean K_I changed by less than 0.2 % over its last 400 steps).
+
+K from G is high by the effective front's place among the nodes (most where the front runs along
+a node plane, at 0 and 90 degrees: docs/validation.md, 3D cracks) and by the cube's finite size
+(about 0.8 %). For a pure mode I field the interaction integral must give K_I = sqrt(G E'), so
+K_I inherits that error: the 3 % target holds at 10 of the 16 points, the 6 nearest the
+symmetry planes read +3.3 to +4.4 % as K from G does. (Before the interaction integrals took
+their curvature terms, K_I read -2.6 .. +0.2 %, below sqrt(G E') by the missing terms, and met 3 % by that
+cancellation.)
 
 Then 2 ranks against 1 over the first 200 steps, the ranks' border crossing the front (level 0
 split along x at x = 8 mm): every front point's G and K_I to 1e-10 relative."""
@@ -28,18 +34,19 @@ args = gimptest.parse_args()
 E, nu, sigma, a = 2.3e9, 0.3, 1e6, 0.01
 Ep = E / (1 - nu * nu)
 K0 = 2 * sigma * math.sqrt(a / math.pi)
-TOL_G, TOL_G_MEAN, TOL_I = 0.05, 0.035, 0.03
+TOL_G, TOL_G_MEAN, TOL_I, TOL_AGREE = 0.05, 0.035, 0.05, 0.01
 out = gimptest.run(args, "options/penny3d.opts")
 front = gimptest.summary(out)["cracks"][0]["front"]
 c = gimptest.Checks()
 rows = []
-worstG = worstI = mixed = 0.0
+worstG = worstI = mixed = agree = 0.0
 for f in front:
     x = f["x"]
     ang = math.degrees(math.atan2(x[1], x[0]))
     eG = math.sqrt(max(f["G"], 0.0) * Ep) / K0 - 1
     eI = f["KI"] / K0 - 1
     m = max(abs(f["KII"]), abs(f["KIII"])) / K0
+    agree = max(agree, abs(f["KI"] / math.sqrt(max(f["G"], 0.0) * Ep) - 1))
     rows.append("  %5.1f deg  K(G) %+6.2f %%  K_I %+6.2f %%  K_II %+.1e  K_III %+.1e" %
                 (ang, 100 * eG, 100 * eI, f["KII"] / K0, f["KIII"] / K0))
     worstG, worstI, mixed = max(worstG, abs(eG)), max(worstI, abs(eI)), max(mixed, m)
@@ -60,6 +67,8 @@ c.check("mirror images", all(f["images"] == 2 for f in front),
         "chain ends on a symmetry plane per point: %s" % sorted({f["images"] for f in front}))
 c.check("K_I by the interaction integral", worstI <= TOL_I,
         "worst %.2f %% (tol %g %%)" % (100 * worstI, 100 * TOL_I))
+c.check("K_I by the interaction integral = K from G", agree <= TOL_AGREE,
+        "largest |K_I / sqrt(G E') - 1| %.2f %% (tol %g %%)" % (100 * agree, 100 * TOL_AGREE))
 c.check("K_II and K_III", mixed <= 0.02, "max |K_II|, |K_III| = %.1e K_I (tol 2 %%)" % mixed)
 k = gimptest.history(out)["crack0_KI_mean"]
 change = abs(k[-1] / k[-3] - 1)

@@ -37,11 +37,12 @@ planes; summary.json's "images" is 2, both ends of the half front on the plane, 
 checked apart; every point is printed.
 
 Checked (measured in brackets, as fractions of the scales above; the worst point of each): at
-the 22 interior points K_I within 6 % [-5.5 %], K_II within 18 % [+16.4 %, |K_II| low],
-K_III within 7 % [+6.0 %]; at the 10 end points K_I within 6 % [-5.0 %], K_II within 20 %
-[-17.8 %], K_III within 7 % [+3.8 %; -75.5 % before the mirror images]; the sign of K_II and K_III the closed form's wherever it
-is above a fifth of its largest value; the run ends near rest (kinetic below 1e-6 of the strain
-energy [4.6e-7]). The target is 5 %: why each tolerance above it, at TOL below. The table is
+the 22 interior points K_I within 5 % [+2.9 %], K_II within 5 % [+1.7 %], K_III within 9 %
+[-8.0 %, at the front's crest]; at the 10 end points K_I within 5 % [+3.1 %], K_II within 5 %
+[+2.2 %], K_III within 5 % [-1.5 %; -75.5 % before the mirror images]; the sign of K_II and
+K_III the closed form's wherever it is above a fifth of its largest value; the run ends near rest
+(kinetic below 1e-6 of the strain energy [4.6e-7]). The target is 5 %: why K_III's interior
+tolerance is above it, at TOL below. The table is
 written to <work>/penny_inclined3d_front.csv."""
 import math
 import os
@@ -159,24 +160,22 @@ with open(path, "w") as fcsv:
                    % (r["phi"], x[0], x[1], x[2], g[0], e[0], g[1], e[1], g[2], e[2],
                       r["err"][0], r["err"][1], r["err"][2], r["G"], G_ex, r["end"]))
 
-# Tolerances (fractions of the scales above). The target is 5 %; none of the three meets it
-# everywhere, each is set at what passes, with why:
-# - K_I, 6 % (measured -5.5 % interior, -4.9 % at the ends, low along the whole front by 1 to
-#   3 % of K_0): the front on a = 10 cells among the grid's nodes (the axis-aligned penny crack
-#   reads K_I -3.0 .. +1.4 % with the same 5-cell tube; docs/validation.md, 3D cracks).
-# - K_II, 18 % interior and 20 % at the ends (measured +16.4 % and -18.3 %: |K_II| is about 0.82
-#   of the closed form all along the front): the interaction integrals take the auxiliary fields
-#   of a straight front in the frame of each particle's nearest front point, with the advance
-#   along the front's normal; on a curved front that leaves an error linear in R / a (the
-#   curvature terms of the auxiliary fields are not included; tests/test_front.cpp), and here R /
-#   a = 1 / 2. Before the advance followed the front's normal (one fixed direction per point,
-#   the auxiliary fields in the point's own frame) K_II was within 4 % but K_I +7.6 % and K_III
-#   -14 %, and the axis-aligned penny's K_I up to +11.6 %.
-# - K_III, 7 % (measured +6.0 % interior, +3.8 % at the ends): the same curvature terms. At the
-#   ends the tubes take the particles' mirror images across y = 0; cut at the plane instead, the
-#   roller's sigma_yy met K_III's auxiliary field there and K_III read -75.5 % (about -0.33 of
-#   its scale where the closed form goes to zero on the plane).
-TOL = {"interior": (0.06, 0.18, 0.07), "end": (0.06, 0.20, 0.07)}
+# Tolerances (fractions of the scales above). The target is 5 %; K_I and K_II meet it everywhere,
+# K_III at the ends:
+# - K_I, 5 % (measured +2.9 % interior, +3.1 % at the ends).
+# - K_II, 5 % (measured +1.7 % and +2.2 %). The curvature terms of the interaction integrals carry
+#   it: without them (the auxiliary fields turning with the front taken as exact) |K_II| was
+#   0.76-0.83 of the closed form all along the front, +16.4 % and -17.8 % of its scale, and K_I
+#   -5.5 %.
+# - K_III, 9 % interior and 5 % at the ends (measured -8.0 % and -1.5 %). The interior's worst
+#   points are at the front's crest (y near a), where the front runs diagonally across the cells
+#   and G from the domain integral, with no auxiliary field, is itself 15-17 % above the closed
+#   form's: the field near the front on a = 10 cells. The same -8 to -9 % with tube radii R from
+#   3 to 7 mm (the measures do not depend on the domain). At the ends the tubes take the
+#   particles' mirror images across y = 0; cut at the plane instead, the roller's sigma_yy met
+#   K_III's auxiliary field there and K_III read -75.5 % (about -0.33 of its scale where the
+#   closed form goes to zero on the plane).
+TOL = {"interior": (0.05, 0.05, 0.09), "end": (0.05, 0.05, 0.05)}
 for part in ("interior", "end"):
     sel = [r for r in rows if r["end"] == (part == "end")]
     for k, name in enumerate(("K_I", "K_II", "K_III")):

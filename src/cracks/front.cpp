@@ -1,5 +1,7 @@
 #include "gimp/cracks/front.hpp"
 
+#include "gimp/cracks/front_fields.hpp"
+
 #include "gimp/physics/material.hpp"
 
 #include <algorithm>
@@ -61,7 +63,8 @@ Chain chainOf(const CrackSurface &c, const FrontPoint &f) {
 struct Place {
   double rho = 0, s = 0;
   P3 y{}, gradS{}, a{}, x3{};
-  double dA[3][3] = {}; // d a_k / d x_j (nonzero in a vertex's wedge, where a turns)
+  double dA[3][3] = {};   // d a_k / d x_j (nonzero in a vertex's wedge, where a turns)
+  double curv[3][3] = {}; // (da/ds) t^T of the nearest edge, also where y is held at a vertex
 };
 
 /// The ahead direction at polygon vertex v as the advance field takes it: the mean of its two
@@ -131,6 +134,14 @@ Place placeOf(const CrackSurface &c, const Chain &ch, const P3 &x) {
         best.dA[i][j] = w / An * t[j] / lenb;
     }
   }
+  const P3 d = sub(a1, a0);
+  for (int i = 0; i < 3; ++i) {
+    double w = 0;
+    for (int q = 0; q < 3; ++q)
+      w += ((i == q ? 1.0 : 0.0) - best.a[i] * best.a[q]) * d[q];
+    for (int j = 0; j < 3; ++j)
+      best.curv[i][j] = w / An * t[j] / lenb;
+  }
   best.x3 = cross(best.a, c.normal);
   return best;
 }
@@ -191,19 +202,17 @@ std::vector<Image> imagesOf(const CrackSurface &c, const Chain &ch,
 /// Where the chain ends are taken to lie on a mirror plane: within this fraction of R.
 constexpr double kMirrorTol = 1e-6;
 
-/// The mirror image across `im`'s plane of a particle's state and of its place seen from the
-/// chain: x' = M x, sigma' = M sigma M, H' = M H M, y' = M y, a' = M a, da' = M da M, s' = 2 sE -
-/// s, grad s' = -M grad s (M flips the plane's axis; the crack's normal n = M n).
-void mirror(const Image &im, const CrackSurface &c, ParticleState &st, Place &pl) {
+/// The mirror image across `im`'s plane of a place seen from the chain: y' = M y, a' = M a, da' =
+/// M da M, s' = 2 sE - s, grad s' = -M grad s (M flips the plane's axis; the crack's normal n =
+/// M n).
+void mirrorPlace(const Image &im, const CrackSurface &c, Place &pl) {
   const int b = im.axis;
   const auto flip = [b](int i) { return i == b ? -1.0 : 1.0; };
-  st.x[static_cast<size_t>(b)] = 2.0 * im.coord - st.x[static_cast<size_t>(b)];
   pl.y[static_cast<size_t>(b)] = 2.0 * im.coord - pl.y[static_cast<size_t>(b)];
   for (int i = 0; i < 3; ++i) {
     for (int j = 0; j < 3; ++j) {
-      st.sg(i, j) *= flip(i) * flip(j);
-      st.H(i, j) *= flip(i) * flip(j);
       pl.dA[i][j] *= flip(i) * flip(j);
+      pl.curv[i][j] *= flip(i) * flip(j);
     }
     pl.a[static_cast<size_t>(i)] *= flip(i);
     pl.gradS[static_cast<size_t>(i)] *= -flip(i);
@@ -212,24 +221,18 @@ void mirror(const Image &im, const CrackSurface &c, ParticleState &st, Place &pl
   pl.x3 = cross(pl.a, c.normal);
 }
 
-/// The auxiliary fields' stress S and displacement gradient G of unit mode m in global axes at
-/// local position (x1, x2) of the frame (e1, e2 = normal, e3).
-void auxGlobal(int mode, const TipElastic &el, double x1, double x2, const P3 &e1, const P3 &e2,
-               const P3 &e3, double S[3][3], double G[3][3]) {
-  double sl[3][3], gl[3][3];
-  frontField(mode, std::hypot(x1, x2), std::atan2(x2, x1), el, sl, gl);
-  const P3 B[3] = {e1, e2, e3}; // B[a][i]: local axis a's global component i
+/// The mirror image of a particle's state and of its place: x' = M x, sigma' = M sigma M, H' = M H
+/// M, and the place as mirrorPlace.
+void mirror(const Image &im, const CrackSurface &c, ParticleState &st, Place &pl) {
+  const int b = im.axis;
+  const auto flip = [b](int i) { return i == b ? -1.0 : 1.0; };
+  st.x[static_cast<size_t>(b)] = 2.0 * im.coord - st.x[static_cast<size_t>(b)];
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) {
-      double s = 0, g = 0;
-      for (int a = 0; a < 3; ++a)
-        for (int b = 0; b < 3; ++b) {
-          s += B[a][i] * sl[a][b] * B[b][j];
-          g += B[a][i] * gl[a][b] * B[b][j];
-        }
-      S[i][j] = s;
-      G[i][j] = g;
+      st.sg(i, j) *= flip(i) * flip(j);
+      st.H(i, j) *= flip(i) * flip(j);
     }
+  mirrorPlace(im, c, pl);
 }
 
 /// What one evaluation of the integrands needs of the front point: P, its frame, the material,
@@ -241,6 +244,18 @@ struct PointDomain {
   double R = 0, L = 0;
   AuxFrame aux = AuxFrame::Nearest;
 };
+
+/// The curvature terms of the interaction integrals at a particle (curvatureIntegrand, in the
+/// frame of its nearest front point), times V q, added to out[1..3].
+void curvatureTerms(const PointDomain &d, const ParticleState &st, const Place &pl, double q,
+                    double out[4]) {
+  const P3 r = sub(st.x, pl.y);
+  const P3 e[3] = {pl.a, d.n, pl.x3};
+  double t[3];
+  if (!curvatureIntegrand(d.el, dot(r, e[0]), dot(r, e[1]), e, pl.curv, st.sg, st.H, t)) return;
+  for (int m = 0; m < 3; ++m)
+    out[m + 1] += st.V * q * t[m];
+}
 
 /// A particle's terms, at place pl (rho < R, |s| < L), added to out (see addFrontIntegrals).
 void particleTerms(const PointDomain &d, const ParticleState &st, const Place &pl, double out[4]) {
@@ -278,7 +293,7 @@ void particleTerms(const PointDomain &d, const ParticleState &st, const Place &p
   if (std::hypot(x1, x2) <= 0) return;
   for (int mode = 1; mode <= 3; ++mode) {
     double S[3][3], G[3][3], Wi = 0;
-    auxGlobal(mode, d.el, x1, x2, e1, d.n, e3, S, G);
+    frontAuxGlobal(mode, d.el, x1, x2, e1, d.n, e3, S, G);
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j)
         Wi += S[i][j] * 0.5 * (H(i, j) + H(j, i));
@@ -292,6 +307,7 @@ void particleTerms(const PointDomain &d, const ParticleState &st, const Place &p
       }
     out[mode] += st.V * v;
   }
+  if (d.aux == AuxFrame::Nearest) curvatureTerms(d, st, pl, q, out);
 }
 
 } // namespace

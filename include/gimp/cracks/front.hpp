@@ -27,16 +27,22 @@
 // nearest edge's own direction, jumping across the bisectors behind the front, 4 % low between
 // them.)
 //   G    = sum_p V_p (sigma_ij du_i/dx_k - W delta_kj) dv_k/dx_j / A_q,
-//   I_m  = sum_p V_p (sigma_ij du^m_i/dx_k + sigma^m_ij du_i/dx_k - sigma^m_ij eps_ij delta_kj)
-//          dv_k/dx_j / A_q,
+//   I_m  = sum_p V_p [P^m_kj dv_k/dx_j + dP^m_kj/dx_j v_k] / A_q,
+//   P^m_kj = sigma_ij du^m_i/dx_k + sigma^m_ij du_i/dx_k - sigma^m_ij eps_ij delta_kj,
 //   A_q  = int_front q_s(s) ds (the area the virtual advance sweeps),
 // dv_k/dx_j = a_k dq/dx_j + q da_k/dx_j. The auxiliary fields of unit K_m (m = 1, 2, 3) are taken
 // at the particle's (r, theta) in the frame of its nearest front point (AuxFrame::Nearest, the
 // default: the frame the advance uses) or of P (AuxFrame::Point: the exact elastic fields of the
-// front's tangent at P, whose advance direction then differs from v's away from P). On a circular
-// front of radius a carrying the local 2D fields (not an elastic solution) every measure errs
-// linearly in R / a, by a few per cent at R / a = 1/8 (tests/test_front.cpp); on the penny crack
-// in the solver (tests/check_penny3d.py) the nearest frame's K_I is the closer. Then
+// front's tangent at P, whose advance direction then differs from v's away from P). The second
+// term, the curvature terms (nearest frame only), is zero for exact auxiliary fields; in the
+// nearest point's frame on a curved front the fields turn with the front, so sigma^m is not in
+// equilibrium and du^m/dx not a gradient, and with the particle's field in equilibrium and
+// compatible dP^m_kj/dx_j = dsigma^m_ij/dx_j du_i/dx_k + sigma_ij (d(du^m_i/dx_k)/dx_j -
+// d(du^m_i/dx_j)/dx_k), the derivatives those of the fields carried by the smooth front the
+// polygon stands for (its curvature from the turn of a along each edge; front_fields.hpp).
+// Without them K_II on a penny crack inclined at 45 degrees came out 0.76-0.83 of the closed form
+// with R / a = 1/2, with them 0.95-1.03, and within 3.6 % for R / a from 0.3 to 0.7
+// (tests/check_penny_inclined3d.py). Then
 // K_I = E' I_1 / 2, K_II = E' I_2 / 2, K_III = mu I_3, E' = E / (1 - nu^2), and
 // G = (K_I^2 + K_II^2) / E' + K_III^2 / (2 mu) for a linear elastic field. Signs: K_I > 0 opens the
 // crack; K_II > 0 slides the normal's side ahead (along +a) against the other side; K_III > 0
