@@ -612,32 +612,47 @@ TEST(FrontIntegrals, UniformStressHasNoK) {
 TEST(FrontIntegrals, MeasureFrontsIsTheSumOfItsPoints) {
   const Material mat = material();
   const TipElastic e = gimp::cracks::frontElastic(mat);
-  const double R = 5 * kH, L = 5 * kH, Z = 20 * kH;
+  const double R = 5 * kH, Z = 20 * kH;
   const Placement pl = placement(true);
   const CrackSurface c = placedCrack(
       pl, {{-30 * kH, 0, -Z}, {0, 0, -Z}, {0, 0, 0}, {0, 0, Z}, {-30 * kH, 0, Z}}, false);
   const Particles p(
       pl, {-R - kH, -R - kH, -Z}, {R + kH, R + kH, Z}, kH,
       [&](const P3 &x, double s[3][3], double g[3][3]) { mixedField(kK, e, x[0], x[1], s, g); });
-  std::vector<gimp::cracks::FrontMeasure> out;
-  ASSERT_EQ(
-      gimp::cracks::measureFronts(PETSC_COMM_WORLD, {c, c}, mat, p.view, 10 * kH, R, L, {}, out),
-      PETSC_SUCCESS);
+  // Each point's own tube (Scene::jDomain): the asked radius, one clipped to 3 h, one where no
+  // tube fits (radius 0: NaN measures, R = L = 0).
   const std::vector<FrontPoint> fp = gimp::cracks::frontPoints(c, 10 * kH);
+  std::vector<gimp::JDomain> tubes(2 * fp.size(), {R, false});
+  ASSERT_GE(tubes.size(), 4u);
+  tubes[1] = {3 * kH, true};
+  tubes[tubes.size() - 2] = {0.0, false};
+  std::vector<gimp::cracks::FrontMeasure> out;
+  ASSERT_EQ(gimp::cracks::measureFronts(PETSC_COMM_WORLD, {c, c}, mat, p.view, 10 * kH, tubes, R,
+                                        {}, out),
+            PETSC_SUCCESS);
   ASSERT_EQ(out.size(), 2 * fp.size());
   for (size_t q = 0; q < out.size(); ++q) {
     const FrontPoint &f = fp[q % fp.size()];
-    double sums[4] = {0, 0, 0, 0};
-    gimp::cracks::addFrontIntegrals(mat, p.view, c, f, R, L, sums);
-    const gimp::cracks::FrontMeasure m = gimp::cracks::finishFront(mat, c, f, R, L, sums);
+    const double Rq = tubes[q].radius;
     EXPECT_EQ(out[q].crack, static_cast<int>(q / fp.size()));
     EXPECT_EQ(out[q].edge, f.edge);
+    EXPECT_EQ(out[q].asked, R);
+    EXPECT_EQ(out[q].clipped, tubes[q].clipped);
+    EXPECT_EQ(out[q].R, Rq);
+    if (Rq == 0) {
+      EXPECT_TRUE(std::isnan(out[q].G) && std::isnan(out[q].KI) && std::isnan(out[q].KII) &&
+                  std::isnan(out[q].KIII));
+      EXPECT_EQ(out[q].L, 0.0);
+      continue;
+    }
+    double sums[4] = {0, 0, 0, 0};
+    gimp::cracks::addFrontIntegrals(mat, p.view, c, f, Rq, Rq, sums);
+    const gimp::cracks::FrontMeasure m = gimp::cracks::finishFront(mat, c, f, Rq, Rq, sums);
     EXPECT_DOUBLE_EQ(out[q].G, m.G);
     EXPECT_DOUBLE_EQ(out[q].KI, m.KI);
     EXPECT_DOUBLE_EQ(out[q].KII, m.KII);
     EXPECT_DOUBLE_EQ(out[q].KIII, m.KIII);
-    EXPECT_EQ(out[q].R, R);
-    EXPECT_EQ(out[q].L, L);
+    EXPECT_EQ(out[q].L, Rq);
   }
 }
 

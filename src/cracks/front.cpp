@@ -425,8 +425,9 @@ FrontMeasure finishFront(const Material &m, const CrackSurface &c, const FrontPo
 }
 
 PetscErrorCode measureFronts(MPI_Comm comm, const std::vector<CrackSurface> &cracks,
-                             const Material &m, const ParticleView<3> &p, double spacing, double R,
-                             double L, const std::vector<MirrorPlane> &mirrors,
+                             const Material &m, const ParticleView<3> &p, double spacing,
+                             const std::vector<JDomain> &tubes, double asked,
+                             const std::vector<MirrorPlane> &mirrors,
                              std::vector<FrontMeasure> &out) {
   std::vector<std::pair<int, FrontPoint>> points;
   for (size_t c = 0; c < cracks.size(); ++c)
@@ -434,30 +435,46 @@ PetscErrorCode measureFronts(MPI_Comm comm, const std::vector<CrackSurface> &cra
       points.emplace_back(static_cast<int>(c), f);
   out.clear();
   if (points.empty()) return PETSC_SUCCESS;
+  PetscCheck(tubes.size() == points.size(), comm, PETSC_ERR_PLIB,
+             "%zu front tubes for %zu front points", tubes.size(), points.size());
   std::vector<double> local(4 * points.size(), 0.0), global(local.size());
-  for (size_t q = 0; q < points.size(); ++q)
-    addFrontIntegrals(m, p, cracks[static_cast<size_t>(points[q].first)], points[q].second, R, L,
-                      &local[4 * q], AuxFrame::Nearest, mirrors);
+  for (size_t q = 0; q < points.size(); ++q) {
+    const double R = tubes[q].radius;
+    if (R > 0)
+      addFrontIntegrals(m, p, cracks[static_cast<size_t>(points[q].first)], points[q].second, R, R,
+                        &local[4 * q], AuxFrame::Nearest, mirrors);
+  }
   PetscCallMPI(MPI_Allreduce(local.data(), global.data(), static_cast<int>(local.size()),
                              MPI_DOUBLE, MPI_SUM, comm));
   for (size_t q = 0; q < points.size(); ++q) {
     const CrackSurface &c = cracks[static_cast<size_t>(points[q].first)];
-    out.push_back(finishFront(m, c, points[q].second, R, L, &global[4 * q], mirrors));
+    const double R = tubes[q].radius;
+    if (R > 0) {
+      out.push_back(finishFront(m, c, points[q].second, R, R, &global[4 * q], mirrors));
+    } else {
+      FrontMeasure o;
+      o.edge = points[q].second.edge;
+      o.x = points[q].second.x;
+      o.G = o.KI = o.KII = o.KIII = NAN;
+      out.push_back(o);
+    }
     out.back().crack = points[q].first;
+    out.back().asked = asked;
+    out.back().clipped = tubes[q].clipped;
   }
   return PETSC_SUCCESS;
 }
 
 FrontDomain frontDomain(const Scene<3> &sc) {
   FrontDomain d;
-  d.h = sc.h;
-  bool first = true;
-  for (const CrackSurface &c : sc.cracks)
-    for (const FrontPoint &f : frontPoints(c, sc.h)) {
-      if (first) d.at = f.x;
-      first = false;
-      d.h = std::min(d.h, sc.cellSizeAt(f.x.data()));
+  for (const CrackSurface &c : sc.cracks) {
+    const std::vector<FrontPoint> f = frontPoints(c, sc.h);
+    if (!f.empty()) {
+      d.at = f.front().x;
+      break;
     }
+  }
+  d.h = frontCell(sc);
   d.R = sc.crackJRadius > 0 ? sc.crackJRadius : kJCells * d.h;
   // Symmetry planes: rollers (the normal component alone held) over a whole plane that the
   // bodies touch from one side.
@@ -475,7 +492,7 @@ FrontDomain frontDomain(const Scene<3> &sc) {
     }
     if ((above || below) && touches) d.mirrors.push_back({b.axis, b.coord});
   }
-  d.spacing = sc.crackFrontSpacing > 0 ? sc.crackFrontSpacing : 2.0 * d.h;
+  d.spacing = frontSpacing(sc);
   return d;
 }
 

@@ -88,17 +88,9 @@ double tipCell(const Scene<2> &sc, const Point &x) {
 }
 
 /// One tip's clearance, what limits it, and the size of its body.
-struct Clearance {
-  double d = std::numeric_limits<double>::infinity();
-  std::string what;
+struct TipClearance : Clearance {
   double bodySize = std::numeric_limits<double>::infinity();
   std::string body;
-  void take(double v, const std::string &w) {
-    if (v < d) {
-      d = v;
-      what = w;
-    }
-  }
 };
 
 /// The part of crack c from its first kink seen from end e on (the points in order from the tip;
@@ -120,10 +112,10 @@ Crack pastTheKink(const Crack &c, int e) {
   return rest;
 }
 
-Clearance tipClearance(const Scene<2> &sc, size_t k, int e) {
+TipClearance tipClearance(const Scene<2> &sc, size_t k, int e) {
   const Crack &c = sc.cracks[k];
   const Point x = e ? c.points.back() : c.points.front();
-  Clearance r;
+  TipClearance r;
   for (size_t i = 0; i < sc.bodies.size(); ++i)
     if (sc.bodies[i].inside(x[0], x[1])) {
       r.body = "body " + std::to_string(i);
@@ -152,7 +144,7 @@ std::string tipName(const Point &x, size_t k) {
 }
 
 /// A given radius R that no domain at the tip can take is refused.
-void checkGiven(double R, double h, const Clearance &c, const std::string &tip) {
+void checkGiven(double R, double h, const TipClearance &c, const std::string &tip) {
   const std::string opt = "gimp_crack_j_radius", val = formatNumber(R);
   const double lo = kJMinCells * h;
   if (c.d < lo)
@@ -190,7 +182,7 @@ void jDomains(Scene<2> &sc, bool radiusGiven, bool quiet) {
       const Point x = e ? c.points.back() : c.points.front();
       const double h = tipCell(sc, x);
       const double R = radiusGiven ? sc.crackJRadius : kJCells * h;
-      const Clearance cl = tipClearance(sc, k, e);
+      const TipClearance cl = tipClearance(sc, k, e);
       const std::string tip = tipName(x, k);
       if (radiusGiven && !quiet) checkGiven(R, h, cl, tip);
       JDomain j{R, false};

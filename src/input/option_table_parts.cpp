@@ -224,7 +224,8 @@ const std::vector<OptionSpec> &gridOptions() {
      " cell; instead of -gimp_crackK_polygon"},
     {"gimp_crack_j_radius", Kind::Real, "m", "5 cells at the tip", "", nullptr, above(0),
      "Radius of the J-integral's domain around each tip (2D: clipped to the tip's clearance;"
-     " 3D: around the front, and its half-length along it)"},
+     " 3D: of the tube around the front, and its half-length along it, clipped at each front"
+     " point to its clearance)"},
     {"gimp_crack_front_spacing", Kind::Real, "m", "2 cells at the front", "", nullptr, above(0),
      "3D: the largest distance between the front points where G and K are measured"},
     {"gimp_crack_growth", Kind::Choice, "", "none", "none|mts", nullptr, {},

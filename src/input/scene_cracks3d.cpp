@@ -193,7 +193,7 @@ void readCracks(const Options &o, Scene<3> &sc) {
                          ": cracks must not cross or touch");
     }
   }
-  (void)radiusGiven;
+  setFrontDomains(sc, radiusGiven);
 }
 
 } // namespace gimp::input

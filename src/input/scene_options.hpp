@@ -5,6 +5,7 @@
 #include "gimp/input/options.hpp"
 #include "gimp/input/scene.hpp"
 
+#include <limits>
 #include <string>
 
 namespace gimp::input {
@@ -51,5 +52,23 @@ void readCracks(const Options &o, Scene<3> &sc);
 /// -gimp_crack_j_radius (radiusGiven) or the default; refused, clipped or left out as
 /// docs/method.md's *Crack tips* says.
 void setJDomains(Scene<2> &sc, bool radiusGiven);
+
+/// A crack tip's or front point's clearance, the distance to the nearest thing its domain may not
+/// reach, and what that is.
+struct Clearance {
+  double d = std::numeric_limits<double>::infinity();
+  std::string what;
+  void take(double v, const std::string &w) {
+    if (v < d) {
+      d = v;
+      what = w;
+    }
+  }
+};
+
+/// After the 3D cracks (front_domains.cpp): the tube of the front integrals at each front point,
+/// sc.jDomain in measureFronts' order (crack, then front point), from -gimp_crack_j_radius (given
+/// or not) against each point's clearance; refuses a given radius that fits no tube.
+void setFrontDomains(Scene<3> &sc, bool radiusGiven);
 
 } // namespace gimp::input

@@ -87,7 +87,7 @@ template <int D> PetscErrorCode Output<D>::writeHistory(const HistoryRow &r) {
       double sum = 0, lo = INFINITY, hi = -INFINITY;
       int n = 0;
       for (const cracks::FrontMeasure &f : r.front) {
-        if (f.crack != static_cast<int>(k)) continue;
+        if (f.crack != static_cast<int>(k) || !(f.R > 0)) continue; // no tube fits: not measured
         sum += f.*value;
         lo = std::min(lo, f.*value);
         hi = std::max(hi, f.*value);

@@ -61,8 +61,9 @@ std::string numbers(const double *v, int n) {
   return r + "]";
 }
 
-/// The 3D cracks: per crack its front points, each with its position, G and K, and the domain
-/// (R, L) its integrals took.
+/// The 3D cracks: per crack the radius asked for and its front points, each with its position, G
+/// and K (null where no tube fits), and the domain (R, L) its integrals took, and whether R was
+/// clipped to the point's clearance.
 void writeFronts(FILE *f, const std::vector<cracks::FrontMeasure> &front) {
   std::fprintf(f, ",\n  \"cracks\": [");
   int crack = -1;
@@ -70,13 +71,13 @@ void writeFronts(FILE *f, const std::vector<cracks::FrontMeasure> &front) {
     const bool next = m.crack != crack;
     if (next)
       std::fprintf(f, "%s\n    {\"crack\": %d, \"j_radius\": %s, \"front\": [",
-                   crack < 0 ? "" : "]},", m.crack, num(m.R).c_str());
+                   crack < 0 ? "" : "]},", m.crack, num(m.asked).c_str());
     std::fprintf(f,
                  "%s\n      {\"x\": %s, \"edge\": %d, \"G\": %s, \"KI\": %s, \"KII\": %s, "
-                 "\"KIII\": %s, \"L\": %s, \"images\": %d}",
+                 "\"KIII\": %s, \"R\": %s, \"L\": %s, \"clipped\": %s, \"images\": %d}",
                  next ? "" : ",", numbers(m.x.data(), 3).c_str(), m.edge, num(m.G).c_str(),
-                 num(m.KI).c_str(), num(m.KII).c_str(), num(m.KIII).c_str(), num(m.L).c_str(),
-                 m.images);
+                 num(m.KI).c_str(), num(m.KII).c_str(), num(m.KIII).c_str(), num(m.R).c_str(),
+                 num(m.L).c_str(), m.clipped ? "true" : "false", m.images);
     crack = m.crack;
   }
   std::fprintf(f, "]}]");

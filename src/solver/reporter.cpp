@@ -107,7 +107,7 @@ PetscErrorCode Reporter<D>::crackTips(std::vector<cracks::TipMeasure> &tips,
     const Scene<3> &sc = s_.sc;
     const cracks::FrontDomain dom = cracks::frontDomain(sc);
     PetscCall(cracks::measureFronts(s_.comm, sc.cracks, sc.materialAt(dom.at.data()), p,
-                                    dom.spacing, dom.R, dom.R, dom.mirrors, front));
+                                    dom.spacing, sc.jDomain, dom.R, dom.mirrors, front));
   }
   PetscCall(p.restore(s_.sw));
   return PETSC_SUCCESS;

@@ -77,13 +77,16 @@ struct MirrorPlane {
   double coord = 0;
 };
 
-/// One front point's measures (SI units): G [J/m^2], K [Pa m^0.5], the domain's R and L [m].
+/// One front point's measures (SI units): G [J/m^2], K [Pa m^0.5], the domain's R and L [m]. A
+/// point where no tube fits (Scene::jDomain radius 0) has NaN measures and R = L = 0.
 struct FrontMeasure {
   int crack = 0, edge = 0;   // the crack and its front edge
   int images = 0;            // ends of the front's chain on a symmetry plane (0, 1 or 2)
   std::array<double, 3> x{}; // the front point [m]
   double G = 0, KI = 0, KII = 0, KIII = 0;
-  double R = 0, L = 0; // tube radius and half length (L as used: clipped on a closed front)
+  double R = 0, L = 0;  // tube radius and half length (L as used: clipped on a closed front)
+  double asked = 0;     // the radius asked for (-gimp_crack_j_radius, or kJCells cells) [m]
+  bool clipped = false; // R was clipped to the point's clearance (Scene::jDomain)
 };
 
 /// Where and how a 3D scene measures its fronts: the finest cell h along the fronts (the finest
@@ -127,10 +130,13 @@ FrontMeasure finishFront(const Material &m, const CrackSurface &c, const FrontPo
                          const std::vector<MirrorPlane> &mirrors = {});
 
 /// G and K at every front point (cracks::frontPoints(c, spacing)) of every crack, in order (crack,
-/// then front point), with one MPI_Allreduce. Collective.
+/// then front point), with one MPI_Allreduce; tubes: each point's radius R, also its tube's half
+/// length L (Scene::jDomain, in the same order; radius 0: not measured), asked: the radius asked
+/// for. Collective.
 PetscErrorCode measureFronts(MPI_Comm comm, const std::vector<CrackSurface> &cracks,
-                             const Material &m, const ParticleView<3> &p, double spacing, double R,
-                             double L, const std::vector<MirrorPlane> &mirrors,
+                             const Material &m, const ParticleView<3> &p, double spacing,
+                             const std::vector<JDomain> &tubes, double asked,
+                             const std::vector<MirrorPlane> &mirrors,
                              std::vector<FrontMeasure> &out);
 
 } // namespace gimp::cracks

@@ -213,10 +213,11 @@ template <int D> struct Loads {
 /// makes a domain (2D cracks).
 constexpr double kJCells = 5.0, kJMinCells = 2.0;
 
-/// The J-integral's domain at one crack tip: the radius used, and whether the radius asked for
-/// (-gimp_crack_j_radius, or kJCells cells) was clipped to the tip's clearance (to the nearest
-/// body edge or hole, other crack or other part of its own crack). radius 0: no domain fits (the
-/// tip is closer than kJMinCells cells to one of them), J is not measured there.
+/// The J-integral's domain at one crack tip (2D) or the front integrals' tube at one front point
+/// (3D): the radius used, and whether the radius asked for (-gimp_crack_j_radius, or kJCells
+/// cells) was clipped to the tip's or point's clearance (to the nearest body edge or surface,
+/// hole, other crack or other part of its own crack). radius 0: no domain fits (closer than
+/// kJMinCells cells to one of them), J (G and K) is not measured there.
 struct JDomain {
   double radius = 0;
   bool clipped = false;
@@ -242,7 +243,7 @@ enum class Growth { None, Mts };
 struct Measures {
   double crackJRadius = 0;          // -gimp_crack_j_radius [m] (0: not given, kJCells cells)
   double crackFrontSpacing = 0;     // -gimp_crack_front_spacing [m] (0: not given, 2 cells)
-  std::vector<JDomain> jDomain;     // per crack tip, in order (crack, then end)
+  std::vector<JDomain> jDomain;     // 2D: per crack tip (crack, then end); 3D: per front point
   Growth growth = Growth::None;     // -gimp_crack_growth
   int growthInterval = 10;          // -gimp_crack_growth_interval: steps between growth checks
   std::vector<TipGrowth> tipGrowth; // per crack tip, in order, with growth (else empty)
@@ -289,6 +290,14 @@ struct Scene : OutputOptions, MethodOptions, RunControl, GridSpec<D>, Loads<D>, 
 /// for clipped to each tip's clearance as at input, without warnings; a crack's kinks from growth
 /// do not clip it (docs/method.md, *Crack growth*).
 void updateJDomains(Scene<2> &sc);
+
+/// The cell at the 3D cracks' fronts: that of the finest level whose box holds a front point
+/// (sampled a cell apart), or h without cracks [m].
+double frontCell(const Scene<3> &sc);
+
+/// The largest distance between a 3D front's measuring points: -gimp_crack_front_spacing, or 2
+/// cells at the front [m] (cracks::frontPoints).
+double frontSpacing(const Scene<3> &sc);
 
 /// Read and validate the scene from the options database (collective).
 template <int D> PetscErrorCode readScene(MPI_Comm comm, Scene<D> &scene);
