@@ -136,7 +136,7 @@ step halfspace3d "$py" "$root/tests/check_halfspace3d.py" --gimp "$gimp" --root 
   --work "$work/halfspace3d" --mpiexec "$mpiexec"
 step plot_halfspace3d "$py" "$root/tools/plot_halfspace3d.py" "$work/halfspace3d"
 # 3D cracks (docs/validation.md, *3D cracks*, *Inclined penny crack (3D)*; docs/performance.md,
-# *Penny crack: speed against error*, docs/img/speed_error_penny3d.png, about 25 minutes).
+# *Penny crack: speed against error*, docs/img/speed_error_penny3d.png, about 17 minutes).
 for t in through_crack3d penny3d penny_inclined3d; do
   step "$t" "$py" "$root/tests/check_$t.py" --gimp "$gimp" --root "$root" --work "$work/$t" \
     --mpiexec "$mpiexec"

@@ -9,7 +9,7 @@ Markdown table to stdout (costs in CPU seconds, which other work on the machine 
 inflate) and docs/img/speed_error_penny3d.png.
 
 Usage: /usr/bin/python3 runs/speed_error_penny3d.py [--gimp build/gimp] [--work DIR] [--no-run]
-(about 25 minutes on one core: the uniform 2 mm grid and the five levels take most of it)
+(about 17 minutes of CPU on one core: the uniform 2 mm grid and the five levels take most of it)
 """
 import math
 import os
