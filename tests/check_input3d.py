@@ -40,14 +40,15 @@ for name, extra, needle in (
     first = lines[0] if lines else "(no message)"
     c.check(name, p.returncode == 2 and needle in first, "exit %d: %s" % (p.returncode, first))
 
-# The front integrals' tubes against what they may not reach (docs/options.md, *3D: front and
-# mouth*): a penny crack of radius 0.1 m centred in the 0.4 m square section (normal x, h =
-# 0.025 m: the default radius 5 cells = 0.125 m) has its front 0.1 m from the faces y = 0, y = 0.4,
-# z = 0 and z = 0.4 at the polygon's vertices on the axes: every front point's tube is clipped
-# to its clearance (0.1 m at the nearest), with one warning naming the face; a radius under every
-# clearance is not clipped; two parallel cracks 0.06 m apart clip each other's tubes.
+# The front integrals' tubes against what they may not reach (docs/options.md, *3D: the tube at
+# each front point*): a penny crack of radius 0.12 m centred in the 0.4 m square section (normal
+# x, h = 0.025 m: the default radius 5 cells = 0.125 m) has its front 0.08 m from the faces y = 0,
+# y = 0.4, z = 0 and z = 0.4 at the polygon's vertices on the axes: every front point's tube is
+# clipped to its clearance (0.08 m at the nearest), with one warning naming the face; a radius
+# under every clearance is not clipped; two parallel cracks 0.06 m apart clip each other's tubes;
+# a crack 0.12 m wide has its tubes clipped to half its width by its own other side.
 fine = ["-gimp_h", "0.025", "-ts_max_steps", "1", "-gimp_cracks", "1",
-        "-gimp_crack0_disk", "0.5,0.2,0.2,1,0,0,0.1"]
+        "-gimp_crack0_disk", "0.5,0.2,0.2,1,0,0,0.12"]
 p = gimptest.run(args, "options/patch3d.opts", fine, expect_ok=False,
                  outdir=os.path.join(args.work, "tubes"))
 warned = [l for l in p.stdout.splitlines() if "gimp: warning: the default front radius" in l]
@@ -56,18 +57,18 @@ front = gimptest.summary(os.path.join(args.work, "tubes"))["cracks"][0]["front"]
 Rs = [f["R"] for f in front]
 c.check("tubes clipped at the faces", p.returncode == 0 and len(warned) == 1 and
         "body 0's face" in warned[0] and front and all(f["clipped"] for f in front) and
-        abs(min(Rs) - 0.1) < 1e-9 and max(Rs) <= 0.125,
+        abs(min(Rs) - 0.08) < 1e-9 and max(Rs) <= 0.125,
         "exit %d, %d points, R %s .. %s m; %s" % (p.returncode, len(front), min(Rs, default=0),
                                                   max(Rs, default=0), warned))
-p = gimptest.run(args, "options/patch3d.opts", fine + ["-gimp_crack_j_radius", "0.09"],
+p = gimptest.run(args, "options/patch3d.opts", fine + ["-gimp_crack_j_radius", "0.07"],
                  expect_ok=False, outdir=os.path.join(args.work, "tubes_fit"))
 front = gimptest.summary(os.path.join(args.work, "tubes_fit"))["cracks"][0]["front"] \
     if p.returncode == 0 else []
 c.check("a radius within every clearance", p.returncode == 0 and "warning" not in p.stdout and
-        front and all(f["R"] == 0.09 and not f["clipped"] for f in front),
+        front and all(f["R"] == 0.07 and not f["clipped"] for f in front),
         "exit %d, %d points" % (p.returncode, len(front)))
 p = gimptest.run(args, "options/patch3d.opts",
-                 fine + ["-gimp_cracks", "2", "-gimp_crack1_disk", "0.56,0.2,0.2,1,0,0,0.1"],
+                 fine + ["-gimp_cracks", "2", "-gimp_crack1_disk", "0.56,0.2,0.2,1,0,0,0.12"],
                  expect_ok=False, outdir=os.path.join(args.work, "tubes_two"))
 warned = [l for l in p.stdout.splitlines() if "gimp: warning:" in l and "reaches crack" in l]
 cracks = gimptest.summary(os.path.join(args.work, "tubes_two"))["cracks"] \
@@ -76,6 +77,16 @@ c.check("two cracks clip each other's tubes", p.returncode == 0 and len(warned) 
         len(cracks) == 2 and all(abs(max(f["R"] for f in k["front"]) - 0.06) < 1e-9
                                  for k in cracks),
         "exit %d; %s" % (p.returncode, warned))
+p = gimptest.run(args, "options/patch3d.opts",
+                 ["-gimp_h", "0.025", "-ts_max_steps", "1", "-gimp_cracks", "1",
+                  "-gimp_crack0_polygon", "0.5,0.11,0.1,0.5,0.23,0.1,0.5,0.23,0.3,0.5,0.11,0.3"],
+                 expect_ok=False, outdir=os.path.join(args.work, "tubes_narrow"))
+warned = [l for l in p.stdout.splitlines() if "its own crack's front" in l]
+front = gimptest.summary(os.path.join(args.work, "tubes_narrow"))["cracks"][0]["front"] \
+    if p.returncode == 0 else []
+c.check("a narrow crack's other side: half the distance", p.returncode == 0 and
+        len(warned) == 1 and front and abs(min(f["R"] for f in front) - 0.06) < 1e-9,
+        "exit %d, R %s; %s" % (p.returncode, sorted({f["R"] for f in front}), warned))
 
 # Under mpiexec an input error found alike on every rank ends every rank with one line.
 p = gimptest.run(args, "options/patch3d.opts", ["-gimp_cracks", "1", "-gimp_crack0_points", "0,0,1,1"], ranks=2, expect_ok=False,

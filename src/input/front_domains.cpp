@@ -8,8 +8,9 @@
 //     a symmetry plane or meets a free surface at the front's end (the grid's edge lies beyond
 //     the bodies' surfaces);
 //   - another crack;
-//   - its own crack's front away from the piece (more than L + 2 R along its chain, or another
-//     chain): a narrow crack's other side, a penny crack's far front when R is near its radius.
+//   - its own crack's front reached only the long way round (or on another chain): a narrow
+//     crack's other side, a penny crack's far side; the tube's weight would jump at the bisector
+//     between them, so half the distance counts.
 // The chain's piece is sampled at a quarter of the cell at the front and at its vertices. A given
 // radius is refused when no tube fits a front point (under kJMinCells cells there), and when it is
 // under kJMinCells cells; a radius past a clearance is clipped to it at that point, with one
@@ -205,18 +206,58 @@ Clearance clearanceOf(const Scene<3> &sc, size_t k, const Fronts &fr, const crac
   const auto [chain, sf] = onChain(c, chains, f);
   const bool closed = chains[chain].closed;
   const double L = closed ? std::min(R, 0.5 * lengths[chain]) : R;
+  std::vector<const ChainPoint *> piece;
+  for (const ChainPoint &y : pts)
+    if (y.chain == chain && arcBetween(y.s, sf, lengths[chain], closed) <= L) piece.push_back(&y);
   Clearance cl;
-  for (const ChainPoint &y : pts) {
-    if (y.chain != chain || arcBetween(y.s, sf, lengths[chain], closed) > L) continue;
+  for (const ChainPoint *y : piece) {
     for (size_t i = 0; i < surfaces.size(); ++i)
-      if (!crossed[i]) cl.take(surfaces[i].distance(y.x), surfaces[i].name);
-    for (size_t m = 0; m < sc.cracks.size(); ++m)
-      if (m != k) cl.take(cracks::distance(sc.cracks[m], y.x.data()), "crack " + std::to_string(m));
-    for (const ChainPoint &z : pts)
-      if (z.chain != chain || arcBetween(z.s, sf, lengths[chain], closed) > L + 2 * R)
-        cl.take(dist(y.x, z.x), "its own crack's front at " + fmtList(z.x.data(), 3));
+      if (!crossed[i]) cl.take(surfaces[i].distance(y->x), surfaces[i].name);
+    for (size_t m = 0; m < sc.cracks.size(); ++m) {
+      const double d = m == k ? INFINITY : cracks::distance(sc.cracks[m], y->x.data());
+      if (d < cl.d) cl.take(d, "crack " + std::to_string(m));
+    }
+  }
+  // Its own front elsewhere: a sample z of its front that the chain reaches only the long way
+  // round from a piece sample y (closer than kBack times the arc between them, or on another
+  // chain: the other side of a narrow crack, a penny crack's far side), whose neighbourhood the
+  // nearest-point map of the tube gives to z: the tube ends at the bisector between them, half
+  // their distance from y, where its weight would jump. A straight chain or one turning by a
+  // right angle has distances of at least 0.707 times the arc. Every sample of the piece lies
+  // within L of the point, so a z farther than L + 2 cl.d from it cannot come nearer.
+  constexpr double kBack = 0.7;
+  for (const ChainPoint &z : pts) {
+    if (dist(z.x, f.x) - L >= 2 * cl.d) continue;
+    for (const ChainPoint *y : piece) {
+      const double d = dist(y->x, z.x);
+      const bool back =
+          z.chain != chain || d < kBack * arcBetween(y->s, z.s, lengths[chain], closed);
+      if (back && 0.5 * d < cl.d)
+        cl.take(0.5 * d, "its own crack's front at " + fmtList(z.x.data(), 3));
+    }
   }
   return cl;
+}
+
+/// A given radius R larger than the body that holds a crack's front is refused rather than
+/// clipped (a length in the wrong unit, say), as for a 2D tip.
+void refuseLargerThanBody(const Scene<3> &sc, double R, double spacing) {
+  for (size_t k = 0; k < sc.cracks.size(); ++k)
+    for (const cracks::FrontPoint &f : cracks::frontPoints(sc.cracks[k], spacing)) {
+      for (size_t i = 0; i < sc.bodies.size(); ++i) {
+        const BoxOf<3> &b = sc.bodies[i].box;
+        const double size =
+            std::sqrt((b[3] - b[0]) * (b[3] - b[0]) + (b[4] - b[1]) * (b[4] - b[1]) +
+                      (b[5] - b[2]) * (b[5] - b[2]));
+        if (sc.bodies[i].inside(f.x.data()) && R > size)
+          Options::bad("gimp_crack_j_radius", formatNumber(R),
+                       "larger than body " + std::to_string(i) + " (" + formatNumber(size) +
+                           " m across) at crack " + std::to_string(k) +
+                           "; valid: at least 2 cells (" +
+                           formatNumber(kJMinCells * frontCell(sc)) + " m), within the body");
+      }
+      break;
+    }
 }
 
 void warn(const std::string &line) {
@@ -236,6 +277,7 @@ void setFrontDomains(Scene<3> &sc, bool radiusGiven) {
                  "under 2 cells (cell " + formatNumber(h) + " m) at the front; valid: at least " +
                      formatNumber(lo) + " m");
   const double spacing = frontSpacing(sc);
+  if (radiusGiven) refuseLargerThanBody(sc, R, spacing);
   const std::vector<Surface> surfaces = surfacesOf(sc);
   for (size_t k = 0; k < sc.cracks.size(); ++k) {
     const CrackSurface &c = sc.cracks[k];
