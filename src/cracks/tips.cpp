@@ -5,6 +5,7 @@
 #include "gimp/physics/material.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <vector>
@@ -50,6 +51,61 @@ double modulus(const Material &m) {
   return m.planeStrain ? m.E / (1.0 - m.nu * m.nu) : m.E;
 }
 
+/// The crack seen from a tip, as the auxiliary fields' branch cut: its points behind the tip in
+/// the tip frame, each with its angle unwrapped continuously along the crack from pi (the tip
+/// segment's). On a kinked crack the straight fields' cut (theta = +-pi) would lie in the material
+/// past the kink, where their displacement jumps; with theta unwrapped to (cut(r) - 2 pi, cut(r)],
+/// cut(r) the crack's angle where it meets the circle of radius r, the jump lies on the crack's
+/// faces, and the fields are smooth in the material (their tractions on the faces that are not
+/// along x1 are the face terms, addFaceTerms). A straight crack's cut is pi: theta unchanged.
+struct BranchCut {
+  std::vector<std::array<double, 2>> pts; // tip frame (along, across); pts[0] the tip
+  std::vector<double> ang;                // unwrapped angle of pts[i], i >= 1
+
+  BranchCut() = default; // a straight crack's: the line behind the tip
+  BranchCut(const Crack &c, int end, const double tip[2], const double t[2]) {
+    const size_t np = c.points.size();
+    const double n[2] = {-t[1], t[0]};
+    for (size_t i = 0; i < np; ++i) {
+      const auto &q = end == 0 ? c.points[i] : c.points[np - 1 - i];
+      const double dx = q[0] - tip[0], dy = q[1] - tip[1];
+      pts.push_back({dx * t[0] + dy * t[1], dx * n[0] + dy * n[1]});
+      if (i == 0) {
+        ang.push_back(M_PI);
+      } else if (i == 1) {
+        ang.push_back(M_PI); // the tip segment lies on theta = pi
+      } else {
+        const double a = std::atan2(pts[i][1], pts[i][0]);
+        ang.push_back(ang[i - 1] + std::remainder(a - ang[i - 1], 2.0 * M_PI));
+      }
+    }
+  }
+  /// The crack's angle where it first meets the circle of radius r (the last point's beyond it).
+  double at(double r) const {
+    if (pts.size() < 3 || r <= std::hypot(pts[1][0], pts[1][1])) return M_PI; // the tip segment
+    for (size_t i = 1; i + 1 < pts.size(); ++i) {
+      const auto &a = pts[i], &b = pts[i + 1];
+      if (std::hypot(b[0], b[1]) < r) continue;
+      // a + s (b - a) on the circle, the root past a (a is inside it).
+      const double dx = b[0] - a[0], dy = b[1] - a[1];
+      const double A = dx * dx + dy * dy, B = 2.0 * (a[0] * dx + a[1] * dy),
+                   C = a[0] * a[0] + a[1] * a[1] - r * r;
+      const double sr = (-B + std::sqrt(std::max(B * B - 4.0 * A * C, 0.0))) / (2.0 * A);
+      const double x = a[0] + sr * dx, y = a[1] + sr * dy;
+      return ang[i] + std::remainder(std::atan2(y, x) - ang[i], 2.0 * M_PI);
+    }
+    return ang.back();
+  }
+  /// theta in (cut - 2 pi, cut].
+  static double unwrap(double theta, double cut) {
+    while (theta > cut)
+      theta -= 2.0 * M_PI;
+    while (theta <= cut - 2.0 * M_PI)
+      theta += 2.0 * M_PI;
+    return theta;
+  }
+};
+
 /// Particle k's terms of the domain integrals at tip-frame position (along, across), distance
 /// rr < R, with q = (1 - r^2 / R^2)^2, added to out: J = sum_p V_p (sigma_ij du_i/dx_1 - W
 /// delta_1j) dq/dx_j, and the interaction integrals with the unit mode I and mode II tip fields,
@@ -57,7 +113,7 @@ double modulus(const Material &m) {
 /// dq/dx_j, all in the tip frame (t, n).
 void domainTerms(const Material &mat, const TipElastic &el, const ParticleView<2> &p, PetscInt k,
                  const double t[2], const double n[2], double along, double across, double rr,
-                 double R, double out[3]) {
+                 double theta, double R, double out[3]) {
   const auto s = tensorAt<2>(p.s, k);
   const auto F = tensorAt<2>(p.F, k);
   const double H[2][2] = {{F(0, 0) - 1.0, F(0, 1)}, {F(1, 0), F(1, 1) - 1.0}};
@@ -79,7 +135,6 @@ void domainTerms(const Material &mat, const TipElastic &el, const ParticleView<2
   for (int b = 0; b < 2; ++b)
     j += (sp[0][b] * hp[0][0] + sp[1][b] * hp[1][0] - (b == 0 ? W : 0.0)) * dq[b];
   out[0] += p.V[k] * j;
-  const double theta = std::atan2(across, along);
   const double eps[3] = {hp[0][0], hp[1][1], 0.5 * (hp[0][1] + hp[1][0])};
   for (int mode = 1; mode <= 2; ++mode) {
     double sa[3], ua[2];
@@ -250,14 +305,82 @@ TipElastic tipElastic(const Material &m) {
 }
 
 void addDomainIntegrals(const Material &mat, const ParticleView<2> &p, const double tip[2],
-                        const double t[2], double R, double out[3]) {
+                        const double t[2], double R, double out[3], const Crack *crack, int end) {
   const TipElastic el = tipElastic(mat);
   const double n[2] = {-t[1], t[0]};
+  const BranchCut cut = crack ? BranchCut(*crack, end, tip, t) : BranchCut();
   for (PetscInt k = 0; k < p.n; ++k) {
     const double rx = p.x[2 * k] - tip[0], ry = p.x[2 * k + 1] - tip[1];
     const double rr = std::hypot(rx, ry);
-    if (rr < R && rr > 0)
-      domainTerms(mat, el, p, k, t, n, rx * t[0] + ry * t[1], rx * n[0] + ry * n[1], rr, R, out);
+    if (!(rr < R && rr > 0)) continue;
+    const double along = rx * t[0] + ry * t[1], across = rx * n[0] + ry * n[1];
+    double theta = std::atan2(across, along);
+    theta = BranchCut::unwrap(theta, cut.at(rr));
+    domainTerms(mat, el, p, k, t, n, along, across, rr, theta, R, out);
+  }
+}
+
+void addFaceTerms(const Material &mat, const ParticleView<2> &p, const Crack &crack, int end,
+                  const double tip[2], const double t[2], double R, double out[3]) {
+  const TipElastic el = tipElastic(mat);
+  const double n[2] = {-t[1], t[0]};
+  const size_t np = crack.points.size();
+  // The segments behind the tip segment, walking from the tip, while they come within R of it.
+  std::vector<std::array<double, 4>> segs; // a, b
+  for (size_t s = 1; s + 1 < np; ++s) {
+    const auto &a = end == 0 ? crack.points[s] : crack.points[np - 1 - s];
+    const auto &b = end == 0 ? crack.points[s + 1] : crack.points[np - 2 - s];
+    if (segmentDistance(a, b, {tip[0], tip[1]}, {tip[0], tip[1]}) >= R) break;
+    segs.push_back({a[0], a[1], b[0], b[1]});
+  }
+  if (segs.empty()) return;
+  const BranchCut cut(crack, end, tip, t);
+  const double Q[2][2] = {{t[0], t[1]}, {n[0], n[1]}};
+  for (PetscInt k = 0; k < p.n; ++k) {
+    const double *x = &p.x[2 * k];
+    for (const auto &g : segs) {
+      const double ex = g[2] - g[0], ey = g[3] - g[1], len = std::hypot(ex, ey);
+      const double tx = ex / len, ty = ey / len, nlx = -ty, nly = tx; // the segment's left normal
+      const double d = (x[0] - g[0]) * nlx + (x[1] - g[1]) * nly;
+      const double lam = (x[0] - g[0]) * tx + (x[1] - g[1]) * ty;
+      // The particle's width across the face: the band of the face on its side.
+      const double w = 2.0 * (std::fabs(p.l[2 * k] * nlx) + std::fabs(p.l[2 * k + 1] * nly));
+      if (d == 0 || std::fabs(d) >= w || lam < 0 || lam > len) continue;
+      const double fx = g[0] + lam * tx - tip[0], fy = g[1] + lam * ty - tip[1];
+      const double rf = std::hypot(fx, fy);
+      if (rf >= R || rf <= 0) continue;
+      const double qf = (1.0 - rf * rf / (R * R)) * (1.0 - rf * rf / (R * R));
+      // The material's outward normal at its face (into the crack), in the tip frame.
+      const double sg = d > 0 ? -1.0 : 1.0;
+      const double no[2] = {sg * (nlx * t[0] + nly * t[1]), sg * (nlx * n[0] + nly * n[1])};
+      const auto st = tensorAt<2>(p.s, k);
+      const auto F = tensorAt<2>(p.F, k);
+      const double H[2][2] = {{F(0, 0) - 1.0, F(0, 1)}, {F(1, 0), F(1, 1) - 1.0}};
+      double hp[2][2] = {};
+      for (int a = 0; a < 2; ++a)
+        for (int b = 0; b < 2; ++b)
+          for (int c = 0; c < 2; ++c)
+            for (int e = 0; e < 2; ++e)
+              hp[a][b] += Q[a][c] * H[c][e] * Q[b][e];
+      const double W = material::strainEnergy(mat, st, p.szz[k], F, p.V0[k], p.V[k]) / p.V[k];
+      const double ds = p.V[k] / w * qf; // the particle's share of the face, weighted by q
+      out[0] += ds * W * no[0];
+      const double eps[3] = {hp[0][0], hp[1][1], 0.5 * (hp[0][1] + hp[1][0])};
+      // The auxiliary fields at the foot, from the particle's side of the branch cut (the crack).
+      const double px = x[0] - tip[0], py = x[1] - tip[1];
+      const double cf = cut.at(rf);
+      const double tp = BranchCut::unwrap(std::atan2(px * n[0] + py * n[1], px * t[0] + py * t[1]),
+                                          cut.at(std::hypot(px, py)));
+      const double thf =
+          std::fabs(tp - cf) < std::fabs(tp - (cf - 2.0 * M_PI)) ? cf : cf - 2.0 * M_PI;
+      for (int mode = 1; mode <= 2; ++mode) {
+        double sa[3], ua[2];
+        williamsField(mode, rf, thf, el, sa, ua);
+        const double tr[2] = {sa[0] * no[0] + sa[2] * no[1], sa[2] * no[0] + sa[1] * no[1]};
+        const double Wint = sa[0] * eps[0] + sa[1] * eps[1] + 2.0 * sa[2] * eps[2];
+        out[mode] -= ds * (tr[0] * hp[0][0] + tr[1] * hp[1][0] - Wint * no[0]);
+      }
+    }
   }
 }
 
@@ -296,7 +419,10 @@ PetscErrorCode measureTips(MPI_Comm comm, const Scene<2> &sc, const Grid<2> &g,
       // The nodal displacements behind the tip, fitted to the particles' displacements.
       addFitTerms(crack, p, k, bx, by, h, r + kRow);
     }
-    if (m.jRadius > 0) addDomainIntegrals(sc.materialAt(m.tip), p, m.tip, t, m.jRadius, &r[kJ]);
+    if (m.jRadius > 0) {
+      addDomainIntegrals(sc.materialAt(m.tip), p, m.tip, t, m.jRadius, &r[kJ], &crack, m.end);
+      addFaceTerms(sc.materialAt(m.tip), p, crack, m.end, m.tip, t, m.jRadius, &r[kJ]);
+    }
   }
   PetscCallMPI(MPI_Allreduce(local.data(), global.data(), static_cast<int>(local.size()),
                              MPI_DOUBLE, MPI_SUM, comm));

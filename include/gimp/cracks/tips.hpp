@@ -36,9 +36,25 @@ TipElastic tipElastic(const Material &m);
 /// t): out[0] += sum_p V_p (sigma_ij du_i/dx_1 - W delta_1j) dq/dx_j (J times thickness) and out[m]
 /// += sum_p V_p (sigma_ij du^m_i/dx_1 + sigma^m_ij du_i/dx_1 - sigma^m_ij eps_ij delta_1j) dq/dx_j
 /// for the unit mode m = 1, 2 tip fields (williamsField): the interaction integrals, 2 K_m / E'
-/// times thickness. Stress from p.s, displacement gradient from p.F - I.
+/// times thickness. Stress from p.s, displacement gradient from p.F - I. With the crack and the
+/// end the tip is, the auxiliary fields' angle is unwrapped so that their cut follows the crack
+/// (a kinked crack: the straight fields' cut would lie in the material past the kink); without,
+/// their cut is the straight line behind the tip.
 void addDomainIntegrals(const Material &mat, const ParticleView<2> &p, const double tip[2],
-                        const double t[2], double R, double out[3]);
+                        const double t[2], double R, double out[3], const Crack *crack = nullptr,
+                        int end = 0);
+
+/// Adds the crack-face terms of the same domain integrals (addDomainIntegrals) for the crack's
+/// segments behind the tip segment of end `end` (kinks: faces not along x1, where the actual
+/// field's W n_1 and the auxiliary fields' tractions do not vanish): out[0] += int W n_1 q ds
+/// and out[m] -= int (sigma^m_ij n_j du_i/dx_1 - sigma^m_ij eps_ij n_1) q ds over both faces of
+/// each such segment within R, n the material's outward normal (into the crack), the auxiliary
+/// fields at the face point. Each face is a band one particle wide on its side: a particle whose
+/// centre lies within its width across the face, w = 2 (|l_x n_x| + |l_y n_y|), of the segment
+/// (its foot on the segment) adds V_p / w times its integrand, with q and the auxiliary fields
+/// at its foot.
+void addFaceTerms(const Material &mat, const ParticleView<2> &p, const Crack &crack, int end,
+                  const double tip[2], const double t[2], double R, double out[3]);
 
 /// VCCT and J at every tip (anywhere, any direction), with h the cell of the finest level
 /// holding the tip. VCCT is crack closure over one cell: G_I = F_n du_n / (2 t h),
