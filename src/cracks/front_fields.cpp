@@ -9,10 +9,6 @@ namespace {
 
 using P3 = std::array<double, 3>;
 
-P3 cross(const P3 &a, const P3 &b) {
-  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-}
-
 /// The unit auxiliary field of `mode` at local (x1, x2) and its derivatives along x1 and x2
 /// (fourth-order central differences with step hs, which stays on x2's side of the crack's plane
 /// behind the front): f[0] the value, f[1] d/dx1, f[2] d/dx2, for the stress (S) and the
@@ -36,35 +32,6 @@ void localField(int mode, const TipElastic &el, double x1, double x2, double hs,
           G[dir][i][j] += w[k] * g[i][j] / (12.0 * hs);
         }
     }
-}
-
-/// The global derivatives dF_ik/dx_j of an auxiliary field F = sum_ab f_ab e_a e_b^T carried by
-/// the smooth front that the polygon stands for: x1 and x2 change along e1 and e2, and the frame
-/// turns with the arc length s, de1/ds = c (the front's curvature vector, in its plane), de2/ds =
-/// 0, de3/ds = c x n, ds/dx = t / (1 + kappa x1), kappa = c . t (the curvature's sign: positive
-/// where the front is convex, its centre of curvature behind it). curv = c t^T.
-void globalDerivative(const double f[3][3][3], const P3 e[3], const double curv[3][3],
-                      double metric, double dF[3][3][3]) {
-  for (int j = 0; j < 3; ++j) {
-    // de_a/dx_j
-    P3 de[3];
-    de[0] = {curv[0][j] * metric, curv[1][j] * metric, curv[2][j] * metric};
-    de[1] = {0, 0, 0};
-    de[2] = cross(de[0], e[1]);
-    for (int i = 0; i < 3; ++i)
-      for (int k = 0; k < 3; ++k) {
-        double v = 0;
-        for (int a = 0; a < 3; ++a)
-          for (int b = 0; b < 3; ++b) {
-            const double df = f[1][a][b] * e[0][static_cast<size_t>(j)] +
-                              f[2][a][b] * e[1][static_cast<size_t>(j)];
-            v += df * e[a][static_cast<size_t>(i)] * e[b][static_cast<size_t>(k)] +
-                 f[0][a][b] * (de[a][static_cast<size_t>(i)] * e[b][static_cast<size_t>(k)] +
-                               e[a][static_cast<size_t>(i)] * de[b][static_cast<size_t>(k)]);
-          }
-        dF[i][k][j] = v;
-      }
-  }
 }
 
 } // namespace
@@ -96,24 +63,52 @@ bool curvatureIntegrand(const TipElastic &el, double x1, double x2, const P3 e[3
   const double kappa = curv[0][0] + curv[1][1] + curv[2][2];
   if (1.0 + kappa * x1 <= 0) return false;
   const double metric = 1.0 / (1.0 + kappa * x1);
-  for (int m = 0; m < 3; ++m) {
-    double S[3][3][3], G[3][3][3], dS[3][3][3], dG[3][3][3]; // dS[i][k][j] = dS_ik/dx_j
-    localField(m + 1, el, x1, x2, hs, S, G);
-    globalDerivative(S, e, curv, metric, dS);
-    globalDerivative(G, e, curv, metric, dG);
-    double divS[3] = {0, 0, 0};
+  // Everything in the frame (e1, e2, e3), where the integrand, a scalar, is cheapest. The
+  // particle's stress and displacement gradient there: sl = B sigma B^T, hl = B H B^T.
+  double sl[3][3], hl[3][3];
+  for (int a = 0; a < 3; ++a)
+    for (int b = 0; b < 3; ++b) {
+      double vs = 0, vh = 0;
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) {
+          const double w = e[a][static_cast<size_t>(i)] * e[b][static_cast<size_t>(j)];
+          vs += w * sigma(i, j);
+          vh += w * H(i, j);
+        }
+      sl[a][b] = vs;
+      hl[a][b] = vh;
+    }
+  // The frame turns in its plane: c = (e3 . c) e3, so de1/ds = g e3 and de3/ds = -g e1; along
+  // frame axis k, ds/dx_k = metric (t . e_k), so d e_a/dx_k = turn[k] (W e)_a with W_13 = 1,
+  // W_31 = -1 and turn[k] = metric (e3 . curv e_k), curv = c t^T.
+  double turn[3];
+  for (int k = 0; k < 3; ++k) {
+    double v = 0;
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j)
-        divS[i] += dS[i][j][j];
+        v += e[2][static_cast<size_t>(i)] * curv[i][j] * e[k][static_cast<size_t>(j)];
+    turn[k] = metric * v;
+  }
+  for (int m = 0; m < 3; ++m) {
+    double S[3][3][3], G[3][3][3];
+    localField(m + 1, el, x1, x2, hs, S, G);
+    // d/dx_k of a field f in the frame: its own derivative along x1, x2 (none along x3), plus
+    // turn[k] (W^T f + f W); (W^T f)_1j = -f_3j, (W^T f)_3j = f_1j, (f W)_i1 = -f_i3, (f W)_i3 =
+    // f_i1.
+    const auto derivative = [&](const double f[3][3][3], int i, int j, int k) {
+      const double own = k < 2 ? f[k + 1][i][j] : 0.0;
+      const double wtf = i == 0 ? -f[0][2][j] : (i == 2 ? f[0][0][j] : 0.0);
+      const double fw = j == 0 ? -f[0][i][2] : (j == 2 ? f[0][i][0] : 0.0);
+      return own + turn[k] * (wtf + fw);
+    };
     double tm = 0;
-    for (int k = 0; k < 3; ++k) {
-      double tk = 0;
-      for (int i = 0; i < 3; ++i) {
-        tk += divS[i] * H(i, k);
-        for (int j = 0; j < 3; ++j)
-          tk += sigma(i, j) * (dG[i][k][j] - dG[i][j][k]);
-      }
-      tm += e[0][static_cast<size_t>(k)] * tk;
+    for (int i = 0; i < 3; ++i) {
+      double divS = 0;
+      for (int j = 0; j < 3; ++j)
+        divS += derivative(S, i, j, j);
+      tm += divS * hl[i][0];
+      for (int j = 0; j < 3; ++j)
+        tm += sl[i][j] * (derivative(G, i, 0, j) - derivative(G, i, j, 0));
     }
     t[m] = tm;
   }
