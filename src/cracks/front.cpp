@@ -35,7 +35,15 @@ struct Chain {
   std::vector<double> s0;
   double length = 0, sP = 0;
   bool closed = false;
+  // Per edge, for placeOf: its start, its vector and length, its frame and its vertices' ahead
+  // directions (vertexAhead).
+  std::vector<P3> start, vec, a, t, ahead0, ahead1;
+  std::vector<double> len;
 };
+
+/// The per-edge data placeOf reads (the chain's edges' starts, vectors, lengths, frames and
+/// vertex ahead directions), filled once per chain.
+void fillChain(const CrackSurface &c, Chain &ch);
 
 Chain chainOf(const CrackSurface &c, const FrontPoint &f) {
   const int m = static_cast<int>(c.points.size());
@@ -54,6 +62,7 @@ Chain chainOf(const CrackSurface &c, const FrontPoint &f) {
     ch.s0.push_back(ch.length);
     ch.length += norm(sub(c.points[static_cast<size_t>((e + 1) % m)], p));
   }
+  fillChain(c, ch);
   return ch;
 }
 
@@ -85,6 +94,24 @@ P3 vertexAhead(const CrackSurface &c, size_t v) {
   return {a[0] / len, a[1] / len, a[2] / len};
 }
 
+void fillChain(const CrackSurface &c, Chain &ch) {
+  const size_t m = c.points.size();
+  for (const int ei : ch.edges) {
+    const size_t e = static_cast<size_t>(ei);
+    const P3 &p = c.points[e];
+    const P3 v = sub(c.points[(e + 1) % m], p);
+    double a[3], n[3], t[3];
+    frontFrame(c, ei, a, n, t);
+    ch.start.push_back(p);
+    ch.vec.push_back(v);
+    ch.len.push_back(norm(v));
+    ch.a.push_back({a[0], a[1], a[2]});
+    ch.t.push_back({t[0], t[1], t[2]});
+    ch.ahead0.push_back(vertexAhead(c, e));
+    ch.ahead1.push_back(vertexAhead(c, (e + 1) % m));
+  }
+}
+
 /// The place of x: the chain's nearest point (the first edge's on a tie) and what follows from it.
 /// The ahead direction is interpolated along the nearest edge between its vertices' (vertexAhead):
 /// a = A / |A|, A = (1 - lambda) a_0 + lambda a_1, lambda the nearest point's fraction of the edge,
@@ -92,15 +119,14 @@ P3 vertexAhead(const CrackSurface &c, size_t v) {
 /// front; da/dx = (I - a a) / |A| (a_1 - a_0) t^T / |edge| where lambda moves, 0 where it is held
 /// at a vertex.
 Place placeOf(const CrackSurface &c, const Chain &ch, const P3 &x) {
-  const size_t m = c.points.size(), K = ch.edges.size();
+  const size_t K = ch.edges.size();
   Place best;
   best.rho = -1;
   size_t kb = 0;
   double lamb = 0, lenb = 0;
   for (size_t k = 0; k < K; ++k) {
-    const P3 &p = c.points[static_cast<size_t>(ch.edges[k])];
-    const P3 e = sub(c.points[(static_cast<size_t>(ch.edges[k]) + 1) % m], p);
-    const double len = norm(e);
+    const P3 &p = ch.start[k], &e = ch.vec[k];
+    const double len = ch.len[k];
     const double lam = std::clamp(dot(sub(x, p), e) / len, 0.0, len);
     const P3 y = {p[0] + lam / len * e[0], p[1] + lam / len * e[1], p[2] + lam / len * e[2]};
     const double r = norm(sub(x, y));
@@ -114,33 +140,26 @@ Place placeOf(const CrackSurface &c, const Chain &ch, const P3 &x) {
   }
   best.s = ch.s0[kb] + lamb - ch.sP;
   if (ch.closed && best.s > 0.5 * ch.length) best.s -= ch.length;
-  double a[3], n[3], t[3];
-  const size_t e = static_cast<size_t>(ch.edges[kb]);
-  frontFrame(c, ch.edges[kb], a, n, t);
-  const P3 a0 = vertexAhead(c, e), a1 = vertexAhead(c, (e + 1) % m);
+  const P3 &t = ch.t[kb];
+  const P3 a0 = ch.ahead0[kb], a1 = ch.ahead1[kb];
   const double lam = lamb / lenb;
   const P3 A = {(1 - lam) * a0[0] + lam * a1[0], (1 - lam) * a0[1] + lam * a1[1],
                 (1 - lam) * a0[2] + lam * a1[2]};
   const double An = norm(A);
   best.a = {A[0] / An, A[1] / An, A[2] / An};
-  if (lamb > 0 && lamb < lenb) {
-    best.gradS = {t[0], t[1], t[2]};
-    const P3 d = sub(a1, a0);
-    for (int i = 0; i < 3; ++i) {
-      double w = 0; // ((I - a a) d)_i / |A|
-      for (int q = 0; q < 3; ++q)
-        w += ((i == q ? 1.0 : 0.0) - best.a[i] * best.a[q]) * d[q];
-      for (int j = 0; j < 3; ++j)
-        best.dA[i][j] = w / An * t[j] / lenb;
-    }
-  }
   const P3 d = sub(a1, a0);
   for (int i = 0; i < 3; ++i) {
-    double w = 0;
+    double w = 0; // ((I - a a) d)_i / |A|
     for (int q = 0; q < 3; ++q)
       w += ((i == q ? 1.0 : 0.0) - best.a[i] * best.a[q]) * d[q];
     for (int j = 0; j < 3; ++j)
       best.curv[i][j] = w / An * t[j] / lenb;
+  }
+  if (lamb > 0 && lamb < lenb) { // a turns where lambda moves; held at a vertex
+    best.gradS = {t[0], t[1], t[2]};
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j)
+        best.dA[i][j] = best.curv[i][j];
   }
   best.x3 = cross(best.a, c.normal);
   return best;
@@ -422,78 +441,6 @@ FrontMeasure finishFront(const Material &m, const CrackSurface &c, const FrontPo
   o.KII = 0.5 * Ep * sums[2] / A;
   o.KIII = mu * sums[3] / A;
   return o;
-}
-
-PetscErrorCode measureFronts(MPI_Comm comm, const std::vector<CrackSurface> &cracks,
-                             const Material &m, const ParticleView<3> &p, double spacing,
-                             const std::vector<JDomain> &tubes, double asked,
-                             const std::vector<MirrorPlane> &mirrors,
-                             std::vector<FrontMeasure> &out) {
-  std::vector<std::pair<int, FrontPoint>> points;
-  for (size_t c = 0; c < cracks.size(); ++c)
-    for (const FrontPoint &f : frontPoints(cracks[c], spacing))
-      points.emplace_back(static_cast<int>(c), f);
-  out.clear();
-  if (points.empty()) return PETSC_SUCCESS;
-  PetscCheck(tubes.size() == points.size(), comm, PETSC_ERR_PLIB,
-             "%zu front tubes for %zu front points", tubes.size(), points.size());
-  std::vector<double> local(4 * points.size(), 0.0), global(local.size());
-  for (size_t q = 0; q < points.size(); ++q) {
-    const double R = tubes[q].radius;
-    if (R > 0)
-      addFrontIntegrals(m, p, cracks[static_cast<size_t>(points[q].first)], points[q].second, R, R,
-                        &local[4 * q], AuxFrame::Nearest, mirrors);
-  }
-  PetscCallMPI(MPI_Allreduce(local.data(), global.data(), static_cast<int>(local.size()),
-                             MPI_DOUBLE, MPI_SUM, comm));
-  for (size_t q = 0; q < points.size(); ++q) {
-    const CrackSurface &c = cracks[static_cast<size_t>(points[q].first)];
-    const double R = tubes[q].radius;
-    if (R > 0) {
-      out.push_back(finishFront(m, c, points[q].second, R, R, &global[4 * q], mirrors));
-    } else {
-      FrontMeasure o;
-      o.edge = points[q].second.edge;
-      o.x = points[q].second.x;
-      o.G = o.KI = o.KII = o.KIII = NAN;
-      out.push_back(o);
-    }
-    out.back().crack = points[q].first;
-    out.back().asked = asked;
-    out.back().clipped = tubes[q].clipped;
-  }
-  return PETSC_SUCCESS;
-}
-
-FrontDomain frontDomain(const Scene<3> &sc) {
-  FrontDomain d;
-  for (const CrackSurface &c : sc.cracks) {
-    const std::vector<FrontPoint> f = frontPoints(c, sc.h);
-    if (!f.empty()) {
-      d.at = f.front().x;
-      break;
-    }
-  }
-  d.h = frontCell(sc);
-  d.R = sc.crackJRadius > 0 ? sc.crackJRadius : kJCells * d.h;
-  // Symmetry planes: rollers (the normal component alone held) over a whole plane that the
-  // bodies touch from one side.
-  const double tol = 1e-9 * sc.h;
-  for (const NodeBC<3> &b : sc.bcs) {
-    const size_t a = static_cast<size_t>(b.axis);
-    const bool roller = b.fix[a] && !b.fix[(a + 1) % 3] && !b.fix[(a + 2) % 3];
-    if (!roller || b.hasRange || sc.bodies.empty()) continue;
-    bool above = true, below = true, touches = false;
-    for (const Body<3> &body : sc.bodies) {
-      const double lo = body.box[a], hi = body.box[3 + a];
-      above = above && lo >= b.coord - tol;
-      below = below && hi <= b.coord + tol;
-      touches = touches || std::fabs(lo - b.coord) <= tol || std::fabs(hi - b.coord) <= tol;
-    }
-    if ((above || below) && touches) d.mirrors.push_back({b.axis, b.coord});
-  }
-  d.spacing = frontSpacing(sc);
-  return d;
 }
 
 } // namespace gimp::cracks
