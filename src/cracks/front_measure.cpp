@@ -21,11 +21,36 @@ PetscErrorCode measureFronts(MPI_Comm comm, const std::vector<CrackSurface> &cra
   PetscCheck(tubes.size() == points.size(), comm, PETSC_ERR_PLIB,
              "%zu front tubes for %zu front points", tubes.size(), points.size());
   std::vector<double> local(4 * points.size(), 0.0), global(local.size());
-  for (size_t q = 0; q < points.size(); ++q) {
-    const double R = tubes[q].radius;
-    if (R > 0)
-      addFrontIntegrals(m, p, cracks[static_cast<size_t>(points[q].first)], points[q].second, R, R,
-                        &local[4 * q], AuxFrame::Nearest, mirrors);
+  // The points of one open chain together (addChainIntegrals: each particle placed once), the
+  // others one by one; the points are in order (crack, then along the polygon).
+  for (size_t q = 0; q < points.size();) {
+    const CrackSurface &c = cracks[static_cast<size_t>(points[q].first)];
+    const int start = openChainStart(c, points[q].second);
+    size_t end = q + 1;
+    while (start >= 0 && end < points.size() && points[end].first == points[q].first &&
+           openChainStart(c, points[end].second) == start)
+      ++end;
+    std::vector<FrontPoint> group;
+    std::vector<double> R;
+    std::vector<size_t> slot;
+    for (size_t i = q; i < end; ++i)
+      if (tubes[i].radius > 0) {
+        group.push_back(points[i].second);
+        R.push_back(tubes[i].radius);
+        slot.push_back(i);
+      }
+    if (start >= 0) {
+      std::vector<double> sums(4 * group.size(), 0.0);
+      addChainIntegrals(m, p, c, group, R, sums.data(), mirrors);
+      for (size_t g = 0; g < group.size(); ++g)
+        for (size_t j = 0; j < 4; ++j)
+          local[4 * slot[g] + j] = sums[4 * g + j];
+    } else {
+      for (size_t g = 0; g < group.size(); ++g)
+        addFrontIntegrals(m, p, c, group[g], R[g], R[g], &local[4 * slot[g]], AuxFrame::Nearest,
+                          mirrors);
+    }
+    q = end;
   }
   PetscCallMPI(MPI_Allreduce(local.data(), global.data(), static_cast<int>(local.size()),
                              MPI_DOUBLE, MPI_SUM, comm));

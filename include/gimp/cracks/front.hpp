@@ -124,6 +124,18 @@ void addFrontIntegrals(const Material &m, const ParticleView<3> &p, const CrackS
                        AuxFrame aux = AuxFrame::Nearest,
                        const std::vector<MirrorPlane> &mirrors = {});
 
+/// The first edge of the open chain of front edges that holds f, or -1 when the chain is closed
+/// (every edge a front edge).
+int openChainStart(const CrackSurface &c, const FrontPoint &f);
+
+/// addFrontIntegrals at several front points of one open chain at once (pts, each with its tube
+/// radius R = L, its sums at out + 4 q): each particle's nearest point on the chain and its state
+/// are found once for all the points. The same sums, bit for bit, as one addFrontIntegrals per
+/// point (AuxFrame::Nearest).
+void addChainIntegrals(const Material &m, const ParticleView<3> &p, const CrackSurface &c,
+                       const std::vector<FrontPoint> &pts, const std::vector<double> &R,
+                       double *out, const std::vector<MirrorPlane> &mirrors = {});
+
 /// G and K at front point f from the summed numerators (all ranks'). crack is left 0.
 FrontMeasure finishFront(const Material &m, const CrackSurface &c, const FrontPoint &f, double R,
                          double L, const double sums[4],
