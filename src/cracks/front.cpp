@@ -187,6 +187,83 @@ void particleTerms(const PointDomain &d, const ParticleState &st, const Place &p
   if (d.aux == AuxFrame::Nearest) curvatureTerms(d, st, pl, q, out);
 }
 
+/// The tube integrals at front points pts of one chain (each with its radius R and half length
+/// L), their sums at out + 4 q: each particle's place on the chain and its state are found once
+/// for all the points. placeOf's nearest point and frame do not depend on the point, its arc
+/// length s is s0 + lambda - sP (wrapped on a closed chain), formed as for each point alone: an
+/// open chain starts at its first edge whatever the point, a closed one at the point's edge, so a
+/// closed chain takes one point at a time.
+void tubeIntegrals(const Material &m, const ParticleView<3> &p, const CrackSurface &c,
+                   const std::vector<FrontPoint> &pts, const std::vector<double> &R,
+                   const std::vector<double> &L, AuxFrame aux,
+                   const std::vector<MirrorPlane> &mirrors, double *out) {
+  if (pts.empty()) return;
+  Chain raw = chainOf(c, pts[0]);
+  const bool closed = raw.closed;
+  raw.sP = 0;
+  raw.closed = false;
+  struct Point {
+    PointDomain d;
+    double reach2 = 0, sP = 0;
+    std::vector<Image> images;
+    std::vector<P3> imageP;
+  };
+  std::vector<Point> at(pts.size());
+  for (size_t q = 0; q < pts.size(); ++q) {
+    const Chain ch = chainOf(c, pts[q]);
+    Point &a = at[q];
+    a.d.mat = &m;
+    a.d.el = frontElastic(m);
+    a.d.P = pts[q].x;
+    a.d.a = pts[q].a;
+    a.d.n = c.normal;
+    a.d.x3 = cross(pts[q].a, c.normal);
+    a.d.R = R[q];
+    a.d.L = ch.closed ? std::min(L[q], 0.5 * ch.length) : L[q];
+    a.d.aux = aux;
+    a.reach2 = (R[q] + a.d.L) * (R[q] + a.d.L);
+    a.sP = ch.sP;
+    a.images = imagesOf(c, ch, mirrors, kMirrorTol * R[q]);
+    for (const Image &im : a.images) {
+      P3 y = a.d.P;
+      y[static_cast<size_t>(im.axis)] = 2.0 * im.coord - y[static_cast<size_t>(im.axis)];
+      a.imageP.push_back(y);
+    }
+  }
+  // Each particle within reach of a point (or of its images): its place and state, found once.
+  for (PetscInt k = 0; k < p.n; ++k) {
+    const P3 x = {p.x[3 * k], p.x[3 * k + 1], p.x[3 * k + 2]};
+    std::optional<Place> place;
+    std::optional<ParticleState> state;
+    for (size_t q = 0; q < at.size(); ++q) {
+      const Point &a = at[q];
+      const P3 r = sub(x, a.d.P);
+      bool reached = dot(r, r) < a.reach2;
+      for (const P3 &y : a.imageP) {
+        const P3 ri = sub(x, y);
+        reached = reached || dot(ri, ri) < a.reach2;
+      }
+      if (!reached) continue;
+      if (!place) place = placeOf(c, raw, x);
+      Place pl = *place;
+      pl.s = pl.s - a.sP;
+      if (closed && pl.s > 0.5 * raw.length) pl.s -= raw.length;
+      if (!(pl.rho > 0 && pl.rho < a.d.R)) continue;
+      if (!state) state = stateOf(m, p, k);
+      double *o = out + 4 * q;
+      if (dot(r, r) < a.reach2 && std::fabs(pl.s) < a.d.L) particleTerms(a.d, *state, pl, o);
+      for (size_t i = 0; i < a.images.size(); ++i) {
+        const P3 ri = sub(x, a.imageP[i]);
+        if (dot(ri, ri) >= a.reach2) continue;
+        Place pi = pl;
+        ParticleState st = *state;
+        mirror(a.images[i], c, st, pi);
+        if (std::fabs(pi.s) < a.d.L) particleTerms(a.d, st, pi, o);
+      }
+    }
+  }
+}
+
 } // namespace
 
 TipElastic frontElastic(const Material &m) {
@@ -232,56 +309,7 @@ double frontArea(const CrackSurface &c, const FrontPoint &f, double L, double R,
 void addFrontIntegrals(const Material &m, const ParticleView<3> &p, const CrackSurface &c,
                        const FrontPoint &f, double R, double L, double out[4], AuxFrame aux,
                        const std::vector<MirrorPlane> &mirrors) {
-  const Chain ch = chainOf(c, f);
-  PointDomain d;
-  d.mat = &m;
-  d.el = frontElastic(m);
-  d.P = f.x;
-  d.a = f.a;
-  d.n = c.normal;
-  d.x3 = cross(f.a, c.normal);
-  d.R = R;
-  d.L = ch.closed ? std::min(L, 0.5 * ch.length) : L;
-  d.aux = aux;
-  // A point of the tube is within R of the front and within L of P along it: within R + L of P.
-  const double reach2 = (R + d.L) * (R + d.L);
-  // The mirror images of the tube across symmetry planes the chain ends on: a particle's image is
-  // in the tube at P when the particle is within R + L of P's image.
-  const std::vector<Image> images = imagesOf(c, ch, mirrors, kMirrorTol * R);
-  std::vector<P3> imageP;
-  for (const Image &im : images) {
-    P3 q = d.P;
-    q[static_cast<size_t>(im.axis)] = 2.0 * im.coord - q[static_cast<size_t>(im.axis)];
-    imageP.push_back(q);
-  }
-  for (PetscInt k = 0; k < p.n; ++k) {
-    const P3 x = {p.x[3 * k], p.x[3 * k + 1], p.x[3 * k + 2]};
-    // The particle's place and state, found once for P's tube and its images.
-    std::optional<Place> place;
-    std::optional<ParticleState> state;
-    const auto placed = [&]() -> const Place & {
-      if (!place) place = placeOf(c, ch, x);
-      return *place;
-    };
-    const auto stated = [&]() -> const ParticleState & {
-      if (!state) state = stateOf(m, p, k);
-      return *state;
-    };
-    const P3 r = sub(x, d.P);
-    if (dot(r, r) < reach2) {
-      const Place &pl = placed();
-      if (pl.rho > 0 && pl.rho < R && std::fabs(pl.s) < d.L) particleTerms(d, stated(), pl, out);
-    }
-    for (size_t i = 0; i < images.size(); ++i) {
-      const P3 ri = sub(x, imageP[i]);
-      if (dot(ri, ri) >= reach2) continue;
-      Place pl = placed();
-      if (!(pl.rho > 0 && pl.rho < R)) continue;
-      ParticleState st = stated();
-      mirror(images[i], c, st, pl);
-      if (std::fabs(pl.s) < d.L) particleTerms(d, st, pl, out);
-    }
-  }
+  tubeIntegrals(m, p, c, {f}, {R}, {L}, aux, mirrors, out);
 }
 
 int openChainStart(const CrackSurface &c, const FrontPoint &f) {
@@ -292,70 +320,7 @@ int openChainStart(const CrackSurface &c, const FrontPoint &f) {
 void addChainIntegrals(const Material &m, const ParticleView<3> &p, const CrackSurface &c,
                        const std::vector<FrontPoint> &pts, const std::vector<double> &R,
                        double *out, const std::vector<MirrorPlane> &mirrors) {
-  if (pts.empty()) return;
-  // The chain without P: placeOf's nearest point and frame do not depend on P, its arc length s
-  // is s0 + lambda - sP, formed below as for each P alone (an open chain starts at its first
-  // edge whatever P).
-  Chain raw = chainOf(c, pts[0]);
-  raw.sP = 0;
-  struct Point {
-    PointDomain d;
-    double reach2 = 0, sP = 0;
-    std::vector<Image> images;
-    std::vector<P3> imageP;
-  };
-  std::vector<Point> at(pts.size());
-  for (size_t q = 0; q < pts.size(); ++q) {
-    const Chain ch = chainOf(c, pts[q]);
-    Point &a = at[q];
-    a.d.mat = &m;
-    a.d.el = frontElastic(m);
-    a.d.P = pts[q].x;
-    a.d.a = pts[q].a;
-    a.d.n = c.normal;
-    a.d.x3 = cross(pts[q].a, c.normal);
-    a.d.R = R[q];
-    a.d.L = R[q];
-    a.reach2 = (R[q] + a.d.L) * (R[q] + a.d.L);
-    a.sP = ch.sP;
-    a.images = imagesOf(c, ch, mirrors, kMirrorTol * R[q]);
-    for (const Image &im : a.images) {
-      P3 y = a.d.P;
-      y[static_cast<size_t>(im.axis)] = 2.0 * im.coord - y[static_cast<size_t>(im.axis)];
-      a.imageP.push_back(y);
-    }
-  }
-  // Each particle within reach of a point (or of its images): its place and state, found once.
-  for (PetscInt k = 0; k < p.n; ++k) {
-    const P3 x = {p.x[3 * k], p.x[3 * k + 1], p.x[3 * k + 2]};
-    std::optional<Place> place;
-    std::optional<ParticleState> state;
-    for (size_t q = 0; q < at.size(); ++q) {
-      const Point &a = at[q];
-      const P3 r = sub(x, a.d.P);
-      bool reached = dot(r, r) < a.reach2;
-      for (const P3 &y : a.imageP) {
-        const P3 ri = sub(x, y);
-        reached = reached || dot(ri, ri) < a.reach2;
-      }
-      if (!reached) continue;
-      if (!place) place = placeOf(c, raw, x);
-      Place pl = *place;
-      pl.s = pl.s - a.sP;
-      if (!(pl.rho > 0 && pl.rho < a.d.R)) continue;
-      if (!state) state = stateOf(m, p, k);
-      double *o = out + 4 * q;
-      if (dot(r, r) < a.reach2 && std::fabs(pl.s) < a.d.L) particleTerms(a.d, *state, pl, o);
-      for (size_t i = 0; i < a.images.size(); ++i) {
-        const P3 ri = sub(x, a.imageP[i]);
-        if (dot(ri, ri) >= a.reach2) continue;
-        Place pi = pl;
-        ParticleState st = *state;
-        mirror(a.images[i], c, st, pi);
-        if (std::fabs(pi.s) < a.d.L) particleTerms(a.d, st, pi, o);
-      }
-    }
-  }
+  tubeIntegrals(m, p, c, pts, R, R, AuxFrame::Nearest, mirrors, out);
 }
 
 FrontMeasure finishFront(const Material &m, const CrackSurface &c, const FrontPoint &f, double R,

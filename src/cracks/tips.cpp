@@ -106,6 +106,31 @@ struct BranchCut {
   }
 };
 
+/// Particle k's stress sp and displacement gradient hp (F - I) in the tip frame (t, n), and its
+/// strain energy density W.
+struct TipState {
+  double sp[2][2] = {}, hp[2][2] = {};
+  double W = 0;
+};
+
+TipState tipState(const Material &mat, const ParticleView<2> &p, PetscInt k, const double t[2],
+                  const double n[2]) {
+  const auto s = tensorAt<2>(p.s, k);
+  const auto F = tensorAt<2>(p.F, k);
+  const double H[2][2] = {{F(0, 0) - 1.0, F(0, 1)}, {F(1, 0), F(1, 1) - 1.0}};
+  const double Q[2][2] = {{t[0], t[1]}, {n[0], n[1]}};
+  TipState st;
+  for (int a = 0; a < 2; ++a)
+    for (int b = 0; b < 2; ++b)
+      for (int c = 0; c < 2; ++c)
+        for (int d = 0; d < 2; ++d) {
+          st.sp[a][b] += Q[a][c] * s(c, d) * Q[b][d];
+          st.hp[a][b] += Q[a][c] * H[c][d] * Q[b][d];
+        }
+  st.W = material::strainEnergy(mat, s, p.szz[k], F, p.V0[k], p.V[k]) / p.V[k];
+  return st;
+}
+
 /// Particle k's terms of the domain integrals at tip-frame position (along, across), distance
 /// rr < R, with q = (1 - r^2 / R^2)^2, added to out: J = sum_p V_p (sigma_ij du_i/dx_1 - W
 /// delta_1j) dq/dx_j, and the interaction integrals with the unit mode I and mode II tip fields,
@@ -114,19 +139,9 @@ struct BranchCut {
 void domainTerms(const Material &mat, const TipElastic &el, const ParticleView<2> &p, PetscInt k,
                  const double t[2], const double n[2], double along, double across, double rr,
                  double theta, double R, double out[3]) {
-  const auto s = tensorAt<2>(p.s, k);
-  const auto F = tensorAt<2>(p.F, k);
-  const double H[2][2] = {{F(0, 0) - 1.0, F(0, 1)}, {F(1, 0), F(1, 1) - 1.0}};
-  const double Q[2][2] = {{t[0], t[1]}, {n[0], n[1]}};
-  double sp[2][2] = {}, hp[2][2] = {}; // sigma and grad u in the tip frame
-  for (int a = 0; a < 2; ++a)
-    for (int b = 0; b < 2; ++b)
-      for (int c = 0; c < 2; ++c)
-        for (int d = 0; d < 2; ++d) {
-          sp[a][b] += Q[a][c] * s(c, d) * Q[b][d];
-          hp[a][b] += Q[a][c] * H[c][d] * Q[b][d];
-        }
-  const double W = material::strainEnergy(mat, s, p.szz[k], F, p.V0[k], p.V[k]) / p.V[k];
+  const TipState st = tipState(mat, p, k, t, n);
+  const auto &sp = st.sp, &hp = st.hp;
+  const double W = st.W;
   // q = (1 - r^2 / R^2)^2: its gradient vanishes at the tip and at R, so the particle sum of
   // the integrand (bounded, continuous) has no O(h / R) quadrature error from either end.
   const double fall = -4.0 / (R * R) * (1.0 - rr * rr / (R * R));
@@ -335,7 +350,6 @@ void addFaceTerms(const Material &mat, const ParticleView<2> &p, const Crack &cr
   }
   if (segs.empty()) return;
   const BranchCut cut(crack, end, tip, t);
-  const double Q[2][2] = {{t[0], t[1]}, {n[0], n[1]}};
   for (PetscInt k = 0; k < p.n; ++k) {
     const double *x = &p.x[2 * k];
     for (const auto &g : segs) {
@@ -353,16 +367,9 @@ void addFaceTerms(const Material &mat, const ParticleView<2> &p, const Crack &cr
       // The material's outward normal at its face (into the crack), in the tip frame.
       const double sg = d > 0 ? -1.0 : 1.0;
       const double no[2] = {sg * (nlx * t[0] + nly * t[1]), sg * (nlx * n[0] + nly * n[1])};
-      const auto st = tensorAt<2>(p.s, k);
-      const auto F = tensorAt<2>(p.F, k);
-      const double H[2][2] = {{F(0, 0) - 1.0, F(0, 1)}, {F(1, 0), F(1, 1) - 1.0}};
-      double hp[2][2] = {};
-      for (int a = 0; a < 2; ++a)
-        for (int b = 0; b < 2; ++b)
-          for (int c = 0; c < 2; ++c)
-            for (int e = 0; e < 2; ++e)
-              hp[a][b] += Q[a][c] * H[c][e] * Q[b][e];
-      const double W = material::strainEnergy(mat, st, p.szz[k], F, p.V0[k], p.V[k]) / p.V[k];
+      const TipState ps = tipState(mat, p, k, t, n);
+      const auto &hp = ps.hp;
+      const double W = ps.W;
       const double ds = p.V[k] / w * qf; // the particle's share of the face, weighted by q
       out[0] += ds * W * no[0];
       const double eps[3] = {hp[0][0], hp[1][1], 0.5 * (hp[0][1] + hp[1][0])};
