@@ -259,10 +259,10 @@ cases += [
      ["the attribute /state/step is 2.5, not a count"]),
     ("NaN mean particle mass", damaged("nan_mass", setattr_("mean_particle_mass", np.nan)),
      ["the attribute /state/mean_particle_mass is nan"]),
-    ("a string format", damaged("str_format", setattr_("format", "5")),
+    ("a string format", damaged("str_format", setattr_("format", "6")),
      ["the attribute /state/format is not of type float64"]),
     ("layout version 4", damaged("format4", setattr_("format", 4.0)),
-     ["its layout version 4 is not 5"]),
+     ["its layout version 4 is not 6"]),
 ]
 trunc = os.path.join(W, "bad_truncated.h5")
 with open(ck, "rb") as f:

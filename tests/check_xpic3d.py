@@ -83,8 +83,11 @@ for m in (2, 3):
             (s["status"], s["steps"], dev))
 L = {n: loss(n)[0] for n in ("pic", "xpic2", "xpic3", "flip")}
 eps = {n: per_step(v) for n, v in L.items()}
-c.check("dissipation PIC > XPIC(2) > XPIC(3)", L["pic"] > L["xpic2"] > L["xpic3"] > 0,
-        "energy lost over %d steps: PIC %.3e, XPIC(2) %.3e, XPIC(3) %.3e (FLIP %.3e)" %
+# (FLIP, which dissipates nothing, is the zero of the measure: its kinetic + strain is measured
+# to about 2e-5 here, more than XPIC(3) loses.)
+c.check("dissipation PIC > XPIC(2) > XPIC(3) > FLIP",
+        L["pic"] > L["xpic2"] > L["xpic3"] > L["flip"],
+        "energy lost over %d steps: PIC %.3e, XPIC(2) %.3e, XPIC(3) %.3e, FLIP %.3e" %
         (steps, L["pic"], L["xpic2"], L["xpic3"], L["flip"]))
 ratio = (eps["xpic2"] - eps["flip"]) / eps["pic"] ** 2
 c.check("xpic(2) loses eps1^2", 1 / 1.5 < ratio < 1.5,

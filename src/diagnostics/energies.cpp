@@ -19,12 +19,25 @@ double strainEnergyOf(const Scene<3> &sc, const ParticleView<3> &p, PetscInt k) 
 
 } // namespace
 
+template <int D> double strainEnergySum(const Scene<D> &sc, const ParticleView<D> &p) {
+  double sum = 0;
+  for (PetscInt k = 0; k < p.n; ++k)
+    sum += strainEnergyOf(sc, p, k);
+  return sum;
+}
+template double strainEnergySum<2>(const Scene<2> &, const ParticleView<2> &);
+template double strainEnergySum<3>(const Scene<3> &, const ParticleView<3> &);
+
 template <int D>
 PetscErrorCode particleEnergies(MPI_Comm comm, const Scene<D> &sc, DM sw, const WorkLedger &work,
                                 Energies &e) {
   ParticleView<D> p;
   PetscCall(p.get(sw));
-  double loc[2 + D] = {}, glob[2 + D];
+  // (after the momentum: the strain energy before the last update and whether it was measured)
+  double loc[4 + D] = {}, glob[4 + D];
+  for (double b : work.strainBefore)
+    loc[2 + D] += b;
+  loc[3 + D] = work.strainBefore.empty() ? 0.0 : 1.0;
   for (PetscInt k = 0; k < p.n; ++k) {
     double v2 = 0;
     for (int a = 0; a < D; ++a)
@@ -35,9 +48,12 @@ PetscErrorCode particleEnergies(MPI_Comm comm, const Scene<D> &sc, DM sw, const 
       loc[2 + a] += p.m[k] * p.v[D * k + a];
   }
   PetscCall(p.restore(sw));
-  PetscCallMPI(MPI_Allreduce(loc, glob, 2 + D, MPI_DOUBLE, MPI_SUM, comm));
+  PetscCallMPI(MPI_Allreduce(loc, glob, 4 + D, MPI_DOUBLE, MPI_SUM, comm));
   e.kinetic = glob[0];
-  e.strain = glob[1];
+  PetscMPIInt ranks = 1;
+  PetscCallMPI(MPI_Comm_size(comm, &ranks));
+  const bool measured = glob[3 + D] == static_cast<double>(ranks);
+  e.strain = measured ? glob[1] + work.strainShift * (glob[1] - glob[2 + D]) : glob[1];
   for (int a = 0; a < D; ++a)
     e.momentum[a] = glob[2 + a];
   e.externalWork = work.external;

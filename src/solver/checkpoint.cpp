@@ -14,6 +14,7 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <limits>
 #include <stdexcept>
 #include <sys/resource.h>
 #include <sys/stat.h>
@@ -197,6 +198,18 @@ template <int D> PetscErrorCode Checkpoint<D>::write(PetscInt step, double t) {
 
 namespace {
 
+/// The strain energy before the last stress update, summed over the ranks (NaN when the last
+/// step did not measure it), so that a restart reports the energies of the straight run.
+PetscErrorCode strainBeforeSum(MPI_Comm comm, const WorkLedger &w, PetscMPIInt ranks,
+                               double &sum) {
+  double mine[2] = {0, w.strainBefore.empty() ? 0.0 : 1.0}, all[2] = {};
+  for (double b : w.strainBefore)
+    mine[0] += b;
+  PetscCallMPI(MPI_Allreduce(mine, all, 2, MPI_DOUBLE, MPI_SUM, comm));
+  sum = all[1] == static_cast<double>(ranks) ? all[0] : std::numeric_limits<double>::quiet_NaN();
+  return PETSC_SUCCESS;
+}
+
 /// What moved in the run: the grown cracks (2D) and the levels that follow a point.
 template <int D> PetscErrorCode writeMoves(MPI_Comm comm, PetscViewer v, const RunState<D> &s) {
   if (s.sc.follows()) PetscCall(writeArray(comm, v, "follow", followState(s)));
@@ -248,6 +261,8 @@ template <int D> PetscErrorCode Checkpoint<D>::writeFile(PetscInt step, double t
   PetscReal dt = 0;
   PetscCall(TSGetTimeStep(s.ts, &dt));
   const RunMeasures &m = s.measures;
+  double strainBefore = 0;
+  PetscCall(strainBeforeSum(comm, s.work, s.size, strainBefore));
   const double values[kNScalars] = {kFormat,
                                     static_cast<double>(step),
                                     t,
@@ -266,7 +281,8 @@ template <int D> PetscErrorCode Checkpoint<D>::writeFile(PetscInt step, double t
                                     static_cast<double>(s.status.restRows),
                                     s.status.restStrain,
                                     s.status.atRest ? 1.0 : 0.0,
-                                    m.dtCritical};
+                                    m.dtCritical,
+                                    strainBefore};
   for (size_t q = 0; q < kNScalars; ++q)
     PetscCall(PetscViewerHDF5WriteAttribute(v, "/state", kScalars[q], PETSC_DOUBLE, &values[q]));
   PetscCall(PetscViewerHDF5PopGroup(v));
@@ -458,6 +474,9 @@ template <int D> PetscErrorCode Checkpoint<D>::restoreState(const std::vector<do
   s.status.atRest = sv[17] != 0;
   // The smallest critical step of the run so far (re-checks before the checkpoint included).
   m.dtCritical = std::fmin(m.dtCritical, sv[18]);
+  // (rank 0 holds the sum; an empty ledger where it was not measured)
+  s.work.strainBefore.clear();
+  if (!std::isnan(sv[19])) s.work.strainBefore.assign(1, s.rank == 0 ? sv[19] : 0.0);
   return PETSC_SUCCESS;
 }
 

@@ -10,7 +10,7 @@
 
 namespace gimp::ckpt {
 
-inline constexpr double kFormat = 5; // layout version of checkpoint.h5
+inline constexpr double kFormat = 6; // layout version of checkpoint.h5
 
 /// The scalar attributes of /state, in this order.
 inline constexpr const char *kScalars[] = {"format",
@@ -31,7 +31,8 @@ inline constexpr const char *kScalars[] = {"format",
                                            "rest_rows",
                                            "rest_strain",
                                            "at_rest",
-                                           "dt_critical"};
+                                           "dt_critical",
+                                           "strain_before"};
 inline constexpr size_t kNScalars = sizeof(kScalars) / sizeof(kScalars[0]);
 
 /// Text as doubles: its byte count, then the bytes 8 to a value.

@@ -122,7 +122,9 @@ std::string readScalar(hid_t f, const char *name, double &x) {
 std::string scalarWhy(size_t q, double x) {
   const std::string name = kScalars[q];
   const std::string is = "the attribute /state/" + name + " is " + formatNumber(x);
-  if (std::isnan(x) && (name == "separation_strain" || name == "dt_critical")) return "";
+  if (std::isnan(x) &&
+      (name == "separation_strain" || name == "dt_critical" || name == "strain_before"))
+    return "";
   if (!std::isfinite(x)) return is + ", not a finite number";
   for (const char *count : {"step", "ranks", "particles", "migrated", "rest_rows", "at_rest"})
     if (name == count && !isCount(x)) return is + ", not a count";

@@ -41,9 +41,12 @@ template <int D> PetscErrorCode MultiRate<D>::create(Vec like) {
   if (s_.sc.multirateNodeRule) { // the node rule's forces, bases and rates (the impulse rule
                                  // sums on the window)
     perClass.insert(perClass.end(), {&v.force, &v.base});
-    if (s_.boundary.active()) perClass.insert(perClass.end(), {&v.fext, &v.baseExt});
+    if (s_.boundary.active()) perClass.push_back(&v.baseExt);
     PetscCall(VecDuplicate(like, &v.nodeRate));
   }
+  if (s_.boundary.active()) perClass.push_back(&v.fext); // (for the work at the class's end)
+  r.extStart.assign(n, 0.0);
+  r.extScale.assign(n, 0.0);
   for (std::vector<Vec> *vs : perClass) {
     vs->assign(n, nullptr);
     for (Vec &x : *vs)
@@ -129,6 +132,7 @@ template <int D> PetscErrorCode MultiRate<D>::run(StepClock &done) {
   ParticleView<D> p;
   PetscCall(p.get(s.sw));
   PetscCall(VecZeroEntries(s.nodal.P)); // every class starts at sub-step 0
+  s.work.strainBefore.assign(s.work.measureStrain ? r_.n : 0, 0.0);
   const bool cracked = !s.sc.cracks.empty();
   for (PetscInt j = 0; j < s.stride(); ++j) {
     StepClock c;

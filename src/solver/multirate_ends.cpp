@@ -63,11 +63,13 @@ PetscErrorCode MultiRate<D>::classForces(const ParticleView<D> &p, const StepClo
       if (!nodeRule) {
         PetscCall(VecAXPY(n.sumW, mk, w0));
         PetscCall(VecAXPY(n.extW, mk, w0));
-      } else {
-        PetscCall(VecZeroEntries(sums_.fext[k]));
-        PetscCall(s.grid.addFromWindow(w0, sums_.fext[k]));
-        PetscCall(VecAXPY(sums_.force[k], 1.0, sums_.fext[k]));
       }
+      PetscCall(VecZeroEntries(sums_.fext[k]));
+      PetscCall(s.grid.addFromWindow(w0, sums_.fext[k]));
+      if (nodeRule) PetscCall(VecAXPY(sums_.force[k], 1.0, sums_.fext[k]));
+      // Impulse rule: its work is booked at its class's end (MultiRate::externalWork).
+      r.extScale[k] = mk * c.kick;
+      if (!nodeRule) PetscCall(VecDot(sums_.fext[k], n.vel, &r.extStart[k]));
     }
     if (nodeRule) PetscCall(deliverNodeRule(k, j, c.kick, external));
   }
@@ -78,13 +80,14 @@ PetscErrorCode MultiRate<D>::classForces(const ParticleView<D> &p, const StepClo
     PetscCall(VecScale(n.f, 1.0 / c.kick));
     if (external) PetscCall(VecScale(n.fext, 1.0 / c.kick));
   }
-  // The power of the damping and of the delivered external force at the sub-step's start.
+  // The power of the damping and, with the node rule, of the delivered external force at the
+  // sub-step's start (the impulse rule books each class's external work itself).
   if (s.sc.damping > 0) {
     PetscScalar pv = 0;
     PetscCall(VecDot(n.P, n.vel, &pv));
     power.damping = s.sc.damping * pv;
   }
-  if (external) PetscCall(VecDot(n.fext, n.vel, &power.external));
+  if (external && nodeRule) PetscCall(VecDot(n.fext, n.vel, &power.external));
   PetscCall(PetscLogStagePop());
   return PETSC_SUCCESS;
 }
@@ -217,15 +220,40 @@ PetscErrorCode MultiRate<D>::endClasses(ParticleView<D> &p, const StepClock &c, 
   for (size_t e = 0; e < ending.size(); ++e)
     PetscCall(endClass(p, c, ending[e], e, flip));
   PetscCall(PetscLogStagePop());
-  // Work of the damping and of the delivered external force every sub-step, with MUSL's
-  // velocity at the end (the grid velocity plus the ending classes' corrections), as in the
-  // single-rate step.
+  // The work of the external impulses (classForces): a class's impulse m_c dt f_c times the mean
+  // of the grid velocity before and after it (its start sub-step), the latter with the MUSL
+  // correction its class's end brings (the corrections of the classes ending there); with one
+  // class the single-rate ledger.
+  // The node rule (USL only) delivers the forces at other sub-steps: their work per sub-step.
+  const bool nodeRule = s.sc.multirateNodeRule;
+  if (s.boundary.active() && !nodeRule) PetscCall(externalWork(c, j, ending));
+  // Damping per sub-step, with MUSL's velocity at the end (the grid velocity plus the ending
+  // classes' corrections), as in the single-rate step.
   const bool corrected = musl && !ending.empty(); // (USF is refused with -gimp_multirate)
   if (corrected) PetscCall(VecAXPY(s.nodal.vel, 1.0, scratch_.corrSum));
-  PetscCall(step_.work(c, power));
+  PetscCall(step_.work(c, power, nodeRule));
   // The ending classes leave the nodes; at the coarse end every class does and the next coarse
   // step starts from P = 0, so P keeps the nodal momentum for the monitor and the frames.
   if (!ending.empty() && j + 1 < s.stride()) PetscCall(VecAXPY(s.nodal.P, -1.0, scratch_.taken));
+  return PETSC_SUCCESS;
+}
+
+template <int D>
+PetscErrorCode MultiRate<D>::externalWork(const StepClock &c, PetscInt j,
+                                         const std::vector<int> &ending) {
+  RateClasses<D> &r = r_;
+  const bool musl = s_.scheme.stressFromReprojection;
+  for (int k = 0; k < r.n; ++k) // the classes that started at this sub-step: after the impulse
+    if (r.size[k] > 0 && r.start[k] == j) {
+      PetscScalar fv = 0;
+      PetscCall(VecDot(sums_.fext[k], s_.nodal.vel, &fv));
+      r.extStart[k] += fv;
+    }
+  for (int k : ending) {
+    PetscScalar fc = 0;
+    if (musl) PetscCall(VecDot(sums_.fext[k], scratch_.corrSum, &fc));
+    s_.work.external += 0.5 * c.dt * r.extScale[k] * (r.extStart[k] + fc);
+  }
   return PETSC_SUCCESS;
 }
 
@@ -320,7 +348,10 @@ PetscErrorCode MultiRate<D>::endClass(ParticleView<D> &p, const StepClock &c, in
     PetscCall(correction(c, k, e));
     w = w0.meanW;
   }
-  return step_.stress(r.st[k], q, w, every * c.dt);
+  // (a report follows the coarse step: the class's strain energy before its update, the last
+  // one of the coarse step counting; WorkLedger::strainBefore)
+  double *sb = s.work.strainBefore.empty() ? nullptr : &s.work.strainBefore[k];
+  return step_.stress(r.st[k], q, w, every * c.dt, sb);
 }
 
 template <int D> PetscErrorCode MultiRate<D>::correction(const StepClock &c, int k, size_t e) {

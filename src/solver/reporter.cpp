@@ -61,6 +61,21 @@ template <int D> PetscErrorCode Reporter<D>::report(PetscInt step, double t) {
   return PETSC_SUCCESS;
 }
 
+template <int D>
+PetscErrorCode Reporter<D>::energiesDue(PetscInt step, double t, bool &due) const {
+  const RunState<D> &s = s_;
+  PetscInt maxSteps = 0;
+  PetscReal maxTime = 0, dt = 0;
+  PetscCall(TSGetMaxSteps(s.ts, &maxSteps));
+  PetscCall(TSGetMaxTime(s.ts, &maxTime));
+  PetscCall(TSGetTimeStep(s.ts, &dt));
+  const PetscInt R = s.stride(), after = step + R;
+  due = after >= maxSteps || t + static_cast<double>(R) * dt * (1 + 1e-9) >= maxTime;
+  for (PetscInt interval : {s.sc.historyInterval, s.sc.monitorInterval, s.sc.checkpointInterval})
+    due = due || dueIn(step + 1, after + 1, interval);
+  return PETSC_SUCCESS;
+}
+
 template <int D> PetscErrorCode Reporter<D>::historyRow(PetscInt step, double t, HistoryRow &row) {
   RunState<D> &s = s_;
   row.step = step;

@@ -44,6 +44,11 @@ template <int D> PetscErrorCode Solver<D>::run() {
 
 template <int D> PetscErrorCode Solver<D>::advance() {
   StepClock done;
+  PetscInt step = 0;
+  PetscReal t = 0;
+  PetscCall(TSGetStepNumber(s_.ts, &step));
+  PetscCall(TSGetTime(s_.ts, &t));
+  PetscCall(reporter_.energiesDue(step, t, s_.work.measureStrain));
   if (multirate_)
     PetscCall(multirate_->run(done)); // R fine steps, a step per level (multirate.cpp)
   else

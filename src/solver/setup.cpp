@@ -107,6 +107,8 @@ template <int D> PetscErrorCode Solver<D>::setupInStage(PetscLogDouble wall0) {
   PetscCall(checkRunPaths(s.comm, runPaths(s.sc))); // before anything is computed or written
   PetscCall(checkProblemSize<D>(s.comm, s.sc, itemBytes(s.sc)));
   s.scheme = schemeFor(s.sc.update);
+  // The strain energy of a report at the velocities' time (WorkLedger::strainShift).
+  s.work.strainShift = s.scheme.stressBeforeGridUpdate ? 0.5 : -0.5;
   s.lanes = D == 2 && s.sc.lanes && transfer::laneLoops::available();
   if (D == 2)
     PetscCall(

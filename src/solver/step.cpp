@@ -36,14 +36,18 @@ template <int D> PetscErrorCode Step<D>::run(StepClock &done) {
     PetscCall(crackFaces(p, nullptr));
     PetscCall(contactOnMomentum(c));
   }
-  if (s.scheme.stressBeforeGridUpdate) PetscCall(stress(s.st, p, s.nodal.velW, c.dt));
+  // The strain energy before the update when a report follows (WorkLedger::strainBefore).
+  std::vector<double> &before = s.work.strainBefore;
+  before.assign(s.work.measureStrain ? 1 : 0, 0.0);
+  double *sb = before.empty() ? nullptr : before.data();
+  if (s.scheme.stressBeforeGridUpdate) PetscCall(stress(s.st, p, s.nodal.velW, c.dt, sb));
   StartPower power;
   PetscCall(forces(p, c, power));
   PetscCall(gridUpdate());
   if (cracked) PetscCall(crackContact(c, s.nodal.velW, s.nodal.vel, s.nodal.accW, s.nodal.acc));
   PetscCall(gridToParticles(p, c, centres));
   PetscCall(work(c, power));
-  if (!s.scheme.stressBeforeGridUpdate) PetscCall(stress(s.st, p, s.nodal.velW, c.dt));
+  if (!s.scheme.stressBeforeGridUpdate) PetscCall(stress(s.st, p, s.nodal.velW, c.dt, sb));
   done = c;
   ++done.step;
   done.t = c.t + c.dt;
@@ -249,10 +253,11 @@ PetscErrorCode Step<D>::work(const StepClock &c, const StartPower &power, bool e
 
 template <int D>
 PetscErrorCode Step<D>::stress(const Stencils<D> &st, ParticleView<D> &p, Vec velocityWindow,
-                               double dt) {
+                               double dt, double *strainBefore) {
   // Velocity gradient from the scheme's velocity field, then F, volume, stress and domain.
   RunState<D> &s = s_;
   PetscCall(PetscLogStagePush(s.stages.stress));
+  if (strainBefore) *strainBefore = strainEnergySum<D>(s.sc, p); // (a report follows the step)
   // In chunks that stay in cache: the gradients of a chunk, then its particles' update.
   constexpr PetscInt kChunk = 256;
   L_.resize(D * D * static_cast<size_t>(kChunk));
@@ -295,7 +300,8 @@ PetscErrorCode Step<D>::stress(const Stencils<D> &st, ParticleView<D> &p, Vec ve
   template PetscErrorCode Step<D>::globalForces(StartPower &, bool);                               \
   template PetscErrorCode Step<D>::gridUpdate(bool);                                               \
   template PetscErrorCode Step<D>::work(const StepClock &, const StartPower &, bool);              \
-  template PetscErrorCode Step<D>::stress(const Stencils<D> &, ParticleView<D> &, Vec, double);
+  template PetscErrorCode Step<D>::stress(const Stencils<D> &, ParticleView<D> &, Vec, double,     \
+                                          double *);
 GIMP_INSTANTIATE(2)
 GIMP_INSTANTIATE(3)
 #undef GIMP_INSTANTIATE

@@ -29,6 +29,10 @@ template <int D> struct RateClasses {
   std::vector<Stencils<D>> st;    // class c's stencils, from its last start
   std::vector<PetscInt> start;    // the sub-step of class c's last start
   std::vector<char> live; // a class stepping every sub-step: inc holds its increments (else dt a)
+  // With external forces, for the work of class c's external impulse: the power of its force
+  // (ClassSums::fext) before and after the impulse, summed, and the impulse's factor (m_c, times
+  // the kick weight of its start).
+  std::vector<double> extStart, extScale;
 };
 
 /// Global, per class (dof layout of the momentum): what it brought to the nodes at its start and
@@ -42,8 +46,9 @@ struct ClassSums {
   // and of the grid velocities since.
   std::vector<Vec> mass, mom, inc, vsum;
   // Node rule only: its force at its last start (internal and external, times that step's kick
-  // weight) and that force at the start of each node's anchor step (base); with external forces
-  // the external part again, on its own, and its base.
+  // weight) and that force at the start of each node's anchor step (base). With external forces
+  // (either rule) the external part on its own (fext; the impulse rule's without the kick weight)
+  // and, node rule, its base.
   std::vector<Vec> force, base, fext, baseExt;
   // Node rule: each node's rate, the step of the slowest class whose mass is on it now (its
   // anchor; every dof), set where a class starts.
@@ -101,6 +106,9 @@ private:
   /// After the grid update of sub-step j: the ending classes' G2P, stress and momentum removal.
   PetscErrorCode endClasses(ParticleView<D> &p, const StepClock &c, PetscInt j,
                             const StartPower &power);
+  /// After the grid update of sub-step j: the work of the starting classes' external impulses
+  /// (booked at their classes' ends, with the ending classes' MUSL correction).
+  PetscErrorCode externalWork(const StepClock &c, PetscInt j, const std::vector<int> &ending);
   /// Every class ends with a FLIP/PIC blend: the momentum no particle took goes to them.
   PetscErrorCode spreadRemainder(const std::vector<int> &ending, const StepClock &c, double flip);
   /// Class k's G2P and stress at its end (the e-th of the ending classes).

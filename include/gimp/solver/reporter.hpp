@@ -26,6 +26,9 @@ public:
   PetscErrorCode open(const OutputResume *resume);
   /// A fresh run's first frame and history row, the reference of the energy balance.
   PetscErrorCode start();
+  /// Before the (coarse) step from `step`, t: whether a report with energies may follow it (a
+  /// history or monitor row, a checkpoint, the run's step or time limit).
+  PetscErrorCode energiesDue(PetscInt step, double t, bool &due) const;
   /// After a (coarse) step ending at `step`, t: the reports due within it.
   PetscErrorCode report(PetscInt step, double t);
   /// The last frame and history row (if the intervals did not just write them), the particle

@@ -68,7 +68,8 @@ public:
   /// The step's work: damping, and the external forces unless `external` is false (the
   /// multi-rate step takes each class's external work over its own step).
   PetscErrorCode work(const StepClock &c, const StartPower &power, bool external = true);
-  PetscErrorCode stress(const Stencils<D> &st, ParticleView<D> &p, Vec velocityWindow, double dt);
+  PetscErrorCode stress(const Stencils<D> &st, ParticleView<D> &p, Vec velocityWindow, double dt,
+                        double *strainBefore = nullptr);
   /// After the step: a particle that went bad stops the run on every rank; with it, in one
   /// reduction, the particles leaving their rank and SIGINT/SIGTERM.
   PetscErrorCode checks(const ParticleView<D> &p, PetscInt step, double t);
