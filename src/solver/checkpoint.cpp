@@ -200,8 +200,7 @@ namespace {
 
 /// The strain energy before the last stress update, summed over the ranks (NaN when the last
 /// step did not measure it), so that a restart reports the energies of the straight run.
-PetscErrorCode strainBeforeSum(MPI_Comm comm, const WorkLedger &w, PetscMPIInt ranks,
-                               double &sum) {
+PetscErrorCode strainBeforeSum(MPI_Comm comm, const WorkLedger &w, PetscMPIInt ranks, double &sum) {
   double mine[2] = {0, w.strainBefore.empty() ? 0.0 : 1.0}, all[2] = {};
   for (double b : w.strainBefore)
     mine[0] += b;

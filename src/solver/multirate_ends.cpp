@@ -240,7 +240,7 @@ PetscErrorCode MultiRate<D>::endClasses(ParticleView<D> &p, const StepClock &c, 
 
 template <int D>
 PetscErrorCode MultiRate<D>::externalWork(const StepClock &c, PetscInt j,
-                                         const std::vector<int> &ending) {
+                                          const std::vector<int> &ending) {
   RateClasses<D> &r = r_;
   const bool musl = s_.scheme.stressFromReprojection;
   for (int k = 0; k < r.n; ++k) // the classes that started at this sub-step: after the impulse

@@ -61,8 +61,7 @@ template <int D> PetscErrorCode Reporter<D>::report(PetscInt step, double t) {
   return PETSC_SUCCESS;
 }
 
-template <int D>
-PetscErrorCode Reporter<D>::energiesDue(PetscInt step, double t, bool &due) const {
+template <int D> PetscErrorCode Reporter<D>::energiesDue(PetscInt step, double t, bool &due) const {
   const RunState<D> &s = s_;
   PetscInt maxSteps = 0;
   PetscReal maxTime = 0, dt = 0;
