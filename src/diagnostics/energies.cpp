@@ -3,6 +3,9 @@
 #include "gimp/particles/swarm.hpp"
 #include "gimp/physics/material.hpp"
 
+#include <cmath>
+#include <limits>
+
 namespace gimp {
 
 namespace {
@@ -28,16 +31,21 @@ template <int D> double strainEnergySum(const Scene<D> &sc, const ParticleView<D
 template double strainEnergySum<2>(const Scene<2> &, const ParticleView<2> &);
 template double strainEnergySum<3>(const Scene<3> &, const ParticleView<3> &);
 
+PetscErrorCode strainBeforeTotal(MPI_Comm comm, const WorkLedger &work, double &sum) {
+  double mine[2] = {0, work.strainBefore.empty() ? 1.0 : 0.0}, all[2] = {};
+  for (double b : work.strainBefore)
+    mine[0] += b;
+  PetscCallMPI(MPI_Allreduce(mine, all, 2, MPI_DOUBLE, MPI_SUM, comm));
+  sum = all[1] == 0 ? all[0] : std::numeric_limits<double>::quiet_NaN();
+  return PETSC_SUCCESS;
+}
+
 template <int D>
 PetscErrorCode particleEnergies(MPI_Comm comm, const Scene<D> &sc, DM sw, const WorkLedger &work,
                                 Energies &e) {
   ParticleView<D> p;
   PetscCall(p.get(sw));
-  // (after the momentum: the strain energy before the last update and whether it was measured)
-  double loc[4 + D] = {}, glob[4 + D];
-  for (double b : work.strainBefore)
-    loc[2 + D] += b;
-  loc[3 + D] = work.strainBefore.empty() ? 0.0 : 1.0;
+  double loc[2 + D] = {}, glob[2 + D];
   for (PetscInt k = 0; k < p.n; ++k) {
     double v2 = 0;
     for (int a = 0; a < D; ++a)
@@ -48,12 +56,11 @@ PetscErrorCode particleEnergies(MPI_Comm comm, const Scene<D> &sc, DM sw, const 
       loc[2 + a] += p.m[k] * p.v[D * k + a];
   }
   PetscCall(p.restore(sw));
-  PetscCallMPI(MPI_Allreduce(loc, glob, 4 + D, MPI_DOUBLE, MPI_SUM, comm));
+  PetscCallMPI(MPI_Allreduce(loc, glob, 2 + D, MPI_DOUBLE, MPI_SUM, comm));
   e.kinetic = glob[0];
-  PetscMPIInt ranks = 1;
-  PetscCallMPI(MPI_Comm_size(comm, &ranks));
-  const bool measured = glob[3 + D] == static_cast<double>(ranks);
-  e.strain = measured ? glob[1] + work.strainShift * (glob[1] - glob[2 + D]) : glob[1];
+  double before = 0; // (NaN: not measured, the strain energy now)
+  PetscCall(strainBeforeTotal(comm, work, before));
+  e.strain = std::isnan(before) ? glob[1] : glob[1] + work.strainShift * (glob[1] - before);
   for (int a = 0; a < D; ++a)
     e.momentum[a] = glob[2 + a];
   e.externalWork = work.external;

@@ -14,7 +14,6 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
-#include <limits>
 #include <stdexcept>
 #include <sys/resource.h>
 #include <sys/stat.h>
@@ -198,17 +197,6 @@ template <int D> PetscErrorCode Checkpoint<D>::write(PetscInt step, double t) {
 
 namespace {
 
-/// The strain energy before the last stress update, summed over the ranks (NaN when the last
-/// step did not measure it), so that a restart reports the energies of the straight run.
-PetscErrorCode strainBeforeSum(MPI_Comm comm, const WorkLedger &w, PetscMPIInt ranks, double &sum) {
-  double mine[2] = {0, w.strainBefore.empty() ? 0.0 : 1.0}, all[2] = {};
-  for (double b : w.strainBefore)
-    mine[0] += b;
-  PetscCallMPI(MPI_Allreduce(mine, all, 2, MPI_DOUBLE, MPI_SUM, comm));
-  sum = all[1] == static_cast<double>(ranks) ? all[0] : std::numeric_limits<double>::quiet_NaN();
-  return PETSC_SUCCESS;
-}
-
 /// What moved in the run: the grown cracks (2D) and the levels that follow a point.
 template <int D> PetscErrorCode writeMoves(MPI_Comm comm, PetscViewer v, const RunState<D> &s) {
   if (s.sc.follows()) PetscCall(writeArray(comm, v, "follow", followState(s)));
@@ -260,8 +248,9 @@ template <int D> PetscErrorCode Checkpoint<D>::writeFile(PetscInt step, double t
   PetscReal dt = 0;
   PetscCall(TSGetTimeStep(s.ts, &dt));
   const RunMeasures &m = s.measures;
+  // (so that a restart reports the energies of the straight run)
   double strainBefore = 0;
-  PetscCall(strainBeforeSum(comm, s.work, s.size, strainBefore));
+  PetscCall(strainBeforeTotal(comm, s.work, strainBefore));
   const double values[kNScalars] = {kFormat,
                                     static_cast<double>(step),
                                     t,

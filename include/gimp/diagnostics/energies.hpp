@@ -36,6 +36,10 @@ struct WorkLedger {
 /// The strain energy of the particles of p (this rank's sum).
 template <int D> double strainEnergySum(const Scene<D> &sc, const ParticleView<D> &p);
 
+/// The ledger's strain energy before the last stress update, summed over the ranks (collective);
+/// NaN when the last step did not measure it (WorkLedger::strainBefore empty on a rank).
+PetscErrorCode strainBeforeTotal(MPI_Comm comm, const WorkLedger &work, double &sum);
+
 /// Kinetic and strain energy and momentum of all particles (collective), with the ledger's work.
 template <int D>
 PetscErrorCode particleEnergies(MPI_Comm comm, const Scene<D> &sc, DM sw, const WorkLedger &work,
