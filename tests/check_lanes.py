@@ -1,5 +1,6 @@
-"""The 2D kernels in lanes of four particles (-gimp_lanes, transfer/lane_loops.hpp) against the scalar
-kernels: every scene kind must give the same bits.
+"""The kernels in lanes (-gimp_lanes: 2D four particles at a time, transfer/lane_loops.hpp; 3D a
+node's three components at once, transfer/lane_loops3.hpp) against the scalar kernels: every scene
+kind must give the same bits.
 
 Each case runs twice, with -gimp_lanes true and false, and compares the last frame of
 fields.h5 (every particle field, every particle) and every column of history.csv for exact
@@ -51,6 +52,20 @@ CASES = [
     ("block_no_tracking", "bench/block.opts",
      ["-gimp_h", "0.03125", "-ts_max_steps", "60", "-gimp_tracking", "none", "-gimp_plane",
       "stress"], 1),
+    # 3D: a node's three components in lanes (APIC and FLIP, with the re-projection and without,
+    # one level and three, a step per level, two ranks)
+    ("block3d_apic", "bench/block3d.opts", ["-gimp_h", "0.0833333333333333", "-ts_max_steps", "30"],
+     1),
+    ("block3d_flip_usl", "bench/block3d.opts",
+     ["-gimp_h", "0.0833333333333333", "-ts_max_steps", "30", "-gimp_transfer", "flip",
+      "-gimp_update", "usl"], 1),
+    ("block3d_levels_flip", "bench/block3d_levels.opts",
+     ["-ts_max_steps", "12", "-gimp_transfer", "flip"], 1),
+    ("block3d_levels_usf", "bench/block3d_levels.opts", ["-ts_max_steps", "12", "-gimp_update", "usf"],
+     1),
+    ("block3d_multirate", "bench/block3d_levels.opts",
+     ["-ts_max_steps", "12", "-gimp_transfer", "flip", "-gimp_multirate", "true"], 1),
+    ("block3d_2ranks", "bench/block3d_levels.opts", ["-ts_max_steps", "12"], 2),
 ]
 
 
@@ -73,7 +88,8 @@ for name, opts, extra, ranks in CASES:
             sys.stderr.write(p.stderr[-2000:])
             raise SystemExit("gimp failed on %s (-gimp_lanes %s)" % (name, lanes))
         if lanes == "true" and used is None:
-            used = "lanes of four particles: yes" in p.stdout + p.stderr
+            used = "in lanes: yes" in p.stdout + p.stderr or \
+                "lanes of four particles: yes" in p.stdout + p.stderr
         runs[lanes] = out
     step_a, a = last_frame(runs["true"])
     step_b, b = last_frame(runs["false"])

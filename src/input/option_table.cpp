@@ -44,8 +44,8 @@ const std::vector<OptionSpec> kRun = {
      " bodies and the levels before seeding) along each axis the ranks divide; false: the same"
      " number of level-0 nodes each"},
     {"gimp_lanes", Kind::Bool, "", "true", "", nullptr, {},
-     "Run the 2D kernels of block particles four at a time (AVX2, where the processor has it;"
-     " bit for bit the same results)"},
+     "Run the kernels of block particles in AVX2 lanes where the processor has it (2D: four"
+     " particles at a time; 3D: a node's three components at once); bit for bit the same results"},
     {"gimp_mms", Kind::Choice, "", "none", "none|skb1d", nullptr, {},
      "Manufactured solution: none, or skb1d (an axial standing wave in x, neo-Hookean, nu 0)"},
     {"gimp_mms_amplitude", Kind::Real, "m", "1e-4", "", nullptr, above(0),
@@ -180,11 +180,6 @@ const std::vector<Feature> &featureTable() {
        "plane bodies; 3D bodies are boxes, spheres and cylinders with "
        "box, spherical and cylindrical holes (3D bodies: box, sphere, cylinder, hole_boxes, "
        "hole_spheres, hole_cylinders)"},
-      {"four-particle lanes",
-       In2D,
-       {"gimp_lanes"},
-       "a choice between two implementations of the 2D kernels that give the same bits (AVX2 loops "
-       "of four particles or scalar loops); the 3D kernels have one implementation"},
       {"solid bodies",
        In3D,
        {"gimp_bodyK_shape=box", "gimp_bodyK_shape=sphere", "gimp_bodyK_shape=cylinder",

@@ -49,7 +49,7 @@ template <int D> void readOutputs(const Options &o, Scene<D> &sc) {
   sc.mms = o.choice("gimp_mms", "none") == "skb1d" ? Mms::AxialWave : Mms::None;
   sc.mmsAmplitude = o.real("gimp_mms_amplitude", sc.mmsAmplitude);
   o.needs(sc.mms != Mms::None, "gimp_mms_amplitude", "-gimp_mms skb1d");
-  if constexpr (D == 2) sc.lanes = o.flag("gimp_lanes", true);
+  sc.lanes = o.flag("gimp_lanes", true);
   sc.balance = o.flag("gimp_balance", true);
   readHoleMeasure(o, sc);
 }

@@ -109,11 +109,12 @@ template <int D> PetscErrorCode Solver<D>::setupInStage(PetscLogDouble wall0) {
   s.scheme = schemeFor(s.sc.update);
   // The strain energy of a report at the velocities' time (WorkLedger::strainShift).
   s.work.strainShift = s.scheme.stressBeforeGridUpdate ? 0.5 : -0.5;
-  s.lanes = D == 2 && s.sc.lanes && transfer::laneLoops::available();
-  if (D == 2)
-    PetscCall(
-        PetscInfo(nullptr, "2D block kernels in lanes of four particles: %s\n",
-                  s.lanes ? "yes" : (s.sc.lanes ? "no (no AVX2 here)" : "no (-gimp_lanes false)")));
+  s.lanes = s.sc.lanes && transfer::laneLoops::available();
+  PetscCall(
+      PetscInfo(nullptr, "%s: %s\n",
+                D == 2 ? "2D block kernels in lanes of four particles"
+                       : "3D block kernels with a node's three components in lanes",
+                s.lanes ? "yes" : (s.sc.lanes ? "no (no AVX2 here)" : "no (-gimp_lanes false)")));
   // The DMDAs (-da_*), the swarm and TS read options: a PETSc error there is one line.
   PetscCall(petscOneLine([this] { return createGrid(); }, "da_",
                          " (-da_processors_x/y/z: the ranks along each axis of level 0, their "

@@ -6,6 +6,7 @@
 #include "gimp/physics/deformation.hpp"
 #include "gimp/transfer/internal_force.hpp"
 #include "gimp/transfer/lane_loops.hpp"
+#include "gimp/transfer/lane_loops3.hpp"
 #include "gimp/transfer/transfer.hpp"
 
 #include <algorithm>
@@ -175,7 +176,9 @@ PetscErrorCode Step<D>::forces(const ParticleView<D> &p, const StepClock &c, Sta
   PetscCall(VecGetArray(n.sumW, &f));
   if constexpr (D == 2)
     if (s.lanes) transfer::laneLoops::internalForce(s.st, p.n, p.V, p.s, f);
-  if (D != 2 || !s.lanes) transfer::internalForce<D>(s.st, p.n, p.V, p.s, f);
+  if constexpr (D == 3)
+    if (s.lanes) transfer::laneLoops3::internalForce(s.st, p.n, p.V, p.s, f);
+  if (!s.lanes) transfer::internalForce<D>(s.st, p.n, p.V, p.s, f);
   if (s.boundary.active()) {
     PetscScalar *fe = nullptr;
     PetscCall(VecZeroEntries(n.extW));
@@ -269,6 +272,12 @@ PetscErrorCode Step<D>::stress(const Stencils<D> &st, ParticleView<D> &p, Vec ve
       if (s.lanes) {
         transfer::laneLoops::velocityGradients(st, k0, k1, vg, L_.data());
         transfer::laneLoops::updateDeformation(s.sc, p, L_.data(), dt, k0, k1);
+        continue;
+      }
+    if constexpr (D == 3)
+      if (s.lanes) {
+        transfer::laneLoops3::velocityGradients(st, k0, k1, vg, L_.data());
+        physics::updateDeformation<D>(s.sc, p, L_.data(), dt, k0, k1);
         continue;
       }
     for (PetscInt k = k0; k < k1; ++k)

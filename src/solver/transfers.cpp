@@ -8,6 +8,7 @@
 #include "gimp/solver/step.hpp"
 #include "gimp/transfer/affine.hpp"
 #include "gimp/transfer/lane_loops.hpp"
+#include "gimp/transfer/lane_loops3.hpp"
 #include "gimp/transfer/transfer.hpp"
 
 #include <algorithm>
@@ -48,6 +49,8 @@ template <int D>
 void Step<D>::projectMomentum(const Stencils<D> &st, const ParticleView<D> &p,
                               const double *centres, double *mom, double *mass) {
   if (s_.sc.transfer != Transfer::Apic) {
+    if constexpr (D == 3)
+      if (s_.lanes) return transfer::laneLoops3::particlesToGrid(st, p.n, p.m, p.v, mom, mass);
     transfer::particlesToGrid<D>(st, p.n, p.m, p.v, mom, mass);
     return;
   }
@@ -58,6 +61,10 @@ void Step<D>::projectMomentum(const Stencils<D> &st, const ParticleView<D> &p,
                                                   slotCoordinates(), mom, mass);
       return;
     }
+  if constexpr (D == 3)
+    if (s_.lanes)
+      return transfer::laneLoops3::particlesToGridAffineB(st, p.n, p.m, p.v, p.B, centres,
+                                                          slotCoordinates(), mom, mass);
   transfer::particlesToGridAffineB<D>(st, p.n, p.m, p.v, p.B, centres, slotCoordinates(), mom,
                                       mass);
 }
@@ -122,6 +129,18 @@ void Step<D>::gridToParticlesKernel(ParticleView<D> &p, const StepClock &c, cons
                                     const double *vg, const double *ag, bool fused, double *mom) {
   const Scene<D> &sc = s_.sc;
   const Stencils<D> &st = s_.st;
+  if constexpr (D == 3)
+    if (s_.lanes) {
+      namespace l3 = transfer::laneLoops3;
+      if (sc.transfer == Transfer::Apic)
+        return fused ? l3::gridToParticlesAffineProjected(st, p.n, vg, centres, slotCoordinates(),
+                                                          c.dt, p.m, p.v, p.B, p.x, mom)
+                     : l3::gridToParticlesAffine(st, p.n, vg, centres, slotCoordinates(), c.dt, p.v,
+                                                 p.B, p.x);
+      return fused
+                 ? l3::gridToParticlesProjected(st, p.n, vg, ag, c.dt, sc.flip, p.m, p.v, p.x, mom)
+                 : l3::gridToParticles(st, p.n, vg, ag, c.dt, sc.flip, p.v, p.x);
+    }
   if (sc.transfer == Transfer::Apic) {
     const bool lanes = D == 2 && s_.lanes;
     if constexpr (D == 2)

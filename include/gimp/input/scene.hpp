@@ -138,7 +138,7 @@ struct MethodOptions {
   double massCutoff = 1e-14;         // relative to the mean particle mass
   double damping = 0;                // d of Eq. 16 [1/s]
   double cfl = 0.3;
-  bool lanes = true;   // -gimp_lanes: 2D block particles four at a time (AVX2) where the CPU has it
+  bool lanes = true;   // -gimp_lanes: block kernels in AVX2 lanes where the CPU has it
   bool balance = true; // -gimp_balance: level 0 split among the ranks by particles, not nodes
   /// APIC comes to exact rest only with nodes down to 1e-14 of a particle's mass active; FLIP
   /// and PIC stay quieter with the lightest nodes treated as empty (docs/method.md,

@@ -65,7 +65,7 @@ template <int D> struct RunState {
   Nodal nodal;
   Stencils<D> st;                // particle -> node weights, rebuilt each step
   physics::Boundary<D> boundary; // external forces and penalty conditions
-  bool lanes = false;            // 2D block kernels four particles at a time (AVX2)
+  bool lanes = false;            // block kernels in AVX2 lanes (2D: four particles; 3D: x, y, z)
   PetscInt64 nParticles = 0;
   double meanParticleMass = 0;
   WorkLedger work;      // work of the external and damping forces

@@ -1,0 +1,62 @@
+// The 3D step's particle loops with a block particle's three components in the lanes of one
+// 256-bit register (AVX2): APIC's and FLIP's P2G and G2P (with the re-projection or without), the
+// internal force and the velocity gradient (docs/method.md, *Lanes of four particles*, 3D).
+//
+// A 3D block particle reaches up to 3 x 3 x 3 nodes, and a node's three components are adjacent in
+// the window arrays: each kernel's sums over the components c = 0, 1, 2 of a node (or of a
+// particle's vector, or of a column of its D x D tensor) run as one vector of lanes 0-2 (lane 3
+// zero and unused). Every lane evaluates the scalar kernel's expression for its component, in the
+// same order and with no fused multiply-add (the scalar kernels are the block branches of
+// transfer/affine.hpp and transfer/transfer.hpp and the walk of Stencils::forEach), so the results
+// are bit for bit the scalar ones (tests/check_lanes.py runs the 3D scenes with -gimp_lanes
+// false too). Particles that keep rows go through the scalar kernels.
+//
+// The functions are compiled for AVX2 whatever the build's flags; call them only when
+// transfer::laneLoops::available() is true.
+#pragma once
+
+#include "gimp/grid/stencils.hpp"
+
+#include <petscsys.h>
+
+namespace gimp::transfer::laneLoops3 {
+
+/// particlesToGridAffineB<3> (transfer/affine.hpp): APIC P2G with C_p = B_p D_p^-1.
+void particlesToGridAffineB(const Stencils<3> &st, PetscInt n, const double *m, const double *v,
+                            const double *B, const double *xc, const double *xs, double *mom,
+                            double *mass);
+
+/// gridToParticlesAffineProjected<3>: APIC G2P, the re-projection of the new affine momenta into
+/// mom, and the move by dt v_p (x may be xc).
+void gridToParticlesAffineProjected(const Stencils<3> &st, PetscInt n, const double *vg,
+                                    const double *xc, const double *xs, double dt, const double *m,
+                                    double *v, double *B, double *x, double *mom);
+
+/// gridToParticlesAffine<3>: APIC G2P and the move by dt v_p, no re-projection (x may be xc).
+void gridToParticlesAffine(const Stencils<3> &st, PetscInt n, const double *vg, const double *xc,
+                           const double *xs, double dt, double *v, double *B, double *x);
+
+/// particlesToGrid<3> (transfer/transfer.hpp): FLIP/PIC P2G of m_p v_p (and m_p when mass is not
+/// null).
+void particlesToGrid(const Stencils<3> &st, PetscInt n, const double *m, const double *v,
+                     double *mom, double *mass);
+
+/// gridToParticles<3>: FLIP/PIC G2P and the move by dt v_p.
+void gridToParticles(const Stencils<3> &st, PetscInt n, const double *vg, const double *ag,
+                     double dt, double flip, double *v, double *x);
+
+/// gridToParticlesProjected<3>: the same and the re-projection of the new momenta into mom.
+void gridToParticlesProjected(const Stencils<3> &st, PetscInt n, const double *vg, const double *ag,
+                              double dt, double flip, const double *m, double *v, double *x,
+                              double *mom);
+
+/// transfer::internalForce<3> (transfer/internal_force.hpp): f_i -= V_p sigma_p grad S_ip.
+void internalForce(const Stencils<3> &st, PetscInt n, const double *V, const double *stress,
+                   double *f);
+
+/// The velocity gradients of particles k0 .. k1-1 into L (row-major 3 x 3 from L[0]), as
+/// transfer::velocityGradientAt<3>.
+void velocityGradients(const Stencils<3> &st, PetscInt k0, PetscInt k1, const double *vg,
+                       double *L);
+
+} // namespace gimp::transfer::laneLoops3

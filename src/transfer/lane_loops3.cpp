@@ -1,0 +1,339 @@
+// 3D block particles with their three components in lanes (AVX2): see transfer/lane_loops3.hpp.
+// Every lane expression below is the scalar one of the kernel named next to it, in the same order;
+// these functions have no FMA target and the build no floating-point contraction, so each lane
+// rounds as the scalar code does. Lane 3 of every vector is zero and never stored.
+#include "gimp/transfer/lane_loops3.hpp"
+
+#include "gimp/transfer/affine.hpp"
+#include "gimp/transfer/internal_force.hpp"
+#include "gimp/transfer/transfer.hpp"
+
+#include "gimp/core/lanes.hpp"
+
+namespace gimp::transfer::laneLoops3 {
+
+#if GIMP_HAVE_LANES
+
+namespace {
+
+using lanes::V4;
+
+GIMP_LANES_INLINE V4 splat(double a) {
+  return _mm256_set1_pd(a);
+}
+
+/// The three doubles at p in lanes 0-2, lane 3 zero.
+GIMP_LANES_INLINE V4 load3(const double *p) {
+  return _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(p)), _mm_load_sd(p + 2), 1);
+}
+
+/// Lanes 0-2 of v to p (p[3] untouched).
+GIMP_LANES_INLINE void store3(double *p, V4 v) {
+  _mm_storeu_pd(p, _mm256_castpd256_pd128(v));
+  _mm_store_sd(p + 2, _mm256_extractf128_pd(v, 1));
+}
+
+/// Column a of a row-major 3 x 3 tensor in lanes 0-2.
+template <class T> GIMP_LANES_INLINE V4 column(const T &t, int a) {
+  return _mm256_set_pd(0.0, t(2, a), t(1, a), t(0, a));
+}
+
+/// Columns c[0..2] back into the row-major tensor t.
+template <class T> GIMP_LANES_INLINE void setColumns(const V4 *c, T &t) {
+  alignas(32) double a[3][4];
+  for (int q = 0; q < 3; ++q)
+    _mm256_store_pd(a[q], c[q]);
+  for (int r = 0; r < 3; ++r)
+    for (int q = 0; q < 3; ++q)
+      t(r, q) = a[q][r];
+}
+
+/// The number of nodes the block reaches along each axis (Stencils::forEach).
+GIMP_LANES_INLINE void reached(const Block<3> &b, int *nn) {
+  for (int d = 0; d < 3; ++d)
+    nn[d] = b.g[d][2] > 0.0 ? 3 : 2;
+}
+
+/// particleToGridAffineB<3>, block branch: D_k from the three axes' 1D moments, C = B D^-1, and
+/// node (i, j, q) gets m w_j w_q [w_i (v + C_y dy_j + C_z dz_q) + w_i dx_i C_x].
+GIMP_LANES_INLINE void affineToGrid(const Block<3> &b, double mp, V4 V, const Tensor<3> &Bk,
+                                    const double *xk, const double *xs, double *mom, double *mass) {
+  double d[3][3], S[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
+  const PetscInt step[3] = {1, b.stride[0], b.stride[1]};
+  for (int a = 0; a < 3; ++a)
+    for (int i = 0; i < 3; ++i) {
+      d[a][i] = xs[3 * (b.base + i * step[a]) + a] - xk[a];
+      const double w = b.w[a][i];
+      S[a][0] += w;
+      S[a][1] += w * d[a][i];
+      S[a][2] += w * d[a][i] * d[a][i];
+    }
+  const Tensor<3> Ck =
+      product<3>(Bk, invertInertia(S[0][2] * S[1][0] * S[2][0], S[0][0] * S[1][2] * S[2][0],
+                                   S[0][0] * S[1][0] * S[2][2], S[0][1] * S[1][1] * S[2][0],
+                                   S[0][1] * S[1][0] * S[2][1], S[0][0] * S[1][1] * S[2][1]));
+  const V4 Cx = column(Ck, 0), Cy = column(Ck, 1), Cz = column(Ck, 2);
+  for (int q = 0; q < 3; ++q)
+    for (int j = 0; j < 3; ++j) {
+      const double mw = mp * b.w[1][j] * b.w[2][q];
+      const V4 MW = splat(mw);
+      const V4 R = MW * (V + Cy * splat(d[1][j]) + Cz * splat(d[2][q])), T = MW * Cx;
+      const PetscInt row = b.base + j * b.stride[0] + q * b.stride[1];
+      double *mr = mom + 3 * row;
+      for (int i = 0; i < 3; ++i) {
+        const double wx = b.w[0][i], wdx = wx * d[0][i];
+        store3(mr + 3 * i, load3(mr + 3 * i) + (splat(wx) * R + splat(wdx) * T));
+        if (mass) mass[3 * (row + i)] += wx * mw;
+      }
+    }
+}
+
+/// particleFromGridAffine<3>, block branch: v_p and the columns of B_p (row sums along x, then
+/// the (y, z) factors).
+GIMP_LANES_INLINE void affineFromGrid(const Block<3> &b, const double *vg, const double *xk,
+                                      const double *xs, V4 &VP, V4 *Bc) {
+  double dx[3];
+  for (int i = 0; i < 3; ++i)
+    dx[i] = xs[3 * (b.base + i)] - xk[0];
+  VP = Bc[0] = Bc[1] = Bc[2] = splat(0.0);
+  for (int q = 0; q < 3; ++q) {
+    const double dz = xs[3 * (b.base + q * b.stride[1]) + 2] - xk[2];
+    for (int j = 0; j < 3; ++j) {
+      const PetscInt r = 3 * (b.base + j * b.stride[0] + q * b.stride[1]);
+      const double dy = xs[r + 1] - xk[1], wyz = b.w[1][j] * b.w[2][q];
+      V4 T = splat(0.0), U = splat(0.0);
+      for (int i = 0; i < 3; ++i) {
+        const V4 WV = splat(b.w[0][i]) * load3(vg + r + 3 * i);
+        T = T + WV;
+        U = U + WV * splat(dx[i]);
+      }
+      const V4 W = splat(wyz);
+      VP = VP + W * T;
+      Bc[0] = Bc[0] + W * U;
+      Bc[1] = Bc[1] + splat(wyz * dy) * T;
+      Bc[2] = Bc[2] + splat(wyz * dz) * T;
+    }
+  }
+}
+
+/// APIC G2P of every particle, with the re-projection into mom when it is not null.
+GIMP_LANES_INLINE void affineG2P(const Stencils<3> &st, PetscInt n, const double *vg,
+                                 const double *xc, const double *xs, double dt, const double *m,
+                                 double *v, double *B, double *x, double *mom) {
+  for (PetscInt k = 0; k < n; ++k) {
+    const double *xk = xc + 3 * k;
+    if (!st.isBlock(k)) { // the scalar kernels
+      double vp[3];
+      Tensor<3> Bk;
+      if (mom)
+        particleFromAndToGridAffine<3>(st, k, m[k], vg, xk, xs, vp, Bk, mom);
+      else
+        particleFromGridAffine<3>(st, k, vg, xk, xs, vp, Bk);
+      tensorAt<3>(B, k) = Bk;
+      for (int c = 0; c < 3; ++c) {
+        v[3 * k + c] = vp[c];
+        if (x) x[3 * k + c] += dt * vp[c];
+      }
+      continue;
+    }
+    const Block<3> b = st.block(k);
+    V4 VP, Bc[3];
+    affineFromGrid(b, vg, xk, xs, VP, Bc);
+    Tensor<3> Bk;
+    setColumns(Bc, Bk);
+    if (mom) affineToGrid(b, m[k], VP, Bk, xk, xs, mom, nullptr);
+    tensorAt<3>(B, k) = Bk;
+    store3(v + 3 * k, VP);
+    if (x) store3(x + 3 * k, load3(x + 3 * k) + splat(dt) * VP);
+  }
+}
+
+/// particleToGrid<3> through Stencils::forEach's walk of a block: m_p v_p w into mom, m_p w into
+/// mass.
+GIMP_LANES_INLINE void toGrid(const Block<3> &b, double mp, V4 PK, double *mom, double *mass) {
+  int nn[3];
+  reached(b, nn);
+  for (int q = 0; q < nn[2]; ++q)
+    for (int j = 0; j < nn[1]; ++j) {
+      const double wyz = b.w[1][j] * b.w[2][q];
+      const PetscInt row = b.base + j * b.stride[0] + q * b.stride[1];
+      for (int i = 0; i < nn[0]; ++i) {
+        const double w = b.w[0][i] * wyz;
+        double *mr = mom + 3 * (row + i);
+        store3(mr, load3(mr) + splat(w) * PK);
+        if (mass) mass[3 * (row + i)] += w * mp;
+      }
+    }
+}
+
+/// particleFromGrid<3> through the same walk: the grid velocity and acceleration at the particle.
+GIMP_LANES_INLINE void fromGrid(const Block<3> &b, const double *vg, const double *ag, V4 &VP,
+                                V4 &AP) {
+  int nn[3];
+  reached(b, nn);
+  VP = AP = splat(0.0);
+  for (int q = 0; q < nn[2]; ++q)
+    for (int j = 0; j < nn[1]; ++j) {
+      const double wyz = b.w[1][j] * b.w[2][q];
+      const PetscInt r = 3 * (b.base + j * b.stride[0] + q * b.stride[1]);
+      for (int i = 0; i < nn[0]; ++i) {
+        const V4 W = splat(b.w[0][i] * wyz);
+        VP = VP + W * load3(vg + r + 3 * i);
+        AP = AP + W * load3(ag + r + 3 * i);
+      }
+    }
+}
+
+/// FLIP/PIC G2P of every particle, with the re-projection into mom when it is not null.
+GIMP_LANES_INLINE void flipG2P(const Stencils<3> &st, PetscInt n, const double *vg,
+                               const double *ag, double dt, double flip, const double *m, double *v,
+                               double *x, double *mom) {
+  const V4 F = splat(flip), G = splat(1.0 - flip), DT = splat(dt);
+  for (PetscInt k = 0; k < n; ++k) {
+    if (!st.isBlock(k)) { // the scalar kernels
+      double vp[3], ap[3];
+      particleFromGrid<3>(st, k, vg, ag, vp, ap);
+      for (int c = 0; c < 3; ++c) {
+        v[3 * k + c] = flip * (v[3 * k + c] + dt * ap[c]) + (1.0 - flip) * vp[c];
+        x[3 * k + c] += dt * vp[c];
+      }
+      if (mom) particleToGrid<3>(st, k, m[k], v + 3 * k, mom, nullptr);
+      continue;
+    }
+    const Block<3> b = st.block(k);
+    V4 VP, AP;
+    fromGrid(b, vg, ag, VP, AP);
+    const V4 Vk = F * (load3(v + 3 * k) + DT * AP) + G * VP;
+    store3(v + 3 * k, Vk);
+    store3(x + 3 * k, load3(x + 3 * k) + DT * VP);
+    if (mom) toGrid(b, m[k], splat(m[k]) * Vk, mom, nullptr);
+  }
+}
+
+} // namespace
+
+GIMP_LANES void particlesToGridAffineB(const Stencils<3> &st, PetscInt n, const double *m,
+                                       const double *v, const double *B, const double *xc,
+                                       const double *xs, double *mom, double *mass) {
+  for (PetscInt k = 0; k < n; ++k) {
+    if (st.isBlock(k))
+      affineToGrid(st.block(k), m[k], load3(v + 3 * k), tensorAt<3>(B, k), xc + 3 * k, xs, mom,
+                   mass);
+    else
+      particleToGridAffineB<3>(st, k, m[k], v + 3 * k, tensorAt<3>(B, k), xc + 3 * k, xs, mom,
+                               mass);
+  }
+}
+
+GIMP_LANES void gridToParticlesAffineProjected(const Stencils<3> &st, PetscInt n, const double *vg,
+                                               const double *xc, const double *xs, double dt,
+                                               const double *m, double *v, double *B, double *x,
+                                               double *mom) {
+  affineG2P(st, n, vg, xc, xs, dt, m, v, B, x, mom);
+}
+
+GIMP_LANES void gridToParticlesAffine(const Stencils<3> &st, PetscInt n, const double *vg,
+                                      const double *xc, const double *xs, double dt, double *v,
+                                      double *B, double *x) {
+  affineG2P(st, n, vg, xc, xs, dt, nullptr, v, B, x, nullptr);
+}
+
+GIMP_LANES void particlesToGrid(const Stencils<3> &st, PetscInt n, const double *m, const double *v,
+                                double *mom, double *mass) {
+  for (PetscInt k = 0; k < n; ++k) {
+    if (st.isBlock(k))
+      toGrid(st.block(k), m[k], splat(m[k]) * load3(v + 3 * k), mom, mass);
+    else
+      particleToGrid<3>(st, k, m[k], v + 3 * k, mom, mass);
+  }
+}
+
+GIMP_LANES void gridToParticles(const Stencils<3> &st, PetscInt n, const double *vg,
+                                const double *ag, double dt, double flip, double *v, double *x) {
+  flipG2P(st, n, vg, ag, dt, flip, nullptr, v, x, nullptr);
+}
+
+GIMP_LANES void gridToParticlesProjected(const Stencils<3> &st, PetscInt n, const double *vg,
+                                         const double *ag, double dt, double flip, const double *m,
+                                         double *v, double *x, double *mom) {
+  flipG2P(st, n, vg, ag, dt, flip, m, v, x, mom);
+}
+
+GIMP_LANES void internalForce(const Stencils<3> &st, PetscInt n, const double *V,
+                              const double *stress, double *f) {
+  for (PetscInt k = 0; k < n; ++k) {
+    if (!st.isBlock(k)) {
+      transfer::internalForce<3>(st, k, k + 1, V, stress, f);
+      continue;
+    }
+    const Tensor<3> A = -V[k] * tensorAt<3>(stress, k);
+    const V4 Ax = column(A, 0), Ay = column(A, 1), Az = column(A, 2), Z = splat(0.0);
+    const Block<3> b = st.block(k);
+    int nn[3];
+    reached(b, nn);
+    for (int q = 0; q < nn[2]; ++q)
+      for (int j = 0; j < nn[1]; ++j) {
+        const double wyz = b.w[1][j] * b.w[2][q], gy = b.g[1][j] * b.w[2][q],
+                     gz = b.w[1][j] * b.g[2][q];
+        double *fr = f + 3 * (b.base + j * b.stride[0] + q * b.stride[1]);
+        for (int i = 0; i < nn[0]; ++i) {
+          const V4 fc = Z + Ax * splat(b.g[0][i] * wyz) + Ay * splat(b.w[0][i] * gy) +
+                        Az * splat(b.w[0][i] * gz);
+          store3(fr + 3 * i, load3(fr + 3 * i) + fc);
+        }
+      }
+  }
+}
+
+GIMP_LANES void velocityGradients(const Stencils<3> &st, PetscInt k0, PetscInt k1, const double *vg,
+                                  double *L) {
+  for (PetscInt k = k0; k < k1; ++k) {
+    auto Lk = tensorAt<3>(L, k - k0);
+    if (!st.isBlock(k)) {
+      Lk = velocityGradientAt<3>(st, k, vg);
+      continue;
+    }
+    // velocityGradientAt<3>, block branch: rows along x (sum_i g_i v and sum_i w_i v), then the
+    // (y, z) factors; the columns of L in lanes.
+    const Block<3> b = st.block(k);
+    V4 Lc[3] = {splat(0.0), splat(0.0), splat(0.0)};
+    for (int q = 0; q < 3; ++q)
+      for (int j = 0; j < 3; ++j) {
+        const double *r = vg + 3 * (b.base + j * b.stride[0] + q * b.stride[1]);
+        V4 PG = splat(0.0), QW = splat(0.0);
+        for (int i = 0; i < 3; ++i) {
+          const V4 vn = load3(r + 3 * i);
+          PG = PG + splat(b.g[0][i]) * vn;
+          QW = QW + splat(b.w[0][i]) * vn;
+        }
+        const double wyz = b.w[1][j] * b.w[2][q], gy = b.g[1][j] * b.w[2][q],
+                     gz = b.w[1][j] * b.g[2][q];
+        Lc[0] = Lc[0] + splat(wyz) * PG;
+        Lc[1] = Lc[1] + splat(gy) * QW;
+        Lc[2] = Lc[2] + splat(gz) * QW;
+      }
+    setColumns(Lc, Lk);
+  }
+}
+
+#else // no lanes here: never called (laneLoops::available() is false)
+
+void particlesToGridAffineB(const Stencils<3> &, PetscInt, const double *, const double *,
+                            const double *, const double *, const double *, double *, double *) {}
+void gridToParticlesAffineProjected(const Stencils<3> &, PetscInt, const double *, const double *,
+                                    const double *, double, const double *, double *, double *,
+                                    double *, double *) {}
+void gridToParticlesAffine(const Stencils<3> &, PetscInt, const double *, const double *,
+                           const double *, double, double *, double *, double *) {}
+void particlesToGrid(const Stencils<3> &, PetscInt, const double *, const double *, double *,
+                     double *) {}
+void gridToParticles(const Stencils<3> &, PetscInt, const double *, const double *, double, double,
+                     double *, double *) {}
+void gridToParticlesProjected(const Stencils<3> &, PetscInt, const double *, const double *, double,
+                              double, const double *, double *, double *, double *) {}
+void internalForce(const Stencils<3> &, PetscInt, const double *, const double *, double *) {}
+void velocityGradients(const Stencils<3> &, PetscInt, PetscInt, const double *, double *) {}
+
+#endif
+
+} // namespace gimp::transfer::laneLoops3
