@@ -214,11 +214,21 @@ template <int D> struct Stencils {
       b.base = base;
       return;
     }
-    for (int d = 0; d < D; ++d) {
-      const double i2l = 0.5 / lam[d];
-      shape::threeNodeWeights(xi[d], lam[d], i2l, i2l * ih, b.w[d], b.g[d]);
-      if (d > 0) b.stride[d - 1] = stride[d];
+    { // (3D) x and y at once, then z
+      using simd::Pair;
+      const Pair x2 = {xi[0], xi[1]}, l2 = {lam[0], lam[1]}, i2l = 0.5 / l2;
+      Pair w[3], g[3];
+      shape::threeNodeWeights(x2, l2, i2l, i2l * ih, w, g);
+      for (int i = 0; i < 3; ++i)
+        for (int d = 0; d < 2; ++d) {
+          b.w[d][i] = w[i][d];
+          b.g[d][i] = g[i][d];
+        }
+      const double i2lz = 0.5 / lam[2];
+      shape::threeNodeWeights(xi[2], lam[2], i2lz, i2lz * ih, b.w[2], b.g[2]);
     }
+    for (int d = 1; d < D; ++d)
+      b.stride[d - 1] = stride[d];
     b.base = base;
   }
   /// The nodes along axis d of a 4-node block up to the last one the particle reaches (with a
