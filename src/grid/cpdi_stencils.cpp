@@ -164,20 +164,20 @@ void Grid<D>::appendThreeNodeBlock(int q, const Reach &r, const double *x, const
         ++m;
       }
     }
-  } else {
-    std::array<PetscInt, D> nn;
-    for (int a = 0; a < D; ++a)
-      nn[a] = n[a];
-    forEachIndex<D>(nn, [&](const Index &b) {
-      PetscInt i[D];
-      for (int a = 0; a < D; ++a) {
-        i[a] = r.i0[a] + b[a];
-        ws[a][m] = fw[a][b[a]];
-        gs[a][m] = fg[a][b[a]];
-      }
-      node[m] = windowSlot(q, i);
-      ++m;
-    });
+  } else { // x fastest, then y, then z (forEachIndex's order), the slots by the window's strides
+    const PetscInt base = windowSlot(q, r.i0), sy = L.wn(0), sz = sy * L.wn(1);
+    for (PetscInt c = 0; c < n[2]; ++c)
+      for (PetscInt b = 0; b < n[1]; ++b)
+        for (PetscInt a = 0; a < n[0]; ++a) {
+          node[m] = base + a + b * sy + c * sz;
+          ws[0][m] = fw[0][a];
+          gs[0][m] = fg[0][a];
+          ws[1][m] = fw[1][b];
+          gs[1][m] = fg[1][b];
+          ws[D - 1][m] = fw[D - 1][c];
+          gs[D - 1][m] = fg[D - 1][c];
+          ++m;
+        }
   }
 }
 
@@ -243,18 +243,15 @@ void Grid<D>::appendNodes(int q, const Reach &r, const double *x, const double *
         add(row + i, c);
       }
     }
-  } else {
-    std::array<PetscInt, D> nn;
-    for (int a = 0; a < D; ++a)
-      nn[a] = r.i1[a] - r.i0[a] + 1;
-    forEachIndex<D>(nn, [&](const Index &b) {
-      PetscInt i[D], c[D];
-      for (int a = 0; a < D; ++a) {
-        c[a] = static_cast<PetscInt>(b[a]);
-        i[a] = r.i0[a] + c[a];
+  } else { // x fastest, then y, then z (forEachIndex's order), the slots by the window's strides
+    const PetscInt base = windowSlot(q, r.i0), sy = L.wn(0), sz = sy * L.wn(1);
+    PetscInt c[D];
+    for (c[D - 1] = 0; c[D - 1] <= r.i1[D - 1] - r.i0[D - 1]; ++c[D - 1])
+      for (c[1] = 0; c[1] <= r.i1[1] - r.i0[1]; ++c[1]) {
+        const PetscInt row = base + c[1] * sy + c[D - 1] * sz;
+        for (c[0] = 0; c[0] <= r.i1[0] - r.i0[0]; ++c[0])
+          add(row + c[0], c);
       }
-      add(windowSlot(q, i), c);
-    });
   }
 }
 

@@ -54,6 +54,70 @@ GIMP_LANES_INLINE void reached(const Block<3> &b, int *nn) {
     nn[d] = b.g[d][2] > 0.0 ? 3 : 2;
 }
 
+/// f(slot, weight, gradient) for every row entry of particle k (Stencils::forEach of a particle
+/// that keeps rows), in a function the lane lambdas can be inlined into.
+template <class F> GIMP_LANES_INLINE void forRows(const Stencils<3> &st, PetscInt k, F &&f) {
+  for (PetscInt e = st.start[k]; e < st.start[k + 1]; ++e)
+    f(st.node[e], st.weight(e), st.gradient(e));
+}
+
+/// particleToGridAffineB<3> of a particle that keeps rows: D_p (inertiaAbout, its columns in
+/// lanes), C = B D^-1, and each entry's S m (v + C (x_i - x_p)) (particleToGridAffine).
+GIMP_LANES_INLINE void affineToGridRows(const Stencils<3> &st, PetscInt k, double mp, V4 V,
+                                        const Tensor<3> &Bk, const double *xk, const double *xs,
+                                        double *mom, double *mass) {
+  const V4 XK = load3(xk);
+  V4 Dc[3] = {splat(0.0), splat(0.0), splat(0.0)};
+  forRows(st, k, [&](PetscInt nd, double w, const Vector<3> &) GIMP_LANES_LAMBDA {
+    const V4 WD = splat(w) * (load3(xs + 3 * nd) - XK);
+    for (int b = 0; b < 3; ++b)
+      Dc[b] = Dc[b] + WD * splat(xs[3 * nd + b] - xk[b]);
+  });
+  alignas(32) double Dp[3][4];
+  for (int b = 0; b < 3; ++b)
+    _mm256_store_pd(Dp[b], Dc[b]); // Dp[b][a] = D_p(a, b)
+  const Tensor<3> Ck =
+      product<3>(Bk, invertInertia(Dp[0][0], Dp[1][1], Dp[2][2], Dp[1][0], Dp[2][0], Dp[2][1]));
+  const V4 C0 = column(Ck, 0), C1 = column(Ck, 1), C2 = column(Ck, 2);
+  forRows(st, k, [&](PetscInt nd, double w, const Vector<3> &) GIMP_LANES_LAMBDA {
+    const V4 VC = V + C0 * splat(xs[3 * nd] - xk[0]) + C1 * splat(xs[3 * nd + 1] - xk[1]) +
+                  C2 * splat(xs[3 * nd + 2] - xk[2]);
+    store3(mom + 3 * nd, load3(mom + 3 * nd) + splat(w * mp) * VC);
+    if (mass) mass[3 * nd] += w * mp;
+  });
+}
+
+/// particleFromGridAffine<3> of a particle that keeps rows: v_p and the columns of B_p.
+GIMP_LANES_INLINE void affineFromGridRows(const Stencils<3> &st, PetscInt k, const double *vg,
+                                          const double *xk, const double *xs, V4 &VP, V4 *Bc) {
+  VP = Bc[0] = Bc[1] = Bc[2] = splat(0.0);
+  forRows(st, k, [&](PetscInt nd, double w, const Vector<3> &) GIMP_LANES_LAMBDA {
+    const V4 WV = splat(w) * load3(vg + 3 * nd);
+    VP = VP + WV;
+    for (int a = 0; a < 3; ++a)
+      Bc[a] = Bc[a] + WV * splat(xs[3 * nd + a] - xk[a]);
+  });
+}
+
+/// particleToGrid<3> of a particle that keeps rows.
+GIMP_LANES_INLINE void toGridRows(const Stencils<3> &st, PetscInt k, double mp, V4 PK, double *mom,
+                                  double *mass) {
+  forRows(st, k, [&](PetscInt nd, double w, const Vector<3> &) GIMP_LANES_LAMBDA {
+    store3(mom + 3 * nd, load3(mom + 3 * nd) + splat(w) * PK);
+    if (mass) mass[3 * nd] += w * mp;
+  });
+}
+
+/// particleFromGrid<3> of a particle that keeps rows.
+GIMP_LANES_INLINE void fromGridRows(const Stencils<3> &st, PetscInt k, const double *vg,
+                                    const double *ag, V4 &VP, V4 &AP) {
+  VP = AP = splat(0.0);
+  forRows(st, k, [&](PetscInt nd, double w, const Vector<3> &) GIMP_LANES_LAMBDA {
+    VP = VP + splat(w) * load3(vg + 3 * nd);
+    AP = AP + splat(w) * load3(ag + 3 * nd);
+  });
+}
+
 /// particleToGridAffineB<3>, block branch: D_k from the three axes' 1D moments, C = B D^-1, and
 /// node (i, j, q) gets m w_j w_q [w_i (v + C_y dy_j + C_z dz_q) + w_i dx_i C_x].
 GIMP_LANES_INLINE void affineToGrid(const Block<3> &b, double mp, V4 V, const Tensor<3> &Bk,
@@ -122,26 +186,18 @@ GIMP_LANES_INLINE void affineG2P(const Stencils<3> &st, PetscInt n, const double
                                  double *v, double *B, double *x, double *mom) {
   for (PetscInt k = 0; k < n; ++k) {
     const double *xk = xc + 3 * k;
-    if (!st.isBlock(k)) { // the scalar kernels
-      double vp[3];
-      Tensor<3> Bk;
-      if (mom)
-        particleFromAndToGridAffine<3>(st, k, m[k], vg, xk, xs, vp, Bk, mom);
-      else
-        particleFromGridAffine<3>(st, k, vg, xk, xs, vp, Bk);
-      tensorAt<3>(B, k) = Bk;
-      for (int c = 0; c < 3; ++c) {
-        v[3 * k + c] = vp[c];
-        if (x) x[3 * k + c] += dt * vp[c];
-      }
-      continue;
-    }
-    const Block<3> b = st.block(k);
     V4 VP, Bc[3];
-    affineFromGrid(b, vg, xk, xs, VP, Bc);
     Tensor<3> Bk;
-    setColumns(Bc, Bk);
-    if (mom) affineToGrid(b, m[k], VP, Bk, xk, xs, mom, nullptr);
+    if (st.isBlock(k)) {
+      const Block<3> b = st.block(k);
+      affineFromGrid(b, vg, xk, xs, VP, Bc);
+      setColumns(Bc, Bk);
+      if (mom) affineToGrid(b, m[k], VP, Bk, xk, xs, mom, nullptr);
+    } else {
+      affineFromGridRows(st, k, vg, xk, xs, VP, Bc);
+      setColumns(Bc, Bk);
+      if (mom) affineToGridRows(st, k, m[k], VP, Bk, xk, xs, mom, nullptr);
+    }
     tensorAt<3>(B, k) = Bk;
     store3(v + 3 * k, VP);
     if (x) store3(x + 3 * k, load3(x + 3 * k) + splat(dt) * VP);
@@ -190,23 +246,20 @@ GIMP_LANES_INLINE void flipG2P(const Stencils<3> &st, PetscInt n, const double *
                                double *x, double *mom) {
   const V4 F = splat(flip), G = splat(1.0 - flip), DT = splat(dt);
   for (PetscInt k = 0; k < n; ++k) {
-    if (!st.isBlock(k)) { // the scalar kernels
-      double vp[3], ap[3];
-      particleFromGrid<3>(st, k, vg, ag, vp, ap);
-      for (int c = 0; c < 3; ++c) {
-        v[3 * k + c] = flip * (v[3 * k + c] + dt * ap[c]) + (1.0 - flip) * vp[c];
-        x[3 * k + c] += dt * vp[c];
-      }
-      if (mom) particleToGrid<3>(st, k, m[k], v + 3 * k, mom, nullptr);
-      continue;
-    }
-    const Block<3> b = st.block(k);
+    const bool block = st.isBlock(k);
     V4 VP, AP;
-    fromGrid(b, vg, ag, VP, AP);
+    if (block)
+      fromGrid(st.block(k), vg, ag, VP, AP);
+    else
+      fromGridRows(st, k, vg, ag, VP, AP);
     const V4 Vk = F * (load3(v + 3 * k) + DT * AP) + G * VP;
     store3(v + 3 * k, Vk);
     store3(x + 3 * k, load3(x + 3 * k) + DT * VP);
-    if (mom) toGrid(b, m[k], splat(m[k]) * Vk, mom, nullptr);
+    if (!mom) continue;
+    if (block)
+      toGrid(st.block(k), m[k], splat(m[k]) * Vk, mom, nullptr);
+    else
+      toGridRows(st, k, m[k], splat(m[k]) * Vk, mom, nullptr);
   }
 }
 
@@ -220,8 +273,7 @@ GIMP_LANES void particlesToGridAffineB(const Stencils<3> &st, PetscInt n, const 
       affineToGrid(st.block(k), m[k], load3(v + 3 * k), tensorAt<3>(B, k), xc + 3 * k, xs, mom,
                    mass);
     else
-      particleToGridAffineB<3>(st, k, m[k], v + 3 * k, tensorAt<3>(B, k), xc + 3 * k, xs, mom,
-                               mass);
+      affineToGridRows(st, k, m[k], load3(v + 3 * k), tensorAt<3>(B, k), xc + 3 * k, xs, mom, mass);
   }
 }
 
@@ -244,7 +296,7 @@ GIMP_LANES void particlesToGrid(const Stencils<3> &st, PetscInt n, const double 
     if (st.isBlock(k))
       toGrid(st.block(k), m[k], splat(m[k]) * load3(v + 3 * k), mom, mass);
     else
-      particleToGrid<3>(st, k, m[k], v + 3 * k, mom, mass);
+      toGridRows(st, k, m[k], splat(m[k]) * load3(v + 3 * k), mom, mass);
   }
 }
 
@@ -262,12 +314,15 @@ GIMP_LANES void gridToParticlesProjected(const Stencils<3> &st, PetscInt n, cons
 GIMP_LANES void internalForce(const Stencils<3> &st, PetscInt n, const double *V,
                               const double *stress, double *f) {
   for (PetscInt k = 0; k < n; ++k) {
-    if (!st.isBlock(k)) {
-      transfer::internalForce<3>(st, k, k + 1, V, stress, f);
-      continue;
-    }
     const Tensor<3> A = -V[k] * tensorAt<3>(stress, k);
     const V4 Ax = column(A, 0), Ay = column(A, 1), Az = column(A, 2), Z = splat(0.0);
+    if (!st.isBlock(k)) { // transfer::internalForce<3> of a particle that keeps rows
+      forRows(st, k, [&](PetscInt nd, double, const Vector<3> &gr) GIMP_LANES_LAMBDA {
+        const V4 fc = Z + Ax * splat(gr[0]) + Ay * splat(gr[1]) + Az * splat(gr[2]);
+        store3(f + 3 * nd, load3(f + 3 * nd) + fc);
+      });
+      continue;
+    }
     const Block<3> b = st.block(k);
     int nn[3];
     reached(b, nn);
@@ -289,8 +344,14 @@ GIMP_LANES void velocityGradients(const Stencils<3> &st, PetscInt k0, PetscInt k
                                   double *L) {
   for (PetscInt k = k0; k < k1; ++k) {
     auto Lk = tensorAt<3>(L, k - k0);
-    if (!st.isBlock(k)) {
-      Lk = velocityGradientAt<3>(st, k, vg);
+    if (!st.isBlock(k)) { // velocityGradientAt<3> of a particle that keeps rows
+      V4 Lc[3] = {splat(0.0), splat(0.0), splat(0.0)};
+      forRows(st, k, [&](PetscInt nd, double, const Vector<3> &gr) GIMP_LANES_LAMBDA {
+        const V4 vn = load3(vg + 3 * nd);
+        for (int a = 0; a < 3; ++a)
+          Lc[a] = Lc[a] + vn * splat(gr[a]);
+      });
+      setColumns(Lc, Lk);
       continue;
     }
     // velocityGradientAt<3>, block branch: rows along x (sum_i g_i v and sum_i w_i v), then the
