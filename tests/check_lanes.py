@@ -53,7 +53,7 @@ CASES = [
      ["-gimp_h", "0.03125", "-ts_max_steps", "60", "-gimp_tracking", "none", "-gimp_plane",
       "stress"], 1),
     # 3D: a node's three components in lanes (APIC and FLIP, with the re-projection and without,
-    # one level and three, a step per level, two ranks)
+    # one level and three, a step per level, two ranks); the stress update in lanes of four
     ("block3d_apic", "bench/block3d.opts", ["-gimp_h", "0.0833333333333333", "-ts_max_steps", "30"],
      1),
     ("block3d_flip_usl", "bench/block3d.opts",
@@ -66,6 +66,16 @@ CASES = [
     ("block3d_multirate", "bench/block3d_levels.opts",
      ["-ts_max_steps", "12", "-gimp_transfer", "flip", "-gimp_multirate", "true"], 1),
     ("block3d_2ranks", "bench/block3d_levels.opts", ["-ts_max_steps", "12"], 2),
+    # the 3D stress update four particles at a time: linear (stretch, none), neo-Hookean (scalar)
+    ("block3d_no_tracking", "bench/block3d.opts",
+     ["-gimp_h", "0.0833333333333333", "-ts_max_steps", "30", "-gimp_tracking", "none"], 1),
+    ("block3d_two_materials", "bench/block3d.opts",
+     ["-gimp_h", "0.0833333333333333", "-ts_max_steps", "30", "-gimp_bodies", "2", "-gimp_body0_box",
+      "0,0,0,0.4583333333333333,1,1", "-gimp_body1_box", "0.4583333333333333,0,0,1,1,1",
+      "-gimp_body1_ppc", "8", "-gimp_body1_E", "2e9", "-gimp_body1_velocity", "1,1,1",
+      "-gimp_body1_velocity_profile", "sine_x", "-gimp_body1_wavenumber", "6.283185307179586"], 1),
+    ("block3d_neohookean", "bench/block3d.opts",
+     ["-gimp_h", "0.0833333333333333", "-ts_max_steps", "30", "-gimp_material", "neohookean"], 1),
 ]
 
 

@@ -7,6 +7,7 @@
 #include "gimp/solver/step.hpp"
 #include "gimp/transfer/lane_loops.hpp"
 
+#include <cfloat>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
@@ -51,15 +52,26 @@ PetscInt firstBadSolid(const RunState<3> &s, const ParticleView<3> &p, double ma
   double box[6] = {-INFINITY, -INFINITY, -INFINITY, INFINITY, INFINITY, INFINITY};
   if (s.size > 1) s.grid.ownedBox(s.rank, box);
   PetscInt bad = -1;
+  double lo[3], hi[3];
+  for (int a = 0; a < 3; ++a) {
+    lo[a] = d[a] - margin;
+    hi[a] = d[3 + a] + margin;
+  }
+  // Without branches: z is 0 when the stress entries and each x_a + v_a are finite, NaN
+  // otherwise (a non-finite value times 0 is NaN); NaN fails every comparison, so a particle
+  // with one lands in the bad branch.
   for (PetscInt k = 0; k < p.n; ++k) {
-    const double *x = p.x + 3 * k, *l = p.l + 3 * k;
-    bool mine = true, ok = p.V[k] > 0 && std::isfinite(p.V[k]) && tensorAt<3>(p.s, k).allFinite();
+    const double *x = p.x + 3 * k, *l = p.l + 3 * k, *v = p.v + 3 * k, *sk = p.s + 9 * k;
+    double z = 0.0;
+    for (int e = 0; e < 9; ++e)
+      z += sk[e] * 0.0;
+    bool mine = true, ok = p.V[k] > 0 && p.V[k] <= DBL_MAX;
     for (int a = 0; a < 3; ++a) {
-      mine = mine && x[a] >= box[a] && x[a] < box[3 + a];
-      // NaN fails every comparison: written so that it lands in the bad branch.
-      ok = ok && std::isfinite(x[a] + p.v[3 * k + a]) && x[a] - l[a] >= d[a] - margin &&
-           x[a] + l[a] <= d[3 + a] + margin && l[a] > 0 && l[a] <= h0;
+      z += (x[a] + v[a]) * 0.0;
+      mine = mine & (x[a] >= box[a]) & (x[a] < box[3 + a]);
+      ok = ok & (x[a] - l[a] >= lo[a]) & (x[a] + l[a] <= hi[a]) & (l[a] > 0) & (l[a] <= h0);
     }
+    ok = ok & (z == 0.0);
     leaving += !mine;
     if (!ok && bad < 0) bad = k;
   }

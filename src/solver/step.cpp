@@ -277,7 +277,7 @@ PetscErrorCode Step<D>::stress(const Stencils<D> &st, ParticleView<D> &p, Vec ve
     if constexpr (D == 3)
       if (s.lanes) {
         transfer::laneLoops3::velocityGradients(st, k0, k1, vg, L_.data());
-        physics::updateDeformation<D>(s.sc, p, L_.data(), dt, k0, k1);
+        transfer::laneLoops3::updateDeformation(s.sc, p, L_.data(), dt, k0, k1);
         continue;
       }
     for (PetscInt k = k0; k < k1; ++k)

@@ -1,6 +1,7 @@
 // The 3D step's particle loops with a block particle's three components in the lanes of one
 // 256-bit register (AVX2): APIC's and FLIP's P2G and G2P (with the re-projection or without), the
-// internal force and the velocity gradient (docs/method.md, *Lanes of four particles*, 3D).
+// internal force and the velocity gradient; and the stress update four particles at a time
+// (docs/method.md, *Lanes of four particles*, 3D).
 //
 // A 3D block particle reaches up to 3 x 3 x 3 nodes, and a node's three components are adjacent in
 // the window arrays: each kernel's sums over the components c = 0, 1, 2 of a node (or of a
@@ -16,6 +17,8 @@
 #pragma once
 
 #include "gimp/grid/stencils.hpp"
+#include "gimp/input/scene.hpp"
+#include "gimp/particles/swarm.hpp"
 
 #include <petscsys.h>
 
@@ -58,5 +61,12 @@ void internalForce(const Stencils<3> &st, PetscInt n, const double *V, const dou
 /// transfer::velocityGradientAt<3>.
 void velocityGradients(const Stencils<3> &st, PetscInt k0, PetscInt k1, const double *vg,
                        double *L);
+
+/// physics::updateDeformation<3> for particles k0 .. k1-1 with their velocity gradients L (from
+/// L[0]): runs of four particles of one linear material, with stretch tracking or none, four at a
+/// time in lanes (F += dt L F, V, the Jaumann update of material::jaumannUpdate, l = |F e_a| l0);
+/// the others through the scalar update.
+void updateDeformation(const Scene<3> &sc, ParticleView<3> &p, const double *L, double dt,
+                       PetscInt k0, PetscInt k1);
 
 } // namespace gimp::transfer::laneLoops3
