@@ -10,7 +10,7 @@
 // same order and with no fused multiply-add (the scalar kernels are the block branches of
 // transfer/affine.hpp and transfer/transfer.hpp and the walk of Stencils::forEach), so the results
 // are bit for bit the scalar ones (tests/check_lanes.py runs the 3D scenes with -gimp_lanes
-// false too). Particles that keep rows go through the scalar kernels.
+// false too). Particles that keep rows take the same kernels over their entries (forEach order).
 //
 // The functions are compiled for AVX2 whatever the build's flags; call them only when
 // transfer::laneLoops::available() is true.
