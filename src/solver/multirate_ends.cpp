@@ -47,7 +47,7 @@ PetscErrorCode MultiRate<D>::classForces(const ParticleView<D> &p, const StepClo
     PetscScalar *w = nullptr;
     PetscCall(VecZeroEntries(w0));
     PetscCall(VecGetArray(w0, &w));
-    transfer::internalForce<D>(r.st[k], q.n, q.V, q.s, w);
+    step_.internalForce(r.st[k], q.n, q.V, q.s, w);
     PetscCall(VecRestoreArray(w0, &w));
     if (!nodeRule) // the impulse m_c f_c, summed on the window
       PetscCall(VecAXPY(n.sumW, mk, w0));
@@ -330,11 +330,7 @@ PetscErrorCode MultiRate<D>::endClass(ParticleView<D> &p, const StepClock &c, in
   const PetscScalar *ug = nullptr, *wg = nullptr;
   PetscCall(VecGetArrayRead(u, &ug));
   PetscCall(VecGetArrayRead(w, &wg));
-  if (apic)
-    transfer::gridToParticlesAffineRated<D>(r.st[k], q.n, ug, wg, step_.slotCoordinates(),
-                                            every * c.dt, q.m, q.v, q.B, q.x, mom);
-  else
-    transfer::gridToParticlesRated<D>(r.st[k], q.n, ug, wg, every * c.dt, flip, q.m, q.v, q.x, mom);
+  step_.gridToParticlesRated(r.st[k], q, ug, wg, every * c.dt, flip, mom);
   PetscCall(VecRestoreArrayRead(w, &wg));
   PetscCall(VecRestoreArrayRead(u, &ug));
   if (musl) PetscCall(VecRestoreArray(n.sumW, &mom));

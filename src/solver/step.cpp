@@ -166,6 +166,16 @@ PetscErrorCode Step<D>::buildStencils(const ParticleView<D> &p, const double *ce
 }
 
 template <int D>
+void Step<D>::internalForce(const Stencils<D> &st, PetscInt n, const double *V, const double *s,
+                            double *f) const {
+  if constexpr (D == 2)
+    if (s_.lanes) return transfer::laneLoops::internalForce(st, n, V, s, f);
+  if constexpr (D == 3)
+    if (s_.lanes) return transfer::laneLoops3::internalForce(st, n, V, s, f);
+  transfer::internalForce<D>(st, n, V, s, f);
+}
+
+template <int D>
 PetscErrorCode Step<D>::forces(const ParticleView<D> &p, const StepClock &c, StartPower &power) {
   // f = f_int + f_ext (Eq. 8, 9) into nodal.f; the RHS adds damping and masks it.
   RunState<D> &s = s_;
@@ -174,11 +184,7 @@ PetscErrorCode Step<D>::forces(const ParticleView<D> &p, const StepClock &c, Sta
   PetscScalar *f = nullptr;
   PetscCall(VecZeroEntries(n.sumW));
   PetscCall(VecGetArray(n.sumW, &f));
-  if constexpr (D == 2)
-    if (s.lanes) transfer::laneLoops::internalForce(s.st, p.n, p.V, p.s, f);
-  if constexpr (D == 3)
-    if (s.lanes) transfer::laneLoops3::internalForce(s.st, p.n, p.V, p.s, f);
-  if (!s.lanes) transfer::internalForce<D>(s.st, p.n, p.V, p.s, f);
+  internalForce(s.st, p.n, p.V, p.s, f);
   if (s.boundary.active()) {
     PetscScalar *fe = nullptr;
     PetscCall(VecZeroEntries(n.extW));
@@ -304,6 +310,8 @@ PetscErrorCode Step<D>::stress(const Stencils<D> &st, ParticleView<D> &p, Vec ve
   template PetscErrorCode Step<D>::migrate();                                                      \
   template PetscErrorCode Step<D>::sortParticles(std::vector<int> *, bool);                        \
   template PetscErrorCode Step<D>::buildStencils(const ParticleView<D> &, const double *);         \
+  template void Step<D>::internalForce(const Stencils<D> &, PetscInt, const double *,              \
+                                       const double *, double *) const;                            \
   template PetscErrorCode Step<D>::forces(const ParticleView<D> &, const StepClock &,              \
                                           StartPower &);                                           \
   template PetscErrorCode Step<D>::globalForces(StartPower &, bool);                               \

@@ -164,6 +164,25 @@ void Step<D>::gridToParticlesKernel(ParticleView<D> &p, const StepClock &c, cons
 }
 
 template <int D>
+void Step<D>::gridToParticlesRated(const Stencils<D> &st, ParticleView<D> &q, const double *ug,
+                                   const double *wg, double dt, double flip, double *mom) {
+  const Scene<D> &sc = s_.sc;
+  const bool apic = sc.transfer == Transfer::Apic;
+  if constexpr (D == 3)
+    if (s_.lanes) {
+      if (apic)
+        return transfer::laneLoops3::gridToParticlesAffineRated(st, q.n, ug, wg, slotCoordinates(),
+                                                                dt, q.m, q.v, q.B, q.x, mom);
+      return transfer::laneLoops3::gridToParticlesRated(st, q.n, ug, wg, dt, flip, q.m, q.v, q.x,
+                                                        mom);
+    }
+  if (apic)
+    return transfer::gridToParticlesAffineRated<D>(st, q.n, ug, wg, slotCoordinates(), dt, q.m, q.v,
+                                                   q.B, q.x, mom);
+  transfer::gridToParticlesRated<D>(st, q.n, ug, wg, dt, flip, q.m, q.v, q.x, mom);
+}
+
+template <int D>
 PetscErrorCode Step<D>::gridToParticles(ParticleView<D> &p, const StepClock &c,
                                         const double *centres) {
   RunState<D> &s = s_;
@@ -251,6 +270,9 @@ PetscErrorCode Step<D>::reproject(ParticleView<D> &p, const StepClock &c, const 
   template void Step<D>::projectMomentum(const Stencils<D> &, const ParticleView<D> &,             \
                                          const double *, double *, double *);                      \
   template PetscErrorCode Step<D>::particlesToGrid(const ParticleView<D> &, const double *);       \
+  template void Step<D>::gridToParticlesRated(const Stencils<D> &, ParticleView<D> &,              \
+                                              const double *, const double *, double, double,      \
+                                              double *);                                           \
   template PetscErrorCode Step<D>::gridToParticles(ParticleView<D> &, const StepClock &,           \
                                                    const double *);
 GIMP_INSTANTIATE(2)

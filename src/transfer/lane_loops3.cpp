@@ -290,6 +290,28 @@ GIMP_LANES_INLINE void storeComponent4(double *p, int a, V4 v) {
     p[3 * q + a] = t[q];
 }
 
+/// interpolateAt<3>: sum_i S_ip f_i at particle k (through Stencils::forEach's walk).
+GIMP_LANES_INLINE V4 interpolate(const Stencils<3> &st, PetscInt k, const double *fg) {
+  V4 FP = splat(0.0);
+  if (!st.isBlock(k)) {
+    forRows(st, k, [&](PetscInt nd, double w, const Vector<3> &) GIMP_LANES_LAMBDA {
+      FP = FP + splat(w) * load3(fg + 3 * nd);
+    });
+    return FP;
+  }
+  const Block<3> b = st.block(k);
+  int nn[3];
+  reached(b, nn);
+  for (int q = 0; q < nn[2]; ++q)
+    for (int j = 0; j < nn[1]; ++j) {
+      const double wyz = b.w[1][j] * b.w[2][q];
+      const PetscInt r = 3 * (b.base + j * b.stride[0] + q * b.stride[1]);
+      for (int i = 0; i < nn[0]; ++i)
+        FP = FP + splat(b.w[0][i] * wyz) * load3(fg + r + 3 * i);
+    }
+  return FP;
+}
+
 } // namespace
 
 GIMP_LANES void particlesToGridAffineB(const Stencils<3> &st, PetscInt n, const double *m,
@@ -336,6 +358,51 @@ GIMP_LANES void gridToParticlesProjected(const Stencils<3> &st, PetscInt n, cons
                                          const double *ag, double dt, double flip, const double *m,
                                          double *v, double *x, double *mom) {
   flipG2P(st, n, vg, ag, dt, flip, m, v, x, mom);
+}
+
+GIMP_LANES void gridToParticlesAffineRated(const Stencils<3> &st, PetscInt n, const double *vg,
+                                           const double *wg, const double *xs, double dt,
+                                           const double *m, double *v, double *B, double *x,
+                                           double *mom) {
+  for (PetscInt k = 0; k < n; ++k) {
+    const double *xk = x + 3 * k; // (the particle's place before it moves)
+    V4 VP, Bc[3];
+    Tensor<3> Bk;
+    const bool block = st.isBlock(k);
+    if (block)
+      affineFromGrid(st.block(k), vg, xk, xs, VP, Bc);
+    else
+      affineFromGridRows(st, k, vg, xk, xs, VP, Bc);
+    setColumns(Bc, Bk);
+    const V4 WP = wg == vg ? VP : interpolate(st, k, wg);
+    if (mom && block) affineToGrid(st.block(k), m[k], VP, Bk, xk, xs, mom, nullptr);
+    if (mom && !block) affineToGridRows(st, k, m[k], VP, Bk, xk, xs, mom, nullptr);
+    tensorAt<3>(B, k) = Bk;
+    store3(v + 3 * k, VP);
+    store3(x + 3 * k, load3(x + 3 * k) + splat(dt) * WP);
+  }
+}
+
+GIMP_LANES void gridToParticlesRated(const Stencils<3> &st, PetscInt n, const double *ug,
+                                     const double *wg, double dt, double flip, const double *m,
+                                     double *v, double *x, double *mom) {
+  const V4 F = splat(flip), DT = splat(dt);
+  for (PetscInt k = 0; k < n; ++k) {
+    const bool block = st.isBlock(k);
+    V4 UP, WP;
+    if (block)
+      fromGrid(st.block(k), ug, wg, UP, WP);
+    else
+      fromGridRows(st, k, ug, wg, UP, WP);
+    const V4 Vk = F * load3(v + 3 * k) + UP;
+    store3(v + 3 * k, Vk);
+    store3(x + 3 * k, load3(x + 3 * k) + DT * WP);
+    if (!mom) continue;
+    if (block)
+      toGrid(st.block(k), m[k], splat(m[k]) * Vk, mom, nullptr);
+    else
+      toGridRows(st, k, m[k], splat(m[k]) * Vk, mom, nullptr);
+  }
 }
 
 GIMP_LANES void internalForce(const Stencils<3> &st, PetscInt n, const double *V,
@@ -478,6 +545,11 @@ void gridToParticles(const Stencils<3> &, PetscInt, const double *, const double
                      double *, double *) {}
 void gridToParticlesProjected(const Stencils<3> &, PetscInt, const double *, const double *, double,
                               double, const double *, double *, double *, double *) {}
+void gridToParticlesAffineRated(const Stencils<3> &, PetscInt, const double *, const double *,
+                                const double *, double, const double *, double *, double *,
+                                double *, double *) {}
+void gridToParticlesRated(const Stencils<3> &, PetscInt, const double *, const double *, double,
+                          double, const double *, double *, double *, double *) {}
 void internalForce(const Stencils<3> &, PetscInt, const double *, const double *, double *) {}
 void velocityGradients(const Stencils<3> &, PetscInt, PetscInt, const double *, double *) {}
 void updateDeformation(const Scene<3> &, ParticleView<3> &, const double *, double, PetscInt,

@@ -57,6 +57,14 @@ public:
   void projectMomentum(const Stencils<D> &st, const ParticleView<D> &p, const double *centres,
                        double *mom, double *mass);
   PetscErrorCode particlesToGrid(const ParticleView<D> &p, const double *centres);
+  /// The internal force of the n particles (volumes V, stresses s) into the window array f
+  /// (accumulated), in lanes where they run.
+  void internalForce(const Stencils<D> &st, PetscInt n, const double *V, const double *s,
+                     double *f) const;
+  /// G2P of one rate class of a per-level step (transfer::gridToParticlesAffineRated with APIC,
+  /// gridToParticlesRated otherwise), in lanes where they run.
+  void gridToParticlesRated(const Stencils<D> &st, ParticleView<D> &q, const double *ug,
+                            const double *wg, double dt, double flip, double *mom);
   PetscErrorCode forces(const ParticleView<D> &p, const StepClock &c, StartPower &power);
   /// The window's forces into nodal.f and, with `external`, nodal.fext (all ranks); the start
   /// power.

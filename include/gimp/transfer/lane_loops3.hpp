@@ -53,6 +53,19 @@ void gridToParticlesProjected(const Stencils<3> &st, PetscInt n, const double *v
                               double dt, double flip, const double *m, double *v, double *x,
                               double *mom);
 
+/// gridToParticlesAffineRated<3> (transfer/affine.hpp): APIC G2P of one rate class of a
+/// per-level step (v_p and B_p from vg, the move by dt S wg, the re-projection into mom when it
+/// is not null, about the place before the move).
+void gridToParticlesAffineRated(const Stencils<3> &st, PetscInt n, const double *vg,
+                                const double *wg, const double *xs, double dt, const double *m,
+                                double *v, double *B, double *x, double *mom);
+
+/// gridToParticlesRated<3> (transfer/transfer.hpp): FLIP/PIC G2P of one rate class, v_p <- flip
+/// v_p + S ug, x_p += dt S wg, and the re-projection into mom when it is not null.
+void gridToParticlesRated(const Stencils<3> &st, PetscInt n, const double *ug, const double *wg,
+                          double dt, double flip, const double *m, double *v, double *x,
+                          double *mom);
+
 /// transfer::internalForce<3> (transfer/internal_force.hpp): f_i -= V_p sigma_p grad S_ip.
 void internalForce(const Stencils<3> &st, PetscInt n, const double *V, const double *stress,
                    double *f);
