@@ -207,6 +207,17 @@ void Grid<D>::appendNodes(int q, const Reach &r, const double *x, const double *
     gs[a] = s.g[a].data();
   }
   const std::vector<double> *coord[3] = {&X, &Y, &Z};
+  // The last zones each candidate line along each axis was weighed with, and the 1D weight and
+  // gradient they gave: an irregular node's factor along axis a depends on its index along a and
+  // its two zones there only, and the nodes of a transition face share them (exactly the values
+  // weightAndGradient gives).
+  double *mz[D], *mw[D], *mg[D];
+  for (int a = 0; a < D; ++a) {
+    mz[a] = scratch + 2 * D * maxRange + 4 * a * maxRange;
+    mw[a] = mz[a] + 2 * maxRange;
+    mg[a] = mw[a] + maxRange;
+    std::fill(mz[a], mz[a] + 2 * (r.i1[a] - r.i0[a] + 1), -1.0); // no zone is negative
+  }
   // One candidate node: window slot nd, offsets c[a] into the 1D tables.
   auto add = [&](PetscInt nd, const PetscInt *c) {
     const std::uint8_t f = flags_[nd];
@@ -225,8 +236,16 @@ void Grid<D>::appendNodes(int q, const Reach &r, const double *x, const double *
         if (!shape::overlaps(d[a], l[a], z[2 * a], z[2 * a + 1])) return;
       }
       if (!(f & kRegular))
-        for (int a = 0; a < D; ++a)
-          shape::weightAndGradient(d[a], l[a], z[2 * a], z[2 * a + 1], w[a], g[a]);
+        for (int a = 0; a < D; ++a) {
+          double *m = mz[a] + 2 * c[a];
+          if (m[0] != z[2 * a] || m[1] != z[2 * a + 1]) {
+            shape::weightAndGradient(d[a], l[a], z[2 * a], z[2 * a + 1], mw[a][c[a]], mg[a][c[a]]);
+            m[0] = z[2 * a];
+            m[1] = z[2 * a + 1];
+          }
+          w[a] = mw[a][c[a]];
+          g[a] = mg[a][c[a]];
+        }
     }
     node[m] = nd;
     for (int a = 0; a < D; ++a) {

@@ -361,7 +361,7 @@ bool Grid<D>::buildStencils(PetscInt n, const double *x, const double *l, Stenci
   // A candidate range spans at most 2 (l + Z) / h + 1 nodes with l, Z <= h0 (l is checked
   // every step): size the scratch for the finest level.
   const PetscInt maxRange = static_cast<PetscInt>(4.0 * levels[0].h / levels.back().h) + 4;
-  std::vector<double> scratch(2 * D * static_cast<size_t>(maxRange));
+  std::vector<double> scratch(6 * D * static_cast<size_t>(maxRange)); // (appendNodes' tables)
   std::vector<Reach> reach(K);
   std::vector<char> reaches(K);
   // Aligned groups of four blocks in lanes; a group that is not one goes one by one.

@@ -200,6 +200,7 @@ private:
                  PetscInt k) const;
   void appendThreeNodeBlock(int q, const Reach &r, const double *x, const double *l, Stencils<D> &s,
                             size_t &m) const;
+  /// (scratch: room for 6 D maxRange doubles, maxRange at least the candidates along an axis)
   void appendNodes(int q, const Reach &r, const double *x, const double *l, double *scratch,
                    PetscInt maxRange, Stencils<D> &s, size_t &m) const;
 
