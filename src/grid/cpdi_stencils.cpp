@@ -117,6 +117,33 @@ template <int D> double cellIntegrals(const double *c, double *w, double *G) {
     return hexIntegrals(c, w, G);
 }
 
+/// appendNodes' 1D factors of irregular nodes. An irregular node's weight and gradient along axis
+/// a depend on its index along a and its two zones there only, and the nodes of a transition
+/// face share them: each (axis, index, zones) is weighed once (the values weightAndGradient
+/// gives). Room: 4 D maxRange doubles.
+template <int D> struct ZoneMemo {
+  double *z[D], *w[D], *g[D];
+  ZoneMemo(double *room, PetscInt maxRange, const PetscInt *i0, const PetscInt *i1) {
+    for (int a = 0; a < D; ++a) {
+      z[a] = room + 4 * a * maxRange;
+      w[a] = z[a] + 2 * maxRange;
+      g[a] = w[a] + maxRange;
+      std::fill(z[a], z[a] + 2 * (i1[a] - i0[a] + 1), -1.0); // (no zone is negative)
+    }
+  }
+  /// The factor along axis a of candidate index c at offset d, half-size l, zones za[0..1].
+  void factor(int a, PetscInt c, double d, double l, const double *za, double &wa, double &ga) {
+    double *m = z[a] + 2 * c;
+    if (m[0] != za[0] || m[1] != za[1]) {
+      shape::weightAndGradient(d, l, za[0], za[1], w[a][c], g[a][c]);
+      m[0] = za[0];
+      m[1] = za[1];
+    }
+    wa = w[a][c];
+    ga = g[a][c];
+  }
+};
+
 } // namespace
 
 namespace cpdi {
@@ -207,17 +234,7 @@ void Grid<D>::appendNodes(int q, const Reach &r, const double *x, const double *
     gs[a] = s.g[a].data();
   }
   const std::vector<double> *coord[3] = {&X, &Y, &Z};
-  // The last zones each candidate line along each axis was weighed with, and the 1D weight and
-  // gradient they gave: an irregular node's factor along axis a depends on its index along a and
-  // its two zones there only, and the nodes of a transition face share them (exactly the values
-  // weightAndGradient gives).
-  double *mz[D], *mw[D], *mg[D];
-  for (int a = 0; a < D; ++a) {
-    mz[a] = scratch + 2 * D * maxRange + 4 * a * maxRange;
-    mw[a] = mz[a] + 2 * maxRange;
-    mg[a] = mw[a] + maxRange;
-    std::fill(mz[a], mz[a] + 2 * (r.i1[a] - r.i0[a] + 1), -1.0); // no zone is negative
-  }
+  ZoneMemo<D> memo(scratch + 2 * D * maxRange, maxRange, r.i0, r.i1);
   // One candidate node: window slot nd, offsets c[a] into the 1D tables.
   auto add = [&](PetscInt nd, const PetscInt *c) {
     const std::uint8_t f = flags_[nd];
@@ -236,16 +253,8 @@ void Grid<D>::appendNodes(int q, const Reach &r, const double *x, const double *
         if (!shape::overlaps(d[a], l[a], z[2 * a], z[2 * a + 1])) return;
       }
       if (!(f & kRegular))
-        for (int a = 0; a < D; ++a) {
-          double *m = mz[a] + 2 * c[a];
-          if (m[0] != z[2 * a] || m[1] != z[2 * a + 1]) {
-            shape::weightAndGradient(d[a], l[a], z[2 * a], z[2 * a + 1], mw[a][c[a]], mg[a][c[a]]);
-            m[0] = z[2 * a];
-            m[1] = z[2 * a + 1];
-          }
-          w[a] = mw[a][c[a]];
-          g[a] = mg[a][c[a]];
-        }
+        for (int a = 0; a < D; ++a)
+          memo.factor(a, c[a], d[a], l[a], z + 2 * a, w[a], g[a]);
     }
     node[m] = nd;
     for (int a = 0; a < D; ++a) {
@@ -254,24 +263,16 @@ void Grid<D>::appendNodes(int q, const Reach &r, const double *x, const double *
     }
     ++m;
   };
-  if constexpr (D == 2) {
-    for (PetscInt j = r.i0[1]; j <= r.i1[1]; ++j) {
-      const PetscInt row = L.offset + (j - L.w0[1]) * L.wnx() - L.w0[0];
-      for (PetscInt i = r.i0[0]; i <= r.i1[0]; ++i) {
-        const PetscInt c[2] = {i - r.i0[0], j - r.i0[1]};
-        add(row + i, c);
-      }
+  // x fastest, then y, then z (forEachIndex's order), the slots by the window's strides
+  const PetscInt base = windowSlot(q, r.i0), sy = L.wn(0), sz = D == 3 ? sy * L.wn(1) : 0;
+  const PetscInt nz = D == 3 ? r.i1[D - 1] - r.i0[D - 1] + 1 : 1;
+  PetscInt c[3] = {0, 0, 0};
+  for (c[2] = 0; c[2] < nz; ++c[2])
+    for (c[1] = 0; c[1] <= r.i1[1] - r.i0[1]; ++c[1]) {
+      const PetscInt row = base + c[1] * sy + c[2] * sz;
+      for (c[0] = 0; c[0] <= r.i1[0] - r.i0[0]; ++c[0])
+        add(row + c[0], c);
     }
-  } else { // x fastest, then y, then z (forEachIndex's order), the slots by the window's strides
-    const PetscInt base = windowSlot(q, r.i0), sy = L.wn(0), sz = sy * L.wn(1);
-    PetscInt c[D];
-    for (c[D - 1] = 0; c[D - 1] <= r.i1[D - 1] - r.i0[D - 1]; ++c[D - 1])
-      for (c[1] = 0; c[1] <= r.i1[1] - r.i0[1]; ++c[1]) {
-        const PetscInt row = base + c[1] * sy + c[D - 1] * sz;
-        for (c[0] = 0; c[0] <= r.i1[0] - r.i0[0]; ++c[0])
-          add(row + c[0], c);
-      }
-  }
 }
 
 template <int D>

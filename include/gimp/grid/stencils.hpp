@@ -200,7 +200,7 @@ template <int D> struct Stencils {
                 const double *lam, double ih) {
     blockOf[k] = nBlocks;
     Block<D> &b = blocks[nBlocks++];
-    if constexpr (D == 2) { // both axes at once
+    { // x and y at once (one SSE2 pair), then z
       using simd::Pair;
       const Pair x2 = {xi[0], xi[1]}, l2 = {lam[0], lam[1]}, i2l = 0.5 / l2;
       Pair w[3], g[3];
@@ -210,20 +210,8 @@ template <int D> struct Stencils {
           b.w[d][i] = w[i][d];
           b.g[d][i] = g[i][d];
         }
-      b.stride[0] = stride[1];
-      b.base = base;
-      return;
     }
-    { // (3D) x and y at once, then z
-      using simd::Pair;
-      const Pair x2 = {xi[0], xi[1]}, l2 = {lam[0], lam[1]}, i2l = 0.5 / l2;
-      Pair w[3], g[3];
-      shape::threeNodeWeights(x2, l2, i2l, i2l * ih, w, g);
-      for (int i = 0; i < 3; ++i)
-        for (int d = 0; d < 2; ++d) {
-          b.w[d][i] = w[i][d];
-          b.g[d][i] = g[i][d];
-        }
+    if constexpr (D == 3) {
       const double i2lz = 0.5 / lam[2];
       shape::threeNodeWeights(xi[2], lam[2], i2lz, i2lz * ih, b.w[2], b.g[2]);
     }

@@ -90,6 +90,27 @@ Tensor<D> inverseInertia(const Stencils<D> &st, PetscInt k, const double *xc, co
   return inverseInertiaAbout<D>(st, k, xc + D * k, xs);
 }
 
+/// C = B D^-1 of a 3D block particle at xk, with D from the three axes' 1D moments S0, S1, S2
+/// (D_aa = S2_a S0_b S0_c, D_ab = S1_a S1_b S0_c), and the offsets d[a][i] = x_i - x_p of its
+/// nodes along each axis.
+GIMP_ALWAYS_INLINE Tensor<3> blockAffineVelocity(const Block<3> &b, const Tensor<3> &Bk,
+                                                 const double *xk, const double *xs,
+                                                 double (&d)[3][3]) {
+  double S[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}; // [axis][moment]
+  const PetscInt step[3] = {1, b.stride[0], b.stride[1]};
+  for (int a = 0; a < 3; ++a)
+    for (int i = 0; i < 3; ++i) {
+      d[a][i] = xs[3 * (b.base + i * step[a]) + a] - xk[a];
+      const double w = b.w[a][i];
+      S[a][0] += w;
+      S[a][1] += w * d[a][i];
+      S[a][2] += w * d[a][i] * d[a][i];
+    }
+  return product<3>(Bk, invertInertia(S[0][2] * S[1][0] * S[2][0], S[0][0] * S[1][2] * S[2][0],
+                                      S[0][0] * S[1][0] * S[2][2], S[0][1] * S[1][1] * S[2][0],
+                                      S[0][1] * S[1][0] * S[2][1], S[0][0] * S[1][1] * S[2][1]));
+}
+
 /// C_p = B_p D_p^-1 for every particle (row-major D x D into C).
 template <int D>
 void affineVelocity(const Stencils<D> &st, PetscInt n, const double *xc, const double *xs,
@@ -143,20 +164,8 @@ GIMP_ALWAYS_INLINE void particleToGridAffineB(const Stencils<D> &st, PetscInt k,
   if constexpr (D == 3)
     if (st.isBlock(k)) { // the same in 3D: D_k from the three axes' 1D moments, rows along x
       const Block<3> b = st.block(k);
-      double d[3][3], S[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}; // [axis][node], [axis][moment]
-      const PetscInt step[3] = {1, b.stride[0], b.stride[1]};
-      for (int a = 0; a < 3; ++a)
-        for (int i = 0; i < 3; ++i) {
-          d[a][i] = xs[3 * (b.base + i * step[a]) + a] - xk[a];
-          const double w = b.w[a][i];
-          S[a][0] += w;
-          S[a][1] += w * d[a][i];
-          S[a][2] += w * d[a][i] * d[a][i];
-        }
-      const Tensor<3> Ck =
-          product<3>(Bk, invertInertia(S[0][2] * S[1][0] * S[2][0], S[0][0] * S[1][2] * S[2][0],
-                                       S[0][0] * S[1][0] * S[2][2], S[0][1] * S[1][1] * S[2][0],
-                                       S[0][1] * S[1][0] * S[2][1], S[0][0] * S[1][1] * S[2][1]));
+      double d[3][3];
+      const Tensor<3> Ck = blockAffineVelocity(b, Bk, xk, xs, d);
       for (int q = 0; q < 3; ++q)
         for (int j = 0; j < 3; ++j) {
           const double mw = mp * b.w[1][j] * b.w[2][q];
