@@ -168,6 +168,10 @@ void Step<D>::gridToParticlesRated(const Stencils<D> &st, ParticleView<D> &q, co
                                    const double *wg, double dt, double flip, double *mom) {
   const Scene<D> &sc = s_.sc;
   const bool apic = sc.transfer == Transfer::Apic;
+  if constexpr (D == 2)
+    if (s_.lanes && apic)
+      return transfer::laneLoops::gridToParticlesAffineRated(st, q.n, ug, wg, slotCoordinates(), dt,
+                                                             q.m, q.v, q.B, q.x, mom);
   if constexpr (D == 3)
     if (s_.lanes) {
       if (apic)

@@ -164,24 +164,44 @@ GIMP_LANES_INLINE void affineGather(const Run &R, const double *vg, const V4 *dx
   Bk[3] = B1y;
 }
 
-/// APIC G2P of every particle, the move by dt v_p and, with Project, the re-projection of the
+/// blocks::interpolate for a run: f_p = sum_j w_j sum_i w_i f_ij (x and y in lanes).
+GIMP_LANES_INLINE void interpolateRun(const Run &R, const double *fg, V4 &fx, V4 &fy) {
+  fx = fy = splat(0);
+  for (int j = 0; j < 3; ++j) {
+    const double *r[4] = {fg + R.row[j][0], fg + R.row[j][1], fg + R.row[j][2], fg + R.row[j][3]};
+    V4 gx, gy;
+    gatherPairs(r, 0, gx, gy);
+    V4 tx = R.wx[0] * gx, ty = R.wx[0] * gy;
+    for (int i = 1; i < 3; ++i) {
+      gatherPairs(r, 2 * i, gx, gy);
+      tx = tx + R.wx[i] * gx;
+      ty = ty + R.wx[i] * gy;
+    }
+    fx = fx + R.wy[j] * tx;
+    fy = fy + R.wy[j] * ty;
+  }
+}
+
+/// APIC G2P of every particle, the move by dt v_p (with wg, by dt sum_i S_ip wg_i: a rate class
+/// of a per-level step, gridToParticlesAffineRated) and, with Project, the re-projection of the
 /// new affine momenta into mom (x may be xc: every centre of a run is read before it moves).
 template <bool Project>
-GIMP_LANES_INLINE void gridToParticlesAffineRuns(const Stencils<2> &st, PetscInt n,
-                                                 const double *vg, const double *xc,
-                                                 const double *xs, double dt, const double *m,
-                                                 double *v, double *B, double *x, double *mom) {
+GIMP_LANES_INLINE void
+gridToParticlesAffineRuns(const Stencils<2> &st, PetscInt n, const double *vg, const double *wg,
+                          const double *xc, const double *xs, double dt, const double *m, double *v,
+                          double *B, double *x, double *mom) {
   const auto one = [&](PetscInt k) {
-    double vp[2];
+    double vp[2], wp[2] = {0, 0};
     Tensor<2> Bk;
     if constexpr (Project)
       particleFromAndToGridAffine<2>(st, k, m[k], vg, xc + 2 * k, xs, vp, Bk, mom);
     else
       particleFromGridAffine<2>(st, k, vg, xc + 2 * k, xs, vp, Bk);
+    if (wg) interpolateAt<2>(st, k, wg, wp);
     tensorAt<2>(B, k) = Bk;
     for (int c = 0; c < 2; ++c) {
       v[2 * k + c] = vp[c];
-      x[2 * k + c] += dt * vp[c];
+      x[2 * k + c] += dt * (wg ? wp[c] : vp[c]);
     }
   };
   // With weights centred on the positions (x == xc) the centres read first are the positions
@@ -209,10 +229,11 @@ GIMP_LANES_INLINE void gridToParticlesAffineRuns(const Stencils<2> &st, PetscInt
     }
     storeTensors(B, k, Bk);
     storeVectors(v, k, vx, vy);
-    V4 X = XP, Y = YP;
+    V4 X = XP, Y = YP, ux = vx, uy = vy;
     if (!centredOnX) loadVectors(x, k, X, Y);
+    if (wg) interpolateRun(R, wg, ux, uy);
     const V4 dtv = splat(dt);
-    storeVectors(x, k, X + dtv * vx, Y + dtv * vy);
+    storeVectors(x, k, X + dtv * ux, Y + dtv * uy);
   };
   forGroups(st, 0, n, lane, one);
 }
@@ -223,13 +244,24 @@ GIMP_LANES void gridToParticlesAffineProjected(const Stencils<2> &st, PetscInt n
                                                const double *xc, const double *xs, double dt,
                                                const double *m, double *v, double *B, double *x,
                                                double *mom) {
-  gridToParticlesAffineRuns<true>(st, n, vg, xc, xs, dt, m, v, B, x, mom);
+  gridToParticlesAffineRuns<true>(st, n, vg, nullptr, xc, xs, dt, m, v, B, x, mom);
 }
 
 GIMP_LANES void gridToParticlesAffine(const Stencils<2> &st, PetscInt n, const double *vg,
                                       const double *xc, const double *xs, double dt, double *v,
                                       double *B, double *x) {
-  gridToParticlesAffineRuns<false>(st, n, vg, xc, xs, dt, nullptr, v, B, x, nullptr);
+  gridToParticlesAffineRuns<false>(st, n, vg, nullptr, xc, xs, dt, nullptr, v, B, x, nullptr);
+}
+
+GIMP_LANES void gridToParticlesAffineRated(const Stencils<2> &st, PetscInt n, const double *vg,
+                                           const double *wg, const double *xs, double dt,
+                                           const double *m, double *v, double *B, double *x,
+                                           double *mom) {
+  const double *w = wg == vg ? nullptr : wg; // (moving with v_p)
+  if (mom)
+    gridToParticlesAffineRuns<true>(st, n, vg, w, x, xs, dt, m, v, B, x, mom);
+  else
+    gridToParticlesAffineRuns<false>(st, n, vg, w, x, xs, dt, nullptr, v, B, x, nullptr);
 }
 
 #else // no lanes on this architecture: the scalar loops
@@ -251,6 +283,11 @@ void gridToParticlesAffineProjected(const Stencils<2> &st, PetscInt n, const dou
 void gridToParticlesAffine(const Stencils<2> &st, PetscInt n, const double *vg, const double *xc,
                            const double *xs, double dt, double *v, double *B, double *x) {
   transfer::gridToParticlesAffine<2>(st, n, vg, xc, xs, dt, v, B, x);
+}
+void gridToParticlesAffineRated(const Stencils<2> &st, PetscInt n, const double *vg,
+                                const double *wg, const double *xs, double dt, const double *m,
+                                double *v, double *B, double *x, double *mom) {
+  transfer::gridToParticlesAffineRated<2>(st, n, vg, wg, xs, dt, m, v, B, x, mom);
 }
 
 #endif

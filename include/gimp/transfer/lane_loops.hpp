@@ -49,6 +49,13 @@ void gridToParticlesAffineProjected(const Stencils<2> &st, PetscInt n, const dou
 void gridToParticlesAffine(const Stencils<2> &st, PetscInt n, const double *vg, const double *xc,
                            const double *xs, double dt, double *v, double *B, double *x);
 
+/// gridToParticlesAffineRated<2> (transfer/affine.hpp): APIC G2P of one rate class of a
+/// per-level step, centred on the positions x, the move by dt S wg (with wg == vg, dt v_p) and,
+/// when mom is not null, the re-projection about the place before the move.
+void gridToParticlesAffineRated(const Stencils<2> &st, PetscInt n, const double *vg,
+                                const double *wg, const double *xs, double dt, const double *m,
+                                double *v, double *B, double *x, double *mom);
+
 /// The velocity gradients of particles k0 .. k1-1 into L (row-major 2 x 2 from L[0]), as
 /// transfer::velocityGradientAt<2>; k0 a multiple of 4 (the lane groups are aligned).
 void velocityGradients(const Stencils<2> &st, PetscInt k0, PetscInt k1, const double *vg,
