@@ -312,26 +312,45 @@ GIMP_LANES void gridToParticlesRated(const Stencils<3> &st, PetscInt n, const do
   flipG2P<true>(st, n, ug, wg, dt, flip, m, v, x, mom);
 }
 
-#else // no lanes here: never called (laneLoops::available() is false)
+#else // no lanes on this architecture (laneLoops::available() is false): the scalar loops
 
-void particlesToGridAffineB(const Stencils<3> &, PetscInt, const double *, const double *,
-                            const double *, const double *, const double *, double *, double *) {}
-void gridToParticlesAffineProjected(const Stencils<3> &, PetscInt, const double *, const double *,
-                                    const double *, double, const double *, double *, double *,
-                                    double *, double *) {}
-void gridToParticlesAffine(const Stencils<3> &, PetscInt, const double *, const double *,
-                           const double *, double, double *, double *, double *) {}
-void particlesToGrid(const Stencils<3> &, PetscInt, const double *, const double *, double *,
-                     double *) {}
-void gridToParticles(const Stencils<3> &, PetscInt, const double *, const double *, double, double,
-                     double *, double *) {}
-void gridToParticlesProjected(const Stencils<3> &, PetscInt, const double *, const double *, double,
-                              double, const double *, double *, double *, double *) {}
-void gridToParticlesAffineRated(const Stencils<3> &, PetscInt, const double *, const double *,
-                                const double *, double, const double *, double *, double *,
-                                double *, double *) {}
-void gridToParticlesRated(const Stencils<3> &, PetscInt, const double *, const double *, double,
-                          double, const double *, double *, double *, double *) {}
+void particlesToGridAffineB(const Stencils<3> &st, PetscInt n, const double *m, const double *v,
+                            const double *B, const double *xc, const double *xs, double *mom,
+                            double *mass) {
+  transfer::particlesToGridAffineB<3>(st, n, m, v, B, xc, xs, mom, mass);
+}
+void gridToParticlesAffineProjected(const Stencils<3> &st, PetscInt n, const double *vg,
+                                    const double *xc, const double *xs, double dt, const double *m,
+                                    double *v, double *B, double *x, double *mom) {
+  transfer::gridToParticlesAffineProjected<3>(st, n, vg, xc, xs, dt, m, v, B, x, mom);
+}
+void gridToParticlesAffine(const Stencils<3> &st, PetscInt n, const double *vg, const double *xc,
+                           const double *xs, double dt, double *v, double *B, double *x) {
+  transfer::gridToParticlesAffine<3>(st, n, vg, xc, xs, dt, v, B, x);
+}
+void particlesToGrid(const Stencils<3> &st, PetscInt n, const double *m, const double *v,
+                     double *mom, double *mass) {
+  transfer::particlesToGrid<3>(st, n, m, v, mom, mass);
+}
+void gridToParticles(const Stencils<3> &st, PetscInt n, const double *vg, const double *ag,
+                     double dt, double flip, double *v, double *x) {
+  transfer::gridToParticles<3>(st, n, vg, ag, dt, flip, v, x);
+}
+void gridToParticlesProjected(const Stencils<3> &st, PetscInt n, const double *vg, const double *ag,
+                              double dt, double flip, const double *m, double *v, double *x,
+                              double *mom) {
+  transfer::gridToParticlesProjected<3>(st, n, vg, ag, dt, flip, m, v, x, mom);
+}
+void gridToParticlesAffineRated(const Stencils<3> &st, PetscInt n, const double *vg,
+                                const double *wg, const double *xs, double dt, const double *m,
+                                double *v, double *B, double *x, double *mom) {
+  transfer::gridToParticlesAffineRated<3>(st, n, vg, wg, xs, dt, m, v, B, x, mom);
+}
+void gridToParticlesRated(const Stencils<3> &st, PetscInt n, const double *ug, const double *wg,
+                          double dt, double flip, const double *m, double *v, double *x,
+                          double *mom) {
+  transfer::gridToParticlesRated<3>(st, n, ug, wg, dt, flip, m, v, x, mom);
+}
 
 #endif
 

@@ -167,12 +167,21 @@ GIMP_LANES void updateDeformation(const Scene<3> &sc, ParticleView<3> &p, const 
   if (k < k1) physics::updateDeformation<3>(sc, p, L + 9 * (k - k0), dt, k, k1);
 }
 
-#else // no lanes here: never called (laneLoops::available() is false)
+#else // no lanes on this architecture (laneLoops::available() is false): the scalar loops
 
-void internalForce(const Stencils<3> &, PetscInt, const double *, const double *, double *) {}
-void velocityGradients(const Stencils<3> &, PetscInt, PetscInt, const double *, double *) {}
-void updateDeformation(const Scene<3> &, ParticleView<3> &, const double *, double, PetscInt,
-                       PetscInt) {}
+void internalForce(const Stencils<3> &st, PetscInt n, const double *V, const double *stress,
+                   double *f) {
+  transfer::internalForce<3>(st, 0, n, V, stress, f);
+}
+void velocityGradients(const Stencils<3> &st, PetscInt k0, PetscInt k1, const double *vg,
+                       double *L) {
+  for (PetscInt k = k0; k < k1; ++k)
+    tensorAt<3>(L, k - k0) = velocityGradientAt<3>(st, k, vg);
+}
+void updateDeformation(const Scene<3> &sc, ParticleView<3> &p, const double *L, double dt,
+                       PetscInt k0, PetscInt k1) {
+  physics::updateDeformation<3>(sc, p, L, dt, k0, k1);
+}
 
 #endif
 
