@@ -10,6 +10,7 @@ the phase's formulas ask for (the node values it reads or writes, products count
   P2G          2D 9 nodes x (2 + 1) values, 3D 27 x (3 + 1): 4.0
   force, grad  2D 9 nodes x 2 x 2 products, 3D 27 x 3 x 3: 6.75
   G2P          (APIC: v and B, then the re-projection) 2D 9 x (2 + 4 + 2), 3D 27 x (3 + 9 + 3): 5.6
+               (FLIP: v and a, then the re-projection) 2D 9 x (2 + 2 + 2), 3D 27 x (3 + 3 + 3): 4.5
   stress       F += dt L F and the Jaumann rate: 2D 8 + 12, 3D 27 + 36 products: about 3
 
 Usage: bench/kernel_counts.py [--transfer apic|flip] [--steps 4] [--build DIR]
@@ -33,6 +34,8 @@ PHASES = [  # (phase, pattern of the function names callgrind reports)
 ]
 WORK = {"P2G": 4.0, "internal force": 6.75, "velocity gradient": 6.75, "G2P": 5.6,
         "stress update": 3.0}
+# FLIP's G2P reads v and a and re-projects m v: 2D 9 x (2 + 2 + 2), 3D 27 x (3 + 3 + 3)
+WORK_FLIP = dict(WORK, G2P=4.5)
 SCENES = [("2D", "block.opts", 2, 65536), ("3D", "block3d.opts", 3, 110592),
           ("3D, 3 levels", "block3d_levels.opts", 3, 90112)]
 
@@ -82,7 +85,8 @@ def main():
     for p in [p for p, _ in PHASES] + ["other", "total"]:
         two, three, lev = res[0][p], res[1][p], res[2][p]
         ratio = "%.1f" % (three / two) if two > 0.5 else "-"
-        work = "%.2f" % WORK[p] if p in WORK else ""
+        table = WORK_FLIP if a.transfer == "flip" else WORK
+        work = "%.2f" % table[p] if p in table else ""
         print("| %s | %.0f | %.0f | %s | %s | %.0f |" % (p, two, three, ratio, work, lev))
 
 
