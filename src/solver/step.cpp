@@ -168,10 +168,7 @@ PetscErrorCode Step<D>::buildStencils(const ParticleView<D> &p, const double *ce
 template <int D>
 void Step<D>::internalForce(const Stencils<D> &st, PetscInt n, const double *V, const double *s,
                             double *f) const {
-  if constexpr (D == 2)
-    if (s_.lanes) return transfer::laneLoops::internalForce(st, n, V, s, f);
-  if constexpr (D == 3)
-    if (s_.lanes) return transfer::laneLoops3::internalForce(st, n, V, s, f);
+  if (s_.lanes) return transfer::laneLoops::internalForce(st, n, V, s, f);
   transfer::internalForce<D>(st, n, V, s, f);
 }
 
@@ -274,18 +271,11 @@ PetscErrorCode Step<D>::stress(const Stencils<D> &st, ParticleView<D> &p, Vec ve
   PetscCall(VecGetArrayRead(velocityWindow, &vg));
   for (PetscInt k0 = 0; k0 < p.n; k0 += kChunk) {
     const PetscInt k1 = std::min(p.n, k0 + kChunk);
-    if constexpr (D == 2)
-      if (s.lanes) {
-        transfer::laneLoops::velocityGradients(st, k0, k1, vg, L_.data());
-        transfer::laneLoops::updateDeformation(s.sc, p, L_.data(), dt, k0, k1);
-        continue;
-      }
-    if constexpr (D == 3)
-      if (s.lanes) {
-        transfer::laneLoops3::velocityGradients(st, k0, k1, vg, L_.data());
-        transfer::laneLoops3::updateDeformation(s.sc, p, L_.data(), dt, k0, k1);
-        continue;
-      }
+    if (s.lanes) {
+      transfer::laneLoops::velocityGradients(st, k0, k1, vg, L_.data());
+      transfer::laneLoops::updateDeformation(s.sc, p, L_.data(), dt, k0, k1);
+      continue;
+    }
     for (PetscInt k = k0; k < k1; ++k)
       tensorAt<D>(L_.data(), k - k0) = transfer::velocityGradientAt<D>(st, k, vg);
     physics::updateDeformation<D>(s.sc, p, L_.data(), dt, k0, k1);

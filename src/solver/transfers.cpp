@@ -48,23 +48,16 @@ template <int D> const double *Step<D>::slotCoordinates() {
 template <int D>
 void Step<D>::projectMomentum(const Stencils<D> &st, const ParticleView<D> &p,
                               const double *centres, double *mom, double *mass) {
+  namespace lanes = transfer::laneLoops; // (2D: four particles at a time; 3D: x, y, z)
   if (s_.sc.transfer != Transfer::Apic) {
-    if constexpr (D == 3)
-      if (s_.lanes) return transfer::laneLoops3::particlesToGrid(st, p.n, p.m, p.v, mom, mass);
-    transfer::particlesToGrid<D>(st, p.n, p.m, p.v, mom, mass);
-    return;
+    if constexpr (D == 3) // (2D FLIP transfers have no lane form)
+      if (s_.lanes) return lanes::particlesToGrid(st, p.n, p.m, p.v, mom, mass);
+    return transfer::particlesToGrid<D>(st, p.n, p.m, p.v, mom, mass);
   }
   // C_p = B_p D_p^-1 per particle from its stencil, at the step's P2G and at the re-projection.
-  if constexpr (D == 2)
-    if (s_.lanes) {
-      transfer::laneLoops::particlesToGridAffineB(st, p.n, p.m, p.v, p.B, centres,
-                                                  slotCoordinates(), mom, mass);
-      return;
-    }
-  if constexpr (D == 3)
-    if (s_.lanes)
-      return transfer::laneLoops3::particlesToGridAffineB(st, p.n, p.m, p.v, p.B, centres,
-                                                          slotCoordinates(), mom, mass);
+  if (s_.lanes)
+    return lanes::particlesToGridAffineB(st, p.n, p.m, p.v, p.B, centres, slotCoordinates(), mom,
+                                         mass);
   transfer::particlesToGridAffineB<D>(st, p.n, p.m, p.v, p.B, centres, slotCoordinates(), mom,
                                       mass);
 }
@@ -127,36 +120,25 @@ template <int D> PetscErrorCode Step<D>::xpicFilter(const ParticleView<D> &p, co
 template <int D>
 void Step<D>::gridToParticlesKernel(ParticleView<D> &p, const StepClock &c, const double *centres,
                                     const double *vg, const double *ag, bool fused, double *mom) {
+  namespace lanes = transfer::laneLoops;
   const Scene<D> &sc = s_.sc;
   const Stencils<D> &st = s_.st;
-  if constexpr (D == 3)
-    if (s_.lanes) {
-      namespace l3 = transfer::laneLoops3;
-      if (sc.transfer == Transfer::Apic)
-        return fused ? l3::gridToParticlesAffineProjected(st, p.n, vg, centres, slotCoordinates(),
-                                                          c.dt, p.m, p.v, p.B, p.x, mom)
-                     : l3::gridToParticlesAffine(st, p.n, vg, centres, slotCoordinates(), c.dt, p.v,
-                                                 p.B, p.x);
-      return fused
-                 ? l3::gridToParticlesProjected(st, p.n, vg, ag, c.dt, sc.flip, p.m, p.v, p.x, mom)
-                 : l3::gridToParticles(st, p.n, vg, ag, c.dt, sc.flip, p.v, p.x);
-    }
+  const double *xs = slotCoordinates();
   if (sc.transfer == Transfer::Apic) {
-    const bool lanes = D == 2 && s_.lanes;
-    if constexpr (D == 2)
-      if (lanes && fused)
-        return transfer::laneLoops::gridToParticlesAffineProjected(
-            st, p.n, vg, centres, slotCoordinates(), c.dt, p.m, p.v, p.B, p.x, mom);
     if (fused)
-      return transfer::gridToParticlesAffineProjected<D>(st, p.n, vg, centres, slotCoordinates(),
-                                                         c.dt, p.m, p.v, p.B, p.x, mom);
-    if constexpr (D == 2)
-      if (lanes)
-        return transfer::laneLoops::gridToParticlesAffine(st, p.n, vg, centres, slotCoordinates(),
-                                                          c.dt, p.v, p.B, p.x);
-    return transfer::gridToParticlesAffine<D>(st, p.n, vg, centres, slotCoordinates(), c.dt, p.v,
-                                              p.B, p.x);
+      return s_.lanes ? lanes::gridToParticlesAffineProjected(st, p.n, vg, centres, xs, c.dt, p.m,
+                                                              p.v, p.B, p.x, mom)
+                      : transfer::gridToParticlesAffineProjected<D>(st, p.n, vg, centres, xs, c.dt,
+                                                                    p.m, p.v, p.B, p.x, mom);
+    return s_.lanes
+               ? lanes::gridToParticlesAffine(st, p.n, vg, centres, xs, c.dt, p.v, p.B, p.x)
+               : transfer::gridToParticlesAffine<D>(st, p.n, vg, centres, xs, c.dt, p.v, p.B, p.x);
   }
+  if constexpr (D == 3) // (2D FLIP transfers have no lane form)
+    if (s_.lanes)
+      return fused ? lanes::gridToParticlesProjected(st, p.n, vg, ag, c.dt, sc.flip, p.m, p.v, p.x,
+                                                     mom)
+                   : lanes::gridToParticles(st, p.n, vg, ag, c.dt, sc.flip, p.v, p.x);
   if (fused)
     return transfer::gridToParticlesProjected<D>(st, p.n, vg, ag, c.dt, sc.flip, p.m, p.v, p.x,
                                                  mom);
@@ -166,23 +148,14 @@ void Step<D>::gridToParticlesKernel(ParticleView<D> &p, const StepClock &c, cons
 template <int D>
 void Step<D>::gridToParticlesRated(const Stencils<D> &st, ParticleView<D> &q, const double *ug,
                                    const double *wg, double dt, double flip, double *mom) {
-  const Scene<D> &sc = s_.sc;
-  const bool apic = sc.transfer == Transfer::Apic;
-  if constexpr (D == 2)
-    if (s_.lanes && apic)
-      return transfer::laneLoops::gridToParticlesAffineRated(st, q.n, ug, wg, slotCoordinates(), dt,
-                                                             q.m, q.v, q.B, q.x, mom);
-  if constexpr (D == 3)
-    if (s_.lanes) {
-      if (apic)
-        return transfer::laneLoops3::gridToParticlesAffineRated(st, q.n, ug, wg, slotCoordinates(),
-                                                                dt, q.m, q.v, q.B, q.x, mom);
-      return transfer::laneLoops3::gridToParticlesRated(st, q.n, ug, wg, dt, flip, q.m, q.v, q.x,
-                                                        mom);
-    }
-  if (apic)
-    return transfer::gridToParticlesAffineRated<D>(st, q.n, ug, wg, slotCoordinates(), dt, q.m, q.v,
-                                                   q.B, q.x, mom);
+  namespace lanes = transfer::laneLoops;
+  if (s_.sc.transfer == Transfer::Apic)
+    return s_.lanes ? lanes::gridToParticlesAffineRated(st, q.n, ug, wg, slotCoordinates(), dt, q.m,
+                                                        q.v, q.B, q.x, mom)
+                    : transfer::gridToParticlesAffineRated<D>(st, q.n, ug, wg, slotCoordinates(),
+                                                              dt, q.m, q.v, q.B, q.x, mom);
+  if constexpr (D == 3) // (2D FLIP transfers have no lane form)
+    if (s_.lanes) return lanes::gridToParticlesRated(st, q.n, ug, wg, dt, flip, q.m, q.v, q.x, mom);
   transfer::gridToParticlesRated<D>(st, q.n, ug, wg, dt, flip, q.m, q.v, q.x, mom);
 }
 

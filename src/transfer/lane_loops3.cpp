@@ -13,7 +13,7 @@
 
 #include "lane_runs3.hpp"
 
-namespace gimp::transfer::laneLoops3 {
+namespace gimp::transfer::laneLoops {
 
 #if GIMP_HAVE_LANES
 
@@ -57,23 +57,33 @@ GIMP_LANES_INLINE void affineFromGridRows(const Stencils<3> &st, PetscInt k, con
   });
 }
 
-/// particleToGrid<3> of a particle that keeps rows.
-GIMP_LANES_INLINE void toGridRows(const Stencils<3> &st, PetscInt k, double mp, V4 PK, double *mom,
-                                  double *mass) {
-  forRows(st, k, [&](PetscInt nd, double w, const Vector<3> &) GIMP_LANES_LAMBDA {
+/// particleToGrid<3> of particle k (through Stencils::forEach): m_p v_p S into mom, m_p S into
+/// mass.
+GIMP_LANES_INLINE void toGrid(const Stencils<3> &st, PetscInt k, double mp, V4 PK, double *mom,
+                              double *mass) {
+  forEachEntry(st, k, [&](PetscInt nd, double w, const Vector<3> &) GIMP_LANES_LAMBDA {
     store3(mom + 3 * nd, load3(mom + 3 * nd) + splat(w) * PK);
     if (mass) mass[3 * nd] += w * mp;
   });
 }
 
-/// particleFromGrid<3> of a particle that keeps rows.
-GIMP_LANES_INLINE void fromGridRows(const Stencils<3> &st, PetscInt k, const double *vg,
-                                    const double *ag, V4 &VP, V4 &AP) {
+/// particleFromGrid<3> of particle k: sum_i S_ip v_i and sum_i S_ip a_i.
+GIMP_LANES_INLINE void fromGrid(const Stencils<3> &st, PetscInt k, const double *vg,
+                                const double *ag, V4 &VP, V4 &AP) {
   VP = AP = splat(0.0);
-  forRows(st, k, [&](PetscInt nd, double w, const Vector<3> &) GIMP_LANES_LAMBDA {
+  forEachEntry(st, k, [&](PetscInt nd, double w, const Vector<3> &) GIMP_LANES_LAMBDA {
     VP = VP + splat(w) * load3(vg + 3 * nd);
     AP = AP + splat(w) * load3(ag + 3 * nd);
   });
+}
+
+/// interpolateAt<3>: sum_i S_ip f_i at particle k.
+GIMP_LANES_INLINE V4 interpolate(const Stencils<3> &st, PetscInt k, const double *fg) {
+  V4 FP = splat(0.0);
+  forEachEntry(st, k, [&](PetscInt nd, double w, const Vector<3> &) GIMP_LANES_LAMBDA {
+    FP = FP + splat(w) * load3(fg + 3 * nd);
+  });
+  return FP;
 }
 
 /// particleToGridAffineB<3>, block branch: D_k from the three axes' 1D moments, C = B D^-1, and
@@ -150,42 +160,6 @@ GIMP_LANES_INLINE void affineG2P(const Stencils<3> &st, PetscInt n, const double
   }
 }
 
-/// particleToGrid<3> through Stencils::forEach's walk of a block: m_p v_p w into mom, m_p w into
-/// mass.
-GIMP_LANES_INLINE void toGrid(const Block<3> &b, double mp, V4 PK, double *mom, double *mass) {
-  int nn[3];
-  reached(b, nn);
-  for (int q = 0; q < nn[2]; ++q)
-    for (int j = 0; j < nn[1]; ++j) {
-      const double wyz = b.w[1][j] * b.w[2][q];
-      const PetscInt row = b.base + j * b.stride[0] + q * b.stride[1];
-      for (int i = 0; i < nn[0]; ++i) {
-        const double w = b.w[0][i] * wyz;
-        double *mr = mom + 3 * (row + i);
-        store3(mr, load3(mr) + splat(w) * PK);
-        if (mass) mass[3 * (row + i)] += w * mp;
-      }
-    }
-}
-
-/// particleFromGrid<3> through the same walk: the grid velocity and acceleration at the particle.
-GIMP_LANES_INLINE void fromGrid(const Block<3> &b, const double *vg, const double *ag, V4 &VP,
-                                V4 &AP) {
-  int nn[3];
-  reached(b, nn);
-  VP = AP = splat(0.0);
-  for (int q = 0; q < nn[2]; ++q)
-    for (int j = 0; j < nn[1]; ++j) {
-      const double wyz = b.w[1][j] * b.w[2][q];
-      const PetscInt r = 3 * (b.base + j * b.stride[0] + q * b.stride[1]);
-      for (int i = 0; i < nn[0]; ++i) {
-        const V4 W = splat(b.w[0][i] * wyz);
-        VP = VP + W * load3(vg + r + 3 * i);
-        AP = AP + W * load3(ag + r + 3 * i);
-      }
-    }
-}
-
 /// FLIP/PIC G2P of every particle, with the re-projection into mom when it is not null: with Rated
 /// false (gridToParticles<3>) v_p <- flip (v_p + dt S a) + (1 - flip) S v and x_p += dt S v (f0
 /// = v, f1 = a); with Rated true (gridToParticlesRated<3>) v_p <- flip v_p + S u and x_p += dt S w
@@ -196,43 +170,13 @@ GIMP_LANES_INLINE void flipG2P(const Stencils<3> &st, PetscInt n, const double *
                                double *x, double *mom) {
   const V4 F = splat(flip), G = splat(1.0 - flip), DT = splat(dt);
   for (PetscInt k = 0; k < n; ++k) {
-    const bool block = st.isBlock(k);
     V4 P0, P1;
-    if (block)
-      fromGrid(st.block(k), f0, f1, P0, P1);
-    else
-      fromGridRows(st, k, f0, f1, P0, P1);
+    fromGrid(st, k, f0, f1, P0, P1);
     const V4 Vk = Rated ? F * load3(v + 3 * k) + P0 : F * (load3(v + 3 * k) + DT * P1) + G * P0;
     store3(v + 3 * k, Vk);
     store3(x + 3 * k, load3(x + 3 * k) + DT * (Rated ? P1 : P0));
-    if (!mom) continue;
-    if (block)
-      toGrid(st.block(k), m[k], splat(m[k]) * Vk, mom, nullptr);
-    else
-      toGridRows(st, k, m[k], splat(m[k]) * Vk, mom, nullptr);
+    if (mom) toGrid(st, k, m[k], splat(m[k]) * Vk, mom, nullptr);
   }
-}
-
-/// interpolateAt<3>: sum_i S_ip f_i at particle k (through Stencils::forEach's walk).
-GIMP_LANES_INLINE V4 interpolate(const Stencils<3> &st, PetscInt k, const double *fg) {
-  V4 FP = splat(0.0);
-  if (!st.isBlock(k)) {
-    forRows(st, k, [&](PetscInt nd, double w, const Vector<3> &) GIMP_LANES_LAMBDA {
-      FP = FP + splat(w) * load3(fg + 3 * nd);
-    });
-    return FP;
-  }
-  const Block<3> b = st.block(k);
-  int nn[3];
-  reached(b, nn);
-  for (int q = 0; q < nn[2]; ++q)
-    for (int j = 0; j < nn[1]; ++j) {
-      const double wyz = b.w[1][j] * b.w[2][q];
-      const PetscInt r = 3 * (b.base + j * b.stride[0] + q * b.stride[1]);
-      for (int i = 0; i < nn[0]; ++i)
-        FP = FP + splat(b.w[0][i] * wyz) * load3(fg + r + 3 * i);
-    }
-  return FP;
 }
 
 } // namespace
@@ -264,12 +208,8 @@ GIMP_LANES void gridToParticlesAffine(const Stencils<3> &st, PetscInt n, const d
 
 GIMP_LANES void particlesToGrid(const Stencils<3> &st, PetscInt n, const double *m, const double *v,
                                 double *mom, double *mass) {
-  for (PetscInt k = 0; k < n; ++k) {
-    if (st.isBlock(k))
-      toGrid(st.block(k), m[k], splat(m[k]) * load3(v + 3 * k), mom, mass);
-    else
-      toGridRows(st, k, m[k], splat(m[k]) * load3(v + 3 * k), mom, mass);
-  }
+  for (PetscInt k = 0; k < n; ++k)
+    toGrid(st, k, m[k], splat(m[k]) * load3(v + 3 * k), mom, mass);
 }
 
 GIMP_LANES void gridToParticles(const Stencils<3> &st, PetscInt n, const double *vg,
@@ -354,4 +294,4 @@ void gridToParticlesRated(const Stencils<3> &st, PetscInt n, const double *ug, c
 
 #endif
 
-} // namespace gimp::transfer::laneLoops3
+} // namespace gimp::transfer::laneLoops

@@ -9,7 +9,7 @@
 
 #include "lane_runs3.hpp"
 
-namespace gimp::transfer::laneLoops3 {
+namespace gimp::transfer::laneLoops {
 
 #if GIMP_HAVE_LANES
 
@@ -47,27 +47,10 @@ GIMP_LANES void internalForce(const Stencils<3> &st, PetscInt n, const double *V
   for (PetscInt k = 0; k < n; ++k) {
     const Tensor<3> A = -V[k] * tensorAt<3>(stress, k);
     const V4 Ax = column(A, 0), Ay = column(A, 1), Az = column(A, 2), Z = splat(0.0);
-    if (!st.isBlock(k)) { // transfer::internalForce<3> of a particle that keeps rows
-      forRows(st, k, [&](PetscInt nd, double, const Vector<3> &gr) GIMP_LANES_LAMBDA {
-        const V4 fc = Z + Ax * splat(gr[0]) + Ay * splat(gr[1]) + Az * splat(gr[2]);
-        store3(f + 3 * nd, load3(f + 3 * nd) + fc);
-      });
-      continue;
-    }
-    const Block<3> b = st.block(k);
-    int nn[3];
-    reached(b, nn);
-    for (int q = 0; q < nn[2]; ++q)
-      for (int j = 0; j < nn[1]; ++j) {
-        const double wyz = b.w[1][j] * b.w[2][q], gy = b.g[1][j] * b.w[2][q],
-                     gz = b.w[1][j] * b.g[2][q];
-        double *fr = f + 3 * (b.base + j * b.stride[0] + q * b.stride[1]);
-        for (int i = 0; i < nn[0]; ++i) {
-          const V4 fc = Z + Ax * splat(b.g[0][i] * wyz) + Ay * splat(b.w[0][i] * gy) +
-                        Az * splat(b.w[0][i] * gz);
-          store3(fr + 3 * i, load3(fr + 3 * i) + fc);
-        }
-      }
+    forEachEntry(st, k, [&](PetscInt nd, double, const Vector<3> &gr) GIMP_LANES_LAMBDA {
+      const V4 fc = Z + Ax * splat(gr[0]) + Ay * splat(gr[1]) + Az * splat(gr[2]);
+      store3(f + 3 * nd, load3(f + 3 * nd) + fc);
+    });
   }
 }
 
@@ -185,4 +168,4 @@ void updateDeformation(const Scene<3> &sc, ParticleView<3> &p, const double *L, 
 
 #endif
 
-} // namespace gimp::transfer::laneLoops3
+} // namespace gimp::transfer::laneLoops

@@ -10,7 +10,7 @@
 
 #if GIMP_HAVE_LANES
 
-namespace gimp::transfer::laneLoops3 {
+namespace gimp::transfer::laneLoops {
 
 // File-local to each loop file that includes this header.
 namespace {
@@ -60,8 +60,32 @@ template <class F> GIMP_LANES_INLINE void forRows(const Stencils<3> &st, PetscIn
     f(st.node[e], st.weight(e), st.gradient(e));
 }
 
+/// Stencils::forEach (3D) in a function the lane lambdas can be inlined into: f(slot, weight,
+/// gradient) for every entry of particle k, a block's reached nodes x fastest with the (y, z)
+/// factors formed once per row, the same values in the same order. (Stencils::forEach itself,
+/// compiled without AVX2, cannot inline an AVX2 lambda.)
+template <class F> GIMP_LANES_INLINE void forEachEntry(const Stencils<3> &st, PetscInt k, F &&f) {
+  if (!st.isBlock(k)) return forRows(st, k, f);
+  const Block<3> b = st.block(k); // a copy: f's stores cannot alias it
+  int nn[3];
+  reached(b, nn);
+  for (int q = 0; q < nn[2]; ++q)
+    for (int j = 0; j < nn[1]; ++j) {
+      const double wyz = b.w[1][j] * b.w[2][q], gy = b.g[1][j] * b.w[2][q],
+                   gz = b.w[1][j] * b.g[2][q];
+      const PetscInt row = b.base + j * b.stride[0] + q * b.stride[1];
+      for (int i = 0; i < nn[0]; ++i) {
+        Vector<3> gr;
+        gr[0] = b.g[0][i] * wyz;
+        gr[1] = b.w[0][i] * gy;
+        gr[2] = b.w[0][i] * gz;
+        f(row + i, b.w[0][i] * wyz, gr);
+      }
+    }
+}
+
 } // namespace
 
-} // namespace gimp::transfer::laneLoops3
+} // namespace gimp::transfer::laneLoops
 
 #endif

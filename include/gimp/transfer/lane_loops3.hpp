@@ -12,7 +12,9 @@
 // are bit for bit the scalar ones (tests/check_lanes.py runs the 3D scenes with -gimp_lanes
 // false too). Particles that keep rows take the same kernels over their entries (forEach order).
 //
-// The functions are compiled for AVX2 whatever the build's flags; call them only when
+// They are the 3D overloads of transfer/lane_loops.hpp's loops (one namespace, so a caller writes
+// one call for both dimensions; FLIP's transfers have a lane form in 3D only). The functions are
+// compiled for AVX2 whatever the build's flags; call them only when
 // transfer::laneLoops::available() is true.
 #pragma once
 
@@ -22,7 +24,7 @@
 
 #include <petscsys.h>
 
-namespace gimp::transfer::laneLoops3 {
+namespace gimp::transfer::laneLoops {
 
 /// particlesToGridAffineB<3> (transfer/affine.hpp): APIC P2G with C_p = B_p D_p^-1.
 void particlesToGridAffineB(const Stencils<3> &st, PetscInt n, const double *m, const double *v,
@@ -82,4 +84,4 @@ void velocityGradients(const Stencils<3> &st, PetscInt k0, PetscInt k1, const do
 void updateDeformation(const Scene<3> &sc, ParticleView<3> &p, const double *L, double dt,
                        PetscInt k0, PetscInt k1);
 
-} // namespace gimp::transfer::laneLoops3
+} // namespace gimp::transfer::laneLoops
