@@ -44,8 +44,9 @@ const std::vector<OptionSpec> kRun = {
      " bodies and the levels before seeding) along each axis the ranks divide; false: the same"
      " number of level-0 nodes each"},
     {"gimp_lanes", Kind::Bool, "", "true", "", nullptr, {},
-     "Run the kernels of block particles in AVX2 lanes where the processor has it (2D: four"
-     " particles at a time; 3D: a node's three components at once); bit for bit the same results"},
+     "Run the kernels of block particles in AVX2 lanes with FMA where the processor has them (2D:"
+     " four particles at a time; 3D: a node's three components at once); the same results to"
+     " round-off"},
     {"gimp_mms", Kind::Choice, "", "none", "none|skb1d", nullptr, {},
      "Manufactured solution: none, or skb1d (an axial standing wave in x, neo-Hookean, nu 0)"},
     {"gimp_mms_amplitude", Kind::Real, "m", "1e-4", "", nullptr, above(0),

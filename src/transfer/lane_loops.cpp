@@ -1,8 +1,7 @@
 // Lanes of four 2D block particles (AVX2): see transfer/lane_loops.hpp. Every lane expression below
-// is the scalar one of transfer/block_kernels.hpp (named next to it) in the same order; these
-// functions have no FMA target and the build no floating-point contraction (-ffp-contract=off,
-// which also holds in a build for a processor with FMA), so each lane rounds as the scalar code
-// does.
+// is the scalar one of transfer/block_kernels.hpp (named next to it) in the same order; this file
+// is built with contraction for AVX2 with FMA (CMakeLists.txt), so products and sums fuse where
+// the compiler finds them and the results are the scalar ones to round-off.
 //
 // This file: APIC's transfers, P2G and G2P (with the re-projection or without); the internal
 // force, the velocity gradient, the stress update and the checks are in lane_loops_stress.cpp,
@@ -20,7 +19,7 @@ namespace gimp::transfer::laneLoops {
 
 bool available() {
   __builtin_cpu_init();
-  return __builtin_cpu_supports("avx2");
+  return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
 }
 
 namespace {

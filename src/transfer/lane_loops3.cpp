@@ -1,7 +1,8 @@
 // 3D block particles with their three components in lanes (AVX2): see transfer/lane_loops3.hpp.
-// Every lane expression below is the scalar one of the kernel named next to it, in the same order;
-// these functions have no FMA target and the build no floating-point contraction, so each lane
-// rounds as the scalar code does. Lane 3 of every vector is zero and never stored.
+// Every lane expression below is the scalar one of the kernel named next to it, in the same order,
+// contracted into fused multiply-adds where the compiler finds them (this file is built with
+// contraction for AVX2 with FMA), so the results are the scalar ones to round-off. Lane 3 of every
+// vector is zero and never stored.
 //
 // This file: the transfers (APIC and FLIP P2G and G2P, with and without the re-projection, and
 // the rate classes' G2P); the internal force, the velocity gradient and the stress update are in

@@ -1,8 +1,9 @@
 // Lanes of four 2D block particles (AVX2), the loops on the stress side of the step: the internal
 // force, the velocity gradient, the linear-elastic stress update and the particle checks (APIC's
 // transfers are in lane_loops.cpp, the pieces both share in lane_runs.hpp; see
-// transfer/lane_loops.hpp). Every lane expression below is the scalar one in the same order, with
-// no FMA and no contraction, so each lane rounds as the scalar code does.
+// transfer/lane_loops.hpp). Every lane expression below is the scalar one in the same order,
+// contracted into fused multiply-adds where the compiler finds them (the scalar results to
+// round-off).
 #include "gimp/transfer/lane_loops.hpp"
 
 #include "gimp/physics/deformation.hpp"

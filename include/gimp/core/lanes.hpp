@@ -1,22 +1,25 @@
 // Four doubles in one 256-bit register (AVX2) for the 2D kernels that run four particles at a
 // time (transfer/lane_loops.hpp, GridT::blockRun): the shuffles they share. Every helper here is
 // compiled for AVX2 whatever the build's flags, so it may be called only from functions that are
-// too (GIMP_LANES), and those only where transfer::laneLoops::available() is true. No fused
-// multiply-add: the lane arithmetic rounds as the scalar code does.
+// too (GIMP_LANES), and those only where transfer::laneLoops::available() is true. The target
+// includes FMA: the lane loop files are built with contraction (CMakeLists.txt), so their
+// products and sums fuse where the compiler finds them, and round differently from the scalar
+// kernels (at round-off; tests/check_lanes.py). Files built without contraction (the stencils'
+// lanes) round as the scalar code does.
 #pragma once
 
-// GCC and Clang only: the build turns contraction off for them (-ffp-contract=off), which the
-// lanes' bit-for-bit results rest on; other compilers that define __GNUC__ run the scalar code.
+// GCC and Clang only: the build sets contraction per file for them (-ffp-contract=off, =fast for
+// the lane loops); other compilers that define __GNUC__ run the scalar code.
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__INTEL_LLVM_COMPILER) &&                 \
     !defined(__NVCOMPILER) && !defined(__INTEL_COMPILER)
 #define GIMP_HAVE_LANES 1
 #include <immintrin.h>
 
-#define GIMP_LANES __attribute__((target("avx2")))
-#define GIMP_LANES_INLINE inline __attribute__((target("avx2"), always_inline))
+#define GIMP_LANES __attribute__((target("avx2,fma")))
+#define GIMP_LANES_INLINE inline __attribute__((target("avx2,fma"), always_inline))
 // A lambda's call operator is a function of its own: one that uses lanes says so after its
 // parameter list, [&](int k) GIMP_LANES_LAMBDA { ... }.
-#define GIMP_LANES_LAMBDA __attribute__((target("avx2"), always_inline))
+#define GIMP_LANES_LAMBDA __attribute__((target("avx2,fma"), always_inline))
 
 namespace gimp::lanes {
 

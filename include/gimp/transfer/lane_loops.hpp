@@ -8,13 +8,14 @@
 // Stencils::laneGroup (stencils built without lanes have none, and everything runs scalar), and
 // does the per-particle arithmetic of the scalar kernel of
 // transfer/block_kernels.hpp in four lanes of a 256-bit register, each lane evaluating the scalar
-// expression in its order (no fused multiply-add); the other particles, and the tail, go
-// through the scalar kernels. Scatters add each particle's contributions to the nodes in
-// particle order, as the scalar loop does, so the results are bit for bit the scalar ones
-// (tests/check_lanes.py compares every scene kind with -gimp_lanes false).
+// expression in its order with products and sums fused (FMA) where the compiler finds them; the
+// other particles, and the tail, go through the scalar kernels. Scatters add each particle's
+// contributions to the nodes in particle order, as the scalar loop does, so the results are the
+// scalar ones to round-off (tests/check_lanes.py compares every scene kind with -gimp_lanes
+// false).
 //
-// The functions are compiled for AVX2 whatever the build's flags; call them only when
-// available() is true (the processor and the operating system support AVX2). On other
+// The functions are compiled for AVX2 with FMA whatever the build's flags; call them only when
+// available() is true (the processor and the operating system support AVX2 and FMA). On other
 // processors, or other architectures, available() is false and the scalar loops run.
 #pragma once
 
@@ -26,7 +27,7 @@
 
 namespace gimp::transfer::laneLoops {
 
-/// True when the lane kernels can run here (x86-64 with AVX2 enabled by the OS).
+/// True when the lane kernels can run here (x86-64 with AVX2 and FMA enabled by the OS).
 bool available();
 
 /// particlesToGridAffineB<2> (transfer/affine.hpp): APIC P2G with C_p = B_p D_p^-1.

@@ -7,14 +7,15 @@
 // the window arrays: each kernel's sums over the components c = 0, 1, 2 of a node (or of a
 // particle's vector, or of a column of its D x D tensor) run as one vector of lanes 0-2 (lane 3
 // zero and unused). Every lane evaluates the scalar kernel's expression for its component, in the
-// same order and with no fused multiply-add (the scalar kernels are the block branches of
-// transfer/affine.hpp and transfer/transfer.hpp and the walk of Stencils::forEach), so the results
-// are bit for bit the scalar ones (tests/check_lanes.py runs the 3D scenes with -gimp_lanes
-// false too). Particles that keep rows take the same kernels over their entries (forEach order).
+// same order, with products and sums fused (FMA) where the compiler finds them (the scalar kernels
+// are the block branches of transfer/affine.hpp and transfer/transfer.hpp and the walk of
+// Stencils::forEach), so the results are the scalar ones to round-off (tests/check_lanes.py runs
+// the 3D scenes with -gimp_lanes false too). Particles that keep rows take the same kernels over
+// their entries (forEach order).
 //
 // They are the 3D overloads of transfer/lane_loops.hpp's loops (one namespace, so a caller writes
 // one call for both dimensions; FLIP's transfers have a lane form in 3D only). The functions are
-// compiled for AVX2 whatever the build's flags; call them only when
+// compiled for AVX2 with FMA whatever the build's flags; call them only when
 // transfer::laneLoops::available() is true.
 #pragma once
 
