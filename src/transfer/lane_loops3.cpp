@@ -58,32 +58,52 @@ GIMP_LANES_INLINE void affineFromGridRows(const Stencils<3> &st, PetscInt k, con
   });
 }
 
-/// particleToGrid<3> of particle k (through Stencils::forEach): m_p v_p S into mom, m_p S into
-/// mass.
+/// particleToGrid<3> of particle k: m_p v_p S into mom, m_p S into mass (a block by rows along x,
+/// each row's (y, z) factor applied once).
 GIMP_LANES_INLINE void toGrid(const Stencils<3> &st, PetscInt k, double mp, V4 PK, double *mom,
                               double *mass) {
-  forEachEntry(st, k, [&](PetscInt nd, double w, const Vector<3> &) GIMP_LANES_LAMBDA {
-    store3(mom + 3 * nd, load3(mom + 3 * nd) + splat(w) * PK);
-    if (mass) mass[3 * nd] += w * mp;
+  if (!st.isBlock(k))
+    return forRows(st, k, [&](PetscInt nd, double w, const Vector<3> &) GIMP_LANES_LAMBDA {
+      store3(mom + 3 * nd, load3(mom + 3 * nd) + splat(w) * PK);
+      if (mass) mass[3 * nd] += w * mp;
+    });
+  const Block<3> b = st.block(k);
+  forBlockRows(b, [&](PetscInt row, double wyz, int nx) GIMP_LANES_LAMBDA {
+    const V4 R = splat(wyz) * PK;
+    const double mw = wyz * mp;
+    for (int i = 0; i < nx; ++i) {
+      double *mi = mom + 3 * (row + i);
+      store3(mi, load3(mi) + splat(b.w[0][i]) * R);
+      if (mass) mass[3 * (row + i)] += b.w[0][i] * mw;
+    }
   });
 }
 
-/// particleFromGrid<3> of particle k: sum_i S_ip v_i and sum_i S_ip a_i.
-GIMP_LANES_INLINE void fromGrid(const Stencils<3> &st, PetscInt k, const double *vg,
-                                const double *ag, V4 &VP, V4 &AP) {
-  VP = AP = splat(0.0);
-  forEachEntry(st, k, [&](PetscInt nd, double w, const Vector<3> &) GIMP_LANES_LAMBDA {
-    VP = VP + splat(w) * load3(vg + 3 * nd);
-    AP = AP + splat(w) * load3(ag + 3 * nd);
+/// sum_i S_ip f_i and sum_i S_ip g_i at particle k (g null: the first only; a block by rows).
+GIMP_LANES_INLINE void fromGrid(const Stencils<3> &st, PetscInt k, const double *fg,
+                                const double *gg, V4 &FP, V4 &GP) {
+  FP = GP = splat(0.0);
+  if (!st.isBlock(k))
+    return forRows(st, k, [&](PetscInt nd, double w, const Vector<3> &) GIMP_LANES_LAMBDA {
+      FP = FP + splat(w) * load3(fg + 3 * nd);
+      if (gg) GP = GP + splat(w) * load3(gg + 3 * nd);
+    });
+  const Block<3> b = st.block(k);
+  forBlockRows(b, [&](PetscInt row, double wyz, int nx) GIMP_LANES_LAMBDA {
+    V4 T = splat(0.0), U = splat(0.0);
+    for (int i = 0; i < nx; ++i) {
+      T = T + splat(b.w[0][i]) * load3(fg + 3 * (row + i));
+      if (gg) U = U + splat(b.w[0][i]) * load3(gg + 3 * (row + i));
+    }
+    FP = FP + splat(wyz) * T;
+    if (gg) GP = GP + splat(wyz) * U;
   });
 }
 
 /// interpolateAt<3>: sum_i S_ip f_i at particle k.
 GIMP_LANES_INLINE V4 interpolate(const Stencils<3> &st, PetscInt k, const double *fg) {
-  V4 FP = splat(0.0);
-  forEachEntry(st, k, [&](PetscInt nd, double w, const Vector<3> &) GIMP_LANES_LAMBDA {
-    FP = FP + splat(w) * load3(fg + 3 * nd);
-  });
+  V4 FP, unused;
+  fromGrid(st, k, fg, nullptr, FP, unused);
   return FP;
 }
 
@@ -113,9 +133,9 @@ GIMP_LANES_INLINE void affineToGrid(const Block<3> &b, double mp, V4 V, const Te
 /// the (y, z) factors).
 GIMP_LANES_INLINE void affineFromGrid(const Block<3> &b, const double *vg, const double *xk,
                                       const double *xs, V4 &VP, V4 *Bc) {
-  double dx[3];
+  double wdx[3];
   for (int i = 0; i < 3; ++i)
-    dx[i] = xs[3 * (b.base + i)] - xk[0];
+    wdx[i] = b.w[0][i] * (xs[3 * (b.base + i)] - xk[0]);
   VP = Bc[0] = Bc[1] = Bc[2] = splat(0.0);
   for (int q = 0; q < 3; ++q) {
     const double dz = xs[3 * (b.base + q * b.stride[1]) + 2] - xk[2];
@@ -124,9 +144,9 @@ GIMP_LANES_INLINE void affineFromGrid(const Block<3> &b, const double *vg, const
       const double dy = xs[r + 1] - xk[1], wyz = b.w[1][j] * b.w[2][q];
       V4 T = splat(0.0), U = splat(0.0);
       for (int i = 0; i < 3; ++i) {
-        const V4 WV = splat(b.w[0][i]) * load3(vg + r + 3 * i);
-        T = T + WV;
-        U = U + WV * splat(dx[i]);
+        const V4 vn = load3(vg + r + 3 * i);
+        T = T + splat(b.w[0][i]) * vn;
+        U = U + splat(wdx[i]) * vn;
       }
       const V4 W = splat(wyz);
       VP = VP + W * T;

@@ -46,11 +46,27 @@ GIMP_LANES void internalForce(const Stencils<3> &st, PetscInt n, const double *V
                               const double *stress, double *f) {
   for (PetscInt k = 0; k < n; ++k) {
     const Tensor<3> A = -V[k] * tensorAt<3>(stress, k);
-    const V4 Ax = column(A, 0), Ay = column(A, 1), Az = column(A, 2), Z = splat(0.0);
-    forEachEntry(st, k, [&](PetscInt nd, double, const Vector<3> &gr) GIMP_LANES_LAMBDA {
-      const V4 fc = Z + Ax * splat(gr[0]) + Ay * splat(gr[1]) + Az * splat(gr[2]);
-      store3(f + 3 * nd, load3(f + 3 * nd) + fc);
-    });
+    const V4 Ax = column(A, 0), Ay = column(A, 1), Az = column(A, 2);
+    if (!st.isBlock(k)) {
+      forRows(st, k, [&](PetscInt nd, double, const Vector<3> &gr) GIMP_LANES_LAMBDA {
+        const V4 fc = Ax * splat(gr[0]) + Ay * splat(gr[1]) + Az * splat(gr[2]);
+        store3(f + 3 * nd, load3(f + 3 * nd) + fc);
+      });
+      continue;
+    }
+    // A block's node (i, j, q) has the gradient (g_i w_j w_q, w_i g_j w_q, w_i w_j g_q): its
+    // force is g_i P + w_i Q with P = w_j w_q A_x and Q = g_j w_q A_y + w_j g_q A_z per row.
+    const Block<3> b = st.block(k);
+    int nn[3];
+    reached(b, nn);
+    for (int q = 0; q < nn[2]; ++q)
+      for (int j = 0; j < nn[1]; ++j) {
+        const V4 P = splat(b.w[1][j] * b.w[2][q]) * Ax,
+                 Q = splat(b.g[1][j] * b.w[2][q]) * Ay + splat(b.w[1][j] * b.g[2][q]) * Az;
+        double *r = f + 3 * (b.base + j * b.stride[0] + q * b.stride[1]);
+        for (int i = 0; i < nn[0]; ++i)
+          store3(r + 3 * i, load3(r + 3 * i) + (splat(b.g[0][i]) * P + splat(b.w[0][i]) * Q));
+      }
   }
 }
 

@@ -1,7 +1,7 @@
 // The pieces the 3D lane loops share (src/transfer/lane_loops3.cpp, lane_loops3_stress.cpp;
 // transfer/lane_loops3.hpp): a node's or a particle's three components in lanes 0-2 of one AVX2
 // register (lane 3 zero, never stored), a 3 x 3 tensor's columns, and the walks over a block's
-// reached nodes and over a particle's row entries in the order of Stencils::forEach.
+// rows of reached nodes and over a particle's row entries.
 #pragma once
 
 #include "gimp/grid/stencils.hpp"
@@ -53,35 +53,21 @@ GIMP_LANES_INLINE void reached(const Block<3> &b, int *nn) {
     nn[d] = b.g[d][2] > 0.0 ? 3 : 2;
 }
 
+/// f(first slot, w_j w_q, nn[0]) for each row along x of the nodes a block reaches (q, then j):
+/// the tensor-product walk of the kernels that need the weights only.
+template <class F> GIMP_LANES_INLINE void forBlockRows(const Block<3> &b, F &&f) {
+  int nn[3];
+  reached(b, nn);
+  for (int q = 0; q < nn[2]; ++q)
+    for (int j = 0; j < nn[1]; ++j)
+      f(b.base + j * b.stride[0] + q * b.stride[1], b.w[1][j] * b.w[2][q], nn[0]);
+}
+
 /// f(slot, weight, gradient) for every row entry of particle k (Stencils::forEach of a particle
 /// that keeps rows), in a function the lane lambdas can be inlined into.
 template <class F> GIMP_LANES_INLINE void forRows(const Stencils<3> &st, PetscInt k, F &&f) {
   for (PetscInt e = st.start[k]; e < st.start[k + 1]; ++e)
     f(st.node[e], st.weight(e), st.gradient(e));
-}
-
-/// Stencils::forEach (3D) in a function the lane lambdas can be inlined into: f(slot, weight,
-/// gradient) for every entry of particle k, a block's reached nodes x fastest with the (y, z)
-/// factors formed once per row, the same values in the same order. (Stencils::forEach itself,
-/// compiled without AVX2, cannot inline an AVX2 lambda.)
-template <class F> GIMP_LANES_INLINE void forEachEntry(const Stencils<3> &st, PetscInt k, F &&f) {
-  if (!st.isBlock(k)) return forRows(st, k, f);
-  const Block<3> b = st.block(k); // a copy: f's stores cannot alias it
-  int nn[3];
-  reached(b, nn);
-  for (int q = 0; q < nn[2]; ++q)
-    for (int j = 0; j < nn[1]; ++j) {
-      const double wyz = b.w[1][j] * b.w[2][q], gy = b.g[1][j] * b.w[2][q],
-                   gz = b.w[1][j] * b.g[2][q];
-      const PetscInt row = b.base + j * b.stride[0] + q * b.stride[1];
-      for (int i = 0; i < nn[0]; ++i) {
-        Vector<3> gr;
-        gr[0] = b.g[0][i] * wyz;
-        gr[1] = b.w[0][i] * gy;
-        gr[2] = b.w[0][i] * gz;
-        f(row + i, b.w[0][i] * wyz, gr);
-      }
-    }
 }
 
 } // namespace

@@ -90,25 +90,31 @@ Tensor<D> inverseInertia(const Stencils<D> &st, PetscInt k, const double *xc, co
   return inverseInertiaAbout<D>(st, k, xc + D * k, xs);
 }
 
-/// C = B D^-1 of a 3D block particle at xk, with D from the three axes' 1D moments S0, S1, S2
-/// (D_aa = S2_a S0_b S0_c, D_ab = S1_a S1_b S0_c), and the offsets d[a][i] = x_i - x_p of its
-/// nodes along each axis.
+/// C = B D^-1 of a 3D block particle at xk, and the offsets d[a][i] = x_i - x_p of its nodes along
+/// each axis. A block's nodes are regular, whose weights sum to 1 and reproduce linear functions
+/// along each axis (sum_i w_i = 1, sum_i w_i d_i = 0 to round-off), so D_p = diag(S2_x, S2_y,
+/// S2_z) with S2_a = sum_i w_i d_i^2 along axis a; where D_p is singular as invertInertia decides
+/// (det below 1e-12 (tr / 3)^3), C = 0.
 GIMP_ALWAYS_INLINE Tensor<3> blockAffineVelocity(const Block<3> &b, const Tensor<3> &Bk,
                                                  const double *xk, const double *xs,
                                                  double (&d)[3][3]) {
-  double S[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}; // [axis][moment]
+  double S2[3] = {0, 0, 0};
   const PetscInt step[3] = {1, b.stride[0], b.stride[1]};
   for (int a = 0; a < 3; ++a)
     for (int i = 0; i < 3; ++i) {
       d[a][i] = xs[3 * (b.base + i * step[a]) + a] - xk[a];
-      const double w = b.w[a][i];
-      S[a][0] += w;
-      S[a][1] += w * d[a][i];
-      S[a][2] += w * d[a][i] * d[a][i];
+      S2[a] += b.w[a][i] * d[a][i] * d[a][i];
     }
-  return product<3>(Bk, invertInertia(S[0][2] * S[1][0] * S[2][0], S[0][0] * S[1][2] * S[2][0],
-                                      S[0][0] * S[1][0] * S[2][2], S[0][1] * S[1][1] * S[2][0],
-                                      S[0][1] * S[1][0] * S[2][1], S[0][0] * S[1][1] * S[2][1]));
+  const double third = (S2[0] + S2[1] + S2[2]) / 3.0;
+  if (!(S2[0] * S2[1] * S2[2] > 1e-12 * third * third * third)) return Tensor<3>::Zero();
+  const double i0 = 1.0 / S2[0], i1 = 1.0 / S2[1], i2 = 1.0 / S2[2];
+  Tensor<3> C;
+  for (int r = 0; r < 3; ++r) {
+    C(r, 0) = Bk(r, 0) * i0;
+    C(r, 1) = Bk(r, 1) * i1;
+    C(r, 2) = Bk(r, 2) * i2;
+  }
+  return C;
 }
 
 /// C_p = B_p D_p^-1 for every particle (row-major D x D into C).
