@@ -24,7 +24,7 @@ import tempfile
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 PHASES = [  # (phase, pattern of the function names callgrind reports)
-    ("stencils", r"buildStencils|blockRun|appendNodes|appendThreeNodeBlock|forEachIndex"),
+    ("stencils", r"buildStencils|blockRun|blockLanes|appendNodes|appendThreeNodeBlock|forEachIndex"),
     ("P2G", r"particlesToGrid"),
     ("internal force", r"internalForce"),
     ("G2P", r"gridToParticles"),

@@ -256,26 +256,31 @@ GIMP_LANES_INLINE void laneSlots(const Grid<2> &grid, int q, const V4 *fi, Petsc
   }
 }
 
+/// shape::threeNodeWeights in lanes, each lane its arithmetic in its order: the weights w and
+/// derivatives g of the three nodes from the particle's centre xi and half-size lam in cells.
+GIMP_LANES_INLINE void laneThreeNodeWeights(V4 xi, V4 lam, V4 ih, V4 *w, V4 *g) {
+  const V4 one = _mm256_set1_pd(1.0), zero = _mm256_setzero_pd(), half = _mm256_set1_pd(0.5);
+  const V4 i2l = half / lam, i2lh = i2l * ih;
+  const V4 A = xi - lam, B = xi + lam;
+  const V4 bb = _mm256_min_pd(one, B), c = _mm256_max_pd(zero, B - 1.0);
+  const V4 ua = 1.0 - A, ub = 1.0 - bb;
+  w[0] = 0.5 * (ua - ub) * (ua + ub) * i2l;
+  w[1] = (0.5 * (bb - A) * (bb + A) + c - 0.5 * c * c) * i2l;
+  w[2] = 0.5 * c * c * i2l;
+  g[0] = (ub - ua) * i2lh;
+  g[1] = (1.0 - _mm256_andnot_pd(_mm256_set1_pd(-0.0), B - 1.0) - A) * i2lh;
+  g[2] = c * i2lh;
+}
+
 /// setBlock's factors of four particles in lanes: the weights w and derivatives g of their
 /// 3-node blocks on level L from nodes fi.
 GIMP_LANES_INLINE void laneFactors(const Level<2> &L, const V4 *X, const V4 *Lh, const V4 *fi,
                                    V4 w[2][3], V4 g[2][3]) {
   const V4 h = _mm256_set1_pd(L.h), ih = _mm256_set1_pd(L.ih);
   // setBlock: xi = (x - (box + i0 h)) / h, lam = l / h, then shape::threeNodeWeights per axis
-  const V4 one = _mm256_set1_pd(1.0), zero = _mm256_setzero_pd(), half = _mm256_set1_pd(0.5);
-  for (int a = 0; a < 2; ++a) {
-    const V4 xi = (X[a] - (_mm256_set1_pd(L.box[a]) + fi[a] * h)) * ih, lam = Lh[a] * ih;
-    const V4 i2l = half / lam, i2lh = i2l * ih;
-    const V4 A = xi - lam, B = xi + lam;
-    const V4 bb = _mm256_min_pd(one, B), c = _mm256_max_pd(zero, B - 1.0);
-    const V4 ua = 1.0 - A, ub = 1.0 - bb;
-    w[a][0] = 0.5 * (ua - ub) * (ua + ub) * i2l;
-    w[a][1] = (0.5 * (bb - A) * (bb + A) + c - 0.5 * c * c) * i2l;
-    w[a][2] = 0.5 * c * c * i2l;
-    g[a][0] = (ub - ua) * i2lh;
-    g[a][1] = (1.0 - _mm256_andnot_pd(_mm256_set1_pd(-0.0), B - 1.0) - A) * i2lh;
-    g[a][2] = c * i2lh;
-  }
+  for (int a = 0; a < 2; ++a)
+    laneThreeNodeWeights((X[a] - (_mm256_set1_pd(L.box[a]) + fi[a] * h)) * ih, Lh[a] * ih, ih, w[a],
+                         g[a]);
 }
 
 /// Particles k .. k+3 as lane group k / 4 of s: their blocks (first slots base, row stride of
@@ -337,6 +342,70 @@ GIMP_LANES bool blockRunLanes(const Grid<2> &grid, const std::uint8_t *threeNode
   storeLaneGroup(grid.levels[q], k, base, w, g, s);
   return true;
 }
+
+/// The three doubles at p in lanes 0-2, lane 3 zero.
+GIMP_LANES_INLINE V4 laneLoad3(const double *p) {
+  return _mm256_blend_pd(_mm256_zextpd128_pd256(_mm_loadu_pd(p)), _mm256_broadcast_sd(p + 2),
+                         0b0100);
+}
+
+/// GridT<3>::blockLanes: soleBlock's tests and setBlock's factors with the three axes in lanes
+/// 0-2, each lane the scalar arithmetic of its axis in its order (no FMA: this file has no
+/// contraction). Lane 3 carries a half-size of one cell and is never used.
+GIMP_LANES bool blockLanes3(const Grid<3> &grid, const std::uint8_t *threeNodeBlocks,
+                            const double *outwardReach, int q, PetscInt k, const double *x,
+                            const double *l, Stencils<3> &s) {
+  const Level<3> &L = grid.levels[q];
+  const V4 X = laneLoad3(x + 3 * k), Lh = laneLoad3(l + 3 * k);
+  const V4 box0 = laneLoad3(&L.box[0]), box1 = laneLoad3(&L.box[3]);
+  const V4 h = _mm256_set1_pd(L.h), ih = _mm256_set1_pd(L.ih);
+  // soleBlock: the centre inside the box, l <= h / 2, candidates [ir, i1] in the window and at
+  // most 3 wide
+  V4 ok = _mm256_and_pd(_mm256_cmp_pd(X, box0, _CMP_GE_OQ), _mm256_cmp_pd(X, box1, _CMP_LE_OQ));
+  ok = _mm256_and_pd(ok, _mm256_cmp_pd(Lh, _mm256_set1_pd(0.5 * L.h), _CMP_LE_OQ));
+  const V4 ir = _mm256_floor_pd((X - Lh - h - box0) * ih) + 1.0;
+  const V4 i1 = _mm256_ceil_pd((X + Lh + h - box0) * ih) - 1.0;
+  const V4 w0 = _mm256_set_pd(0.0, L.w0[2], L.w0[1], L.w0[0]);
+  const V4 w1 = _mm256_set_pd(0.0, L.w1[2], L.w1[1], L.w1[0]);
+  ok = _mm256_and_pd(ok, _mm256_cmp_pd(ir, w0, _CMP_GE_OQ));
+  ok = _mm256_and_pd(ok, _mm256_cmp_pd(ir + 2.0, w1, _CMP_LT_OQ));
+  ok = _mm256_and_pd(ok, _mm256_cmp_pd(i1 - ir, _mm256_set1_pd(2.0), _CMP_LE_OQ));
+  if ((_mm256_movemask_pd(ok) & 7) != 7) return false;
+  alignas(16) int c[4];
+  _mm_store_si128(reinterpret_cast<__m128i *>(c), _mm256_cvttpd_epi32(ir));
+  const PetscInt i0[3] = {c[0], c[1], c[2]};
+  const PetscInt base = grid.windowSlot(q, i0);
+  if (!threeNodeBlocks[base]) return false;
+  // no finer level reaches it (soleBlock's test, per level)
+  for (int f = q + 1; f < static_cast<int>(grid.levels.size()); ++f) {
+    const Level<3> &F = grid.levels[f];
+    const V4 Z = _mm256_set1_pd(std::max(F.h, outwardReach[f]) + 0.5 * F.h);
+    const V4 misses = _mm256_or_pd(_mm256_cmp_pd(X + Lh + Z, laneLoad3(&F.box[0]), _CMP_LT_OQ),
+                                   _mm256_cmp_pd(X - Lh - Z, laneLoad3(&F.box[3]), _CMP_GT_OQ));
+    if ((_mm256_movemask_pd(misses) & 7) == 0) return false;
+  }
+  // setBlock (lane 3's half-size one cell: no division by 0 there)
+  V4 w[3], g[3], cw[4], cg[4];
+  laneThreeNodeWeights((X - (box0 + ir * h)) * ih,
+                       _mm256_blend_pd(Lh * ih, _mm256_set1_pd(1.0), 0b1000), ih, w, g);
+  lanes::transpose(w[0], w[1], w[2], _mm256_setzero_pd(), cw); // cw[a]: axis a's three weights
+  lanes::transpose(g[0], g[1], g[2], _mm256_setzero_pd(), cg);
+  s.blockOf[k] = s.nBlocks;
+  Block<3> &b = s.blocks[s.nBlocks++];
+  // w[0..2][0..2] and g[0..2][0..2] are 18 consecutive doubles: four-wide stores in order, each
+  // lane 3 overwritten by the next store, and the last one three wide
+  static_assert(offsetof(Block<3>, g) == 9 * sizeof(double), "Block<3>: w, then g");
+  for (int a = 0; a < 3; ++a)
+    _mm256_storeu_pd(b.w[a], cw[a]);
+  _mm256_storeu_pd(b.g[0], cg[0]);
+  _mm256_storeu_pd(b.g[1], cg[1]);
+  _mm_storeu_pd(b.g[2], _mm256_castpd256_pd128(cg[2]));
+  _mm_store_sd(&b.g[2][2], _mm256_extractf128_pd(cg[2], 1));
+  b.base = base;
+  b.stride[0] = L.wn(0);
+  b.stride[1] = L.wn(0) * L.wn(1);
+  return true;
+}
 } // namespace
 #endif
 
@@ -351,10 +420,23 @@ bool Grid<D>::blockRun(PetscInt k, const double *x, const double *l, Stencils<D>
 }
 
 template <int D>
+bool Grid<D>::blockLanes(int q, PetscInt k, const double *x, const double *l,
+                         Stencils<D> &s) const {
+#if GIMP_HAVE_LANES
+  if constexpr (D == 3)
+    return blockLanes3(*this, threeNodeBlocks_.data(), outwardReach_.data(), q, k, x, l, s);
+#endif
+  (void)q, (void)k, (void)x, (void)l, (void)s;
+  return false;
+}
+
+template <int D>
 bool Grid<D>::buildStencils(PetscInt n, const double *x, const double *l, Stencils<D> &s,
                             bool compact, bool lanes) const {
   const int K = static_cast<int>(levels.size());
-  // Lane groups (2D): each aligned group of four tries blockRun, which marks the groups it builds.
+  // Lane groups (2D): each aligned group of four tries blockRun, which marks the groups it builds;
+  // in 3D each particle tries blockLanes first.
+  const bool lanes3 = lanes && compact && D == 3;
   lanes = lanes && compact && D == 2;
   startStencils(n, compact, lanes, s);
   size_t m = 0;
@@ -377,6 +459,7 @@ bool Grid<D>::buildStencils(PetscInt n, const double *x, const double *l, Stenci
     const double *xp = x + D * k, *lp = l + D * k;
     const int first = coarsestReaching(xp, lp);
     if (compact) {
+      if (lanes3 && blockLanes(first, k, x, l, s)) continue;
       s.blockOf[k] = -1;
       PetscInt i0[D];
       const int side = soleBlock(first, xp, lp, i0); // the common case, in a few comparisons
@@ -438,6 +521,10 @@ template void Grid<3>::setBlock(int, const PetscInt *, const double *, const dou
 template int Grid<2>::coarsestReaching(const double *, const double *) const;
 template bool Grid<2>::blockRun(PetscInt, const double *, const double *, Stencils<2> &) const;
 template bool Grid<3>::blockRun(PetscInt, const double *, const double *, Stencils<3> &) const;
+template bool Grid<2>::blockLanes(int, PetscInt, const double *, const double *,
+                                  Stencils<2> &) const;
+template bool Grid<3>::blockLanes(int, PetscInt, const double *, const double *,
+                                  Stencils<3> &) const;
 template int Grid<3>::coarsestReaching(const double *, const double *) const;
 template bool Grid<2>::buildStencils(PetscInt, const double *, const double *, Stencils<2> &, bool,
                                      bool) const;

@@ -6,6 +6,7 @@
 #include "gimp/core/pair.hpp"
 #include "gimp/solver/step.hpp"
 #include "gimp/transfer/lane_loops.hpp"
+#include "gimp/transfer/lane_loops3.hpp"
 
 #include <cfloat>
 #include <cmath>
@@ -57,10 +58,14 @@ PetscInt firstBadSolid(const RunState<3> &s, const ParticleView<3> &p, double ma
     lo[a] = d[a] - margin;
     hi[a] = d[3 + a] + margin;
   }
+  PetscInt k0 = 0; // (the lanes test every particle, x, y and z at once)
+  if (s.lanes)
+    k0 = transfer::laneLoops::checkParticles(p.n, p.x, p.l, p.v, p.s, p.V, lo, hi, h0, box, box + 3,
+                                             bad, leaving);
   // Without branches: z is 0 when the stress entries and each x_a + v_a are finite, NaN
   // otherwise (a non-finite value times 0 is NaN); NaN fails every comparison, so a particle
   // with one lands in the bad branch.
-  for (PetscInt k = 0; k < p.n; ++k) {
+  for (PetscInt k = k0; k < p.n; ++k) {
     const double *x = p.x + 3 * k, *l = p.l + 3 * k, *v = p.v + 3 * k, *sk = p.s + 9 * k;
     double z = 0.0;
     for (int e = 0; e < 9; ++e)

@@ -68,13 +68,14 @@ GIMP_LANES_INLINE void toGrid(const Stencils<3> &st, PetscInt k, double mp, V4 P
       if (mass) mass[3 * nd] += w * mp;
     });
   const Block<3> b = st.block(k);
+  const RowFactors W = rowFactors(b.w[0]); // (a third node not reached has weight 0)
+  const Spread P = spread(PK);
   forBlockRows(b, [&](PetscInt row, double wyz, int nx) GIMP_LANES_LAMBDA {
-    const V4 R = splat(wyz) * PK;
-    const double mw = wyz * mp;
-    for (int i = 0; i < nx; ++i) {
-      double *mi = mom + 3 * (row + i);
-      store3(mi, load3(mi) + splat(b.w[0][i]) * R);
-      if (mass) mass[3 * (row + i)] += b.w[0][i] * mw;
+    addToRow(mom + 3 * row, W, wyz * P);
+    if (mass) {
+      const double mw = wyz * mp;
+      for (int i = 0; i < nx; ++i)
+        mass[3 * (row + i)] += b.w[0][i] * mw;
     }
   });
 }
@@ -108,24 +109,25 @@ GIMP_LANES_INLINE V4 interpolate(const Stencils<3> &st, PetscInt k, const double
 }
 
 /// particleToGridAffineB<3>, block branch: D_k from the three axes' 1D moments, C = B D^-1, and
-/// node (i, j, q) gets m w_j w_q [w_i (v + C_y dy_j + C_z dz_q) + w_i dx_i C_x].
+/// node (i, j, q) gets m w_j w_q [w_i (v + C_y dy_j + C_z dz_q) + w_i dx_i C_x], a row's three
+/// nodes at once (RowFactors).
 GIMP_LANES_INLINE void affineToGrid(const Block<3> &b, double mp, V4 V, const Tensor<3> &Bk,
                                     const double *xk, const double *xs, double *mom, double *mass) {
   double d[3][3];
   const Tensor<3> Ck = blockAffineVelocity(b, Bk, xk, xs, d);
   const V4 Cx = column(Ck, 0), Cy = column(Ck, 1), Cz = column(Ck, 2);
+  const double wdx[3] = {b.w[0][0] * d[0][0], b.w[0][1] * d[0][1], b.w[0][2] * d[0][2]};
+  const RowFactors W = rowFactors(b.w[0]), WD = rowFactors(wdx);
   for (int q = 0; q < 3; ++q)
     for (int j = 0; j < 3; ++j) {
       const double mw = mp * b.w[1][j] * b.w[2][q];
       const V4 MW = splat(mw);
       const V4 R = MW * (V + Cy * splat(d[1][j]) + Cz * splat(d[2][q])), T = MW * Cx;
       const PetscInt row = b.base + j * b.stride[0] + q * b.stride[1];
-      double *mr = mom + 3 * row;
-      for (int i = 0; i < 3; ++i) {
-        const double wx = b.w[0][i], wdx = wx * d[0][i];
-        store3(mr + 3 * i, load3(mr + 3 * i) + (splat(wx) * R + splat(wdx) * T));
-        if (mass) mass[3 * (row + i)] += wx * mw;
-      }
+      addToRow(mom + 3 * row, W, spread(R), WD, spread(T));
+      if (mass)
+        for (int i = 0; i < 3; ++i)
+          mass[3 * (row + i)] += b.w[0][i] * mw;
     }
 }
 

@@ -21,9 +21,10 @@ GIMP_LANES_INLINE V4 splat(double a) {
   return _mm256_set1_pd(a);
 }
 
-/// The three doubles at p in lanes 0-2, lane 3 zero.
+/// The three doubles at p in lanes 0-2, lane 3 zero (two loads and a blend: no shuffle).
 GIMP_LANES_INLINE V4 load3(const double *p) {
-  return _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(p)), _mm_load_sd(p + 2), 1);
+  return _mm256_blend_pd(_mm256_zextpd128_pd256(_mm_loadu_pd(p)), _mm256_broadcast_sd(p + 2),
+                         0b0100);
 }
 
 /// Lanes 0-2 of v to p (p[3] untouched).
@@ -51,6 +52,49 @@ template <class T> GIMP_LANES_INLINE void setColumns(const V4 *c, T &t) {
 GIMP_LANES_INLINE void reached(const Block<3> &b, int *nn) {
   for (int d = 0; d < 3; ++d)
     nn[d] = b.g[d][2] > 0.0 ? 3 : 2;
+}
+
+/// A row of a block's three nodes along x is 9 contiguous doubles (node i's component c at 3 i +
+/// c), which two registers and a double hold: (x0 y0 z0 x1 | y1 z1 x2 y2 | z2). Per-node factors
+/// f_0..2 spread onto that layout as (f0 f0 f0 f1 | f1 f1 f2 f2 | f2) (RowFactors, once per
+/// particle), a node vector v (lanes 0-2) as (vx vy vz vx | vy vz vx vy | vz) (Spread, once per
+/// particle: a row's vectors are combinations of the particle's, formed spread), so that adding
+/// f_i v to the three nodes is two loads, two stores and a double.
+struct RowFactors {
+  V4 a, b;
+  double c;
+};
+GIMP_LANES_INLINE RowFactors rowFactors(const double *f) {
+  return {_mm256_set_pd(f[1], f[0], f[0], f[0]), _mm256_set_pd(f[2], f[2], f[1], f[1]), f[2]};
+}
+struct Spread {
+  V4 a, b;
+  double c;
+};
+GIMP_LANES_INLINE Spread spread(V4 v) {
+  return {_mm256_permute4x64_pd(v, _MM_SHUFFLE(0, 2, 1, 0)),
+          _mm256_permute4x64_pd(v, _MM_SHUFFLE(1, 0, 2, 1)),
+          _mm_cvtsd_f64(_mm256_extractf128_pd(v, 1))};
+}
+GIMP_LANES_INLINE Spread operator*(double s, const Spread &v) {
+  const V4 S = _mm256_set1_pd(s);
+  return {S * v.a, S * v.b, s * v.c};
+}
+GIMP_LANES_INLINE Spread operator+(const Spread &u, const Spread &v) {
+  return {u.a + v.a, u.b + v.b, u.c + v.c};
+}
+/// Node i of the row at p gets f_i v (i = 0, 1, 2).
+GIMP_LANES_INLINE void addToRow(double *p, const RowFactors &f, const Spread &v) {
+  _mm256_storeu_pd(p, _mm256_loadu_pd(p) + f.a * v.a);
+  _mm256_storeu_pd(p + 4, _mm256_loadu_pd(p + 4) + f.b * v.b);
+  p[8] += f.c * v.c;
+}
+/// Node i of the row at p gets f_i v + g_i u.
+GIMP_LANES_INLINE void addToRow(double *p, const RowFactors &f, const Spread &v,
+                                const RowFactors &g, const Spread &u) {
+  _mm256_storeu_pd(p, _mm256_loadu_pd(p) + (f.a * v.a + g.a * u.a));
+  _mm256_storeu_pd(p + 4, _mm256_loadu_pd(p + 4) + (f.b * v.b + g.b * u.b));
+  p[8] += f.c * v.c + g.c * u.c;
 }
 
 /// f(first slot, w_j w_q, nn[0]) for each row along x of the nodes a block reaches (q, then j):

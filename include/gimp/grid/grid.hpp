@@ -191,6 +191,10 @@ private:
   /// them, in four lanes (AVX2), bit for bit, and stored factor-major (LaneBlocks); the group
   /// marked in s.laneGroup. False, with nothing written, otherwise.
   bool blockRun(PetscInt k, const double *x, const double *l, Stencils<D> &s) const;
+  /// (3D, with lanes) Particle k as level q's 3-node block when soleBlock gives it side 3 there,
+  /// with its x, y and z in lanes (AVX2): soleBlock's tests and setBlock's factors in their
+  /// arithmetic, bit for bit. False, with nothing written, otherwise.
+  bool blockLanes(int q, PetscInt k, const double *x, const double *l, Stencils<D> &s) const;
   /// Particle k keeps level q's 3-node block from node i0.
   void setBlock(int q, const PetscInt *i0, const double *x, const double *l, Stencils<D> &s,
                 PetscInt k) const;

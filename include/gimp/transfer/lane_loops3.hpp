@@ -85,4 +85,14 @@ void velocityGradients(const Stencils<3> &st, PetscInt k0, PetscInt k1, const do
 void updateDeformation(const Scene<3> &sc, ParticleView<3> &p, const double *L, double dt,
                        PetscInt k0, PetscInt k1);
 
+/// Solver::checks' test of every solid particle with its x, y, z in lanes: finite position,
+/// velocity and stress, 0 < V <= DBL_MAX, the domain [x - l, x + l] inside [lo, hi], 0 < l <=
+/// hmax. Returns how many particles it tested (all, or none without lanes); `bad` is the first
+/// of them that fails (-1 for none) and `leaving` is increased by those outside [own0, own1)
+/// (the next step's migration).
+PetscInt checkParticles(PetscInt n, const double *x, const double *l, const double *v,
+                        const double *s, const double *V, const double *lo, const double *hi,
+                        double hmax, const double *own0, const double *own1, PetscInt &bad,
+                        PetscInt64 &leaving);
+
 } // namespace gimp::transfer::laneLoops
