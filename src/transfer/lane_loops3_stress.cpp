@@ -19,17 +19,24 @@ namespace {
 
 /// Entry e of the four row-major 3 x 3 tensors at a (36 doubles) in lanes: c[e] = (a[e], a[9 +
 /// e], a[18 + e], a[27 + e]).
+/// (Entries 0-3 and 4-7 of the four tensors by two 4 x 4 transposes of contiguous loads.)
 GIMP_LANES_INLINE void loadTensors4(const double *a, V4 *c) {
-  for (int e = 0; e < 9; ++e)
-    c[e] = _mm256_set_pd(a[27 + e], a[18 + e], a[9 + e], a[e]);
+  for (int h = 0; h < 2; ++h)
+    lanes::transpose(_mm256_loadu_pd(a + 4 * h), _mm256_loadu_pd(a + 9 + 4 * h),
+                     _mm256_loadu_pd(a + 18 + 4 * h), _mm256_loadu_pd(a + 27 + 4 * h), c + 4 * h);
+  c[8] = _mm256_set_pd(a[35], a[26], a[17], a[8]);
 }
 GIMP_LANES_INLINE void storeTensors4(double *a, const V4 *c) {
-  alignas(32) double t[4];
-  for (int e = 0; e < 9; ++e) {
-    _mm256_store_pd(t, c[e]);
+  V4 r[4];
+  for (int h = 0; h < 2; ++h) {
+    lanes::transpose(c[4 * h], c[4 * h + 1], c[4 * h + 2], c[4 * h + 3], r);
     for (int q = 0; q < 4; ++q)
-      a[9 * q + e] = t[q];
+      _mm256_storeu_pd(a + 9 * q + 4 * h, r[q]);
   }
+  alignas(32) double t[4];
+  _mm256_store_pd(t, c[8]);
+  for (int q = 0; q < 4; ++q)
+    a[9 * q + 8] = t[q];
 }
 /// Component a of the four 3-vectors at p in lanes, and back.
 GIMP_LANES_INLINE V4 loadComponent4(const double *p, int a) {
