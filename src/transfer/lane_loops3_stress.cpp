@@ -74,7 +74,7 @@ GIMP_LANES void internalForce(const Stencils<3> &st, PetscInt n, const double *V
                  Q = splat(b.g[1][j] * b.w[2][q]) * Ay + splat(b.w[1][j] * b.g[2][q]) * Az;
         double *r = f + 3 * (b.base + j * b.stride[0] + q * b.stride[1]);
         for (int i = 0; i < nn[0]; ++i)
-          store3(r + 3 * i, load3(r + 3 * i) + (splat(b.g[0][i]) * P + splat(b.w[0][i]) * Q));
+          store3(r + 3 * i, load3(r + 3 * i) + splat(b.g[0][i]) * P + splat(b.w[0][i]) * Q);
       }
   }
 }

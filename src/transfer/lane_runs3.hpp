@@ -92,9 +92,9 @@ GIMP_LANES_INLINE void addToRow(double *p, const RowFactors &f, const Spread &v)
 /// Node i of the row at p gets f_i v + g_i u.
 GIMP_LANES_INLINE void addToRow(double *p, const RowFactors &f, const Spread &v,
                                 const RowFactors &g, const Spread &u) {
-  _mm256_storeu_pd(p, _mm256_loadu_pd(p) + (f.a * v.a + g.a * u.a));
-  _mm256_storeu_pd(p + 4, _mm256_loadu_pd(p + 4) + (f.b * v.b + g.b * u.b));
-  p[8] += f.c * v.c + g.c * u.c;
+  _mm256_storeu_pd(p, _mm256_loadu_pd(p) + f.a * v.a + g.a * u.a);
+  _mm256_storeu_pd(p + 4, _mm256_loadu_pd(p + 4) + f.b * v.b + g.b * u.b);
+  p[8] = p[8] + f.c * v.c + g.c * u.c;
 }
 
 /// f(first slot, w_j w_q, nn[0]) for each row along x of the nodes a block reaches (q, then j):
