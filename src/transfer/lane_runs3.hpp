@@ -57,9 +57,10 @@ GIMP_LANES_INLINE void reached(const Block<3> &b, int *nn) {
 /// A row of a block's three nodes along x is 9 contiguous doubles (node i's component c at 3 i +
 /// c), which two registers and a double hold: (x0 y0 z0 x1 | y1 z1 x2 y2 | z2). Per-node factors
 /// f_0..2 spread onto that layout as (f0 f0 f0 f1 | f1 f1 f2 f2 | f2) (RowFactors, once per
-/// particle), a node vector v (lanes 0-2) as (vx vy vz vx | vy vz vx vy | vz) (Spread, once per
-/// particle: a row's vectors are combinations of the particle's, formed spread), so that adding
-/// f_i v to the three nodes is two loads, two stores and a double.
+/// particle), a node vector v (lanes 0-2) as (vx vy vz vx | vy vz vx vy | vz) (Spread: once per
+/// particle where each row's vector is a multiple of the particle's, as in FLIP's P2G; once per
+/// row otherwise), so that adding f_i v to the three nodes is two loads, two stores and a
+/// double.
 struct RowFactors {
   V4 a, b;
   double c;
@@ -79,9 +80,6 @@ GIMP_LANES_INLINE Spread spread(V4 v) {
 GIMP_LANES_INLINE Spread operator*(double s, const Spread &v) {
   const V4 S = _mm256_set1_pd(s);
   return {S * v.a, S * v.b, s * v.c};
-}
-GIMP_LANES_INLINE Spread operator+(const Spread &u, const Spread &v) {
-  return {u.a + v.a, u.b + v.b, u.c + v.c};
 }
 /// Node i of the row at p gets f_i v (i = 0, 1, 2).
 GIMP_LANES_INLINE void addToRow(double *p, const RowFactors &f, const Spread &v) {
