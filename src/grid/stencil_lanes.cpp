@@ -180,12 +180,6 @@ GIMP_LANES bool blockRunLanes(const Grid<2> &grid, const std::uint8_t *threeNode
   return true;
 }
 
-/// The three doubles at p in lanes 0-2, lane 3 zero.
-GIMP_LANES_INLINE V4 laneLoad3(const double *p) {
-  return _mm256_blend_pd(_mm256_zextpd128_pd256(_mm_loadu_pd(p)), _mm256_broadcast_sd(p + 2),
-                         0b0100);
-}
-
 /// GridT<3>::blockLanes: soleBlock's tests and setBlock's factors with the three axes in lanes
 /// 0-2, each lane the scalar arithmetic of its axis in its order (no FMA: this file has no
 /// contraction). Lane 3 carries a half-size of one cell and is never used.
@@ -193,8 +187,8 @@ GIMP_LANES bool blockLanes3(const Grid<3> &grid, const std::uint8_t *threeNodeBl
                             const double *outwardReach, int q, PetscInt k, const double *x,
                             const double *l, Stencils<3> &s) {
   const Level<3> &L = grid.levels[q];
-  const V4 X = laneLoad3(x + 3 * k), Lh = laneLoad3(l + 3 * k);
-  const V4 box0 = laneLoad3(&L.box[0]), box1 = laneLoad3(&L.box[3]);
+  const V4 X = lanes::load3(x + 3 * k), Lh = lanes::load3(l + 3 * k);
+  const V4 box0 = lanes::load3(&L.box[0]), box1 = lanes::load3(&L.box[3]);
   const V4 h = _mm256_set1_pd(L.h), ih = _mm256_set1_pd(L.ih);
   // soleBlock: the centre inside the box, l <= h / 2, candidates [ir, i1] in the window and at
   // most 3 wide
@@ -217,8 +211,8 @@ GIMP_LANES bool blockLanes3(const Grid<3> &grid, const std::uint8_t *threeNodeBl
   for (int f = q + 1; f < static_cast<int>(grid.levels.size()); ++f) {
     const Level<3> &F = grid.levels[f];
     const V4 Z = _mm256_set1_pd(std::max(F.h, outwardReach[f]) + 0.5 * F.h);
-    const V4 misses = _mm256_or_pd(_mm256_cmp_pd(X + Lh + Z, laneLoad3(&F.box[0]), _CMP_LT_OQ),
-                                   _mm256_cmp_pd(X - Lh - Z, laneLoad3(&F.box[3]), _CMP_GT_OQ));
+    const V4 misses = _mm256_or_pd(_mm256_cmp_pd(X + Lh + Z, lanes::load3(&F.box[0]), _CMP_LT_OQ),
+                                   _mm256_cmp_pd(X - Lh - Z, lanes::load3(&F.box[3]), _CMP_GT_OQ));
     if ((_mm256_movemask_pd(misses) & 7) == 0) return false;
   }
   // setBlock (lane 3's half-size one cell: no division by 0 there)

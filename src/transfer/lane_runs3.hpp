@@ -21,11 +21,7 @@ GIMP_LANES_INLINE V4 splat(double a) {
   return _mm256_set1_pd(a);
 }
 
-/// The three doubles at p in lanes 0-2, lane 3 zero (two loads and a blend: no shuffle).
-GIMP_LANES_INLINE V4 load3(const double *p) {
-  return _mm256_blend_pd(_mm256_zextpd128_pd256(_mm_loadu_pd(p)), _mm256_broadcast_sd(p + 2),
-                         0b0100);
-}
+using lanes::load3;
 
 /// Lanes 0-2 of v to p (p[3] untouched).
 GIMP_LANES_INLINE void store3(double *p, V4 v) {

@@ -49,6 +49,13 @@ GIMP_LANES_INLINE void storeXY(double *p, V4 X, V4 Y) {
   _mm256_storeu2_m128d(p + 6, p + 2, hi);
 }
 
+/// The three doubles at p in lanes 0-2, lane 3 zero (two loads and a blend: no shuffle): a 3D
+/// point, or a node's three components.
+GIMP_LANES_INLINE V4 load3(const double *p) {
+  return _mm256_blend_pd(_mm256_zextpd128_pd256(_mm_loadu_pd(p)), _mm256_broadcast_sd(p + 2),
+                         0b0100);
+}
+
 } // namespace gimp::lanes
 
 #else
