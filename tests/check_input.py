@@ -19,15 +19,23 @@ cases = [
     ('not a number', ['-gimp_E', 'abc'],
      '-gimp_E abc'),
 ]
-for name, extra, needle in cases:
+# The cases run two at a time (gimptest.concurrently) once they are all listed.
+later = []
+
+
+def bad_option(name, extra, needle):
     p = gimptest.run(args, "options/patch.opts", extra + ["-ts_max_steps", "1"], expect_ok=False,
-                     outdir=os.path.join(args.work, "bad"))
+                     outdir=os.path.join(args.work, "bad_" + name.replace(" ", "_")))
     lines = [l for l in p.stderr.splitlines() if l.strip()]
     ok = p.returncode != 0 and len(lines) >= 1 and needle in lines[0] and \
         lines[0].startswith(("gimp: error: option", "[0]PETSC ERROR"))
     one_line = len([l for l in lines if "error" in l.lower()]) == 1
     c.check(name, ok and one_line and lines[0].startswith("gimp: error:"),
             "exit %d: %s" % (p.returncode, lines[0] if lines else "(no message)"))
+
+
+for case in cases:
+    later.append(lambda case=case: bad_option(*case))
 
 # Valid cracks (a mouth outside the body, kinked; one wholly inside) are read and their options
 # used: the run goes on.
@@ -55,16 +63,23 @@ file_cases = [
     ("options file without a name", ["-ts_max_steps", "1", "-options_file"],
      "option -options_file: missing the file name"),
 ]
+
+
+def bad_file(name, extra, needle, ranks):
+    p = gimptest.run(args, "options/patch.opts", extra, ranks=ranks, expect_ok=False,
+                     outdir=os.path.join(args.work,
+                                         "bad_%s_np%d" % (name.replace(" ", "_"), ranks)))
+    lines = [l for l in p.stderr.splitlines() if l.startswith("gimp:") or "PETSC" in l or
+             "MPI_ABORT" in l]
+    c.check("%s (%d rank%s)" % (name, ranks, "s" if ranks > 1 else ""),
+            p.returncode != 0 and len(lines) == 1 and lines[0].startswith("gimp: error:") and
+            needle in lines[0],
+            "exit %d: %s" % (p.returncode, " | ".join(lines) if lines else "(no message)"))
+
+
 for name, extra, needle in file_cases:
     for ranks in (1, 2):
-        p = gimptest.run(args, "options/patch.opts", extra, ranks=ranks, expect_ok=False,
-                         outdir=os.path.join(args.work, "bad"))
-        lines = [l for l in p.stderr.splitlines() if l.startswith("gimp:") or "PETSC" in l or
-                 "MPI_ABORT" in l]
-        c.check("%s (%d rank%s)" % (name, ranks, "s" if ranks > 1 else ""),
-                p.returncode != 0 and len(lines) == 1 and lines[0].startswith("gimp: error:") and
-                needle in lines[0],
-                "exit %d: %s" % (p.returncode, " | ".join(lines) if lines else "(no message)"))
+        later.append(lambda a=(name, extra, needle, ranks): bad_file(*a))
 
 # Failures found on one rank (rank 0 creates the output directory and writes the files) end
 # every rank with the same one line: no rank waits forever in a collective call.
@@ -81,25 +96,33 @@ rank0_cases = [
      % (os.path.join(blocker, "g.csv"), blocker)),
 ]
 env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
+
+
+def rank0_failure(name, extra, needle, ranks):
+    cmd = [args.gimp, "-options_file", os.path.join(args.root, "options", "patch.opts"),
+           "-ts_max_steps", "2"]
+    if "-gimp_output_dir" not in extra:
+        cmd += ["-gimp_output_dir",
+                os.path.join(args.work, "rank0_ok_%s_np%d" % (name.replace(" ", "_"), ranks))]
+    cmd += extra
+    if ranks > 1:
+        cmd = [args.mpiexec, "-n", str(ranks)] + cmd
+    try:
+        p = subprocess.run(cmd, cwd=args.work, capture_output=True, text=True, env=env,
+                           timeout=120)
+        rc, err = p.returncode, p.stderr
+    except subprocess.TimeoutExpired:
+        rc, err = None, "(hung: killed after 120 s)"
+    lines = [l for l in err.splitlines() if l.startswith("gimp:") or "PETSC" in l]
+    c.check("%s (%d rank%s)" % (name, ranks, "s" if ranks > 1 else ""),
+            rc == 2 and len(lines) == 1 and needle in lines[0],
+            "exit %s: %s" % (rc, " | ".join(lines) if lines else err.strip()[-200:]))
+
+
 for name, extra, needle in rank0_cases:
     for ranks in (1, 2):
-        cmd = [args.gimp, "-options_file", os.path.join(args.root, "options", "patch.opts"),
-               "-ts_max_steps", "2"]
-        if "-gimp_output_dir" not in extra:
-            cmd += ["-gimp_output_dir", os.path.join(args.work, "rank0_ok")]
-        cmd += extra
-        if ranks > 1:
-            cmd = [args.mpiexec, "-n", str(ranks)] + cmd
-        try:
-            p = subprocess.run(cmd, cwd=args.work, capture_output=True, text=True, env=env,
-                               timeout=120)
-            rc, err = p.returncode, p.stderr
-        except subprocess.TimeoutExpired:
-            rc, err = None, "(hung: killed after 120 s)"
-        lines = [l for l in err.splitlines() if l.startswith("gimp:") or "PETSC" in l]
-        c.check("%s (%d rank%s)" % (name, ranks, "s" if ranks > 1 else ""),
-                rc == 2 and len(lines) == 1 and needle in lines[0],
-                "exit %s: %s" % (rc, " | ".join(lines) if lines else err.strip()[-200:]))
+        later.append(lambda a=(name, extra, needle, ranks): rank0_failure(*a))
+gimptest.concurrently(later)
 
 # A scene that includes another (plate_static.opts includes plate.opts) runs from any working
 # directory: here the work directory, the scene named by an absolute and a relative path.

@@ -140,21 +140,25 @@ def history_scales(ha, hb, frame):
     return scales
 
 
-used = None
-for name, opts, extra, ranks in CASES:
-    runs = {}
-    for lanes in ("true", "false"):
-        out = os.path.join(args.work, "%s_%s" % (name, lanes))
-        p = gimptest.run(args, opts, extra=extra + ["-gimp_lanes", lanes, "-gimp_history_interval", "5", "-info", ":sys"],
-                         ranks=ranks, outdir=out, expect_ok=False)
-        if p.returncode != 0:
-            sys.stdout.write(p.stdout[-2000:])
-            sys.stderr.write(p.stderr[-2000:])
-            raise SystemExit("gimp failed on %s (-gimp_lanes %s)" % (name, lanes))
-        if lanes == "true" and used is None:
-            used = "in lanes: yes" in p.stdout + p.stderr or \
-                "lanes of four particles: yes" in p.stdout + p.stderr
-        runs[lanes] = out
+def run_case(name, opts, extra, ranks, lanes):
+    out = os.path.join(args.work, "%s_%s" % (name, lanes))
+    p = gimptest.run(args, opts, extra=extra + ["-gimp_lanes", lanes, "-gimp_history_interval", "5", "-info", ":sys"],
+                     ranks=ranks, outdir=out, expect_ok=False)
+    if p.returncode != 0:
+        sys.stdout.write(p.stdout[-2000:])
+        sys.stderr.write(p.stderr[-2000:])
+        raise SystemExit("gimp failed on %s (-gimp_lanes %s)" % (name, lanes))
+    return out, "in lanes: yes" in p.stdout + p.stderr or \
+        "lanes of four particles: yes" in p.stdout + p.stderr
+
+
+# Every run first, two at a time; then the comparisons in the order of CASES.
+done = gimptest.concurrently([
+    (lambda case=case, lanes=lanes: run_case(*case, lanes))
+    for case in CASES for lanes in ("true", "false")])
+used = done[0][1]
+for i, (name, opts, extra, ranks) in enumerate(CASES):
+    runs = {"true": done[2 * i][0], "false": done[2 * i + 1][0]}
     step_a, a = last_frame(runs["true"])
     step_b, b = last_frame(runs["false"])
     worst, where = 0.0, ""

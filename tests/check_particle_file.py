@@ -71,8 +71,9 @@ def worst(a, b):
 
 
 steps = ["-ts_max_steps", "400"]  # t = 1.7 s: into the impact
-circles = dump_run("options/disks.opts", "circles", steps)
-from_file = dump_run(opts, "from_file", steps)
+circles, from_file = gimptest.concurrently([
+    lambda: dump_run("options/disks.opts", "circles", steps),
+    lambda: dump_run(opts, "from_file", steps)])
 d = worst(circles, from_file)
 c.check("disks from files = disks from circles", d <= 1e-12,
         "%d particles; largest difference of x, y, v, stress, V, l after 400 steps, relative to "
@@ -97,8 +98,8 @@ c.check("V only: square domains", ok, "; ".join("V %s lx %s ly %s" % (r["V"], r[
                                                  for r in rows))
 
 
-# Bad files: each one line naming the option, the file and what is wrong.
-def bad_file(name, text, needle, extra=()):
+# Bad files: each one line naming the option, the file and what is wrong (two at a time).
+def check_bad_file(name, text, needle, extra=()):
     path = os.path.join(W, name.replace(" ", "_") + ".csv")
     if text is not None:
         with open(path, "w") as f:
@@ -107,12 +108,20 @@ def bad_file(name, text, needle, extra=()):
     with open(o, "w") as f:
         f.write("-gimp_E 1000\n-gimp_rho 1000\n-gimp_h 0.05\n-gimp_domain 0,0,1,1\n"
                 "-gimp_body0_shape file\n-gimp_body0_file %s\n-ts_max_steps 1\n" % path)
-    p = gimptest.run(args, o, list(extra), expect_ok=False, outdir=os.path.join(W, "bad"))
+    p = gimptest.run(args, o, list(extra), expect_ok=False,
+                     outdir=os.path.join(W, "bad_" + name.replace(" ", "_")))
     lines = [ln for ln in p.stderr.splitlines() if "error" in ln]
     opt = "-gimp_body0_velocity" if extra else "-gimp_body0_file"
     c.check("bad file: " + name, p.returncode != 0 and len(lines) == 1 and
             opt in lines[0] and needle in lines[0],
             "exit %d: %s" % (p.returncode, lines[0] if lines else p.stderr.strip()[-200:]))
+
+
+later = []
+
+
+def bad_file(*a):
+    later.append(lambda: check_bad_file(*a))
 
 
 bad_file("missing", None, "cannot open the file")
@@ -138,4 +147,5 @@ bad_file("larger than a cell", "x,y,lx,ly\n0.5,0.5,0.01,0.01\n0.3,0.5,0.06,0.01\
          "particle 1 (data row 2) has half-sizes 0.06,0.01 larger than the coarsest cell")
 bad_file("velocity twice", "x,y,V,vx,vy\n0.5,0.5,1e-4,1,0\n",
          "gives each particle's velocity", ["-gimp_body0_velocity", "0,1"])
+gimptest.concurrently(later)
 c.done()

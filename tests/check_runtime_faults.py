@@ -83,6 +83,14 @@ def one_error(name, opts, needles, code, ranks=1, absent=(), warning=None, addre
     c.check("%s%s" % (name, " (2 ranks)" if ranks > 1 else ""), ok, detail)
 
 
+# The cases run two at a time (gimptest.concurrently) once they are all listed.
+cases = []
+
+
+def later(f, *a, **k):
+    cases.append(lambda: f(*a, **k))
+
+
 def patch(*extra):
     return ["-options_file", PATCH] + list(extra)
 
@@ -97,32 +105,32 @@ LOAD3 = ("-gimp_traction0_value", "1e12,0,0", "-gimp_traction1_value", "-1e12,0,
 GREW = ["step 1 t 0.00025", "its speed", "times c_p = 116.023870223 m/s", "the run went unstable",
         "dt 0.00025 s = 0.29 h_min / c_p (h_min / c_p = 0.000861892 s)"]
 for ranks in (1, 2):
-    one_error("load of 1e5 E", patch(*LOAD2, "-ts_max_steps", "50"), GREW, 3, ranks,
+    later(one_error, "load of 1e5 E", patch(*LOAD2, "-ts_max_steps", "50"), GREW, 3, ranks,
               status="unstable")
-one_error("load of 1e5 E in 3D", patch3d(*LOAD3, "-ts_max_steps", "50"),
+later(one_error, "load of 1e5 E in 3D", patch3d(*LOAD3, "-ts_max_steps", "50"),
           ["step 1 t 0.000258567482", "its speed", "the run went unstable",
            "dt 0.000258567 s = 0.3 h_min / c_p"], 3, status="unstable")
 FORCED = ("-gimp_stability_check", "-gimp_allow_unstable_dt", "-gimp_history_interval", "100000",
           "-ts_max_steps", "3000")
-one_error("dt forced far above the critical step", patch(*FORCED, "-ts_dt", "2e-3"),
+later(one_error, "dt forced far above the critical step", patch(*FORCED, "-ts_dt", "2e-3"),
           ["step 4 t 0.008 s", "its speed", "the run went unstable",
            "dt 0.002 s = 2.32 h_min / c_p (h_min / c_p = 0.000861892 s)"], 3,
           warning="-ts_dt 0.002 s exceeds dt_critical = 0.000786954252895 s "
                   "(-gimp_allow_unstable_dt): the run will likely go unstable; dt 0.002 s = 2.32 "
                   "h_min / c_p", status="unstable")
 # --- 2. a forced time step: warned at the start, named in the failure line -------------------
-one_error("dt forced above the critical step", patch(*FORCED, "-ts_dt", "1e-3"),
+later(one_error, "dt forced above the critical step", patch(*FORCED, "-ts_dt", "1e-3"),
           ["step 8 t 0.008 s", "is not positive", "the run went unstable",
            "dt 0.001 s = 1.16 h_min / c_p"], 3,
           warning="-ts_dt 0.001 s exceeds dt_critical = 0.000786954252895 s")
-one_error("dt forced above the critical step in 3D", patch3d(*FORCED, "-ts_dt", "2e-3"),
+later(one_error, "dt forced above the critical step in 3D", patch3d(*FORCED, "-ts_dt", "2e-3"),
           ["step 5 t 0.01 s", "is not positive", "dt 0.002 s = 2.32 h_min / c_p"], 3,
           warning="-ts_dt 0.002 s exceeds dt_critical = 0.000729925134283 s")
-one_error("dt forced above the critical step", patch(*FORCED, "-ts_dt", "1e-3"),
+later(one_error, "dt forced above the critical step", patch(*FORCED, "-ts_dt", "1e-3"),
           ["step 8 t 0.008 s", "the run went unstable", "dt 0.001 s = 1.16 h_min / c_p"], 3, 2,
           status="unstable")
 # A particle that leaves the grid as a solid moves (0.34 c_p) is not called unstable.
-one_error("drift leaves the grid", ["-options_file", DRIFT, "-ts_max_steps", "3000"],
+later(one_error, "drift leaves the grid", ["-options_file", DRIFT, "-ts_max_steps", "3000"],
           ["step 482", "it left the grid domain (enlarge -gimp_domain"], 3,
           absent=["unstable", "c_p"], status="unstable")
 
@@ -130,42 +138,50 @@ one_error("drift leaves the grid", ["-options_file", DRIFT, "-ts_max_steps", "30
 EDGE = "reaches the grid's edge (particle 0)"
 REST2 = ("-gimp_traction0_value", "0,0", "-gimp_traction1_value", "0,0")
 REST3 = ("-gimp_traction0_value", "0,0,0", "-gimp_traction1_value", "0,0,0")
-for name, opts in (("flush body in 2D", patch("-gimp_pad", "0", *REST2)),
-                   ("flush body in 3D", patch3d("-gimp_pad", "0", *REST3))):
+
+
+def at_rest(name, opts):
     rc, out, err, _ = gimp(name, opts + ["-ts_max_steps", "20"])
     warned = [l for l in out.splitlines() if l.startswith("gimp: warning:")]
     c.check(name + " at rest: warned, runs", rc == 0 and not err.strip() and len(warned) == 1 and
             EDGE in warned[0], "exit %s: %s %s" % (rc, warned, err.strip()[:200]))
+
+
+for name, opts in (("flush body in 2D", patch("-gimp_pad", "0", *REST2)),
+                   ("flush body in 3D", patch3d("-gimp_pad", "0", *REST3))):
+    later(at_rest, name, opts)
 for name, opts in (("flush body in 2D", patch("-gimp_pad", "0")),
                    ("flush body in 3D", patch3d("-gimp_pad", "0"))):
-    one_error(name + " pulled", opts + ["-ts_max_steps", "20"],
+    later(one_error, name + " pulled", opts + ["-ts_max_steps", "20"],
               ["step 1", "it left the grid domain (enlarge -gimp_domain"], 3,
               absent=["unstable"], warning=EDGE)
 
 # --- 3. options handed to PETSc objects ------------------------------------------------------
 for ranks in (1, 2):
-    one_error("more ranks along x than ranks", patch("-da_processors_x", "3", "-ts_max_steps", "1"),
+    later(one_error, "more ranks along x than ranks",
+          patch("-da_processors_x", "3", "-ts_max_steps", "1"),
               ["option -da_processors_x 3: Too many processors in X direction: 3 %d" % ranks,
                "their product the number of ranks"], 2, ranks)
-one_error("rank layout not the rank count",
+later(one_error, "rank layout not the rank count",
           patch("-da_processors_x", "1", "-da_processors_y", "1", "-ts_max_steps", "1"),
           ["option -da_processors_x 1, -da_processors_y 1: Given Bad partition"], 2, 2)
-one_error("misspelt eigen-solver type",
+later(one_error, "misspelt eigen-solver type",
           patch("-gimp_stability_check", "-gimp_stability_eps_type", "foo", "-ts_max_steps", "1"),
           ["option -gimp_stability_eps_type foo: Unknown EPS type given: foo"], 2, 2)
-one_error("misspelt spectral transform in 3D",
+later(one_error, "misspelt spectral transform in 3D",
           patch3d("-gimp_stability_check", "-gimp_stability_st_type", "foo", "-ts_max_steps", "1"),
           ["option -gimp_stability_st_type foo: Unable to find requested ST type foo"], 2, 2)
-one_error("log viewer of unknown type", patch("-log_view", "foo:bar", "-ts_max_steps", "1"),
+later(one_error, "log viewer of unknown type", patch("-log_view", "foo:bar", "-ts_max_steps", "1"),
           ["option -log_view foo:bar: Unknown PetscViewer type given: foo"], 2)
 
 # --- 5. sizes and memory ---------------------------------------------------------------------
-one_error("3D level beyond PetscInt", patch3d("-gimp_h", "0.0005", "-ts_max_steps", "1"),
+later(one_error, "3D level beyond PetscInt", patch3d("-gimp_h", "0.0005", "-ts_max_steps", "1"),
           ["option -gimp_h 0.0005:", "1.3e+09 grid nodes (level 0: 2e+03 x 805 x 805)",
            "more than PetscInt can index"], 2, 2)
 MEMORY = ["option -gimp_memory_limit: out of memory"]
 for ranks in (1, 2):
-    one_error("memory limit above the machine's",
+    later(one_error, "memory limit above the machine's",
               patch3d("-gimp_h", "0.006", "-gimp_memory_limit", "1e12", "-ts_max_steps", "1"),
               MEMORY, 2, ranks, address_limit=1000 * 1000 * 1000)
+gimptest.concurrently(cases)
 c.done()

@@ -1,5 +1,6 @@
 """Shared helpers for the verification scripts: run gimp, read its outputs, assert."""
 import argparse
+import concurrent.futures
 import csv
 import math
 import json
@@ -7,6 +8,7 @@ import os
 import shlex
 import subprocess
 import sys
+import threading
 
 
 def parse_args():
@@ -62,16 +64,29 @@ def read_csv(path):
     return {k: [float(r[k]) for r in rows] for k in rows[0]}
 
 
+def concurrently(calls, workers=2):
+    """Run the thunks in calls `workers` at a time (each mostly waits on a gimp process, so
+    threads suffice) and return their results in order; the first exception is raised again.
+    A test that runs its gimp processes this way claims PROCESSORS 2 in tests/CMakeLists.txt;
+    the calls must not share an output directory."""
+    with concurrent.futures.ThreadPoolExecutor(max_workers=workers) as pool:
+        futures = [pool.submit(f) for f in calls]
+        return [f.result() for f in futures]
+
+
 class Checks:
     """Collects named checks, prints each with its measured value, fails at the end."""
 
     def __init__(self):
         self.failed = []
+        self.lock = threading.Lock()
 
     def check(self, name, ok, detail):
-        print("%-4s %s: %s" % ("ok" if ok else "FAIL", name, detail))
-        if not ok:
-            self.failed.append(name)
+        with self.lock:  # checks made by concurrently()'s threads print whole lines
+            sys.stdout.write("%-4s %s: %s\n" % ("ok" if ok else "FAIL", name, detail))
+            sys.stdout.flush()
+            if not ok:
+                self.failed.append(name)
 
     def done(self):
         if self.failed:

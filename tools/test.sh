@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Install, build and run the default test suite: the unit tests, the regression tier (every
-# scene against its stored answer) and the fast bad-input and fault checks, about 2 minutes on
-# 2 cores (tests/CMakeLists.txt describes the tiers). Extra arguments go to ctest instead of the
+# scene against its stored answer) and the fast bad-input and fault checks, about 4.5 minutes
+# on 2 cores (tests/CMakeLists.txt describes the tiers). Extra arguments go to ctest instead of the
 # default selection:
 #   tools/test.sh -L verification    the physics verification checks and the slow bad-input
 #                                    and fault tables (about 6 minutes)
