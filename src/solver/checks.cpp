@@ -17,9 +17,10 @@ namespace gimp {
 
 namespace {
 
-/// The plane particles' test, both axes at once (the lanes of four first, where they run).
-PetscInt firstBadPlane(const RunState<2> &s, const ParticleView<2> &p, double margin,
-                       PetscInt64 &leaving) {
+/// The plane particles' test of k0 .. k1-1, both axes at once (the lanes of four first, where
+/// they run).
+PetscInt firstBadPlane(const RunState<2> &s, const ParticleView<2> &p, PetscInt k0, PetscInt k1,
+                       double margin, PetscInt64 &leaving) {
   using simd::Pair;
   const double *d = s.sc.domain.data(), h0 = s.grid.h0();
   double box[4] = {-INFINITY, -INFINITY, INFINITY, INFINITY};
@@ -27,13 +28,16 @@ PetscInt firstBadPlane(const RunState<2> &s, const ParticleView<2> &p, double ma
   const Pair lo = {d[0] - margin, d[1] - margin}, hi = {d[2] + margin, d[3] + margin},
              own0 = {box[0], box[1]}, own1 = {box[2], box[3]}, hmax = simd::splat(h0),
              zero = {0, 0};
-  PetscInt bad = -1, k0 = 0;
+  PetscInt bad = -1;
   if (s.lanes) {
     const double lo2[2] = {lo[0], lo[1]}, hi2[2] = {hi[0], hi[1]};
-    k0 = transfer::laneLoops::checkParticles(p.n, p.x, p.l, p.s, p.V, lo2, hi2, h0, box, box + 2,
-                                             s.size > 1, bad, leaving);
+    const PetscInt first = k0;
+    k0 += transfer::laneLoops::checkParticles(k1 - k0, p.x + 2 * k0, p.l + 2 * k0, p.s + 4 * k0,
+                                              p.V + k0, lo2, hi2, h0, box, box + 2, s.size > 1, bad,
+                                              leaving);
+    if (bad >= 0) bad += first;
   }
-  for (PetscInt k = k0; k < p.n; ++k) {
+  for (PetscInt k = k0; k < k1; ++k) {
     const Pair X = simd::load(p.x + 2 * k), l = simd::load(p.l + 2 * k);
     if (s.size > 1) leaving += !(simd::bothLe(own0, X) && simd::bothLt(X, own1));
     if (bad >= 0) continue;
@@ -46,9 +50,9 @@ PetscInt firstBadPlane(const RunState<2> &s, const ParticleView<2> &p, double ma
   return bad;
 }
 
-/// The solid particles' test.
-PetscInt firstBadSolid(const RunState<3> &s, const ParticleView<3> &p, double margin,
-                       PetscInt64 &leaving) {
+/// The solid particles' test of k0 .. k1-1.
+PetscInt firstBadSolid(const RunState<3> &s, const ParticleView<3> &p, PetscInt k0, PetscInt k1,
+                       double margin, PetscInt64 &leaving) {
   const double *d = s.sc.domain.data(), h0 = s.grid.h0();
   double box[6] = {-INFINITY, -INFINITY, -INFINITY, INFINITY, INFINITY, INFINITY};
   if (s.size > 1) s.grid.ownedBox(s.rank, box);
@@ -58,14 +62,17 @@ PetscInt firstBadSolid(const RunState<3> &s, const ParticleView<3> &p, double ma
     lo[a] = d[a] - margin;
     hi[a] = d[3 + a] + margin;
   }
-  PetscInt k0 = 0; // (the lanes test every particle, x, y and z at once)
-  if (s.lanes)
-    k0 = transfer::laneLoops::checkParticles(p.n, p.x, p.l, p.v, p.s, p.V, lo, hi, h0, box, box + 3,
-                                             bad, leaving);
+  if (s.lanes) { // (the lanes test every particle, x, y and z at once)
+    const PetscInt first = k0;
+    k0 += transfer::laneLoops::checkParticles(k1 - k0, p.x + 3 * k0, p.l + 3 * k0, p.v + 3 * k0,
+                                              p.s + 9 * k0, p.V + k0, lo, hi, h0, box, box + 3, bad,
+                                              leaving);
+    if (bad >= 0) bad += first;
+  }
   // Without branches: z is 0 when the stress entries and each x_a + v_a are finite, NaN
   // otherwise (a non-finite value times 0 is NaN); NaN fails every comparison, so a particle
   // with one lands in the bad branch.
-  for (PetscInt k = k0; k < p.n; ++k) {
+  for (PetscInt k = k0; k < k1; ++k) {
     const double *x = p.x + 3 * k, *l = p.l + 3 * k, *v = p.v + 3 * k, *sk = p.s + 9 * k;
     double z = 0.0;
     for (int e = 0; e < 9; ++e)
@@ -97,14 +104,15 @@ template <int D> std::string point(const double *x) {
 } // namespace
 
 template <int D>
-PetscInt Step<D>::firstBadParticle(const ParticleView<D> &p, PetscInt64 &leaving) const {
+PetscInt Step<D>::firstBadParticle(const ParticleView<D> &p, PetscInt k0, PetscInt k1,
+                                   PetscInt64 &leaving) const {
   // A body flush with the domain's edge (on a symmetry roller, say) moves its edge particles'
   // domains past it by round-off (1e-18 m): a margin of 1e-8 h0 tells that from leaving.
   const double margin = 1e-8 * s_.grid.h0();
   if constexpr (D == 2)
-    return firstBadPlane(s_, p, margin, leaving);
+    return firstBadPlane(s_, p, k0, k1, margin, leaving);
   else
-    return firstBadSolid(s_, p, margin, leaving);
+    return firstBadSolid(s_, p, k0, k1, margin, leaving);
 }
 
 template <int D> std::string Step<D>::grewOf(const ParticleView<D> &p, PetscInt k) const {
@@ -161,11 +169,18 @@ std::string Step<D>::failureOf(const ParticleView<D> &p, PetscInt k, PetscInt st
   return head + point<D>(x) + " on level " + level + ": " + why;
 }
 
-template <int D> PetscErrorCode Step<D>::checks(const ParticleView<D> &p, PetscInt step, double t) {
+template <int D>
+PetscErrorCode Step<D>::checks(const ParticleView<D> &p, PetscInt step, double t,
+                               const CheckTally *tested) {
   RunState<D> &s = s_;
   RunStatus &st = s.status;
-  PetscInt64 leaving = 0;
-  const PetscInt bad = firstBadParticle(p, leaving);
+  CheckTally all;
+  if (tested)
+    all = *tested;
+  else
+    all.bad = firstBadParticle(p, 0, p.n, all.leaving);
+  const PetscInt bad = all.bad;
+  const PetscInt64 leaving = all.leaving;
   std::string line;
   if (bad >= 0) {
     line = failureOf(p, bad, step, t);
@@ -199,7 +214,13 @@ template <int D> PetscErrorCode Step<D>::checks(const ParticleView<D> &p, PetscI
   return PETSC_SUCCESS;
 }
 
-template PetscErrorCode Step<2>::checks(const ParticleView<2> &, PetscInt, double);
-template PetscErrorCode Step<3>::checks(const ParticleView<3> &, PetscInt, double);
+template PetscErrorCode Step<2>::checks(const ParticleView<2> &, PetscInt, double,
+                                        const CheckTally *);
+template PetscErrorCode Step<3>::checks(const ParticleView<3> &, PetscInt, double,
+                                        const CheckTally *);
+template PetscInt Step<2>::firstBadParticle(const ParticleView<2> &, PetscInt, PetscInt,
+                                            PetscInt64 &) const;
+template PetscInt Step<3>::firstBadParticle(const ParticleView<3> &, PetscInt, PetscInt,
+                                            PetscInt64 &) const;
 
 } // namespace gimp

@@ -48,11 +48,15 @@ template <int D> PetscErrorCode Step<D>::run(StepClock &done) {
   if (cracked) PetscCall(crackContact(c, s.nodal.velW, s.nodal.vel, s.nodal.accW, s.nodal.acc));
   PetscCall(gridToParticles(p, c, centres));
   PetscCall(work(c, power));
-  if (!s.scheme.stressBeforeGridUpdate) PetscCall(stress(s.st, p, s.nodal.velW, c.dt, sb));
+  // When the stress update is the step's last change to the particles, it tests each chunk of
+  // them for checks() as it leaves it (the fields are then in cache).
+  CheckTally tally;
+  const bool last = !s.scheme.stressBeforeGridUpdate;
+  if (last) PetscCall(stress(s.st, p, s.nodal.velW, c.dt, sb, &tally));
   done = c;
   ++done.step;
   done.t = c.t + c.dt;
-  PetscCall(checks(p, done.step, done.t));
+  PetscCall(checks(p, done.step, done.t, last ? &tally : nullptr));
   PetscCall(p.restore(s.sw));
   return PETSC_SUCCESS;
 }
@@ -259,7 +263,7 @@ PetscErrorCode Step<D>::work(const StepClock &c, const StartPower &power, bool e
 
 template <int D>
 PetscErrorCode Step<D>::stress(const Stencils<D> &st, ParticleView<D> &p, Vec velocityWindow,
-                               double dt, double *strainBefore) {
+                               double dt, double *strainBefore, CheckTally *tally) {
   // Velocity gradient from the scheme's velocity field, then F, volume, stress and domain.
   RunState<D> &s = s_;
   PetscCall(PetscLogStagePush(s.stages.stress));
@@ -274,11 +278,15 @@ PetscErrorCode Step<D>::stress(const Stencils<D> &st, ParticleView<D> &p, Vec ve
     if (s.lanes) {
       transfer::laneLoops::velocityGradients(st, k0, k1, vg, L_.data());
       transfer::laneLoops::updateDeformation(s.sc, p, L_.data(), dt, k0, k1);
-      continue;
+    } else {
+      for (PetscInt k = k0; k < k1; ++k)
+        tensorAt<D>(L_.data(), k - k0) = transfer::velocityGradientAt<D>(st, k, vg);
+      physics::updateDeformation<D>(s.sc, p, L_.data(), dt, k0, k1);
     }
-    for (PetscInt k = k0; k < k1; ++k)
-      tensorAt<D>(L_.data(), k - k0) = transfer::velocityGradientAt<D>(st, k, vg);
-    physics::updateDeformation<D>(s.sc, p, L_.data(), dt, k0, k1);
+    if (tally) { // the first failing particle of all the chunks, and every one leaving
+      const PetscInt bad = firstBadParticle(p, k0, k1, tally->leaving);
+      if (tally->bad < 0) tally->bad = bad;
+    }
   }
   // 2D cracks: the displacement that goes with F, integrated from the same velocity field (the
   // crack tips' opening reads it; with MUSL x moves with another one).
@@ -308,7 +316,7 @@ PetscErrorCode Step<D>::stress(const Stencils<D> &st, ParticleView<D> &p, Vec ve
   template PetscErrorCode Step<D>::gridUpdate(bool);                                               \
   template PetscErrorCode Step<D>::work(const StepClock &, const StartPower &, bool);              \
   template PetscErrorCode Step<D>::stress(const Stencils<D> &, ParticleView<D> &, Vec, double,     \
-                                          double *);
+                                          double *, CheckTally *);
 GIMP_INSTANTIATE(2)
 GIMP_INSTANTIATE(3)
 #undef GIMP_INSTANTIATE

@@ -76,11 +76,22 @@ public:
   /// The step's work: damping, and the external forces unless `external` is false (the
   /// multi-rate step takes each class's external work over its own step).
   PetscErrorCode work(const StepClock &c, const StartPower &power, bool external = true);
+  /// The particles' test of checks() over a range: the first failing particle (or -1) and the
+  /// particles leaving their rank's cells, summed over the ranges tested.
+  struct CheckTally {
+    PetscInt bad = -1;
+    PetscInt64 leaving = 0;
+  };
+  /// The velocity gradient and the update of F, volume, stress and domain; with `tally`, each
+  /// chunk of particles is then tested as checks() would test it, while it is in cache (the
+  /// step's last change to the particles must be this update).
   PetscErrorCode stress(const Stencils<D> &st, ParticleView<D> &p, Vec velocityWindow, double dt,
-                        double *strainBefore = nullptr);
+                        double *strainBefore = nullptr, CheckTally *tally = nullptr);
   /// After the step: a particle that went bad stops the run on every rank; with it, in one
-  /// reduction, the particles leaving their rank and SIGINT/SIGTERM.
-  PetscErrorCode checks(const ParticleView<D> &p, PetscInt step, double t);
+  /// reduction, the particles leaving their rank and SIGINT/SIGTERM. `tested` is the particles'
+  /// test already made over all of them (by stress), or null.
+  PetscErrorCode checks(const ParticleView<D> &p, PetscInt step, double t,
+                        const CheckTally *tested = nullptr);
   // 2D cracks (contact.cpp): each field's face once per step, contact between the two fields.
   PetscErrorCode crackFaces(const ParticleView<D> &p, const std::vector<Vec> *classFaces);
   PetscErrorCode contactOnMomentum(const StepClock &c);
@@ -102,8 +113,10 @@ private:
   /// onto mom in the same pass.
   void gridToParticlesKernel(ParticleView<D> &p, const StepClock &c, const double *centres,
                              const double *vg, const double *ag, bool fused, double *mom);
-  /// The first failing particle of this rank (or -1) and the particles leaving its cells.
-  PetscInt firstBadParticle(const ParticleView<D> &p, PetscInt64 &leaving) const;
+  /// The first failing particle of this rank among k0 .. k1-1 (or -1) and, added to leaving,
+  /// those leaving its cells.
+  PetscInt firstBadParticle(const ParticleView<D> &p, PetscInt k0, PetscInt k1,
+                            PetscInt64 &leaving) const;
   /// What of particle k grew beyond anything physical (speed, volume ratio), or "".
   std::string grewOf(const ParticleView<D> &p, PetscInt k) const;
   /// Why particle k failed, in one line.
