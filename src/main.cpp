@@ -143,24 +143,26 @@ int main(int argc, char **argv) {
     (void)PetscPrintf(PETSC_COMM_WORLD, "gimp: warning: cannot handle SIGINT/SIGTERM\n");
   int code = 0;
   try {
-    PetscBool help = PETSC_FALSE, markdown = PETSC_FALSE;
+    PetscBool help = PETSC_FALSE;
     PetscCall(PetscOptionsHasHelp(nullptr, &help));
-    PetscCall(PetscOptionsHasName(nullptr, nullptr, "-gimp_options_markdown", &markdown));
-    if (markdown) { // the option list of docs/options.md
-      PetscCall(PetscPrintf(PETSC_COMM_WORLD, "%s", gimp::input::optionsMarkdown().c_str()));
-      PetscCall(PetscOptionsClearValue(nullptr, "-gimp_options_markdown"));
-      PetscCall(PetscFinalize());
-      return 0;
-    }
     PetscInt dim = 2;
+    bool markdown = false; // -gimp_options_markdown [true|false]: a value is read as a flag's
     const PetscErrorCode ierr = gimp::readOptionsOneLine([&] {
       try {
-        dim = gimp::input::Options(PETSC_COMM_WORLD, 2, help).integer("gimp_dim", 2);
+        const gimp::input::Options options(PETSC_COMM_WORLD, 2, help);
+        markdown = options.flag("gimp_options_markdown", false);
+        if (!markdown) dim = options.integer("gimp_dim", 2);
       } catch (const gimp::input::OptionsReadError &e) {
         return e.code;
       }
       return PETSC_SUCCESS;
     });
+    if (!ierr && markdown) { // the option list of docs/options.md
+      PetscCall(PetscPrintf(PETSC_COMM_WORLD, "%s", gimp::input::optionsMarkdown().c_str()));
+      PetscCall(PetscOptionsClearValue(nullptr, "-gimp_options_markdown"));
+      PetscCall(PetscFinalize());
+      return 0;
+    }
     code = ierr ? 1 : dim == 3 ? runScene<3>() : runScene<2>();
   } catch (const gimp::InputError &e) {
     PetscMPIInt rank = 0;

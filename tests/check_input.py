@@ -18,6 +18,9 @@ cases = [
      '-gimp_traction0_side right'),
     ('not a number', ['-gimp_E', 'abc'],
      '-gimp_E abc'),
+    # (read in main, before the scene: a value is read as the flag's)
+    ('markdown flag with a value', ['-gimp_options_markdown', 'nan'],
+     '-gimp_options_markdown nan: Unknown logical value'),
 ]
 # The cases run two at a time (gimptest.concurrently) once they are all listed.
 later = []
@@ -45,6 +48,15 @@ p = gimptest.run(args, "options/patch.opts",
                  expect_ok=False, outdir=os.path.join(args.work, "cracks_ok"))
 c.check("valid cracks accepted", p.returncode == 0,
         "exit %d: %s" % (p.returncode, p.stderr.strip()[-200:]))
+
+# -gimp_options_markdown false runs the scene (the flag's value is read, not only its name).
+p = gimptest.run(args, "options/patch.opts", ["-ts_max_steps", "1", "-gimp_options_markdown",
+                                              "false"], expect_ok=False,
+                 outdir=os.path.join(args.work, "markdown_false"))
+ran = p.returncode == 0 and os.path.exists(os.path.join(args.work, "markdown_false",
+                                                        "summary.json"))
+c.check("-gimp_options_markdown false runs the scene", ran and "| option |" not in p.stdout,
+        "exit %d, summary.json written: %s" % (p.returncode, ran))
 
 # -options_file errors are found before PETSc starts: one line, exit 2, no PETSc trace; under
 # mpiexec every rank finds the same error and only rank 0 prints it.
