@@ -9,7 +9,7 @@ with the option set, two runs at a time, and reports a run that
 - fails without exactly one stderr line `gimp: error: ...`,
 - succeeds with a value that is not a number (nan, inf, -inf, abc): reported as ACCEPTED, which
   is right only for options whose value is a name (output paths, scene and probe names).
-About 12 minutes on two cores (2 x 127 options x 11 values).
+About 20 minutes on two cores (2 x 127 options x 11 values).
 
     /usr/bin/python3 tools/fuzz_options.py --gimp build/gimp [--work /tmp/gimp-fuzz]
 """
