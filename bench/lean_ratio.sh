@@ -9,7 +9,8 @@
 #   e.g. bench/lean_ratio.sh 10 300 -- -gimp_update usl
 # Environment: GIMP_BUILD_DIR (default <repo>/build), GIMP_BENCH_NOBUILD=1 to skip the build.
 # Prints each round's rates (M particle-steps/s: lean over its whole step loop, gimp over the
-# stepping stages of -log_view) and the median and quartiles of gimp / lean.
+# stepping stages of -log_view and its Main Stage, where the check after the step ran before it
+# moved into the Stress stage) and the median and quartiles of gimp / lean.
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 BUILD="${GIMP_BUILD_DIR:-$ROOT/build}"
@@ -32,7 +33,7 @@ for ((i = 1; i <= ROUNDS; ++i)); do
   lean=$("$BUILD/bench/lean_step" -steps "$STEPS" | sed -n 's/.* \([0-9.]*\) M particle-steps\/s.*/\1/p')
   gimp=$("$BUILD/gimp" -options_file "$ROOT/bench/block.opts" -ts_max_steps "$STEPS" \
     -gimp_output_dir "$OUT" -log_view "$@" 2>&1 |
-    awk -v n="$STEPS" '/^ *[1-5]: +[A-Za-z]/ { for (f = 2; f <= NF; ++f) if ($f ~ /^[0-9.]+e[-+][0-9]+$/) { s += $f; break } }
+    awk -v n="$STEPS" '/^ *[0-9]+: +(Main Stage|P2G|Forces|Grid update|G2P|Stress):/ { for (f = 2; f <= NF; ++f) if ($f ~ /^[0-9.]+e[-+][0-9]+$/) { s += $f; break } }
       END { if (s > 0) printf "%.2f", 65536 * n / s / 1e6 }')
   [[ -n $lean && -n $gimp ]] || { echo "lean_ratio.sh: a run failed" >&2; exit 1; }
   printf '%-6d %10s %10s %8.3f\n' "$i" "$lean" "$gimp" "$(awk -v a="$gimp" -v b="$lean" 'BEGIN { print a / b }')"

@@ -24,8 +24,9 @@ if [[ "${GIMP_BENCH_NOBUILD:-0}" != 1 ]]; then
 fi
 OUT="$BUILD/bench-multirate"
 mkdir -p "$OUT"
-stepping() { # the stepping stages of a -log_view file, in seconds
-  awk '/^ *[0-9]+: +(P2G|Forces|Grid update|G2P|Stress):/ {
+stepping() { # the stepping stages of a -log_view file and its Main Stage (the check after each
+  # step runs there for the per-level step, in the Stress stage for the single step), in seconds
+  awk '/^ *[0-9]+: +(Main Stage|P2G|Forces|Grid update|G2P|Stress):/ {
          for (i = 1; i <= NF; ++i) if ($i ~ /^[0-9.]+e[+-][0-9]+$/) { s += $i; break } }
        END { printf "%.3f", s }' "$1"
 }
