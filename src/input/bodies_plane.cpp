@@ -67,18 +67,8 @@ void readMainShape(const Options &o, const std::string &q, const std::string &sh
     b.shapeOption = "file";
     b.file = o.word(q + "file", "");
     if (o.help()) return;
-    if (b.file.empty()) Options::bad(q + "file", "(missing)", "each body of shape file needs it");
     // The particles as they are; the body's rectangle is their domains' bounding box.
-    if (const PetscErrorCode e =
-            readParticleFile(o.comm(), "-" + q + "file", b.file, scene.thickness, b.fromFile))
-      throw OptionsReadError{e};
-    BoxOf<2> bb = {1e300, 1e300, -1e300, -1e300};
-    for (const FileParticle &f : b.fromFile.particles) {
-      bb[0] = std::min(bb[0], f.x - f.lx);
-      bb[1] = std::min(bb[1], f.y - f.ly);
-      bb[2] = std::max(bb[2], f.x + f.lx);
-      bb[3] = std::max(bb[3], f.y + f.ly);
-    }
+    const BoxOf<2> bb = readFileBody<2>(o, q, scene.thickness, b.file, b.fromFile);
     b.shape = Shape::rectangle(bb[0], bb[1], bb[2], bb[3]);
     return;
   }

@@ -17,14 +17,19 @@ int axisOf(const std::string &a) {
 /// The body's solid from -gimp_bodyK_shape and the option it names; p is "gimp_bodyK_".
 void readSolid(const Options &o, const std::string &p, Body<3> &b) {
   const std::string shape = o.choice(p + "shape", "box");
-  for (const char *other : {"box", "sphere", "cylinder"})
+  for (const char *other : {"box", "sphere", "cylinder", "file"})
     if (shape != other && o.given(p + other))
       Options::bad(p + other, "(given)",
                    std::string("is for shape ") + other + ", but -" + p + "shape is " + shape);
   b.shapeOption = shape;
-  b.kind = shape == "box" ? Body<3>::BoxShape : Body<3>::RoundShape;
+  b.kind = shape == "box" || shape == "file" ? Body<3>::BoxShape : Body<3>::RoundShape;
   const int axis = axisOf(o.choice(p + "cylinder_axis", "z"));
   o.needs(shape == "cylinder", p + "cylinder_axis", "-" + p + "shape cylinder");
+  if (shape == "file") { // the particles as they are; the body's box is their domains' bounds
+    b.file = o.word(p + "file", "");
+    if (!o.help()) b.box = readFileBody<3>(o, p, 1.0, b.file, b.fromFile);
+    return;
+  }
   const std::vector<double> v = o.reals(p + shape, !o.help());
   if (o.help()) return;
   if (shape == "box") {
@@ -55,6 +60,11 @@ void readSolid(const Options &o, const std::string &p, Body<3> &b) {
 
 /// Spherical, box and cylindrical holes.
 void readSolidHoles(const Options &o, const std::string &p, Body<3> &b) {
+  if (!b.file.empty())
+    for (const char *name : {"hole_spheres", "hole_boxes", "hole_cylinders"})
+      if (o.given(p + name))
+        Options::bad(p + name, "(given)",
+                     "a body of shape file has no holes: leave its particles out of the file");
   const std::vector<double> hs = o.reals(p + "hole_spheres");
   for (size_t i = 0; i < hs.size(); i += 4) {
     Solid h;
@@ -95,6 +105,13 @@ void readSolidMotion(const Options &o, const std::string &p, Body<3> &b) {
   b.sineProfile = o.choice(p + "velocity_profile", "uniform") == "sine_x";
   b.wavenumber = o.real(p + "wavenumber", 0.0);
   if (o.help()) return;
+  if (!b.file.empty() && o.given(p + "ppc"))
+    Options::bad(p + "ppc", "(given)",
+                 "does not apply to a body of shape file: its particles are the file's rows");
+  if (!vel.empty() && b.fromFile.hasVelocity)
+    Options::bad(p + "velocity", fmtList(vel.data(), vel.size()),
+                 "the particle file " + b.file +
+                     " gives each particle's velocity (vx, vy, vz): one or the other");
   const int n = static_cast<int>(std::lround(std::cbrt(static_cast<double>(ppc))));
   if (ppc < 1 || n * n * n != ppc || n > 10)
     Options::bad(p + "ppc", std::to_string(ppc), "must be a perfect cube n^3 with 1 <= n <= 10");
@@ -126,6 +143,8 @@ void readBodies(const Options &o, Scene<3> &sc) {
 }
 
 void checkBodies(const Scene<3> &sc) {
+  for (size_t k = 0; k < sc.bodies.size(); ++k)
+    checkFileParticles<3>(sc, k);
   // Every body inside the grid: nothing of a body is dropped at the domain's faces.
   for (size_t k = 0; k < sc.bodies.size(); ++k) {
     const BoxOf<3> &b = sc.bodies[k].box;

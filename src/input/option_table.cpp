@@ -172,15 +172,15 @@ const std::vector<Feature> &featureTable() {
       {"plane shapes",
        In2D,
        {"gimp_bodyK_shape=rectangle", "gimp_bodyK_shape=circle",  "gimp_bodyK_shape=ellipse",
-        "gimp_bodyK_shape=polygon",   "gimp_bodyK_shape=file",    "gimp_bodyK_circle",
-        "gimp_bodyK_ellipse",         "gimp_bodyK_polygon",       "gimp_bodyK_file",
-        "gimp_bodyK_holes",           "gimp_bodyK_hole_ellipses", "gimp_bodyK_hole_polygons",
+        "gimp_bodyK_shape=polygon",   "gimp_bodyK_circle",        "gimp_bodyK_ellipse",
+        "gimp_bodyK_polygon",         "gimp_bodyK_holes",         "gimp_bodyK_hole_ellipses",
+        "gimp_bodyK_hole_polygons",
         "gimp_bodyK_hole_polygonJ",   "gimp_bodyK_add_boxes",     "gimp_bodyK_add_circles",
         "gimp_bodyK_add_ellipses",    "gimp_bodyK_add_polygons",  "gimp_bodyK_add_polygonJ",
         "gimp_bodyK_hole_ppc",        "gimp_bodyK_hole_band"},
        "plane bodies; 3D bodies are boxes, spheres and cylinders with "
        "box, spherical and cylindrical holes (3D bodies: box, sphere, cylinder, hole_boxes, "
-       "hole_spheres, hole_cylinders)"},
+       "hole_spheres, hole_cylinders), and particle files in both"},
       {"solid bodies",
        In3D,
        {"gimp_bodyK_shape=box", "gimp_bodyK_shape=sphere", "gimp_bodyK_shape=cylinder",
@@ -188,7 +188,7 @@ const std::vector<Feature> &featureTable() {
         "gimp_bodyK_hole_spheres", "gimp_bodyK_hole_boxes", "gimp_bodyK_hole_cylinders",
         "gimp_bodyK_hole_cylinder_axis"},
        "solids and their holes exist in 3D (give -gimp_dim 3); plane bodies are rectangles, "
-       "circles, ellipses, polygons and particle files"},
+       "circles, ellipses and polygons"},
       {"a z axis",
        In3D,
        {"gimp_tractionK_side=back", "gimp_tractionK_side=front", "gimp_dbcK_side=back",

@@ -15,7 +15,7 @@ const std::vector<OptionSpec> &bodyShapes() {
      "Number of bodies, each -gimp_bodyK_* with K = 0 .. N-1"},
     {"gimp_bodyK_shape", Kind::Choice, "", "rectangle (2D), box (3D)", "rectangle|circle|ellipse|polygon|file|box|sphere|cylinder", nullptr, {},
      "Shape of body K: in 2D rectangle (_box), circle, ellipse, polygon or a particle file; in"
-     " 3D box, sphere or cylinder"},
+     " 3D box, sphere, cylinder or a particle file"},
     {"gimp_bodyK_box", Kind::Reals, "m", "", "x0,y0,x1,y1", "x0,y0,z0,x1,y1,z1", {},
      "The body's rectangle (2D) or box (3D)"},
     {"gimp_bodyK_circle", Kind::Reals, "m", "", "cx,cy,r", nullptr, {}, "The body's circle"},
@@ -24,8 +24,8 @@ const std::vector<OptionSpec> &bodyShapes() {
     {"gimp_bodyK_polygon", Kind::Reals, "m", "", "x0,y0,x1,y1,...", nullptr, {},
      "The body's polygon (simple, at most 200 vertices)"},
     {"gimp_bodyK_file", Kind::Word, "", "", "", nullptr, {},
-     "CSV file of the body's particles: x,y and lx,ly or V, optionally vx,vy (a relative path"
-     " given in an options file is read beside that file)"},
+     "CSV file of the body's particles: x,y (3D: x,y,z) and lx,ly (lx,ly,lz) or V, optionally"
+     " vx,vy (vx,vy,vz) (a relative path given in an options file is read beside that file)"},
     {"gimp_bodyK_sphere", Kind::Reals, "m", "", "cx,cy,cz,r", nullptr, {}, "The body's sphere"},
     {"gimp_bodyK_cylinder", Kind::Reals, "m", "", "a,b,r,lo,hi", nullptr, {},
      "The body's cylinder: centre in the two other coordinates (x, y, z order), radius, extent"

@@ -66,12 +66,9 @@ long double holeBands(const Body<3> &, long double) {
   return 0;
 }
 
-/// The particles of a body from a particle file (2D), or -1.
-long double fileParticles(const Body<2> &b) {
+/// The particles of a body from a particle file, or -1.
+template <int D> long double fileParticles(const Body<D> &b) {
   return b.file.empty() ? -1 : static_cast<long double>(b.fromFile.particles.size());
-}
-long double fileParticles(const Body<3> &) {
-  return -1;
 }
 
 /// Physical memory of the nodes the ranks run on: each rank adds its node's memory divided by

@@ -36,6 +36,14 @@ void checkBodies(const Scene<3> &sc);
 /// low corner (2D) or on the grid lines through the origin (3D).
 void domainAroundBodies(Scene<2> &sc);
 void domainAroundBodies(Scene<3> &sc);
+/// A body of shape file (bodies_file.cpp; q is "gimp_bodyK_", `file` its -gimp_bodyK_file): its
+/// particles read into `out` (2D: V over `thickness`), and the bounding box of their domains.
+template <int D>
+BoxOf<D> readFileBody(const Options &o, const std::string &q, double thickness, std::string &file,
+                      ParticleFile<D> &out);
+/// Every particle of body k's file inside the grid domain (seeding places each on the rank that
+/// owns its point; none may be lost) and none larger than a level-0 cell.
+template <int D> void checkFileParticles(const Scene<D> &sc, size_t k);
 /// -gimp_hole_measure and its load (in 3D the hole is a cylinder along z).
 void readHoleMeasure(const Options &o, Measures &sc);
 

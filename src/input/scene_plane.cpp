@@ -25,26 +25,6 @@ std::string shapeText(const Body<2> &b) {
   return fmtList(b.box.data(), 4);
 }
 
-/// Every particle of a particle file inside the grid domain (seeding places each on the rank
-/// that owns its point; none may be lost), none larger than a level-0 cell.
-void checkFileParticles(const Scene<2> &sc, size_t k) {
-  const std::vector<FileParticle> &ps = sc.bodies[k].fromFile.particles;
-  const std::string opt = "gimp_body" + std::to_string(k) + "_file";
-  for (size_t i = 0; i < ps.size(); ++i)
-    if (ps[i].lx > sc.h || ps[i].ly > sc.h) // the stencils reach one level-0 cell
-      Options::bad(opt, sc.bodies[k].file,
-                   "particle " + std::to_string(i) + " (data row " + std::to_string(i + 1) +
-                       ") has half-sizes " + formatNumber(ps[i].lx) + "," + formatNumber(ps[i].ly) +
-                       " larger than the coarsest cell -gimp_h " + formatNumber(sc.h));
-  for (size_t i = 0; i < ps.size(); ++i)
-    if (ps[i].x - ps[i].lx < sc.domain[0] || ps[i].x + ps[i].lx > sc.domain[2] ||
-        ps[i].y - ps[i].ly < sc.domain[1] || ps[i].y + ps[i].ly > sc.domain[3])
-      Options::bad(opt, sc.bodies[k].file,
-                   "particle " + std::to_string(i) + " (data row " + std::to_string(i + 1) +
-                       ", at " + formatNumber(ps[i].x) + "," + formatNumber(ps[i].y) +
-                       ") is not inside the grid domain " + fmtList(sc.domain.data(), 4));
-}
-
 } // namespace
 
 void checkBodies(const Scene<2> &sc) {
@@ -59,7 +39,7 @@ void checkBodies(const Scene<2> &sc) {
                          fmtList(b.data(), 4) + "): bodies may touch but not overlap");
     }
   for (size_t k = 0; k < sc.bodies.size(); ++k)
-    checkFileParticles(sc, k);
+    checkFileParticles<2>(sc, k);
   for (size_t k = 0; k < sc.bodies.size(); ++k) {
     const BoxOf<2> &b = sc.bodies[k].box;
     if (b[0] < sc.domain[0] || b[1] < sc.domain[1] || b[2] > sc.domain[2] || b[3] > sc.domain[3])

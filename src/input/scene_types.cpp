@@ -91,8 +91,8 @@ bool bodiesOverlap(const Body<2> &a, const Body<2> &b) {
   if (!a.file.empty() || !b.file.empty()) {
     if (!a.file.empty() && !b.file.empty()) return false;
     const Body<2> &f = a.file.empty() ? b : a, &o = a.file.empty() ? a : b;
-    for (const FileParticle &p : f.fromFile.particles)
-      if (o.strictlyInside(p.x, p.y)) return true;
+    for (const FileParticle<2> &p : f.fromFile.particles)
+      if (o.strictlyInside(p.x[0], p.x[1])) return true;
     return false;
   }
   return interiorsMeet(

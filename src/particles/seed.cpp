@@ -102,23 +102,23 @@ bool cutByShape(const Body<2> &body, Seed &s) {
 /// point (slots: the ids a body has).
 void fileSeeds(const Body<2> &body, size_t b, PetscInt64 slots, const Grid<2> &g, PetscMPIInt rank,
                std::vector<Seed> &seeds) {
-  const std::vector<FileParticle> &ps = body.fromFile.particles;
+  const std::vector<FileParticle<2>> &ps = body.fromFile.particles;
   if (static_cast<PetscInt64>(ps.size()) > slots) // the same on every rank
     throw InputError("option -gimp_body" + std::to_string(b) + "_file " + body.file + ": " +
                      std::to_string(ps.size()) + " particles, more than the " +
                      std::to_string(slots) + " ids a body has on this grid");
   for (size_t i = 0; i < ps.size(); ++i) {
-    const FileParticle &f = ps[i];
-    if (g.ownerOf(f.x, f.y) != rank) continue;
-    Seed s{f.x,
-           f.y,
-           {f.vx, f.vy},
-           {f.lx, f.ly},
-           f.area,
-           f.x - f.lx,
-           f.x + f.lx,
-           f.y - f.ly,
-           f.y + f.ly,
+    const FileParticle<2> &f = ps[i];
+    if (g.ownerOf(f.x[0], f.x[1]) != rank) continue;
+    Seed s{f.x[0],
+           f.x[1],
+           {f.v[0], f.v[1]},
+           {f.l[0], f.l[1]},
+           f.size,
+           f.x[0] - f.l[0],
+           f.x[0] + f.l[0],
+           f.x[1] - f.l[1],
+           f.x[1] + f.l[1],
            static_cast<PetscInt64>(b) * slots + static_cast<PetscInt64>(i),
            static_cast<int>(b)};
     seeds.push_back(s);

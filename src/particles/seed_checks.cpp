@@ -24,7 +24,7 @@ std::string shapeValue(const Body<2> &b) {
   return b.file.empty() ? boxText<2>(b.box) : b.file;
 }
 std::string shapeValue(const Body<3> &b) {
-  return boxText<3>(b.box);
+  return b.file.empty() ? boxText<3>(b.box) : b.file;
 }
 
 /// Every traction and penalty condition reaches some particle edge (2D) or face (3D)

@@ -49,12 +49,46 @@ PetscInt faceCondition(const Faces &faces, int kind, const Body<3> &body, int b,
 }
 
 /// A particle to seed: centre, half-size, volume, id and body; its cube's low and high corner
-/// coordinates from the level's sub-cell lattice, so neighbours share their corners exactly.
+/// coordinates from the level's sub-cell lattice, so neighbours share their corners exactly; the
+/// particle file's velocity, for a file body's particle that has one (else the body's).
 struct Seed {
   double x[3], l[3], V, lo[3], hi[3];
   PetscInt64 id;
   int body;
+  const double *v = nullptr;
 };
+
+/// The particles of file body b that this rank owns (those whose centre its level-0 cells
+/// hold), as the file gives them; overlap as collectSeeds's: the larger of b and another
+/// (non-file) body index when a particle's centre lies in that body.
+void fileSeeds(const Scene<3> &sc, const Grid<3> &grid, PetscMPIInt rank, size_t b,
+               std::vector<Seed> &seeds, int &overlap) {
+  const Body<3> &body = sc.bodies[b];
+  const std::vector<FileParticle<3>> &ps = body.fromFile.particles;
+  if (static_cast<PetscInt64>(ps.size()) > sc.idSlots) // the same on every rank
+    throw InputError("option -gimp_body" + std::to_string(b) + "_file " + body.file + ": " +
+                     std::to_string(ps.size()) + " particles, more than the " +
+                     std::to_string(sc.idSlots) + " ids a body has");
+  for (size_t i = 0; i < ps.size(); ++i) {
+    const FileParticle<3> &f = ps[i];
+    if (grid.ownerOf(f.x) != rank) continue;
+    Seed s;
+    for (int a = 0; a < 3; ++a) {
+      s.x[a] = f.x[a];
+      s.l[a] = f.l[a];
+      s.lo[a] = f.x[a] - f.l[a];
+      s.hi[a] = f.x[a] + f.l[a];
+    }
+    s.V = f.size;
+    s.id = static_cast<PetscInt64>(b) * sc.idSlots + static_cast<PetscInt64>(i);
+    s.body = static_cast<int>(b);
+    if (body.fromFile.hasVelocity) s.v = f.v;
+    for (size_t o = 0; o < sc.bodies.size(); ++o) // two file bodies are taken as given
+      if (o != b && sc.bodies[o].file.empty() && sc.bodies[o].inside(s.x))
+        overlap = std::max(overlap, static_cast<int>(std::max(o, b)));
+    seeds.push_back(s);
+  }
+}
 
 /// How a solid (a round body or a hole) meets the cube [lo, hi]: misses it, holds all of it, or
 /// cuts it.
@@ -206,6 +240,7 @@ std::vector<Seed> collectSeeds(const Scene<3> &sc, const Grid<3> &grid, PetscMPI
       double centre[3];
       if (!ownLeaf(k, c, centre)) return;
       for (const Body<3> &body : sc.bodies) {
+        if (!body.file.empty()) continue; // (fileSeeds)
         bool meets = true;
         for (int a = 0; a < 3; ++a)
           meets = meets && centre[a] + 0.5 * L.h >= body.box[a] &&
@@ -214,6 +249,8 @@ std::vector<Seed> collectSeeds(const Scene<3> &sc, const Grid<3> &grid, PetscMPI
       }
     });
   }
+  for (const Body<3> &body : sc.bodies)
+    bound += body.fromFile.particles.size();
   seeds.reserve(bound);
   PetscInt64 cellBase = 0;
   for (size_t k = 0; k < grid.levels.size(); ++k) {
@@ -230,6 +267,7 @@ std::vector<Seed> collectSeeds(const Scene<3> &sc, const Grid<3> &grid, PetscMPI
       const PetscInt64 cell = cellBase + c[0] + cells[0] * (c[1] + cells[1] * c[2]);
       for (size_t b = 0; b < sc.bodies.size(); ++b) {
         const Body<3> &body = sc.bodies[b];
+        if (!body.file.empty()) continue; // (fileSeeds)
         const int n = static_cast<int>(std::lround(std::cbrt(static_cast<double>(body.ppc))));
         const double d = L.h / n;
         std::array<PetscInt, 3> sub = {n, n, n};
@@ -245,7 +283,8 @@ std::vector<Seed> collectSeeds(const Scene<3> &sc, const Grid<3> &grid, PetscMPI
           s.V = d * d * d;
           if (!(sc.cutCells ? cutBySolid(body, s) : body.inside(s.x))) return;
           for (size_t o = 0; o < b; ++o) // a point two bodies hold: counted, refused by setup
-            if (sc.bodies[o].inside(s.x)) overlap = std::max(overlap, static_cast<int>(b));
+            if (sc.bodies[o].file.empty() && sc.bodies[o].inside(s.x))
+              overlap = std::max(overlap, static_cast<int>(b));
           s.body = static_cast<int>(b);
           s.id = static_cast<PetscInt64>(b) * sc.idSlots + cell * body.ppc + q[0] +
                  n * (q[1] + n * q[2]);
@@ -255,6 +294,9 @@ std::vector<Seed> collectSeeds(const Scene<3> &sc, const Grid<3> &grid, PetscMPI
     });
     cellBase += nc;
   }
+  // The particle files' particles as they are, each on the rank of its point.
+  for (size_t b = 0; b < sc.bodies.size(); ++b)
+    if (!sc.bodies[b].file.empty()) fileSeeds(sc, grid, rank, b, seeds, overlap);
   return seeds;
 }
 
@@ -308,7 +350,7 @@ PetscErrorCode seedParticles<3>(const Scene<3> &sc, const Grid<3> &grid, DM sw,
                             w[0] * r[1] - w[1] * r[0]};
     for (int a = 0; a < 3; ++a) {
       p.x[3 * k + a] = p.X0[3 * k + a] = s.x[a];
-      p.v[3 * k + a] = body.velocity[a] * amp + spin[a];
+      p.v[3 * k + a] = (s.v ? s.v[a] : body.velocity[a]) * amp + spin[a];
       p.l[3 * k + a] = p.l0[3 * k + a] = s.l[a];
     }
     p.m[k] = mat.rho * s.V;

@@ -34,8 +34,7 @@ template <int D> struct SplitPlan {
 template <int D> bool resizable(const Scene<D> &sc, const ParticleView<D> &p, PetscInt k) {
   const auto b = static_cast<size_t>(p.id[k] / sc.idSlots);
   if (b >= sc.bodies.size()) return false;
-  if constexpr (D == 2)
-    if (!sc.bodies[b].file.empty()) return false;
+  if (!sc.bodies[b].file.empty()) return false;
   for (int a = 0; a < D; ++a)
     if ((p.trac && p.trac[D * k + a] >= 0) || (p.dbc && p.dbc[D * k + a] >= 0)) return false;
   double box = D == 2 ? sc.materialOf(p.id[k]).thickness : 1.0;

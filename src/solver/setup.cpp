@@ -46,9 +46,8 @@ template <int D> RunPaths runPaths(const Scene<D> &sc) {
   RunPaths paths{sc.outputDir, {}, {{"gimp_restart", sc.restart}}};
   if (!sc.particleDump.empty()) paths.dumps.emplace_back("gimp_particle_dump", sc.particleDump);
   if (!sc.gridDump.empty()) paths.dumps.emplace_back("gimp_grid_dump", sc.gridDump);
-  if constexpr (D == 2)
-    for (size_t k = 0; k < sc.bodies.size(); ++k)
-      paths.inputs.emplace_back("gimp_body" + std::to_string(k) + "_file", sc.bodies[k].file);
+  for (size_t k = 0; k < sc.bodies.size(); ++k)
+    paths.inputs.emplace_back("gimp_body" + std::to_string(k) + "_file", sc.bodies[k].file);
   return paths;
 }
 

@@ -35,7 +35,7 @@ template <> struct Body<2> {
   std::vector<Shape> shapeHoles;   // elliptic and polygonal holes (inside the shape)
   std::vector<Shape> added;        // shapes joined to the shape (-gimp_bodyK_add_*): the union
   std::string file;                // shape file: the particle file, and its particles
-  ParticleFile fromFile;
+  ParticleFile<2> fromFile;
   int ppc = 4;              // particles per cell (a perfect square: 1, 4, 9, ...)
   int holePpc = 0;          // particles per cell in cells next to a hole (0: same as ppc)
   double holeBand = 0;      // width of the band next to a hole that gets holePpc [m]
@@ -86,9 +86,11 @@ struct Solid {
 template <> struct Body<3> {
   Material material;
   enum Kind { BoxShape, RoundShape } kind = BoxShape;
-  std::string shapeOption = "box"; // box, sphere or cylinder
-  BoxOf<3> box{};                  // the body's box (a round body's bounding box)
-  Solid round;                     // the sphere or cylinder of a round body
+  std::string shapeOption = "box"; // box, sphere, cylinder or file
+  BoxOf<3> box{};                  // the body's box (a round or file body's bounding box)
+  std::string file;                // shape file: the particle file, and its particles
+  ParticleFile<3> fromFile;
+  Solid round; // the sphere or cylinder of a round body
   std::vector<Solid> holes;
   int ppc = 8; // particles per cell, a perfect cube (1, 8, 27, ...)
   Coords<3> velocity{};
