@@ -211,6 +211,34 @@ TEST(Seeding, CutCellsIn3DGiveTheExactVolume) {
   EXPECT_NEAR(bead.volume, Vb, 1e-10 * Vb);
 }
 
+TEST(Seeding, HoleBandsIn3DTakeTheirOwnPpc) {
+  // A box with a spherical and a cylindrical hole, one particle per cell and 8 in the cells next
+  // to the holes: the cut cubes still sum to the exact volume, ids stay unique, and a band that
+  // covers the whole box gives the particles of 8 per cell everywhere.
+  const std::string box = kMaterial + "-gimp_dim 3 -gimp_h 0.1 -gimp_body0_box 0,0,0,0.6,0.5,0.4 "
+                                      "-gimp_body0_hole_spheres 0.31,0.26,0.18,0.13 "
+                                      "-gimp_body0_hole_cylinders 0.48,0.12,0.06 ";
+  const double V = 0.6 * 0.5 * 0.4 - 4 * kPi * std::pow(0.13, 3) / 3 - kPi * 0.06 * 0.06 * 0.4;
+  const Seeded one = seed<3>(box + "-gimp_body0_ppc 1");
+  const Seeded eight = seed<3>(box + "-gimp_body0_ppc 8");
+  const Seeded band = seed<3>(box + "-gimp_body0_ppc 1 -gimp_body0_hole_ppc 8");
+  const Seeded all = seed<3>(box + "-gimp_body0_ppc 1 -gimp_body0_hole_ppc 8 "
+                                   "-gimp_body0_hole_band 1");
+  for (const Seeded *s : {&one, &eight, &band, &all}) {
+    EXPECT_NEAR(s->volume, V, 1e-10 * V);
+    EXPECT_TRUE(s->idsUnique && s->idsOfBodies && s->centresInside);
+  }
+  EXPECT_GT(band.n, one.n);
+  EXPECT_LT(band.n, eight.n);
+  for (int a = 0; a < 3; ++a) { // whole cells away from the holes, the cut sub-cubes at them
+    EXPECT_NEAR(band.sideMax[a], 0.1, 1e-15);
+    EXPECT_EQ(band.sideMin[a], eight.sideMin[a]);
+  }
+  EXPECT_EQ(all.n, eight.n);
+  for (int a = 0; a < 3; ++a)
+    EXPECT_NEAR(all.centre[a], eight.centre[a], 1e-14);
+}
+
 TEST(Seeding, SphereCutsThatAreNotExactAreNamed) {
   // Two spherical surfaces that cross (a hole through a sphere body's surface, two holes that
   // meet) are where 3D cut cells are approximate; apart or nested inside the body they are exact.

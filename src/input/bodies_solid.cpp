@@ -100,14 +100,23 @@ void readSolidHoles(const Options &o, const std::string &p, Body<3> &b) {
 
 /// Particles per cell, the initial velocity, its profile and the spin.
 void readSolidMotion(const Options &o, const std::string &p, Body<3> &b) {
-  const PetscInt ppc = o.integer(p + "ppc", 8);
+  const PetscInt ppc = o.integer(p + "ppc", 8), hppc = o.integer(p + "hole_ppc", 0);
+  b.holeBand = o.real(p + "hole_band", 0.0);
   const std::vector<double> vel = o.reals(p + "velocity"), spin = o.reals(p + "spin");
   b.sineProfile = o.choice(p + "velocity_profile", "uniform") == "sine_x";
   b.wavenumber = o.real(p + "wavenumber", 0.0);
   if (o.help()) return;
-  if (!b.file.empty() && o.given(p + "ppc"))
-    Options::bad(p + "ppc", "(given)",
-                 "does not apply to a body of shape file: its particles are the file's rows");
+  for (const char *name : {"ppc", "hole_ppc", "hole_band"})
+    if (!b.file.empty() && o.given(p + name))
+      Options::bad(p + name, "(given)",
+                   "does not apply to a body of shape file: its particles are the file's rows");
+  const bool curved = std::any_of(b.holes.begin(), b.holes.end(),
+                                  [](const Solid &h) { return h.kind != Solid::BoxHole; });
+  for (const char *name : {"hole_ppc", "hole_band"})
+    if (!curved && o.given(p + name))
+      Options::bad(p + name, "(given)",
+                   "acts on the cells next to a spherical or cylindrical hole, and the body's " +
+                       b.shapeOption + " has none");
   if (!vel.empty() && b.fromFile.hasVelocity)
     Options::bad(p + "velocity", fmtList(vel.data(), vel.size()),
                  "the particle file " + b.file +
@@ -116,6 +125,11 @@ void readSolidMotion(const Options &o, const std::string &p, Body<3> &b) {
   if (ppc < 1 || n * n * n != ppc || n > 10)
     Options::bad(p + "ppc", std::to_string(ppc), "must be a perfect cube n^3 with 1 <= n <= 10");
   b.ppc = static_cast<int>(ppc);
+  const int nh = static_cast<int>(std::lround(std::cbrt(static_cast<double>(hppc))));
+  if (hppc != 0 && (hppc < 1 || nh * nh * nh != hppc || nh > 10))
+    Options::bad(p + "hole_ppc", std::to_string(hppc),
+                 "must be 0 or a perfect cube n^3 with 1 <= n <= 10");
+  b.holePpc = static_cast<int>(hppc ? hppc : ppc);
   if (!vel.empty()) std::copy(vel.begin(), vel.end(), b.velocity.begin());
   if (!spin.empty()) std::copy(spin.begin(), spin.end(), b.spin.begin());
   o.needs(b.sineProfile, p + "wavenumber", "-" + p + "velocity_profile sine_x");

@@ -171,13 +171,11 @@ const std::vector<Feature> &featureTable() {
        "plane strain or stress and a thickness belong to plane scenes; 3D is the full model"},
       {"plane shapes",
        In2D,
-       {"gimp_bodyK_shape=rectangle", "gimp_bodyK_shape=circle",  "gimp_bodyK_shape=ellipse",
-        "gimp_bodyK_shape=polygon",   "gimp_bodyK_circle",        "gimp_bodyK_ellipse",
-        "gimp_bodyK_polygon",         "gimp_bodyK_holes",         "gimp_bodyK_hole_ellipses",
-        "gimp_bodyK_hole_polygons",
-        "gimp_bodyK_hole_polygonJ",   "gimp_bodyK_add_boxes",     "gimp_bodyK_add_circles",
-        "gimp_bodyK_add_ellipses",    "gimp_bodyK_add_polygons",  "gimp_bodyK_add_polygonJ",
-        "gimp_bodyK_hole_ppc",        "gimp_bodyK_hole_band"},
+       {"gimp_bodyK_shape=rectangle", "gimp_bodyK_shape=circle", "gimp_bodyK_shape=ellipse",
+        "gimp_bodyK_shape=polygon", "gimp_bodyK_circle", "gimp_bodyK_ellipse", "gimp_bodyK_polygon",
+        "gimp_bodyK_holes", "gimp_bodyK_hole_ellipses", "gimp_bodyK_hole_polygons",
+        "gimp_bodyK_hole_polygonJ", "gimp_bodyK_add_boxes", "gimp_bodyK_add_circles",
+        "gimp_bodyK_add_ellipses", "gimp_bodyK_add_polygons", "gimp_bodyK_add_polygonJ"},
        "plane bodies; 3D bodies are boxes, spheres and cylinders with "
        "box, spherical and cylindrical holes (3D bodies: box, sphere, cylinder, hole_boxes, "
        "hole_spheres, hole_cylinders), and particle files in both"},

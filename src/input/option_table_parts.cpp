@@ -75,7 +75,8 @@ const std::vector<OptionSpec> &bodyParticles() {
     {"gimp_bodyK_ppc", Kind::Int, "", "4 (2D), 8 (3D)", "", nullptr, {},
      "Particles per cell: n^2 in 2D (1, 4, 9, ...), n^3 in 3D (1, 8, 27, ...)"},
     {"gimp_bodyK_hole_ppc", Kind::Int, "", "_ppc", "", nullptr, {},
-     "Particles per cell in the cells next to a hole (a perfect square)"},
+     "Particles per cell in the cells next to a hole: a perfect square next to a circular hole"
+     " (2D), a perfect cube next to a spherical or cylindrical one (3D)"},
     {"gimp_bodyK_hole_band", Kind::Real, "m", "one cell", "", nullptr, atLeast(0),
      "Width of the band around each hole that gets _hole_ppc"},
     {"gimp_bodyK_velocity", Kind::Reals, "m/s", "0", "vx,vy", "vx,vy,vz", {},

@@ -43,16 +43,13 @@ template <int D> std::string boxText(const BoxOf<D> &b) {
   return r;
 }
 
-/// The largest particles per cell of a body (2D: also the hole band's).
-int largestPpc(const Body<2> &b) {
+/// The largest particles per cell of a body (also the hole band's).
+template <int D> int largestPpc(const Body<D> &b) {
   return std::max(b.ppc, b.holePpc);
 }
-int largestPpc(const Body<3> &b) {
-  return b.ppc;
-}
 
-/// The particles a 2D body adds in the bands around its holes at hole_ppc, on the finest cells
-/// (an upper bound); none in 3D.
+/// The particles a body adds in the bands around its holes at hole_ppc, on the finest cells (an
+/// upper bound).
 long double holeBands(const Body<2> &body, long double h) {
   long double n = 0;
   for (const Hole &c : body.holes) {
@@ -62,8 +59,18 @@ long double holeBands(const Body<2> &body, long double h) {
   }
   return n;
 }
-long double holeBands(const Body<3> &, long double) {
-  return 0;
+long double holeBands(const Body<3> &body, long double h) {
+  long double n = 0;
+  const long double band = body.holeBand > 0 ? body.holeBand : h;
+  for (const Solid &s : body.holes) {
+    const long double r = s.r, R = r + band;
+    long double shell = 0; // the band's volume
+    if (s.kind == Solid::Sphere) shell = 4.0L / 3 * M_PI * (R * R * R - r * r * r);
+    if (s.kind == Solid::Cylinder) // through the body: its box's extent along the axis
+      shell = M_PI * (R * R - r * r) * (body.box[3 + s.axis] - body.box[s.axis]);
+    n += shell / (h * h * h) * std::max(body.holePpc - body.ppc, 0);
+  }
+  return n;
 }
 
 /// The particles of a body from a particle file, or -1.

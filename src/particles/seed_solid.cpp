@@ -214,6 +214,24 @@ bool cutBySolid(const Body<3> &body, Seed &s) {
   return true;
 }
 
+/// The particles per cell of the body's cell [lo, lo + h]: holePpc where a spherical or cylindrical
+/// hole (widened by band) reaches into the cell without holding all of it, else ppc.
+int cellPpc(const Body<3> &body, const double *lo, double h, double band) {
+  for (const Solid &so : body.holes) {
+    if (so.kind == Solid::BoxHole) continue;
+    double near2 = 0, far2 = 0; // squared distances from the centre (or axis) to the cell
+    for (int a = 0; a < 3; ++a) {
+      if (so.kind == Solid::Cylinder && a == so.axis) continue;
+      const double n = std::clamp(so.c[a], lo[a], lo[a] + h) - so.c[a];
+      const double f = std::max(std::fabs(lo[a] - so.c[a]), std::fabs(lo[a] + h - so.c[a]));
+      near2 += n * n;
+      far2 += f * f;
+    }
+    if (near2 <= (so.r + band) * (so.r + band) && far2 >= so.r * so.r) return body.holePpc;
+  }
+  return body.ppc;
+}
+
 /// The particles this rank seeds: n^3 per leaf cell whose centre its own level-0 cells hold, each
 /// cube cut to its part in a body (cutBySolid; without cut cells kept where its centre lies in
 /// the body); overlap is the largest body index whose particle another body also holds.
@@ -268,7 +286,14 @@ std::vector<Seed> collectSeeds(const Scene<3> &sc, const Grid<3> &grid, PetscMPI
       for (size_t b = 0; b < sc.bodies.size(); ++b) {
         const Body<3> &body = sc.bodies[b];
         if (!body.file.empty()) continue; // (fileSeeds)
-        const int n = static_cast<int>(std::lround(std::cbrt(static_cast<double>(body.ppc))));
+        double lo[3];
+        for (int a = 0; a < 3; ++a)
+          lo[a] = centre[a] - 0.5 * L.h;
+        const int ppc = body.holePpc == body.ppc
+                            ? body.ppc
+                            : cellPpc(body, lo, L.h, body.holeBand > 0 ? body.holeBand : L.h);
+        const int n = static_cast<int>(std::lround(std::cbrt(static_cast<double>(ppc))));
+        const int slots = std::max(body.ppc, body.holePpc); // ids per cell
         const double d = L.h / n;
         std::array<PetscInt, 3> sub = {n, n, n};
         forEachIndex<3>(sub, [&](const LatticeIndex<3> &q) {
@@ -286,8 +311,8 @@ std::vector<Seed> collectSeeds(const Scene<3> &sc, const Grid<3> &grid, PetscMPI
             if (sc.bodies[o].file.empty() && sc.bodies[o].inside(s.x))
               overlap = std::max(overlap, static_cast<int>(b));
           s.body = static_cast<int>(b);
-          s.id = static_cast<PetscInt64>(b) * sc.idSlots + cell * body.ppc + q[0] +
-                 n * (q[1] + n * q[2]);
+          s.id =
+              static_cast<PetscInt64>(b) * sc.idSlots + cell * slots + q[0] + n * (q[1] + n * q[2]);
           seeds.push_back(s);
         });
       }

@@ -92,7 +92,9 @@ template <> struct Body<3> {
   ParticleFile<3> fromFile;
   Solid round; // the sphere or cylinder of a round body
   std::vector<Solid> holes;
-  int ppc = 8; // particles per cell, a perfect cube (1, 8, 27, ...)
+  int ppc = 8;         // particles per cell, a perfect cube (1, 8, 27, ...)
+  int holePpc = 8;     // particles per cell in cells next to a spherical or cylindrical hole
+  double holeBand = 0; // width of the band next to such a hole that gets holePpc [m] (0: a cell)
   Coords<3> velocity{};
   bool sineProfile = false; // v = velocity sin(k (X - x0)) along x
   Coords<3> spin{};         // initial rigid rotation omega about the box's centre [rad/s]
