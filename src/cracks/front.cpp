@@ -168,9 +168,11 @@ void particleTerms(const PointDomain &d, const ParticleState &st, const Place &p
   const P3 &e1 = atP ? d.a : pl.a, &e3 = atP ? d.x3 : pl.x3;
   const double x1 = dot(r, e1), x2 = dot(r, d.n);
   if (std::hypot(x1, x2) <= 0) return;
+  double SS[3][3][3], GG[3][3][3];
+  frontAuxGlobal(d.el, x1, x2, e1, d.n, e3, SS, GG);
   for (int mode = 1; mode <= 3; ++mode) {
-    double S[3][3], G[3][3], Wi = 0;
-    frontAuxGlobal(mode, d.el, x1, x2, e1, d.n, e3, S, G);
+    const double(&S)[3][3] = SS[mode - 1], (&G)[3][3] = GG[mode - 1];
+    double Wi = 0;
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j)
         Wi += S[i][j] * 0.5 * (H(i, j) + H(j, i));

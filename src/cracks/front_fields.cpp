@@ -9,49 +9,59 @@ namespace {
 
 using P3 = std::array<double, 3>;
 
-/// The unit auxiliary field of `mode` at local (x1, x2) and its derivatives along x1 and x2
-/// (fourth-order central differences with step hs, which stays on x2's side of the crack's plane
-/// behind the front): f[0] the value, f[1] d/dx1, f[2] d/dx2, for the stress (S) and the
-/// displacement gradient (G), local axes.
-void localField(int mode, const TipElastic &el, double x1, double x2, double hs, double S[3][3][3],
-                double G[3][3][3]) {
-  frontField(mode, std::hypot(x1, x2), std::atan2(x2, x1), el, S[0], G[0]);
+/// The unit auxiliary fields of the three modes at local (x1, x2) and their derivatives along x1
+/// and x2 (fourth-order central differences with step hs, which stays on x2's side of the
+/// crack's plane behind the front): f[m][0] mode m + 1's value, f[m][1] d/dx1, f[m][2] d/dx2, for
+/// the stress (S) and the displacement gradient (G), local axes.
+void localFields(const TipElastic &el, double x1, double x2, double hs, double S[3][3][3][3],
+                 double G[3][3][3][3]) {
+  double s0[3][3][3], g0[3][3][3];
+  frontFields(std::hypot(x1, x2), std::atan2(x2, x1), el, s0, g0);
   const double w[4] = {1.0, -8.0, 8.0, -1.0}, o[4] = {-2.0, -1.0, 1.0, 2.0};
-  for (int dir = 1; dir <= 2; ++dir)
+  for (int m = 0; m < 3; ++m) {
     for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j)
-        S[dir][i][j] = G[dir][i][j] = 0.0;
+      for (int j = 0; j < 3; ++j) {
+        S[m][0][i][j] = s0[m][i][j];
+        G[m][0][i][j] = g0[m][i][j];
+      }
+    for (int dir = 1; dir <= 2; ++dir)
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+          S[m][dir][i][j] = G[m][dir][i][j] = 0.0;
+  }
   for (int dir = 1; dir <= 2; ++dir)
     for (int k = 0; k < 4; ++k) {
       const double y1 = x1 + (dir == 1 ? o[k] * hs : 0.0), y2 = x2 + (dir == 2 ? o[k] * hs : 0.0);
-      double s[3][3], g[3][3];
-      frontField(mode, std::hypot(y1, y2), std::atan2(y2, y1), el, s, g);
-      for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) {
-          S[dir][i][j] += w[k] * s[i][j] / (12.0 * hs);
-          G[dir][i][j] += w[k] * g[i][j] / (12.0 * hs);
-        }
+      double s[3][3][3], g[3][3][3];
+      frontFields(std::hypot(y1, y2), std::atan2(y2, y1), el, s, g);
+      for (int m = 0; m < 3; ++m)
+        for (int i = 0; i < 3; ++i)
+          for (int j = 0; j < 3; ++j) {
+            S[m][dir][i][j] += w[k] * s[m][i][j] / (12.0 * hs);
+            G[m][dir][i][j] += w[k] * g[m][i][j] / (12.0 * hs);
+          }
     }
 }
 
 } // namespace
 
-void frontAuxGlobal(int mode, const TipElastic &el, double x1, double x2, const P3 &e1,
-                    const P3 &e2, const P3 &e3, double S[3][3], double G[3][3]) {
-  double sl[3][3], gl[3][3];
-  frontField(mode, std::hypot(x1, x2), std::atan2(x2, x1), el, sl, gl);
+void frontAuxGlobal(const TipElastic &el, double x1, double x2, const P3 &e1, const P3 &e2,
+                    const P3 &e3, double S[3][3][3], double G[3][3][3]) {
+  double sl[3][3][3], gl[3][3][3];
+  frontFields(std::hypot(x1, x2), std::atan2(x2, x1), el, sl, gl);
   const P3 B[3] = {e1, e2, e3}; // B[a][i]: local axis a's global component i
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) {
-      double s = 0, g = 0;
-      for (int a = 0; a < 3; ++a)
-        for (int b = 0; b < 3; ++b) {
-          s += B[a][i] * sl[a][b] * B[b][j];
-          g += B[a][i] * gl[a][b] * B[b][j];
-        }
-      S[i][j] = s;
-      G[i][j] = g;
-    }
+  for (int m = 0; m < 3; ++m)
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) {
+        double s = 0, g = 0;
+        for (int a = 0; a < 3; ++a)
+          for (int b = 0; b < 3; ++b) {
+            s += B[a][i] * sl[m][a][b] * B[b][j];
+            g += B[a][i] * gl[m][a][b] * B[b][j];
+          }
+        S[m][i][j] = s;
+        G[m][i][j] = g;
+      }
 }
 
 bool curvatureIntegrand(const TipElastic &el, double x1, double x2, const P3 e[3],
@@ -89,9 +99,10 @@ bool curvatureIntegrand(const TipElastic &el, double x1, double x2, const P3 e[3
         v += e[2][static_cast<size_t>(i)] * curv[i][j] * e[k][static_cast<size_t>(j)];
     turn[k] = metric * v;
   }
+  double SS[3][3][3][3], GG[3][3][3][3];
+  localFields(el, x1, x2, hs, SS, GG);
   for (int m = 0; m < 3; ++m) {
-    double S[3][3][3], G[3][3][3];
-    localField(m + 1, el, x1, x2, hs, S, G);
+    const double(&S)[3][3][3] = SS[m], (&G)[3][3][3] = GG[m];
     // d/dx_k of a field f in the frame: its own derivative along x1, x2 (none along x3), plus
     // turn[k] (W^T f + f W); (W^T f)_1j = -f_3j, (W^T f)_3j = f_1j, (f W)_i1 = -f_i3, (f W)_i3 =
     // f_i1.

@@ -14,11 +14,12 @@
 
 namespace gimp::cracks {
 
-/// The auxiliary field of unit mode `mode` (1, 2, 3) at local (x1, x2) of the frame (e1, e2, e3)
-/// in global axes: S the stress [Pa per Pa m^0.5], G the displacement gradient [per Pa m^0.5].
-void frontAuxGlobal(int mode, const TipElastic &el, double x1, double x2,
-                    const std::array<double, 3> &e1, const std::array<double, 3> &e2,
-                    const std::array<double, 3> &e3, double S[3][3], double G[3][3]);
+/// The auxiliary fields of unit modes 1, 2, 3 (S[m - 1], G[m - 1]) at local (x1, x2) of the
+/// frame (e1, e2, e3) in global axes: S the stress [Pa per Pa m^0.5], G the displacement gradient
+/// [per Pa m^0.5].
+void frontAuxGlobal(const TipElastic &el, double x1, double x2, const std::array<double, 3> &e1,
+                    const std::array<double, 3> &e2, const std::array<double, 3> &e3,
+                    double S[3][3][3], double G[3][3][3]);
 
 /// The curvature terms' integrand of the three interaction integrals at a point: t[m - 1] =
 /// e1_k dP^m_kj/dx_j, with P^m_kj = sigma_ij G_ik + S_ij H_ik - S_ij eps_ij delta_kj (S, G the

@@ -32,6 +32,10 @@ void williamsDisplacement(int mode, double r, double theta, const TipElastic &e,
 void frontField(int mode, double r, double theta, const TipElastic &e, double s[3][3],
                 double g[3][3]);
 
+/// frontField of the three modes at one point: s[m - 1], g[m - 1] for mode m (the trigonometric
+/// values of theta found once for all three).
+void frontFields(double r, double theta, const TipElastic &e, double s[3][3][3], double g[3][3][3]);
+
 /// The displacement (u1, u2, u3) of the same field [m per Pa m^0.5].
 void frontDisplacement(int mode, double r, double theta, const TipElastic &e, double u[3]);
 
