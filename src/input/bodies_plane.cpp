@@ -61,7 +61,7 @@ void readMainShape(const Options &o, const std::string &q, const std::string &sh
   const char *opts[5] = {"box", "circle", "ellipse", "polygon", "file"};
   for (int k = 0; k < 5; ++k)
     if (shape != names[k] && o.given(q + opts[k]))
-      Options::bad(q + opts[k], "(given)",
+      Options::bad(q + opts[k], o.givenValue(q + opts[k]),
                    std::string("is for shape ") + names[k] + ", but -" + q + "shape is " + shape);
   if (shape == "file") {
     b.shapeOption = "file";
@@ -129,7 +129,7 @@ void readAdded(const Options &o, const std::string &q, Body<2> &b) {
   if (!b.file.empty())
     for (const char *name : {"add_boxes", "add_circles", "add_ellipses", "add_polygons"})
       if (o.given(q + name))
-        Options::bad(q + name, "(given)",
+        Options::bad(q + name, o.givenValue(q + name),
                      "does not apply to a body of shape file: it cannot be joined to other "
                      "shapes");
   std::vector<std::string> names = {q + b.shapeOption};
@@ -155,12 +155,13 @@ void readAdded(const Options &o, const std::string &q, Body<2> &b) {
 void readHoles(const Options &o, const std::string &q, Body<2> &b) {
   const std::vector<double> holes = o.reals(q + "holes"), he = o.reals(q + "hole_ellipses");
   const PetscInt nhp = o.integer(q + "hole_polygons", 0);
-  if (!b.file.empty() && (!holes.empty() || !he.empty() || nhp > 0))
-    Options::bad(q + (!holes.empty() ? "holes"
-                      : !he.empty()  ? "hole_ellipses"
-                                     : "hole_polygons"),
-                 "(given)",
+  if (!b.file.empty() && (!holes.empty() || !he.empty() || nhp > 0)) {
+    const std::string name = q + (!holes.empty() ? "holes"
+                                  : !he.empty()  ? "hole_ellipses"
+                                                 : "hole_polygons");
+    Options::bad(name, o.givenValue(name),
                  "a body of shape file has no holes: leave its particles out of the file");
+  }
   if (holes.size() > 300)
     Options::bad(q + "holes", "(more than 100 holes)", "at most 100 holes (300 values cx,cy,r)");
   for (size_t i = 0; i + 2 < holes.size(); i += 3) {
@@ -223,12 +224,12 @@ void readSeedingAndMotion(const Options &o, const std::string &q, Body<2> &b) {
   if (o.help()) return;
   for (const char *name : {"ppc", "hole_ppc", "hole_band"})
     if (!b.file.empty() && o.given(q + name))
-      Options::bad(q + name, "(given)",
+      Options::bad(q + name, o.givenValue(q + name),
                    "does not apply to a body of shape file: its particles are the file's rows");
   const bool holes = !b.holes.empty() || !b.shapeHoles.empty();
   for (const char *name : {"hole_ppc", "hole_band"})
     if (!holes && o.given(q + name))
-      Options::bad(q + name, "(given)",
+      Options::bad(q + name, o.givenValue(q + name),
                    "acts on the cells next to a hole, and the body's " + b.shapeOption +
                        " has none");
   if (!isPerfectSquare(static_cast<int>(ppc)) || ppc > 64 * 64)

@@ -19,7 +19,7 @@ void readSolid(const Options &o, const std::string &p, Body<3> &b) {
   const std::string shape = o.choice(p + "shape", "box");
   for (const char *other : {"box", "sphere", "cylinder", "file"})
     if (shape != other && o.given(p + other))
-      Options::bad(p + other, "(given)",
+      Options::bad(p + other, o.givenValue(p + other),
                    std::string("is for shape ") + other + ", but -" + p + "shape is " + shape);
   b.shapeOption = shape;
   b.kind = shape == "box" || shape == "file" ? Body<3>::BoxShape : Body<3>::RoundShape;
@@ -63,7 +63,7 @@ void readSolidHoles(const Options &o, const std::string &p, Body<3> &b) {
   if (!b.file.empty())
     for (const char *name : {"hole_spheres", "hole_boxes", "hole_cylinders"})
       if (o.given(p + name))
-        Options::bad(p + name, "(given)",
+        Options::bad(p + name, o.givenValue(p + name),
                      "a body of shape file has no holes: leave its particles out of the file");
   const std::vector<double> hs = o.reals(p + "hole_spheres");
   for (size_t i = 0; i < hs.size(); i += 4) {
@@ -108,13 +108,13 @@ void readSolidMotion(const Options &o, const std::string &p, Body<3> &b) {
   if (o.help()) return;
   for (const char *name : {"ppc", "hole_ppc", "hole_band"})
     if (!b.file.empty() && o.given(p + name))
-      Options::bad(p + name, "(given)",
+      Options::bad(p + name, o.givenValue(p + name),
                    "does not apply to a body of shape file: its particles are the file's rows");
   const bool curved = std::any_of(b.holes.begin(), b.holes.end(),
                                   [](const Solid &h) { return h.kind != Solid::BoxHole; });
   for (const char *name : {"hole_ppc", "hole_band"})
     if (!curved && o.given(p + name))
-      Options::bad(p + name, "(given)",
+      Options::bad(p + name, o.givenValue(p + name),
                    "acts on the cells next to a spherical or cylindrical hole, and the body's " +
                        b.shapeOption + " has none");
   if (!vel.empty() && b.fromFile.hasVelocity)

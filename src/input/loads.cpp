@@ -60,7 +60,7 @@ template <int D> void readDisplacementBC(const Options &o, PetscInt k, Scene<D> 
     d.fix[a] = comps.find(kAxes[a]) != std::string::npos;
     d.u[a] = o.ramp(p + "u" + kAxes[a]);
     if (!o.help() && !d.fix[a] && !d.u[a].t.empty())
-      Options::bad(p + "u" + kAxes[a], "(given)",
+      Options::bad(p + "u" + kAxes[a], o.givenValue(p + "u" + kAxes[a]),
                    "this component is not constrained (-" + p + "components " + comps + ")");
   }
   d.penaltyScale = o.real(p + "penalty_scale", 1.0);

@@ -180,6 +180,11 @@ bool Options::given(const std::string &name) const {
   return set;
 }
 
+std::string Options::givenValue(const std::string &name) const {
+  const std::string v = givenText(strip(name));
+  return v.empty() ? "(given)" : v;
+}
+
 void Options::needs(bool has, const std::string &name, const std::string &what) const {
   if (!help_ && !has && given(name)) bad(name, givenText(strip(name)), "acts only with " + what);
 }

@@ -87,6 +87,9 @@ public:
   MPI_Comm comm() const { return comm_; }
   /// Whether the option was given.
   bool given(const std::string &name) const;
+  /// The value option `name` was given with, as written, for an error line ("(given)" for a name
+  /// given without a value).
+  std::string givenValue(const std::string &name) const;
   double real(const std::string &name, double def, bool *given = nullptr) const;
   PetscInt integer(const std::string &name, PetscInt def, bool *given = nullptr) const;
   bool flag(const std::string &name, bool def, bool *given = nullptr) const;
