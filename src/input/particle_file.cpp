@@ -60,6 +60,14 @@ template <int D> std::vector<std::string> columnsOf(const std::string &prefix) {
   return out;
 }
 
+/// "x, y, z".
+std::string commaList(const std::vector<std::string> &names) {
+  std::string out;
+  for (const std::string &k : names)
+    out += (out.empty() ? "" : ", ") + k;
+  return out;
+}
+
 /// "x and y", "x, y and z".
 std::string inWords(const std::vector<std::string> &names) {
   std::string out;
@@ -92,12 +100,8 @@ std::string readHeader(const std::string &line, std::map<std::string, size_t> &a
   for (size_t c = 0; c < cols.size(); ++c) {
     const bool isKnown = std::find(known.begin(), known.end(), cols[c]) != known.end();
     const bool skip = std::find(ignored.begin(), ignored.end(), cols[c]) != ignored.end();
-    if (!isKnown && !skip) {
-      std::string list;
-      for (const std::string &k : known)
-        list += (list.empty() ? "" : ", ") + k;
-      return "unknown column '" + cols[c] + "' (columns: " + list + ")";
-    }
+    if (!isKnown && !skip)
+      return "unknown column '" + cols[c] + "' (columns: " + commaList(known) + ")";
     if (at.count(cols[c])) return "column '" + cols[c] + "' appears twice";
     at[cols[c]] = c;
   }
@@ -111,12 +115,7 @@ std::string readHeader(const std::string &line, std::map<std::string, size_t> &a
   if (given(xs) < D) return "needs the columns " + inWords(xs);
   if (given(ls) % D) return "needs " + both + inWords(ls) + ", or " + neither;
   if (given(vs) % D) return "needs " + both + inWords(vs) + ", or " + neither;
-  if (!given(ls) && !at.count("V")) {
-    std::string list;
-    for (const std::string &k : ls)
-      list += (list.empty() ? "" : ", ") + k;
-    return "needs " + list + " (half-sizes) or V (volume)";
-  }
+  if (!given(ls) && !at.count("V")) return "needs " + commaList(ls) + " (half-sizes) or V (volume)";
   return "";
 }
 

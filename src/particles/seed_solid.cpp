@@ -93,14 +93,11 @@ void fileSeeds(const Scene<3> &sc, const Grid<3> &grid, PetscMPIInt rank, size_t
 /// How a solid (a round body or a hole) meets the cube [lo, hi]: misses it, holds all of it, or
 /// cuts it.
 enum class Meets { Misses, Holds, Cuts };
-Meets meets(const Solid &so, const double *lo, const double *hi) {
-  if (so.kind == Solid::BoxHole) { // a box hole keeps or drops the cube by its centre
-    double c[3];
-    for (int a = 0; a < 3; ++a)
-      c[a] = 0.5 * (lo[a] + hi[a]);
-    return so.strictlyContains(c) ? Meets::Holds : Meets::Misses;
-  }
-  double near2 = 0, far2 = 0; // squared distances from the centre (or axis) to the cube
+
+/// The squared distances from a sphere's centre (a cylinder's axis) to the nearest and the
+/// farthest point of the cube [lo, hi].
+void distances2(const Solid &so, const double *lo, const double *hi, double &near2, double &far2) {
+  near2 = far2 = 0;
   for (int a = 0; a < 3; ++a) {
     if (so.kind == Solid::Cylinder && a == so.axis) continue;
     const double n = std::clamp(so.c[a], lo[a], hi[a]) - so.c[a];
@@ -108,6 +105,17 @@ Meets meets(const Solid &so, const double *lo, const double *hi) {
     near2 += n * n;
     far2 += f * f;
   }
+}
+
+Meets meets(const Solid &so, const double *lo, const double *hi) {
+  if (so.kind == Solid::BoxHole) { // a box hole keeps or drops the cube by its centre
+    double c[3];
+    for (int a = 0; a < 3; ++a)
+      c[a] = 0.5 * (lo[a] + hi[a]);
+    return so.strictlyContains(c) ? Meets::Holds : Meets::Misses;
+  }
+  double near2, far2;
+  distances2(so, lo, hi, near2, far2);
   const bool along = so.kind == Solid::Cylinder;
   if (near2 >= so.r * so.r || (along && (hi[so.axis] <= so.lo || lo[so.axis] >= so.hi)))
     return Meets::Misses;
@@ -214,19 +222,13 @@ bool cutBySolid(const Body<3> &body, Seed &s) {
   return true;
 }
 
-/// The particles per cell of the body's cell [lo, lo + h]: holePpc where a spherical or cylindrical
+/// The particles per cell of the body's cell [lo, hi]: holePpc where a spherical or cylindrical
 /// hole (widened by band) reaches into the cell without holding all of it, else ppc.
-int cellPpc(const Body<3> &body, const double *lo, double h, double band) {
+int cellPpc(const Body<3> &body, const double *lo, const double *hi, double band) {
   for (const Solid &so : body.holes) {
     if (so.kind == Solid::BoxHole) continue;
-    double near2 = 0, far2 = 0; // squared distances from the centre (or axis) to the cell
-    for (int a = 0; a < 3; ++a) {
-      if (so.kind == Solid::Cylinder && a == so.axis) continue;
-      const double n = std::clamp(so.c[a], lo[a], lo[a] + h) - so.c[a];
-      const double f = std::max(std::fabs(lo[a] - so.c[a]), std::fabs(lo[a] + h - so.c[a]));
-      near2 += n * n;
-      far2 += f * f;
-    }
+    double near2, far2;
+    distances2(so, lo, hi, near2, far2);
     if (near2 <= (so.r + band) * (so.r + band) && far2 >= so.r * so.r) return body.holePpc;
   }
   return body.ppc;
@@ -286,12 +288,14 @@ std::vector<Seed> collectSeeds(const Scene<3> &sc, const Grid<3> &grid, PetscMPI
       for (size_t b = 0; b < sc.bodies.size(); ++b) {
         const Body<3> &body = sc.bodies[b];
         if (!body.file.empty()) continue; // (fileSeeds)
-        double lo[3];
-        for (int a = 0; a < 3; ++a)
+        double lo[3], hi[3];
+        for (int a = 0; a < 3; ++a) {
           lo[a] = centre[a] - 0.5 * L.h;
+          hi[a] = lo[a] + L.h;
+        }
         const int ppc = body.holePpc == body.ppc
                             ? body.ppc
-                            : cellPpc(body, lo, L.h, body.holeBand > 0 ? body.holeBand : L.h);
+                            : cellPpc(body, lo, hi, body.holeBand > 0 ? body.holeBand : L.h);
         const int n = static_cast<int>(std::lround(std::cbrt(static_cast<double>(ppc))));
         const int slots = std::max(body.ppc, body.holePpc); // ids per cell
         const double d = L.h / n;
