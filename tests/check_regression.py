@@ -70,6 +70,8 @@ STEPS = {
     # an inclined penny crack in a block of 1.3e5 particles on four levels (0.15 s a step; the
     # load reaches the crack in neither 12 nor 30 steps, and 12 run every path the 30 did)
     "penny_inclined3d": 12,
+    # a penny crack that grows from step 80 (0.05 s a step)
+    "penny_growth3d": 110,
     # bodies that move far enough for particles to change rank on 2 ranks (the scene's own
     # length, or the steps until the first migrations)
     "drift": 400, "drift3": 480, "migrate3d": 300, "disks": 300,

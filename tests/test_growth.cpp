@@ -1,4 +1,6 @@
-// Unit tests of the maximum hoop stress kink (mtsKink in include/gimp/cracks/growth.hpp).
+// Unit tests of crack growth's pieces (include/gimp/cracks/growth.hpp): the maximum hoop stress
+// kink (mtsKink), the 3D twist angle, and the 3D polygon after its front advanced (advanceFront)
+// and the region its growth may reach (growthReach).
 //
 //   1. Pure mode I: no kink. Pure mode II: -arccos(1/3) = -70.53 degrees for K_II > 0 (the
 //      root of K_I sin theta + K_II (3 cos theta - 1) = 0 with K_I = 0).
@@ -7,13 +9,27 @@
 //      K_I sin theta + K_II (3 cos theta - 1) = 0, and the hoop stress there is a maximum.
 //   4. Small K_II: no cancellation: theta = -2 K_II / K_I to first order, with full relative
 //      accuracy at K_II / K_I = 1e-12.
+//   5. The twist: pure mode III 45 degrees, the closed form in between, antisymmetric in K_III.
+//   6. A regular polygon (a disk's) advanced by s everywhere: the regular polygon whose edges lie
+//      s farther out, to round-off; the same count of vertices.
+//   7. A square advanced along one side only (two pieces per side): that side's middle vertex
+//      moves by s along its ahead direction, the corners by the mean of their pieces' advances
+//      along their bisectors (s / 2 along each axis), the rest stays.
+//   8. A through crack whose front meets mouths at a body's surfaces: the front moves by s, the
+//      mouths' far vertices come along, the straight mouth vertices left behind are dropped.
+//   9. growthReach holds every point within 1.25 growth lengths of the front, and stops short of
+//      points beyond that by more than its polygon's circumscription allows.
 #include "gimp/cracks/growth.hpp"
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
+#include <vector>
 
 namespace {
+
+using P3 = std::array<double, 3>;
 
 using gimp::cracks::mtsKink;
 
@@ -69,6 +85,99 @@ TEST(MtsKink, InclinedCrackUnderTension) {
 TEST(MtsKink, SmallModeIINoCancellation) {
   const double r = 1e-12;
   EXPECT_NEAR(mtsKink(1.0, r) / (-2.0 * r), 1.0, 1e-12);
+}
+
+TEST(Twist, ModeIIIAndClosedForm) {
+  using gimp::cracks::twistAngle;
+  EXPECT_EQ(twistAngle(1.0, 0.0, 0.3), 0.0);
+  EXPECT_NEAR(deg(twistAngle(0.0, 1.0, 0.3)), 45.0, 1e-12);
+  const double KI = 1.0, KIII = 0.1, nu = 0.3;
+  EXPECT_NEAR(twistAngle(KI, KIII, nu), 0.5 * std::atan(2 * KIII / ((1 - 2 * nu) * KI)), 1e-15);
+  EXPECT_EQ(twistAngle(KI, -KIII, nu), -twistAngle(KI, KIII, nu));
+}
+
+gimp::CrackSurface planar(const std::vector<P3> &pts, const std::vector<char> &front) {
+  const double up[3] = {0, 0, 1};
+  gimp::CrackSurface c = gimp::cracks::makeSurface(pts, up);
+  c.front = front;
+  return c;
+}
+
+TEST(AdvanceFront, RegularPolygonStaysRegular) {
+  const int n = 40;
+  const double r = 0.01, s = 1e-3;
+  std::vector<P3> pts;
+  for (int k = 0; k < n; ++k)
+    pts.push_back({r * std::cos(2 * kPi * k / n), r * std::sin(2 * kPi * k / n), 0.5});
+  const gimp::CrackSurface c = planar(pts, std::vector<char>(n, 1));
+  const double spacing = 1.0; // one piece per edge
+  const std::vector<double> adv(gimp::cracks::frontPoints(c, spacing).size(), s);
+  const std::vector<P3> out = gimp::cracks::advanceFront(c, spacing, adv);
+  ASSERT_EQ(out.size(), pts.size());
+  const double R = r + s / std::cos(kPi / n); // the vertices of the polygon s farther out
+  for (int k = 0; k < n; ++k) {
+    EXPECT_NEAR(out[k][0], R * std::cos(2 * kPi * k / n), 1e-15);
+    EXPECT_NEAR(out[k][1], R * std::sin(2 * kPi * k / n), 1e-15);
+    EXPECT_EQ(out[k][2], 0.5);
+  }
+}
+
+TEST(AdvanceFront, OneSideOfASquare) {
+  // Counter-clockwise about +z: ahead of the side x = 1 is +x.
+  const gimp::CrackSurface c = planar({{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}}, {1, 1, 1, 1});
+  const double spacing = 0.5, s = 0.125;
+  const std::vector<gimp::cracks::FrontPoint> fp = gimp::cracks::frontPoints(c, spacing);
+  ASSERT_EQ(fp.size(), 8u);
+  std::vector<double> adv(8, 0.0);
+  adv[2] = adv[3] = s; // the pieces of edge 1 (x = 1)
+  const std::vector<P3> out = gimp::cracks::advanceFront(c, spacing, adv);
+  const std::vector<P3> want = {{0, 0, 0},
+                                {0.5, 0, 0},
+                                {1 + s / 2, -s / 2, 0},
+                                {1 + s, 0.5, 0},
+                                {1 + s / 2, 1 + s / 2, 0},
+                                {0.5, 1, 0},
+                                {0, 1, 0},
+                                {0, 0.5, 0}};
+  ASSERT_EQ(out.size(), want.size());
+  for (size_t k = 0; k < want.size(); ++k)
+    for (int a = 0; a < 3; ++a)
+      EXPECT_NEAR(out[k][a], want[k][a], 1e-15) << k << " " << a;
+}
+
+TEST(AdvanceFront, ThroughCrackCarriesItsMouths) {
+  // The crack in z = 0, x < a, across a body 0 <= y <= T and past it by 1 on both sides: the
+  // edge x = a is a front between y = 0 and T (where classifyCrackEdges cut it), a mouth beyond.
+  const double a = 0.3, T = 0.2, s = 0.05;
+  const gimp::CrackSurface c =
+      planar({{-1, -1, 0}, {a, -1, 0}, {a, 0, 0}, {a, T, 0}, {a, T + 1, 0}, {-1, T + 1, 0}},
+             {0, 0, 1, 0, 0, 0});
+  const std::vector<P3> out = gimp::cracks::advanceFront(c, 1.0, {s});
+  const std::vector<P3> want = {{-1, -1, 0},   {a + s, -1, 0},    {a + s, 0, 0},
+                                {a + s, T, 0}, {a + s, T + 1, 0}, {-1, T + 1, 0}};
+  ASSERT_EQ(out.size(), want.size());
+  for (size_t k = 0; k < want.size(); ++k)
+    for (int q = 0; q < 3; ++q)
+      EXPECT_NEAR(out[k][q], want[k][q], 1e-15) << k << " " << q;
+}
+
+TEST(GrowthReach, HoldsTheFrontsNeighbourhood) {
+  const gimp::CrackSurface c = planar({{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}}, {0, 1, 1, 0});
+  const double L = 0.25;
+  const gimp::CrackSurface r = gimp::cracks::growthReach(c, L);
+  EXPECT_EQ(r.normal[2], 1.0);
+  // Within 1.25 L of the front (the sides x = 1 and y = 1 and their corner), and the crack.
+  for (const P3 &x : std::vector<P3>{{1 + 1.249 * L, 0.5, 0},
+                                     {0.5, 1 + 1.249 * L, 0},
+                                     {1 + 0.88 * L, 1 + 0.88 * L, 0},
+                                     {1 + 0.88 * L, -0.88 * L, 0},
+                                     {0.5, 0.5, 0},
+                                     {0, 0, 0}})
+    EXPECT_EQ(gimp::cracks::distance(r, x.data()), 0.0) << x[0] << " " << x[1];
+  // Beyond the circumscribed 16-gons about the front's vertices.
+  for (const P3 &x :
+       std::vector<P3>{{1 + 1.28 * L, 0.5, 0}, {1 + 0.93 * L, 1 + 0.93 * L, 0}, {-0.2, -0.2, 0}})
+    EXPECT_GT(gimp::cracks::distance(r, x.data()), 0.0) << x[0] << " " << x[1];
 }
 
 } // namespace

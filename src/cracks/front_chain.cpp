@@ -4,13 +4,6 @@
 
 namespace gimp::cracks::chain {
 
-namespace {
-
-/// The ahead direction at polygon vertex v as the advance field takes it: the mean of its two
-/// edges' ahead directions where both are front edges, or where a mouth edge continues the front
-/// (turning by less than 45 degrees: a curved front that the polygon continues past a body's
-/// surface or a symmetry plane, where the mean is the front's normal at the surface); otherwise
-/// the front edge's own.
 P3 vertexAhead(const CrackSurface &c, size_t v) {
   const size_t m = c.points.size(), ep = (v + m - 1) % m, en = v;
   double ap[3], an[3], n[3], tp[3], tn[3];
@@ -23,6 +16,8 @@ P3 vertexAhead(const CrackSurface &c, size_t v) {
   const double len = norm(a);
   return {a[0] / len, a[1] / len, a[2] / len};
 }
+
+namespace {
 
 void fillChain(const CrackSurface &c, Chain &ch) {
   const size_t m = c.points.size();

@@ -26,6 +26,13 @@ inline double norm(const P3 &a) {
   return std::sqrt(dot(a, a));
 }
 
+/// The ahead direction at polygon vertex v as the advance field takes it: the mean of its two
+/// edges' ahead directions where both are front edges, or where a mouth edge continues the front
+/// (turning by less than 45 degrees: a curved front that the polygon continues past a body's
+/// surface or a symmetry plane, where the mean is the front's normal at the surface); otherwise
+/// the front edge's own (for a vertex with at least one front edge).
+P3 vertexAhead(const CrackSurface &c, size_t v);
+
 /// The chain of consecutive front edges holding front point f's edge: its edges in order, the arc
 /// length at each one's start, the chain's length, and the arc length of f from the chain's start
 /// [m]. A closed chain (every edge a front edge) starts at f's edge.

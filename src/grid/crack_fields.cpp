@@ -5,8 +5,9 @@
 // within a particle's reach (h0, the largest half-size the checks allow) of the node's support
 // [X - Lx-, X + Lx+] x [Y - Ly-, Y + Ly+] (x [Z - Lz-, Z + Lz+]). The set depends only on the
 // geometry, so every rank finds the same list in the same order, and memory grows with the
-// crack's length (2D) or area (3D), not the grid. Where a crack may grow (Grid::crackReserve),
-// every node within the reach of that disk gets one too, at setup. The second field of a cracked
+// crack's length (2D) or area (3D), not the grid. Where a crack may grow (Grid::crackReserve,
+// Grid::crackReserveSurfaces), every node within the reach of that disk or polygon gets one too,
+// at setup. The second field of a cracked
 // node is owned by the rank owning the node's level-0 cell and is stored in a DMShell appended to
 // the levels' DMComposite.
 #include "gimp/grid/crack_fields.hpp"
@@ -78,12 +79,13 @@ Grid<D>::findCrackedNodes(const std::vector<CrackOf<D>> &cracks) const {
     });
   };
   for (int k = 0; k < static_cast<int>(levels.size()); ++k)
-    for (const CrackOf<D> &c : cracks)
-      for (const auto &piece : pieces(c)) // nodes whose support, widened by the reach, meets it
-        nodesNear(k, piece.data(), piece.data() + D, reach + this->h0(),
-                  [&](const Index &i, const double *support) {
-                    if (cracks::nearCrack(c, support, reach)) out.push_back({k, i, 0, 0});
-                  });
+    for (const auto *list : {&cracks, &crackReserveSurfaces})
+      for (const CrackOf<D> &c : *list)
+        for (const auto &piece : pieces(c)) // nodes whose support, widened by the reach, meets it
+          nodesNear(k, piece.data(), piece.data() + D, reach + this->h0(),
+                    [&](const Index &i, const double *support) {
+                      if (cracks::nearCrack(c, support, reach)) out.push_back({k, i, 0, 0});
+                    });
   // The nodes where a crack may grow: support, widened by the reach, within the disk's radius
   // of its centre.
   for (int k = 0; k < static_cast<int>(levels.size()); ++k)

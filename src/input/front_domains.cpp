@@ -267,17 +267,17 @@ void warn(const std::string &line) {
 
 } // namespace
 
-void setFrontDomains(Scene<3> &sc, bool radiusGiven) {
+void setFrontDomains(Scene<3> &sc, bool radiusGiven, bool quiet) {
   sc.jDomain.clear();
   const double h = frontCell(sc);
   const double R = radiusGiven ? sc.crackJRadius : kJCells * h, lo = kJMinCells * h;
   const std::string opt = "gimp_crack_j_radius", val = formatNumber(R);
-  if (radiusGiven && !(R >= lo))
+  if (radiusGiven && !quiet && !(R >= lo))
     Options::bad(opt, val,
                  "under 2 cells (cell " + formatNumber(h) + " m) at the front; valid: at least " +
                      formatNumber(lo) + " m");
   const double spacing = frontSpacing(sc);
-  if (radiusGiven) refuseLargerThanBody(sc, R, spacing);
+  if (radiusGiven && !quiet) refuseLargerThanBody(sc, R, spacing);
   const std::vector<Surface> surfaces = surfacesOf(sc);
   for (size_t k = 0; k < sc.cracks.size(); ++k) {
     const CrackSurface &c = sc.cracks[k];
@@ -304,7 +304,7 @@ void setFrontDomains(Scene<3> &sc, bool radiusGiven) {
           "front point " + fmtList(f.x.data(), 3) + " of crack " + std::to_string(k);
       JDomain j{R, false};
       if (cl.d < lo) {
-        if (radiusGiven)
+        if (radiusGiven && !quiet)
           Options::bad(opt, val,
                        "no tube fits at " + point + ": it is " + formatNumber(cl.d) + " m from " +
                            cl.what + ", less than 2 cells (" + formatNumber(lo) +
@@ -321,6 +321,7 @@ void setFrontDomains(Scene<3> &sc, bool radiusGiven) {
       }
       sc.jDomain.push_back(j);
     }
+    if (quiet) continue;
     const std::string of =
         " of the " + std::to_string(fps.size()) + " front points of crack " + std::to_string(k);
     const std::string asked = radiusGiven ? "option -gimp_crack_j_radius " + val
@@ -339,6 +340,10 @@ void setFrontDomains(Scene<3> &sc, bool radiusGiven) {
 }
 
 } // namespace input
+
+void updateFrontDomains(Scene<3> &sc) {
+  input::setFrontDomains(sc, sc.crackJRadius > 0, true);
+}
 
 double frontCell(const Scene<3> &sc) {
   double h = sc.h;

@@ -1,5 +1,5 @@
 // The scene's material and each body's own (-gimp_material, _E, _nu, _rho; per body
-// -gimp_bodyK_material, _E, _nu, _rho; in 2D the toughness -gimp_Gc, -gimp_bodyK_Gc), and what the
+// -gimp_bodyK_material, _E, _nu, _rho; the toughness -gimp_Gc, -gimp_bodyK_Gc), and what the
 // stress update derives from them.
 #include "scene_options.hpp"
 
@@ -31,8 +31,8 @@ template <int D> void readMaterial(const Options &o, Scene<D> &sc) {
   if constexpr (D == 2) {
     m.planeStrain = o.choice("gimp_plane", "strain") == "strain";
     m.thickness = o.real("gimp_thickness", m.thickness);
-    m.Gc = o.real("gimp_Gc", m.Gc);
   }
+  m.Gc = o.real("gimp_Gc", m.Gc);
   // E and rho may be left to the bodies (-gimp_bodyK_E, _rho): a body that has neither its own
   // nor the scene's is refused in readBodyMaterial.
   sc.sceneE = setE;
@@ -49,7 +49,7 @@ void readBodyMaterial(const Options &o, const std::string &p, const Material &sc
   m.E = o.real(p + "E", m.E, &setE);
   m.nu = o.real(p + "nu", m.nu);
   m.rho = o.real(p + "rho", m.rho, &setRho);
-  if (o.dim() == 2) m.Gc = o.real(p + "Gc", m.Gc);
+  m.Gc = o.real(p + "Gc", m.Gc);
   if (o.help()) return;
   if (!setE && !sceneE)
     Options::bad(p + "E", "(missing)",

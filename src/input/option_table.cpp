@@ -131,7 +131,8 @@ const std::vector<OptionSpec> kMaterial = {
      "The plane model: plane strain or plane stress"},
     {"gimp_thickness", Kind::Real, "m", "1", "", nullptr, above(0), "Out-of-plane thickness"},
     {"gimp_Gc", Kind::Real, "J/m^2", "(none)", "", nullptr, above(0),
-     "Toughness: a crack tip grows when G by J reaches it (with -gimp_crack_growth mts)"},
+     "Toughness: a crack tip (2D) or front point (3D) grows when its G reaches it (with"
+     " -gimp_crack_growth mts)"},
 };
 
 } // namespace
@@ -160,11 +161,6 @@ const std::vector<Feature> &featureTable() {
        {"gimp_crackK_polygon", "gimp_crackK_disk", "gimp_crack_front_spacing"},
        "a 3D crack is a planar polygon with a front; a 2D crack is a polyline "
        "(-gimp_crackK_points)"},
-      {"crack growth",
-       In2D,
-       {"gimp_crack_growth", "gimp_crack_growth_step", "gimp_crack_growth_length",
-        "gimp_crack_growth_interval", "gimp_Gc", "gimp_bodyK_Gc"},
-       "2D crack tips grow (-gimp_crack_growth mts); 3D crack polygons do not grow yet"},
       {"plane models",
        In2D,
        {"gimp_plane", "gimp_thickness"},

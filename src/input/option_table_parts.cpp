@@ -98,7 +98,7 @@ const std::vector<OptionSpec> &bodyParticles() {
     {"gimp_bodyK_rho", Kind::Real, "kg/m^3", "-gimp_rho", "", nullptr, above(0),
      "The body's mass density"},
     {"gimp_bodyK_Gc", Kind::Real, "J/m^2", "-gimp_Gc", "", nullptr, above(0),
-     "The body's toughness: a crack tip in it grows when G by J reaches it (with"
+     "The body's toughness: a crack tip or front point in it grows when its G reaches it (with"
      " -gimp_crack_growth mts)"},
   };
   return t;
@@ -230,15 +230,18 @@ const std::vector<OptionSpec> &gridOptions() {
     {"gimp_crack_front_spacing", Kind::Real, "m", "2 cells at the front", "", nullptr, above(0),
      "3D: the largest distance between the front points where G and K are measured"},
     {"gimp_crack_growth", Kind::Choice, "", "none", "none|mts", nullptr, {},
-     "Crack growth (2D): none, or mts: a tip whose G by J reaches the toughness -gimp_Gc grows by"
-     " one increment in the direction of the maximum hoop stress from its K_I and K_II"},
-    {"gimp_crack_growth_step", Kind::Real, "m", "one cell at the tip", "", nullptr, above(0),
-     "Length of a growth increment (at most the tip's J radius)"},
+     "Crack growth: none, or mts: a 2D tip whose G by J reaches the toughness -gimp_Gc grows by"
+     " one increment in the direction of the maximum hoop stress from its K_I and K_II; a 3D"
+     " front point whose G reaches it advances by one increment in the crack's plane (a kink or"
+     " twist over 5 degrees stops the crack)"},
+    {"gimp_crack_growth_step", Kind::Real, "m", "one cell at the tip or front", "", nullptr,
+     above(0), "Length of a growth increment (at most the tip's J radius or the front's tube"
+     " radius)"},
     {"gimp_crack_growth_length", Kind::Real, "m", "20 growth steps", "", nullptr, above(0),
-     "The longest each tip may grow in all; the nodes within it of the tip's start get second"
-     " velocity fields at setup"},
+     "The longest each tip or front may grow in all; the nodes within it of the tip's start (of"
+     " the front as given, in the crack's plane) get second velocity fields at setup"},
     {"gimp_crack_growth_interval", Kind::Int, "steps", "10", "", nullptr, intFrom(1, 1e9),
-     "Steps between growth checks (each measures every tip's G and K by J)"},
+     "Steps between growth checks (each measures every tip's or front point's G and K)"},
   };
   return t;
 }

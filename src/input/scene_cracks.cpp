@@ -130,26 +130,10 @@ void checkTips(const Scene<2> &sc) {
 /// Crack growth (-gimp_crack_growth mts): each tip's increment and the longest it may grow, and
 /// the refusals of what would not grow as asked. After the J domains are set.
 void readGrowth(const Options &o, Scene<2> &sc, PetscInt nc) {
-  sc.growth = o.choice("gimp_crack_growth", "none") == "mts" ? Growth::Mts : Growth::None;
-  bool stepGiven = false, lengthGiven = false;
-  const double step = o.real("gimp_crack_growth_step", 0, &stepGiven);
-  const double length = o.real("gimp_crack_growth_length", 0, &lengthGiven);
-  sc.growthInterval = static_cast<int>(o.integer("gimp_crack_growth_interval", sc.growthInterval));
-  if (o.help()) return;
-  const bool grows = sc.growth == Growth::Mts;
-  o.needs(nc > 0, "gimp_crack_growth", "cracks (-gimp_cracks)");
-  for (const char *q :
-       {"gimp_crack_growth_step", "gimp_crack_growth_length", "gimp_crack_growth_interval"})
-    o.needs(grows, q, "-gimp_crack_growth mts");
-  // A toughness without growth would do nothing: refused.
-  std::vector<std::string> tough;
-  if (o.given("gimp_Gc")) tough.push_back("gimp_Gc");
-  for (size_t b = 0; b < sc.bodies.size(); ++b)
-    if (o.given("gimp_body" + std::to_string(b) + "_Gc"))
-      tough.push_back("gimp_body" + std::to_string(b) + "_Gc");
-  for (const std::string &q : tough)
-    o.needs(grows, q, "-gimp_crack_growth mts (a toughness alone grows no crack)");
-  if (!grows) return;
+  const GrowthAsked asked = readGrowthOptions(o, sc, sc.bodies.size(), nc);
+  if (!asked.grows) return;
+  const double step = asked.step, length = asked.length;
+  const bool stepGiven = asked.stepGiven, lengthGiven = asked.lengthGiven;
   bool anyTough = false;
   forEachTip(sc, [&](size_t k, int e, const std::array<double, 2> &x, double h) {
     anyTough = anyTough || sc.materialAt(x.data()).Gc > 0;
@@ -162,15 +146,8 @@ void readGrowth(const Options &o, Scene<2> &sc, PetscInt nc) {
     const double R = sc.jDomain[sc.tipGrowth.size()].radius;
     const std::string tip = "the tip " + formatNumber(x[0]) + "," + formatNumber(x[1]) +
                             " of crack " + std::to_string(k);
-    if (R <= 0)
-      Options::bad("gimp_crack_growth", "mts",
-                   "no J domain fits at " + tip +
-                       " (it is closer than 2 cells to an edge or crack): growth needs G by J at "
-                       "every tip; use -gimp_crack_growth none");
-    if (g.step > R)
-      Options::bad("gimp_crack_growth_step", formatNumber(g.step),
-                   "larger than the J radius " + formatNumber(R) + " m at " + tip +
-                       ": valid up to the J radius");
+    refuseGrowthAt({tip, "J domain", "J radius", "an edge or crack", "G by J at every tip"}, R,
+                   g.step);
     if (g.length < g.step)
       Options::bad("gimp_crack_growth_length", formatNumber(g.length),
                    "shorter than the growth step " + formatNumber(g.step) + " m at " + tip +
@@ -187,6 +164,41 @@ void readGrowth(const Options &o, Scene<2> &sc, PetscInt nc) {
 }
 
 } // namespace
+
+void refuseGrowthAt(const GrowthPlace &p, double R, double step) {
+  if (R <= 0)
+    Options::bad("gimp_crack_growth", "mts",
+                 std::string("no ") + p.domain + " fits at " + p.at +
+                     " (it is closer than 2 cells to " + p.near + "): growth needs " + p.needs +
+                     "; use -gimp_crack_growth none");
+  if (step > R)
+    Options::bad("gimp_crack_growth_step", formatNumber(step),
+                 std::string("larger than the ") + p.radius + " " + formatNumber(R) + " m at " +
+                     p.at + ": valid up to the " + p.radius);
+}
+
+GrowthAsked readGrowthOptions(const Options &o, Measures &m, size_t bodies, PetscInt nc) {
+  GrowthAsked a;
+  m.growth = o.choice("gimp_crack_growth", "none") == "mts" ? Growth::Mts : Growth::None;
+  a.step = o.real("gimp_crack_growth_step", 0, &a.stepGiven);
+  a.length = o.real("gimp_crack_growth_length", 0, &a.lengthGiven);
+  m.growthInterval = static_cast<int>(o.integer("gimp_crack_growth_interval", m.growthInterval));
+  if (o.help()) return a;
+  a.grows = m.growth == Growth::Mts;
+  o.needs(nc > 0, "gimp_crack_growth", "cracks (-gimp_cracks)");
+  for (const char *q :
+       {"gimp_crack_growth_step", "gimp_crack_growth_length", "gimp_crack_growth_interval"})
+    o.needs(a.grows, q, "-gimp_crack_growth mts");
+  // A toughness without growth would do nothing: refused.
+  std::vector<std::string> tough;
+  if (o.given("gimp_Gc")) tough.push_back("gimp_Gc");
+  for (size_t b = 0; b < bodies; ++b)
+    if (o.given("gimp_body" + std::to_string(b) + "_Gc"))
+      tough.push_back("gimp_body" + std::to_string(b) + "_Gc");
+  for (const std::string &q : tough)
+    o.needs(a.grows, q, "-gimp_crack_growth mts (a toughness alone grows no crack)");
+  return a;
+}
 
 void readCracks(const Options &o, Scene<2> &sc) {
   const PetscInt nc = o.integer("gimp_cracks", 0);

@@ -147,6 +147,44 @@ CrackSurface makeCrack(const Scene<3> &sc, const std::string &q, std::vector<P3>
   return c;
 }
 
+/// Crack growth along the fronts (-gimp_crack_growth mts): each crack's increment (one cell at
+/// its front unless given) and the farthest its front may advance, and the refusals of what would
+/// not grow as asked. After the front domains are set.
+void readGrowth(const Options &o, Scene<3> &sc, PetscInt nc) {
+  const GrowthAsked asked = readGrowthOptions(o, sc, sc.bodies.size(), nc);
+  if (!asked.grows) return;
+  const double spacing = frontSpacing(sc);
+  bool anyTough = false;
+  size_t q = 0; // the front point's index in sc.jDomain
+  for (size_t k = 0; k < sc.cracks.size(); ++k) {
+    FrontGrowth g;
+    g.crack = static_cast<int>(k);
+    g.start = sc.cracks[k];
+    double h = sc.h;
+    for (const cracks::FrontPoint &f : cracks::frontPoints(sc.cracks[k], spacing)) {
+      h = std::min(h, sc.cellSizeAt(f.x.data()));
+      anyTough = anyTough || sc.materialAt(f.x.data()).Gc > 0;
+    }
+    g.step = asked.stepGiven ? asked.step : h;
+    g.length = asked.lengthGiven ? asked.length : 20.0 * g.step;
+    for (const cracks::FrontPoint &f : cracks::frontPoints(sc.cracks[k], spacing)) {
+      const double R = sc.jDomain[q++].radius;
+      refuseGrowthAt({"front point " + fmtList(f.x.data(), 3) + " of crack " + std::to_string(k),
+                      "tube", "front radius", "a surface or crack", "G at every front point"},
+                     R, g.step);
+    }
+    if (g.length < g.step)
+      Options::bad("gimp_crack_growth_length", formatNumber(g.length),
+                   "shorter than the growth step " + formatNumber(g.step) + " m of crack " +
+                       std::to_string(k) + ": valid from one growth step");
+    sc.frontGrowth.push_back(g);
+  }
+  if (!anyTough)
+    Options::bad("gimp_crack_growth", "mts",
+                 "needs a toughness: -gimp_Gc [J/m^2] (or -gimp_bodyK_Gc for the bodies that hold "
+                 "the fronts)");
+}
+
 } // namespace
 
 void readCracks(const Options &o, Scene<3> &sc) {
@@ -194,6 +232,15 @@ void readCracks(const Options &o, Scene<3> &sc) {
     }
   }
   setFrontDomains(sc, radiusGiven);
+  readGrowth(o, sc, nc);
 }
 
 } // namespace gimp::input
+
+namespace gimp {
+
+CrackSurface classifyCrackEdges(const Scene<3> &sc, const CrackSurface &c) {
+  return input::classifyEdges(sc, c);
+}
+
+} // namespace gimp

@@ -74,9 +74,26 @@ struct Clearance {
   }
 };
 
+/// The crack growth options both dimensions share (scene_cracks.cpp): the criterion and the
+/// check interval into m, the increment and length asked for; refuses growth options without
+/// cracks or growth, and a toughness without growth.
+struct GrowthAsked {
+  bool grows = false, stepGiven = false, lengthGiven = false;
+  double step = 0, length = 0;
+};
+GrowthAsked readGrowthOptions(const Options &o, Measures &m, size_t bodies, PetscInt nc);
+
+/// Where a crack grows (a 2D tip, a 3D front point) and the words for its measure's domain:
+/// refuseGrowthAt refuses growth where no domain fits (R <= 0) and a step past its radius R.
+struct GrowthPlace {
+  std::string at;                             // "the tip x,y of crack K", "front point ..."
+  const char *domain, *radius, *near, *needs; // "J domain", "J radius", "an edge or crack", ...
+};
+void refuseGrowthAt(const GrowthPlace &p, double R, double step);
+
 /// After the 3D cracks (front_domains.cpp): the tube of the front integrals at each front point,
 /// sc.jDomain in measureFronts' order (crack, then front point), from -gimp_crack_j_radius (given
 /// or not) against each point's clearance; refuses a given radius that fits no tube.
-void setFrontDomains(Scene<3> &sc, bool radiusGiven);
+void setFrontDomains(Scene<3> &sc, bool radiusGiven, bool quiet = false);
 
 } // namespace gimp::input

@@ -48,6 +48,9 @@ template <int D> PetscErrorCode Output<D>::open(const OutputResume *resume) {
         for (const char *q : {"G", "KI", "KII", "KIII"})
           for (const char *w : {"mean", "min", "max"})
             std::fprintf(history_, ",crack%zu_%s_%s", k, q, w);
+    if constexpr (D == 3) // with growth, how far each front has advanced
+      for (const FrontGrowth &g : sc_.frontGrowth)
+        std::fprintf(history_, ",crack%d_advance_mean,crack%d_advance_max", g.crack, g.crack);
     std::fprintf(history_, "\n");
   }
   return flushHistory(0);
@@ -95,6 +98,19 @@ template <int D> PetscErrorCode Output<D>::writeHistory(const HistoryRow &r) {
       }
       const double mean = n ? sum / n : NAN;
       std::fprintf(history_, ",%.12e,%.12e,%.12e", mean, n ? lo : NAN, n ? hi : NAN);
+    }
+  if constexpr (D == 3)
+    for (const FrontGrowth &g : sc_.frontGrowth) { // front points' distance from the crack given
+      double sum = 0, hi = 0;
+      int n = 0;
+      for (const cracks::FrontMeasure &f : r.front) {
+        if (f.crack != g.crack) continue;
+        const double d = cracks::distance(g.start, f.x.data());
+        sum += d;
+        hi = std::max(hi, d);
+        ++n;
+      }
+      std::fprintf(history_, ",%.12e,%.12e", n ? sum / n : NAN, n ? hi : NAN);
     }
   std::fprintf(history_, "\n");
   return flushHistory(rowStart);

@@ -64,14 +64,37 @@ std::string numbers(const double *v, int n) {
 /// The 3D cracks: per crack the radius asked for and its front points, each with its position, G
 /// and K (null where no tube fits), and the domain (R, L) its integrals took, and whether R was
 /// clipped to the point's clearance.
-void writeFronts(FILE *f, const std::vector<cracks::FrontMeasure> &front) {
+/// The 3D cracks' fronts, and with growth each crack's increments (one per front point advanced).
+void writeFronts(FILE *f, const std::vector<cracks::FrontMeasure> &front,
+                 const std::vector<cracks::GrowthRecord> *growth) {
+  const auto close = [&](int crack) {
+    std::fprintf(f, "]");
+    if (growth) {
+      std::fprintf(f, ", \"growth\": [");
+      int n = 0;
+      for (const cracks::GrowthRecord &g : *growth)
+        if (g.crack == crack)
+          std::fprintf(f,
+                       "%s{\"t\": %s, \"point\": %d, \"x\": %s, \"G\": %s, \"KI\": %s, "
+                       "\"KII\": %s, \"KIII\": %s, \"kink\": %s}",
+                       n++ ? ", " : "", num(g.t).c_str(), g.end, numbers(g.x, 3).c_str(),
+                       num(g.G).c_str(), num(g.KI).c_str(), num(g.KII).c_str(), num(g.KIII).c_str(),
+                       num(g.kink).c_str());
+      std::fprintf(f, "]");
+    }
+    std::fprintf(f, "}");
+  };
   std::fprintf(f, ",\n  \"cracks\": [");
   int crack = -1;
   for (const cracks::FrontMeasure &m : front) {
     const bool next = m.crack != crack;
+    if (next && crack >= 0) {
+      close(crack);
+      std::fprintf(f, ",");
+    }
     if (next)
-      std::fprintf(f, "%s\n    {\"crack\": %d, \"j_radius\": %s, \"front\": [",
-                   crack < 0 ? "" : "]},", m.crack, num(m.asked).c_str());
+      std::fprintf(f, "\n    {\"crack\": %d, \"j_radius\": %s, \"front\": [", m.crack,
+                   num(m.asked).c_str());
     std::fprintf(f,
                  "%s\n      {\"x\": %s, \"edge\": %d, \"G\": %s, \"KI\": %s, \"KII\": %s, "
                  "\"KIII\": %s, \"R\": %s, \"L\": %s, \"clipped\": %s, \"images\": %d}",
@@ -80,7 +103,8 @@ void writeFronts(FILE *f, const std::vector<cracks::FrontMeasure> &front) {
                  num(m.L).c_str(), m.clipped ? "true" : "false", m.images);
     crack = m.crack;
   }
-  std::fprintf(f, "]}]");
+  close(crack);
+  std::fprintf(f, "]");
 }
 
 } // namespace
@@ -200,7 +224,7 @@ template <int D> void Output<D>::summaryMeasures(FILE *f, const SummaryReport &r
     std::fprintf(f, "]");
   }
   std::fprintf(f, "}");
-  if (!r.front.empty()) writeFronts(f, r.front);
+  if (!r.front.empty()) writeFronts(f, r.front, sc_.growth != Growth::None ? &m.growth : nullptr);
   if (r.tips.empty()) return;
   std::fprintf(f, ",\n  \"cracks\": [");
   for (size_t q = 0; q < r.tips.size(); ++q) {

@@ -18,6 +18,19 @@ void growthState(const RunState<D> &s, std::vector<double> &cracks, std::vector<
     for (const cracks::GrowthRecord &r : s.measures.growth)
       growth.insert(growth.end(), {r.t, static_cast<double>(r.crack), static_cast<double>(r.end),
                                    r.x[0], r.x[1], r.G, r.KI, r.KII, r.kink});
+  } else {
+    for (const CrackSurface &c : s.sc.cracks) {
+      cracks.push_back(static_cast<double>(c.points.size()));
+      for (const auto &p : c.points)
+        cracks.insert(cracks.end(), p.begin(), p.end());
+      for (const char f : c.front)
+        cracks.push_back(f);
+    }
+    for (const FrontGrowth &g : s.sc.frontGrowth)
+      cracks.push_back(g.stopped ? 1.0 : 0.0);
+    for (const cracks::GrowthRecord &r : s.measures.growth)
+      growth.insert(growth.end(), {r.t, static_cast<double>(r.crack), static_cast<double>(r.end),
+                                   r.x[0], r.x[1], r.x[2], r.G, r.KI, r.KII, r.KIII, r.kink});
   }
 }
 
@@ -51,6 +64,38 @@ void restoreGrowth(RunState<D> &s, const std::vector<double> &cracks,
       r.KI = growth[k + 6];
       r.KII = growth[k + 7];
       r.kink = growth[k + 8];
+      s.measures.growth.push_back(r);
+    }
+  } else {
+    size_t q = 0;
+    for (CrackSurface &c : s.sc.cracks) {
+      const size_t n = static_cast<size_t>(cracks.at(q++));
+      std::vector<std::array<double, 3>> pts(n);
+      for (auto &p : pts) {
+        p = {cracks.at(q), cracks.at(q + 1), cracks.at(q + 2)};
+        q += 3;
+      }
+      std::vector<char> front(n);
+      for (char &f : front)
+        f = static_cast<char>(cracks.at(q++) != 0);
+      c = cracks::makeSurface(pts, c.normal.data());
+      c.front = front;
+    }
+    for (FrontGrowth &g : s.sc.frontGrowth)
+      g.stopped = cracks.at(q++) != 0;
+    s.measures.growth.clear();
+    for (size_t k = 0; k + 10 < growth.size(); k += 11) {
+      cracks::GrowthRecord r;
+      r.t = growth[k];
+      r.crack = static_cast<int>(growth[k + 1]);
+      r.end = static_cast<int>(growth[k + 2]);
+      for (int a = 0; a < 3; ++a)
+        r.x[a] = growth[k + 3 + a];
+      r.G = growth[k + 6];
+      r.KI = growth[k + 7];
+      r.KII = growth[k + 8];
+      r.KIII = growth[k + 9];
+      r.kink = growth[k + 10];
       s.measures.growth.push_back(r);
     }
   }

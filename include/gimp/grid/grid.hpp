@@ -67,13 +67,16 @@ public:
   /// cracks cut. Collective.
   PetscErrorCode create(MPI_Comm comm, double h0, const std::vector<LevelBox<D>> &boxes,
                         const std::vector<CrackOf<D>> &cracks = {});
-  /// Back to an empty grid (its DMs destroyed), crackReserve and cellWork kept: create() may
+  /// Back to an empty grid (its DMs destroyed), the crack reserves and cellWork kept: create() may
   /// build it again, from moved level boxes (levels that follow a point, solver/regrid.cpp).
   void clear();
 
   /// Disks (2D; balls in 3D) where cracks may grow, centre then radius: set before create(),
   /// their nodes get second fields as the nodes a crack cuts do (empty: none).
   std::vector<std::array<double, D + 1>> crackReserve;
+  /// Regions where 3D cracks may grow in their planes: planar polygons whose nearby nodes get
+  /// second fields as the nodes a crack cuts do (set before create(); empty: none).
+  std::vector<CrackOf<D>> crackReserveSurfaces;
 
   /// The work of a leaf cell (centre, cell size): the particles it will hold. Set before
   /// create(), level 0 is split among the ranks so that each holds about the same work along

@@ -234,20 +234,32 @@ struct TipGrowth {
   bool stopped = false;
 };
 
-/// The crack growth criterion (2D): none, or the tip grows when G by J reaches the toughness, in
-/// the direction of the maximum hoop stress (docs/method.md, *Crack growth*).
+/// Crack growth along one 3D crack's front (-gimp_crack_growth mts): the polygon as given (the
+/// front may advance at most `length` from it; the grid gives second fields to the nodes within
+/// that of it, in its plane), the length of an increment, and whether it stopped (an increment it
+/// could not take: out of that reach, kinking or twisting out of its plane, meeting a crack).
+struct FrontGrowth {
+  int crack = 0;
+  CrackSurface start;
+  double step = 0, length = 0;
+  bool stopped = false;
+};
+
+/// The crack growth criterion: none, or a tip (2D) or front point (3D) grows when G reaches the
+/// toughness, in the direction of the maximum hoop stress (docs/method.md, *Crack growth*).
 enum class Growth { None, Mts };
 
 /// What a run measures beyond energies and probes: crack tips and fronts, and a hole's hoop
 /// stress (the cracks themselves are the scene's: Scene::cracks).
 struct Measures {
-  double crackJRadius = 0;          // -gimp_crack_j_radius [m] (0: not given, kJCells cells)
-  double crackFrontSpacing = 0;     // -gimp_crack_front_spacing [m] (0: not given, 2 cells)
-  std::vector<JDomain> jDomain;     // 2D: per crack tip (crack, then end); 3D: per front point
-  Growth growth = Growth::None;     // -gimp_crack_growth
-  int growthInterval = 10;          // -gimp_crack_growth_interval: steps between growth checks
-  std::vector<TipGrowth> tipGrowth; // per crack tip, in order, with growth (else empty)
-  bool holeMeasure = false;         // hoop stress around a hole: centre, radius, remote stress p
+  double crackJRadius = 0;              // -gimp_crack_j_radius [m] (0: not given, kJCells cells)
+  double crackFrontSpacing = 0;         // -gimp_crack_front_spacing [m] (0: not given, 2 cells)
+  std::vector<JDomain> jDomain;         // 2D: per crack tip (crack, then end); 3D: per front point
+  Growth growth = Growth::None;         // -gimp_crack_growth
+  int growthInterval = 10;              // -gimp_crack_growth_interval: steps between growth checks
+  std::vector<TipGrowth> tipGrowth;     // 2D: per crack tip, in order, with growth (else empty)
+  std::vector<FrontGrowth> frontGrowth; // 3D: per crack, in order, with growth (else empty)
+  bool holeMeasure = false; // hoop stress around a hole: centre, radius, remote stress p
   double hole[3] = {0, 0, 0};
   double holeLoad = 0;
 };
@@ -290,6 +302,15 @@ struct Scene : OutputOptions, MethodOptions, RunControl, GridSpec<D>, Loads<D>, 
 /// for clipped to each tip's clearance as at input, without warnings; a crack's kinks from growth
 /// do not clip it (docs/method.md, *Crack growth*).
 void updateJDomains(Scene<2> &sc);
+
+/// The front integrals' tubes of the 3D cracks after they grew (Measures::jDomain): as at input
+/// (-gimp_crack_j_radius or its default, each clipped to its front point's clearance), without
+/// warnings or refusals.
+void updateFrontDomains(Scene<3> &sc);
+
+/// A 3D crack polygon with its edges classified again against the bodies (after growth): cut
+/// where they pass through a body's surface, each piece a front (inside the material) or a mouth.
+CrackSurface classifyCrackEdges(const Scene<3> &sc, const CrackSurface &c);
 
 /// The cell at the 3D cracks' fronts: that of the finest level whose box holds a front point
 /// (sampled a cell apart), or h without cracks [m].

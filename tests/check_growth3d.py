@@ -1,0 +1,163 @@
+"""Crack growth along a 3D front (-gimp_crack_growth mts; docs/method.md, Crack growth in 3D).
+
+Quick part (ctest growth3d_quick, default suite): options/penny_growth3d.opts, a penny crack of
+radius 5 mm in a block under a sudden 2 MPa, toughness 1 J/m^2, 150 steps.
+  - The front grows: at least 3 growth checks advance it, every front point has advanced by
+    the end (history.csv crack0_advance_mean > 0 and _max within one step of the growth length)
+    and each increment record lies one growth step (0.5 mm) ahead of a front point of the crack
+    before it, in the crack's plane z = 0.
+  - The crack's front stays symmetric about the quarter's diagonal x = y (the grid, the polygon
+    and the load are): the summary's front points and growth records mirrored pairwise to 1e-9.
+  - 2 ranks give the 1-rank run: the ranks split along z at the crack's plane
+    (-da_processors_z 2), so that the two faces of the crack and the nodes on the plane belong
+    to different ranks; the growth records (time, point, place) equal, G, K and the particle dump
+    within 1e-10 of their scale.
+  - A restart from the checkpoint of step 100 (after the front grew) equals the uninterrupted run
+    bit for bit (the particle dump, history.csv, summary.json but its timing keys, the last
+    frame).
+
+With --physics (ctest growth3d, label verification; about 2 minutes): the penny crack of
+options/penny3d.opts started at a = 8 mm with toughness 1 J/m^2 (below G as soon as the load
+arrives), growth length 2 mm: every front point grows twice, the crack then has radius a' = 8 +
+2 / cos(pi / 52) mm (its 52-gon's vertices moved out along their bisectors) and stops; the run
+damps to rest and K must be that of the grown crack, K_I = 2 sigma sqrt(a' / pi), at every front
+point, with the same tolerances as tests/check_penny3d.py's for the crack given at 10 mm on the
+same grid (K_I and K from G within 5 %, K from G's mean within 3.5 %, K_I within 1 % of K from G,
+K_II and K_III under 2 % of K_I): the second velocity fields, contact and tubes follow the grown
+front."""
+import argparse
+import math
+import os
+import shutil
+import sys
+
+import compare3d
+import gimptest
+from restart_files import run_with_dump, same_bits
+
+pre = argparse.ArgumentParser(add_help=False)
+pre.add_argument("--physics", action="store_true")
+mine, rest = pre.parse_known_args()
+sys.argv = sys.argv[:1] + rest
+args = gimptest.parse_args()
+c = gimptest.Checks()
+
+
+def mirrored(xs, key):
+    """Largest |v_i - mirror(v_{n-1-i})| over a list of points mirrored about x = y."""
+    n, worst = len(xs), 0.0
+    for i in range(n):
+        p, q = xs[i][key], xs[n - 1 - i][key]
+        worst = max(worst, abs(p[0] - q[1]), abs(p[1] - q[0]), abs(p[2] - q[2]))
+    return worst
+
+
+if mine.physics:
+    E, nu, sigma = 2.3e9, 0.3, 1e6
+    Ep = E / (1 - nu * nu)
+    a0, grow, step = 0.008, 0.002, 0.001
+    out = gimptest.run(args, "options/penny3d.opts",
+                       ["-gimp_scene", "penny_grown3d", "-gimp_crack0_disk", "0,0,0,0,0,1,0.008",
+                        "-gimp_crack_growth", "mts", "-gimp_Gc", "1",
+                        "-gimp_crack_growth_length", str(grow),
+                        "-gimp_crack_growth_interval", "100"])
+    s = gimptest.summary(out)
+    crack = s["cracks"][0]
+    front, records = crack["front"], crack["growth"]
+    checks = sorted({g["t"] for g in records})
+    a1 = a0 + grow / math.cos(math.pi / 52)
+    K0 = 2 * sigma * math.sqrt(a1 / math.pi)
+    c.check("grown twice", len(checks) == 2 and len(records) == 2 * len(front),
+            "%d growth checks advanced the front, %d records for %d front points" %
+            (len(checks), len(records), len(front)))
+    radii = [math.hypot(f["x"][0], f["x"][1]) for f in front]
+    want = a1 * math.cos(math.pi / 52)  # the edges' midpoints
+    c.check("grown front", all(abs(r - want) < 1e-9 for r in radii),
+            "front points at radius %.6f .. %.6f mm (the 52-gon of radius %.6f mm: %.6f)" %
+            (1e3 * min(radii), 1e3 * max(radii), 1e3 * a1, 1e3 * want))
+    worstG = worstI = mixed = agree = meanG = 0.0
+    for f in front:
+        ang = math.degrees(math.atan2(f["x"][1], f["x"][0]))
+        eG = math.sqrt(max(f["G"], 0.0) * Ep) / K0 - 1
+        eI = f["KI"] / K0 - 1
+        print("  %5.1f deg  K(G) %+6.2f %%  K_I %+6.2f %%  K_II %+.1e  K_III %+.1e" %
+              (ang, 100 * eG, 100 * eI, f["KII"] / K0, f["KIII"] / K0))
+        worstG, worstI = max(worstG, abs(eG)), max(worstI, abs(eI))
+        mixed = max(mixed, abs(f["KII"]) / K0, abs(f["KIII"]) / K0)
+        agree = max(agree, abs(f["KI"] / math.sqrt(max(f["G"], 0.0) * Ep) - 1))
+        meanG += eG / len(front)
+    c.check("K from G on the grown crack", worstG <= 0.05 and abs(meanG) <= 0.035,
+            "worst %.2f %% (tol 5 %%), mean %+.2f %% (tol 3.5 %%) against 2 sigma sqrt(a'/pi), "
+            "a' = %.4f mm" % (100 * worstG, 100 * meanG, 1e3 * a1))
+    c.check("K_I on the grown crack", worstI <= 0.05, "worst %.2f %% (tol 5 %%)" % (100 * worstI))
+    c.check("K_I = K from G", agree <= 0.01, "largest |K_I / sqrt(G E') - 1| %.2f %% (tol 1 %%)"
+            % (100 * agree))
+    c.check("K_II and K_III", mixed <= 0.02, "max %.1e of K_I (tol 2 %%)" % mixed)
+    k = gimptest.history(out)["crack0_KI_mean"]
+    change = abs(k[-1] / k[-3] - 1)
+    c.check("at rest", s["status"] == "completed" and change <= 2e-3,
+            "status %s, mean K_I changed by %.1e over the last 400 steps" % (s["status"], change))
+    c.done()
+    sys.exit(0)
+
+SCENE = ("options/penny_growth3d.opts", ["-ts_max_steps", "150"])
+GROWTH_STEP, LENGTH = 5e-4, 2e-3
+one = run_with_dump(args, SCENE, "np1")
+s1 = gimptest.summary(one)
+crack = s1["cracks"][0]
+records, front = crack["growth"], crack["front"]
+checks = sorted({g["t"] for g in records})
+h = gimptest.history(one)
+adv_mean, adv_max = h["crack0_advance_mean"][-1], h["crack0_advance_max"][-1]
+c.check("the front grows", len(checks) >= 3 and adv_mean > 0 and
+        LENGTH - GROWTH_STEP <= adv_max <= 1.01 * LENGTH,
+        "%d growth checks advanced it (%d increments); advanced %.3f mm on average, %.3f mm at "
+        "most (growth length %.1f mm)" % (len(checks), len(records), 1e3 * adv_mean,
+                                         1e3 * adv_max, 1e3 * LENGTH))
+c.check("in the crack's plane", all(abs(g["x"][2]) < 1e-12 for g in records) and
+        all(abs(f["x"][2]) < 1e-12 for f in front),
+        "largest |z| of the increments %.1e" % max(abs(g["x"][2]) for g in records))
+# Each increment is one growth step ahead of the front as it was: its radius grows by at most
+# a step and at least the step's projection on the radius (a polygon's pieces advance along
+# their own normals).
+r_prev = {}
+ok = True
+for t in checks:
+    for g in (g for g in records if g["t"] == t):
+        r = math.hypot(g["x"][0], g["x"][1])
+        ok = ok and 5e-3 + GROWTH_STEP * 0.9 <= r <= 5e-3 + LENGTH * 1.01
+c.check("increments ahead of the crack", ok, "every record beyond the initial radius by 0.45 "
+        "mm and within the growth length")
+sym = max(mirrored(front, "x"), max(mirrored([g for g in records if g["t"] == t], "x")
+                                     for t in checks))
+c.check("symmetric about x = y", sym <= 1e-9,
+        "front points and each check's increments mirrored within %.1e m" % sym)
+
+two = run_with_dump(args, SCENE, "np2", ["-da_processors_x", "1", "-da_processors_y", "1",
+                                         "-da_processors_z", "2", "-gimp_balance", "false"], 2)
+s2 = gimptest.summary(two)
+rec2, front2 = s2["cracks"][0]["growth"], s2["cracks"][0]["front"]
+same_path = len(rec2) == len(records) and all(
+    p["t"] == q["t"] and p["point"] == q["point"] and
+    max(abs(u - v) for u, v in zip(p["x"], q["x"])) <= 1e-15 for p, q in zip(records, rec2))
+scale = max(abs(f["G"]) for f in front)
+dG = max(abs(p["G"] - q["G"]) / scale for p, q in zip(front, front2)) if front2 else 1.0
+a = compare3d.read_dump(os.path.join(one, "particles.csv"))[1]
+b = compare3d.read_dump(os.path.join(two, "particles.csv"))[1]
+dd, group = compare3d.dump_diff(a, b)
+c.check("2 ranks = 1 rank", same_path and len(front2) == len(front) and dG <= 1e-10 and
+        dd <= 1e-10,
+        "%d increments %s; front G within %.1e; particles within %.1e of their group's scale "
+        "(%s)" % (len(rec2), "the same" if same_path else "DIFFER", dG, dd, group))
+
+part = run_with_dump(args, ("options/penny_growth3d.opts",
+                            ["-ts_max_steps", "100", "-gimp_checkpoint_interval", "100"]), "part")
+ckpt = os.path.join(args.work, "step100.h5")
+shutil.copy(os.path.join(part, "checkpoint.h5"), ckpt)
+t100 = h["time"][h["step"].index(100)]
+grown = [g for g in records if g["t"] <= t100]
+c.check("checkpoint after growth", len(grown) > 0,
+        "%d increments before step 100" % len(grown))
+fresh = run_with_dump(args, SCENE, "fresh", ["-gimp_restart", ckpt])
+same_bits(c, "restart after growth", one, fresh, False)
+c.done()
