@@ -54,6 +54,64 @@ void dropStraightMouths(std::vector<P3> &pts, std::vector<char> &front) {
   }
 }
 
+/// Drops the front vertices (between two front edges) that leave an edge shorter than minLen or
+/// turn the front back on itself (by more than 120 degrees), where neighbouring pieces that moved
+/// by different amounts along different directions met: the front keeps its course without the
+/// folds and slivers its measure would see as a crack near itself.
+void dropFolds(std::vector<P3> &pts, std::vector<char> &front, double minLen) {
+  bool changed = true;
+  while (changed && pts.size() > 3) {
+    changed = false;
+    const size_t m = pts.size();
+    for (size_t v = 0; v < m; ++v) {
+      const size_t p = (v + m - 1) % m;
+      if (!front[p] || !front[v]) continue;
+      const P3 a = sub(pts[v], pts[p]), b = sub(pts[(v + 1) % m], pts[v]);
+      if (norm(a) >= minLen && norm(b) >= minLen && dot(a, b) >= -0.5 * norm(a) * norm(b)) continue;
+      pts.erase(pts.begin() + static_cast<std::ptrdiff_t>(v));
+      front.erase(front.begin() + static_cast<std::ptrdiff_t>(v));
+      changed = true;
+      break;
+    }
+  }
+}
+
+/// Puts each vertex where the front meets a mouth back on the bodies' surface: on the line of its
+/// front edge, from the edge's other vertex (in the material) out to where that line leaves the
+/// bodies, searched up to `reach` past the vertex (a vertex that moved along the mean of two
+/// edges' directions may have left the surface it slid on by a little each increment).
+void onSurface(const Scene<3> &sc, std::vector<P3> &pts, const std::vector<char> &front,
+               double reach) {
+  const auto inside = [&](const P3 &x) {
+    for (const Body<3> &b : sc.bodies)
+      if (b.inside(x.data())) return true;
+    return false;
+  };
+  const size_t m = pts.size();
+  for (size_t v = 0; v < m; ++v) {
+    const char before = front[(v + m - 1) % m], after = front[v];
+    if (before == after) continue;
+    const P3 F = after ? pts[(v + 1) % m] : pts[(v + m - 1) % m];
+    const P3 d = sub(pts[v], F);
+    const double len = norm(d);
+    if (!(len > 0) || !inside(F)) continue;
+    const P3 u = scaled(1.0 / len, d);
+    const double tMax = len + reach, dt = reach / 16;
+    double lo = 0, hi = -1;
+    for (double t = dt; t <= tMax + 0.5 * dt; t += dt) {
+      if (!inside(add(F, scaled(std::min(t, tMax), u)))) {
+        hi = std::min(t, tMax);
+        break;
+      }
+      lo = std::min(t, tMax);
+    }
+    if (hi < 0) continue; // the line stays in the material: leave the vertex
+    while (hi - lo > 1e-12 * tMax)
+      (inside(add(F, scaled(0.5 * (lo + hi), u))) ? lo : hi) = 0.5 * (lo + hi);
+    pts[v] = add(F, scaled(lo, u));
+  }
+}
+
 std::string where(const double *x) {
   return input::fmtList(x, 3);
 }
@@ -66,7 +124,7 @@ double twistAngle(double KI, double KIII, double nu) {
 }
 
 std::vector<P3> advanceFront(const CrackSurface &c, double spacing,
-                             const std::vector<double> &advance) {
+                             const std::vector<double> &advance, std::vector<char> *frontOut) {
   // The polygon with its front edges cut into their measuring pieces, each with its advance.
   std::vector<P3> V;
   std::vector<char> F;
@@ -125,6 +183,8 @@ std::vector<P3> advanceFront(const CrackSurface &c, double spacing,
     }
   }
   dropStraightMouths(out, flags);
+  dropFolds(out, flags, 0.25 * *std::max_element(advance.begin(), advance.end()));
+  if (frontOut) *frontOut = flags;
   return out;
 }
 
@@ -222,7 +282,9 @@ std::vector<GrowthRecord> growFronts(Scene<3> &sc, const std::vector<FrontMeasur
       continue;
     }
     if (std::all_of(advance.begin(), advance.end(), [](double s) { return s == 0; })) continue;
-    const std::vector<P3> grown = advanceFront(c, spacing, advance);
+    std::vector<char> flags;
+    std::vector<P3> grown = advanceFront(c, spacing, advance, &flags);
+    onSurface(sc, grown, flags, g.step);
     const double h = sc.cellSizeAt(pts.front().x.data());
     if (findFault(grown, 1e-9 * h).kind != SurfaceFault::None) {
       stop("the next increment would make its polygon cross itself");

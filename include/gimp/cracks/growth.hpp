@@ -55,10 +55,13 @@ std::vector<GrowthRecord> growTips(Scene<2> &sc, const std::vector<TipMeasure> &
 /// between two pieces by their mean along chain::vertexAhead, so that equal advances move every
 /// piece by exactly that much); where the front meets a mouth, the mouth edge's far vertex is
 /// carried along too (the crack keeps reaching past the body's surface) and mouth vertices
-/// between collinear mouth edges are dropped. The front flags are for the scene to set again
-/// (classifyCrackEdges).
+/// between collinear mouth edges are dropped; so are front vertices between two front edges that
+/// would leave an edge shorter than a quarter of the largest advance or fold the front back (a
+/// turn over 120 degrees). The front flags of the new edges go to `front` when given (for the
+/// scene to set again: classifyCrackEdges).
 std::vector<std::array<double, 3>> advanceFront(const CrackSurface &c, double spacing,
-                                                const std::vector<double> &advance);
+                                                const std::vector<double> &advance,
+                                                std::vector<char> *front = nullptr);
 
 /// A convex planar polygon in c's plane holding every point of the plane within 1.25 `length` of
 /// c's front (and c itself): where the front may go when its points grow at most `length` (a
@@ -69,11 +72,12 @@ CrackSurface growthReach(const CrackSurface &c, double length);
 /// One growth check of the 3D cracks at time t with every front point's measures (measureFronts:
 /// the same on every rank, in its order): the front points of a crack whose G reaches the
 /// toughness of the material there advance by its increment in the crack's plane (advanceFront);
-/// the polygon's edges are classified again. A crack stops growing for the rest of the run, with
-/// a line in `stops`, when a growing point would kink or twist by more than kPlanarGrowthAngle, a
-/// point has no measure, or the new polygon would cross itself, reach farther than the growth
-/// length from the crack as given, meet another crack or keep no front. Returns the increments
-/// taken, one per front point advanced. The front domains are not updated here
+/// the vertices where the front meets a mouth are put back on the bodies' surface along their
+/// front edge's line, and the polygon's edges are classified again. A crack stops growing for the
+/// rest of the run, with a line in `stops`, when a growing point would kink or twist by more than
+/// kPlanarGrowthAngle, a point has no measure, or the new polygon would cross itself, reach farther
+/// than the growth length from the crack as given, meet another crack or keep no front. Returns the
+/// increments taken, one per front point advanced. The front domains are not updated here
 /// (updateFrontDomains).
 std::vector<GrowthRecord> growFronts(Scene<3> &sc, const std::vector<FrontMeasure> &front, double t,
                                      std::vector<std::string> &stops);
