@@ -28,7 +28,12 @@ front.
 Then the quick part's scene with a growth length of 20 mm, 400 steps: the front grows from 5 to
 13.5 .. 14.1 mm, its ends sliding along the symmetry planes, and stops (one warning) only when
 it comes within 2 cells of the block's faces, where no tube fits: checked that it reached 12 mm
-everywhere and stopped for that reason."""
+everywhere and stopped for that reason.
+Then a crack through a slab in plane strain (options/through_crack3d.opts, toughness 20 J/m^2,
+8 mm of growth) grows as its 2D twin (options/through_crack2d.opts): the same 8 increments at the
+same checks, the 3D front points where the 2D tip is, G within 2 % of the 2D tip's [0.13 %]; and
+under in-plane shear the first point to grow would kink by 70.5 degrees, so the crack stops there,
+not grown, with one warning."""
 import argparse
 import math
 import os
@@ -115,6 +120,44 @@ if mine.physics:
             "no tube fits" in stop[0] and min(radii) >= 0.012,
             "front from %.2f to %.2f mm; %s" % (1e3 * min(radii), 1e3 * max(radii),
                                               stop[0] if stop else "no stop line"))
+    # A crack through a slab in plane strain grows as its 2D twin (options/through_crack3d.opts
+    # and through_crack2d.opts; toughness 20 J/m^2, below the G the load brings, 8 mm of growth
+    # checked every 50 steps): the same increments at the same checks, every front point of the
+    # slab where the 2D tip is, and G within 2 % of the 2D tip's at each (the issue's through-crack
+    # tolerance).
+    grow = ["-gimp_crack_growth", "mts", "-gimp_Gc", "20", "-gimp_crack_growth_length", "8e-3",
+            "-gimp_crack_growth_interval", "50", "-ts_max_time", "3e-4"]
+    g2 = [g for k in gimptest.summary(gimptest.run(
+        args, "options/through_crack2d.opts", grow, outdir=os.path.join(args.work, "tc2")))
+        ["cracks"] for g in k.get("growth", [])]
+    g3 = gimptest.summary(gimptest.run(args, "options/through_crack3d.opts", grow,
+                                       outdir=os.path.join(args.work, "tc3")))["cracks"][0]["growth"]
+    times = sorted({g["t"] for g in g3})
+    same, dG = len(times) == len(g2) and len(g2) >= 5, 0.0
+    for t, tip in zip(times, g2):
+        at = [g for g in g3 if g["t"] == t]
+        same = same and t == tip["t"] and all(abs(g["x"][0] - tip["x"][0]) <= 1e-12 and
+                                              abs(g["x"][1] - tip["x"][1]) <= 1e-12 for g in at)
+        dG = max([dG] + [abs(g["G"] / tip["G"] - 1) for g in at])
+    c.check("through crack grows as its 2D twin", same and dG <= 0.02,
+            "%d increments in 2D, %d checks advanced the 3D front (%d records), %s places and "
+            "times; G within %.2f %% (tol 2 %%)" % (len(g2), len(times), len(g3),
+                                                  "the same" if same else "DIFFERENT", 100 * dG))
+    # The same slab under in-plane shear (mode II): the first point to grow would kink by 70
+    # degrees, out of the crack's plane, so the crack stops there, with one line, not grown.
+    shear = gimptest.run(args, "options/through_crack3d.opts",
+                         grow[:3] + ["0.01"] + grow[4:] +
+                         ["-gimp_tractions", "4", "-gimp_traction0_side", "top",
+                          "-gimp_traction1_side", "bottom", "-gimp_traction2_side", "right",
+                          "-gimp_traction3_side", "left", "-gimp_traction0_value", "1e6,0,0",
+                          "-gimp_traction1_value", "-1e6,0,0", "-gimp_traction2_value",
+                          "0,1e6,0", "-gimp_traction3_value", "0,-1e6,0"],
+                         outdir=os.path.join(args.work, "shear"), expect_ok=False)
+    lines = [l for l in (shear.stdout + shear.stderr).splitlines() if "stops growing" in l]
+    n = len(gimptest.summary(os.path.join(args.work, "shear"))["cracks"][0]["growth"])
+    c.check("mode II stops growth in the plane", shear.returncode == 0 and len(lines) == 1 and
+            "would kink by 70.5" in lines[0] and n == 0,
+            "%d increments; %s" % (n, lines[0] if lines else "no stop line"))
     c.done()
     sys.exit(0)
 
