@@ -33,7 +33,10 @@ Then a crack through a slab in plane strain (options/through_crack3d.opts, tough
 8 mm of growth) grows as its 2D twin (options/through_crack2d.opts): the same 8 increments at the
 same checks, the 3D front points where the 2D tip is, G within 2 % of the 2D tip's [0.13 %]; and
 under in-plane shear the first point to grow would kink by 70.5 degrees, so the crack stops there,
-not grown, with one warning."""
+not grown, with one warning. And the slab's finest box following the front
+(-gimp_level2_follow crack0_front) against a fixed finest box over the whole path: the same
+increments at the same checks and places, K_I within 1 % [0.73 %], fewer particles, moves that
+keep mass and momentum to round-off (and with -gimp_follow_merge false the energy exactly)."""
 import argparse
 import math
 import os
@@ -143,6 +146,40 @@ if mine.physics:
             "%d increments in 2D, %d checks advanced the 3D front (%d records), %s places and "
             "times; G within %.2f %% (tol 2 %%)" % (len(g2), len(times), len(g3),
                                                   "the same" if same else "DIFFERENT", 100 * dG))
+    # A fine box that follows the front: the slab's finest box (4 .. 16 mm along x, the front
+    # starting at 10 mm) follows crack0's front (-gimp_level2_follow crack0_front) instead of a
+    # fixed finest box over the whole path (4 .. 24 mm): the same increments at the same checks
+    # and places, K_I within 1 % of the covering box's at each (the target issue 37 sets a
+    # following box in 2D), fewer particles; each move keeps mass and momentum to round-off.
+    # With -gimp_follow_merge false the moves keep the energy exactly too.
+    cover = gimptest.summary(gimptest.run(
+        args, "options/through_crack3d.opts", grow + ["-gimp_level2_box",
+                                                      "0.004,0.034,0,0.024,0.046,0.004"],
+        outdir=os.path.join(args.work, "cover")))
+    gc = cover["cracks"][0]["growth"]
+    for merge in ("true", "false"):
+        fol = gimptest.summary(gimptest.run(
+            args, "options/through_crack3d.opts",
+            grow + ["-gimp_level2_follow", "crack0_front", "-gimp_follow_merge", merge],
+            outdir=os.path.join(args.work, "follow_" + merge)))
+        gf, moves = fol["cracks"][0]["growth"], fol["measures"]["regrids"]
+        same = len(gf) == len(gc) and all(a["t"] == b["t"] and a["x"] == b["x"]
+                                          for a, b in zip(gc, gf))
+        dK = max(abs(b["KI"] / a["KI"] - 1) for a, b in zip(gc, gf)) if same else 1.0
+        dm = max(abs(r["after"]["mass"] / r["before"]["mass"] - 1) for r in moves) if moves else 1
+        dp = max(max(abs(u - v) for u, v in zip(r["after"]["momentum"], r["before"]["momentum"]))
+                 / math.sqrt(2 * r["before"]["mass"] * r["before"]["energy"])
+                 for r in moves) if moves else 1
+        de = max(abs(r["after"]["energy"] / r["before"]["energy"] - 1) for r in moves) if moves \
+            else 1
+        n_f, n_c = fol["particles"], cover["particles"]
+        c.check("following box (merge %s)" % merge,
+                same and dK <= 0.01 and moves and dm <= 1e-14 and dp <= 1e-12 and
+                (de <= 1e-12 if merge == "false" else True),
+                "%d moves; increments %s as the covering box's, K_I within %.2f %% (tol 1 %%); "
+                "%d particles against %d; a move changes mass by %.1e, momentum by %.1e of "
+                "sqrt(2 m E), energy by %.1e" % (len(moves), "the same" if same else "NOT",
+                                                 100 * dK, n_f, n_c, dm, dp, de))
     # The same slab under in-plane shear (mode II): the first point to grow would kink by 70
     # degrees, out of the crack's plane, so the crack stops there, with one line, not grown.
     shear = gimptest.run(args, "options/through_crack3d.opts",

@@ -204,7 +204,8 @@ const std::vector<OptionSpec> &gridOptions() {
      "Refinement ratio of level K to its parent"},
     {"gimp_levelK_follow", Kind::Word, "", "none", "", nullptr, {},
      "What level K's box follows: none, crackC_tipT (2D: crack C's tip T, 0 its first point, 1"
-     " its last) or probeN (probe N's particle); the box keeps its size and moves by whole cells"
+     " its last), crackC_front (3D: the centre of crack C's front, the middle of its front points'"
+     " bounding box) or probeN (probe N's particle); the box keeps its size and moves by whole cells"
      " of its parent when the point comes within _follow_margin of a face, and the particles it"
      " newly covers are split to its particle size"},
     {"gimp_follow_merge", Kind::Bool, "", "true", "", nullptr, {},

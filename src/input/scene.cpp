@@ -145,8 +145,9 @@ template <int D> void setDomain(const Options &o, Scene<D> &sc) {
   }
 }
 
-/// -gimp_levelK_follow and _follow_margin: none, crackC_tipT or probeN (the crack, tip and probe
-/// checked against the scene in validate.cpp), the margin within half the box's smallest side.
+/// -gimp_levelK_follow and _follow_margin: none, crackC_tipT, crackC_front or probeN (the crack,
+/// tip and probe checked against the scene in validate.cpp), the margin within half the box's
+/// smallest side.
 template <int D> LevelFollow readFollow(const Options &o, size_t k, const BoxOf<D> &box) {
   const std::string p = "gimp_level" + std::to_string(k) + "_";
   const std::string what = o.word(p + "follow", "none");
@@ -154,14 +155,18 @@ template <int D> LevelFollow readFollow(const Options &o, size_t k, const BoxOf<
   const double margin = o.real(p + "follow_margin", 0.0, &marginGiven);
   LevelFollow f;
   if (o.help()) return f;
-  const std::string valid = "none, crackC_tipT (crack C's tip T: 0 its first point, 1 its last) "
-                            "or probeN (the particle of probe N)";
-  static const std::regex tipForm("crack([0-9]{1,4})_tip([01])"), probeForm("probe([0-9]{1,4})");
+  const std::string valid = "none, crackC_tipT (crack C's tip T: 0 its first point, 1 its last), "
+                            "crackC_front (the centre of 3D crack C's front) or probeN (the "
+                            "particle of probe N)";
+  static const std::regex tipForm("crack([0-9]{1,4})_tip([01])"), probeForm("probe([0-9]{1,4})"),
+      frontForm("crack([0-9]{1,4})_front");
   std::smatch m;
   if (what == "none") {
     f.kind = LevelFollow::Kind::None;
   } else if (std::regex_match(what, m, tipForm)) {
     f = {LevelFollow::Kind::CrackTip, std::stoi(m[1]), std::stoi(m[2]), 0};
+  } else if (std::regex_match(what, m, frontForm)) {
+    f = {LevelFollow::Kind::CrackFront, std::stoi(m[1]), 0, 0};
   } else if (std::regex_match(what, m, probeForm)) {
     f = {LevelFollow::Kind::Probe, std::stoi(m[1]), 0, 0};
   } else {
@@ -173,7 +178,8 @@ template <int D> LevelFollow readFollow(const Options &o, size_t k, const BoxOf<
   f.margin = marginGiven ? margin : 0.25 * side;
   if (marginGiven && f.kind == LevelFollow::Kind::None)
     Options::bad(p + "follow_margin", formatNumber(margin),
-                 "it acts with -" + p + "follow (a crack tip or a probe), which is not given");
+                 "it acts with -" + p +
+                     "follow (a crack tip or front, or a probe), which is not given");
   if (marginGiven && !(margin < 0.5 * side))
     Options::bad(p + "follow_margin", formatNumber(margin),
                  "a distance > 0 below half the box's smallest side, " + formatNumber(0.5 * side) +

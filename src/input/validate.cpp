@@ -262,8 +262,9 @@ template <int D> void checkFollow(const Scene<D> &sc) {
     if (f.kind == LevelFollow::Kind::None) continue;
     const std::string name = "option -gimp_level" + std::to_string(k) + "_follow ";
     const std::string what =
-        f.kind == LevelFollow::Kind::Probe
-            ? "probe" + std::to_string(f.index)
+        f.kind == LevelFollow::Kind::Probe ? "probe" + std::to_string(f.index)
+        : f.kind == LevelFollow::Kind::CrackFront
+            ? "crack" + std::to_string(f.index) + "_front"
             : "crack" + std::to_string(f.index) + "_tip" + std::to_string(f.end);
     if (sc.multirate)
       throw InputError(name + what +
@@ -272,11 +273,21 @@ template <int D> void checkFollow(const Scene<D> &sc) {
     if (f.kind == LevelFollow::Kind::Probe && static_cast<size_t>(f.index) >= sc.probes.size())
       throw InputError(name + what + ": the scene has " + std::to_string(sc.probes.size()) +
                        " probes (-gimp_probes); give probeN with N below that");
+    if (f.kind == LevelFollow::Kind::CrackFront) {
+      if constexpr (D == 2)
+        throw InputError(name + what +
+                         ": crack fronts are the edges of 3D crack polygons; a 2D crack has tips "
+                         "(crackC_tipT)");
+      if (static_cast<size_t>(f.index) >= sc.cracks.size())
+        throw InputError(name + what + ": the scene has " + std::to_string(sc.cracks.size()) +
+                         " cracks (-gimp_cracks)");
+    }
     if (f.kind == LevelFollow::Kind::CrackTip) {
       if constexpr (D == 3) {
         throw InputError(name + what +
                          ": crack tips are points of 2D cracks; a 3D crack has a front (follow "
-                         "a probe instead)");
+                         "crack" +
+                         std::to_string(f.index) + "_front)");
       } else {
         if (static_cast<size_t>(f.index) >= sc.cracks.size())
           throw InputError(name + what + ": the scene has " + std::to_string(sc.cracks.size()) +

@@ -1,6 +1,7 @@
 // Levels that follow a point (-gimp_levelK_follow; docs/method.md, *Levels that follow a point*):
-// after a step, each following box whose point (a 2D crack tip, or a probe's particle) came within
-// its margin of a face moves by whole cells of its parent (grid/follow.hpp), and the run goes on
+// after a step, each following box whose point (a 2D crack tip, the centre of a 3D crack's front,
+// or a probe's particle) came within its margin of a face moves by whole cells of its parent
+// (grid/follow.hpp), and the run goes on
 // on the rebuilt grid, the particles that a finer box newly holds split to its particle size
 // (particles/split.hpp). Nothing nodal carries over a step (P2G rebuilds the momenta), so the
 // rebuild is the setup's grid part again: the grid and its window, the nodal Vecs, the node
@@ -25,6 +26,21 @@ PetscErrorCode followedPoint(const RunState<D> &s, const std::vector<PetscInt64>
       const std::array<double, 2> &tip = f.end == 0 ? c.points.front() : c.points.back();
       x[0] = tip[0];
       x[1] = tip[1];
+    }
+    return PETSC_SUCCESS;
+  }
+  if (f.kind == LevelFollow::Kind::CrackFront) { // the middle of its front points' bounding box
+    if constexpr (D == 3) {
+      const std::vector<cracks::FrontPoint> pts =
+          cracks::frontPoints(s.sc.cracks[static_cast<size_t>(f.index)], frontSpacing(s.sc));
+      for (int a = 0; a < 3; ++a) {
+        double lo = pts.front().x[a], hi = lo;
+        for (const cracks::FrontPoint &q : pts) {
+          lo = std::min(lo, q.x[a]);
+          hi = std::max(hi, q.x[a]);
+        }
+        x[a] = 0.5 * (lo + hi);
+      }
     }
     return PETSC_SUCCESS;
   }
@@ -188,8 +204,12 @@ PetscErrorCode Solver<D>::regrid(const std::vector<LevelBox<D>> &boxes, bool spl
       s.meanParticleMass *= n / static_cast<double>(s.nParticles);
     }
   }
-  if constexpr (D == 2)
-    if (!s.sc.cracks.empty()) updateJDomains(s.sc); // their radii follow the cells at the tips
+  if (!s.sc.cracks.empty()) { // their radii follow the cells at the tips and fronts
+    if constexpr (D == 2)
+      updateJDomains(s.sc);
+    else
+      updateFrontDomains(s.sc);
+  }
   s.status.leaving = -1; // the ranks' cells may have moved: the next step migrates
   PetscCall(PetscLogStagePop());
   return PETSC_SUCCESS;

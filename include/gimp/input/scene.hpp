@@ -164,7 +164,7 @@ struct RunControl {
 /// or a probe's particle. The box keeps its size and moves by whole cells of its parent level when
 /// the point comes within `margin` of one of its faces.
 struct LevelFollow {
-  enum class Kind { None, CrackTip, Probe };
+  enum class Kind { None, CrackTip, CrackFront, Probe }; // CrackFront: a 3D crack's front
   Kind kind = Kind::None;
   int index = 0;     // the crack, or the probe
   int end = 0;       // the crack's tip: 0 its first point, 1 its last
