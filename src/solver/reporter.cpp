@@ -86,7 +86,9 @@ template <int D> PetscErrorCode Reporter<D>::historyRow(PetscInt step, double t,
   s.measures.mmsRms = std::max(s.measures.mmsRms, row.mmsRms);
   PetscCall(s.boundary.reactions(s.comm, row.reactions, row.gaps));
   PetscCall(separationMeasure(step, t, row));
-  return crackTips(row.tips, row.front);
+  PetscCall(crackTips(row.tips, row.front));
+  if (s.sc.growth != Growth::None) s.lastCrackRow = {step, row.tips, row.front};
+  return PETSC_SUCCESS;
 }
 
 template <int D>

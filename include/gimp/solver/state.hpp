@@ -70,7 +70,14 @@ template <int D> struct RunState {
   double meanParticleMass = 0;
   WorkLedger work;      // work of the external and damping forces
   RunMeasures measures; // what the run keeps of its measures (and dt_critical)
-  SplitIds splitIds;    // the ids particles split by moving level boxes have taken
+  /// The crack measures of the last history row and its step (-1: none yet): a growth check
+  /// after the same step takes them instead of measuring the same particles again.
+  struct {
+    PetscInt step = -1;
+    std::vector<cracks::TipMeasure> tips;
+    std::vector<cracks::FrontMeasure> front;
+  } lastCrackRow;
+  SplitIds splitIds; // the ids particles split by moving level boxes have taken
   RunStatus status;
   StepStages stages;
 };
