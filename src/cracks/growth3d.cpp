@@ -25,33 +25,35 @@ P3 scaled(double s, const P3 &a) {
   return {s * a[0], s * a[1], s * a[2]};
 }
 
-/// The pieces of frontPoints(c, spacing) on edge p-q of a front (the same count).
-int piecesOf(const P3 &p, const P3 &q, double spacing) {
-  return std::max(1, static_cast<int>(std::ceil(norm(sub(q, p)) / spacing - 1e-9)));
+/// Drops, one at a time and from the first vertex again after each, the vertices v of the
+/// polygon (edge flags `front`, edge v leaving vertex v) that drop(p, v, a, b) names, p the
+/// vertex before v, a and b the edges into and out of v; at least 3 vertices stay.
+template <class Drop> void dropVertices(std::vector<P3> &pts, std::vector<char> &front, Drop drop) {
+  bool changed = true;
+  while (changed && pts.size() > 3) {
+    changed = false;
+    const size_t m = pts.size();
+    for (size_t v = 0; v < m && !changed; ++v) {
+      const size_t p = (v + m - 1) % m;
+      if (!drop(p, v, sub(pts[v], pts[p]), sub(pts[(v + 1) % m], pts[v]))) continue;
+      pts.erase(pts.begin() + static_cast<std::ptrdiff_t>(v));
+      front.erase(front.begin() + static_cast<std::ptrdiff_t>(v));
+      changed = true;
+    }
+  }
 }
 
 /// Drops the vertices between two mouth edges that continue each other in a straight line, and
 /// vertices that repeat their predecessor (a carried mouth vertex landing on one already there).
 void dropStraightMouths(std::vector<P3> &pts, std::vector<char> &front) {
-  bool changed = true;
-  while (changed && pts.size() > 3) {
-    changed = false;
-    const size_t m = pts.size();
-    for (size_t v = 0; v < m; ++v) {
-      const size_t p = (v + m - 1) % m;
-      const P3 a = sub(pts[v], pts[p]), b = sub(pts[(v + 1) % m], pts[v]);
-      const double la = norm(a), lb = norm(b);
-      const bool repeat = la <= 1e-12 * lb;
-      const bool straight =
-          !front[p] && !front[v] && norm(cross(a, b)) <= 1e-9 * la * lb && dot(a, b) > 0;
-      if (!repeat && !straight) continue;
-      if (repeat) front[p] = front[v]; // the edge leaving v now leaves p
-      pts.erase(pts.begin() + static_cast<std::ptrdiff_t>(v));
-      front.erase(front.begin() + static_cast<std::ptrdiff_t>(v));
-      changed = true;
-      break;
-    }
-  }
+  dropVertices(pts, front, [&](size_t p, size_t v, const P3 &a, const P3 &b) {
+    const double la = norm(a), lb = norm(b);
+    const bool repeat = la <= 1e-12 * lb;
+    const bool straight =
+        !front[p] && !front[v] && norm(cross(a, b)) <= 1e-9 * la * lb && dot(a, b) > 0;
+    if (repeat) front[p] = front[v]; // the edge leaving v now leaves p
+    return repeat || straight;
+  });
 }
 
 /// Drops the front vertices (between two front edges) that leave an edge shorter than minLen or
@@ -59,21 +61,10 @@ void dropStraightMouths(std::vector<P3> &pts, std::vector<char> &front) {
 /// by different amounts along different directions met: the front keeps its course without the
 /// folds and slivers its measure would see as a crack near itself.
 void dropFolds(std::vector<P3> &pts, std::vector<char> &front, double minLen) {
-  bool changed = true;
-  while (changed && pts.size() > 3) {
-    changed = false;
-    const size_t m = pts.size();
-    for (size_t v = 0; v < m; ++v) {
-      const size_t p = (v + m - 1) % m;
-      if (!front[p] || !front[v]) continue;
-      const P3 a = sub(pts[v], pts[p]), b = sub(pts[(v + 1) % m], pts[v]);
-      if (norm(a) >= minLen && norm(b) >= minLen && dot(a, b) >= -0.5 * norm(a) * norm(b)) continue;
-      pts.erase(pts.begin() + static_cast<std::ptrdiff_t>(v));
-      front.erase(front.begin() + static_cast<std::ptrdiff_t>(v));
-      changed = true;
-      break;
-    }
-  }
+  dropVertices(pts, front, [&](size_t p, size_t v, const P3 &a, const P3 &b) {
+    return front[p] && front[v] &&
+           (norm(a) < minLen || norm(b) < minLen || dot(a, b) < -0.5 * norm(a) * norm(b));
+  });
 }
 
 /// Puts each vertex where the front meets a mouth back on the bodies' surface: on the line of its
@@ -139,7 +130,7 @@ std::vector<P3> advanceFront(const CrackSurface &c, double spacing,
       S.push_back(0);
       continue;
     }
-    const int n = piecesOf(p, q, spacing);
+    const int n = frontPieces(norm(sub(q, p)), spacing);
     for (int k = 0; k < n; ++k) {
       V.push_back(add(p, scaled(static_cast<double>(k) / n, sub(q, p))));
       F.push_back(1);

@@ -251,13 +251,17 @@ void frontFrame(const CrackSurface &c, int e, double a[3], double n[3], double t
   }
 }
 
+int frontPieces(double length, double spacing) {
+  return std::max(1, static_cast<int>(std::ceil(length / spacing - 1e-9)));
+}
+
 std::vector<FrontPoint> frontPoints(const CrackSurface &c, double spacing) {
   std::vector<FrontPoint> out;
   const size_t m = c.points.size();
   for (size_t e = 0; e < m; ++e) {
     if (!c.front[e]) continue;
     const P3 &p = c.points[e], &q = c.points[(e + 1) % m];
-    const int pieces = std::max(1, static_cast<int>(std::ceil(norm(sub(q, p)) / spacing - 1e-9)));
+    const int pieces = frontPieces(norm(sub(q, p)), spacing);
     for (int k = 0; k < pieces; ++k) {
       FrontPoint f;
       f.edge = static_cast<int>(e);

@@ -101,6 +101,9 @@ struct FrontPoint {
 /// `spacing` (> 0), a point at each piece's centre; in edge order.
 std::vector<FrontPoint> frontPoints(const CrackSurface &c, double spacing);
 
+/// How many pieces frontPoints cuts a front edge of this length into.
+int frontPieces(double length, double spacing);
+
 /// The frame of front edge e: t along it (p_e to p_{e+1}), n the normal, a = t x n.
 void frontFrame(const CrackSurface &c, int e, double a[3], double n[3], double t[3]);
 
