@@ -9,10 +9,14 @@
 //      levels, total ratio up to 128, particles up to a whole level-0 cell): the valid layouts
 //      are accepted and give the same identities, the invalid ones are rejected for the
 //      documented reason. 1b: particles whose edge lies exactly on the domain edge.
+//   1c. With a crack (and a disk where it may grow): the blocks of the compact path equal the
+//      rows after cracks::assignFields re-addresses the cracked nodes' entries, particle by
+//      particle, before and after the crack grows; a block holds no node the crack reaches.
 //   2. The point shape functions (tent products with each node's zones) on the same grids.
 //
 // All random sampling uses a fixed-seed std::mt19937_64, so every run checks the same points.
 // Random checks keep the largest error and report where (layout and particle) it occurred.
+#include "gimp/grid/crack_fields.hpp"
 #include "gimp/grid/grid.hpp"
 #include "gimp/grid/shape.hpp"
 
@@ -25,6 +29,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -393,6 +398,106 @@ TEST(GridStencils, ParticleTouchingDomainEdge) {
   EXPECT_WORST_LE(gradSum, 1e-10);
   EXPECT_WORST_LE(gradRepro, 1e-10);
   std::printf("  gradients not summing to 0: %ld of %ld edge particles\n", offGrad, total);
+}
+
+// ---------------------------------------------------------------------------------------------
+// 1c. Blocks beside a crack.
+
+/// Per particle: slot -> (weight, d/dx, d/dy) of its stencil as forEach reads it.
+std::vector<std::map<PetscInt, std::array<double, 3>>> entriesOf(const Stencils &s, long np) {
+  std::vector<std::map<PetscInt, std::array<double, 3>>> out(np);
+  for (long p = 0; p < np; ++p)
+    s.forEach(p, [&](PetscInt slot, double w, const gimp::Vector<2> &g) {
+      auto &e = out[p][slot];
+      e[0] += w;
+      e[1] += g[0];
+      e[2] += g[1];
+    });
+  return out;
+}
+
+TEST(GridStencils, CrackedBlocksEqualRows) {
+  // A kinked crack from outside the domain's left edge into the fine box, and a disk around its
+  // tip where it may grow: the disk's nodes get second fields the crack does not reach yet.
+  long blocks = 0, blocksBesideReserve = 0, readdressed = 0, compared = 0;
+  Worst weight, gradient;
+  for (const Layout &lay : twoLevelLayouts()) {
+    gimp::Scene<2> sc = sceneOf(lay);
+    const BoxOf<2> D = sc.levelBoxes()[0].box;
+    const double h0 = sc.h, W = D[2] - D[0], H = D[3] - D[1];
+    gimp::Crack c;
+    c.points = {{D[0] - 0.3 * h0, D[1] + 0.52 * H},
+                {D[0] + 0.31 * W, D[1] + 0.49 * H},
+                {D[0] + 0.47 * W, D[1] + 0.56 * H}};
+    sc.cracks = {c};
+    for (int grown = 0; grown < 2; ++grown) {
+      if (grown) // the tip advances into the reserve: new nodes are reached
+        sc.cracks[0].points.push_back({D[0] + 0.61 * W, D[1] + 0.50 * H});
+      Grid<2> g;
+      g.crackReserve.push_back({D[0] + 0.47 * W, D[1] + 0.56 * H, 0.3 * W});
+      // Built with the crack as it was, then told that it grew (as a run does).
+      ASSERT_EQ(static_cast<int>(g.create(PETSC_COMM_SELF, h0, sc.levelBoxes(),
+                                          grown ? std::vector<gimp::Crack>{c} : sc.cracks)),
+                0);
+      g.markLiveCracks(sc.cracks);
+      ASSERT_GT(g.nSlots, g.nWindow) << lay.name;
+      Sampler sample(g, 0x6a1d0c00 + grown);
+      const long np = 4000;
+      std::vector<double> x(2 * np), l(2 * np);
+      for (long p = 0; p < np; ++p)
+        sample.draw(x[2 * p], x[2 * p + 1], l[2 * p], l[2 * p + 1], true, 0.5 * h0);
+      Stencils rows, compact;
+      ASSERT_TRUE(g.buildStencils(np, x.data(), l.data(), rows, false));
+      ASSERT_TRUE(g.buildStencils(np, x.data(), l.data(), compact, true, true));
+      // The reference: every entry of a cracked node (reached or reserved) whose segment from
+      // the particle crosses the crack moves to the node's second slot.
+      for (long p = 0; p < np; ++p)
+        for (PetscInt e = rows.start[p]; e < rows.start[p + 1]; ++e) {
+          const PetscInt n = rows.node[e];
+          if (g.crackSlot[n] >= 0 &&
+              gimp::cracks::crossing(sc.cracks[0], x[2 * p], x[2 * p + 1], g.X[n], g.Y[n]) != 0)
+            rows.node[e] = g.crackSlot[n];
+        }
+      gimp::cracks::assignFields<2>(g, sc.cracks, np, x.data(), compact);
+      const auto r = entriesOf(rows, np), b = entriesOf(compact, np);
+      for (long p = 0; p < np; ++p) {
+        const auto where = [&] {
+          return lay.name + (grown ? " grown: " : ": ") +
+                 at({{"xp", x[2 * p]}, {"yp", x[2 * p + 1]}});
+        };
+        const bool block = compact.isBlock(p) || compact.isBlock4(p);
+        blocks += block;
+        bool reserve = false, second = false;
+        for (const auto &[slot, e] : r[p]) {
+          second = second || slot >= g.nWindow;
+          reserve = reserve || (slot < g.nWindow && g.crackSlot[slot] >= 0);
+        }
+        readdressed += second;
+        blocksBesideReserve += block && reserve;
+        // Either form may list a node the particle's edge reaches with weight 0 (or 1e-30) that
+        // the other leaves out: compare over both lists, a missing entry as 0.
+        auto diff = [&](const auto &a, const auto &o) {
+          for (const auto &[slot, e] : a) {
+            const auto it = o.find(slot);
+            const std::array<double, 3> f = it == o.end() ? std::array<double, 3>{} : it->second;
+            weight.update(std::abs(e[0] - f[0]), where);
+            gradient.update(std::max(std::abs(e[1] - f[1]), std::abs(e[2] - f[2])) * h0, where);
+          }
+        };
+        diff(r[p], b[p]);
+        diff(b[p], r[p]);
+        ++compared;
+      }
+    }
+  }
+  std::printf("  particles %ld: blocks %ld (%ld beside a reserved node the crack does not reach), "
+              "with a second field %ld\n",
+              compared, blocks, blocksBesideReserve, readdressed);
+  EXPECT_WORST_LE(weight, 1e-14);
+  EXPECT_WORST_LE(gradient, 1e-12);
+  EXPECT_GT(blocks, compared / 20);
+  EXPECT_GT(blocksBesideReserve, compared / 50);
+  EXPECT_GT(readdressed, compared / 50);
 }
 
 // ---------------------------------------------------------------------------------------------

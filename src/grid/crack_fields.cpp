@@ -163,6 +163,63 @@ PetscErrorCode Grid<D>::addCrackFields(MPI_Comm comm, const std::vector<CrackOf<
   return PETSC_SUCCESS;
 }
 
+template <int D> void Grid<D>::markLiveCracks(const std::vector<CrackOf<D>> &cracks) {
+  liveSlot.clear();
+  crackFreeThree_.clear();
+  crackFreeFour_.clear();
+  if (nSlots == nWindow) return; // no cracked node in this window
+  // findCrackedNodes' test, for the cracks alone.
+  liveSlot.assign(nWindow, -1);
+  const double reach = this->h0();
+  for (PetscInt s = nWindow; s < nSlots; ++s) {
+    const PetscInt n = slotNode[s];
+    double support[2 * D];
+    for (int a = 0; a < D; ++a) {
+      const double X = coordinates(a)[n];
+      support[a] = X - zone[2 * D * n + 2 * a];
+      support[D + a] = X + zone[2 * D * n + 2 * a + 1];
+    }
+    for (const CrackOf<D> &c : cracks)
+      if (cracks::nearCrack(c, support, reach)) {
+        liveSlot[n] = s;
+        break;
+      }
+  }
+  // The blocks of the compact path: those of a side-node block that hold no live node.
+  const int K = static_cast<int>(levels.size());
+  auto clear = [&](PetscInt side, const std::vector<std::uint8_t> &regular,
+                   std::vector<std::uint8_t> &flag) {
+    flag = regular;
+    for (int k = 0; k < K; ++k) {
+      const Level<D> &L = levels[k];
+      std::array<PetscInt, D> wn;
+      for (int a = 0; a < D; ++a)
+        wn[a] = L.wn(a);
+      forEachIndex<D>(wn, [&](const Index &w) {
+        PetscInt i[D];
+        for (int a = 0; a < D; ++a)
+          i[a] = w[a] + L.w0[a];
+        if (liveSlot[windowSlot(k, i)] < 0) return;
+        // Every block origin from side - 1 nodes before i to i along each axis holds node i.
+        std::array<PetscInt, D> back;
+        back.fill(side);
+        forEachIndex<D>(back, [&](const Index &b) {
+          PetscInt j[D];
+          for (int a = 0; a < D; ++a) {
+            j[a] = i[a] - b[a];
+            if (j[a] < L.w0[a]) return;
+          }
+          flag[windowSlot(k, j)] = 0;
+        });
+      });
+    }
+  };
+  clear(3, threeNodeBlocks_, crackFreeThree_);
+  if (D == 2) clear(4, fourNodeBlocks_, crackFreeFour_);
+}
+
+template void Grid<2>::markLiveCracks(const std::vector<CrackOf<2>> &);
+template void Grid<3>::markLiveCracks(const std::vector<CrackOf<3>> &);
 template std::vector<Grid<2>::CrackedNode>
 Grid<2>::findCrackedNodes(const std::vector<CrackOf<2>> &) const;
 template std::vector<Grid<3>::CrackedNode>
@@ -179,8 +236,8 @@ void assignFields(const Grid<D> &g, const std::vector<CrackOf<D>> &cracks, Petsc
   PetscInt *node = st.node.data();
   for (PetscInt k = 0; k < n; ++k)
     for (PetscInt e = st.start[k]; e < st.start[k + 1]; ++e) {
-      const PetscInt second = g.crackSlot[node[e]];
-      if (second < 0) continue;
+      const PetscInt second = g.liveSlot[node[e]];
+      if (second < 0) continue; // (no crack within reach: crossing() is 0 for every crack)
       double X[D];
       for (int a = 0; a < D; ++a)
         X[a] = g.coordinates(a)[node[e]];

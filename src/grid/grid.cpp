@@ -32,6 +32,8 @@ template <int D> void Grid<D>::clear() {
   flags_.clear();
   threeNodeBlocks_.clear();
   fourNodeBlocks_.clear();
+  crackFreeThree_.clear();
+  crackFreeFour_.clear();
   outwardReach_.clear();
   own_ = {};
   cracked_.clear();
@@ -109,8 +111,10 @@ PetscErrorCode Grid<D>::build(MPI_Comm comm, const std::vector<CrackOf<D>> &crac
   for (PetscInt n = 0; n < nWindow; ++n)
     slotNode[n] = n;
   crackSlot.assign(nWindow, -1);
+  liveSlot.clear();
   crackCount_.assign(size, 0);
   PetscCall(addCrackFields(comm, cracks));
+  markLiveCracks(cracks);
   PetscCall(DMSetUp(dm));
   PetscCall(createScatter(comm));
   return PETSC_SUCCESS;

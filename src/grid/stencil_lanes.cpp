@@ -244,7 +244,7 @@ template <int D>
 bool Grid<D>::blockRun(PetscInt k, const double *x, const double *l, Stencils<D> &s) const {
 #if GIMP_HAVE_LANES
   if constexpr (D == 2)
-    return blockRunLanes(*this, threeNodeBlocks_.data(), outwardReach_.data(), k, x, l, s);
+    return blockRunLanes(*this, compactThree(), outwardReach_.data(), k, x, l, s);
 #endif
   (void)k, (void)x, (void)l, (void)s;
   return false;
@@ -255,7 +255,7 @@ bool Grid<D>::blockLanes(int q, PetscInt k, const double *x, const double *l,
                          Stencils<D> &s) const {
 #if GIMP_HAVE_LANES
   if constexpr (D == 3)
-    return blockLanes3(*this, threeNodeBlocks_.data(), outwardReach_.data(), q, k, x, l, s);
+    return blockLanes3(*this, compactThree(), outwardReach_.data(), q, k, x, l, s);
 #endif
   (void)q, (void)k, (void)x, (void)l, (void)s;
   return false;

@@ -119,7 +119,7 @@ GIMP_ALWAYS_INLINE int Grid<D>::soleBlock(int q, const double *x, const double *
     if (ir < L.w0[a] || ir + side - 1 >= L.w1[a] || i1 - ir > side - 1) return 0;
     i0[a] = ir;
   }
-  if (!(side == 3 ? threeNodeBlocks_ : fourNodeBlocks_)[windowSlot(q, i0)]) return 0;
+  if (!(side == 3 ? compactThree() : compactFour())[windowSlot(q, i0)]) return 0;
   // No finer level reaches it: along some axis its reach (with half a cell to spare) misses the
   // finer box, so levelReach finds no candidate there. Coarser levels never reach it.
   for (int f = q + 1; f < static_cast<int>(levels.size()); ++f) {
@@ -219,11 +219,18 @@ bool Grid<D>::buildStencils(PetscInt n, const double *x, const double *l, Stenci
       reaches[q] = q >= first && levelReach(q, xp, lp, reach[q]);
       if (reaches[q]) ++nReach, last = q;
     }
-    if (compact && nReach == 1 && reach[last].threeNodeBlock) {
+    // (a block that holds a cracked node keeps rows: the flags of the compact path)
+    bool crackFree = compact && nReach == 1;
+    if (crackFree) {
+      const Reach &r = reach[last];
+      crackFree = (r.threeNodeBlock && compactThree()[windowSlot(last, r.i0)]) ||
+                  (r.fourNodeBlock && compactFour()[windowSlot(last, r.i0)]);
+    }
+    if (crackFree && reach[last].threeNodeBlock) {
       setBlock(last, reach[last].i0, xp, lp, s, k);
       continue;
     }
-    if (compact && nReach == 1 && reach[last].fourNodeBlock) {
+    if (crackFree && reach[last].fourNodeBlock) {
       setBlock4(last, reach[last].i0, xp, lp, s, k);
       continue;
     }

@@ -234,7 +234,7 @@ template <int D> PetscErrorCode MultiRate<D>::startClass(ParticleView<D> &p, int
   RateClasses<D> &r = r_;
   Nodal &n = s.nodal;
   const ParticleView<D> q = p.slice(r.begin[k], r.begin[k + 1]);
-  if (!s.grid.buildStencils(q.n, q.x, q.l, r.st[k], s.sc.cracks.empty(), s.lanes)) {
+  if (!s.grid.buildStencils(q.n, q.x, q.l, r.st[k], true, s.lanes)) {
     // (a particle that went bad inside the coarse step: the check at its end reports it; the
     // class reaches no node until then)
     s.status.localFailure = "a particle is larger than a level-0 cell (its half-size exceeds "

@@ -160,9 +160,9 @@ PetscErrorCode Step<D>::buildStencils(const ParticleView<D> &p, const double *ce
     cracks::assignFields<D>(s.grid, s.sc.cracks, p.n, centres, s.st);
     return PETSC_SUCCESS;
   }
-  // Blocks for every particle that one level's regular nodes alone reach, unless cracks
-  // re-address entries (assignFields).
-  if (!s.grid.buildStencils(p.n, centres, p.l, s.st, s.sc.cracks.empty(), s.lanes))
+  // Blocks for every particle that one level's regular nodes alone reach and no cracked node
+  // (rows for the others, which assignFields re-addresses).
+  if (!s.grid.buildStencils(p.n, centres, p.l, s.st, true, s.lanes))
     s.status.localFailure = "a particle is larger than a level-0 cell (its half-size exceeds "
                             "-gimp_h)";
   cracks::assignFields<D>(s.grid, s.sc.cracks, p.n, centres, s.st);

@@ -31,9 +31,12 @@ struct WindowNodes {
   PetscInt nWindow = 0;
   // Slots of the window arrays (D values each): the nWindow nodes, then one second velocity
   // field per cracked window node (docs/architecture.md). slotNode[s] is the window node of slot
-  // s; crackSlot[n] the second slot of window node n, or -1.
+  // s; crackSlot[n] the second slot of window node n, or -1. liveSlot[n] is crackSlot[n] where a
+  // crack as it is now (not a growth reserve) comes within a particle's reach of node n's
+  // support, so that a particle may join the second field (cracks::assignFields), else -1
+  // (Grid::markLiveCracks; empty without cracked nodes).
   PetscInt nSlots = 0;
-  std::vector<PetscInt> slotNode, crackSlot;
+  std::vector<PetscInt> slotNode, crackSlot, liveSlot;
   std::vector<std::uint8_t> active, regular;
   std::vector<double> X, Y, Z; // node coordinates (Z empty in 2D)
   std::vector<double> zone;    // 2 D per node: Lx-, Lx+, Ly-, Ly+ (, Lz-, Lz+)
@@ -82,6 +85,10 @@ public:
   /// create(), level 0 is split among the ranks so that each holds about the same work along
   /// every axis the ranks divide (balancedRanges); empty: PETSc's even split of the nodes.
   std::function<double(const double *centre, double h)> cellWork;
+
+  /// The cracked nodes that the cracks as they are reach (liveSlot), and the blocks of the
+  /// stencils' compact path that hold none of them: after create() and whenever a crack grows.
+  void markLiveCracks(const std::vector<CrackOf<D>> &cracks);
 
   /// Per axis, the work of the leaf cells (cellWork) summed per level-0 cell index along it.
   std::vector<std::vector<double>> workAlongAxes() const;
@@ -216,6 +223,16 @@ private:
   std::vector<std::uint8_t>
       threeNodeBlocks_;                      // the 3^D block of one level from this node is regular
   std::vector<std::uint8_t> fourNodeBlocks_; // the same for the 4^D block (2D)
+  // With cracks, the same less the blocks that hold a live cracked node (liveSlot): the compact
+  // path of buildStencils reads these (a particle there keeps rows, which cracks::assignFields
+  // re-addresses); empty without a cracked node in the window.
+  std::vector<std::uint8_t> crackFreeThree_, crackFreeFour_;
+  const std::uint8_t *compactThree() const {
+    return crackFreeThree_.empty() ? threeNodeBlocks_.data() : crackFreeThree_.data();
+  }
+  const std::uint8_t *compactFour() const {
+    return crackFreeFour_.empty() ? fourNodeBlocks_.data() : crackFreeFour_.data();
+  }
   std::vector<double> outwardReach_; // per level: the largest zone of its box's boundary nodes
   std::array<std::vector<PetscInt>, D> own_; // level-0 node ownership: first node of each rank
                                              // column per axis
