@@ -10,8 +10,9 @@
 //      are accepted and give the same identities, the invalid ones are rejected for the
 //      documented reason. 1b: particles whose edge lies exactly on the domain edge.
 //   1c. With a crack (and a disk where it may grow): the blocks of the compact path equal the
-//      rows after cracks::assignFields re-addresses the cracked nodes' entries, particle by
-//      particle, before and after the crack grows; a block holds no node the crack reaches.
+//      rows with every crossing segment's entry re-addressed, particle by particle, before and
+//      after the crack grows, with the nodes marked for the particles' largest half-size
+//      (Grid::liveReachFor; smaller particles mark fewer nodes).
 //   2. The point shape functions (tent products with each node's zones) on the same grids.
 //
 // All random sampling uses a fixed-seed std::mt19937_64, so every run checks the same points.
@@ -419,7 +420,7 @@ std::vector<std::map<PetscInt, std::array<double, 3>>> entriesOf(const Stencils 
 TEST(GridStencils, CrackedBlocksEqualRows) {
   // A kinked crack from outside the domain's left edge into the fine box, and a disk around its
   // tip where it may grow: the disk's nodes get second fields the crack does not reach yet.
-  long blocks = 0, blocksBesideReserve = 0, readdressed = 0, compared = 0;
+  long blocks = 0, blocksBesideReserve = 0, readdressed = 0, compared = 0, marked[2] = {0, 0};
   Worst weight, gradient;
   for (const Layout &lay : twoLevelLayouts()) {
     gimp::Scene<2> sc = sceneOf(lay);
@@ -430,22 +431,34 @@ TEST(GridStencils, CrackedBlocksEqualRows) {
                 {D[0] + 0.31 * W, D[1] + 0.49 * H},
                 {D[0] + 0.47 * W, D[1] + 0.56 * H}};
     sc.cracks = {c};
-    for (int grown = 0; grown < 2; ++grown) {
-      if (grown) // the tip advances into the reserve: new nodes are reached
-        sc.cracks[0].points.push_back({D[0] + 0.61 * W, D[1] + 0.50 * H});
+    for (int pass = 0; pass < 4; ++pass) {
+      // Passes 1 and 3: the tip has advanced into the reserve, where new nodes are reached.
+      // Passes 2 and 3: particles up to 0.3 times the size, and the reach marked for them.
+      const bool grown = pass % 2 == 1, small = pass >= 2;
+      if (pass == 1) sc.cracks[0].points.push_back({D[0] + 0.61 * W, D[1] + 0.50 * H});
       Grid<2> g;
       g.crackReserve.push_back({D[0] + 0.47 * W, D[1] + 0.56 * H, 0.3 * W});
       // Built with the crack as it was, then told that it grew (as a run does).
       ASSERT_EQ(static_cast<int>(g.create(PETSC_COMM_SELF, h0, sc.levelBoxes(),
                                           grown ? std::vector<gimp::Crack>{c} : sc.cracks)),
                 0);
-      g.markLiveCracks(sc.cracks);
       ASSERT_GT(g.nSlots, g.nWindow) << lay.name;
-      Sampler sample(g, 0x6a1d0c00 + grown);
+      Sampler sample(g, 0x6a1d0c00 + pass);
       const long np = 4000;
       std::vector<double> x(2 * np), l(2 * np);
-      for (long p = 0; p < np; ++p)
+      double lmax = 0;
+      for (long p = 0; p < np; ++p) {
         sample.draw(x[2 * p], x[2 * p + 1], l[2 * p], l[2 * p + 1], true, 0.5 * h0);
+        for (int a = 0; a < 2; ++a) {
+          if (small) l[2 * p + a] *= 0.3;
+          lmax = std::max(lmax, l[2 * p + a]);
+        }
+      }
+      const double reach = g.liveReachFor(lmax);
+      EXPECT_TRUE(reach >= lmax && (reach == h0 || reach < 2 * lmax)) << reach << " " << lmax;
+      g.markLiveCracks(sc.cracks, reach);
+      marked[small] +=
+          std::count_if(g.liveSlot.begin(), g.liveSlot.end(), [](PetscInt v) { return v >= 0; });
       Stencils rows, compact;
       ASSERT_TRUE(g.buildStencils(np, x.data(), l.data(), rows, false));
       ASSERT_TRUE(g.buildStencils(np, x.data(), l.data(), compact, true, true));
@@ -491,8 +504,9 @@ TEST(GridStencils, CrackedBlocksEqualRows) {
     }
   }
   std::printf("  particles %ld: blocks %ld (%ld beside a reserved node the crack does not reach), "
-              "with a second field %ld\n",
-              compared, blocks, blocksBesideReserve, readdressed);
+              "with a second field %ld; nodes marked %ld (full-size particles), %ld (0.3 times)\n",
+              compared, blocks, blocksBesideReserve, readdressed, marked[0], marked[1]);
+  EXPECT_LT(marked[1], marked[0]); // a smaller reach marks fewer nodes
   EXPECT_WORST_LE(weight, 1e-14);
   EXPECT_WORST_LE(gradient, 1e-12);
   EXPECT_GT(blocks, compared / 20);

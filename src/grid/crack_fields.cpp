@@ -163,14 +163,26 @@ PetscErrorCode Grid<D>::addCrackFields(MPI_Comm comm, const std::vector<CrackOf<
   return PETSC_SUCCESS;
 }
 
-template <int D> void Grid<D>::markLiveCracks(const std::vector<CrackOf<D>> &cracks) {
+template <int D> double Grid<D>::liveReachFor(double lmax) const {
+  double r = this->h0();
+  for (int k = 0; k < 40 && 0.5 * r >= lmax; ++k)
+    r *= 0.5;
+  return r;
+}
+
+template <int D> void Grid<D>::markLiveCracks(const std::vector<CrackOf<D>> &cracks, double reach) {
   liveSlot.clear();
   crackFreeThree_.clear();
   crackFreeFour_.clear();
+  liveReach_ = reach;
   if (nSlots == nWindow) return; // no cracked node in this window
-  // findCrackedNodes' test, for the cracks alone.
+  // A particle whose domain meets node n's support has its centre within the support widened by
+  // its half-size along each axis, at most sqrt(D) reach from the support (with a margin for the
+  // rounding of crossing()'s tolerance); a segment from there to the node that crosses a crack
+  // puts the crack that near the support. (findCrackedNodes asks the same of the cracks and the
+  // growth reserve, for reach h0.)
+  const double near = std::sqrt(static_cast<double>(D)) * reach * (1 + 1e-6);
   liveSlot.assign(nWindow, -1);
-  const double reach = this->h0();
   for (PetscInt s = nWindow; s < nSlots; ++s) {
     const PetscInt n = slotNode[s];
     double support[2 * D];
@@ -180,7 +192,7 @@ template <int D> void Grid<D>::markLiveCracks(const std::vector<CrackOf<D>> &cra
       support[D + a] = X + zone[2 * D * n + 2 * a + 1];
     }
     for (const CrackOf<D> &c : cracks)
-      if (cracks::nearCrack(c, support, reach)) {
+      if (cracks::nearCrack(c, support, near)) {
         liveSlot[n] = s;
         break;
       }
@@ -218,8 +230,10 @@ template <int D> void Grid<D>::markLiveCracks(const std::vector<CrackOf<D>> &cra
   if (D == 2) clear(4, fourNodeBlocks_, crackFreeFour_);
 }
 
-template void Grid<2>::markLiveCracks(const std::vector<CrackOf<2>> &);
-template void Grid<3>::markLiveCracks(const std::vector<CrackOf<3>> &);
+template void Grid<2>::markLiveCracks(const std::vector<CrackOf<2>> &, double);
+template void Grid<3>::markLiveCracks(const std::vector<CrackOf<3>> &, double);
+template double Grid<2>::liveReachFor(double) const;
+template double Grid<3>::liveReachFor(double) const;
 template std::vector<Grid<2>::CrackedNode>
 Grid<2>::findCrackedNodes(const std::vector<CrackOf<2>> &) const;
 template std::vector<Grid<3>::CrackedNode>

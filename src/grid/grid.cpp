@@ -114,7 +114,7 @@ PetscErrorCode Grid<D>::build(MPI_Comm comm, const std::vector<CrackOf<D>> &crac
   liveSlot.clear();
   crackCount_.assign(size, 0);
   PetscCall(addCrackFields(comm, cracks));
-  markLiveCracks(cracks);
+  markLiveCracks(cracks, this->h0());
   PetscCall(DMSetUp(dm));
   PetscCall(createScatter(comm));
   return PETSC_SUCCESS;

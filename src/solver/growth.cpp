@@ -26,7 +26,7 @@ template <int D> PetscErrorCode Solver<D>::followCracks() {
     updateJDomains(s_.sc);
   else
     updateFrontDomains(s_.sc);
-  s_.grid.markLiveCracks(s_.sc.cracks);
+  s_.grid.markLiveCracks(s_.sc.cracks, s_.grid.liveReach());
   step_.contact().setup(s_.grid, s_.sc.cracks);
   return PETSC_SUCCESS;
 }

@@ -161,7 +161,19 @@ PetscErrorCode Step<D>::buildStencils(const ParticleView<D> &p, const double *ce
     return PETSC_SUCCESS;
   }
   // Blocks for every particle that one level's regular nodes alone reach and no cracked node
-  // (rows for the others, which assignFields re-addresses).
+  // (rows for the others, which assignFields re-addresses). Which cracked nodes a segment can
+  // cross depends on the largest half-size: with the weights centred on x over [x - l, x + l]
+  // (no corners) the marks follow it; a run with a step per level only widens them (its
+  // classes build stencils at other times: MultiRate::startClass).
+  if (!s.sc.cracks.empty() && !s.sc.multirate &&
+      (s.sc.tracking == Tracking::None || s.sc.tracking == Tracking::Strain ||
+       s.sc.tracking == Tracking::Stretch)) {
+    double lmax = 0;
+    for (PetscInt i = 0; i < D * p.n; ++i)
+      lmax = std::max(lmax, p.l[i]);
+    const double reach = s.grid.liveReachFor(lmax);
+    if (reach != s.grid.liveReach()) s.grid.markLiveCracks(s.sc.cracks, reach);
+  }
   if (!s.grid.buildStencils(p.n, centres, p.l, s.st, true, s.lanes))
     s.status.localFailure = "a particle is larger than a level-0 cell (its half-size exceeds "
                             "-gimp_h)";

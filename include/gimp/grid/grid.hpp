@@ -86,9 +86,18 @@ public:
   /// every axis the ranks divide (balancedRanges); empty: PETSc's even split of the nodes.
   std::function<double(const double *centre, double h)> cellWork;
 
-  /// The cracked nodes that the cracks as they are reach (liveSlot), and the blocks of the
-  /// stencils' compact path that hold none of them: after create() and whenever a crack grows.
-  void markLiveCracks(const std::vector<CrackOf<D>> &cracks);
+  /// The cracked nodes where a segment from a particle of half-size up to `reach` (along each
+  /// axis) to the node can cross a crack as it is now (liveSlot), and the blocks of the
+  /// stencils' compact path that hold none of them. create() marks them for reach h0 (every
+  /// particle the checks allow); the solver marks them again when a crack grows and when the
+  /// largest half-size calls for another reach (liveReachFor).
+  void markLiveCracks(const std::vector<CrackOf<D>> &cracks, double reach);
+  /// The reach of the last markLiveCracks.
+  double liveReach() const { return liveReach_; }
+  /// The reach for particles of half-size up to lmax: h0 / 2^k for the largest k >= 0 with
+  /// h0 / 2^k >= lmax, so that it changes only when lmax passes a power of two of h0 (and is a
+  /// function of lmax alone: a restart marks what the run it continues had marked).
+  double liveReachFor(double lmax) const;
 
   /// Per axis, the work of the leaf cells (cellWork) summed per level-0 cell index along it.
   std::vector<std::vector<double>> workAlongAxes() const;
@@ -227,6 +236,7 @@ private:
   // path of buildStencils reads these (a particle there keeps rows, which cracks::assignFields
   // re-addresses); empty without a cracked node in the window.
   std::vector<std::uint8_t> crackFreeThree_, crackFreeFour_;
+  double liveReach_ = 0; // the reach liveSlot was marked for
   const std::uint8_t *compactThree() const {
     return crackFreeThree_.empty() ? threeNodeBlocks_.data() : crackFreeThree_.data();
   }
