@@ -209,12 +209,28 @@ void Grid<D>::appendThreeNodeBlock(int q, const Reach &r, const double *x, const
 }
 
 template <int D>
-void Grid<D>::appendNodes(int q, const Reach &r, const double *x, const double *l, double *scratch,
-                          PetscInt maxRange, Stencils<D> &s, size_t &m) const {
+void Grid<D>::appendNodes(int q, const Reach &reach, const double *x, const double *l,
+                          double *scratch, PetscInt maxRange, Stencils<D> &s, size_t &m) const {
   // Any range of nodes: 1D weights of a regular stretch for every candidate, replaced by the
   // node's own zones where it is irregular; nodes whose support misses the particle are left out.
   const Level<D> &L = levels[q];
   const double ih = L.ih;
+  // Along an axis where the particle's centre lies outside the box, levelReach's candidates reach
+  // out by the boundary nodes' outward zone; only the boundary face has it, the nodes behind it
+  // face the particle with zones of h or less (levelReach's own rule inside the box). Those out
+  // of reach are dropped here: the same entries, in the same order, from fewer candidates.
+  Reach r = reach;
+  for (int a = 0; a < D; ++a) {
+    // (a node more than the exact bound, against rounding)
+    if (x[a] < L.box[a])
+      r.i1[a] = std::min(r.i1[a], static_cast<PetscInt>(std::max(
+                                      0.0, std::ceil((x[a] + l[a] + L.h - L.box[a]) * ih))));
+    else if (x[a] > L.box[D + a])
+      r.i0[a] = std::max(r.i0[a], static_cast<PetscInt>(
+                                      std::min(static_cast<double>(L.n[a] - 1),
+                                               std::floor((x[a] - l[a] - L.h - L.box[a]) * ih))));
+    if (r.i1[a] < r.i0[a]) return;
+  }
   double *rw[D], *rg[D];
   size_t count = 1;
   for (int a = 0; a < D; ++a) {
