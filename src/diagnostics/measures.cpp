@@ -198,17 +198,59 @@ template <int D>
 long long findAt(const std::vector<std::pair<Key, size_t>> &at, double q, const double *x,
                  size_t hint) {
   const Key k = keyOf<D>(x, q);
-  if (hint < at.size() && at[hint].first == k && (hint == 0 || at[hint - 1].first != k))
+  // (element by element: std::array's == is a library memcmp call here)
+  const auto same = [&](size_t i) {
+    const Key &o = at[i].first;
+    return o[0] == k[0] && o[1] == k[1] && o[2] == k[2];
+  };
+  if (hint < at.size() && same(hint) && (hint == 0 || !same(hint - 1)))
     return static_cast<long long>(hint);
   const auto it = std::lower_bound(at.begin(), at.end(), std::make_pair(k, size_t{0}));
   return it != at.end() && it->first == k ? static_cast<long long>(it - at.begin()) : -1;
 }
 
-/// Whether a crack lies between two initial positions.
+/// The cracks' bounding boxes (lows, then highs; D each) and 1-norm sizes, for crackBetween.
+template <int D> struct CrackBoxes {
+  std::vector<std::array<double, 2 * D>> box;
+  std::vector<double> size;
+  explicit CrackBoxes(const std::vector<CrackOf<D>> &cracks) {
+    for (const CrackOf<D> &c : cracks) {
+      std::array<double, 2 * D> b;
+      for (int a = 0; a < D; ++a) {
+        b[a] = b[D + a] = c.points[0][a];
+        for (const auto &p : c.points) {
+          b[a] = std::min(b[a], p[a]);
+          b[D + a] = std::max(b[D + a], p[a]);
+        }
+      }
+      double n = 0;
+      for (int a = 0; a < D; ++a)
+        n += b[D + a] - b[a];
+      box.push_back(b);
+      size.push_back(n);
+    }
+  }
+};
+
+/// Whether a crack lies between two initial positions. A crack whose bounding box misses the
+/// pair's by more than a millionth of their sizes is not asked: crossing() tests each segment's
+/// box with a margin of kCrackTol (1e-9) times such sizes, so the answer is the same.
 template <int D>
-bool crackBetween(const std::vector<CrackOf<D>> &cracks, const double *a, const double *b) {
-  return std::any_of(cracks.begin(), cracks.end(),
-                     [&](const CrackOf<D> &c) { return cracks::crossing(c, a, b) != 0; });
+bool crackBetween(const std::vector<CrackOf<D>> &cracks, const CrackBoxes<D> &boxes,
+                  const double *a, const double *b) {
+  for (size_t k = 0; k < cracks.size(); ++k) {
+    const auto &B = boxes.box[k];
+    double len = 0;
+    for (int d = 0; d < D; ++d)
+      len += std::fabs(b[d] - a[d]);
+    const double margin = 1e-6 * (len + boxes.size[k]);
+    bool misses = false;
+    for (int d = 0; d < D; ++d)
+      misses = misses || std::min(a[d], b[d]) > B[D + d] + margin ||
+               std::max(a[d], b[d]) < B[d] - margin;
+    if (!misses && cracks::crossing(cracks[k], a, b) != 0) return true;
+  }
+  return false;
 }
 
 /// Over the rows: the largest gap between a particle and its former neighbour on the + side of
@@ -220,6 +262,7 @@ void gapsOfRows(const Rows<D> &rows, double q, const std::vector<CrackOf<D>> &cr
                 std::vector<char> *open) {
   constexpr int C = kCols<D>;
   const auto at = keyed(rows, q);
+  const CrackBoxes<D> boxes(cracks);
   if (open) open->assign(rows.n, 0);
   double r[C], o[C];
   size_t last[D][2] = {}; // [axis][side]: where the previous row's neighbour was
@@ -242,8 +285,8 @@ void gapsOfRows(const Rows<D> &rows, double q, const std::vector<CrackOf<D>> &cr
         hint = static_cast<size_t>(js);
         if (side < 0) continue; // each pair once: from its lower particle
         rows.row(at[hint].second, o);
-        if (o[3 * D + d] != r[3 * D + d]) continue;  // neighbours of another size (another level)
-        if (crackBetween<D>(cracks, r, o)) continue; // a crack between them
+        if (o[3 * D + d] != r[3 * D + d]) continue; // neighbours of another size (another level)
+        if (crackBetween<D>(cracks, boxes, r, o)) continue; // a crack between them
         w = std::max(w, ((o[D + d] - o[2 * D + d]) - (r[D + d] + r[2 * D + d])) /
                             (2.0 * r[3 * D + d]));
       }
