@@ -12,11 +12,16 @@
 //      on a parent's face and corner, along a domain edge, a one-cell slab, coinciding boxes),
 //      for the lattice's weights and for the grid's stencils (rows and blocks), which must hold
 //      the lattice's weights node by node.
+//   3a. With a planar crack (and a region of its plane where it may grow): the blocks of the
+//      compact path (built in lanes) equal the rows with every crossing segment's entry
+//      re-addressed to the second field, with the nodes marked for the particles' largest
+//      half-size (Grid::markLiveCracks, Grid::liveReachFor).
 //   4. Any number of ranks (ctest: two, split as PETSc chooses and along z) gives the one-rank
 //      P2G / G2P round trip.
 //   5. Badly nested 3D layouts are rejected naming the option and the reason.
 //
 // All random sampling uses a fixed-seed std::mt19937_64, so every run checks the same points.
+#include "gimp/grid/crack_fields.hpp"
 #include "gimp/grid/grid.hpp"
 #include "gimp/grid/lattice.hpp"
 #include "gimp/grid/shape.hpp"
@@ -462,6 +467,125 @@ TEST(Grid3D, TwoLevelIdentities) {
 
 TEST(Grid3D, ThreeLevelIdentities) {
   checkLayouts(threeLevelLayouts(), 100000, 0x3d000101);
+}
+
+TEST(Grid3D, CrackedBlocksEqualRows) {
+  long blocks = 0, blocksWithout = 0, besideCracked = 0, readdressed = 0, compared = 0;
+  Worst weight, gradient;
+  // Two and three levels with room for blocks away from the borders and the crack.
+  const std::vector<Layout> layouts = {
+      {"two levels r=2", {12, 10, 14}, {{{3, 2, 4, 9, 8, 10}, 2}}},
+      {"three levels r=2,3", {12, 10, 14}, {{{2, 2, 3, 10, 8, 11}, 2}, {{3, 3, 5, 7, 7, 9}, 3}}},
+      {"fine box on the domain face r=3", {10, 10, 14}, {{{0, 2, 4, 5, 8, 10}, 3}}}};
+  for (const Layout &lay : layouts) {
+    const Lattice3 lat = latticeOf(lay);
+    const auto &Dm = lat.levels[0].box;
+    double c[3], w[3];
+    for (int a = 0; a < D; ++a) {
+      c[a] = 0.5 * (Dm[a] + Dm[D + a]);
+      w[a] = Dm[D + a] - Dm[a];
+    }
+    // A tilted quadrilateral through the middle, from outside the domain's left face, and the
+    // part of its plane ahead of it where it may grow.
+    const double zc = c[2] + 0.013 * w[2];
+    auto plane = [&](double x, double y) {
+      return std::array<double, 3>{x, y, zc + 0.11 * (x - c[0]) + 0.07 * (y - c[1])};
+    };
+    const double xa = Dm[0] - 0.1 * w[0], xb = c[0] + 0.07 * w[0], ya = c[1] - 0.29 * w[1],
+                 yb = c[1] + 0.31 * w[1];
+    gimp::CrackSurface crack =
+        gimp::cracks::makeSurface({plane(xa, ya), plane(xb, ya), plane(xb, yb), plane(xa, yb)});
+    crack.front = {1, 1, 1, 1};
+    Grid3 g;
+    g.crackReserveSurfaces.push_back(gimp::cracks::makeSurface(
+        {plane(xb, ya), plane(xb + 0.2 * w[0], ya), plane(xb + 0.2 * w[0], yb), plane(xb, yb)}));
+    ASSERT_EQ(static_cast<int>(g.create(PETSC_COMM_SELF, kH0, boxesOf(lay), {crack})), 0);
+    ASSERT_GT(g.nSlots, g.nWindow) << lay.name;
+    std::mt19937_64 rng(0x3dc0ac00);
+    std::uniform_real_distribution<double> uni(0.0, 1.0);
+    const long np = 6000;
+    std::vector<double> x(D * np), l(D * np);
+    double lmax = 0;
+    for (long p = 0; p < np; ++p) {
+      // Anywhere in the domain, of up to a fifth of its leaf cell (so that most keep blocks away
+      // from the crack and the level borders).
+      for (int a = 0; a < D; ++a)
+        x[D * p + a] = Dm[a] + uni(rng) * (Dm[D + a] - Dm[a]);
+      const double h = lat.levels[lat.leafLevelAt(&x[D * p])].h;
+      for (int a = 0; a < D; ++a) {
+        l[D * p + a] = h * (0.05 + 0.15 * uni(rng));
+        lmax = std::max(lmax, l[D * p + a]);
+      }
+    }
+    // The same particles on the grid without the crack: which keep blocks there.
+    Grid3 plain;
+    ASSERT_EQ(static_cast<int>(plain.create(PETSC_COMM_SELF, kH0, boxesOf(lay))), 0);
+    Stencils3 free;
+    ASSERT_TRUE(
+        plain.buildStencils(static_cast<PetscInt>(np), x.data(), l.data(), free, true, true));
+    g.markLiveCracks({crack}, g.liveReachFor(lmax));
+    Stencils3 rows, compact;
+    ASSERT_TRUE(g.buildStencils(static_cast<PetscInt>(np), x.data(), l.data(), rows, false));
+    ASSERT_TRUE(
+        g.buildStencils(static_cast<PetscInt>(np), x.data(), l.data(), compact, true, true));
+    for (long p = 0; p < np; ++p)
+      for (PetscInt e = rows.start[p]; e < rows.start[p + 1]; ++e) {
+        const PetscInt n = rows.node[e];
+        const double X[3] = {g.X[n], g.Y[n], g.Z[n]};
+        if (g.crackSlot[n] >= 0 && gimp::cracks::crossing(crack, &x[D * p], X) != 0)
+          rows.node[e] = g.crackSlot[n];
+      }
+    gimp::cracks::assignFields<D>(g, {crack}, static_cast<PetscInt>(np), x.data(), compact);
+    for (long p = 0; p < np; ++p) {
+      std::map<PetscInt, std::array<double, 4>> r, b;
+      const auto collect = [&](const Stencils3 &s, std::map<PetscInt, std::array<double, 4>> &m) {
+        s.forEach(p, [&](PetscInt slot, double wt, const gimp::Vector<D> &gr) {
+          auto &e = m[slot];
+          e[0] += wt;
+          for (int a = 0; a < D; ++a)
+            e[1 + a] += gr[a];
+        });
+      };
+      collect(rows, r);
+      collect(compact, b);
+      const auto where = [&] {
+        return lay.name + ": " + at({{"x", x[D * p]}, {"y", x[D * p + 1]}, {"z", x[D * p + 2]}});
+      };
+      // A node either form lists with weight 0 (or 1e-30) and the other leaves out reads as 0.
+      const auto diff = [&](const auto &u, const auto &v) {
+        for (const auto &[slot, e] : u) {
+          const auto it = v.find(slot);
+          const std::array<double, 4> f = it == v.end() ? std::array<double, 4>{} : it->second;
+          weight.update(std::abs(e[0] - f[0]), where);
+          double dg = 0;
+          for (int a = 0; a < D; ++a)
+            dg = std::max(dg, std::abs(e[1 + a] - f[1 + a]));
+          gradient.update(dg * kH0, where);
+        }
+      };
+      diff(r, b);
+      diff(b, r);
+      blocks += compact.isBlock(p);
+      blocksWithout += free.isBlock(p);
+      bool second = false, cracked = false;
+      for (const auto &[slot, e] : r) {
+        second = second || slot >= g.nWindow;
+        cracked = cracked || (slot < g.nWindow && g.crackSlot[slot] >= 0);
+      }
+      readdressed += second;
+      besideCracked += compact.isBlock(p) && cracked;
+      ++compared;
+    }
+  }
+  std::printf("  particles %ld: blocks %ld (%ld without the crack; %ld beside a cracked node "
+              "the crack does not reach), with a second field %ld\n",
+              compared, blocks, blocksWithout, besideCracked, readdressed);
+  EXPECT_WORST_LE(weight, 1e-14);
+  EXPECT_WORST_LE(gradient, 1e-12);
+  EXPECT_GT(blocks, compared / 20);
+  EXPECT_GT(blocksWithout - blocks, compared / 100); // the crack's neighbours keep rows
+  EXPECT_GT(besideCracked, compared / 100);          // the reserve and the reach's edge do not
+  EXPECT_GT(readdressed, compared / 100);
 }
 
 TEST(Grid3D, UniformIdentities) {
