@@ -4,7 +4,8 @@
 //      cracks: each segment pair solved as two lines (Cramer's rule, a + t (b - a) = p + s (q - p),
 //      crossing when 0 < t, s < 1), parity and the side of a at the crossing nearest to a. Samples
 //      within 1e-6 of a degenerate case (an end on a line, a line through a vertex) are left to
-//      the convention tests.
+//      the convention tests. Here and in 3, crossing() asked of the segments near the pair's box
+//      alone (segmentsNear) gives the same answer.
 //   2. The conventions on hand-made cases: side signs, the open end at a tip, segments parallel
 //      to and along the crack, a segment ending on the crack, a segment through a kink, a point
 //      at a kink or at a tip; crossing(a, b) == -crossing(b, a) for one crossing.
@@ -77,6 +78,16 @@ Crack randomCrack(std::mt19937_64 &rng, int npoints) {
   }
 }
 
+/// crossing() asked of the segments near the box of a and b (segmentsNear), as the stencils ask
+/// it: it must give crossing()'s answer.
+int nearAnswer(const Crack &c, const Point &a, const Point &b) {
+  const double box[4] = {std::min(a[0], b[0]), std::min(a[1], b[1]), std::max(a[0], b[0]),
+                         std::max(a[1], b[1])};
+  std::vector<int> segs;
+  gimp::cracks::segmentsNear(c, box, segs);
+  return crossing(c, segs, a[0], a[1], b[0], b[1]);
+}
+
 void compareWithReference(int npoints, int ncracks, int nsegments) {
   std::mt19937_64 rng(npoints);
   std::uniform_real_distribution<double> u(-0.3, 1.3);
@@ -97,6 +108,7 @@ void compareWithReference(int npoints, int ncracks, int nsegments) {
       const int got = crossing(c, a[0], a[1], b[0], b[1]);
       ASSERT_EQ(got, want) << at(
           {{"crack", k}, {"ax", a[0]}, {"ay", a[1]}, {"bx", b[0]}, {"by", b[1]}});
+      ASSERT_EQ(nearAnswer(c, a, b), got);
       if (count == 1) {
         ASSERT_EQ(crossing(c, b[0], b[1], a[0], a[1]), -want);
       }
@@ -269,6 +281,7 @@ void loopParity(double scale, double offset) {
                      {"crack points", static_cast<double>(c.points.size())}});
           ASSERT_EQ(crossing(c, a[0], a[1], b[0], b[1]) != 0,
                     crossing(c, b[0], b[1], a[0], a[1]) != 0);
+          ASSERT_EQ(nearAnswer(c, a, b), crossing(c, a[0], a[1], b[0], b[1]));
         }
   std::printf("  scale %g: %ld loops consistent\n", scale, loops);
 }

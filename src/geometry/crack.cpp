@@ -52,7 +52,12 @@ int vertexSide(const Crack &c, size_t k, const Query &q) {
 
 } // namespace
 
-int crossing(const Crack &c, double ax, double ay, double bx, double by) {
+namespace {
+
+/// crossing() over the segments seg(0) .. seg(n - 1) of c (in increasing order); any segment
+/// left out must fail the box test below.
+template <class Seg>
+int crossingOver(const Crack &c, Seg seg, size_t n, double ax, double ay, double bx, double by) {
   const double len = std::sqrt((bx - ax) * (bx - ax) + (by - ay) * (by - ay));
   if (!(len > 0) || c.points.size() < 2) return 0;
   const bool aFirst = ax < bx || (ax == bx && ay < by);
@@ -63,7 +68,8 @@ int crossing(const Crack &c, double ax, double ay, double bx, double by) {
   const double ylo = std::min(ay, by), yhi = std::max(ay, by);
   int count = 0, side = 0;
   double nearest = std::numeric_limits<double>::infinity();
-  for (size_t k = 0; k + 1 < c.points.size(); ++k) {
+  for (size_t i = 0; i < n; ++i) {
+    const size_t k = seg(i);
     const Point &p = c.points[k], &r = c.points[k + 1];
     const double tx = r[0] - p[0], ty = r[1] - p[1];
     const double lpq = std::fabs(tx) + std::fabs(ty); // |pq| in the 1-norm
@@ -88,6 +94,33 @@ int crossing(const Crack &c, double ax, double ay, double bx, double by) {
     }
   }
   return count % 2 ? side : 0;
+}
+
+} // namespace
+
+int crossing(const Crack &c, double ax, double ay, double bx, double by) {
+  const size_t n = c.points.size() < 2 ? 0 : c.points.size() - 1;
+  return crossingOver(
+      c, [](size_t i) { return i; }, n, ax, ay, bx, by);
+}
+
+void segmentsNear(const Crack &c, const double box[4], std::vector<int> &out) {
+  out.clear();
+  const double span = (box[2] - box[0]) + (box[3] - box[1]);
+  for (size_t k = 0; k + 1 < c.points.size(); ++k) {
+    const Point &p = c.points[k], &r = c.points[k + 1];
+    const double m = 1e-6 * (span + std::fabs(r[0] - p[0]) + std::fabs(r[1] - p[1]));
+    if (std::min(p[0], r[0]) > box[2] + m || std::max(p[0], r[0]) < box[0] - m ||
+        std::min(p[1], r[1]) > box[3] + m || std::max(p[1], r[1]) < box[1] - m)
+      continue;
+    out.push_back(static_cast<int>(k));
+  }
+}
+
+int crossing(const Crack &c, const std::vector<int> &segs, double ax, double ay, double bx,
+             double by) {
+  return crossingOver(
+      c, [&](size_t i) { return static_cast<size_t>(segs[i]); }, segs.size(), ax, ay, bx, by);
 }
 
 double distance(const Crack &c, double x, double y) {

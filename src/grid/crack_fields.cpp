@@ -248,6 +248,38 @@ void assignFields(const Grid<D> &g, const std::vector<CrackOf<D>> &cracks, Petsc
                   const double *x, Stencils<D> &st) {
   if (g.nSlots == g.nWindow) return; // no cracked node in this window
   PetscInt *node = st.node.data();
+  if constexpr (D == 2) {
+    // Per particle, the segments of each crack near the box of its centre and its live nodes:
+    // crossing() asks those alone (segmentsNear), a polyline that grew long stays cheap.
+    std::vector<std::vector<int>> near(cracks.size());
+    for (PetscInt k = 0; k < n; ++k) {
+      double box[4] = {x[2 * k], x[2 * k + 1], x[2 * k], x[2 * k + 1]};
+      bool live = false;
+      for (PetscInt e = st.start[k]; e < st.start[k + 1]; ++e) {
+        if (g.liveSlot[node[e]] < 0) continue;
+        live = true;
+        const double X = g.X[node[e]], Y = g.Y[node[e]];
+        box[0] = std::min(box[0], X);
+        box[1] = std::min(box[1], Y);
+        box[2] = std::max(box[2], X);
+        box[3] = std::max(box[3], Y);
+      }
+      if (!live) continue;
+      for (size_t q = 0; q < cracks.size(); ++q)
+        segmentsNear(cracks[q], box, near[q]);
+      for (PetscInt e = st.start[k]; e < st.start[k + 1]; ++e) {
+        const PetscInt second = g.liveSlot[node[e]];
+        if (second < 0) continue;
+        for (size_t q = 0; q < cracks.size(); ++q)
+          if (!near[q].empty() && crossing(cracks[q], near[q], x[2 * k], x[2 * k + 1], g.X[node[e]],
+                                           g.Y[node[e]]) != 0) {
+            node[e] = second;
+            break;
+          }
+      }
+    }
+    return;
+  }
   for (PetscInt k = 0; k < n; ++k)
     for (PetscInt e = st.start[k]; e < st.start[k + 1]; ++e) {
       const PetscInt second = g.liveSlot[node[e]];

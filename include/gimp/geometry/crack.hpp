@@ -55,6 +55,17 @@ constexpr double kCrackTol = 1e-9;
 ///  - a == b never crosses. With one crossing, crossing(a, b) == -crossing(b, a).
 int crossing(const Crack &c, double ax, double ay, double bx, double by);
 
+/// The segments of c (in increasing order) whose bounding box comes within a millionth of the
+/// box's and the segment's sizes of the box x0, y0, x1, y1: the only ones crossing() can count for
+/// a segment a-b inside that box (it tests each segment's box with a margin of kCrackTol times
+/// such sizes).
+void segmentsNear(const Crack &c, const double box[4], std::vector<int> &out);
+
+/// crossing() over the segments `segs` alone (segmentsNear of a box that holds a and b): the same
+/// answer.
+int crossing(const Crack &c, const std::vector<int> &segs, double ax, double ay, double bx,
+             double by);
+
 /// Distance from (x, y) to the polyline [m].
 double distance(const Crack &c, double x, double y);
 
