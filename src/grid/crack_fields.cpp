@@ -177,11 +177,24 @@ template <int D> void Grid<D>::markLiveCracks(const std::vector<CrackOf<D>> &cra
   liveReach_ = reach;
   if (nSlots == nWindow) return; // no cracked node in this window
   // A particle whose domain meets node n's support has its centre within the support widened by
-  // its half-size along each axis, at most sqrt(D) reach from the support (with a margin for the
-  // rounding of crossing()'s tolerance); a segment from there to the node that crosses a crack
-  // puts the crack that near the support. (findCrackedNodes asks the same of the cracks and the
-  // growth reserve, for reach h0.)
-  const double near = std::sqrt(static_cast<double>(D)) * reach * (1 + 1e-6);
+  // its half-size along each axis, at most sqrt(D) reach from the support; a segment from there
+  // to the node that crosses a crack puts the crack that near the support. crossing() counts a
+  // crack within its tolerance, kCrackTol (1e-9) of the segment's and the crack's sizes, of the
+  // segment: a millionth of the reach and of the crack's size covers it. (findCrackedNodes asks
+  // the same of the cracks and the growth reserve, for reach h0.)
+  std::vector<double> near;
+  for (const CrackOf<D> &c : cracks) {
+    double span = 0;
+    for (int a = 0; a < D; ++a) {
+      double lo = c.points[0][a], hi = lo;
+      for (const auto &p : c.points) {
+        lo = std::min(lo, p[a]);
+        hi = std::max(hi, p[a]);
+      }
+      span += hi - lo;
+    }
+    near.push_back(std::sqrt(static_cast<double>(D)) * reach * (1 + 1e-6) + 1e-6 * span);
+  }
   liveSlot.assign(nWindow, -1);
   for (PetscInt s = nWindow; s < nSlots; ++s) {
     const PetscInt n = slotNode[s];
@@ -191,8 +204,8 @@ template <int D> void Grid<D>::markLiveCracks(const std::vector<CrackOf<D>> &cra
       support[a] = X - zone[2 * D * n + 2 * a];
       support[D + a] = X + zone[2 * D * n + 2 * a + 1];
     }
-    for (const CrackOf<D> &c : cracks)
-      if (cracks::nearCrack(c, support, near)) {
+    for (size_t q = 0; q < cracks.size(); ++q)
+      if (cracks::nearCrack(cracks[q], support, near[q])) {
         liveSlot[n] = s;
         break;
       }
