@@ -215,18 +215,10 @@ template <int D> struct CrackBoxes {
   std::vector<double> size;
   explicit CrackBoxes(const std::vector<CrackOf<D>> &cracks) {
     for (const CrackOf<D> &c : cracks) {
-      std::array<double, 2 * D> b;
-      for (int a = 0; a < D; ++a) {
-        b[a] = b[D + a] = c.points[0][a];
-        for (const auto &p : c.points) {
-          b[a] = std::min(b[a], p[a]);
-          b[D + a] = std::max(b[D + a], p[a]);
-        }
-      }
+      box.push_back(cracks::bounds<D>(c));
       double n = 0;
       for (int a = 0; a < D; ++a)
-        n += b[D + a] - b[a];
-      box.push_back(b);
+        n += box.back()[D + a] - box.back()[a];
       size.push_back(n);
     }
   }
@@ -238,11 +230,11 @@ template <int D> struct CrackBoxes {
 template <int D>
 bool crackBetween(const std::vector<CrackOf<D>> &cracks, const CrackBoxes<D> &boxes,
                   const double *a, const double *b) {
+  double len = 0;
+  for (int d = 0; d < D; ++d)
+    len += std::fabs(b[d] - a[d]);
   for (size_t k = 0; k < cracks.size(); ++k) {
     const auto &B = boxes.box[k];
-    double len = 0;
-    for (int d = 0; d < D; ++d)
-      len += std::fabs(b[d] - a[d]);
     const double margin = 1e-6 * (len + boxes.size[k]);
     bool misses = false;
     for (int d = 0; d < D; ++d)

@@ -33,15 +33,7 @@ std::vector<std::array<double, 4>> pieces(const Crack &c) {
   return out;
 }
 std::vector<std::array<double, 6>> pieces(const CrackSurface &c) {
-  std::array<double, 6> b{};
-  for (int a = 0; a < 3; ++a) {
-    b[a] = b[3 + a] = c.points[0][a];
-    for (const auto &p : c.points) {
-      b[a] = std::min(b[a], p[a]);
-      b[3 + a] = std::max(b[3 + a], p[a]);
-    }
-  }
-  return {b};
+  return {cracks::bounds<3>(c)};
 }
 
 } // namespace
@@ -184,17 +176,29 @@ template <int D> void Grid<D>::markLiveCracks(const std::vector<CrackOf<D>> &cra
   // the same of the cracks and the growth reserve, for reach h0.)
   std::vector<double> near;
   for (const CrackOf<D> &c : cracks) {
+    const std::array<double, 2 *D> b = cracks::bounds<D>(c);
     double span = 0;
-    for (int a = 0; a < D; ++a) {
-      double lo = c.points[0][a], hi = lo;
-      for (const auto &p : c.points) {
-        lo = std::min(lo, p[a]);
-        hi = std::max(hi, p[a]);
-      }
-      span += hi - lo;
-    }
+    for (int a = 0; a < D; ++a)
+      span += b[D + a] - b[a];
     near.push_back(std::sqrt(static_cast<double>(D)) * reach * (1 + 1e-6) + 1e-6 * span);
   }
+  // The blocks of the compact path: the regular ones, less every block that holds a marked node
+  // (block origins from side - 1 nodes before it to it along each axis).
+  crackFreeThree_ = threeNodeBlocks_;
+  crackFreeFour_ = fourNodeBlocks_;
+  const auto clear = [&](int k, const PetscInt *i, PetscInt side, std::vector<std::uint8_t> &flag) {
+    const Level<D> &L = levels[k];
+    std::array<PetscInt, D> back;
+    back.fill(side);
+    forEachIndex<D>(back, [&](const Index &b) {
+      PetscInt j[D];
+      for (int a = 0; a < D; ++a) {
+        j[a] = i[a] - b[a];
+        if (j[a] < L.w0[a]) return;
+      }
+      flag[windowSlot(k, j)] = 0;
+    });
+  };
   liveSlot.assign(nWindow, -1);
   for (PetscInt s = nWindow; s < nSlots; ++s) {
     const PetscInt n = slotNode[s];
@@ -207,40 +211,15 @@ template <int D> void Grid<D>::markLiveCracks(const std::vector<CrackOf<D>> &cra
     for (size_t q = 0; q < cracks.size(); ++q)
       if (cracks::nearCrack(cracks[q], support, near[q])) {
         liveSlot[n] = s;
+        const CrackedNode &c = cracked_[crackedOfSlot_[s - nWindow]];
+        PetscInt i[D];
+        for (int a = 0; a < D; ++a)
+          i[a] = static_cast<PetscInt>(c.i[a]);
+        clear(c.k, i, 3, crackFreeThree_);
+        if (D == 2) clear(c.k, i, 4, crackFreeFour_);
         break;
       }
   }
-  // The blocks of the compact path: those of a side-node block that hold no live node.
-  const int K = static_cast<int>(levels.size());
-  auto clear = [&](PetscInt side, const std::vector<std::uint8_t> &regular,
-                   std::vector<std::uint8_t> &flag) {
-    flag = regular;
-    for (int k = 0; k < K; ++k) {
-      const Level<D> &L = levels[k];
-      std::array<PetscInt, D> wn;
-      for (int a = 0; a < D; ++a)
-        wn[a] = L.wn(a);
-      forEachIndex<D>(wn, [&](const Index &w) {
-        PetscInt i[D];
-        for (int a = 0; a < D; ++a)
-          i[a] = w[a] + L.w0[a];
-        if (liveSlot[windowSlot(k, i)] < 0) return;
-        // Every block origin from side - 1 nodes before i to i along each axis holds node i.
-        std::array<PetscInt, D> back;
-        back.fill(side);
-        forEachIndex<D>(back, [&](const Index &b) {
-          PetscInt j[D];
-          for (int a = 0; a < D; ++a) {
-            j[a] = i[a] - b[a];
-            if (j[a] < L.w0[a]) return;
-          }
-          flag[windowSlot(k, j)] = 0;
-        });
-      });
-    }
-  };
-  clear(3, threeNodeBlocks_, crackFreeThree_);
-  if (D == 2) clear(4, fourNodeBlocks_, crackFreeFour_);
 }
 
 template void Grid<2>::markLiveCracks(const std::vector<CrackOf<2>> &, double);

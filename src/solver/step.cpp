@@ -165,9 +165,8 @@ PetscErrorCode Step<D>::buildStencils(const ParticleView<D> &p, const double *ce
   // cross depends on the largest half-size: with the weights centred on x over [x - l, x + l]
   // (no corners) the marks follow it; a run with a step per level only widens them (its
   // classes build stencils at other times: MultiRate::startClass).
-  if (!s.sc.cracks.empty() && !s.sc.multirate &&
-      (s.sc.tracking == Tracking::None || s.sc.tracking == Tracking::Strain ||
-       s.sc.tracking == Tracking::Stretch)) {
+  if (!s.sc.cracks.empty() && !s.sc.multirate && !tracksCorners(s.sc.tracking) &&
+      !usesCpdi(s.sc.tracking)) {
     double lmax = 0;
     for (PetscInt i = 0; i < D * p.n; ++i)
       lmax = std::max(lmax, p.l[i]);

@@ -48,6 +48,19 @@ template <int D> using CrackOf = std::conditional_t<D == 2, Crack, CrackSurface>
 
 namespace cracks {
 
+/// The bounding box of a crack's points, lows then highs: a polyline's (D = 2) or a polygon's.
+template <int D> std::array<double, 2 * D> bounds(const CrackOf<D> &c) {
+  std::array<double, 2 * D> b;
+  for (int a = 0; a < D; ++a) {
+    b[a] = b[D + a] = c.points[0][a];
+    for (const auto &p : c.points) {
+      b[a] = p[a] < b[a] ? p[a] : b[a];
+      b[D + a] = p[a] > b[D + a] ? p[a] : b[D + a];
+    }
+  }
+  return b;
+}
+
 /// The polygon of `points` (in either orientation: reversed if Newell's normal of the given order
 /// is not `normalHint`'s side, when a hint is given), its frame, plane coordinates and span. All
 /// edges are mouths until the scene classifies them.
