@@ -292,6 +292,7 @@ TEST(Grid3D, OneActiveNodePerLocation) {
 struct Identities {
   Worst unity, repro, gradSum, gradRepro, bounds;
   long particles = 0, straddle = 0, corner = 0, blockParticles = 0;
+  long besideIrregular = 0; // block particles with a node not regular on both sides
   void reportSums() {
     EXPECT_WORST_LE(unity, 1e-12);
     EXPECT_WORST_LE(repro, 1e-12);
@@ -386,7 +387,7 @@ void checkLayout(const Layout &lay, long np, std::uint64_t seed, Identities &lat
   ASSERT_TRUE(g.buildStencils(static_cast<PetscInt>(np), x.data(), l.data(), sr, false));
   ASSERT_TRUE(g.buildStencils(static_cast<PetscInt>(np), x.data(), l.data(), sb, true));
   std::vector<PetscInt> seenR(g.nWindow, -1), seenB(g.nWindow, -1);
-  long nBlocks = 0;
+  long nBlocks = 0, nBeside = 0;
   for (long p = 0; p < np; ++p) {
     const double *xp = &x[D * p], *lp = &l[D * p];
     // Statistics of what was drawn.
@@ -410,6 +411,13 @@ void checkLayout(const Layout &lay, long np, std::uint64_t seed, Identities &lat
     lattice.corner += corner;
     ++lattice.particles;
     nBlocks += sb.isBlock(static_cast<PetscInt>(p));
+    if (sb.isBlock(static_cast<PetscInt>(p))) { // a block with a box-face or domain-edge node
+      bool irregular = false;
+      sb.forEach(static_cast<PetscInt>(p), [&](PetscInt n, double, const gimp::Vector<3> &) {
+        irregular = irregular || !g.regular[n];
+      });
+      nBeside += irregular;
+    }
 
     Entries entries;
     const Sums ref = weightSums(lat, tab, xp, lp, &g, &entries);
@@ -439,6 +447,7 @@ void checkLayout(const Layout &lay, long np, std::uint64_t seed, Identities &lat
   rows.particles += np;
   blocks.particles += np;
   blocks.blockParticles += nBlocks;
+  blocks.besideIrregular += nBeside;
 }
 
 void checkLayouts(const std::vector<Layout> &layouts, long total, std::uint64_t seed,
@@ -453,10 +462,14 @@ void checkLayouts(const std::vector<Layout> &layouts, long total, std::uint64_t 
   lattice.report(total, refined);
   std::printf(" the grid's stencils, rows:\n");
   rows.reportSums();
-  std::printf(" the grid's stencils, blocks where a particle has one (%ld of %ld):\n",
-              blocks.blockParticles, total);
+  std::printf(" the grid's stencils, blocks where a particle has one (%ld of %ld; %ld of them "
+              "beside a box face or the domain's edge, a node of the block not regular on both "
+              "sides):\n",
+              blocks.blockParticles, total, blocks.besideIrregular);
   blocks.reportSums();
   EXPECT_GT(blocks.blockParticles, refined ? 0 : total / 20);
+  // Blocks reach nodes whose zone differs from h on the side away from the particle.
+  EXPECT_GT(blocks.besideIrregular, blocks.blockParticles / 20);
   EXPECT_WORST_LE(rowsVsLattice, 1e-13); // per node: |dw|, |d grad w| l
   EXPECT_WORST_LE(badNodes, 0.0);
 }

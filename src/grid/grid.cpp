@@ -273,9 +273,15 @@ template <int D> void Grid<D>::fillWindowNodes() {
   }
 
   // threeNodeBlocks_[n]: the 3^D block of n's level starting at n (n and the two nodes after it
-  // along every axis) lies in the window and is regular: buildStencils takes its closed-form path
-  // there.
+  // along every axis) lies in the window, its nodes are active, and their zones are h on every
+  // side a block particle can overlap: buildStencils takes its closed-form path there.
   // fourNodeBlocks_ the same for the 4^D block (2D: particles of half-size up to h).
+  // A block particle's domain lies between the block's first and last node along each axis (its
+  // left end in [x_i0, x_i0 + h), its half-size at most h/2 for 3 nodes and h for 4), so it
+  // overlaps only the + side of the first node's tent, only the - side of the last node's and
+  // both sides of the nodes between: a node on a finer box's face (its outward zone the coarser
+  // cell) or on the domain's edge (zone 0 outside) gives such a particle the weights of a
+  // regular node, and may be in a block whose particles lie on its regular side.
   auto regularBlocks = [&](PetscInt side, std::vector<std::uint8_t> &flag) {
     flag.assign(nWindow, 0);
     for (int k = 0; k < K; ++k) {
@@ -298,7 +304,11 @@ template <int D> void Grid<D>::fillWindowNodes() {
           PetscInt j[D];
           for (int a = 0; a < D; ++a)
             j[a] = i[a] + b[a];
-          ok = ok && regular[windowSlot(k, j)];
+          const PetscInt n = windowSlot(k, j);
+          ok = ok && active[n];
+          const double *z = &zone[2 * D * static_cast<size_t>(n)];
+          for (int a = 0; a < D && ok; ++a)
+            ok = (b[a] == 0 || z[2 * a] == L.h) && (b[a] == side - 1 || z[2 * a + 1] == L.h);
         });
         flag[windowSlot(k, i)] = ok;
       });

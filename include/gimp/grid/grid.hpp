@@ -229,9 +229,10 @@ private:
 
   static constexpr std::uint8_t kActive = 1, kRegular = 2;
   std::vector<std::uint8_t> flags_; // active and regular in one byte per window node
-  std::vector<std::uint8_t>
-      threeNodeBlocks_;                      // the 3^D block of one level from this node is regular
-  std::vector<std::uint8_t> fourNodeBlocks_; // the same for the 4^D block (2D)
+  // The 3^D block of one level from this node is regular for its particles: its nodes active,
+  // with zone h on every side a block particle can overlap (fillWindowNodes); fourNodeBlocks_
+  // the same for the 4^D block (2D).
+  std::vector<std::uint8_t> threeNodeBlocks_, fourNodeBlocks_;
   // With cracks, the same less the blocks that hold a live cracked node (liveSlot): the compact
   // path of buildStencils reads these (a particle there keeps rows, which cracks::assignFields
   // re-addresses); empty without a cracked node in the window.

@@ -8,16 +8,17 @@
 // with `general` set an entry holds its weight sw, its gradient sg[a] and the point shape function
 // of the node at each of the particle's 2^D corners, cw[2^D e + c] (for the particle's edges).
 //
-// Blocks (with `compact` set): a particle that only one level's nodes reach, all of them regular
-// (zones h), keeps no entries but its 1D factors (Block: 2 or 3 nodes per axis, their weights and
-// derivatives from the closed form shape::threeNodeWeights, the first slot and the slot strides):
-// 104 bytes in 2D (blocks, in particle order; blockOf[k] finds particle k's) instead of 36 per
-// entry (4 to 9 entries), the same values the rows would hold. In 2D a particle of half-size up
-// to h that reaches 4 nodes along an axis (l > h/2, or ends on nodes) keeps a 4-node block
-// (Block<2, 4>, 136 bytes, shape::fourNodeWeights: the rows' values to round-off) instead of 6 to
-// 16 entries. Kernels with a tensor-product form sum along one axis, then the other. With lanes
-// (2D), aligned groups of four block particles keep their four blocks factor-major in the same
-// room (LaneBlocks, laneGroup); block(k) reads either form.
+// Blocks (with `compact` set): a particle that only one level's nodes reach, each with zone h on
+// the sides of its tent the particle overlaps (so a node on a finer box's face or on the domain's
+// edge serves the particles on its regular side), keeps no entries but its 1D factors (Block: 2 or
+// 3 nodes per axis, their weights and derivatives from the closed form shape::threeNodeWeights, the
+// first slot and the slot strides): 104 bytes in 2D (blocks, in particle order; blockOf[k] finds
+// particle k's) instead of 36 per entry (4 to 9 entries), the same values the rows would hold. In
+// 2D a particle of half-size up to h that reaches 4 nodes along an axis (l > h/2, or ends on nodes)
+// keeps a 4-node block (Block<2, 4>, 136 bytes, shape::fourNodeWeights: the rows' values to
+// round-off) instead of 6 to 16 entries. Kernels with a tensor-product form sum along one axis,
+// then the other. With lanes (2D), aligned groups of four block particles keep their four blocks
+// factor-major in the same room (LaneBlocks, laneGroup); block(k) reads either form.
 //
 // forEach(k, f) calls f(slot, weight, gradient) for every entry of particle k in either form; it
 // is the way kernels read stencils. The arrays keep their capacity between steps: only the first
