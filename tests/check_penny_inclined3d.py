@@ -37,9 +37,9 @@ planes; summary.json's "images" is 2, both ends of the half front on the plane, 
 checked apart; every point is printed.
 
 Checked (measured in brackets, as fractions of the scales above; the worst point of each): at
-the 22 interior points K_I within 5 % [+2.9 %], K_II within 5 % [+1.7 %], K_III within 9 %
-[-8.0 %, at the front's crest]; at the 10 end points K_I within 5 % [+3.1 %], K_II within 5 %
-[+2.2 %], K_III within 5 % [-1.5 %; -75.5 % before the mirror images]; the sign of K_II and
+the 22 interior points K_I within 5 % [+2.7 %], K_II within 5 % [-2.0 %], K_III within 6 %
+[-5.4 %, beside the front's crest]; at the 10 end points K_I within 5 % [+3.4 %], K_II within 5 %
+[+1.7 %], K_III within 5 % [+1.2 %; -75.5 % before the mirror images]; the sign of K_II and
 K_III the closed form's wherever it is above a fifth of its largest value; the run ends near rest
 (kinetic below 1e-6 of the strain energy [4.6e-7]). The target is 5 %: why K_III's interior
 tolerance is above it, at TOL below. The table is
@@ -162,21 +162,22 @@ with open(path, "w") as fcsv:
 
 # Tolerances (fractions of the scales above). The target is 5 %; K_I and K_II meet it everywhere,
 # K_III at the ends:
-# - K_I, 5 % (measured +2.9 % interior, +3.1 % at the ends).
-# - K_II, 5 % (measured +1.7 % and +2.2 %). The curvature terms of the interaction integrals carry
+# - K_I, 5 % (measured +2.7 % interior, +3.4 % at the ends).
+# - K_II, 5 % (measured -2.0 % and +1.7 %). The curvature terms of the interaction integrals carry
 #   it: without them (the auxiliary fields turning with the front taken as exact) |K_II| was
 #   0.76-0.83 of the closed form all along the front, +16.4 % and -17.8 % of its scale, and K_I
 #   -5.5 %.
-# - K_III, 9 % interior and 5 % at the ends (measured -8.0 % and -1.5 %). The interior's worst
-#   points are at the front's crest (y near a), where the front runs diagonally across the cells
-#   and G from the domain integral, with no auxiliary field, is itself 15-17 % above the closed
-#   form's. The same -8 to -9 % with tube radii R from 3 to 7 mm (the measures do not depend on
-#   the domain), and -6.9 % with a fifth level (a = 20 finest cells; docs/validation.md,
-#   Inclined penny crack): not the resolution alone, and not yet explained. At the ends the
+# - K_III, 6 % interior and 5 % at the ends (measured -5.4 % and +1.2 %). The interior's worst
+#   points are beside the front's crest (y near a), where the front runs diagonally across the
+#   cells and G from the domain integral, with no auxiliary field, is itself 14-15 % above the
+#   closed form's. Before the domain integral's arc length was continuous behind the front's
+#   vertices (its q jumped on the planes bisecting two edges; docs/method.md, G and K along the
+#   front) K_III read -8.0 % there, the same -8 to -9 % with tube radii R from 3 to 7 mm, and
+#   -6.9 % with a fifth level (a = 20 finest cells; docs/validation.md, Inclined penny crack). At the ends the
 #   tubes take the particles' mirror images across y = 0; cut at the plane instead, the
 #   roller's sigma_yy met K_III's auxiliary field there and K_III read -75.5 % (about -0.33 of
 #   its scale where the closed form goes to zero on the plane).
-TOL = {"interior": (0.05, 0.05, 0.09), "end": (0.05, 0.05, 0.05)}
+TOL = {"interior": (0.05, 0.05, 0.06), "end": (0.05, 0.05, 0.05)}
 for part in ("interior", "end"):
     sel = [r for r in rows if r["end"] == (part == "end")]
     for k, name in enumerate(("K_I", "K_II", "K_III")):

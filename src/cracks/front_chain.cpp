@@ -63,11 +63,21 @@ Chain chainOf(const CrackSurface &c, const FrontPoint &f) {
 }
 
 /// The place of x: the chain's nearest point (the first edge's on a tie) and what follows from it.
-/// The ahead direction is interpolated along the nearest edge between its vertices' (vertexAhead):
-/// a = A / |A|, A = (1 - lambda) a_0 + lambda a_1, lambda the nearest point's fraction of the edge,
-/// so that the advance q a is continuous across the bisectors between edges on both sides of the
-/// front; da/dx = (I - a a) / |A| (a_1 - a_0) t^T / |edge| where lambda moves, 0 where it is held
+/// The ahead direction is interpolated along an edge between its vertices' (vertexAhead):
+/// a = A / |A|, A = (1 - lambda) a_0 + lambda a_1, lambda a fraction of the edge, and
+/// da/dx = (I - a a) / |A| (a_1 - a_0) (grad s)^T / |edge| where lambda moves, 0 where it is held
 /// at a vertex.
+///
+/// The arc length s and the advance q a must be continuous in x (the domain integral's q is):
+/// - where x's foot on its nearest edge is interior and the foot on a neighbouring edge is too
+///   (the wedge behind a vertex on the side the front turns towards), the two edges' arc lengths,
+///   s_k = s_V - (|e_k| - u_k) and s_n = s_V + u_n (u the unclamped distances of the feet from each
+///   edge's start, s_V the vertex's arc length), differ by 2 t on the plane that bisects them, t
+///   the feet's distance from the vertex. There s = s_V - (|e_k| - u_k) + u_n, which is s_k where
+///   the foot on n reaches the vertex (u_n = 0) and s_n where the foot on k does, with
+///   grad s = t_k + t_n; lambda follows s (on k before the vertex, on n after it);
+/// - elsewhere s = s_k with grad s = t_k, or, where the nearest point is held at a vertex (the
+///   wedge on the other side), s = s_V with grad s = 0.
 Place placeOf(const CrackSurface &c, const Chain &ch, const P3 &x) {
   const size_t K = ch.edges.size();
   Place best;
@@ -88,11 +98,62 @@ Place placeOf(const CrackSurface &c, const Chain &ch, const P3 &x) {
       lenb = len;
     }
   }
-  best.s = ch.s0[kb] + lamb - ch.sP;
+  // The edge ke and the distance along it (lame) that the ahead direction takes, s, grad s.
+  size_t ke = kb;
+  double lame = lamb, s = ch.s0[kb] + lamb;
+  const bool interior = lamb > 0 && lamb < lenb;
+  P3 gradS{};
+  if (interior) {
+    gradS = ch.t[kb];
+    // A neighbouring edge whose foot is interior too (the nearer one if both are).
+    double dn = -1, un = 0;
+    size_t kn = kb;
+    int side = 0;
+    for (int sd = -1; sd <= 1; sd += 2) {
+      size_t n = kb;
+      if (sd < 0 && kb > 0)
+        n = kb - 1;
+      else if (sd < 0 && ch.closed)
+        n = K - 1;
+      else if (sd > 0 && kb + 1 < K)
+        n = kb + 1;
+      else if (sd > 0 && ch.closed)
+        n = 0;
+      if (n == kb) continue;
+      const double len = ch.len[n], u = dot(sub(x, ch.start[n]), ch.vec[n]) / len;
+      if (!(u > 0 && u < len)) continue;
+      const P3 &e = ch.vec[n], &p = ch.start[n];
+      const P3 y = {p[0] + u / len * e[0], p[1] + u / len * e[1], p[2] + u / len * e[2]};
+      const double d = norm(sub(x, y));
+      if (dn < 0 || d < dn) dn = d, un = u, kn = n, side = sd;
+    }
+    if (side > 0) { // the vertex at kb's end: s_V = s0[kb] + |e_kb|
+      s = ch.s0[kb] + lamb + un;
+      const P3 &tn = ch.t[kn];
+      for (int i = 0; i < 3; ++i)
+        gradS[i] += tn[i];
+      if (lamb + un > lenb)
+        ke = kn, lame = lamb + un - lenb;
+      else
+        lame = lamb + un;
+    } else if (side < 0) { // the vertex at kb's start: s_V = s0[kb]
+      const double lenp = ch.len[kn];
+      s = ch.s0[kb] + lamb + un - lenp;
+      const P3 &tp = ch.t[kn];
+      for (int i = 0; i < 3; ++i)
+        gradS[i] += tp[i];
+      if (lamb + un < lenp)
+        ke = kn, lame = lamb + un;
+      else
+        lame = lamb + un - lenp;
+    }
+  }
+  best.s = s - ch.sP;
   if (ch.closed && best.s > 0.5 * ch.length) best.s -= ch.length;
-  const P3 &t = ch.t[kb];
-  const P3 a0 = ch.ahead0[kb], a1 = ch.ahead1[kb];
-  const double lam = lamb / lenb;
+  const double lene = ch.len[ke];
+  const P3 &te = ch.t[ke];
+  const P3 a0 = ch.ahead0[ke], a1 = ch.ahead1[ke];
+  const double lam = std::clamp(lame / lene, 0.0, 1.0);
   const P3 A = {(1 - lam) * a0[0] + lam * a1[0], (1 - lam) * a0[1] + lam * a1[1],
                 (1 - lam) * a0[2] + lam * a1[2]};
   const double An = norm(A);
@@ -102,15 +163,12 @@ Place placeOf(const CrackSurface &c, const Chain &ch, const P3 &x) {
     double w = 0; // ((I - a a) d)_i / |A|
     for (int q = 0; q < 3; ++q)
       w += ((i == q ? 1.0 : 0.0) - best.a[i] * best.a[q]) * d[q];
-    for (int j = 0; j < 3; ++j)
-      best.curv[i][j] = w / An * t[j] / lenb;
+    for (int j = 0; j < 3; ++j) {
+      best.curv[i][j] = w / An * te[j] / lene;
+      best.dA[i][j] = interior ? w / An * gradS[j] / lene : 0.0; // held at a vertex: 0
+    }
   }
-  if (lamb > 0 && lamb < lenb) { // a turns where lambda moves; held at a vertex
-    best.gradS = {t[0], t[1], t[2]};
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j)
-        best.dA[i][j] = best.curv[i][j];
-  }
+  best.gradS = gradS;
   best.x3 = cross(best.a, c.normal);
   return best;
 }
