@@ -417,6 +417,25 @@ std::vector<std::map<PetscInt, std::array<double, 3>>> entriesOf(const Stencils 
   return out;
 }
 
+/// The differences of one particle's entries in two stencil forms (entriesOf) into weight and
+/// gradient (times h0). Either form may list a node the particle's edge reaches with weight 0
+/// (or 1e-30) that the other leaves out: compare over both lists, a missing entry as 0.
+template <class Where>
+void compareEntries(const std::map<PetscInt, std::array<double, 3>> &r,
+                    const std::map<PetscInt, std::array<double, 3>> &b, double h0,
+                    const Where &where, Worst &weight, Worst &gradient) {
+  auto diff = [&](const auto &a, const auto &o) {
+    for (const auto &[slot, e] : a) {
+      const auto it = o.find(slot);
+      const std::array<double, 3> f = it == o.end() ? std::array<double, 3>{} : it->second;
+      weight.update(std::abs(e[0] - f[0]), where);
+      gradient.update(std::max(std::abs(e[1] - f[1]), std::abs(e[2] - f[2])) * h0, where);
+    }
+  };
+  diff(r, b);
+  diff(b, r);
+}
+
 // ---------------------------------------------------------------------------------------------
 // 1d. Blocks beside box faces and the domain's edges: a block whose first or last node has a
 // zone other than h on its far side (a finer box's face node, whose outward zone is the coarser
@@ -453,18 +472,7 @@ TEST(GridStencils, BlocksBesideFacesEqualRows) {
         return lay.name + ": " +
                at({{"xp", x[2 * p]}, {"yp", x[2 * p + 1]}, {"lx", l[2 * p]}, {"ly", l[2 * p + 1]}});
       };
-      // Either form may list a node the particle's edge reaches with weight 0 that the other
-      // leaves out: compare over both lists, a missing entry as 0.
-      auto diff = [&](const auto &a, const auto &o) {
-        for (const auto &[slot, e] : a) {
-          const auto it = o.find(slot);
-          const std::array<double, 3> f = it == o.end() ? std::array<double, 3>{} : it->second;
-          weight.update(std::abs(e[0] - f[0]), where);
-          gradient.update(std::max(std::abs(e[1] - f[1]), std::abs(e[2] - f[2])) * h0, where);
-        }
-      };
-      diff(r[p], b[p]);
-      diff(b[p], r[p]);
+      compareEntries(r[p], b[p], h0, where, weight, gradient);
       ++compared;
     }
   }
@@ -548,18 +556,7 @@ TEST(GridStencils, CrackedBlocksEqualRows) {
         }
         readdressed += second;
         blocksBesideReserve += block && reserve;
-        // Either form may list a node the particle's edge reaches with weight 0 (or 1e-30) that
-        // the other leaves out: compare over both lists, a missing entry as 0.
-        auto diff = [&](const auto &a, const auto &o) {
-          for (const auto &[slot, e] : a) {
-            const auto it = o.find(slot);
-            const std::array<double, 3> f = it == o.end() ? std::array<double, 3>{} : it->second;
-            weight.update(std::abs(e[0] - f[0]), where);
-            gradient.update(std::max(std::abs(e[1] - f[1]), std::abs(e[2] - f[2])) * h0, where);
-          }
-        };
-        diff(r[p], b[p]);
-        diff(b[p], r[p]);
+        compareEntries(r[p], b[p], h0, where, weight, gradient);
         ++compared;
       }
     }
