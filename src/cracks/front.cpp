@@ -201,9 +201,9 @@ void tubeIntegrals(const Material &m, const ParticleView<3> &p, const CrackSurfa
                    const std::vector<MirrorPlane> &mirrors, double *out) {
   if (pts.empty()) return;
   Chain raw = chainOf(c, pts[0]);
+  // (A closed chain stays closed, so that placeOf blends the wedge behind its first vertex too.)
   const bool closed = raw.closed;
   raw.sP = 0;
-  raw.closed = false;
   struct Point {
     PointDomain d;
     double reach2 = 0, sP = 0;
@@ -250,6 +250,7 @@ void tubeIntegrals(const Material &m, const ParticleView<3> &p, const CrackSurfa
       Place pl = *place;
       pl.s = pl.s - a.sP;
       if (closed && pl.s > 0.5 * raw.length) pl.s -= raw.length;
+      if (closed && pl.s <= -0.5 * raw.length) pl.s += raw.length;
       if (!(pl.rho > 0 && pl.rho < a.d.R)) continue;
       if (!state) state = stateOf(m, p, k);
       double *o = out + 4 * q;
