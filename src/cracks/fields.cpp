@@ -38,7 +38,9 @@ void Contact<D>::faces(const Grid<D> &g, const Stencils<D> &st, PetscInt n, cons
     face[D * s] = 0.0;
   if (g.nSlots == g.nWindow) return;
   for (PetscInt k = 0; k < n; ++k) {
-    if (st.isBlock(k) || st.isBlock4(k)) continue; // (a block holds no cracked node)
+    // A block holds no live cracked node (Grid::markLiveCracks), and a cracked node that is not
+    // live has no second-field mass, so contact never acts there: blocks add nothing it reads.
+    if (st.isBlock(k) || st.isBlock4(k)) continue;
     double u[D];
     for (int a = 0; a < D; ++a)
       u[a] = m[k] * (x[D * k + a] - X0[D * k + a]);
