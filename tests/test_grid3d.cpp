@@ -601,6 +601,75 @@ TEST(Grid3D, CrackedBlocksEqualRows) {
   EXPECT_GT(readdressed, compared / 100);
 }
 
+TEST(Grid3D, LevelBlocksEqualRows) {
+  // Particles that two levels reach, or whose level's nodes are not all regular, keep level
+  // blocks (Stencils::levelBlocks) instead of rows: the same nodes in the same order, each with
+  // the rows' weight and gradient to round-off, in less room. Fails if a level block drops,
+  // adds or moves a node (a masked node, a wrong first slot or stride), takes a factor from the
+  // wrong node, or if no particle takes the path.
+  Worst weight, gradient;
+  long particles = 0, withLevels = 0, twoLevels = 0, mismatched = 0;
+  size_t rowBytes = 0, blockBytes = 0;
+  std::uint64_t seed = 0x3d1eb10c;
+  for (const Layout &lay : threeLevelLayouts()) {
+    const Lattice3 lat = latticeOf(lay);
+    Grid3 g;
+    ASSERT_EQ(static_cast<int>(g.create(PETSC_COMM_SELF, kH0, boxesOf(lay))), 0);
+    std::mt19937_64 rng(seed++);
+    const long np = 4000;
+    std::vector<double> x(D * np), l(D * np);
+    for (long p = 0; p < np; ++p)
+      drawParticle(lat, rng, &x[D * p], &l[D * p]);
+    Stencils3 rows, compact;
+    ASSERT_TRUE(g.buildStencils(static_cast<PetscInt>(np), x.data(), l.data(), rows, false));
+    ASSERT_TRUE(g.buildStencils(static_cast<PetscInt>(np), x.data(), l.data(), compact, true));
+    for (long p = 0; p < np; ++p) {
+      ++particles;
+      if (!compact.isLevels(p)) continue;
+      ++withLevels;
+      EXPECT_EQ(compact.start[p], compact.start[p + 1]) << "a level-block particle keeps rows";
+      int blocks = 0;
+      for (PetscInt i = compact.levelOf[p];; ++i) {
+        ++blocks;
+        if (compact.levelBlocks[i].last) break;
+      }
+      twoLevels += blocks > 1;
+      blockBytes += blocks * sizeof(gimp::LevelBlock<D>);
+      rowBytes += (rows.start[p + 1] - rows.start[p]) * (sizeof(PetscInt) + 2 * D * sizeof(double));
+      PetscInt e = rows.start[p];
+      const auto where = [&] {
+        return lay.name + ": " + at({{"x", x[D * p]}, {"y", x[D * p + 1]}, {"z", x[D * p + 2]}});
+      };
+      compact.forEach(p, [&](PetscInt slot, double wt, const gimp::Vector<D> &gr) {
+        if (e >= rows.start[p + 1] || rows.node[e] != slot) {
+          ++mismatched;
+          return;
+        }
+        weight.update(std::abs(wt - rows.weight(e)), where);
+        const gimp::Vector<D> rg = rows.gradient(e);
+        double dg = 0;
+        for (int a = 0; a < D; ++a)
+          dg = std::max(dg, std::abs(gr[a] - rg[a]));
+        gradient.update(dg * kH0, where);
+        ++e;
+      });
+      mismatched += rows.start[p + 1] - e; // (rows left over)
+    }
+  }
+  std::printf("  particles %ld: with level blocks %ld (two levels %ld), %zu bytes against %zu "
+              "in rows\n",
+              particles, withLevels, twoLevels, blockBytes, rowBytes);
+  EXPECT_EQ(mismatched, 0);
+  EXPECT_WORST_LE(weight, 1e-15);
+  EXPECT_WORST_LE(gradient, 1e-13);
+  EXPECT_GT(withLevels, particles / 20);
+  EXPECT_GT(twoLevels, particles / 50);
+  EXPECT_LT(2 * blockBytes, rowBytes);
+  // 2D keeps rows there: a level's fewest entries (4) take less room than a level block.
+  EXPECT_FALSE(gimp::Stencils<2>::kLevelBlocks);
+  EXPECT_TRUE(gimp::Stencils<3>::kLevelBlocks);
+}
+
 TEST(Grid3D, UniformIdentities) {
   checkLayouts({{"uniform", {6, 5, 4}, {}}}, 20000, 0x3d000201, false);
 }

@@ -132,9 +132,11 @@ template <int D> struct ZoneMemo {
     }
   }
   /// The factor along axis a of candidate index c at offset d, half-size l, zones za[0..1].
+  bool mixed = false; // an index weighed for two sets of zones (not a tensor product)
   void factor(int a, PetscInt c, double d, double l, const double *za, double &wa, double &ga) {
     double *m = z[a] + 2 * c;
     if (m[0] != za[0] || m[1] != za[1]) {
+      mixed = mixed || m[0] >= 0;
       shape::weightAndGradient(d, l, za[0], za[1], w[a][c], g[a][c]);
       m[0] = za[0];
       m[1] = za[1];
@@ -156,8 +158,8 @@ double hexVolume(const double *c) {
 } // namespace cpdi
 
 template <int D>
-void Grid<D>::appendThreeNodeBlock(int q, const Reach &r, const double *x, const double *l,
-                                   Stencils<D> &s, size_t &m) const {
+int Grid<D>::appendThreeNodeBlock(int q, const Reach &r, const double *x, const double *l,
+                                  Stencils<D> &s, size_t &m, LevelBlock<D> *block) const {
   // A regular 3^D block of this level: closed-form weights, the same node set.
   const Level<D> &L = levels[q];
   const double ih = L.ih;
@@ -169,6 +171,29 @@ void Grid<D>::appendThreeNodeBlock(int q, const Reach &r, const double *x, const
                             fg[a]);
     n[a] = r.i1[a] - r.i0[a] + 1;
   }
+  const PetscInt base = windowSlot(q, r.i0), sy = L.wn(0), sz = D == 3 ? sy * L.wn(1) : 0;
+  if (block) { // every node of the n[0] x n[1] (x n[2]) block
+    LevelBlock<D> &b = *block;
+    b.mask = 0;
+    for (PetscInt c = 0; c < (D == 3 ? n[D - 1] : 1); ++c)
+      for (PetscInt j = 0; j < n[1]; ++j)
+        for (PetscInt i = 0; i < n[0]; ++i) {
+          if (nSlots != nWindow && liveSlot[base + i + j * sy + c * sz] >= 0) return -1;
+          b.mask |= std::uint64_t{1} << (i + 4 * j + 16 * c);
+        }
+    for (int a = 0; a < D; ++a) {
+      for (int c = 0; c < 3; ++c) {
+        b.w[a][c] = c < n[a] ? fw[a][c] : 0.0;
+        b.g[a][c] = c < n[a] ? fg[a][c] : 0.0;
+      }
+      b.w[a][3] = b.g[a][3] = 0.0;
+      b.n[a] = static_cast<std::uint8_t>(n[a]);
+      if (a > 0) b.stride[a - 1] = a == 1 ? sy : sz;
+    }
+    b.base = base;
+    b.last = 0;
+    return 1;
+  }
   size_t count = 1;
   for (int a = 0; a < D; ++a)
     count *= static_cast<size_t>(n[a]);
@@ -179,38 +204,26 @@ void Grid<D>::appendThreeNodeBlock(int q, const Reach &r, const double *x, const
     ws[a] = s.w[a].data();
     gs[a] = s.g[a].data();
   }
-  if constexpr (D == 2) {
-    for (PetscInt j = r.i0[1]; j <= r.i1[1]; ++j) {
-      const PetscInt row = L.offset + (j - L.w0[1]) * L.wnx() - L.w0[0];
-      for (PetscInt i = r.i0[0]; i <= r.i1[0]; ++i) {
-        node[m] = row + i;
-        ws[0][m] = fw[0][i - r.i0[0]];
-        gs[0][m] = fg[0][i - r.i0[0]];
-        ws[1][m] = fw[1][j - r.i0[1]];
-        gs[1][m] = fg[1][j - r.i0[1]];
+  // x fastest, then y, then z (forEachIndex's order), the slots by the window's strides
+  for (PetscInt c = 0; c < (D == 3 ? n[D - 1] : 1); ++c)
+    for (PetscInt j = 0; j < n[1]; ++j)
+      for (PetscInt i = 0; i < n[0]; ++i) {
+        node[m] = base + i + j * sy + c * sz;
+        ws[0][m] = fw[0][i];
+        gs[0][m] = fg[0][i];
+        ws[1][m] = fw[1][j];
+        gs[1][m] = fg[1][j];
+        ws[D - 1][m] = fw[D - 1][D == 3 ? c : j];
+        gs[D - 1][m] = fg[D - 1][D == 3 ? c : j];
         ++m;
       }
-    }
-  } else { // x fastest, then y, then z (forEachIndex's order), the slots by the window's strides
-    const PetscInt base = windowSlot(q, r.i0), sy = L.wn(0), sz = sy * L.wn(1);
-    for (PetscInt c = 0; c < n[2]; ++c)
-      for (PetscInt b = 0; b < n[1]; ++b)
-        for (PetscInt a = 0; a < n[0]; ++a) {
-          node[m] = base + a + b * sy + c * sz;
-          ws[0][m] = fw[0][a];
-          gs[0][m] = fg[0][a];
-          ws[1][m] = fw[1][b];
-          gs[1][m] = fg[1][b];
-          ws[D - 1][m] = fw[D - 1][c];
-          gs[D - 1][m] = fg[D - 1][c];
-          ++m;
-        }
-  }
+  return 0;
 }
 
 template <int D>
-void Grid<D>::appendNodes(int q, const Reach &reach, const double *x, const double *l,
-                          double *scratch, PetscInt maxRange, Stencils<D> &s, size_t &m) const {
+int Grid<D>::appendNodes(int q, const Reach &reach, const double *x, const double *l,
+                         double *scratch, PetscInt maxRange, Stencils<D> &s, size_t &m,
+                         LevelBlock<D> *block) const {
   // Any range of nodes: 1D weights of a regular stretch for every candidate, replaced by the
   // node's own zones where it is irregular; nodes whose support misses the particle are left out.
   const Level<D> &L = levels[q];
@@ -229,7 +242,7 @@ void Grid<D>::appendNodes(int q, const Reach &reach, const double *x, const doub
       r.i0[a] = std::max(r.i0[a], static_cast<PetscInt>(
                                       std::min(static_cast<double>(L.n[a] - 1),
                                                std::floor((x[a] - l[a] - L.h - L.box[a]) * ih))));
-    if (r.i1[a] < r.i0[a]) return;
+    if (r.i1[a] < r.i0[a]) return 0;
   }
   double *rw[D], *rg[D];
   size_t count = 1;
@@ -242,15 +255,29 @@ void Grid<D>::appendNodes(int q, const Reach &reach, const double *x, const doub
                                       rw[a][i - r.i0[a]], rg[a][i - r.i0[a]]);
     count *= static_cast<size_t>(r.i1[a] - r.i0[a] + 1);
   }
-  s.reserve(m + count);
-  PetscInt *node = s.node.data();
-  double *ws[D], *gs[D];
-  for (int a = 0; a < D; ++a) {
-    ws[a] = s.w[a].data();
-    gs[a] = s.g[a].data();
+  PetscInt *node = nullptr;
+  double *ws[D] = {}, *gs[D] = {};
+  if (!block) {
+    s.reserve(m + count);
+    node = s.node.data();
+    for (int a = 0; a < D; ++a) {
+      ws[a] = s.w[a].data();
+      gs[a] = s.g[a].data();
+    }
   }
   const std::vector<double> *coord[3] = {&X, &Y, &Z};
   ZoneMemo<D> memo(scratch + 2 * D * maxRange, maxRange, r.i0, r.i1);
+  // With `block` (candidates at most 4 along each axis): per axis the candidate indices whose
+  // factor came from the regular stretch (bit c of regularAt[a]) and from a node's own zones
+  // (ownAt[a]; ZoneMemo notes an index weighed for two sets of zones), the entries' nodes (bit
+  // c0 + 4 c1 + 16 c2), and whether any is a live cracked node.
+  unsigned regularAt[D] = {}, ownAt[D] = {};
+  std::uint64_t mask = 0;
+  bool live = false;
+  const bool cracked = nSlots != nWindow;
+  if (block)
+    for (int a = 0; a < D; ++a)
+      if (r.i1[a] - r.i0[a] >= 4) return -1;
   // One candidate node: window slot nd, offsets c[a] into the 1D tables.
   auto add = [&](PetscInt nd, const PetscInt *c) {
     const std::uint8_t f = flags_[nd];
@@ -260,17 +287,33 @@ void Grid<D>::appendNodes(int q, const Reach &reach, const double *x, const doub
       w[a] = rw[a][c[a]];
       g[a] = rg[a][c[a]];
     }
+    const double *z = nullptr;
     if (f != (kActive | kRegular) || !r.inside) {
       // Outside the box the candidate range is wider than the overlap range.
-      const double *z = &zone[2 * D * nd];
+      z = &zone[2 * D * nd];
       double d[D];
       for (int a = 0; a < D; ++a) {
         d[a] = x[a] - (*coord[a])[nd];
         if (!shape::overlaps(d[a], l[a], z[2 * a], z[2 * a + 1])) return;
       }
+      // (along an axis where the node's zones are both h it keeps the regular stretch's factor,
+      // so every node at one index along an axis has the same factor there: level blocks)
       if (!(f & kRegular))
         for (int a = 0; a < D; ++a)
-          memo.factor(a, c[a], d[a], l[a], z + 2 * a, w[a], g[a]);
+          if (z[2 * a] != L.h || z[2 * a + 1] != L.h)
+            memo.factor(a, c[a], d[a], l[a], z + 2 * a, w[a], g[a]);
+    }
+    if (block) {
+      if (z && !(f & kRegular)) {
+        for (int a = 0; a < D; ++a)
+          ((z[2 * a] != L.h || z[2 * a + 1] != L.h) ? ownAt : regularAt)[a] |= 1u << c[a];
+      } else {
+        for (int a = 0; a < D; ++a)
+          regularAt[a] |= 1u << c[a];
+      }
+      live = live || (cracked && liveSlot[nd] >= 0);
+      mask |= std::uint64_t{1} << (c[0] + 4 * c[1] + 16 * c[2]);
+      return;
     }
     node[m] = nd;
     for (int a = 0; a < D; ++a) {
@@ -289,6 +332,33 @@ void Grid<D>::appendNodes(int q, const Reach &reach, const double *x, const doub
       for (c[0] = 0; c[0] <= r.i1[0] - r.i0[0]; ++c[0])
         add(row + c[0], c);
     }
+  if (!block) return 0;
+  // The level block: each index's factor from its source, the mask from the first index along
+  // each axis that has an entry.
+  if (live || memo.mixed) return -1;
+  if (!mask) return 0;
+  int lo[D];
+  LevelBlock<D> &b = *block;
+  b.base = base;
+  for (int a = 0; a < D; ++a) {
+    if (regularAt[a] & ownAt[a]) return -1; // (an index with both: not a tensor product)
+    const unsigned any = regularAt[a] | ownAt[a];
+    lo[a] = __builtin_ctz(any);
+    const int hi = 31 - __builtin_clz(any);
+    for (int i = 0; i < 4; ++i) {
+      const int ca = lo[a] + i;
+      const bool own = ca <= hi && ((ownAt[a] >> ca) & 1u),
+                 reg = ca <= hi && ((regularAt[a] >> ca) & 1u);
+      b.w[a][i] = own ? memo.w[a][ca] : reg ? rw[a][ca] : 0.0;
+      b.g[a][i] = own ? memo.g[a][ca] : reg ? rg[a][ca] : 0.0;
+    }
+    b.n[a] = static_cast<std::uint8_t>(hi - lo[a] + 1);
+    b.base += lo[a] * (a == 0 ? 1 : a == 1 ? sy : sz);
+    if (a > 0) b.stride[a - 1] = a == 1 ? sy : sz;
+  }
+  b.mask = mask >> (lo[0] + 4 * lo[1] + (D == 3 ? 16 * lo[D - 1] : 0));
+  b.last = 0;
+  return 1;
 }
 
 template <int D>
@@ -408,14 +478,14 @@ const char *Grid<D>::buildCpdiStencils(PetscInt n, const double *corners, Stenci
   return nullptr;
 }
 
-template void Grid<2>::appendThreeNodeBlock(int, const Reach &, const double *, const double *,
-                                            Stencils<2> &, size_t &) const;
-template void Grid<3>::appendThreeNodeBlock(int, const Reach &, const double *, const double *,
-                                            Stencils<3> &, size_t &) const;
-template void Grid<2>::appendNodes(int, const Reach &, const double *, const double *, double *,
-                                   PetscInt, Stencils<2> &, size_t &) const;
-template void Grid<3>::appendNodes(int, const Reach &, const double *, const double *, double *,
-                                   PetscInt, Stencils<3> &, size_t &) const;
+template int Grid<2>::appendThreeNodeBlock(int, const Reach &, const double *, const double *,
+                                           Stencils<2> &, size_t &, LevelBlock<2> *) const;
+template int Grid<3>::appendThreeNodeBlock(int, const Reach &, const double *, const double *,
+                                           Stencils<3> &, size_t &, LevelBlock<3> *) const;
+template int Grid<2>::appendNodes(int, const Reach &, const double *, const double *, double *,
+                                  PetscInt, Stencils<2> &, size_t &, LevelBlock<2> *) const;
+template int Grid<3>::appendNodes(int, const Reach &, const double *, const double *, double *,
+                                  PetscInt, Stencils<3> &, size_t &, LevelBlock<3> *) const;
 template double Grid<2>::pointShapes(const double *,
                                      std::vector<std::pair<PetscInt, double>> &) const;
 template double Grid<3>::pointShapes(const double *,

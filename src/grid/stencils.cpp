@@ -33,6 +33,8 @@ template <int D> void startStencils(PetscInt n, bool compact, bool lanes, Stenci
     s.nBlocks = 0;
     s.nBlocks4 = 0;
   }
+  s.nLevelBlocks = 0;
+  s.levelOf.clear();
   s.laneGroup.assign(lanes ? static_cast<size_t>(n / 4) : 0, 0);
   // Rows: room for the previous step's entries (or 10 per particle); grows below if needed.
   if (!compact) s.reserve(10 * static_cast<size_t>(n));
@@ -188,6 +190,7 @@ bool Grid<D>::buildStencils(PetscInt n, const double *x, const double *l, Stenci
   std::vector<double> scratch(6 * D * static_cast<size_t>(maxRange)); // (appendNodes' tables)
   std::vector<Reach> reach(K);
   std::vector<char> reaches(K);
+  const bool tryLevels = compact && Stencils<D>::kLevelBlocks;
   // Aligned groups of four blocks in lanes; a group that is not one goes one by one.
   for (PetscInt k = 0; k < n; ++k) {
     if constexpr (D == 2)
@@ -233,6 +236,34 @@ bool Grid<D>::buildStencils(PetscInt n, const double *x, const double *l, Stenci
     if (crackFree && reach[last].fourNodeBlock) {
       setBlock4(last, reach[last].i0, xp, lp, s, k);
       continue;
+    }
+    // Level blocks (compact): each level's entries as a LevelBlock when every level's are one;
+    // otherwise rows.
+    if (tryLevels) {
+      s.reserveLevelBlocks(static_cast<size_t>(K));
+      LevelBlock<D> *out = s.levelBlocks.data() + s.nLevelBlocks;
+      int made = 0;
+      bool blocks = true;
+      for (int q = 0; q < K && blocks; ++q) {
+        if (!reaches[q]) continue;
+        const Reach &r = reach[q];
+        bool tooLarge = false; // (a particle larger than h0: the rows' path below says so)
+        for (int a = 0; a < D; ++a)
+          tooLarge = tooLarge || r.i1[a] - r.i0[a] >= maxRange;
+        const int got = tooLarge ? -1
+                        : r.threeNodeBlock
+                            ? appendThreeNodeBlock(q, r, xp, lp, s, m, out + made)
+                            : appendNodes(q, r, xp, lp, scratch.data(), maxRange, s, m, out + made);
+        blocks = got >= 0;
+        made += got > 0;
+      }
+      if (blocks && made > 0) {
+        out[made - 1].last = 1;
+        if (s.levelOf.empty()) s.levelOf.assign(static_cast<size_t>(n), -1);
+        s.levelOf[k] = s.nLevelBlocks;
+        s.nLevelBlocks += made;
+        continue;
+      }
     }
     for (int q = 0; q < K; ++q) {
       if (!reaches[q]) continue;

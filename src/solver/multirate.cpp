@@ -114,6 +114,12 @@ template <int D> PetscInt maxSlot(const Grid<D> &g, const Stencils<D> &st, Petsc
       return b.base + 3 * b.stride[0] + 3;
     }
   PetscInt s = -1;
+  if (st.isLevels(k)) {
+    st.forEachLevelEntry(k, [&](PetscInt slot, const double *, const double *) {
+      s = std::max(s, g.slotNode[slot]);
+    });
+    return s;
+  }
   for (PetscInt e = st.start[k]; e < st.start[k + 1]; ++e)
     s = std::max(s, g.slotNode[st.node[e]]);
   return s;

@@ -103,7 +103,22 @@ template <class F> GIMP_LANES_INLINE void forBlockRows(const Block<3> &b, F &&f)
 
 /// f(slot, weight, gradient) for every row entry of particle k (Stencils::forEach of a particle
 /// that keeps rows), in a function the lane lambdas can be inlined into.
+/// forRows of a particle that keeps level blocks, out of line (Stencils::forEachLevelNode).
+template <class F> GIMP_LANES_INLINE void forLevelRows(const Stencils<3> &st, PetscInt k, F &f) {
+  Stencils<3>::LevelRow r;
+  for (Stencils<3>::LevelRows rows = st.levelRows(k); rows.next(r);)
+    for (int i = 0; i < 4; ++i)
+      if ((r.nodes >> i) & 1u) { // (levelNode's products: it cannot inline the lane lambdas)
+        Vector<3> gr;
+        gr[0] = r.g0[i] * r.wyz;
+        gr[1] = r.w0[i] * r.gy;
+        gr[2] = r.w0[i] * r.gz;
+        f(r.slot + i, r.w0[i] * r.wyz, gr);
+      }
+}
+
 template <class F> GIMP_LANES_INLINE void forRows(const Stencils<3> &st, PetscInt k, F &&f) {
+  if (st.isLevels(k)) return forLevelRows(st, k, f);
   for (PetscInt e = st.start[k]; e < st.start[k + 1]; ++e)
     f(st.node[e], st.weight(e), st.gradient(e));
 }

@@ -221,11 +221,17 @@ private:
   /// round-off (shape::fourNodeWeights).
   void setBlock4(int q, const PetscInt *i0, const double *x, const double *l, Stencils<D> &s,
                  PetscInt k) const;
-  void appendThreeNodeBlock(int q, const Reach &r, const double *x, const double *l, Stencils<D> &s,
-                            size_t &m) const;
+  /// Level q's entries of a particle as rows (from m), or with `block` as that level block
+  /// (LevelBlock: no rows written). Returns 1 when the block was written, 0 when no node of the
+  /// level overlaps the particle (or rows were written), -1 when the entries are not a level
+  /// block (not a tensor product, wider than 4 nodes along an axis, or with a live cracked node).
+  int appendThreeNodeBlock(int q, const Reach &r, const double *x, const double *l, Stencils<D> &s,
+                           size_t &m, LevelBlock<D> *block = nullptr) const;
   /// (scratch: room for 6 D maxRange doubles, maxRange at least the candidates along an axis)
-  void appendNodes(int q, const Reach &r, const double *x, const double *l, double *scratch,
-                   PetscInt maxRange, Stencils<D> &s, size_t &m) const;
+  /// (with `block`, a level of more than 4 candidates along an axis gives -1)
+  int appendNodes(int q, const Reach &r, const double *x, const double *l, double *scratch,
+                  PetscInt maxRange, Stencils<D> &s, size_t &m,
+                  LevelBlock<D> *block = nullptr) const;
 
   static constexpr std::uint8_t kActive = 1, kRegular = 2;
   std::vector<std::uint8_t> flags_; // active and regular in one byte per window node

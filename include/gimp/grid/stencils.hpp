@@ -55,6 +55,22 @@ template <int D, int N = 3> struct Block {
   PetscInt stride[D - 1];
 };
 
+/// One level's share of a particle that keeps neither kind of block (two levels reach it, or its
+/// level's nodes there are not all regular), when those entries are a tensor product: the 1D
+/// factors of up to 4 nodes per axis exactly as the rows would hold them (w[d][i], g[d][i] of the
+/// node at index i along d, 0 where none), and the nodes that are entries (bit i + 4 j + 16 q of
+/// `mask` for node (i, j, q), slot base + i + j stride[0] + q stride[1]). 216 bytes in 3D against
+/// 52 per row entry and 8 to 70 entries per level; forEach forms a block's products (Block), so
+/// the rows' values to round-off.
+template <int D> struct LevelBlock {
+  double w[D][4], g[D][4];
+  std::uint64_t mask;
+  PetscInt base;
+  PetscInt stride[D - 1];
+  std::uint8_t n[D]; // nodes along each axis (1 to 4)
+  std::uint8_t last; // 1 on the particle's last level block
+};
+
 /// A lane group's four 3-node blocks (2D) as the lane kernels read them, in the room of the four
 /// Block<2> they replace: factor c of particle q at f[c][q] (factor-major: one load gives a factor
 /// of all four), the factors in the order w[0][0..2], w[1][0..2], g[0][0..2], g[1][0..2]; then the
@@ -113,6 +129,20 @@ template <int D> struct Stencils {
     return static_cast<size_t>(g) < laneGroup.size() ? laneGroup[g] : 0;
   }
 
+  // Level blocks (compact) where they take less room than the fewest rows a level gives (2^D
+  // entries): in 3D (216 bytes against 8 x 52), not in 2D (152 against 4 x 36; measured on
+  // bench/block3.opts they cost 6 % of the step and saved no memory).
+  static constexpr bool kLevelBlocks = (size_t{1} << D) *
+                                           (sizeof(PetscInt) + 2 * D * sizeof(double)) >
+                                       sizeof(LevelBlock<D>);
+  // levelOf[k] is particle k's first block in levelBlocks (its others follow, the last marked),
+  // or -1; levelOf is empty while no particle has them (the first that does sizes it).
+  StencilArray<PetscInt> levelOf;
+  PetscInt nLevelBlocks = 0;
+  StencilArray<LevelBlock<D>> levelBlocks;
+  /// True when particle k keeps level blocks (it has no row entries then).
+  bool isLevels(PetscInt k) const { return !levelOf.empty() && levelOf[k] >= 0; }
+
   double weight(PetscInt e) const {
     if (general) return sw[e];
     double s = w[0][e];
@@ -134,6 +164,108 @@ template <int D> struct Stencils {
       r[a] = s;
     }
     return r;
+  }
+  /// The entries of level-block particle k (isLevels(k)) one by one with their 1D factors: level
+  /// by level, x fastest (the rows' order). For the few passes that need the factors themselves
+  /// (a face's force, the multi-rate reach check); kernels walk rows (LevelRows).
+  struct LevelCursor {
+    const LevelBlock<D> *b;
+    std::uint64_t left; // b's nodes not yet visited
+    /// The next entry's slot and 1D factors w[D], g[D]; false after the last.
+    GIMP_ALWAYS_INLINE bool next(PetscInt &slot, double *fw, double *fg) {
+      while (!left) {
+        if (b->last) return false;
+        left = (++b)->mask;
+      }
+      const int bit = __builtin_ctzll(left), i[3] = {bit & 3, (bit >> 2) & 3, bit >> 4};
+      left &= left - 1;
+      slot = b->base;
+      for (int d = 0; d < D; ++d) {
+        fw[d] = b->w[d][i[d]];
+        fg[d] = b->g[d][i[d]];
+        if (d > 0) slot += i[d] * b->stride[d - 1];
+      }
+      slot += i[0];
+      return true;
+    }
+  };
+  LevelCursor levelCursor(PetscInt k) const {
+    const LevelBlock<D> *b = levelBlocks.data() + levelOf[k];
+    return {b, b->mask};
+  }
+  /// f(slot, w, g) with the 1D factors w[D], g[D] of every entry of level-block particle k.
+  template <class F> void forEachLevelEntry(PetscInt k, F &&f) const {
+    PetscInt slot;
+    double fw[D], fg[D];
+    for (LevelCursor c = levelCursor(k); c.next(slot, fw, fg);)
+      f(slot, static_cast<const double *>(fw), static_cast<const double *>(fg));
+  }
+  /// One row (along x) of a level block as the kernels walk it: the slot of its first node, the
+  /// (y, z) factors of the weight (wyz) and of the gradient's y and z components (gy, gz; gz 0
+  /// in 2D), the nodes along x that are entries (bit i), and the x factors.
+  struct LevelRow {
+    PetscInt slot;
+    double wyz, gy, gz;
+    unsigned nodes;
+    const double *w0, *g0;
+  };
+  /// The rows of level-block particle k one by one (rows without entries skipped), block by
+  /// block; a plain loop the lane kernels can inline.
+  struct LevelRows {
+    const LevelBlock<D> *b;
+    int row; // the next row of b: j + 4 q
+    GIMP_ALWAYS_INLINE bool next(LevelRow &r) {
+      for (;;) {
+        const int rows = 4 * (D == 3 ? b->n[D - 1] : 1);
+        for (; row < rows; ++row) {
+          const int j = row & 3, q = row >> 2;
+          if (j >= b->n[1]) continue;
+          const unsigned nodes = static_cast<unsigned>(b->mask >> (4 * row)) & 15u;
+          if (!nodes) continue;
+          r.nodes = nodes;
+          r.w0 = b->w[0];
+          r.g0 = b->g[0];
+          r.slot = b->base + j * b->stride[0];
+          if constexpr (D == 3) {
+            r.slot += q * b->stride[1];
+            r.wyz = b->w[1][j] * b->w[2][q];
+            r.gy = b->g[1][j] * b->w[2][q];
+            r.gz = b->w[1][j] * b->g[2][q];
+          } else {
+            r.wyz = b->w[1][j];
+            r.gy = b->g[1][j];
+            r.gz = 0.0;
+          }
+          ++row;
+          return true;
+        }
+        if (b->last) return false;
+        ++b;
+        row = 0;
+      }
+    }
+  };
+  LevelRows levelRows(PetscInt k) const { return {levelBlocks.data() + levelOf[k], 0}; }
+  /// f(slot, weight, gradient) for node i of row r: the products of a block's (Block::forEach).
+  template <class F> static GIMP_ALWAYS_INLINE void levelNode(const LevelRow &r, int i, F &f) {
+    Vector<D> gr;
+    gr[0] = r.g0[i] * r.wyz;
+    gr[1] = r.w0[i] * r.gy;
+    if constexpr (D == 3) gr[2] = r.w0[i] * r.gz;
+    f(r.slot + i, r.w0[i] * r.wyz, gr);
+  }
+  /// forEach of level-block particle k, out of line (it keeps the kernels' block paths lean).
+  template <class F> __attribute__((noinline)) void forEachLevelNode(PetscInt k, F &f) const {
+    LevelRow r;
+    for (LevelRows rows = levelRows(k); rows.next(r);)
+      for (int i = 0; i < 4; ++i)
+        if ((r.nodes >> i) & 1u) levelNode(r, i, f);
+  }
+  /// Room for `more` level blocks after the first nLevelBlocks (growing by half at least).
+  void reserveLevelBlocks(size_t more) {
+    const size_t want = static_cast<size_t>(nLevelBlocks) + more;
+    if (levelBlocks.size() < want)
+      levelBlocks.resize(std::max(want, levelBlocks.size() + levelBlocks.size() / 2));
   }
   /// True when particle k keeps a 3-node block instead of rows.
   bool isBlock(PetscInt k) const { return compact && blockOf[k] >= 0; }
@@ -247,6 +379,7 @@ template <int D> struct Stencils {
         return forEachNode(b, nn, f);
       }
     if (!isBlock(k)) {
+      if (isLevels(k)) return forEachLevelNode(k, f);
       for (PetscInt e = start[k]; e < start[k + 1]; ++e)
         f(node[e], weight(e), gradient(e));
       return;
