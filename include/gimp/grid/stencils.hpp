@@ -20,7 +20,11 @@
 // then the other. With lanes (2D), aligned groups of four block particles keep their four blocks
 // factor-major in the same room (LaneBlocks, laneGroup); block(k) reads either form.
 //
-// forEach(k, f) calls f(slot, weight, gradient) for every entry of particle k in either form; it
+// Level blocks (3D, compact): a particle that two levels reach, or whose level's nodes are not all
+// regular, keeps one LevelBlock per level (1D factors and a node mask) when each level's entries
+// are a tensor product; others keep rows.
+//
+// forEach(k, f) calls f(slot, weight, gradient) for every entry of particle k in any form; it
 // is the way kernels read stencils. The arrays keep their capacity between steps: only the first
 // start[n] entries are valid.
 #pragma once
