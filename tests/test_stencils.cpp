@@ -31,6 +31,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <map>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -570,6 +571,62 @@ TEST(GridStencils, CrackedBlocksEqualRows) {
   EXPECT_GT(blocks, compared / 20);
   EXPECT_GT(blocksBesideReserve, compared / 50);
   EXPECT_GT(readdressed, compared / 50);
+}
+
+TEST(GridStencils, CrackedNodesServeParticlesUpToH0) {
+  // A particle of half-size up to h0 (the largest a run accepts) whose segment from its centre to
+  // a node of its stencil crosses the crack must find that node with a second field, marked live
+  // for its size: its centre may lie sqrt(2) h0 from the node's support, beyond the crack's
+  // Euclidean reach of h0 that findCrackedNodes used before (near the support's corners).
+  long crossings = 0, missed = 0, particles = 0;
+  for (const Layout &lay : twoLevelLayouts()) {
+    gimp::Scene<2> sc = sceneOf(lay);
+    const BoxOf<2> D = sc.levelBoxes()[0].box;
+    const double h0 = sc.h, W = D[2] - D[0], H = D[3] - D[1];
+    gimp::Crack c; // kinked, its segments at angles to the grid lines
+    c.points = {{D[0] - 0.3 * h0, D[1] + 0.52 * H},
+                {D[0] + 0.31 * W, D[1] + 0.43 * H},
+                {D[0] + 0.47 * W, D[1] + 0.61 * H}};
+    sc.cracks = {c};
+    Grid<2> g;
+    ASSERT_EQ(static_cast<int>(g.create(PETSC_COMM_SELF, h0, sc.levelBoxes(), sc.cracks)), 0);
+    std::mt19937_64 rng(0x6a1dc0de);
+    std::uniform_real_distribution<double> uni(0.0, 1.0);
+    const long np = 4000;
+    std::vector<double> x(2 * np), l(2 * np);
+    double lmax = 0;
+    for (long p = 0; p < np; ++p) // within 2 h0 of the crack's first two segments
+      for (;;) {
+        const double t = uni(rng), s = 4 * uni(rng) - 2;
+        const auto &a = c.points[t < 0.5 ? 0 : 1], &b = c.points[t < 0.5 ? 1 : 2];
+        const double u = t < 0.5 ? 2 * t : 2 * t - 1, dx = b[0] - a[0], dy = b[1] - a[1],
+                     len = std::hypot(dx, dy);
+        x[2 * p] = a[0] + u * dx - s * h0 * dy / len;
+        x[2 * p + 1] = a[1] + u * dy + s * h0 * dx / len;
+        for (int k = 0; k < 2; ++k) {
+          l[2 * p + k] = h0 * (0.55 + 0.449 * uni(rng));
+          lmax = std::max(lmax, l[2 * p + k]);
+        }
+        if (x[2 * p] - l[2 * p] > D[0] && x[2 * p] + l[2 * p] < D[2] &&
+            x[2 * p + 1] - l[2 * p + 1] > D[1] && x[2 * p + 1] + l[2 * p + 1] < D[3])
+          break;
+      }
+    g.markLiveCracks(sc.cracks, g.liveReachFor(lmax));
+    Stencils rows;
+    ASSERT_TRUE(g.buildStencils(np, x.data(), l.data(), rows, false));
+    for (long p = 0; p < np; ++p, ++particles)
+      for (PetscInt e = rows.start[p]; e < rows.start[p + 1]; ++e) {
+        const PetscInt n = rows.node[e];
+        if (gimp::cracks::crossing(c, x[2 * p], x[2 * p + 1], g.X[n], g.Y[n]) == 0) continue;
+        ++crossings;
+        missed += g.crackSlot[n] < 0 || g.liveSlot[n] < 0;
+      }
+  }
+  std::printf("  particles %ld: segments across the crack %ld, to a node without a live second "
+              "field %ld\n",
+              particles, crossings, missed);
+  EXPECT_GT(crossings, particles);
+  EXPECT_EQ(missed, 0);
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -42,7 +42,12 @@ template <int D>
 std::vector<typename Grid<D>::CrackedNode>
 Grid<D>::findCrackedNodes(const std::vector<CrackOf<D>> &cracks) const {
   std::vector<CrackedNode> out;
-  const double reach = this->h0();
+  // A particle (half-size at most h0) whose domain meets a node's support has its centre within
+  // the support widened by h0 along each axis: at most sqrt(D) h0 from the support. The reach of
+  // markLiveCracks for that size, with its allowance for crossing()'s tolerance (span: the
+  // crack's extent along the axes), so that every node it marks live has a second field.
+  const double root = std::sqrt(static_cast<double>(D));
+  const auto reachOf = [&](double span) { return root * this->h0() * (1 + 1e-6) + 1e-6 * span; };
   // Visits the active nodes of level k whose support may meet the box [lo, hi] widened by w,
   // with their support [X - z-, X + z+] along each axis (lows, then highs).
   const auto nodesNear = [&](int k, const double *lo, const double *hi, double w, auto &&visit) {
@@ -72,16 +77,23 @@ Grid<D>::findCrackedNodes(const std::vector<CrackOf<D>> &cracks) const {
   };
   for (int k = 0; k < static_cast<int>(levels.size()); ++k)
     for (const auto *list : {&cracks, &crackReserveSurfaces})
-      for (const CrackOf<D> &c : *list)
+      for (const CrackOf<D> &c : *list) {
+        const std::array<double, 2 * D> b = cracks::bounds<D>(c);
+        double span = 0;
+        for (int a = 0; a < D; ++a)
+          span += b[D + a] - b[a];
+        const double reach = reachOf(span);
         for (const auto &piece : pieces(c)) // nodes whose support, widened by the reach, meets it
           nodesNear(k, piece.data(), piece.data() + D, reach + this->h0(),
                     [&](const Index &i, const double *support) {
                       if (cracks::nearCrack(c, support, reach)) out.push_back({k, i, 0, 0});
                     });
+      }
   // The nodes where a crack may grow: support, widened by the reach, within the disk's radius
   // of its centre.
   for (int k = 0; k < static_cast<int>(levels.size()); ++k)
-    for (const std::array<double, D + 1> &disk : crackReserve)
+    for (const std::array<double, D + 1> &disk : crackReserve) {
+      const double reach = reachOf(2 * D * disk[D]);
       nodesNear(
           k, disk.data(), disk.data(), disk[D] + reach + this->h0(),
           [&](const Index &i, const double *support) {
@@ -92,6 +104,7 @@ Grid<D>::findCrackedNodes(const std::vector<CrackOf<D>> &cracks) const {
             }
             if (std::sqrt(gap2) <= disk[D] + reach) out.push_back({k, i, 0, 0});
           });
+    }
   // Level, then the index with its last axis slowest (the levels' node order).
   const auto key = [](const CrackedNode &a) {
     std::array<std::int64_t, D + 1> r{};
@@ -173,7 +186,7 @@ template <int D> void Grid<D>::markLiveCracks(const std::vector<CrackOf<D>> &cra
   // to the node that crosses a crack puts the crack that near the support. crossing() counts a
   // crack within its tolerance, kCrackTol (1e-9) of the segment's and the crack's sizes, of the
   // segment: a millionth of the reach and of the crack's size covers it. (findCrackedNodes asks
-  // the same of the cracks and the growth reserve, for reach h0.)
+  // the same of the cracks and the growth reserve, for particles up to h0.)
   std::vector<double> near;
   for (const CrackOf<D> &c : cracks) {
     const std::array<double, 2 *D> b = cracks::bounds<D>(c);
