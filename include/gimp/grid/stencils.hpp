@@ -145,7 +145,7 @@ template <int D> struct Stencils {
   PetscInt nLevelBlocks = 0;
   StencilArray<LevelBlock<D>> levelBlocks;
   /// True when particle k keeps level blocks (it has no row entries then).
-  bool isLevels(PetscInt k) const { return !levelOf.empty() && levelOf[k] >= 0; }
+  bool isLevels(PetscInt k) const { return compact && !levelOf.empty() && levelOf[k] >= 0; }
 
   double weight(PetscInt e) const {
     if (general) return sw[e];
