@@ -191,6 +191,11 @@ bool Grid<D>::buildStencils(PetscInt n, const double *x, const double *l, Stenci
   std::vector<Reach> reach(K);
   std::vector<char> reaches(K);
   const bool tryLevels = compact && Stencils<D>::kLevelBlocks;
+  const auto tooLarge = [&](const Reach &r) { // a particle larger than h0
+    for (int a = 0; a < D; ++a)
+      if (r.i1[a] - r.i0[a] >= maxRange) return true;
+    return false;
+  };
   // Aligned groups of four blocks in lanes; a group that is not one goes one by one.
   for (PetscInt k = 0; k < n; ++k) {
     if constexpr (D == 2)
@@ -247,10 +252,7 @@ bool Grid<D>::buildStencils(PetscInt n, const double *x, const double *l, Stenci
       for (int q = 0; q < K && blocks; ++q) {
         if (!reaches[q]) continue;
         const Reach &r = reach[q];
-        bool tooLarge = false; // (a particle larger than h0: the rows' path below says so)
-        for (int a = 0; a < D; ++a)
-          tooLarge = tooLarge || r.i1[a] - r.i0[a] >= maxRange;
-        const int got = tooLarge ? -1
+        const int got = tooLarge(r) ? -1 // (the rows' path below says so)
                         : r.threeNodeBlock
                             ? appendThreeNodeBlock(q, r, xp, lp, s, m, out + made)
                             : appendNodes(q, r, xp, lp, scratch.data(), maxRange, s, m, out + made);
@@ -272,10 +274,7 @@ bool Grid<D>::buildStencils(PetscInt n, const double *x, const double *l, Stenci
         appendThreeNodeBlock(q, r, xp, lp, s, m);
         continue;
       }
-      bool tooLarge = false; // a particle larger than h0
-      for (int a = 0; a < D; ++a)
-        tooLarge = tooLarge || r.i1[a] - r.i0[a] >= maxRange;
-      if (tooLarge) { // the rest keep no entries (the step fails at its check)
+      if (tooLarge(r)) { // the rest keep no entries (the step fails at its check)
         abandonStencils(k, n, m, s);
         return false;
       }

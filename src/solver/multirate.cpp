@@ -114,10 +114,8 @@ template <int D> PetscInt maxSlot(const Grid<D> &g, const Stencils<D> &st, Petsc
       return b.base + 3 * b.stride[0] + 3;
     }
   PetscInt s = -1;
-  if (st.isLevels(k)) {
-    st.forEachLevelEntry(k, [&](PetscInt slot, const double *, const double *) {
-      s = std::max(s, g.slotNode[slot]);
-    });
+  if (st.isLevels(k)) { // (window nodes: a level block holds no cracked node's second slot)
+    st.forEach(k, [&](PetscInt slot, double, const Vector<D> &) { s = std::max(s, slot); });
     return s;
   }
   for (PetscInt e = st.start[k]; e < st.start[k + 1]; ++e)

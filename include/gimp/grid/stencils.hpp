@@ -169,49 +169,17 @@ template <int D> struct Stencils {
     }
     return r;
   }
-  /// The entries of level-block particle k (isLevels(k)) one by one with their 1D factors: level
-  /// by level, x fastest (the rows' order). For the few passes that need the factors themselves
-  /// (a face's force, the multi-rate reach check); kernels walk rows (LevelRows).
-  struct LevelCursor {
-    const LevelBlock<D> *b;
-    std::uint64_t left; // b's nodes not yet visited
-    /// The next entry's slot and 1D factors w[D], g[D]; false after the last.
-    GIMP_ALWAYS_INLINE bool next(PetscInt &slot, double *fw, double *fg) {
-      while (!left) {
-        if (b->last) return false;
-        left = (++b)->mask;
-      }
-      const int bit = __builtin_ctzll(left), i[3] = {bit & 3, (bit >> 2) & 3, bit >> 4};
-      left &= left - 1;
-      slot = b->base;
-      for (int d = 0; d < D; ++d) {
-        fw[d] = b->w[d][i[d]];
-        fg[d] = b->g[d][i[d]];
-        if (d > 0) slot += i[d] * b->stride[d - 1];
-      }
-      slot += i[0];
-      return true;
-    }
-  };
-  LevelCursor levelCursor(PetscInt k) const {
-    const LevelBlock<D> *b = levelBlocks.data() + levelOf[k];
-    return {b, b->mask};
-  }
-  /// f(slot, w, g) with the 1D factors w[D], g[D] of every entry of level-block particle k.
-  template <class F> void forEachLevelEntry(PetscInt k, F &&f) const {
-    PetscInt slot;
-    double fw[D], fg[D];
-    for (LevelCursor c = levelCursor(k); c.next(slot, fw, fg);)
-      f(slot, static_cast<const double *>(fw), static_cast<const double *>(fg));
-  }
   /// One row (along x) of a level block as the kernels walk it: the slot of its first node, the
   /// (y, z) factors of the weight (wyz) and of the gradient's y and z components (gy, gz; gz 0
-  /// in 2D), the nodes along x that are entries (bit i), and the x factors.
+  /// in 2D), the nodes along x that are entries (bit i), the x factors, and the row's block and
+  /// indices j, q along y and z (for a pass that needs each factor: a face's force).
   struct LevelRow {
     PetscInt slot;
     double wyz, gy, gz;
     unsigned nodes;
     const double *w0, *g0;
+    const LevelBlock<D> *block;
+    int j, q;
   };
   /// The rows of level-block particle k one by one (rows without entries skipped), block by
   /// block; a plain loop the lane kernels can inline.
@@ -227,6 +195,7 @@ template <int D> struct Stencils {
           const unsigned nodes = static_cast<unsigned>(b->mask >> (4 * row)) & 15u;
           if (!nodes) continue;
           r.nodes = nodes;
+          r.block = b, r.j = j, r.q = q;
           r.w0 = b->w[0];
           r.g0 = b->g[0];
           r.slot = b->base + j * b->stride[0];

@@ -105,14 +105,21 @@ inline void spreadFaceForce(const Grid<D> &g, const Stencils<D> &st, PetscInt k,
   if (st.isBlock(k)) return block(st.block(k));
   if constexpr (D == 2)
     if (st.isBlock4(k)) return block(st.block4(k));
-  if (st.isLevels(k)) // faceShape's product from the entries' 1D factors
-    return st.forEachLevelEntry(k, [&](PetscInt nd, const double *fw, const double *) {
-      double w = tentAcross(g, nd, a, at);
-      for (int d = 0; d < D; ++d)
-        if (d != a) w *= fw[d];
-      for (int c = 0; c < D; ++c)
-        fe[D * nd + c] += w * force[c];
-    });
+  if (st.isLevels(k)) { // faceShape's product from the entries' 1D factors
+    typename Stencils<D>::LevelRow r;
+    for (auto rows = st.levelRows(k); rows.next(r);)
+      for (int i = 0; i < 4; ++i) {
+        if (!((r.nodes >> i) & 1u)) continue;
+        const PetscInt nd = r.slot + i;
+        const double fw[3] = {r.w0[i], r.block->w[1][r.j], D == 3 ? r.block->w[D - 1][r.q] : 0.0};
+        double w = tentAcross(g, nd, a, at);
+        for (int d = 0; d < D; ++d)
+          if (d != a) w *= fw[d];
+        for (int c = 0; c < D; ++c)
+          fe[D * nd + c] += w * force[c];
+      }
+    return;
+  }
   for (PetscInt e = st.start[k]; e < st.start[k + 1]; ++e) {
     const double w = faceShape(g, st, e, a, n, at);
     for (int c = 0; c < D; ++c)
