@@ -191,6 +191,7 @@ bool Grid<D>::buildStencils(PetscInt n, const double *x, const double *l, Stenci
   std::vector<Reach> reach(K);
   std::vector<char> reaches(K);
   const bool tryLevels = compact && Stencils<D>::kLevelBlocks;
+  if (tryLevels) s.roomForLevelBlocks(static_cast<size_t>(K) * static_cast<size_t>(n));
   const auto tooLarge = [&](const Reach &r) { // a particle larger than h0
     for (int a = 0; a < D; ++a)
       if (r.i1[a] - r.i0[a] >= maxRange) return true;

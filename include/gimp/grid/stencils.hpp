@@ -235,6 +235,14 @@ template <int D> struct Stencils {
         if ((r.nodes >> i) & 1u) levelNode(r, i, f);
   }
   /// Room for `more` level blocks after the first nLevelBlocks (growing by half at least).
+  /// Room for `want` level blocks, reserved before the first is written: untouched room costs
+  /// no resident memory (UninitAllocator), whereas growing the array while it fills would hold
+  /// the old and the new copy at once (the first step's peak).
+  void roomForLevelBlocks(size_t want) {
+    if (levelBlocks.size() >= want) return;
+    StencilArray<LevelBlock<D>>().swap(levelBlocks); // (nothing in it to keep)
+    levelBlocks.resize(want);
+  }
   void reserveLevelBlocks(size_t more) {
     const size_t want = static_cast<size_t>(nLevelBlocks) + more;
     if (levelBlocks.size() < want)
