@@ -282,11 +282,12 @@ int Grid<D>::appendNodes(int q, const Reach &reach, const double *x, const doubl
   auto add = [&](PetscInt nd, const PetscInt *c) {
     const std::uint8_t f = flags_[nd];
     if (!(f & kActive)) return;
-    double w[D], g[D];
-    for (int a = 0; a < D; ++a) {
-      w[a] = rw[a][c[a]];
-      g[a] = rg[a][c[a]];
-    }
+    double w[D], g[D]; // (a level block takes its factors per index below, not per node)
+    if (!block)
+      for (int a = 0; a < D; ++a) {
+        w[a] = rw[a][c[a]];
+        g[a] = rg[a][c[a]];
+      }
     const double *z = nullptr;
     if (f != (kActive | kRegular) || !r.inside) {
       // Outside the box the candidate range is wider than the overlap range.
