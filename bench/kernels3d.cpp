@@ -89,7 +89,7 @@ template <int D> struct Bench {
       });
     }
     const size_t n = m.size();
-    s.assign(D * D * n, 0.0);
+    s.assign(gimp::kStress<D> * n, 0.0);
     B.assign(D * D * n, 0.0);
     L.assign(D * D * n, 0.0);
     const size_t slots = static_cast<size_t>(grid.nSlots);
@@ -135,12 +135,14 @@ template <int D> struct Bench {
     gimp::transfer::velocityGradient<D>(st, n, vg.data(), L.data());
     for (PetscInt k = 0; k < n; ++k) {
       const gimp::Tensor<D> Lk = gimp::tensorAt<D>(L.data(), k);
+      gimp::Tensor<D> sk = gimp::stressAt<D>(s.data(), k);
       if constexpr (D == 2) {
         double szz = 0;
-        gimp::material::jaumannUpdate(mat, Lk, dt, gimp::tensorAt<D>(s.data(), k), szz);
+        gimp::material::jaumannUpdate(mat, Lk, dt, sk, szz);
       } else {
-        gimp::material::jaumannUpdate(mat, Lk, dt, gimp::tensorAt<D>(s.data(), k));
+        gimp::material::jaumannUpdate(mat, Lk, dt, sk);
       }
+      gimp::setStress<D>(s.data(), k, sk);
     }
     return true;
   }

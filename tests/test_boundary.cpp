@@ -96,7 +96,7 @@ struct Particles {
     l.insert(l.end(), {hx, hy});
     l0.insert(l0.end(), {hx, hy});
     F.insert(F.end(), {1.0, 0.0, 0.0, 1.0});
-    s.insert(s.end(), {0.0, 0.0, 0.0, 0.0});
+    s.insert(s.end(), {0.0, 0.0, 0.0}); // (xx, yy, xy)
     szz.push_back(0.0);
     eps.insert(eps.end(), {0.0, 0.0});
     trac.insert(trac.end(), {-1, -1});
@@ -331,9 +331,8 @@ PenaltyResult penalty(const Scene<2> &sc, const Grid<2> &g, Boundary &bd, const 
     P.x[2 * k] = xl + (1.0 + e) * (P.X0[2 * k] - xl) + delta;
     P.F[4 * k] = 1.0 + e;
     P.l[2 * k] = (1.0 + e) * P.l0[2 * k];
-    P.s[4 * k] = stress[0];
-    P.s[4 * k + 1] = P.s[4 * k + 2] = stress[2];
-    P.s[4 * k + 3] = stress[1];
+    for (int c = 0; c < 3; ++c) // (xx, yy, xy: the stored order)
+      P.s[3 * k + c] = stress[c];
   }
   EXPECT_GT(onSide, 0);
   ParticleView<2> p = P.view();

@@ -433,7 +433,7 @@ TEST(Cpdi, RotatedPatchUnderUniformStressIsInEquilibrium) {
   const double u[2] = {a * std::cos(th), a * std::sin(th)}, v[2] = {-u[1], u[0]};
   const int n = 12; // n x n particles, a block of side n a
   std::vector<double> c, xs, ls, V, sig;
-  const double stress[4] = {3.0, 1.25, 1.25, -2.0};
+  const double stress[3] = {3.0, -2.0, 1.25}; // xx, yy, xy (the stored order)
   for (int i = 0; i < n; ++i)
     for (int j = 0; j < n; ++j) {
       static const double si[4] = {0, 1, 1, 0}, sj[4] = {0, 0, 1, 1};
@@ -446,7 +446,7 @@ TEST(Cpdi, RotatedPatchUnderUniformStressIsInEquilibrium) {
       ls.push_back(a / std::sqrt(2.0)); // the corners' axis-aligned box (corner tracking)
       ls.push_back(a / std::sqrt(2.0));
       V.push_back(a * a);
-      sig.insert(sig.end(), stress, stress + 4);
+      sig.insert(sig.end(), stress, stress + 3);
     }
   const PetscInt np = n * n;
   // A node is interior when its support lies inside the block (in the block's frame).

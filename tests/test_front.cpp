@@ -234,10 +234,9 @@ struct Particles {
           V.push_back(h * h * h);
           l.insert(l.end(), {h / 2, h / 2, h / 2});
           for (int a = 0; a < 3; ++a)
-            for (int b = 0; b < 3; ++b) {
+            for (int b = 0; b < 3; ++b)
               F.push_back((a == b ? 1.0 : 0.0) + gg[a][b]);
-              s.push_back(sg[a][b]);
-            }
+          s.insert(s.end(), {sg[0][0], sg[1][1], sg[2][2], sg[1][2], sg[0][2], sg[0][1]});
         }
     view.n = static_cast<PetscInt>(m.size());
     view.x = x.data();

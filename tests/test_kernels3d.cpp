@@ -125,11 +125,11 @@ void patchLayout(const Layout &lay, int n, bool shifted, PatchResult &res) {
   const double s = 2.5e6;
   for (const auto &ab : comps) {
     const int a = ab[0], b = ab[1];
-    std::vector<double> sigma(9 * p.size(), 0.0);
-    for (PetscInt k = 0; k < p.size(); ++k) {
-      sigma[9 * k + 3 * a + b] = s;
-      sigma[9 * k + 3 * b + a] = s;
-    }
+    std::vector<double> sigma(gimp::kStress<D> * p.size(), 0.0);
+    gimp::Tensor<D> t = gimp::Tensor<D>::Zero();
+    t(a, b) = t(b, a) = s;
+    for (PetscInt k = 0; k < p.size(); ++k)
+      gimp::setStress<D>(sigma.data(), k, t);
     std::vector<double> f(D * g.nSlots, 0.0);
     gimp::transfer::internalForce<D>(st, p.size(), p.V.data(), sigma.data(), f.data());
     double fmax = 0;

@@ -169,12 +169,10 @@ std::vector<double> internalForces(const Grid<2> &g, const Particles &p, const S
                                    const std::array<double, 3> &sig) {
   std::vector<double> f(2 * static_cast<size_t>(g.nWindow), 0.0);
   const std::vector<double> stress = [&] {
-    std::vector<double> t(4 * static_cast<size_t>(p.size()));
-    for (PetscInt k = 0; k < p.size(); ++k) {
-      t[4 * k] = sig[0];
-      t[4 * k + 1] = t[4 * k + 2] = sig[2];
-      t[4 * k + 3] = sig[1];
-    }
+    std::vector<double> t(3 * static_cast<size_t>(p.size())); // (xx, yy, xy: the stored order)
+    for (PetscInt k = 0; k < p.size(); ++k)
+      for (int c = 0; c < 3; ++c)
+        t[3 * k + c] = sig[c];
     return t;
   }();
   gimp::transfer::internalForce<2>(s, p.size(), p.V.data(), stress.data(), f.data());

@@ -161,7 +161,7 @@ struct FieldParticles {
         V.push_back(h * h * mat.thickness);
         l.insert(l.end(), {h / 2, h / 2});
         F.insert(F.end(), {1 + hg[0][0], hg[0][1], hg[1][0], 1 + hg[1][1]});
-        s.insert(s.end(), {sg[0][0], sg[0][1], sg[1][0], sg[1][1]});
+        s.insert(s.end(), {sg[0][0], sg[1][1], sg[0][1]}); // (the stored order: xx, yy, xy)
         szz.push_back(mat.planeStrain ? mat.nu * (sg[0][0] + sg[1][1]) : 0.0);
       }
     view.n = static_cast<PetscInt>(m.size());

@@ -40,7 +40,7 @@ struct ParticleState {
 ParticleState stateOf(const Material &m, const ParticleView<3> &p, PetscInt k) {
   ParticleState st;
   st.x = {p.x[3 * k], p.x[3 * k + 1], p.x[3 * k + 2]};
-  st.sg = tensorAt<3>(p.s, k);
+  st.sg = stressAt<3>(p.s, k);
   const Tensor<3> F = tensorAt<3>(p.F, k);
   st.H = F - Tensor<3>::Identity();
   st.V = p.V[k];

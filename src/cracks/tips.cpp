@@ -115,7 +115,7 @@ struct TipState {
 
 TipState tipState(const Material &mat, const ParticleView<2> &p, PetscInt k, const double t[2],
                   const double n[2]) {
-  const auto s = tensorAt<2>(p.s, k);
+  const Tensor<2> s = stressAt<2>(p.s, k);
   const auto F = tensorAt<2>(p.F, k);
   const double H[2][2] = {{F(0, 0) - 1.0, F(0, 1)}, {F(1, 0), F(1, 1) - 1.0}};
   const double Q[2][2] = {{t[0], t[1]}, {n[0], n[1]}};
@@ -419,7 +419,7 @@ PetscErrorCode measureTips(MPI_Comm comm, const Scene<2> &sc, const Grid<2> &g,
       double grad[2];
       // One side's grip on the tip: the n-side particles' internal force on a node at the tip.
       if (across > 0 && pointKernel(p, k, m.tip[0], m.tip[1], h, grad) > 0) {
-        const auto s = tensorAt<2>(p.s, k);
+        const Tensor<2> s = stressAt<2>(p.s, k);
         for (int c = 0; c < 2; ++c)
           r[kForce + c] -= p.V[k] * (s(c, 0) * grad[0] + s(c, 1) * grad[1]);
       }

@@ -12,11 +12,11 @@ namespace {
 
 /// The strain energy of particle k (2D: with the out-of-plane stress).
 double strainEnergyOf(const Scene<2> &sc, const ParticleView<2> &p, PetscInt k) {
-  return material::strainEnergy(sc.materialOf(p.id[k]), tensorAt<2>(p.s, k), p.szz[k],
+  return material::strainEnergy(sc.materialOf(p.id[k]), stressAt<2>(p.s, k), p.szz[k],
                                 tensorAt<2>(p.F, k), p.V0[k], p.V[k]);
 }
 double strainEnergyOf(const Scene<3> &sc, const ParticleView<3> &p, PetscInt k) {
-  return material::strainEnergy(sc.materialOf(p.id[k]), Tensor<3>(tensorAt<3>(p.s, k)),
+  return material::strainEnergy(sc.materialOf(p.id[k]), stressAt<3>(p.s, k),
                                 Tensor<3>(tensorAt<3>(p.F, k)), p.V0[k], p.V[k]);
 }
 

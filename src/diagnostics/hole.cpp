@@ -147,7 +147,7 @@ PetscErrorCode holeMeasure(MPI_Comm comm, const Scene<D> &sc, DM sw, HoleMeasure
     const double dx = p.x[D * k] - cx, dy = p.x[D * k + 1] - cy, d = std::hypot(dx, dy);
     if (beyondFits<D>(p, k, d, r) || !layers.holds(p, k)) continue; // the fits' particles
     const double c = dx / d, s = dy / d;
-    const auto sg = tensorAt<D>(p.s, k);
+    const Tensor<D> sg = stressAt<D>(p.s, k);
     const double hoop = sg(0, 0) * s * s - 2.0 * sg(0, 1) * s * c + sg(1, 1) * c * c;
     loc.insert(loc.end(),
                {std::atan2(dy, dx), d, hoop / pload, std::max(p.l[D * k], p.l[D * k + 1])});

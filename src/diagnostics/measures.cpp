@@ -23,12 +23,12 @@ template <> const std::vector<const char *> &stressComponents<3>() {
 }
 
 template <> void stressOf<2>(const ParticleView<2> &p, PetscInt k, double *out) {
-  const auto s = tensorAt<2>(p.s, k);
+  const Tensor<2> s = stressAt<2>(p.s, k);
   const double v[4] = {s(0, 0), s(1, 1), s(0, 1), p.szz[k]};
   std::copy(v, v + 4, out);
 }
 template <> void stressOf<3>(const ParticleView<3> &p, PetscInt k, double *out) {
-  const auto s = tensorAt<3>(p.s, k);
+  const Tensor<3> s = stressAt<3>(p.s, k);
   const double v[6] = {s(0, 0), s(1, 1), s(2, 2), s(1, 2), s(0, 2), s(0, 1)};
   std::copy(v, v + 6, out);
 }

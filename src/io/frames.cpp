@@ -8,6 +8,10 @@
 
 #include <cerrno>
 #include <cstring>
+#include <new>
+#include <vector>
+
+#include <sys/mman.h>
 
 namespace gimp {
 
@@ -21,6 +25,28 @@ template <int D> std::vector<const FieldSpec<D> *> writtenFields(const Scene<D> 
     if (f.written && optional.has(f.need)) out.push_back(&f);
   return out;
 }
+
+/// Room for n doubles mapped for one write and unmapped after it, so that it is resident only
+/// while it is used (a heap block that large can keep its pages for the rest of the run).
+class MappedRoom {
+public:
+  explicit MappedRoom(size_t n) : bytes_(n * sizeof(double)) {
+    if (!bytes_) return;
+    void *p = mmap(nullptr, bytes_, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+    if (p == MAP_FAILED) throw std::bad_alloc();
+    p_ = static_cast<double *>(p);
+  }
+  MappedRoom(const MappedRoom &) = delete;
+  MappedRoom &operator=(const MappedRoom &) = delete;
+  ~MappedRoom() {
+    if (p_) (void)munmap(p_, bytes_);
+  }
+  double *data() { return p_; }
+
+private:
+  size_t bytes_;
+  double *p_ = nullptr;
+};
 
 /// XDMF's attribute type of a particle field of c components.
 template <int D> const char *attributeType(PetscInt c) {
@@ -65,7 +91,7 @@ template <int D> long double Output<D>::frameBytes(PetscInt64 particles) const {
   // The data of one frame, twice over for HDF5's chunks and headers, and 1 MB of metadata.
   long double components = 0, nodes = 0;
   for (const FieldSpec<D> *fs : writtenFields(sc_))
-    components += fs->components;
+    components += fs->writtenComponents();
   for (const Level<D> &L : grid_.levels) {
     long double m = 1;
     for (int a = 0; a < D; ++a)
@@ -101,9 +127,16 @@ PetscErrorCode Output<D>::writeParticleFrame(PetscViewer v, const std::string &g
     // A plain MPI Vec over the field array: written as an (N, components) dataset.
     PetscScalar *data = nullptr;
     Vec f;
-    const PetscInt bs = fs->components;
+    const PetscInt bs = fs->writtenComponents();
     PetscCall(DMSwarmGetField(sw, fs->name, nullptr, nullptr, reinterpret_cast<void **>(&data)));
-    PetscCall(VecCreateMPIWithArray(comm_, bs, bs * nloc, PETSC_DECIDE, data, &f));
+    const PetscScalar *from = data;
+    MappedRoom full(fs->symmetric ? static_cast<size_t>(D * D) * static_cast<size_t>(nloc) : 0);
+    if (fs->symmetric) { // (the stress as full D x D tensors)
+      for (PetscInt k = 0; k < nloc; ++k)
+        tensorAt<D>(full.data(), k) = stressAt<D>(data, k);
+      from = full.data();
+    }
+    PetscCall(VecCreateMPIWithArray(comm_, bs, bs * nloc, PETSC_DECIDE, from, &f));
     PetscCall(PetscObjectSetName(reinterpret_cast<PetscObject>(f), fs->name));
     const PetscErrorCode ierr = VecView(f, v);
     PetscCall(VecDestroy(&f));
@@ -176,14 +209,13 @@ template <int D> void Output<D>::writeParticleXdmf(FILE *fp) const {
                  g.c_str(), fr.t, fr.particles, D == 2 ? "XY" : "XYZ", fr.particles, D, g.c_str());
     for (const FieldSpec<D> *fs : writtenFields(sc_)) {
       if (std::string(fs->name) == "x") continue;
-      const std::string dims =
-          fs->components == 1 ? "" : " " + std::to_string(static_cast<int>(fs->components));
+      const PetscInt c = fs->writtenComponents();
+      const std::string dims = c == 1 ? "" : " " + std::to_string(static_cast<int>(c));
       std::fprintf(fp,
                    "  <Attribute Name=\"%s\" AttributeType=\"%s\" Center=\"Node\"><DataItem "
                    "Dimensions=\"%lld%s\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">"
                    "fields.h5:/particles/%s/%s</DataItem></Attribute>\n",
-                   fs->name, attributeType<D>(fs->components), fr.particles, dims.c_str(),
-                   g.c_str(), fs->name);
+                   fs->name, attributeType<D>(c), fr.particles, dims.c_str(), g.c_str(), fs->name);
     }
     std::fprintf(fp, " </Grid>\n");
   }

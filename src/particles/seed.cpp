@@ -292,8 +292,8 @@ PetscErrorCode seedParticles<2>(const Scene<2> &sc, const Grid<2> &g, DM sw,
     }
     p.F[4 * k] = p.F[4 * k + 3] = 1.0;
     p.F[4 * k + 1] = p.F[4 * k + 2] = 0.0;
-    for (int c = 0; c < 4; ++c)
-      p.s[4 * k + c] = 0.0;
+    for (int c = 0; c < kStress<2>; ++c)
+      p.s[kStress<2> * k + c] = 0.0;
     p.szz[k] = 0.0;
     if (p.eps) p.eps[2 * k] = p.eps[2 * k + 1] = 0.0;
     if (p.us) p.us[2 * k] = p.us[2 * k + 1] = 0.0;

@@ -386,9 +386,10 @@ PetscErrorCode seedParticles<3>(const Scene<3> &sc, const Grid<3> &grid, DM sw,
     p.V0[k] = p.V[k] = s.V;
     for (int i = 0; i < 9; ++i) {
       p.F[9 * k + i] = i % 4 == 0 ? 1.0 : 0.0;
-      p.s[9 * k + i] = 0.0;
       if (p.B) p.B[9 * k + i] = 0.0;
     }
+    for (int i = 0; i < kStress<3>; ++i)
+      p.s[kStress<3> * k + i] = 0.0;
     if (p.hasCorners)
       for (int q = 0; q < 8; ++q)
         for (int a = 0; a < 3; ++a)

@@ -308,7 +308,7 @@ template <int D>
 void mergeInto(const std::vector<PetscInt> &g, PetscInt keep, const std::array<int, D> &r,
                ParticleView<D> &p) {
   double m = 0, V = 0, V0 = 0, x[D] = {}, X0[D] = {}, v[D] = {}, l[D] = {}, F[D * D] = {},
-         S[D * D] = {}, szz = 0, eps[D] = {}, B[D * D] = {}, us[D] = {};
+         S[kStress<D>] = {}, szz = 0, eps[D] = {}, B[D * D] = {}, us[D] = {};
   for (PetscInt k : g) {
     const double mk = p.m[k], Vk = p.V[k];
     m += mk;
@@ -324,9 +324,10 @@ void mergeInto(const std::vector<PetscInt> &g, PetscInt keep, const std::array<i
     }
     for (int q = 0; q < D * D; ++q) {
       F[q] += mk * p.F[D * D * k + q];
-      S[q] += Vk * p.s[D * D * k + q];
       if (p.B) B[q] += mk * p.B[D * D * k + q];
     }
+    for (int q = 0; q < kStress<D>; ++q)
+      S[q] += Vk * p.s[kStress<D> * k + q];
     if (p.szz) szz += Vk * p.szz[k];
   }
   for (int a = 0; a < D; ++a) {
@@ -380,9 +381,10 @@ void mergeInto(const std::vector<PetscInt> &g, PetscInt keep, const std::array<i
     }
   for (int q = 0; q < D * D; ++q) {
     p.F[D * D * keep + q] = F[q] / m;
-    p.s[D * D * keep + q] = S[q] / V;
     if (p.B) p.B[D * D * keep + q] = B[q] / m;
   }
+  for (int q = 0; q < kStress<D>; ++q)
+    p.s[kStress<D> * keep + q] = S[q] / V;
   if (p.szz) p.szz[keep] = szz / V;
 }
 

@@ -236,7 +236,7 @@ void Boundary<D>::penaltyForces(const Scene<D> &sc, const Grid<D> &g, const Sten
       const DisplacementBC<D> &d = sc.dbcs[q];
       const double n = d.normal();
       const ParticleFace<D> E = penaltyFace(sc, p, k, a, n);
-      const auto sg = tensorAt<D>(p.s, k);
+      const Tensor<D> sg = stressAt<D>(p.s, k);
       const double alpha = alpha_ * d.penaltyScale;
       double force[D] = {};
       for (int c = 0; c < D; ++c) {
@@ -280,7 +280,7 @@ void Boundary<D>::penaltyIncrement(const Scene<D> &sc, const Grid<D> &g, const S
       double force[D] = {};
       for (int c = 0; c < D; ++c) {
         if (!d.fix[c]) continue;
-        const double traction = ds && sc.penaltyTraction ? ds[D * D * k + D * c + a] * n : 0.0;
+        const double traction = ds && sc.penaltyTraction ? stressAt<D>(ds, k)(c, a) * n : 0.0;
         force[c] = (traction - alpha * dU[c]) * E.area;
       }
       spreadFaceForce(g, st, k, a, n, E.at, force, fe);

@@ -21,10 +21,12 @@ void updateDeformation<2>(const Scene<2> &sc, ParticleView<2> &p, const double *
     simd::store(Fk, n0);
     simd::store(Fk + 2, n1);
     p.V[k] = (n0[0] * n1[1] - n0[1] * n1[0]) * p.V0[k];
+    Tensor<2> s = stressAt<2>(p.s, k);
     if (mat.model == MaterialModel::Linear)
-      material::jaumannUpdate(mat, Lk, dt, tensorAt<2>(p.s, k), p.szz[k]);
+      material::jaumannUpdate(mat, Lk, dt, s, p.szz[k]);
     else
-      material::neoHookeanStress(mat, tensorAt<2>(p.F, k), tensorAt<2>(p.s, k), p.szz[k]);
+      material::neoHookeanStress(mat, tensorAt<2>(p.F, k), s, p.szz[k]);
+    setStress<2>(p.s, k, s);
     tracking::updateDomain(sc, p, k, Lk, dt);
   }
 }
@@ -38,10 +40,12 @@ void updateDeformation<3>(const Scene<3> &sc, ParticleView<3> &p, const double *
     auto F = tensorAt<3>(p.F, k);
     F += dt * product<3>(Lk, F);
     p.V[k] = determinant<3>(F) * p.V0[k];
+    Tensor<3> s = stressAt<3>(p.s, k);
     if (mat.model == MaterialModel::Linear)
-      material::jaumannUpdate(mat, Lk, dt, tensorAt<3>(p.s, k));
+      material::jaumannUpdate(mat, Lk, dt, s);
     else
-      material::neoHookeanStress(mat, Tensor<3>(F), tensorAt<3>(p.s, k));
+      material::neoHookeanStress(mat, Tensor<3>(F), s);
+    setStress<3>(p.s, k, s);
     tracking::updateDomain<3>(sc, p, k, Lk, dt);
   }
 }

@@ -32,16 +32,17 @@ PetscInt firstBadPlane(const RunState<2> &s, const ParticleView<2> &p, PetscInt 
   if (s.lanes) {
     const double lo2[2] = {lo[0], lo[1]}, hi2[2] = {hi[0], hi[1]};
     const PetscInt first = k0;
-    k0 += transfer::laneLoops::checkParticles(k1 - k0, p.x + 2 * k0, p.l + 2 * k0, p.s + 4 * k0,
-                                              p.V + k0, lo2, hi2, h0, box, box + 2, s.size > 1, bad,
-                                              leaving);
+    k0 += transfer::laneLoops::checkParticles(k1 - k0, p.x + 2 * k0, p.l + 2 * k0,
+                                              p.s + kStress<2> * k0, p.V + k0, lo2, hi2, h0, box,
+                                              box + 2, s.size > 1, bad, leaving);
     if (bad >= 0) bad += first;
   }
   for (PetscInt k = k0; k < k1; ++k) {
     const Pair X = simd::load(p.x + 2 * k), l = simd::load(p.l + 2 * k);
     if (s.size > 1) leaving += !(simd::bothLe(own0, X) && simd::bothLt(X, own1));
     if (bad >= 0) continue;
-    const double sum = p.s[4 * k] + p.s[4 * k + 3] + p.s[4 * k + 1];
+    const double *sk = p.s + kStress<2> * k;
+    const double sum = sk[0] + sk[1] + sk[2];
     // NaN fails every comparison: the test is written so that it lands in the bad branch.
     const bool ok = std::isfinite(X[0] + X[1] + sum) && p.V[k] > 0 && simd::bothLe(lo, X - l) &&
                     simd::bothLe(X + l, hi) && simd::bothLt(zero, l) && simd::bothLe(l, hmax);
@@ -65,17 +66,17 @@ PetscInt firstBadSolid(const RunState<3> &s, const ParticleView<3> &p, PetscInt 
   if (s.lanes) { // (the lanes test every particle, x, y and z at once)
     const PetscInt first = k0;
     k0 += transfer::laneLoops::checkParticles(k1 - k0, p.x + 3 * k0, p.l + 3 * k0, p.v + 3 * k0,
-                                              p.s + 9 * k0, p.V + k0, lo, hi, h0, box, box + 3, bad,
-                                              leaving);
+                                              p.s + kStress<3> * k0, p.V + k0, lo, hi, h0, box,
+                                              box + 3, bad, leaving);
     if (bad >= 0) bad += first;
   }
   // Without branches: z is 0 when the stress entries and each x_a + v_a are finite, NaN
   // otherwise (a non-finite value times 0 is NaN); NaN fails every comparison, so a particle
   // with one lands in the bad branch.
   for (PetscInt k = k0; k < k1; ++k) {
-    const double *x = p.x + 3 * k, *l = p.l + 3 * k, *v = p.v + 3 * k, *sk = p.s + 9 * k;
+    const double *x = p.x + 3 * k, *l = p.l + 3 * k, *v = p.v + 3 * k, *sk = p.s + kStress<3> * k;
     double z = 0.0;
-    for (int e = 0; e < 9; ++e)
+    for (int e = 0; e < kStress<3>; ++e)
       z += sk[e] * 0.0;
     bool mine = true, ok = p.V[k] > 0 && p.V[k] <= DBL_MAX;
     for (int a = 0; a < 3; ++a) {
@@ -138,7 +139,7 @@ std::string Step<D>::failureOf(const ParticleView<D> &p, PetscInt k, PetscInt st
                                double t) const {
   const double *x = p.x + D * k, *l = p.l + D * k, *d = s_.sc.domain.data();
   const double margin = 1e-8 * s_.grid.h0();
-  bool finite = tensorAt<D>(p.s, k).allFinite(), inside = true, in = true;
+  bool finite = stressAt<D>(p.s, k).allFinite(), inside = true, in = true;
   for (int a = 0; a < D; ++a) {
     finite = finite && std::isfinite(x[a]);
     inside = inside && x[a] - l[a] >= d[a] - margin && x[a] + l[a] <= d[D + a] + margin;

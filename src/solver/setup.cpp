@@ -1,4 +1,5 @@
 // Setting up a run: scene, grid, particles, nodal vectors, time stepper, boundary terms, output.
+#include "gimp/core/memory.hpp"
 #include "gimp/input/problem_size.hpp"
 #include "gimp/input/validate.hpp"
 #include "gimp/io/paths.hpp"
@@ -35,10 +36,14 @@ template <int D> ItemBytes itemBytes(const Scene<D> &sc) {
 
 /// The 2D neo-Hookean stress of the seeded F (with the out-of-plane stress).
 void neoHookeanOf(const Material &mat, ParticleView<2> &p, PetscInt k) {
-  material::neoHookeanStress(mat, tensorAt<2>(p.F, k), tensorAt<2>(p.s, k), p.szz[k]);
+  Tensor<2> s;
+  material::neoHookeanStress(mat, tensorAt<2>(p.F, k), s, p.szz[k]);
+  setStress<2>(p.s, k, s);
 }
 void neoHookeanOf(const Material &mat, ParticleView<3> &p, PetscInt k) {
-  material::neoHookeanStress(mat, Tensor<3>(tensorAt<3>(p.F, k)), tensorAt<3>(p.s, k));
+  Tensor<3> s;
+  material::neoHookeanStress(mat, Tensor<3>(tensorAt<3>(p.F, k)), s);
+  setStress<3>(p.s, k, s);
 }
 
 /// The paths the run writes and the files it reads.
@@ -126,6 +131,7 @@ template <int D> PetscErrorCode Solver<D>::setupInStage(PetscLogDouble wall0) {
   PetscCall(reporter_.setup(wall0, [this] {
     s_.st.release();
     if (multirate_) multirate_->releaseStencils();
+    returnFreeMemory();
   }));
   PetscCall(petscOneLine([this] { return createTimeStepper(); }, "ts_"));
   PetscReal dt = 0;

@@ -28,14 +28,14 @@ namespace {
 /// The linear tangent of the material at zero stress, into ds (Hooke with lambda*, mu; the
 /// small-strain tangent for neo-Hookean): the Jaumann update of a zero stress over dt = 1.
 template <int D> void tangentStress(const Material &m, const double *L, double *ds) {
-  auto dsk = tensorAt<D>(ds, 0);
-  dsk.setZero();
+  Tensor<D> dsk = Tensor<D>::Zero();
   if constexpr (D == 2) {
     double szz = 0;
     material::jaumannUpdate(m, tensorAt<2>(L, 0), 1.0, dsk, szz);
   } else {
     material::jaumannUpdate(m, Tensor<3>(tensorAt<3>(L, 0)), 1.0, dsk);
   }
+  setStress<D>(ds, 0, dsk);
 }
 
 /// The shell matrix's context: the input and the work vectors of one application.
@@ -99,7 +99,8 @@ template <int D> PetscErrorCode applyOperator(Mat A, Vec x, Vec y) {
   transfer::velocityGradient<D>(*in.st, p.n, u, s->L.data());
   PetscCall(VecRestoreArrayRead(s->uW, &u));
   for (PetscInt k = 0; k < p.n; ++k) // the linear tangent: Hooke from zero stress
-    tangentStress<D>(in.sc->materialOf(p.id[k]), s->L.data() + D * D * k, s->ds.data() + D * D * k);
+    tangentStress<D>(in.sc->materialOf(p.id[k]), s->L.data() + D * D * k,
+                     s->ds.data() + kStress<D> * k);
   PetscCall(VecZeroEntries(s->fW));
   PetscCall(VecGetArray(s->fW, &f));
   transfer::internalForce<D>(*in.st, p.n, p.V, s->ds.data(), f);
@@ -192,7 +193,7 @@ PetscErrorCode estimate(MPI_Comm comm, const OperatorInput<D> &in, bool smallest
   s.in = in;
   const size_t n = static_cast<size_t>(in.p->n);
   s.L.assign(D * D * n, 0.0);
-  s.ds.assign(D * D * n, 0.0);
+  s.ds.assign(kStress<D> * n, 0.0);
   s.vp.assign(D * n, 0.0);
   s.xp.assign(D * n, 0.0);
   if (in.centres) {

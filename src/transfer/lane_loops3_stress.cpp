@@ -26,6 +26,23 @@ GIMP_LANES_INLINE void loadTensors4(const double *a, V4 *c) {
                      _mm256_loadu_pd(a + 18 + 4 * h), _mm256_loadu_pd(a + 27 + 4 * h), c + 4 * h);
   c[8] = _mm256_set_pd(a[35], a[26], a[17], a[8]);
 }
+/// Voigt entry e of the four symmetric stresses at a (kStress<3> = 6 entries each, 24 doubles)
+/// in lanes, and back: entries 0-3 by a 4 x 4 transpose, 4 and 5 as pairs.
+GIMP_LANES_INLINE void loadStress4(const double *a, V4 *c) {
+  lanes::transpose(_mm256_loadu_pd(a), _mm256_loadu_pd(a + 6), _mm256_loadu_pd(a + 12),
+                   _mm256_loadu_pd(a + 18), c);
+  const V4 u = _mm256_loadu2_m128d(a + 16, a + 4), w = _mm256_loadu2_m128d(a + 22, a + 10);
+  c[4] = _mm256_unpacklo_pd(u, w);
+  c[5] = _mm256_unpackhi_pd(u, w);
+}
+GIMP_LANES_INLINE void storeStress4(double *a, const V4 *c) {
+  V4 r[4];
+  lanes::transpose(c[0], c[1], c[2], c[3], r);
+  for (int q = 0; q < 4; ++q)
+    _mm256_storeu_pd(a + 6 * q, r[q]);
+  _mm256_storeu2_m128d(a + 16, a + 4, _mm256_unpacklo_pd(c[4], c[5]));
+  _mm256_storeu2_m128d(a + 22, a + 10, _mm256_unpackhi_pd(c[4], c[5]));
+}
 GIMP_LANES_INLINE void storeTensors4(double *a, const V4 *c) {
   V4 r[4];
   for (int h = 0; h < 2; ++h) {
@@ -54,7 +71,7 @@ GIMP_LANES_INLINE void storeComponent4(double *p, int a, V4 v) {
 GIMP_LANES void internalForce(const Stencils<3> &st, PetscInt n, const double *V,
                               const double *stress, double *f) {
   for (PetscInt k = 0; k < n; ++k) {
-    const Tensor<3> A = -V[k] * tensorAt<3>(stress, k);
+    const Tensor<3> A = -V[k] * stressAt<3>(stress, k);
     const V4 Ax = column(A, 0), Ay = column(A, 1), Az = column(A, 2);
     if (!st.isBlock(k)) {
       forRows(st, k, [&](PetscInt nd, double, const Vector<3> &gr) GIMP_LANES_LAMBDA {
@@ -130,7 +147,7 @@ GIMP_LANES void updateDeformation(const Scene<3> &sc, ParticleView<3> &p, const 
       ++k;
       continue;
     }
-    V4 Lk[9], F[9], Fn[9], S[9];
+    V4 Lk[9], F[9], Fn[9], S[6];
     loadTensors4(L + 9 * (k - k0), Lk);
     loadTensors4(p.F + 9 * k, F);
     // physics::updateDeformation<3>: F += dt product<3>(L, F), entry (i, j) summed over m in order
@@ -145,9 +162,9 @@ GIMP_LANES void updateDeformation(const Scene<3> &sc, ParticleView<3> &p, const 
                    Fn[2] * (Fn[3] * Fn[7] - Fn[4] * Fn[6]);
     _mm256_storeu_pd(p.V + k, det * _mm256_loadu_pd(p.V0 + k));
     // material::jaumannUpdate (3D): the spin a, b, c and the six new entries in closed form
-    loadTensors4(p.s + 9 * k, S);
+    loadStress4(p.s + kStress<3> * k, S); // (Voigt: xx, yy, zz, yz, xz, xy)
     const V4 a = HALF * (Lk[1] - Lk[3]), b = HALF * (Lk[2] - Lk[6]), c = HALF * (Lk[5] - Lk[7]);
-    const V4 s00 = S[0], s11 = S[4], s22 = S[8], s01 = S[1], s02 = S[2], s12 = S[5];
+    const V4 s00 = S[0], s11 = S[1], s22 = S[2], s01 = S[5], s02 = S[4], s12 = S[3];
     const V4 lt = splat(mat.lambda) * (Lk[0] + Lk[4] + Lk[8]), mu2 = splat(2.0 * mat.mu),
              mu = splat(mat.mu);
     const V4 n00 = lt + mu2 * Lk[0] + TWO * (a * s01 + b * s02);
@@ -157,12 +174,12 @@ GIMP_LANES void updateDeformation(const Scene<3> &sc, ParticleView<3> &p, const 
     const V4 n02 = mu * (Lk[2] + Lk[6]) + b * (s22 - s00) + a * s12 - c * s01;
     const V4 n12 = mu * (Lk[5] + Lk[7]) + c * (s22 - s11) - a * s02 - b * s01;
     S[0] = s00 + DT * n00;
-    S[4] = s11 + DT * n11;
-    S[8] = s22 + DT * n22;
-    S[1] = S[3] = s01 + DT * n01;
-    S[2] = S[6] = s02 + DT * n02;
-    S[5] = S[7] = s12 + DT * n12;
-    storeTensors4(p.s + 9 * k, S);
+    S[1] = s11 + DT * n11;
+    S[2] = s22 + DT * n22;
+    S[3] = s12 + DT * n12;
+    S[4] = s02 + DT * n02;
+    S[5] = s01 + DT * n01;
+    storeStress4(p.s + kStress<3> * k, S);
     if (stretch) // tracking::updateDomain: l_a = |F e_a| l0_a (Eigen's norm: x0^2 + (x1^2 + x2^2))
       for (int ax = 0; ax < 3; ++ax) {
         const V4 x0 = Fn[ax], x1 = Fn[3 + ax], x2 = Fn[6 + ax];
@@ -186,9 +203,9 @@ GIMP_LANES PetscInt checkParticles(PetscInt n, const double *x, const double *l,
     const V4 X = load3(x + 3 * k), L = load3(l + 3 * k);
     // 0 where the stress entries and each x_a + v_a are finite, NaN otherwise (NaN fails every
     // comparison)
-    const double *sk = s + 9 * k;
+    const double *sk = s + kStress<3> * k;
     const V4 Z = (X + load3(v + 3 * k)) * zero + _mm256_loadu_pd(sk) * zero +
-                 _mm256_loadu_pd(sk + 4) * zero + splat(sk[8] * 0.0);
+                 splat(sk[4] * 0.0 + sk[5] * 0.0);
     const V4 mine =
         _mm256_and_pd(_mm256_cmp_pd(X, O0, _CMP_GE_OQ), _mm256_cmp_pd(X, O1, _CMP_LT_OQ));
     leaving += (_mm256_movemask_pd(mine) & 7) != 7;

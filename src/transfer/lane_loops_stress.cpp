@@ -23,11 +23,11 @@ namespace gimp::transfer::laneLoops {
 GIMP_LANES void internalForce(const Stencils<2> &st, PetscInt n, const double *V,
                               const double *stress, double *f) {
   const auto lane = [&](PetscInt k, std::uint8_t group) GIMP_LANES_LAMBDA {
-    prefetch::fields(k, n, Field<4>{stress}, Field<1>{V});
+    prefetch::fields(k, n, Field<kStress<2>>{stress}, Field<1>{V});
     Run R;
     loadRun<true>(st, k, group, R);
     V4 S[4];
-    loadTensors(stress, k, S);
+    loadStress(stress, k, S);
     const V4 nV = _mm256_xor_pd(_mm256_loadu_pd(V + k), splat(-0.0));
     const V4 A00 = nV * S[0], A01 = nV * S[1], A10 = nV * S[2], A11 = nV * S[3];
     // blocks::internalForce: f_ij += g_i (A0 w_j) + w_i (A1 g_j), A0 = (A00, A10), A1 = (A01, A11)
@@ -97,7 +97,7 @@ GIMP_LANES void updateDeformation(const Scene<2> &sc, ParticleView<2> &p, const 
       ++k;
       continue;
     }
-    prefetch::fields(k, p.n, Field<4>{p.F}, Field<4>{p.s}, Field<1>{p.V}, Field<1>{p.V0});
+    prefetch::fields(k, p.n, Field<4>{p.F}, Field<kStress<2>>{p.s}, Field<1>{p.V}, Field<1>{p.V0});
     if (mat.planeStrain) prefetch::fields(k, p.n, Field<1>{p.szz});
     if (stretch) prefetch::fields(k, p.n, Field<2>{p.l0}, Field<2>{p.l});
     V4 Lk[4], F[4], S[4];
@@ -114,13 +114,13 @@ GIMP_LANES void updateDeformation(const Scene<2> &sc, ParticleView<2> &p, const 
              D10 = HALF * (Lk[2] + Lk[1]), D11 = HALF * (Lk[3] + Lk[3]);
     const V4 w = HALF * (Lk[1] - Lk[2]);
     const V4 tr = D00 + D11;
-    loadTensors(p.s, k, S);
+    loadStress(p.s, k, S);
     const V4 a = TWO * w * S[1], b = w * (S[3] - S[0]), c = MTWO * w * S[1];
     const V4 lt = splat(mat.lambdaStar) * tr, mu2 = splat(2.0 * mat.mu);
     const V4 Sn[4] = {
         S[0] + DT * (lt * ONE + mu2 * D00 + a), S[1] + DT * (lt * ZERO + mu2 * D01 + b),
         S[2] + DT * (lt * ZERO + mu2 * D10 + b), S[3] + DT * (lt * ONE + mu2 * D11 + c)};
-    storeTensors(p.s, k, Sn);
+    storeStress(p.s, k, Sn);
     if (mat.planeStrain)
       _mm256_storeu_pd(p.szz + k, _mm256_loadu_pd(p.szz + k) + DT * splat(mat.lambda) * tr);
     if (stretch) { // tracking::updateDomain: l_a = |F e_a| l0_a
@@ -144,7 +144,7 @@ GIMP_LANES PetscInt checkParticles(PetscInt n, const double *x, const double *l,
            o0x = splat(own0[0]), o0y = splat(own0[1]), o1x = splat(own1[0]), o1y = splat(own1[1]);
   bad = -1;
   for (PetscInt k = 0; k < n4; k += 4) {
-    prefetch::fields(k, n, Field<2>{x}, Field<2>{l}, Field<4>{s}, Field<1>{V});
+    prefetch::fields(k, n, Field<2>{x}, Field<2>{l}, Field<kStress<2>>{s}, Field<1>{V});
     V4 X, Y, LX, LY, S[4];
     loadVectors(x, k, X, Y);
     if (count) { // !(own0 <= x && x < own1), both axes
@@ -155,7 +155,7 @@ GIMP_LANES PetscInt checkParticles(PetscInt n, const double *x, const double *l,
     }
     if (bad >= 0) continue;
     loadVectors(l, k, LX, LY);
-    loadTensors(s, k, S);
+    loadStress(s, k, S);
     const V4 sum = X + Y + (S[0] + S[3] + S[1]);
     V4 ok = _mm256_cmp_pd(_mm256_andnot_pd(sign, sum), inf, _CMP_LT_OQ); // finite
     ok = _mm256_and_pd(ok, _mm256_cmp_pd(_mm256_loadu_pd(V + k), zero, _CMP_GT_OQ));

@@ -44,6 +44,25 @@ GIMP_LANES_INLINE void storeTensors(double *a, PetscInt k, const V4 *c) {
     _mm256_storeu_pd(p + 4 * q, r[q]);
 }
 
+/// The four symmetric stresses at a + 3 k .. (kStress<2> entries each: xx, yy, xy) as the entries
+/// xx, xy, yx, yy of loadTensors, and back (xy from c[1]).
+GIMP_LANES_INLINE void loadStress(const double *a, PetscInt k, V4 *c) {
+  const double *p = a + 3 * k;
+  c[0] = _mm256_set_pd(p[9], p[6], p[3], p[0]);
+  c[3] = _mm256_set_pd(p[10], p[7], p[4], p[1]);
+  c[1] = c[2] = _mm256_set_pd(p[11], p[8], p[5], p[2]);
+}
+GIMP_LANES_INLINE void storeStress(double *a, PetscInt k, const V4 *c) {
+  alignas(32) double t[3][4];
+  _mm256_store_pd(t[0], c[0]);
+  _mm256_store_pd(t[1], c[3]);
+  _mm256_store_pd(t[2], c[1]);
+  double *p = a + 3 * k;
+  for (int q = 0; q < 4; ++q)
+    for (int e = 0; e < 3; ++e)
+      p[3 * q + e] = t[e][q];
+}
+
 /// The four 2-vectors at a + 2 k .. as their x and y in lanes, and back.
 GIMP_LANES_INLINE void loadVectors(const double *a, PetscInt k, V4 &X, V4 &Y) {
   lanes::loadXY(a + 2 * k, X, Y);

@@ -1,10 +1,12 @@
 // Small fixed-size vectors and tensors of the kernels, and the one storage layout they share.
 //
-// Every per-particle tensor (deformation gradient F, velocity gradient L, Cauchy stress) is a
-// D x D matrix stored row-major, D * D doubles per particle: entry (i, j) at i * D + j, so that
-// for D = 2 the order is xx, xy, yx, yy with xy = d(.)_x / d y. Plane strain adds the
-// out-of-plane stress szz as a separate scalar field (2D only). Kernels read and write the
-// particle arrays through the Eigen maps below; nothing else indexes a tensor by hand.
+// A per-particle tensor (deformation gradient F, velocity gradient L, APIC's B) is a D x D
+// matrix stored row-major, D * D doubles per particle: entry (i, j) at i * D + j, so that for
+// D = 2 the order is xx, xy, yx, yy with xy = d(.)_x / d y. The Cauchy stress is symmetric and
+// keeps its D (D + 1) / 2 distinct entries (kStress), in Voigt order: 2D xx, yy, xy; 3D xx, yy,
+// zz, yz, xz, xy (stressAt, setStress). Plane strain adds the out-of-plane stress szz as a
+// separate scalar field (2D only). Kernels read and write the particle arrays through the
+// accessors below; nothing else indexes a tensor by hand.
 #pragma once
 
 #include <Eigen/Core>
@@ -33,6 +35,32 @@ template <int D> inline Eigen::Map<Tensor<D>> tensorAt(double *a, long k) {
 }
 template <int D> inline Eigen::Map<const Tensor<D>> tensorAt(const double *a, long k) {
   return Eigen::Map<const Tensor<D>>(a + static_cast<long>(D) * D * k);
+}
+/// Entries per particle of a symmetric stress: 3 in 2D, 6 in 3D.
+template <int D> constexpr int kStress = D *(D + 1) / 2;
+/// The row and column of Voigt entry c (kStress<D> of them): the diagonal, then the
+/// off-diagonal entries (2D: xy; 3D: yz, xz, xy).
+template <int D> constexpr int voigtRow(int c) {
+  return c < D ? c : D == 2 ? 0 : c == 3 ? 1 : 0;
+}
+template <int D> constexpr int voigtCol(int c) {
+  return c < D ? c : D == 2 ? 1 : c == 3 ? 2 : c == 4 ? 2 : 1;
+}
+/// Particle k's stress as a full (symmetric) D x D tensor, from an array of kStress<D> entries
+/// per particle.
+template <int D> inline Tensor<D> stressAt(const double *a, long k) {
+  const double *e = a + static_cast<long>(kStress<D>) * k;
+  Tensor<D> s;
+  for (int c = 0; c < kStress<D>; ++c)
+    s(voigtRow<D>(c), voigtCol<D>(c)) = s(voigtCol<D>(c), voigtRow<D>(c)) = e[c];
+  return s;
+}
+/// Stores a symmetric tensor s as particle k's stress (its upper triangle; the stress updates
+/// give both triangles the same values exactly).
+template <int D, class M> inline void setStress(double *a, long k, const M &s) {
+  double *e = a + static_cast<long>(kStress<D>) * k;
+  for (int c = 0; c < kStress<D>; ++c)
+    e[c] = s(voigtRow<D>(c), voigtCol<D>(c));
 }
 /// Particle k's vector in an array of D-vectors.
 template <int D> inline Eigen::Map<Vector<D>> vectorAt(double *a, long k) {

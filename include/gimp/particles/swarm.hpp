@@ -56,7 +56,7 @@ struct ParticleKinematics {
 /// A particle view's fields of deformation, stress and strain.
 struct ParticleDeformation {
   double *F = nullptr;   // deformation gradient, row-major D x D
-  double *s = nullptr;   // Cauchy stress, row-major D x D
+  double *s = nullptr;   // Cauchy stress, its kStress<D> entries in Voigt order (stressAt)
   double *szz = nullptr; // 2D: out-of-plane stress (plane strain; zero in plane stress)
   double *eps = nullptr; // accumulated small-strain increments (xx, yy) [D], if strain or corners
 };
@@ -94,6 +94,10 @@ template <int D> struct FieldSpec {
   bool written;   // in the HDF5 particle output
   FieldNeed need; // the scenes that store it
   void **(*slot)(ParticleView<D> &);
+  bool symmetric = false; // a symmetric tensor held as kStress<D> entries (the stress), written
+                          // to the HDF5 output as the full D x D (D * D components)
+  /// Components per particle in the HDF5 output.
+  PetscInt writtenComponents() const { return symmetric ? D * D : components; }
 };
 
 /// Every particle field of a D-dimensional swarm, in registration order (szz is 2D only: the

@@ -7,12 +7,13 @@
 namespace gimp::transfer {
 
 /// Accumulates the internal force of particles k0 .. k1-1 into the window array f (D values per
-/// slot). stress is the particles' row-major D x D Cauchy stress, V their current volumes.
+/// slot). stress is the particles' symmetric Cauchy stress (kStress<D> entries each, stressAt), V
+/// their current volumes.
 template <int D>
 void internalForce(const Stencils<D> &st, PetscInt k0, PetscInt k1, const double *V,
                    const double *stress, double *f) {
   for (PetscInt k = k0; k < k1; ++k) {
-    const Tensor<D> A = -V[k] * tensorAt<D>(stress, k);
+    const Tensor<D> A = -V[k] * stressAt<D>(stress, k);
     if constexpr (D == 2) { // f_ij = A (g_i w_j, w_i g_j), both components at once
       if (st.isBlock(k)) {
         blocks::internalForce(st.block(k), A, f);
