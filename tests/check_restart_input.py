@@ -262,7 +262,7 @@ cases += [
     ("a string format", damaged("str_format", setattr_("format", "6")),
      ["the attribute /state/format is not of type float64"]),
     ("layout version 4", damaged("format4", setattr_("format", 4.0)),
-     ["its layout version 4 is not 6"]),
+     ["its layout version 4 is not 7"]),
 ]
 trunc = os.path.join(W, "bad_truncated.h5")
 with open(ck, "rb") as f:

@@ -10,7 +10,7 @@
 
 namespace gimp::ckpt {
 
-inline constexpr double kFormat = 6; // layout version of checkpoint.h5
+inline constexpr double kFormat = 7; // layout version of checkpoint.h5
 
 /// The scalar attributes of /state, in this order.
 inline constexpr const char *kScalars[] = {"format",

@@ -37,7 +37,7 @@ template <int D> inline Eigen::Map<const Tensor<D>> tensorAt(const double *a, lo
   return Eigen::Map<const Tensor<D>>(a + static_cast<long>(D) * D * k);
 }
 /// Entries per particle of a symmetric stress: 3 in 2D, 6 in 3D.
-template <int D> constexpr int kStress = D *(D + 1) / 2;
+template <int D> constexpr int kStress = (D * (D + 1)) / 2;
 /// The row and column of Voigt entry c (kStress<D> of them): the diagonal, then the
 /// off-diagonal entries (2D: xy; 3D: yz, xz, xy).
 template <int D> constexpr int voigtRow(int c) {
