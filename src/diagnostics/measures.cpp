@@ -22,16 +22,13 @@ template <> const std::vector<const char *> &stressComponents<3>() {
   return c;
 }
 
-template <> void stressOf<2>(const ParticleView<2> &p, PetscInt k, double *out) {
-  const Tensor<2> s = stressAt<2>(p.s, k);
-  const double v[4] = {s(0, 0), s(1, 1), s(0, 1), p.szz[k]};
-  std::copy(v, v + 4, out);
+template <int D> void stressOf(const ParticleView<D> &p, PetscInt k, double *out) {
+  // The stored entries are in this order already (Voigt); 2D adds the out-of-plane stress.
+  std::copy(p.s + kStress<D> * k, p.s + kStress<D> * (k + 1), out);
+  if constexpr (D == 2) out[kStress<2>] = p.szz[k];
 }
-template <> void stressOf<3>(const ParticleView<3> &p, PetscInt k, double *out) {
-  const Tensor<3> s = stressAt<3>(p.s, k);
-  const double v[6] = {s(0, 0), s(1, 1), s(2, 2), s(1, 2), s(0, 2), s(0, 1)};
-  std::copy(v, v + 6, out);
-}
+template void stressOf<2>(const ParticleView<2> &, PetscInt, double *);
+template void stressOf<3>(const ParticleView<3> &, PetscInt, double *);
 
 template <int D>
 PetscErrorCode findProbes(MPI_Comm comm, const Scene<D> &sc, DM sw, std::vector<PetscInt64> &ids) {

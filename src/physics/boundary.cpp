@@ -277,10 +277,12 @@ void Boundary<D>::penaltyIncrement(const Scene<D> &sc, const Grid<D> &g, const S
           dU[c] += dF(c, a) * n * p.l0[D * k + a];
       }
       const double alpha = springs ? alpha_ * d.penaltyScale : 0.0;
+      const bool withTraction = ds && sc.penaltyTraction;
+      const Tensor<D> dsk = withTraction ? stressAt<D>(ds, k) : Tensor<D>::Zero();
       double force[D] = {};
       for (int c = 0; c < D; ++c) {
         if (!d.fix[c]) continue;
-        const double traction = ds && sc.penaltyTraction ? stressAt<D>(ds, k)(c, a) * n : 0.0;
+        const double traction = withTraction ? dsk(c, a) * n : 0.0;
         force[c] = (traction - alpha * dU[c]) * E.area;
       }
       spreadFaceForce(g, st, k, a, n, E.at, force, fe);
