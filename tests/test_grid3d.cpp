@@ -835,6 +835,82 @@ TEST(Grid3DMpi, RanksGiveTheOneRankAnswer) {
   }
 }
 
+/// The moves of levels from, from + 1, ... alone (Grid::toWindow, fromWindow with `from`): the
+/// full move's values there, nothing touched before them (the per-level step's nodal sums).
+TEST(Grid3DMpi, LevelMovesEqualTheFullMove) {
+  MPI_Comm world = PETSC_COMM_WORLD;
+  PetscMPIInt rank = 0;
+  MPI_Comm_rank(world, &rank);
+  Grid3 g;
+  ASSERT_EQ(static_cast<int>(g.create(world, kH0, boxesOf(threeLevelLayouts()[0]))), 0);
+  const int K = static_cast<int>(g.levels.size());
+  ASSERT_EQ(K, 3);
+  Vec w, wf, ws, gf, gs;
+  ASSERT_EQ(static_cast<int>(g.createWindowVec(&w)), 0);
+  VecDuplicate(w, &wf);
+  VecDuplicate(w, &ws);
+  ASSERT_EQ(static_cast<int>(DMCreateGlobalVector(g.dm, &gf)), 0);
+  VecDuplicate(gf, &gs);
+  PetscInt nw = 0, ng = 0;
+  VecGetLocalSize(w, &nw);
+  VecGetLocalSize(gf, &ng);
+  EXPECT_EQ(g.localLevelStart(0), 0);
+  EXPECT_EQ(g.windowLevelStart(0), 0);
+  PetscScalar *a;
+  VecGetArray(w, &a); // integers: every sum is exact, whatever its order
+  for (PetscInt i = 0; i < nw; ++i)
+    a[i] = static_cast<double>((i * 7 + 13 * rank) % 101) - 50.0;
+  VecRestoreArray(w, &a);
+  VecGetArray(gf, &a);
+  for (PetscInt i = 0; i < ng; ++i)
+    a[i] = static_cast<double>((i * 11 + 5 * rank) % 97) - 40.0;
+  VecRestoreArray(gf, &a);
+  VecCopy(gf, gs);
+  for (int from = 1; from < K; ++from) {
+    const PetscInt g0 = g.localLevelStart(from), w0 = g.windowLevelStart(from);
+    EXPECT_GE(g0, g.localLevelStart(from - 1));
+    EXPECT_EQ(w0, D * g.levels[from].offset);
+    // Forward: the full move's window values from w0 on; the sentinel before.
+    VecSet(wf, 0.0);
+    VecSet(ws, 7.5);
+    ASSERT_EQ(static_cast<int>(g.toWindow(gf, wf)), 0);
+    ASSERT_EQ(static_cast<int>(g.toWindow(gs, ws, from)), 0);
+    const PetscScalar *f, *s;
+    long bad = 0;
+    VecGetArrayRead(wf, &f);
+    VecGetArrayRead(ws, &s);
+    for (PetscInt i = 0; i < nw; ++i)
+      bad += i < w0 ? s[i] != 7.5 : s[i] != f[i];
+    VecRestoreArrayRead(ws, &s);
+    VecRestoreArrayRead(wf, &f);
+    // Reverse (added): the full sum of every rank's window from g0 on; the sentinel before.
+    Vec sf, ss;
+    VecDuplicate(gf, &sf);
+    VecDuplicate(gf, &ss);
+    VecSet(sf, 0.0);
+    VecSet(ss, 0.0);
+    ASSERT_EQ(static_cast<int>(g.addFromWindow(w, sf)), 0);
+    VecGetArray(ss, &a);
+    for (PetscInt i = 0; i < g0; ++i)
+      a[i] = -3.25;
+    VecRestoreArray(ss, &a);
+    ASSERT_EQ(static_cast<int>(g.addFromWindow(w, ss, from)), 0);
+    VecGetArrayRead(sf, &f);
+    VecGetArrayRead(ss, &s);
+    for (PetscInt i = 0; i < ng; ++i)
+      bad += i < g0 ? s[i] != -3.25 : s[i] != f[i];
+    VecRestoreArrayRead(ss, &s);
+    VecRestoreArrayRead(sf, &f);
+    VecDestroy(&sf);
+    VecDestroy(&ss);
+    long badAll = 0;
+    MPI_Allreduce(&bad, &badAll, 1, MPI_LONG, MPI_SUM, world);
+    EXPECT_EQ(badAll, 0) << "levels from " << from;
+  }
+  for (Vec *v : {&w, &wf, &ws, &gf, &gs})
+    VecDestroy(v);
+}
+
 // ---------------------------------------------------------------------------------------------
 // 5. Bad layouts.
 

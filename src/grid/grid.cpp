@@ -21,6 +21,12 @@ template <int D> void Grid<D>::destroyPetsc() {
   if (dm) (void)DMDestroy(&dm);
   if (scatter_) (void)VecScatterDestroy(&scatter_);
   if (windowTemplate_) (void)VecDestroy(&windowTemplate_);
+  for (VecScatter &sc : suffixScatter_)
+    if (sc) (void)VecScatterDestroy(&sc);
+  for (Vec &w : suffixWindow_)
+    if (w) (void)VecDestroy(&w);
+  suffixScatter_.clear();
+  suffixWindow_.clear();
 }
 
 template <int D> void Grid<D>::clear() {
@@ -39,6 +45,7 @@ template <int D> void Grid<D>::clear() {
   cracked_.clear();
   crackedOfSlot_.clear();
   crackCount_.clear();
+  localLevelStart_.clear();
 }
 
 template <int D>
@@ -318,9 +325,12 @@ template <int D> void Grid<D>::fillWindowNodes() {
   if (D == 2) regularBlocks(4, fourNodeBlocks_);
 }
 
-template <int D> PetscErrorCode Grid<D>::createScatter(MPI_Comm comm) {
-  PetscMPIInt size = 1;
+template <int D>
+PetscErrorCode Grid<D>::compositeBlocks(MPI_Comm comm, std::vector<PetscInt> &blocks,
+                                        std::vector<PetscInt> *localStart) const {
+  PetscMPIInt size = 1, rank = 0;
   PetscCallMPI(MPI_Comm_size(comm, &size));
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
   const int K = static_cast<int>(levels.size());
   // Scatter between the composite global Vec and the window: composite index of each window
   // node. A composite's local part is rank r's owned part of level 0, then of level 1, ...
@@ -342,7 +352,12 @@ template <int D> PetscErrorCode Grid<D>::createScatter(MPI_Comm comm) {
       levelsOwned[r] += levelStart[k][r + 1] - levelStart[k][r];
     compStart[r + 1] = compStart[r] + levelsOwned[r] + (crackDm ? crackCount_[r] : 0);
   }
-  std::vector<PetscInt> blocks(nSlots);
+  if (localStart) { // this rank's part of each level in its part of the composite, in values
+    localStart->assign(K + 1, 0);
+    for (int k = 0; k < K; ++k)
+      (*localStart)[k + 1] = (*localStart)[k] + D * (levelStart[k][rank + 1] - levelStart[k][rank]);
+  }
+  blocks.assign(nSlots, 0);
   // A composite's rank-r part ends with its cracked nodes' second fields, in cracked_ order.
   for (PetscInt s = nWindow; s < nSlots; ++s) {
     const CrackedNode &c = cracked_[crackedOfSlot_[s - nWindow]];
@@ -375,6 +390,12 @@ template <int D> PetscErrorCode Grid<D>::createScatter(MPI_Comm comm) {
       blocks[L.offset + q] = compStart[r] + before + (p - levelStart[k][r]);
     }
   }
+  return PETSC_SUCCESS;
+}
+
+template <int D> PetscErrorCode Grid<D>::createScatter(MPI_Comm comm) {
+  std::vector<PetscInt> blocks;
+  PetscCall(compositeBlocks(comm, blocks, &localLevelStart_));
   IS is;
   Vec g;
   PetscCall(ISCreateBlock(comm, D, nSlots, blocks.data(), PETSC_COPY_VALUES, &is));
@@ -387,20 +408,72 @@ template <int D> PetscErrorCode Grid<D>::createScatter(MPI_Comm comm) {
   return PETSC_SUCCESS;
 }
 
+template <int D> PetscErrorCode Grid<D>::suffixScatter(int from, VecScatter *sc, Vec *w) const {
+  const size_t K = levels.size();
+  if (suffixScatter_.size() != K) {
+    suffixScatter_.assign(K, nullptr);
+    suffixWindow_.assign(K, nullptr);
+  }
+  if (!suffixScatter_[from]) {
+    MPI_Comm comm = PetscObjectComm(reinterpret_cast<PetscObject>(dm));
+    std::vector<PetscInt> blocks;
+    PetscCall(compositeBlocks(comm, blocks, nullptr));
+    const PetscInt first = levels[from].offset, n = nSlots - first;
+    IS is;
+    Vec g;
+    PetscCall(ISCreateBlock(comm, D, n, blocks.data() + first, PETSC_COPY_VALUES, &is));
+    PetscCall(VecCreateSeqWithArray(PETSC_COMM_SELF, D, D * n, nullptr, &suffixWindow_[from]));
+    PetscCall(DMGetGlobalVector(dm, &g));
+    PetscCall(VecScatterCreate(g, is, suffixWindow_[from], nullptr, &suffixScatter_[from]));
+    PetscCall(DMRestoreGlobalVector(dm, &g));
+    PetscCall(ISDestroy(&is));
+  }
+  *sc = suffixScatter_[from];
+  *w = suffixWindow_[from];
+  return PETSC_SUCCESS;
+}
+
 template <int D> PetscErrorCode Grid<D>::createWindowVec(Vec *v) const {
   PetscCall(VecDuplicate(windowTemplate_, v));
   return PETSC_SUCCESS;
 }
 
-template <int D> PetscErrorCode Grid<D>::fromWindow(Vec window, Vec global, InsertMode mode) const {
-  PetscCall(VecScatterBegin(scatter_, window, global, mode, SCATTER_REVERSE));
-  PetscCall(VecScatterEnd(scatter_, window, global, mode, SCATTER_REVERSE));
+template <int D>
+PetscErrorCode Grid<D>::fromWindow(Vec window, Vec global, InsertMode mode, int from) const {
+  if (from == 0) {
+    PetscCall(VecScatterBegin(scatter_, window, global, mode, SCATTER_REVERSE));
+    PetscCall(VecScatterEnd(scatter_, window, global, mode, SCATTER_REVERSE));
+    return PETSC_SUCCESS;
+  }
+  VecScatter sc = nullptr;
+  Vec w = nullptr;
+  PetscCall(suffixScatter(from, &sc, &w));
+  const PetscScalar *a = nullptr;
+  PetscCall(VecGetArrayRead(window, &a));
+  PetscCall(VecPlaceArray(w, a + windowLevelStart(from))); // (only read)
+  PetscCall(VecScatterBegin(sc, w, global, mode, SCATTER_REVERSE));
+  PetscCall(VecScatterEnd(sc, w, global, mode, SCATTER_REVERSE));
+  PetscCall(VecResetArray(w));
+  PetscCall(VecRestoreArrayRead(window, &a));
   return PETSC_SUCCESS;
 }
 
-template <int D> PetscErrorCode Grid<D>::toWindow(Vec global, Vec window) const {
-  PetscCall(VecScatterBegin(scatter_, global, window, INSERT_VALUES, SCATTER_FORWARD));
-  PetscCall(VecScatterEnd(scatter_, global, window, INSERT_VALUES, SCATTER_FORWARD));
+template <int D> PetscErrorCode Grid<D>::toWindow(Vec global, Vec window, int from) const {
+  if (from == 0) {
+    PetscCall(VecScatterBegin(scatter_, global, window, INSERT_VALUES, SCATTER_FORWARD));
+    PetscCall(VecScatterEnd(scatter_, global, window, INSERT_VALUES, SCATTER_FORWARD));
+    return PETSC_SUCCESS;
+  }
+  VecScatter sc = nullptr;
+  Vec w = nullptr;
+  PetscCall(suffixScatter(from, &sc, &w));
+  PetscScalar *a = nullptr;
+  PetscCall(VecGetArray(window, &a));
+  PetscCall(VecPlaceArray(w, a + windowLevelStart(from)));
+  PetscCall(VecScatterBegin(sc, global, w, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecScatterEnd(sc, global, w, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecResetArray(w));
+  PetscCall(VecRestoreArray(window, &a));
   return PETSC_SUCCESS;
 }
 

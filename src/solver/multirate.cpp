@@ -36,6 +36,9 @@ template <int D> PetscErrorCode MultiRate<D>::create(Vec like) {
   r.st.resize(n);
   r.start.assign(n, 0);
   r.live.assign(n, 0);
+  r.from.assign(n, 0);
+  r.zeroFrom.assign(n, 0);
+  scratch_.zeroFrom = 0;
   ClassSums &v = sums_;
   std::vector<std::vector<Vec> *> perClass = {&v.mass, &v.mom, &v.inc, &v.vsum};
   if (s_.sc.multirateNodeRule) { // the node rule's forces, bases and rates (the impulse rule
@@ -256,19 +259,34 @@ template <int D> PetscErrorCode MultiRate<D>::startClass(ParticleView<D> &p, int
                                 "cell; reduce -ts_dt)";
         break;
       }
+  // Its P2G onto the levels it reaches: the nodal sums and moves from there on.
+  PetscCall(classReach(q, k));
+  const int from = r.from[k];
+  const PetscInt w0 = windowFrom(k), g0 = localFrom(k);
   PetscScalar *mom = nullptr, *mass = nullptr;
-  PetscCall(VecZeroEntries(n.sumW));
-  PetscCall(VecZeroEntries(n.massW));
+  PetscCall(zeroTail(n.sumW, w0));
+  PetscCall(zeroTail(n.massW, w0));
   PetscCall(VecGetArray(n.sumW, &mom));
   PetscCall(VecGetArray(n.massW, &mass));
   step_.projectMomentum(r.st[k], q, q.x, mom, mass);
   PetscCall(VecRestoreArray(n.massW, &mass));
   PetscCall(VecRestoreArray(n.sumW, &mom));
-  PetscCall(VecZeroEntries(sums_.mom[k]));
-  PetscCall(s.grid.addFromWindow(n.sumW, sums_.mom[k]));
-  PetscCall(VecZeroEntries(sums_.mass[k]));
-  PetscCall(s.grid.addFromWindow(n.massW, sums_.mass[k]));
-  PetscCall(VecAXPY(n.P, 1.0, sums_.mom[k]));
+  const PetscInt z = std::min(g0, r.zeroFrom[k]); // (what its last start left)
+  PetscCall(zeroTail(sums_.mom[k], z));
+  PetscCall(s.grid.addFromWindow(n.sumW, sums_.mom[k], from));
+  PetscCall(zeroTail(sums_.mass[k], z));
+  PetscCall(s.grid.addFromWindow(n.massW, sums_.mass[k], from));
+  r.zeroFrom[k] = g0;
+  PetscInt nloc = 0;
+  PetscScalar *P = nullptr;
+  const PetscScalar *pk = nullptr;
+  PetscCall(VecGetLocalSize(n.P, &nloc));
+  PetscCall(VecGetArray(n.P, &P));
+  PetscCall(VecGetArrayRead(sums_.mom[k], &pk));
+  for (PetscInt i = g0; i < nloc; ++i)
+    P[i] += pk[i];
+  PetscCall(VecRestoreArrayRead(sums_.mom[k], &pk));
+  PetscCall(VecRestoreArray(n.P, &P));
   if constexpr (D == 2)
     if (!s.sc.cracks.empty()) { // the class's crack faces, until its end
       if (sums_.faces.empty()) sums_.faces.assign(r.n, nullptr);
@@ -339,7 +357,7 @@ template <int D> PetscErrorCode MultiRate<D>::classMass() {
     const PetscScalar *mk = nullptr;
     PetscCall(VecGetArrayRead(sums_.mass[k], &mk));
     const double every = static_cast<double>(r.every[k]);
-    for (PetscInt i = 0; i < nloc; i += D) {
+    for (PetscInt i = localFrom(k); i < nloc; i += D) { // (zero before)
       m[i] += mk[i];
       if (rate && mk[i] > 0)
         for (int d = 0; d < D; ++d)
@@ -353,8 +371,46 @@ template <int D> PetscErrorCode MultiRate<D>::classMass() {
                            n.invMass, D);
 }
 
+template <int D> PetscErrorCode MultiRate<D>::zeroTail(Vec v, PetscInt from) {
+  PetscInt nloc = 0;
+  PetscScalar *a = nullptr;
+  PetscCall(VecGetLocalSize(v, &nloc));
+  PetscCall(VecGetArray(v, &a));
+  std::fill(a + from, a + nloc, 0.0);
+  PetscCall(VecRestoreArray(v, &a));
+  return PETSC_SUCCESS;
+}
+
+template <int D> PetscErrorCode MultiRate<D>::addTail(Vec y, double a, Vec x, PetscInt from) {
+  PetscInt nloc = 0;
+  PetscScalar *py = nullptr;
+  const PetscScalar *px = nullptr;
+  PetscCall(VecGetLocalSize(y, &nloc));
+  PetscCall(VecGetArray(y, &py));
+  PetscCall(VecGetArrayRead(x, &px));
+  for (PetscInt i = from; i < nloc; ++i)
+    py[i] += a * px[i];
+  PetscCall(VecRestoreArrayRead(x, &px));
+  PetscCall(VecRestoreArray(y, &py));
+  return PETSC_SUCCESS;
+}
+
+template <int D> PetscErrorCode MultiRate<D>::classReach(const ParticleView<D> &q, int k) {
+  // No particle reaches a level coarser than the one whose box holds it (Grid::coarsestReaching).
+  // With cracks every level: the crack contact works on every cracked node's fields.
+  const Grid<D> &g = s_.grid;
+  int lo = s_.sc.cracks.empty() ? static_cast<int>(g.levels.size()) - 1 : 0;
+  for (PetscInt i = 0; i < q.n && lo > 0; ++i)
+    lo = std::min(lo, g.coarsestReaching(q.x + D * i, q.l + D * i));
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &lo, 1, MPI_INT, MPI_MIN, s_.comm));
+  r_.from[k] = lo;
+  return PETSC_SUCCESS;
+}
+
 #define GIMP_INSTANTIATE(D)                                                                        \
   template PetscErrorCode MultiRate<D>::create(Vec);                                               \
+  template PetscErrorCode MultiRate<D>::zeroTail(Vec, PetscInt);                                   \
+  template PetscErrorCode MultiRate<D>::addTail(Vec, double, Vec, PetscInt);                       \
   template PetscErrorCode MultiRate<D>::run(StepClock &);
 GIMP_INSTANTIATE(2)
 GIMP_INSTANTIATE(3)

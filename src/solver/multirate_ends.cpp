@@ -28,10 +28,17 @@ PetscErrorCode MultiRate<D>::classForces(const ParticleView<D> &p, const StepClo
   std::vector<double> V; // the volumes of a class with particles that switched class
   // (Boundary keeps the penalty reactions of its last call: the penalty particles are all in the
   // finest class, which comes last here, and it starts at every sub-step.)
+  // The impulse rule without external forces sums on the levels the starting classes reach.
+  const bool restricted = !nodeRule && !external;
+  int from = r.n - 1;
+  for (int k = 0; k < r.n; ++k)
+    if (r.size[k] > 0 && j % r.every[k] == 0) from = std::min(from, restricted ? r.from[k] : 0);
   PetscCall(VecZeroEntries(n.f));
   if (external) PetscCall(VecZeroEntries(n.fext));
-  if (!nodeRule) PetscCall(VecZeroEntries(n.sumW));
+  if (!nodeRule) PetscCall(zeroTail(n.sumW, s.grid.windowLevelStart(from)));
   if (!nodeRule && external) PetscCall(VecZeroEntries(n.extW));
+  PetscInt nw = 0;
+  PetscCall(VecGetLocalSize(w0, &nw));
   for (int k = 0; k < r.n; ++k) {
     if (r.size[k] == 0 || j % r.every[k] != 0) continue;
     ParticleView<D> q = p.slice(r.begin[k], r.begin[k + 1]);
@@ -44,14 +51,20 @@ PetscErrorCode MultiRate<D>::classForces(const ParticleView<D> &p, const StepClo
       scale = r.kickScale.data() + r.begin[k];
     }
     const double mk = static_cast<double>(r.every[k]);
+    const PetscInt wk = restricted ? windowFrom(k) : 0;
     PetscScalar *w = nullptr;
-    PetscCall(VecZeroEntries(w0));
+    PetscCall(zeroTail(w0, wk));
     PetscCall(VecGetArray(w0, &w));
     step_.internalForce(r.st[k], q.n, q.V, q.s, w);
+    if (!nodeRule) { // the impulse m_c f_c, summed on the window (m_c a power of 2: exact)
+      PetscScalar *sum = nullptr;
+      PetscCall(VecGetArray(n.sumW, &sum));
+      for (PetscInt i = wk; i < nw; ++i)
+        sum[i] += mk * w[i];
+      PetscCall(VecRestoreArray(n.sumW, &sum));
+    }
     PetscCall(VecRestoreArray(w0, &w));
-    if (!nodeRule) // the impulse m_c f_c, summed on the window
-      PetscCall(VecAXPY(n.sumW, mk, w0));
-    else {
+    if (nodeRule) {
       PetscCall(VecZeroEntries(sums_.force[k]));
       PetscCall(s.grid.addFromWindow(w0, sums_.force[k]));
     }
@@ -74,7 +87,7 @@ PetscErrorCode MultiRate<D>::classForces(const ParticleView<D> &p, const StepClo
     if (nodeRule) PetscCall(deliverNodeRule(k, j, c.kick, external));
   }
   if (!nodeRule) {
-    PetscCall(s.grid.addFromWindow(n.sumW, n.f));
+    PetscCall(s.grid.addFromWindow(n.sumW, n.f, from));
     if (external) PetscCall(s.grid.addFromWindow(n.extW, n.fext));
   } else if (c.kick != 1.0) { // the RHS applies the sub-step's kick weight again: undo it here
     PetscCall(VecScale(n.f, 1.0 / c.kick));
@@ -141,23 +154,24 @@ template <int D> PetscErrorCode MultiRate<D>::accumulate(const StepClock &c, Pet
   PetscCall(VecGetArrayRead(s.nodal.vel, &v));
   // The increments only where a FLIP fraction reads them (not APIC, not PIC).
   const bool increments = s.sc.transfer != Transfer::Apic && s.sc.flip > 0;
-  for (int k = 0; k < r.n; ++k) {
+  for (int k = 0; k < r.n; ++k) { // (on the levels the class reaches: read there alone)
     if (r.size[k] == 0 || r.every[k] == 1) continue;
+    const PetscInt i0 = localFrom(k);
     PetscScalar *d = nullptr, *w = nullptr;
     PetscCall(VecGetArray(sums_.vsum[k], &w));
     if (r.start[k] == j)
-      std::copy(v, v + nloc, w);
+      std::copy(v + i0, v + nloc, w + i0);
     else
-      for (PetscInt i = 0; i < nloc; ++i)
+      for (PetscInt i = i0; i < nloc; ++i)
         w[i] += v[i];
     PetscCall(VecRestoreArray(sums_.vsum[k], &w));
     if (!increments) continue;
     PetscCall(VecGetArray(sums_.inc[k], &d));
     if (r.start[k] == j)
-      for (PetscInt i = 0; i < nloc; ++i)
+      for (PetscInt i = i0; i < nloc; ++i)
         d[i] = c.dt * a[i];
     else
-      for (PetscInt i = 0; i < nloc; ++i)
+      for (PetscInt i = i0; i < nloc; ++i)
         d[i] += c.dt * a[i];
     PetscCall(VecRestoreArray(sums_.inc[k], &d));
   }
@@ -172,7 +186,8 @@ PetscErrorCode MultiRate<D>::takenBy(int k, double flip, double dt, Vec out, boo
   // What the particles of class k take from the nodes at their G2P: flip (p_k + m_k inc_k) +
   // (1 - flip) m_k v, with p_k and m_k the class's momentum and mass at its start, inc_k the grid
   // velocity increments since (dt a for a class stepping every sub-step, unless materialised)
-  // and v the grid velocity now (APIC: flip 0).
+  // and v the grid velocity now (APIC: flip 0). On the levels the class reaches (out is left as
+  // it is before them: the class takes nothing there).
   Nodal &n = s_.nodal;
   PetscInt nloc = 0;
   PetscCall(VecGetLocalSize(out, &nloc));
@@ -185,7 +200,7 @@ PetscErrorCode MultiRate<D>::takenBy(int k, double flip, double dt, Vec out, boo
   PetscCall(VecGetArrayRead(summed ? sums_.inc[k] : n.acc, &d));
   PetscCall(VecGetArray(out, &t));
   const double ds = summed ? 1.0 : dt;
-  for (PetscInt i = 0; i < nloc; i += D)
+  for (PetscInt i = localFrom(k); i < nloc; i += D)
     for (int q = 0; q < D; ++q) {
       // (with flip 0 the increments are not summed: not read)
       const double took =
@@ -217,6 +232,15 @@ PetscErrorCode MultiRate<D>::endClasses(ParticleView<D> &p, const StepClock &c, 
   PetscCall(PetscLogStagePush(s.stages.g2p));
   if (ending.size() == present.size() && present.size() > 1 && flip > 0 && flip < 1)
     PetscCall(spreadRemainder(ending, c, flip));
+  // What the ending classes take and their MUSL corrections: on the levels they reach, zero
+  // before.
+  PetscInt from = 0;
+  PetscCall(VecGetLocalSize(s.nodal.P, &from));
+  for (int k : ending)
+    from = std::min(from, localFrom(k));
+  PetscCall(zeroTail(scratch_.taken, std::min(from, scratch_.zeroFrom)));
+  if (musl) PetscCall(zeroTail(scratch_.corrSum, std::min(from, scratch_.zeroFrom)));
+  scratch_.zeroFrom = from;
   for (size_t e = 0; e < ending.size(); ++e)
     PetscCall(endClass(p, c, ending[e], e, flip));
   PetscCall(PetscLogStagePop());
@@ -230,11 +254,12 @@ PetscErrorCode MultiRate<D>::endClasses(ParticleView<D> &p, const StepClock &c, 
   // Damping per sub-step, with MUSL's velocity at the end (the grid velocity plus the ending
   // classes' corrections), as in the single-rate step.
   const bool corrected = musl && !ending.empty(); // (USF is refused with -gimp_multirate)
-  if (corrected) PetscCall(VecAXPY(s.nodal.vel, 1.0, scratch_.corrSum));
+  if (corrected) PetscCall(addTail(s.nodal.vel, 1.0, scratch_.corrSum, from));
   PetscCall(step_.work(c, power, nodeRule));
   // The ending classes leave the nodes; at the coarse end every class does and the next coarse
   // step starts from P = 0, so P keeps the nodal momentum for the monitor and the frames.
-  if (!ending.empty() && j + 1 < s.stride()) PetscCall(VecAXPY(s.nodal.P, -1.0, scratch_.taken));
+  if (!ending.empty() && j + 1 < s.stride())
+    PetscCall(addTail(s.nodal.P, -1.0, scratch_.taken, from));
   return PETSC_SUCCESS;
 }
 
@@ -269,8 +294,10 @@ PetscErrorCode MultiRate<D>::spreadRemainder(const std::vector<int> &ending, con
       PetscCall(VecAXPBY(sums_.inc[k], c.dt, 0.0, n.acc));
       r_.live[k] = 1;
     }
-  for (size_t e = 0; e < ending.size(); ++e)
-    PetscCall(takenBy(ending[e], flip, c.dt, scratch_.taken, e > 0));
+  PetscCall(VecZeroEntries(scratch_.taken));
+  for (int k : ending)
+    PetscCall(takenBy(k, flip, c.dt, scratch_.taken, true));
+  scratch_.zeroFrom = 0;
   PetscCall(VecWAXPY(scratch_.field, -1.0, scratch_.taken, n.P));
   PetscCall(VecPointwiseMult(scratch_.field, scratch_.field, n.invMass));
   for (int k : ending)
@@ -292,6 +319,8 @@ PetscErrorCode MultiRate<D>::endClass(ParticleView<D> &p, const StepClock &c, in
   // The velocity update field flip inc + (1 - flip) v (APIC: v) and the mean grid velocity over
   // the class's step (a class stepping every sub-step: v), on the window.
   Vec u = n.velW, w = n.velW;
+  const int from = r.from[k];
+  const PetscInt i0 = localFrom(k);
   if (!apic || r.every[k] > 1) {
     PetscInt nloc = 0;
     PetscCall(VecGetLocalSize(n.P, &nloc));
@@ -304,7 +333,7 @@ PetscErrorCode MultiRate<D>::endClass(ParticleView<D> &p, const StepClock &c, in
     PetscCall(VecGetArray(w0.field, &uf));
     PetscCall(VecGetArray(w0.corr, &wf)); // (free until the re-projection)
     const double ds = summed ? 1.0 : c.dt;
-    for (PetscInt i = 0; i < nloc; ++i) {
+    for (PetscInt i = i0; i < nloc; ++i) {
       uf[i] = flip > 0 ? flip * ds * d[i] + (1.0 - flip) * v[i] : v[i];
       wf[i] = vsum[i] / every;
     }
@@ -314,17 +343,17 @@ PetscErrorCode MultiRate<D>::endClass(ParticleView<D> &p, const StepClock &c, in
     PetscCall(VecRestoreArrayRead(dv, &d));
     PetscCall(VecRestoreArrayRead(n.vel, &v));
     if (!apic) {
-      PetscCall(s.grid.toWindow(w0.field, w0.fieldW));
+      PetscCall(s.grid.toWindow(w0.field, w0.fieldW, from));
       u = w0.fieldW;
     }
     if (r.every[k] > 1) {
-      PetscCall(s.grid.toWindow(w0.corr, w0.meanW));
+      PetscCall(s.grid.toWindow(w0.corr, w0.meanW, from));
       w = w0.meanW;
     }
   }
   PetscScalar *mom = nullptr;
   if (musl) {
-    PetscCall(VecZeroEntries(n.sumW));
+    PetscCall(zeroTail(n.sumW, windowFrom(k)));
     PetscCall(VecGetArray(n.sumW, &mom));
   }
   const PetscScalar *ug = nullptr, *wg = nullptr;
@@ -334,12 +363,21 @@ PetscErrorCode MultiRate<D>::endClass(ParticleView<D> &p, const StepClock &c, in
   PetscCall(VecRestoreArrayRead(w, &wg));
   PetscCall(VecRestoreArrayRead(u, &ug));
   if (musl) PetscCall(VecRestoreArray(n.sumW, &mom));
-  // What the class took from the nodes (into field), summed over the ending classes.
+  // What the class took from the nodes (into field), summed over the ending classes (taken is
+  // zero before the levels of the first: endClasses).
   PetscCall(takenBy(k, flip, c.dt, w0.field, false));
-  if (e == 0)
-    PetscCall(VecCopy(w0.field, w0.taken));
-  else
-    PetscCall(VecAXPY(w0.taken, 1.0, w0.field));
+  {
+    PetscInt nloc = 0;
+    PetscScalar *t = nullptr;
+    const PetscScalar *fd = nullptr;
+    PetscCall(VecGetLocalSize(w0.taken, &nloc));
+    PetscCall(VecGetArray(w0.taken, &t));
+    PetscCall(VecGetArrayRead(w0.field, &fd));
+    for (PetscInt i = i0; i < nloc; ++i)
+      t[i] = e == 0 ? fd[i] : t[i] + fd[i];
+    PetscCall(VecRestoreArrayRead(w0.field, &fd));
+    PetscCall(VecRestoreArray(w0.taken, &t));
+  }
   if (musl) {
     PetscCall(correction(c, k, e));
     w = w0.meanW;
@@ -360,8 +398,10 @@ template <int D> PetscErrorCode MultiRate<D>::correction(const StepClock &c, int
   const double every = static_cast<double>(r_.every[k]);
   PetscInt nloc = 0;
   PetscCall(VecGetLocalSize(n.P, &nloc));
-  PetscCall(VecZeroEntries(w0.corr));
-  PetscCall(s.grid.addFromWindow(n.sumW, w0.corr));
+  const int from = r_.from[k];
+  const PetscInt i0 = localFrom(k);
+  PetscCall(zeroTail(w0.corr, i0));
+  PetscCall(s.grid.addFromWindow(n.sumW, w0.corr, from));
   Vec vsv = r_.every[k] > 1 ? sums_.vsum[k] : n.vel;
   const PetscScalar *t = nullptr, *im = nullptr, *vs = nullptr;
   PetscScalar *cr = nullptr, *cs = nullptr, *sf = nullptr;
@@ -370,8 +410,8 @@ template <int D> PetscErrorCode MultiRate<D>::correction(const StepClock &c, int
   PetscCall(VecGetArrayRead(vsv, &vs));
   PetscCall(VecGetArray(w0.corr, &cr));
   PetscCall(VecGetArray(w0.corrSum, &cs));
-  PetscCall(VecGetArray(n.f, &sf)); // (free after the grid update)
-  for (PetscInt i = 0; i < nloc; ++i) {
+  PetscCall(VecGetArray(n.f, &sf));      // (free after the grid update)
+  for (PetscInt i = i0; i < nloc; ++i) { // (corrSum is zero before the first class's levels)
     cr[i] = (cr[i] - t[i]) * im[i];
     cs[i] = e == 0 ? cr[i] : cs[i] + cr[i];
     sf[i] = vs[i] / every + cr[i];
@@ -382,7 +422,7 @@ template <int D> PetscErrorCode MultiRate<D>::correction(const StepClock &c, int
   PetscCall(VecRestoreArrayRead(vsv, &vs));
   PetscCall(VecRestoreArrayRead(n.invMass, &im));
   PetscCall(VecRestoreArrayRead(w0.field, &t));
-  PetscCall(s.grid.toWindow(n.f, w0.meanW));
+  PetscCall(s.grid.toWindow(n.f, w0.meanW, from));
   // The re-projected fields of a cracked node may approach each other again: the same contact
   // as the single-rate step's (Step::reproject), or the strain would see the faces
   // interpenetrate.

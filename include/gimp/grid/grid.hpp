@@ -107,15 +107,25 @@ public:
   std::vector<DM> da, da1; // per level: the DMDA (dof D) and its dof-1 twin (scalar output)
 
   /// Vectors on the window (sequential, dof D) and moves between them and a global Vec.
+  /// With `from` > 0 a move covers levels from, from + 1, ... and the crack fields alone: the
+  /// window slots from windowLevelStart(from) on and their global entries (on this rank, from
+  /// localLevelStart(from) on); the rest of both Vecs is neither read nor written. Collective:
+  /// every rank passes the same `from`.
   PetscErrorCode createWindowVec(Vec *v) const;
-  PetscErrorCode toWindow(Vec global, Vec window) const; // insert
+  PetscErrorCode toWindow(Vec global, Vec window, int from = 0) const; // insert
   /// Window values into the global Vec, combined by `mode`: ADD_VALUES sums every rank's window
   /// (the caller zeroes global first), INSERT_VALUES where every rank holding a slot has the
   /// same value, MAX_VALUES the largest (the caller sets global to -inf first).
-  PetscErrorCode fromWindow(Vec window, Vec global, InsertMode mode) const;
-  PetscErrorCode addFromWindow(Vec window, Vec global) const {
-    return fromWindow(window, global, ADD_VALUES);
+  PetscErrorCode fromWindow(Vec window, Vec global, InsertMode mode, int from = 0) const;
+  PetscErrorCode addFromWindow(Vec window, Vec global, int from = 0) const {
+    return fromWindow(window, global, ADD_VALUES, from);
   }
+  /// The first value of level a's nodes in a window array: levels a, a + 1, ... and then the
+  /// crack fields fill the rest of it.
+  PetscInt windowLevelStart(int a) const { return D * levels[a].offset; }
+  /// The first value of level a's nodes in this rank's part of a global Vec: levels a, a + 1,
+  /// ... and then the crack fields fill the rest of it.
+  PetscInt localLevelStart(int a) const { return localLevelStart_[a]; }
   /// Every cracked node, in the order of the composite's crack part (see crack_fields.cpp).
   const std::vector<CrackedNode> &crackedNodes() const { return cracked_; }
 
@@ -168,6 +178,10 @@ public:
   /// gradients are left zero). False when a point lies outside the grid or the window.
   bool buildPointStencils(PetscInt n, const double *x, Stencils<D> &s) const;
 
+  /// The coarsest level whose nodes can reach a particle at x with half-sizes l: the finest
+  /// level whose box (closed) holds the particle (0 if none).
+  int coarsestReaching(const double *x, const double *l) const;
+
 private:
   void destroyPetsc();
   /// The DMs, the window, its nodes, the crack fields and the scatter.
@@ -193,9 +207,6 @@ private:
     bool inside = false, threeNodeBlock = false,
          fourNodeBlock = false; // four: 2D, a regular 4^D block
   };
-  /// The coarsest level whose nodes can reach a particle at x with half-sizes l: the finest
-  /// level whose box (closed) holds the particle (0 if none).
-  int coarsestReaching(const double *x, const double *l) const;
   /// Level q's candidate nodes for the particle (q at least coarsestReaching's level).
   bool levelReach(int q, const double *x, const double *l, Reach &r) const;
   /// The block of level q (coarsestReaching's level) of a particle that no other level reaches
@@ -258,6 +269,16 @@ private:
   std::vector<PetscInt> crackCount_;         // cracked nodes owned by each rank
   VecScatter scatter_ = nullptr;
   Vec windowTemplate_ = nullptr;
+  std::vector<PetscInt> localLevelStart_; // per level, then the end: localLevelStart
+  /// The window slots' composite block indices (the scatter's, slot by slot) and, with
+  /// localStart, localLevelStart_. Collective.
+  PetscErrorCode compositeBlocks(MPI_Comm comm, std::vector<PetscInt> &blocks,
+                                 std::vector<PetscInt> *localStart) const;
+  /// The scatter of levels from, from + 1, ... (made at its first use) and its window Vec, which
+  /// borrows the window array of each move.
+  PetscErrorCode suffixScatter(int from, VecScatter *sc, Vec *w) const;
+  mutable std::vector<VecScatter> suffixScatter_;
+  mutable std::vector<Vec> suffixWindow_;
 };
 
 extern template class Grid<2>;

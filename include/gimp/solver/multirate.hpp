@@ -28,6 +28,11 @@ template <int D> struct RateClasses {
                                   // over its class's step, (m_old + m_new) / (2 m_new)
   std::vector<Stencils<D>> st;    // class c's stencils, from its last start
   std::vector<PetscInt> start;    // the sub-step of class c's last start
+  // The coarsest level class c's stencils reach (on every rank), from its last start: its nodal
+  // sums and their moves cover the levels from there on (Grid::localLevelStart), the rest of them
+  // is zero. zeroFrom[c]: the first value of its mass and momentum that may not be zero.
+  std::vector<int> from;
+  std::vector<PetscInt> zeroFrom;
   std::vector<char> live; // a class stepping every sub-step: inc holds its increments (else dt a)
   // With external forces, for the work of class c's external impulse: the power of its force
   // (ClassSums::fext) before and after the impulse, summed, and the impulse's factor (m_c, times
@@ -67,6 +72,7 @@ struct RateScratch {
   Vec taken = nullptr, field = nullptr;  // global: what the ending classes took, a field
   Vec corr = nullptr, corrSum = nullptr; // MUSL: a class's re-projection correction, their sum
   Vec fieldW = nullptr, meanW = nullptr, forceW = nullptr; // window
+  PetscInt zeroFrom = 0; // taken and corrSum: the first value that may not be zero
 };
 
 template <int D> class MultiRate {
@@ -115,6 +121,15 @@ private:
   PetscErrorCode endClass(ParticleView<D> &p, const StepClock &c, int k, size_t e, double flip);
   /// MUSL: class k's re-projection correction and the stress velocity into meanW.
   PetscErrorCode correction(const StepClock &c, int k, size_t e);
+  /// v's values from `from` on (this rank's part) set to zero.
+  static PetscErrorCode zeroTail(Vec v, PetscInt from);
+  /// y += a x on this rank's values from `from` on (a = +-1 here: exact as VecAXPY).
+  static PetscErrorCode addTail(Vec y, double a, Vec x, PetscInt from);
+  /// The coarsest level that class k's particles q reach, on every rank (RateClasses::from).
+  PetscErrorCode classReach(const ParticleView<D> &q, int k);
+  /// Where class k's nodal values start in this rank's part of a global Vec, and in a window.
+  PetscInt localFrom(int k) const { return s_.grid.localLevelStart(r_.from[k]); }
+  PetscInt windowFrom(int k) const { return s_.grid.windowLevelStart(r_.from[k]); }
 
   RunState<D> &s_;
   Step<D> &step_;
