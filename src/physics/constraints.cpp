@@ -130,7 +130,8 @@ PetscErrorCode nodeConstraints(const Scene<D> &sc, const Grid<D> &grid, Vec bcMa
   return PETSC_SUCCESS;
 }
 
-PetscErrorCode massMask(Vec mass, Vec bcMask, double cut, Vec mask, Vec invMass, int dof) {
+PetscErrorCode massMask(Vec mass, Vec bcMask, double cut, Vec mask, Vec invMass, int dof,
+                        PetscInt from) {
   const PetscScalar *m = nullptr, *bc = nullptr;
   PetscScalar *mk = nullptr, *im = nullptr;
   PetscInt nloc = 0;
@@ -139,7 +140,7 @@ PetscErrorCode massMask(Vec mass, Vec bcMask, double cut, Vec mask, Vec invMass,
   PetscCall(VecGetArrayRead(bcMask, &bc));
   PetscCall(VecGetArray(mask, &mk));
   PetscCall(VecGetArray(invMass, &im));
-  for (PetscInt i = 0; i < nloc; i += dof) {
+  for (PetscInt i = from; i < nloc; i += dof) {
     const bool has = m[i] > cut;
     for (int c = 0; c < dof; ++c) {
       mk[i + c] = has ? bc[i + c] : 0.0;

@@ -38,6 +38,7 @@ template <int D> PetscErrorCode MultiRate<D>::create(Vec like) {
   r.live.assign(n, 0);
   r.from.assign(n, 0);
   r.zeroFrom.assign(n, 0);
+  r.changedFrom.assign(n, 0);
   scratch_.zeroFrom = 0;
   ClassSums &v = sums_;
   std::vector<std::vector<Vec> *> perClass = {&v.mass, &v.mom, &v.inc, &v.vsum};
@@ -277,6 +278,7 @@ template <int D> PetscErrorCode MultiRate<D>::startClass(ParticleView<D> &p, int
   PetscCall(zeroTail(sums_.mass[k], z));
   PetscCall(s.grid.addFromWindow(n.massW, sums_.mass[k], from));
   r.zeroFrom[k] = g0;
+  r.changedFrom[k] = z;
   PetscInt nloc = 0;
   PetscScalar *P = nullptr;
   const PetscScalar *pk = nullptr;
@@ -306,24 +308,27 @@ template <int D> PetscErrorCode MultiRate<D>::startClasses(ParticleView<D> &p, P
   RateClasses<D> &r = r_;
   Nodal &n = s.nodal;
   PetscCall(PetscLogStagePush(s.stages.p2g));
-  bool started = false;
+  PetscInt nloc = 0;
+  PetscCall(VecGetLocalSize(n.P, &nloc));
+  PetscInt from = nloc;
   for (int k = 0; k < r.n; ++k) {
     if (r.size[k] == 0 || j % r.every[k] != 0) continue;
     PetscCall(startClass(p, k, j));
-    started = true;
+    from = std::min(from, r.changedFrom[k]);
   }
-  // The mass of every class (each from its last start), the masks and the velocity (unchanged
-  // when no class starts: the nodes kept them).
-  if (started) PetscCall(classMass());
-  PetscInt nloc = 0;
-  PetscCall(VecGetLocalSize(n.P, &nloc));
+  // The mass of every class (each from its last start), the masks and the velocity, where the
+  // starting classes changed them. Elsewhere the nodes kept them: the classes that start are
+  // those that ended at the sub-step before, and the grid update left v = P / m. At a coarse
+  // step's start everywhere (a class may have emptied).
+  if (j == 0) from = 0;
+  if (from < nloc) PetscCall(classMass(from));
   PetscScalar *P = nullptr, *v = nullptr;
   const PetscScalar *mk = nullptr, *im = nullptr;
   PetscCall(VecGetArray(n.P, &P));
   PetscCall(VecGetArray(n.vel, &v));
   PetscCall(VecGetArrayRead(n.mask, &mk));
   PetscCall(VecGetArrayRead(n.invMass, &im));
-  for (PetscInt i = 0; i < nloc; ++i) {
+  for (PetscInt i = from; i < nloc; ++i) {
     P[i] *= mk[i];
     v[i] = P[i] * im[i];
   }
@@ -335,7 +340,7 @@ template <int D> PetscErrorCode MultiRate<D>::startClasses(ParticleView<D> &p, P
   return PETSC_SUCCESS;
 }
 
-template <int D> PetscErrorCode MultiRate<D>::classMass() {
+template <int D> PetscErrorCode MultiRate<D>::classMass(PetscInt from) {
   // The summed mass of the classes; with the node rule also each node's rate: the step of the
   // slowest class whose mass is on it now (its anchor; 1 on an empty node). The anchor stays on
   // the node through its own step, so the changes of the faster classes' forces
@@ -347,17 +352,17 @@ template <int D> PetscErrorCode MultiRate<D>::classMass() {
   PetscCall(VecGetLocalSize(n.mass, &nloc));
   PetscScalar *m = nullptr, *rate = nullptr;
   PetscCall(VecGetArray(n.mass, &m));
-  std::fill(m, m + nloc, 0.0);
+  std::fill(m + from, m + nloc, 0.0);
   if (s.sc.multirateNodeRule) {
     PetscCall(VecGetArray(sums_.nodeRate, &rate));
-    std::fill(rate, rate + nloc, 1.0);
+    std::fill(rate + from, rate + nloc, 1.0);
   }
   for (int k = 0; k < r.n; ++k) {
     if (r.size[k] == 0) continue;
     const PetscScalar *mk = nullptr;
     PetscCall(VecGetArrayRead(sums_.mass[k], &mk));
     const double every = static_cast<double>(r.every[k]);
-    for (PetscInt i = localFrom(k); i < nloc; i += D) { // (zero before)
+    for (PetscInt i = std::max(from, localFrom(k)); i < nloc; i += D) { // (zero before)
       m[i] += mk[i];
       if (rate && mk[i] > 0)
         for (int d = 0; d < D; ++d)
@@ -368,7 +373,7 @@ template <int D> PetscErrorCode MultiRate<D>::classMass() {
   if (rate) PetscCall(VecRestoreArray(sums_.nodeRate, &rate));
   PetscCall(VecRestoreArray(n.mass, &m));
   return physics::massMask(n.mass, n.bcMask, s.sc.massCutoff * s.meanParticleMass, n.mask,
-                           n.invMass, D);
+                           n.invMass, D, from);
 }
 
 template <int D> PetscErrorCode MultiRate<D>::zeroTail(Vec v, PetscInt from) {

@@ -14,7 +14,9 @@ template <int D>
 PetscErrorCode nodeConstraints(const Scene<D> &sc, const Grid<D> &grid, Vec bcMask);
 
 /// mask = bcMask where the node's mass exceeds `cut`, else 0; invMass = mask / m. The mass sits
-/// in component 0 of each node's `dof` values (D).
-PetscErrorCode massMask(Vec mass, Vec bcMask, double cut, Vec mask, Vec invMass, int dof);
+/// in component 0 of each node's `dof` values (D). From this rank's value `from` on (a multiple
+/// of dof; before it mask and invMass are left as they are).
+PetscErrorCode massMask(Vec mass, Vec bcMask, double cut, Vec mask, Vec invMass, int dof,
+                        PetscInt from = 0);
 
 } // namespace gimp::physics

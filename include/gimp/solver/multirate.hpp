@@ -33,6 +33,8 @@ template <int D> struct RateClasses {
   // is zero. zeroFrom[c]: the first value of its mass and momentum that may not be zero.
   std::vector<int> from;
   std::vector<PetscInt> zeroFrom;
+  // The first value of class c's mass and momentum that its last start changed.
+  std::vector<PetscInt> changedFrom;
   std::vector<char> live; // a class stepping every sub-step: inc holds its increments (else dt a)
   // With external forces, for the work of class c's external impulse: the power of its force
   // (ClassSums::fext) before and after the impulse, summed, and the impulse's factor (m_c, times
@@ -96,8 +98,9 @@ private:
   PetscErrorCode startClasses(ParticleView<D> &p, PetscInt j);
   /// A starting class's stencils, P2G and crack faces (startClasses, class k).
   PetscErrorCode startClass(ParticleView<D> &p, int k, PetscInt j);
-  /// The summed mass of the classes, with the node rule the node rates, and the masks.
-  PetscErrorCode classMass();
+  /// The summed mass of the classes, with the node rule the node rates, and the masks, from this
+  /// rank's value `from` on (before it they are as they were).
+  PetscErrorCode classMass(PetscInt from);
   /// The starting classes' forces, each times its step in sub-steps, into nodal.f.
   PetscErrorCode classForces(const ParticleView<D> &p, const StepClock &c, PetscInt j,
                              StartPower &power);
