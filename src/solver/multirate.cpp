@@ -251,15 +251,26 @@ template <int D> PetscErrorCode MultiRate<D>::startClass(ParticleView<D> &p, int
     r.st[k].start.assign(static_cast<size_t>(q.n) + 1, 0);
   }
   cracks::assignFields<D>(s.grid, s.sc.cracks, q.n, q.x, r.st[k]);
-  if (k + 1 < r.n) // the class's margin kept it off the finer levels' nodes
-    for (PetscInt i = 0; i < q.n; ++i)
-      if (maxSlot(s.grid, r.st[k], i) >= s.grid.levels[k + 1].offset) {
+  if (k + 1 < r.n) { // the class's margin kept it off the finer levels' nodes
+    // (only where they might reach: no node of level k + 1 or finer reaches farther out of level
+    // k + 1's box than a level-0 cell, the widest zone)
+    const BoxOf<D> &b = s.grid.levels[k + 1].box;
+    const double reach = s.grid.levels[0].h;
+    for (PetscInt i = 0; i < q.n; ++i) {
+      bool near = true;
+      for (int a = 0; a < D; ++a) {
+        const double x = q.x[D * i + a], l = q.l[D * i + a];
+        near = near && x + l + reach >= b[a] && x - l - reach <= b[D + a];
+      }
+      if (near && maxSlot(s.grid, r.st[k], i) >= s.grid.levels[k + 1].offset) {
         s.status.localFailure = "a particle of level " + std::to_string(k) +
                                 "'s rate class reached level " + std::to_string(k + 1) +
                                 "'s nodes within a coarse step (it moved more than one finest "
                                 "cell; reduce -ts_dt)";
         break;
       }
+    }
+  }
   // Its P2G onto the levels it reaches: the nodal sums and moves from there on.
   PetscCall(classReach(q, k));
   const int from = r.from[k];
