@@ -209,10 +209,11 @@ template <int D> PetscErrorCode MultiRate<D>::classify(PetscInt step) {
   PetscCall(step_.sortParticles(&cls, dueIn(step, step + s.stride(), s.sc.sortInterval)));
   PetscCall(p.get(s.sw));
   std::vector<PetscInt64> count(r.n, 0);
-  for (PetscInt k = 0; k < p.n; ++k)
-    ++count[cls[k]];
-  for (int c = 0; c < r.n; ++c)
-    r.begin[c + 1] = r.begin[c] + static_cast<PetscInt>(count[c]);
+  for (int c = 0; c < r.n; ++c) { // (the classes are contiguous and in order now)
+    r.begin[c + 1] =
+        static_cast<PetscInt>(std::upper_bound(cls.begin(), cls.end(), c) - cls.begin());
+    count[c] = r.begin[c + 1] - r.begin[c];
+  }
   PetscCallMPI(MPI_Allreduce(count.data(), r.size.data(), r.n, MPI_INT64_T, MPI_SUM, s.comm));
   std::string sizes;
   for (int c = 0; c < r.n; ++c)
