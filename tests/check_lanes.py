@@ -10,7 +10,8 @@ components, share their family's scale; a momentum's scale includes sum m |v|). 
 ordered: one level with APIC (every kernel in lanes), USL and USF (APIC's G2P without the
 re-projection), three levels (block particles next to
 rows at level borders), the plate with a hole (cut particles, tractions, penalty conditions),
-a crack (cracked nodes keep rows), FLIP (force and gradient in lanes, transfers scalar), corner
+a crack (cracked nodes keep rows), FLIP (its transfers in lanes without contraction, the scalar
+values bit for bit: tests/test_stencils.cpp, GridStencils.FlipLanesEqualScalarLoops), corner
 tracking (stencil centres other than the positions), two ranks, a step per level (each rate
 class's stencils), and for the stress update two
 materials, a neo-Hookean one (scalar) and plane stress without domain tracking.

@@ -20,6 +20,8 @@
 #include "gimp/grid/crack_fields.hpp"
 #include "gimp/grid/grid.hpp"
 #include "gimp/grid/shape.hpp"
+#include "gimp/transfer/lane_loops.hpp"
+#include "gimp/transfer/transfer.hpp"
 
 #include "grid_layouts.hpp"
 #include "test_util.hpp"
@@ -485,6 +487,104 @@ TEST(GridStencils, BlocksBesideFacesEqualRows) {
   EXPECT_WORST_LE(gradient, 1e-12);
   EXPECT_GT(blocks, compared / 10);
   EXPECT_GT(beside, blocks / 20);
+}
+
+// ---------------------------------------------------------------------------------------------
+// 1e. The FLIP/PIC transfers in lanes of four block particles (src/transfer/lane_loops_flip.cpp,
+// built without contraction) give the scalar loops' values bit for bit: P2G of momentum and
+// mass, G2P with and without the re-projection, and a rate class's G2P, on stencils with lane
+// groups, blocks of 4 nodes and rows among them.
+
+TEST(GridStencils, FlipLanesEqualScalarLoops) {
+  namespace lanes = gimp::transfer::laneLoops;
+  if (!lanes::available()) GTEST_SKIP() << "no AVX2 here: the lanes do not run";
+  long groups = 0, particles = 0;
+  std::uint64_t seed = 0x6a1d0f1a;
+  for (const Layout &lay : {twoLevelLayouts()[0], threeLevelLayouts()[0]}) {
+    const auto gp = makeGrid(sceneOf(lay));
+    const Grid<2> &g = *gp;
+    Sampler sample(g, seed++);
+    const long np = 4003; // (a tail after the last group of four)
+    std::vector<double> x(2 * np), l(2 * np);
+    for (long p = 0; p < np; ++p) // mostly 3-node blocks, some 4-node blocks and rows
+      sample.draw(x[2 * p], x[2 * p + 1], l[2 * p], l[2 * p + 1], true,
+                  p >= np - np / 7 ? 0.5 * g.h0() : 0.2 * g.h0());
+    { // ordered by the level that holds them, as a run's cell order does: lane groups form
+      std::vector<std::pair<int, long>> key(np);
+      for (long p = 0; p < np; ++p)
+        key[p] = {g.coarsestReaching(&x[2 * p], &l[2 * p]), p};
+      std::stable_sort(key.begin(), key.end(),
+                       [](const auto &a, const auto &b) { return a.first < b.first; });
+      const std::vector<double> x0 = x, l0 = l;
+      for (long p = 0; p < np; ++p)
+        for (int a = 0; a < 2; ++a) {
+          x[2 * p + a] = x0[2 * key[p].second + a];
+          l[2 * p + a] = l0[2 * key[p].second + a];
+        }
+    }
+    Stencils st;
+    ASSERT_TRUE(g.buildStencils(np, x.data(), l.data(), st, true, true));
+    for (long q = 0; q + 4 <= np; q += 4)
+      groups += st.laneGroupOf(q / 4) != 0;
+    particles += np;
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> U(-1.0, 1.0);
+    const size_t nv = 2 * static_cast<size_t>(g.nSlots);
+    std::vector<double> vg(nv), ag(nv), m(np), v(2 * np);
+    for (double &a : vg)
+      a = U(rng);
+    for (double &a : ag)
+      a = 1e3 * U(rng);
+    for (double &a : m)
+      a = 1.0 + 0.5 * U(rng);
+    for (double &a : v)
+      a = U(rng);
+    const double dt = 1e-4, flip = 0.95;
+    // Each kernel on copies of the same state: scalar (a), lanes (b).
+    auto same = [&](const std::vector<double> &a, const std::vector<double> &b, const char *what) {
+      long differ = 0;
+      for (size_t i = 0; i < a.size(); ++i)
+        differ += a[i] != b[i];
+      EXPECT_EQ(differ, 0) << lay.name << ": " << what;
+    };
+    {
+      std::vector<double> ma(nv, 0.0), mb(nv, 0.0), sa(nv, 0.0), sb(nv, 0.0);
+      gimp::transfer::particlesToGrid<2>(st, np, m.data(), v.data(), ma.data(), sa.data());
+      lanes::particlesToGrid(st, np, m.data(), v.data(), mb.data(), sb.data());
+      same(ma, mb, "P2G momentum");
+      same(sa, sb, "P2G mass");
+    }
+    {
+      std::vector<double> va = v, vb = v, xa = x, xb = x, ma(nv, 0.0), mb(nv, 0.0);
+      gimp::transfer::gridToParticlesProjected<2>(st, np, vg.data(), ag.data(), dt, flip, m.data(),
+                                                  va.data(), xa.data(), ma.data());
+      lanes::gridToParticlesProjected(st, np, vg.data(), ag.data(), dt, flip, m.data(), vb.data(),
+                                      xb.data(), mb.data());
+      same(va, vb, "G2P (MUSL) velocities");
+      same(xa, xb, "G2P (MUSL) positions");
+      same(ma, mb, "G2P (MUSL) re-projection");
+    }
+    {
+      std::vector<double> va = v, vb = v, xa = x, xb = x;
+      gimp::transfer::gridToParticles<2>(st, np, vg.data(), ag.data(), dt, flip, va.data(),
+                                         xa.data());
+      lanes::gridToParticles(st, np, vg.data(), ag.data(), dt, flip, vb.data(), xb.data());
+      same(va, vb, "G2P (USL) velocities");
+      same(xa, xb, "G2P (USL) positions");
+    }
+    for (const bool project : {true, false}) {
+      std::vector<double> va = v, vb = v, xa = x, xb = x, ma(nv, 0.0), mb(nv, 0.0);
+      gimp::transfer::gridToParticlesRated<2>(st, np, ag.data(), vg.data(), 4 * dt, flip, m.data(),
+                                              va.data(), xa.data(), project ? ma.data() : nullptr);
+      lanes::gridToParticlesRated(st, np, ag.data(), vg.data(), 4 * dt, flip, m.data(), vb.data(),
+                                  xb.data(), project ? mb.data() : nullptr);
+      same(va, vb, "rated G2P velocities");
+      same(xa, xb, "rated G2P positions");
+      same(ma, mb, "rated G2P re-projection");
+    }
+  }
+  std::printf("  %ld particles, %ld lane groups of four\n", particles, groups);
+  EXPECT_GE(groups, 40); // (the lanes did run: the sampler draws many particles beside borders)
 }
 
 TEST(GridStencils, CrackedBlocksEqualRows) {

@@ -50,8 +50,7 @@ void Step<D>::projectMomentum(const Stencils<D> &st, const ParticleView<D> &p,
                               const double *centres, double *mom, double *mass) {
   namespace lanes = transfer::laneLoops; // (2D: four particles at a time; 3D: x, y, z)
   if (s_.sc.transfer != Transfer::Apic) {
-    if constexpr (D == 3) // (2D FLIP transfers have no lane form)
-      if (s_.lanes) return lanes::particlesToGrid(st, p.n, p.m, p.v, mom, mass);
+    if (s_.lanes) return lanes::particlesToGrid(st, p.n, p.m, p.v, mom, mass);
     return transfer::particlesToGrid<D>(st, p.n, p.m, p.v, mom, mass);
   }
   // C_p = B_p D_p^-1 per particle from its stencil, at the step's P2G and at the re-projection.
@@ -134,11 +133,10 @@ void Step<D>::gridToParticlesKernel(ParticleView<D> &p, const StepClock &c, cons
                ? lanes::gridToParticlesAffine(st, p.n, vg, centres, xs, c.dt, p.v, p.B, p.x)
                : transfer::gridToParticlesAffine<D>(st, p.n, vg, centres, xs, c.dt, p.v, p.B, p.x);
   }
-  if constexpr (D == 3) // (2D FLIP transfers have no lane form)
-    if (s_.lanes)
-      return fused ? lanes::gridToParticlesProjected(st, p.n, vg, ag, c.dt, sc.flip, p.m, p.v, p.x,
-                                                     mom)
-                   : lanes::gridToParticles(st, p.n, vg, ag, c.dt, sc.flip, p.v, p.x);
+  if (s_.lanes)
+    return fused
+               ? lanes::gridToParticlesProjected(st, p.n, vg, ag, c.dt, sc.flip, p.m, p.v, p.x, mom)
+               : lanes::gridToParticles(st, p.n, vg, ag, c.dt, sc.flip, p.v, p.x);
   if (fused)
     return transfer::gridToParticlesProjected<D>(st, p.n, vg, ag, c.dt, sc.flip, p.m, p.v, p.x,
                                                  mom);
@@ -154,8 +152,7 @@ void Step<D>::gridToParticlesRated(const Stencils<D> &st, ParticleView<D> &q, co
                                                         q.v, q.B, q.x, mom)
                     : transfer::gridToParticlesAffineRated<D>(st, q.n, ug, wg, slotCoordinates(),
                                                               dt, q.m, q.v, q.B, q.x, mom);
-  if constexpr (D == 3) // (2D FLIP transfers have no lane form)
-    if (s_.lanes) return lanes::gridToParticlesRated(st, q.n, ug, wg, dt, flip, q.m, q.v, q.x, mom);
+  if (s_.lanes) return lanes::gridToParticlesRated(st, q.n, ug, wg, dt, flip, q.m, q.v, q.x, mom);
   transfer::gridToParticlesRated<D>(st, q.n, ug, wg, dt, flip, q.m, q.v, q.x, mom);
 }
 

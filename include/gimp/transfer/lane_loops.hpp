@@ -57,6 +57,22 @@ void gridToParticlesAffineRated(const Stencils<2> &st, PetscInt n, const double 
                                 const double *wg, const double *xs, double dt, const double *m,
                                 double *v, double *B, double *x, double *mom);
 
+/// The FLIP/PIC transfers (transfer/transfer.hpp; src/transfer/lane_loops_flip.cpp, built without
+/// contraction: bit for bit the scalar loops): particlesToGrid<2> (P2G of momentum and, with
+/// mass, mass), gridToParticles<2> (G2P and the move), gridToParticlesProjected<2> (G2P, the
+/// move and the re-projection of m_p v_p into mom) and gridToParticlesRated<2> (the G2P of a rate
+/// class of a per-level step).
+void particlesToGrid(const Stencils<2> &st, PetscInt n, const double *m, const double *v,
+                     double *mom, double *mass);
+void gridToParticles(const Stencils<2> &st, PetscInt n, const double *vg, const double *ag,
+                     double dt, double flip, double *v, double *x);
+void gridToParticlesProjected(const Stencils<2> &st, PetscInt n, const double *vg, const double *ag,
+                              double dt, double flip, const double *m, double *v, double *x,
+                              double *mom);
+void gridToParticlesRated(const Stencils<2> &st, PetscInt n, const double *ug, const double *wg,
+                          double dt, double flip, const double *m, double *v, double *x,
+                          double *mom);
+
 /// The velocity gradients of particles k0 .. k1-1 into L (row-major 2 x 2 from L[0]), as
 /// transfer::velocityGradientAt<2>; k0 a multiple of 4 (the lane groups are aligned).
 void velocityGradients(const Stencils<2> &st, PetscInt k0, PetscInt k1, const double *vg,

@@ -63,18 +63,23 @@ GIMP_ALWAYS_INLINE void particleFromGrid(const Stencils<D> &st, PetscInt k, cons
 /// the mean grid velocity over its step dt. With mom, the new momenta are re-projected with the
 /// same stencils (accumulated).
 template <int D>
+GIMP_ALWAYS_INLINE void particleFromGridRated(const Stencils<D> &st, PetscInt k, const double *ug,
+                                              const double *wg, double dt, double flip,
+                                              const double *m, double *v, double *x, double *mom) {
+  double up[D], wp[D];
+  particleFromGrid<D>(st, k, ug, wg, up, wp);
+  for (int c = 0; c < D; ++c) {
+    v[D * k + c] = flip * v[D * k + c] + up[c];
+    x[D * k + c] += dt * wp[c];
+  }
+  if (mom) particleToGrid<D>(st, k, m[k], v + D * k, mom, nullptr);
+}
+template <int D>
 void gridToParticlesRated(const Stencils<D> &st, PetscInt n, const double *ug, const double *wg,
                           double dt, double flip, const double *m, double *v, double *x,
                           double *mom) {
-  for (PetscInt k = 0; k < n; ++k) {
-    double up[D], wp[D];
-    particleFromGrid<D>(st, k, ug, wg, up, wp);
-    for (int c = 0; c < D; ++c) {
-      v[D * k + c] = flip * v[D * k + c] + up[c];
-      x[D * k + c] += dt * wp[c];
-    }
-    if (mom) particleToGrid<D>(st, k, m[k], v + D * k, mom, nullptr);
-  }
+  for (PetscInt k = 0; k < n; ++k)
+    particleFromGridRated<D>(st, k, ug, wg, dt, flip, m, v, x, mom);
 }
 
 /// The nodal field f at particle k: fp = sum_i S_ip f_i (D values).
@@ -96,43 +101,45 @@ GIMP_ALWAYS_INLINE void interpolateAt(const Stencils<D> &st, PetscInt k, const d
 /// G2P: each particle's velocity becomes flip (v + dt a_p) + (1 - flip) v_p with a_p and v_p
 /// the grid acceleration and velocity at the particle, and it moves by dt v_p.
 template <int D>
+GIMP_ALWAYS_INLINE void particleFromGridFlip(const Stencils<D> &st, PetscInt k, const double *vg,
+                                             const double *ag, double dt, double flip, double *v,
+                                             double *x) {
+  double vp[D], ap[D];
+  particleFromGrid<D>(st, k, vg, ag, vp, ap);
+  for (int c = 0; c < D; ++c) {
+    v[D * k + c] = flip * (v[D * k + c] + dt * ap[c]) + (1.0 - flip) * vp[c];
+    x[D * k + c] += dt * vp[c];
+  }
+}
+template <int D>
 void gridToParticles(const Stencils<D> &st, PetscInt n, const double *vg, const double *ag,
                      double dt, double flip, double *v, double *x) {
-  for (PetscInt k = 0; k < n; ++k) {
-    double vp[D], ap[D];
-    particleFromGrid<D>(st, k, vg, ag, vp, ap);
-    for (int c = 0; c < D; ++c) {
-      v[D * k + c] = flip * (v[D * k + c] + dt * ap[c]) + (1.0 - flip) * vp[c];
-      x[D * k + c] += dt * vp[c];
-    }
-  }
+  for (PetscInt k = 0; k < n; ++k)
+    particleFromGridFlip<D>(st, k, vg, ag, dt, flip, v, x);
 }
 
 /// G2P followed by the re-projection of the new momenta m_p v_p with the same stencils into mom
 /// (accumulated), in one pass.
 template <int D>
+GIMP_ALWAYS_INLINE void particleFromGridProjected(const Stencils<D> &st, PetscInt k,
+                                                  const double *vg, const double *ag, double dt,
+                                                  double flip, const double *m, double *v,
+                                                  double *x, double *mom) {
+  if constexpr (D == 2) { // a block read once for both
+    if (st.isBlock(k))
+      return blocks::fromAndToGrid(st.block(k), vg, ag, dt, flip, m[k], v + 2 * k, x + 2 * k, mom);
+    if (st.isBlock4(k))
+      return blocks::fromAndToGrid(st.block4(k), vg, ag, dt, flip, m[k], v + 2 * k, x + 2 * k, mom);
+  }
+  particleFromGridFlip<D>(st, k, vg, ag, dt, flip, v, x);
+  particleToGrid<D>(st, k, m[k], v + D * k, mom, nullptr);
+}
+template <int D>
 void gridToParticlesProjected(const Stencils<D> &st, PetscInt n, const double *vg, const double *ag,
                               double dt, double flip, const double *m, double *v, double *x,
                               double *mom) {
-  for (PetscInt k = 0; k < n; ++k) {
-    if constexpr (D == 2) { // a block read once for both
-      if (st.isBlock(k)) {
-        blocks::fromAndToGrid(st.block(k), vg, ag, dt, flip, m[k], v + 2 * k, x + 2 * k, mom);
-        continue;
-      }
-      if (st.isBlock4(k)) {
-        blocks::fromAndToGrid(st.block4(k), vg, ag, dt, flip, m[k], v + 2 * k, x + 2 * k, mom);
-        continue;
-      }
-    }
-    double vp[D], ap[D];
-    particleFromGrid<D>(st, k, vg, ag, vp, ap);
-    for (int c = 0; c < D; ++c) {
-      v[D * k + c] = flip * (v[D * k + c] + dt * ap[c]) + (1.0 - flip) * vp[c];
-      x[D * k + c] += dt * vp[c];
-    }
-    particleToGrid<D>(st, k, m[k], v + D * k, mom, nullptr);
-  }
+  for (PetscInt k = 0; k < n; ++k)
+    particleFromGridProjected<D>(st, k, vg, ag, dt, flip, m, v, x, mom);
 }
 
 /// Velocity gradient of particle k, L = sum_i v_i (x) grad S_ip.

@@ -1,0 +1,169 @@
+// Lanes of four 2D block particles (AVX2) for the FLIP/PIC transfers: see transfer/lane_loops.hpp.
+// Unlike the other lane loop files this one is built without contraction (the project's default,
+// CMakeLists.txt): every lane expression is the scalar one of transfer/block_kernels.hpp in its
+// order and with its roundings, so these loops give the scalar loops' results bit for bit.
+//
+// This file: P2G of mass and momentum, G2P with the re-projection (MUSL) or without (USL, USF),
+// and the G2P of a rate class of a per-level step.
+#include "gimp/transfer/lane_loops.hpp"
+
+#include "gimp/transfer/transfer.hpp"
+
+#include "gimp/core/lanes.hpp"
+#include "lane_runs.hpp"
+
+namespace gimp::transfer::laneLoops {
+
+#if GIMP_HAVE_LANES
+
+namespace {
+
+/// blocks::interpolate for a run: f_p = sum_j w_j sum_i w_i f_ij (x and y in lanes).
+GIMP_LANES_INLINE void interpolateRun(const Run &R, const double *fg, V4 &fx, V4 &fy) {
+  fx = fy = splat(0);
+  for (int j = 0; j < 3; ++j) {
+    const double *r[4] = {fg + R.row[j][0], fg + R.row[j][1], fg + R.row[j][2], fg + R.row[j][3]};
+    V4 gx, gy;
+    gatherPairs(r, 0, gx, gy);
+    V4 tx = R.wx[0] * gx, ty = R.wx[0] * gy;
+    for (int i = 1; i < 3; ++i) {
+      gatherPairs(r, 2 * i, gx, gy);
+      tx = tx + R.wx[i] * gx;
+      ty = ty + R.wx[i] * gy;
+    }
+    fx = fx + R.wy[j] * tx;
+    fy = fy + R.wy[j] * ty;
+  }
+}
+
+/// BlockLocals::scatter for a run: node (i, j) gets w_i (w_j p) and, with mass, w_i (w_j m).
+GIMP_LANES_INLINE void momentumScatter(const Run &R, V4 mp, V4 PX, V4 PY, double *mom,
+                                       double *mass) {
+  NodeValues N;
+  for (int j = 0; j < 3; ++j) {
+    const V4 ax = R.wy[j] * PX, ay = R.wy[j] * PY, am = R.wy[j] * mp;
+    for (int i = 0; i < 3; ++i) {
+      N.X[j][i] = R.wx[i] * ax;
+      N.Y[j][i] = R.wx[i] * ay;
+      N.M[j][i] = R.wx[i] * am;
+    }
+  }
+  if (mass)
+    addToNodes<true>(R, N, mom, mass);
+  else
+    addToNodes<false>(R, N, mom, nullptr);
+}
+
+/// The FLIP/PIC G2P of a run (blocks::fromGrid, then gridToParticles' update): v <- flip (v + dt
+/// a_p) + (1 - flip) v_p, x += dt v_p; returns the new velocities.
+GIMP_LANES_INLINE void flipUpdate(const Run &R, PetscInt k, const double *vg, const double *ag,
+                                  double dt, double flip, double *v, double *x, V4 &VX, V4 &VY) {
+  V4 vx, vy, ax, ay, X, Y;
+  interpolateRun(R, vg, vx, vy);
+  interpolateRun(R, ag, ax, ay);
+  loadVectors(v, k, VX, VY);
+  const V4 f = splat(flip), g = splat(1.0 - flip), dtv = splat(dt);
+  VX = f * (VX + dtv * ax) + g * vx;
+  VY = f * (VY + dtv * ay) + g * vy;
+  storeVectors(v, k, VX, VY);
+  loadVectors(x, k, X, Y);
+  storeVectors(x, k, X + dtv * vx, Y + dtv * vy);
+}
+
+} // namespace
+
+GIMP_LANES void particlesToGrid(const Stencils<2> &st, PetscInt n, const double *m, const double *v,
+                                double *mom, double *mass) {
+  const auto lane = [&](PetscInt k, std::uint8_t group) GIMP_LANES_LAMBDA {
+    prefetch::fields(k, n, Field<2>{v}, Field<1>{m});
+    Run R;
+    loadRun<false>(st, k, group, R);
+    V4 VX, VY;
+    loadVectors(v, k, VX, VY);
+    const V4 mp = _mm256_loadu_pd(m + k);
+    momentumScatter(R, mp, mp * VX, mp * VY, mom, mass);
+  };
+  forGroups(st, 0, n, lane,
+            [&](PetscInt k) { particleToGrid<2>(st, k, m[k], v + 2 * k, mom, mass); });
+}
+
+GIMP_LANES void gridToParticles(const Stencils<2> &st, PetscInt n, const double *vg,
+                                const double *ag, double dt, double flip, double *v, double *x) {
+  const auto lane = [&](PetscInt k, std::uint8_t group) GIMP_LANES_LAMBDA {
+    prefetch::fields(k, n, Field<2>{v}, Field<2>{x});
+    Run R;
+    loadRun<false>(st, k, group, R);
+    V4 VX, VY;
+    flipUpdate(R, k, vg, ag, dt, flip, v, x, VX, VY);
+  };
+  forGroups(st, 0, n, lane,
+            [&](PetscInt k) { particleFromGridFlip<2>(st, k, vg, ag, dt, flip, v, x); });
+}
+
+GIMP_LANES void gridToParticlesProjected(const Stencils<2> &st, PetscInt n, const double *vg,
+                                         const double *ag, double dt, double flip, const double *m,
+                                         double *v, double *x, double *mom) {
+  const auto lane = [&](PetscInt k, std::uint8_t group) GIMP_LANES_LAMBDA {
+    prefetch::fields(k, n, Field<2>{v}, Field<2>{x}, Field<1>{m});
+    Run R;
+    loadRun<false>(st, k, group, R);
+    V4 VX, VY;
+    flipUpdate(R, k, vg, ag, dt, flip, v, x, VX, VY);
+    const V4 mp = _mm256_loadu_pd(m + k);
+    momentumScatter(R, mp, mp * VX, mp * VY, mom, nullptr);
+  };
+  forGroups(st, 0, n, lane, [&](PetscInt k) {
+    particleFromGridProjected<2>(st, k, vg, ag, dt, flip, m, v, x, mom);
+  });
+}
+
+GIMP_LANES void gridToParticlesRated(const Stencils<2> &st, PetscInt n, const double *ug,
+                                     const double *wg, double dt, double flip, const double *m,
+                                     double *v, double *x, double *mom) {
+  const auto lane = [&](PetscInt k, std::uint8_t group) GIMP_LANES_LAMBDA {
+    prefetch::fields(k, n, Field<2>{v}, Field<2>{x}, Field<1>{m});
+    Run R;
+    loadRun<false>(st, k, group, R);
+    V4 ux, uy, wx, wy, VX, VY, X, Y;
+    interpolateRun(R, ug, ux, uy);
+    interpolateRun(R, wg, wx, wy);
+    loadVectors(v, k, VX, VY);
+    const V4 f = splat(flip), dtv = splat(dt);
+    VX = f * VX + ux;
+    VY = f * VY + uy;
+    storeVectors(v, k, VX, VY);
+    loadVectors(x, k, X, Y);
+    storeVectors(x, k, X + dtv * wx, Y + dtv * wy);
+    if (mom) {
+      const V4 mp = _mm256_loadu_pd(m + k);
+      momentumScatter(R, mp, mp * VX, mp * VY, mom, nullptr);
+    }
+  };
+  forGroups(st, 0, n, lane,
+            [&](PetscInt k) { particleFromGridRated<2>(st, k, ug, wg, dt, flip, m, v, x, mom); });
+}
+
+#else // no lanes on this architecture (laneLoops::available() is false): the scalar loops
+
+void particlesToGrid(const Stencils<2> &st, PetscInt n, const double *m, const double *v,
+                     double *mom, double *mass) {
+  transfer::particlesToGrid<2>(st, n, m, v, mom, mass);
+}
+void gridToParticles(const Stencils<2> &st, PetscInt n, const double *vg, const double *ag,
+                     double dt, double flip, double *v, double *x) {
+  transfer::gridToParticles<2>(st, n, vg, ag, dt, flip, v, x);
+}
+void gridToParticlesProjected(const Stencils<2> &st, PetscInt n, const double *vg, const double *ag,
+                              double dt, double flip, const double *m, double *v, double *x,
+                              double *mom) {
+  transfer::gridToParticlesProjected<2>(st, n, vg, ag, dt, flip, m, v, x, mom);
+}
+void gridToParticlesRated(const Stencils<2> &st, PetscInt n, const double *ug, const double *wg,
+                          double dt, double flip, const double *m, double *v, double *x,
+                          double *mom) {
+  transfer::gridToParticlesRated<2>(st, n, ug, wg, dt, flip, m, v, x, mom);
+}
+
+#endif
+
+} // namespace gimp::transfer::laneLoops
