@@ -440,38 +440,33 @@ template <int D> PetscErrorCode Grid<D>::createWindowVec(Vec *v) const {
 
 template <int D>
 PetscErrorCode Grid<D>::fromWindow(Vec window, Vec global, InsertMode mode, int from) const {
-  if (from == 0) {
-    PetscCall(VecScatterBegin(scatter_, window, global, mode, SCATTER_REVERSE));
-    PetscCall(VecScatterEnd(scatter_, window, global, mode, SCATTER_REVERSE));
-    return PETSC_SUCCESS;
-  }
-  VecScatter sc = nullptr;
-  Vec w = nullptr;
-  PetscCall(suffixScatter(from, &sc, &w));
-  const PetscScalar *a = nullptr;
-  PetscCall(VecGetArrayRead(window, &a));
-  PetscCall(VecPlaceArray(w, a + windowLevelStart(from))); // (only read)
-  PetscCall(VecScatterBegin(sc, w, global, mode, SCATTER_REVERSE));
-  PetscCall(VecScatterEnd(sc, w, global, mode, SCATTER_REVERSE));
-  PetscCall(VecResetArray(w));
-  PetscCall(VecRestoreArrayRead(window, &a));
-  return PETSC_SUCCESS;
+  return move(window, global, mode, SCATTER_REVERSE, from);
 }
 
 template <int D> PetscErrorCode Grid<D>::toWindow(Vec global, Vec window, int from) const {
+  return move(window, global, INSERT_VALUES, SCATTER_FORWARD, from);
+}
+
+template <int D>
+PetscErrorCode Grid<D>::move(Vec window, Vec global, InsertMode mode, ScatterMode dir,
+                             int from) const {
+  const bool forward = dir == SCATTER_FORWARD;
   if (from == 0) {
-    PetscCall(VecScatterBegin(scatter_, global, window, INSERT_VALUES, SCATTER_FORWARD));
-    PetscCall(VecScatterEnd(scatter_, global, window, INSERT_VALUES, SCATTER_FORWARD));
+    PetscCall(
+        VecScatterBegin(scatter_, forward ? global : window, forward ? window : global, mode, dir));
+    PetscCall(
+        VecScatterEnd(scatter_, forward ? global : window, forward ? window : global, mode, dir));
     return PETSC_SUCCESS;
   }
+  // Levels from, from + 1, ...: their scatter, its window Vec on this window's array from there.
   VecScatter sc = nullptr;
   Vec w = nullptr;
   PetscCall(suffixScatter(from, &sc, &w));
   PetscScalar *a = nullptr;
   PetscCall(VecGetArray(window, &a));
   PetscCall(VecPlaceArray(w, a + windowLevelStart(from)));
-  PetscCall(VecScatterBegin(sc, global, w, INSERT_VALUES, SCATTER_FORWARD));
-  PetscCall(VecScatterEnd(sc, global, w, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecScatterBegin(sc, forward ? global : w, forward ? w : global, mode, dir));
+  PetscCall(VecScatterEnd(sc, forward ? global : w, forward ? w : global, mode, dir));
   PetscCall(VecResetArray(w));
   PetscCall(VecRestoreArray(window, &a));
   return PETSC_SUCCESS;

@@ -163,24 +163,6 @@ GIMP_LANES_INLINE void affineGather(const Run &R, const double *vg, const V4 *dx
   Bk[3] = B1y;
 }
 
-/// blocks::interpolate for a run: f_p = sum_j w_j sum_i w_i f_ij (x and y in lanes).
-GIMP_LANES_INLINE void interpolateRun(const Run &R, const double *fg, V4 &fx, V4 &fy) {
-  fx = fy = splat(0);
-  for (int j = 0; j < 3; ++j) {
-    const double *r[4] = {fg + R.row[j][0], fg + R.row[j][1], fg + R.row[j][2], fg + R.row[j][3]};
-    V4 gx, gy;
-    gatherPairs(r, 0, gx, gy);
-    V4 tx = R.wx[0] * gx, ty = R.wx[0] * gy;
-    for (int i = 1; i < 3; ++i) {
-      gatherPairs(r, 2 * i, gx, gy);
-      tx = tx + R.wx[i] * gx;
-      ty = ty + R.wx[i] * gy;
-    }
-    fx = fx + R.wy[j] * tx;
-    fy = fy + R.wy[j] * ty;
-  }
-}
-
 /// APIC G2P of every particle, the move by dt v_p (with wg, by dt sum_i S_ip wg_i: a rate class
 /// of a per-level step, gridToParticlesAffineRated) and, with Project, the re-projection of the
 /// new affine momenta into mom (x may be xc: every centre of a run is read before it moves).

@@ -18,24 +18,6 @@ namespace gimp::transfer::laneLoops {
 
 namespace {
 
-/// blocks::interpolate for a run: f_p = sum_j w_j sum_i w_i f_ij (x and y in lanes).
-GIMP_LANES_INLINE void interpolateRun(const Run &R, const double *fg, V4 &fx, V4 &fy) {
-  fx = fy = splat(0);
-  for (int j = 0; j < 3; ++j) {
-    const double *r[4] = {fg + R.row[j][0], fg + R.row[j][1], fg + R.row[j][2], fg + R.row[j][3]};
-    V4 gx, gy;
-    gatherPairs(r, 0, gx, gy);
-    V4 tx = R.wx[0] * gx, ty = R.wx[0] * gy;
-    for (int i = 1; i < 3; ++i) {
-      gatherPairs(r, 2 * i, gx, gy);
-      tx = tx + R.wx[i] * gx;
-      ty = ty + R.wx[i] * gy;
-    }
-    fx = fx + R.wy[j] * tx;
-    fy = fy + R.wy[j] * ty;
-  }
-}
-
 /// BlockLocals::scatter for a run: node (i, j) gets w_i (w_j p) and, with mass, w_i (w_j m).
 GIMP_LANES_INLINE void momentumScatter(const Run &R, V4 mp, V4 PX, V4 PY, double *mom,
                                        double *mass) {

@@ -143,6 +143,25 @@ GIMP_LANES_INLINE void loadRun(const Stencils<2> &st, PetscInt k, std::uint8_t g
   }
 }
 
+/// blocks::interpolate for a run: f_p = sum_j w_j sum_i w_i f_ij (x and y in lanes; fused
+/// where the including file contracts).
+GIMP_LANES_INLINE void interpolateRun(const Run &R, const double *fg, V4 &fx, V4 &fy) {
+  fx = fy = splat(0);
+  for (int j = 0; j < 3; ++j) {
+    const double *r[4] = {fg + R.row[j][0], fg + R.row[j][1], fg + R.row[j][2], fg + R.row[j][3]};
+    V4 gx, gy;
+    gatherPairs(r, 0, gx, gy);
+    V4 tx = R.wx[0] * gx, ty = R.wx[0] * gy;
+    for (int i = 1; i < 3; ++i) {
+      gatherPairs(r, 2 * i, gx, gy);
+      tx = tx + R.wx[i] * gx;
+      ty = ty + R.wx[i] * gy;
+    }
+    fx = fx + R.wy[j] * tx;
+    fy = fy + R.wy[j] * ty;
+  }
+}
+
 /// A run's contributions to its 3 x 3 nodes: pairs (X, Y) and masses M, four particles each.
 struct NodeValues {
   V4 X[3][3], Y[3][3], M[3][3];

@@ -277,6 +277,8 @@ private:
   /// The scatter of levels from, from + 1, ... (made at its first use) and its window Vec, which
   /// borrows the window array of each move.
   PetscErrorCode suffixScatter(int from, VecScatter *sc, Vec *w) const;
+  /// toWindow (SCATTER_FORWARD) and fromWindow (SCATTER_REVERSE).
+  PetscErrorCode move(Vec window, Vec global, InsertMode mode, ScatterMode dir, int from) const;
   mutable std::vector<VecScatter> suffixScatter_;
   mutable std::vector<Vec> suffixWindow_;
 };
