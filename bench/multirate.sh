@@ -30,8 +30,8 @@ stepping() { # the stepping stages of a -log_view file and its Main Stage (the c
          for (i = 1; i <= NF; ++i) if ($i ~ /^[0-9.]+e[+-][0-9]+$/) { s += $i; break } }
        END { printf "%.3f", s }' "$1"
 }
-printf '%-13s %-5s %-26s %9s %9s %8s %9s %9s %8s\n' scene transfer 'classes (every 4, 2, 1)' \
-  'step 1' 'step mr' ratio 'wall 1' 'wall mr' ratio
+printf '%-13s %-5s %-26s %9s %9s %8s %9s %9s %8s %6s %8s\n' scene transfer \
+  'classes (every 4, 2, 1)' 'step 1' 'step mr' ratio 'wall 1' 'wall mr' ratio work 'of work'
 for scene in $SCENES; do
   for transfer in $TRANSFERS; do
     best_s=(1e9 1e9) best_w=(1e9 1e9)
@@ -49,16 +49,23 @@ for scene in $SCENES; do
         w=$(sed -n 's/.*"wall_seconds": *\([0-9.eE+-]*\).*/\1/p' "$dir/summary.json")
         best_s[i]=$(awk -v a="${best_s[i]}" -v b="$s" 'BEGIN { print (b < a ? b : a) }')
         best_w[i]=$(awk -v a="${best_w[i]}" -v b="$w" 'BEGIN { print (b < a ? b : a) }')
-        [[ $i == 1 ]] && classes=$(grep -m1 'particles per rate class' "$dir.out" |
-          sed 's/.*rate class: *//; s/ (every [0-9]*)//g')
+        [[ $i == 1 ]] && raw=$(grep -m1 'particles per rate class' "$dir.out" |
+          sed 's/.*rate class: *//') && classes=$(sed 's/ (every [0-9]*)//g' <<<"$raw")
       done
     done
+    # The particle-work ratio: R N particle-steps per coarse step single-rate against
+    # sum_c (R / m_c) N_c per-level; the stepping ratio as a share of it.
+    work=$(awk '{ R = 0; for (i = 2; i <= NF; i += 3) { e = $(i + 1) + 0; if (e > R) R = e }
+                  n = 0; w = 0; for (i = 1; i <= NF; i += 3) { e = $(i + 2) + 0; n += $i; w += R / e * $i }
+                  printf "%.2f", R * n / w }' <<<"$(sed 's/[()]//g' <<<"$raw")")
     awk -v sc="$scene" -v tr="$transfer" -v cl="$classes" -v s0="${best_s[0]}" \
-      -v s1="${best_s[1]}" -v w0="${best_w[0]}" -v w1="${best_w[1]}" 'BEGIN {
-      printf "%-13s %-5s %-26s %9.2f %9.2f %8.2f %9.2f %9.2f %8.2f\n", sc, tr, cl, s0, s1,
-        s0 / s1, w0, w1, w0 / w1 }'
+      -v s1="${best_s[1]}" -v w0="${best_w[0]}" -v w1="${best_w[1]}" -v wk="$work" 'BEGIN {
+      printf "%-13s %-5s %-26s %9.2f %9.2f %8.2f %9.2f %9.2f %8.2f %6.2f %7.0f%%\n", sc, tr, cl,
+        s0, s1, s0 / s1, w0, w1, w0 / w1, wk, 100 * (s0 / s1) / wk }'
   done
 done
 echo
 echo "step: stepping stages of -log_view [s]; wall: summary.json wall_seconds [s]; best of $N"
-echo "alternating runs each; 1: -gimp_multirate false, mr: true; ratio: single / multi-rate."
+echo "alternating runs each; 1: -gimp_multirate false, mr: true; ratio: single / multi-rate;"
+echo "work: the particle-work ratio (R N over sum_c (R / m_c) N_c); of work: the stepping ratio"
+echo "as a share of it (80 % asked)."
