@@ -413,12 +413,35 @@ template <int D> PetscErrorCode MultiRate<D>::addTail(Vec y, double a, Vec x, Pe
 }
 
 template <int D> PetscErrorCode MultiRate<D>::classReach(const ParticleView<D> &q, int k) {
-  // No particle reaches a level coarser than the one whose box holds it (Grid::coarsestReaching).
-  // With cracks every level: the crack contact works on every cracked node's fields.
+  // No particle reaches a level coarser than the one whose box holds it (Grid::coarsestReaching),
+  // so none of the class reaches a level coarser than the finest box that holds all their
+  // domains (their bounding box). With cracks every level: the crack contact works on every cracked
+  // node's fields.
   const Grid<D> &g = s_.grid;
-  int lo = s_.sc.cracks.empty() ? static_cast<int>(g.levels.size()) - 1 : 0;
-  for (PetscInt i = 0; i < q.n && lo > 0; ++i)
-    lo = std::min(lo, g.coarsestReaching(q.x + D * i, q.l + D * i));
+  int lo = static_cast<int>(g.levels.size()) - 1;
+  if (!s_.sc.cracks.empty()) lo = 0;
+  if (lo > 0 && q.n > 0) {
+    double a[D], b[D]; // the bounding box's lower corner and upper corner
+    for (int d = 0; d < D; ++d) {
+      a[d] = q.x[d] - q.l[d];
+      b[d] = q.x[d] + q.l[d];
+    }
+    for (PetscInt i = 1; i < q.n; ++i)
+      for (int d = 0; d < D; ++d) {
+        a[d] = std::min(a[d], q.x[D * i + d] - q.l[D * i + d]);
+        b[d] = std::max(b[d], q.x[D * i + d] + q.l[D * i + d]);
+      }
+    // (the boxes are nested: the finest box that holds every domain, as coarsestReaching tests
+    // one domain, on the same x - l and x + l)
+    while (lo > 0) {
+      const BoxOf<D> &f = g.levels[lo].box;
+      bool inside = true;
+      for (int d = 0; d < D; ++d)
+        inside = inside && a[d] >= f[d] && b[d] <= f[D + d];
+      if (inside) break;
+      --lo;
+    }
+  }
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &lo, 1, MPI_INT, MPI_MIN, s_.comm));
   r_.from[k] = lo;
   return PETSC_SUCCESS;
