@@ -80,25 +80,31 @@ template <int D> std::array<double, 2 * D> outwardZones(const Grid<D> &g, int c)
   return z;
 }
 
-/// The class of a particle at x with half-sizes l: the finest level c whose box, widened by the
-/// reach of its boundary nodes (zones), the particle's half-size and one finest cell of motion
-/// within the coarse step, it overlaps. A particle with a penalty face is in the finest class:
-/// the penalty's stability bound is the finest step's.
+/// Each particle's class (cls, n particles at x with half-sizes l): the finest level c whose box,
+/// widened by the reach of its boundary nodes (zones), the particle's half-size and one finest
+/// cell of motion within the coarse step, it overlaps (0 if none). One pass per level, coarse to
+/// fine, so the finest that meets a particle is the last to write it.
 template <int D>
-int classOf(const Grid<D> &g, const std::vector<std::array<double, 2 * D>> &zones, const double *x,
-            const double *l, bool penalty) {
-  const int top = static_cast<int>(g.levels.size()) - 1;
-  if (penalty) return top;
+void classesOf(const Grid<D> &g, const std::vector<std::array<double, 2 * D>> &zones, PetscInt n,
+               const double *x, const double *l, int *cls) {
+  std::fill(cls, cls + n, 0);
   const double m = g.hMin();
-  for (int c = top; c > 0; --c) {
-    const BoxOf<D> &b = g.levels[c].box;
+  for (int c = 1; c < static_cast<int>(g.levels.size()); ++c) {
+    double lo[D], hi[D]; // the box widened by its zones and the finest cell
+    for (int a = 0; a < D; ++a) {
+      lo[a] = g.levels[c].box[a];
+      hi[a] = g.levels[c].box[D + a];
+    }
     const std::array<double, 2 *D> &z = zones[c];
-    bool meets = true;
-    for (int a = 0; a < D; ++a)
-      meets = meets && x[a] + l[a] + z[a] + m > b[a] && x[a] - l[a] - z[D + a] - m < b[D + a];
-    if (meets) return c;
+    for (PetscInt k = 0; k < n; ++k) {
+      bool meets = true;
+      for (int a = 0; a < D; ++a) {
+        const double xa = x[D * k + a], la = l[D * k + a];
+        meets = meets && xa + la + z[a] + m > lo[a] && xa - la - z[D + a] - m < hi[a];
+      }
+      cls[k] = meets ? c : cls[k];
+    }
   }
-  return 0;
 }
 
 /// The largest window node particle k's stencil reaches (levels are concatenated in the window,
@@ -198,12 +204,13 @@ template <int D> PetscErrorCode MultiRate<D>::classify(PetscInt step) {
   std::vector<std::array<double, 2 * D>> zones(s.grid.levels.size());
   for (size_t c = 1; c < zones.size(); ++c)
     zones[c] = outwardZones(s.grid, static_cast<int>(c));
-  for (PetscInt k = 0; k < p.n; ++k) {
-    bool penalty = false;
-    for (int a = 0; a < D && p.dbc; ++a)
-      penalty = penalty || p.dbc[D * k + a] >= 0;
-    cls[k] = classOf<D>(s.grid, zones, p.x + D * k, p.l + D * k, penalty);
-  }
+  classesOf<D>(s.grid, zones, p.n, p.x, p.l, cls.data());
+  // A particle with a penalty face is in the finest class: the penalty's stability bound is the
+  // finest step's.
+  if (p.dbc)
+    for (PetscInt k = 0; k < p.n; ++k)
+      for (int a = 0; a < D; ++a)
+        if (p.dbc[D * k + a] >= 0) cls[k] = r.n - 1;
   PetscCall(p.restore(s.sw));
   // Classes contiguous every coarse step; ordered by cell within a class when a sort is due.
   PetscCall(step_.sortParticles(&cls, dueIn(step, step + s.stride(), s.sc.sortInterval)));

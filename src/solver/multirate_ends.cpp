@@ -333,10 +333,12 @@ PetscErrorCode MultiRate<D>::endClass(ParticleView<D> &p, const StepClock &c, in
     PetscCall(VecGetArray(w0.field, &uf));
     PetscCall(VecGetArray(w0.corr, &wf)); // (free until the re-projection)
     const double ds = summed ? 1.0 : c.dt;
-    for (PetscInt i = i0; i < nloc; ++i) {
-      uf[i] = flip > 0 ? flip * ds * d[i] + (1.0 - flip) * v[i] : v[i];
-      wf[i] = vsum[i] / every;
-    }
+    if (!apic) // (APIC moves with the grid velocity: no update field)
+      for (PetscInt i = i0; i < nloc; ++i)
+        uf[i] = flip > 0 ? flip * ds * d[i] + (1.0 - flip) * v[i] : v[i];
+    if (r.every[k] > 1)
+      for (PetscInt i = i0; i < nloc; ++i)
+        wf[i] = vsum[i] / every;
     PetscCall(VecRestoreArray(w0.corr, &wf));
     PetscCall(VecRestoreArray(w0.field, &uf));
     PetscCall(VecRestoreArrayRead(vs, &vsum));
