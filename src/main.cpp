@@ -169,6 +169,14 @@ int main(int argc, char **argv) {
     MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
     if (rank == 0) std::fprintf(stderr, "gimp: error: %s\n", e.what());
     code = 2;
+    // A viewer option PETSc reads at exit (-log_view) that the setup did not reach yet: dropped
+    // when it is bad too, or PetscFinalize would end the one line with an error trace.
+    for (int tries = 0; tries < 2; ++tries)
+      try {
+        (void)gimp::checkViewerOptions(PETSC_COMM_WORLD);
+        break;
+      } catch (const gimp::InputError &) { // (cleared; the first error is the one reported)
+      }
   } catch (const std::bad_alloc &) {
     outOfMemory(); // does not return under MPI
     code = 2;

@@ -18,6 +18,9 @@ cases = [
      '-gimp_traction0_side right'),
     ('not a number', ['-gimp_E', 'abc'],
      '-gimp_E abc'),
+    # a bad viewer that PETSc would read at exit, behind an error the setup meets first
+    ('bad -log_view behind another error', ['-log_view', 'nan', '-gimp_E', '-1'],
+     '-gimp_E -1'),
     # (read in main, before the scene: a value is read as the flag's)
     ('markdown flag with a value', ['-gimp_options_markdown', 'nan'],
      '-gimp_options_markdown nan: Unknown logical value'),
