@@ -37,8 +37,6 @@ template <int D> PetscErrorCode MultiRate<D>::create(Vec like) {
   r.start.assign(n, 0);
   r.live.assign(n, 0);
   r.from.assign(n, 0);
-  r.zeroFrom.assign(n, 0);
-  r.changedFrom.assign(n, 0);
   scratch_.zeroFrom = 0;
   ClassSums &v = sums_;
   std::vector<std::vector<Vec> *> perClass = {&v.mass, &v.mom, &v.inc, &v.vsum};
@@ -245,7 +243,8 @@ template <int D> PetscErrorCode MultiRate<D>::classify(PetscInt step) {
   return PETSC_SUCCESS;
 }
 
-template <int D> PetscErrorCode MultiRate<D>::startClass(ParticleView<D> &p, int k, PetscInt j) {
+template <int D>
+PetscErrorCode MultiRate<D>::startClass(ParticleView<D> &p, int k, PetscInt j, PetscInt &changed) {
   RunState<D> &s = s_;
   RateClasses<D> &r = r_;
   Nodal &n = s.nodal;
@@ -280,6 +279,7 @@ template <int D> PetscErrorCode MultiRate<D>::startClass(ParticleView<D> &p, int
     }
   }
   // Its P2G onto the levels it reaches: the nodal sums and moves from there on.
+  const PetscInt was = localFrom(k); // (its last start's levels: zero before them)
   PetscCall(classReach(q, k));
   const int from = r.from[k];
   const PetscInt w0 = windowFrom(k), g0 = localFrom(k);
@@ -291,13 +291,12 @@ template <int D> PetscErrorCode MultiRate<D>::startClass(ParticleView<D> &p, int
   step_.projectMomentum(r.st[k], q, q.x, mom, mass);
   PetscCall(VecRestoreArray(n.massW, &mass));
   PetscCall(VecRestoreArray(n.sumW, &mom));
-  const PetscInt z = std::min(g0, r.zeroFrom[k]); // (what its last start left)
+  const PetscInt z = std::min(g0, was);
   PetscCall(zeroTail(sums_.mom[k], z));
   PetscCall(s.grid.addFromWindow(n.sumW, sums_.mom[k], from));
   PetscCall(zeroTail(sums_.mass[k], z));
   PetscCall(s.grid.addFromWindow(n.massW, sums_.mass[k], from));
-  r.zeroFrom[k] = g0;
-  r.changedFrom[k] = z;
+  changed = z;
   PetscInt nloc = 0;
   PetscScalar *P = nullptr;
   const PetscScalar *pk = nullptr;
@@ -332,8 +331,9 @@ template <int D> PetscErrorCode MultiRate<D>::startClasses(ParticleView<D> &p, P
   PetscInt from = nloc;
   for (int k = 0; k < r.n; ++k) {
     if (r.size[k] == 0 || j % r.every[k] != 0) continue;
-    PetscCall(startClass(p, k, j));
-    from = std::min(from, r.changedFrom[k]);
+    PetscInt changed = 0;
+    PetscCall(startClass(p, k, j, changed));
+    from = std::min(from, changed);
   }
   // The mass of every class (each from its last start), the masks and the velocity, where the
   // starting classes changed them. Elsewhere the nodes kept them: the classes that start are

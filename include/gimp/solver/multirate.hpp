@@ -30,11 +30,8 @@ template <int D> struct RateClasses {
   std::vector<PetscInt> start;    // the sub-step of class c's last start
   // The coarsest level class c's stencils reach (on every rank), from its last start: its nodal
   // sums and their moves cover the levels from there on (Grid::localLevelStart), the rest of them
-  // is zero. zeroFrom[c]: the first value of its mass and momentum that may not be zero.
+  // is zero.
   std::vector<int> from;
-  std::vector<PetscInt> zeroFrom;
-  // The first value of class c's mass and momentum that its last start changed.
-  std::vector<PetscInt> changedFrom;
   std::vector<char> live; // a class stepping every sub-step: inc holds its increments (else dt a)
   // With external forces, for the work of class c's external impulse: the power of its force
   // (ClassSums::fext) before and after the impulse, summed, and the impulse's factor (m_c, times
@@ -96,8 +93,9 @@ private:
   PetscErrorCode classify(PetscInt step);
   /// Sub-step j: the classes that start (stencils, P2G), the total mass and mask.
   PetscErrorCode startClasses(ParticleView<D> &p, PetscInt j);
-  /// A starting class's stencils, P2G and crack faces (startClasses, class k).
-  PetscErrorCode startClass(ParticleView<D> &p, int k, PetscInt j);
+  /// A starting class's stencils, P2G and crack faces (startClasses, class k); `changed` is the
+  /// first value of its mass and momentum that the start changed.
+  PetscErrorCode startClass(ParticleView<D> &p, int k, PetscInt j, PetscInt &changed);
   /// The summed mass of the classes, with the node rule the node rates, and the masks, from this
   /// rank's value `from` on (before it they are as they were).
   PetscErrorCode classMass(PetscInt from);
