@@ -36,6 +36,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <functional>
 #include <map>
 #include <random>
@@ -668,6 +669,70 @@ TEST(Grid3D, LevelBlocksEqualRows) {
   // 2D keeps rows there: a level's fewest entries (4) take less room than a level block.
   EXPECT_FALSE(gimp::Stencils<2>::kLevelBlocks);
   EXPECT_TRUE(gimp::Stencils<3>::kLevelBlocks);
+}
+
+TEST(Grid3D, NodePatternsEqualNodeReads) {
+  // With patterns (the rate classes' builds) appendNodes reads each candidate box's nodes once
+  // (Grid::NodePattern) and each particle's entries axis by axis: the same rows and level blocks,
+  // bit for bit, as reading the nodes for every particle, in a first build (the patterns made)
+  // and a second (the patterns kept), as rows and as level blocks. One grid serves every layout
+  // in turn (cleared and made again, as a regrid does), so patterns kept from the last layout
+  // would show. Fails if a pattern drops or adds a node, takes a factor from the wrong zones or
+  // index, or outlives its grid.
+  long particles = 0, levelParticles = 0, rowEntries = 0;
+  std::uint64_t seed = 0x3d0a77e5;
+  Grid3 g;
+  const auto sameBlocks = [](const gimp::LevelBlock<D> &a, const gimp::LevelBlock<D> &b) {
+    return std::memcmp(a.w, b.w, sizeof a.w) == 0 && std::memcmp(a.g, b.g, sizeof a.g) == 0 &&
+           a.mask == b.mask && a.base == b.base && a.stride[0] == b.stride[0] &&
+           a.stride[1] == b.stride[1] && std::memcmp(a.n, b.n, sizeof a.n) == 0 && a.last == b.last;
+  };
+  for (const Layout &lay : threeLevelLayouts()) {
+    const Lattice3 lat = latticeOf(lay);
+    g.clear();
+    ASSERT_EQ(static_cast<int>(g.create(PETSC_COMM_SELF, kH0, boxesOf(lay))), 0);
+    std::mt19937_64 rng(seed++);
+    const long np = 3000;
+    std::vector<double> x(D * np), l(D * np);
+    for (long p = 0; p < np; ++p)
+      drawParticle(lat, rng, &x[D * p], &l[D * p]);
+    for (const bool compact : {false, true}) {
+      Stencils3 read;
+      ASSERT_TRUE(g.buildStencils(np, x.data(), l.data(), read, compact, false, false));
+      for (int pass = 0; pass < 2; ++pass) {
+        Stencils3 kept;
+        ASSERT_TRUE(g.buildStencils(np, x.data(), l.data(), kept, compact, false, true));
+        const std::string where = lay.name + (compact ? ", level blocks" : ", rows") +
+                                  (pass ? ", patterns kept" : ", patterns made");
+        for (long p = 0; p <= np; ++p)
+          ASSERT_EQ(read.start[p], kept.start[p]) << where << ", particle " << p;
+        const PetscInt m = read.start[np];
+        for (PetscInt e = 0; e < m; ++e) {
+          ASSERT_EQ(read.node[e], kept.node[e]) << where << ", entry " << e;
+          for (int a = 0; a < D; ++a) {
+            ASSERT_EQ(read.w[a][e], kept.w[a][e]) << where << ", entry " << e;
+            ASSERT_EQ(read.g[a][e], kept.g[a][e]) << where << ", entry " << e;
+          }
+        }
+        ASSERT_EQ(read.nLevelBlocks, kept.nLevelBlocks) << where;
+        for (PetscInt b = 0; b < read.nLevelBlocks; ++b)
+          ASSERT_TRUE(sameBlocks(read.levelBlocks[b], kept.levelBlocks[b]))
+              << where << ", level block " << b;
+        for (long p = 0; p < np && compact; ++p)
+          ASSERT_EQ(read.isLevels(p), kept.isLevels(p)) << where << ", particle " << p;
+        if (pass == 0) {
+          rowEntries += m;
+          if (compact)
+            for (long p = 0; p < np; ++p)
+              levelParticles += read.isLevels(p);
+        }
+      }
+    }
+    particles += np;
+  }
+  std::printf("  particles %ld: %ld with level blocks, %ld row entries\n", particles,
+              levelParticles, rowEntries);
+  EXPECT_GT(levelParticles, particles / 20); // (the path is taken)
 }
 
 TEST(Grid3D, UniformIdentities) {

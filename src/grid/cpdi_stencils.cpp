@@ -10,6 +10,7 @@
 #include "gimp/grid/grid.hpp"
 #include "gimp/grid/shape.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -146,6 +147,31 @@ template <int D> struct ZoneMemo {
   }
 };
 
+/// A level block: the entries `mask` (bit c0 + 4 c1 + 16 c2) of a candidate box from window slot
+/// `base` (row strides sy, sz), whose indices along axis a that hold an entry (bits of any[a])
+/// have the factors fw[a][c], fg[a][c]; the block starts at the first of them along each axis.
+template <int D>
+void setLevelBlock(LevelBlock<D> &b, std::uint64_t mask, PetscInt base, PetscInt sy, PetscInt sz,
+                   const unsigned *any, const double (*fw)[4], const double (*fg)[4]) {
+  b.base = base;
+  int lo[D];
+  for (int a = 0; a < D; ++a) {
+    lo[a] = __builtin_ctz(any[a]);
+    const int hi = 31 - __builtin_clz(any[a]);
+    for (int i = 0; i < 4; ++i) {
+      const int ca = lo[a] + i;
+      const bool entry = ca <= hi && ((any[a] >> ca) & 1u);
+      b.w[a][i] = entry ? fw[a][ca] : 0.0;
+      b.g[a][i] = entry ? fg[a][ca] : 0.0;
+    }
+    b.n[a] = static_cast<std::uint8_t>(hi - lo[a] + 1);
+    b.base += lo[a] * (a == 0 ? 1 : a == 1 ? sy : sz);
+    if (a > 0) b.stride[a - 1] = a == 1 ? sy : sz;
+  }
+  b.mask = mask >> (lo[0] + 4 * lo[1] + (D == 3 ? 16 * lo[D - 1] : 0));
+  b.last = 0;
+}
+
 } // namespace
 
 namespace cpdi {
@@ -221,9 +247,135 @@ int Grid<D>::appendThreeNodeBlock(int q, const Reach &r, const double *x, const 
 }
 
 template <int D>
+const typename Grid<D>::NodePattern &Grid<D>::patternOf(int q, const Reach &r,
+                                                        PatternCache &cache) const {
+  const Level<D> &L = levels[q];
+  const PetscInt base = windowSlot(q, r.i0), sy = L.wn(0), sz = D == 3 ? sy * L.wn(1) : 0;
+  int n[3] = {1, 1, 1};
+  std::uint64_t key =
+      (static_cast<std::uint64_t>(base) << 12) | (static_cast<std::uint64_t>(q) << 6);
+  for (int a = 0; a < D; ++a) {
+    n[a] = static_cast<int>(r.i1[a] - r.i0[a] + 1);
+    key |= static_cast<std::uint64_t>(n[a] - 1) << (2 * a);
+  }
+  NodePattern &p = cache.entry(key);
+  if (p.key == key) return p;
+  p.key = key;
+  p.tensor = !zoneValues_.empty();
+  p.active = p.regular = p.live = 0;
+  bool seen[D][4] = {};
+  const bool cracked = nSlots != nWindow;
+  const auto code = [&](double z) {
+    return static_cast<std::uint8_t>(std::lower_bound(zoneValues_.begin(), zoneValues_.end(), z) -
+                                     zoneValues_.begin());
+  };
+  for (int c2 = 0; c2 < n[2] && p.tensor; ++c2)
+    for (int c1 = 0; c1 < n[1]; ++c1)
+      for (int c0 = 0; c0 < n[0]; ++c0) {
+        const PetscInt nd = base + c0 + c1 * sy + c2 * sz;
+        const std::uint8_t f = flags_[nd];
+        if (!(f & kActive)) continue;
+        const std::uint64_t bit = std::uint64_t{1} << (c0 + 4 * c1 + 16 * c2);
+        p.active |= bit;
+        if (f == (kActive | kRegular)) p.regular |= bit;
+        if (cracked && liveSlot[nd] >= 0) p.live |= bit;
+        const int c[3] = {c0, c1, c2};
+        const double *z = &zone[2 * D * nd];
+        for (int a = 0; a < D; ++a) {
+          std::uint8_t *Z = p.Z[a][c[a]];
+          if (!seen[a][c[a]]) {
+            seen[a][c[a]] = true;
+            Z[0] = code(z[2 * a]);
+            Z[1] = code(z[2 * a + 1]);
+          } else if (zoneValues_[Z[0]] != z[2 * a] || zoneValues_[Z[1]] != z[2 * a + 1]) {
+            p.tensor = false;
+          }
+        }
+      }
+  // (an index no active node has holds no entry; its zones, never read for one, are h's)
+  const std::uint8_t hc = p.tensor ? code(L.h) : 0;
+  for (int a = 0; a < D; ++a)
+    for (int c = 0; c < 4; ++c)
+      if (c >= n[a] || !seen[a][c]) p.Z[a][c][0] = p.Z[a][c][1] = hc;
+  return p;
+}
+
+template <int D>
+int Grid<D>::appendFromPattern(const NodePattern &p, int q, const Reach &r, const double *x,
+                               const double *l, Stencils<D> &s, size_t &m,
+                               LevelBlock<D> *block) const {
+  // appendNodes' rules, axis by axis: a node is an entry when it is active and either regular
+  // with the particle's centre in the box (not tested) or its support overlaps the particle
+  // along every axis (its zones there are Z[a][c]); its factor along an axis is its own (the
+  // zones') where those are not h, the regular stretch's otherwise (appendNodes' expressions),
+  // computed for the indices that hold an entry.
+  const Level<D> &L = levels[q];
+  const PetscInt base = windowSlot(q, r.i0), sy = L.wn(0), sz = D == 3 ? sy * L.wn(1) : 0;
+  const PetscInt step[3] = {1, sy, sz};
+  const std::vector<double> *coord[3] = {&X, &Y, &Z};
+  int n[3] = {1, 1, 1};
+  double d[D][4];
+  unsigned ov[3] = {1u, 1u, 1u};
+  for (int a = 0; a < D; ++a) {
+    n[a] = static_cast<int>(r.i1[a] - r.i0[a] + 1);
+    ov[a] = 0;
+    for (int c = 0; c < n[a]; ++c) {
+      // (a node's coordinate along a depends on its level and index there alone)
+      d[a][c] = x[a] - (*coord[a])[base + c * step[a]];
+      if (shape::overlaps(d[a][c], l[a], zoneValues_[p.Z[a][c][0]], zoneValues_[p.Z[a][c][1]]))
+        ov[a] |= 1u << c;
+    }
+  }
+  std::uint64_t overlap = 0;
+  for (int c2 = 0; c2 < n[2]; ++c2)
+    if ((ov[2] >> c2) & 1u)
+      for (int c1 = 0; c1 < n[1]; ++c1)
+        if ((ov[1] >> c1) & 1u) overlap |= static_cast<std::uint64_t>(ov[0]) << (4 * c1 + 16 * c2);
+  const std::uint64_t mask = p.active & ((r.inside ? p.regular : 0) | overlap);
+  if (block && (mask & p.live)) return -1;
+  if (!mask) return 0;
+  unsigned any[3] = {0, 0, 0}; // the indices along each axis that hold an entry
+  for (std::uint64_t left = mask; left; left &= left - 1) {
+    const int bit = __builtin_ctzll(left);
+    any[0] |= 1u << (bit & 3);
+    any[1] |= 1u << ((bit >> 2) & 3);
+    any[2] |= 1u << (bit >> 4);
+  }
+  double fw[D][4], fg[D][4];
+  for (int a = 0; a < D; ++a) {
+    const double i2l = 0.5 / l[a];
+    for (int c = 0; c < n[a]; ++c) {
+      if (!((any[a] >> c) & 1u)) continue;
+      const double z0 = zoneValues_[p.Z[a][c][0]], z1 = zoneValues_[p.Z[a][c][1]];
+      if (z0 != L.h || z1 != L.h)
+        shape::weightAndGradient(d[a][c], l[a], z0, z1, fw[a][c], fg[a][c]);
+      else
+        shape::weightAndGradientUniform(x[a] - (L.box[a] + (r.i0[a] + c) * L.h), l[a], L.h, L.ih,
+                                        i2l, fw[a][c], fg[a][c]);
+    }
+  }
+  if (!block) { // rows, x fastest, then y, then z
+    s.reserve(m + static_cast<size_t>(__builtin_popcountll(mask)));
+    PetscInt *node = s.node.data();
+    for (std::uint64_t left = mask; left; left &= left - 1) {
+      const int bit = __builtin_ctzll(left), c[3] = {bit & 3, (bit >> 2) & 3, bit >> 4};
+      node[m] = base + c[0] + c[1] * sy + c[2] * sz;
+      for (int a = 0; a < D; ++a) {
+        s.w[a][m] = fw[a][c[a]];
+        s.g[a][m] = fg[a][c[a]];
+      }
+      ++m;
+    }
+    return 0;
+  }
+  setLevelBlock<D>(*block, mask, base, sy, sz, any, fw, fg);
+  return 1;
+}
+
+template <int D>
 int Grid<D>::appendNodes(int q, const Reach &reach, const double *x, const double *l,
                          double *scratch, PetscInt maxRange, Stencils<D> &s, size_t &m,
-                         LevelBlock<D> *block) const {
+                         LevelBlock<D> *block, PatternCache *cache) const {
   // Any range of nodes: 1D weights of a regular stretch for every candidate, replaced by the
   // node's own zones where it is irregular; nodes whose support misses the particle are left out.
   const Level<D> &L = levels[q];
@@ -243,6 +395,13 @@ int Grid<D>::appendNodes(int q, const Reach &reach, const double *x, const doubl
                                       std::min(static_cast<double>(L.n[a] - 1),
                                                std::floor((x[a] - l[a] - L.h - L.box[a]) * ih))));
     if (r.i1[a] < r.i0[a]) return 0;
+  }
+  bool narrow = true; // (at most 4 candidates along every axis: a pattern's box)
+  for (int a = 0; a < D; ++a)
+    narrow = narrow && r.i1[a] - r.i0[a] < 4;
+  if (cache && narrow) {
+    const NodePattern &p = patternOf(q, r, *cache);
+    if (p.tensor) return appendFromPattern(p, q, r, x, l, s, m, block);
   }
   double *rw[D], *rg[D];
   size_t count = 1;
@@ -334,31 +493,22 @@ int Grid<D>::appendNodes(int q, const Reach &reach, const double *x, const doubl
         add(row + c[0], c);
     }
   if (!block) return 0;
-  // The level block: each index's factor from its source, the mask from the first index along
+  // The level block: each index's factor from its source, the block from the first index along
   // each axis that has an entry.
   if (live || memo.mixed) return -1;
   if (!mask) return 0;
-  int lo[D];
-  LevelBlock<D> &b = *block;
-  b.base = base;
+  unsigned any[D];
+  double fw[D][4], fg[D][4];
   for (int a = 0; a < D; ++a) {
     if (regularAt[a] & ownAt[a]) return -1; // (an index with both: not a tensor product)
-    const unsigned any = regularAt[a] | ownAt[a];
-    lo[a] = __builtin_ctz(any);
-    const int hi = 31 - __builtin_clz(any);
-    for (int i = 0; i < 4; ++i) {
-      const int ca = lo[a] + i;
-      const bool own = ca <= hi && ((ownAt[a] >> ca) & 1u),
-                 reg = ca <= hi && ((regularAt[a] >> ca) & 1u);
-      b.w[a][i] = own ? memo.w[a][ca] : reg ? rw[a][ca] : 0.0;
-      b.g[a][i] = own ? memo.g[a][ca] : reg ? rg[a][ca] : 0.0;
+    any[a] = regularAt[a] | ownAt[a];
+    for (int c = 0; c < 4; ++c) {
+      const bool own = (ownAt[a] >> c) & 1u;
+      fw[a][c] = own ? memo.w[a][c] : c <= r.i1[a] - r.i0[a] ? rw[a][c] : 0.0;
+      fg[a][c] = own ? memo.g[a][c] : c <= r.i1[a] - r.i0[a] ? rg[a][c] : 0.0;
     }
-    b.n[a] = static_cast<std::uint8_t>(hi - lo[a] + 1);
-    b.base += lo[a] * (a == 0 ? 1 : a == 1 ? sy : sz);
-    if (a > 0) b.stride[a - 1] = a == 1 ? sy : sz;
   }
-  b.mask = mask >> (lo[0] + 4 * lo[1] + (D == 3 ? 16 * lo[D - 1] : 0));
-  b.last = 0;
+  setLevelBlock<D>(*block, mask, base, sy, sz, any, fw, fg);
   return 1;
 }
 
@@ -483,10 +633,20 @@ template int Grid<2>::appendThreeNodeBlock(int, const Reach &, const double *, c
                                            Stencils<2> &, size_t &, LevelBlock<2> *) const;
 template int Grid<3>::appendThreeNodeBlock(int, const Reach &, const double *, const double *,
                                            Stencils<3> &, size_t &, LevelBlock<3> *) const;
+template const Grid<2>::NodePattern &Grid<2>::patternOf(int, const Reach &, PatternCache &) const;
+template const Grid<3>::NodePattern &Grid<3>::patternOf(int, const Reach &, PatternCache &) const;
+template int Grid<2>::appendFromPattern(const NodePattern &, int, const Reach &, const double *,
+                                        const double *, Stencils<2> &, size_t &,
+                                        LevelBlock<2> *) const;
+template int Grid<3>::appendFromPattern(const NodePattern &, int, const Reach &, const double *,
+                                        const double *, Stencils<3> &, size_t &,
+                                        LevelBlock<3> *) const;
 template int Grid<2>::appendNodes(int, const Reach &, const double *, const double *, double *,
-                                  PetscInt, Stencils<2> &, size_t &, LevelBlock<2> *) const;
+                                  PetscInt, Stencils<2> &, size_t &, LevelBlock<2> *,
+                                  PatternCache *) const;
 template int Grid<3>::appendNodes(int, const Reach &, const double *, const double *, double *,
-                                  PetscInt, Stencils<3> &, size_t &, LevelBlock<3> *) const;
+                                  PetscInt, Stencils<3> &, size_t &, LevelBlock<3> *,
+                                  PatternCache *) const;
 template double Grid<2>::pointShapes(const double *,
                                      std::vector<std::pair<PetscInt, double>> &) const;
 template double Grid<3>::pointShapes(const double *,

@@ -78,7 +78,7 @@ Grid<D>::findCrackedNodes(const std::vector<CrackOf<D>> &cracks) const {
   for (int k = 0; k < static_cast<int>(levels.size()); ++k)
     for (const auto *list : {&cracks, &crackReserveSurfaces})
       for (const CrackOf<D> &c : *list) {
-        const std::array<double, 2 * D> b = cracks::bounds<D>(c);
+        const std::array<double, 2 *D> b = cracks::bounds<D>(c);
         double span = 0;
         for (int a = 0; a < D; ++a)
           span += b[D + a] - b[a];
@@ -126,6 +126,7 @@ Grid<D>::findCrackedNodes(const std::vector<CrackOf<D>> &cracks) const {
 template <int D>
 PetscErrorCode Grid<D>::addCrackFields(MPI_Comm comm, const std::vector<CrackOf<D>> &cracks) {
   // The window's own slots are set (GridT::build); the second fields come after them.
+  patterns_.forget();
   PetscMPIInt rank = 0;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   if (cracks.empty()) return PETSC_SUCCESS;
@@ -176,6 +177,7 @@ template <int D> double Grid<D>::liveReachFor(double lmax) const {
 }
 
 template <int D> void Grid<D>::markLiveCracks(const std::vector<CrackOf<D>> &cracks, double reach) {
+  patterns_.forget();
   liveSlot.clear();
   crackFreeThree_.clear();
   crackFreeFour_.clear();

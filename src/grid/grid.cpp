@@ -36,6 +36,7 @@ template <int D> void Grid<D>::clear() {
   da.clear();
   da1.clear();
   flags_.clear();
+  patterns_.forget();
   threeNodeBlocks_.clear();
   fourNodeBlocks_.clear();
   crackFreeThree_.clear();
@@ -244,6 +245,7 @@ template <int D> PetscErrorCode Grid<D>::setWindow() {
 
 template <int D> void Grid<D>::fillWindowNodes() {
   const int K = static_cast<int>(levels.size());
+  patterns_.forget();
   // Node data of the window.
   active.assign(nWindow, 0);
   regular.assign(nWindow, 0);
@@ -323,6 +325,15 @@ template <int D> void Grid<D>::fillWindowNodes() {
   };
   regularBlocks(3, threeNodeBlocks_);
   if (D == 2) regularBlocks(4, fourNodeBlocks_);
+  // The distinct zones of the active nodes (a few: 0, each level's h, the outward zones).
+  zoneValues_.clear();
+  for (PetscInt n = 0; n < nWindow; ++n)
+    if (active[n])
+      for (int c = 0; c < 2 * D; ++c)
+        zoneValues_.push_back(zone[2 * D * static_cast<size_t>(n) + c]);
+  std::sort(zoneValues_.begin(), zoneValues_.end());
+  zoneValues_.erase(std::unique(zoneValues_.begin(), zoneValues_.end()), zoneValues_.end());
+  if (zoneValues_.size() > 255) zoneValues_.clear();
 }
 
 template <int D>

@@ -176,7 +176,7 @@ GIMP_ALWAYS_INLINE void Grid<D>::setBlock4(int q, const PetscInt *i0, const doub
 
 template <int D>
 bool Grid<D>::buildStencils(PetscInt n, const double *x, const double *l, Stencils<D> &s,
-                            bool compact, bool lanes) const {
+                            bool compact, bool lanes, bool patterns) const {
   const int K = static_cast<int>(levels.size());
   // Lane groups (2D): each aligned group of four tries blockRun, which marks the groups it builds;
   // in 3D each particle tries blockLanes first (both in stencil_lanes.cpp).
@@ -190,6 +190,10 @@ bool Grid<D>::buildStencils(PetscInt n, const double *x, const double *l, Stenci
   std::vector<double> scratch(6 * D * static_cast<size_t>(maxRange)); // (appendNodes' tables)
   std::vector<Reach> reach(K);
   std::vector<char> reaches(K);
+  // The node patterns pay where a build meets each box many times: a rate class's particles at
+  // every sub-step (3D; docs/performance.md, *Node patterns*). A single step meets each 3D box
+  // about 1.6 times, and a 2D box has at most 16 nodes: there reading the nodes was faster.
+  PatternCache *cache = patterns && D == 3 ? &patterns_ : nullptr;
   const bool tryLevels = compact && Stencils<D>::kLevelBlocks;
   if (tryLevels) s.roomForLevelBlocks(static_cast<size_t>(K) * static_cast<size_t>(n));
   const auto tooLarge = [&](const Reach &r) { // a particle larger than h0
@@ -253,10 +257,10 @@ bool Grid<D>::buildStencils(PetscInt n, const double *x, const double *l, Stenci
       for (int q = 0; q < K && blocks; ++q) {
         if (!reaches[q]) continue;
         const Reach &r = reach[q];
-        const int got = tooLarge(r) ? -1 // (the rows' path below says so)
-                        : r.threeNodeBlock
-                            ? appendThreeNodeBlock(q, r, xp, lp, s, m, out + made)
-                            : appendNodes(q, r, xp, lp, scratch.data(), maxRange, s, m, out + made);
+        const int got = tooLarge(r)        ? -1 // (the rows' path below says so)
+                        : r.threeNodeBlock ? appendThreeNodeBlock(q, r, xp, lp, s, m, out + made)
+                                           : appendNodes(q, r, xp, lp, scratch.data(), maxRange, s,
+                                                         m, out + made, cache);
         blocks = got >= 0;
         made += got > 0;
       }
@@ -279,7 +283,7 @@ bool Grid<D>::buildStencils(PetscInt n, const double *x, const double *l, Stenci
         abandonStencils(k, n, m, s);
         return false;
       }
-      appendNodes(q, r, xp, lp, scratch.data(), maxRange, s, m);
+      appendNodes(q, r, xp, lp, scratch.data(), maxRange, s, m, nullptr, cache);
     }
   }
   s.start[n] = static_cast<PetscInt>(m);
@@ -301,8 +305,8 @@ template void Grid<3>::setBlock(int, const PetscInt *, const double *, const dou
 template int Grid<2>::coarsestReaching(const double *, const double *) const;
 template int Grid<3>::coarsestReaching(const double *, const double *) const;
 template bool Grid<2>::buildStencils(PetscInt, const double *, const double *, Stencils<2> &, bool,
-                                     bool) const;
+                                     bool, bool) const;
 template bool Grid<3>::buildStencils(PetscInt, const double *, const double *, Stencils<3> &, bool,
-                                     bool) const;
+                                     bool, bool) const;
 
 } // namespace gimp

@@ -249,7 +249,7 @@ PetscErrorCode MultiRate<D>::startClass(ParticleView<D> &p, int k, PetscInt j, P
   RateClasses<D> &r = r_;
   Nodal &n = s.nodal;
   const ParticleView<D> q = p.slice(r.begin[k], r.begin[k + 1]);
-  if (!s.grid.buildStencils(q.n, q.x, q.l, r.st[k], true, s.lanes)) {
+  if (!s.grid.buildStencils(q.n, q.x, q.l, r.st[k], true, s.lanes, true)) {
     // (a particle that went bad inside the coarse step: the check at its end reports it; the
     // class reaches no node until then)
     s.status.localFailure = "a particle is larger than a level-0 cell (its half-size exceeds "

@@ -152,9 +152,12 @@ public:
   /// Stencils of n particles (positions x, half-sizes l; D values each). Returns false, with s
   /// unchanged past the particles done, when a particle is larger than a level-0 cell (the
   /// caller reports it collectively). With `compact` a particle inside one level's regular
-  /// block keeps a block instead of rows (grid/stencils.hpp).
+  /// block keeps a block instead of rows (grid/stencils.hpp). With `patterns` (3D: the rate
+  /// classes of a per-level step, which build the same particles' stencils at every sub-step)
+  /// appendNodes keeps the node patterns it reads (NodePattern) for the next particles and
+  /// builds; the same stencils.
   bool buildStencils(PetscInt n, const double *x, const double *l, Stencils<D> &s,
-                     bool compact = false, bool lanes = false) const;
+                     bool compact = false, bool lanes = false, bool patterns = false) const;
 
   /// CPDI stencils (Sadeghirad et al. 2011, 2013) of n particles whose domains are the
   /// quadrilaterals (2D) or hexahedra (3D) of their 2^D corners (D 2^D values each, in the order
@@ -238,12 +241,51 @@ private:
   /// block (not a tensor product, wider than 4 nodes along an axis, or with a live cracked node).
   int appendThreeNodeBlock(int q, const Reach &r, const double *x, const double *l, Stencils<D> &s,
                            size_t &m, LevelBlock<D> *block = nullptr) const;
+  /// What appendNodes reads of the grid about one level's box of candidate nodes, at most 4 along
+  /// each axis: which nodes are active, regular (zone h on every side) and live cracked nodes
+  /// (bit c0 + 4 c1 + 16 c2), and, when every active node at index c along axis a has the same
+  /// zones there (`tensor`), those (Z, as indices into zoneValues_). The particles of one box
+  /// then need only their 1D factors along each axis (a node's coordinate along an axis depends
+  /// on its level and its index there alone).
+  struct NodePattern {
+    std::uint64_t key = ~std::uint64_t{0}; // level, first slot and extents (none yet: all ones)
+    std::uint64_t active = 0, regular = 0, live = 0;
+    std::uint8_t Z[D][4][2];
+    bool tensor = false;
+  };
+  /// The patterns of the boxes met last, by their key (a hash, one pattern per entry). What they
+  /// read changes with the window's nodes (fillWindowNodes), the second fields (addCrackFields)
+  /// and the live cracked nodes (markLiveCracks): each of those forgets them all.
+  struct PatternCache {
+    static constexpr int kBits = 14, kSize = 1 << kBits; // (1 MB in 3D, whatever the particles)
+    std::vector<NodePattern> slots = std::vector<NodePattern>(kSize);
+    NodePattern &entry(std::uint64_t key) {
+      return slots[(key * 0x9E3779B97F4A7C15ull) >> (64 - kBits)];
+    }
+    void forget() {
+      for (NodePattern &p : slots)
+        p.key = ~std::uint64_t{0};
+    }
+  };
   /// (scratch: room for 6 D maxRange doubles, maxRange at least the candidates along an axis)
   /// (with `block`, a level of more than 4 candidates along an axis gives -1)
+  /// (with `cache`, a box of at most 4 candidates per axis whose pattern is a tensor product
+  /// takes appendFromPattern: the same entries, factors and block)
   int appendNodes(int q, const Reach &r, const double *x, const double *l, double *scratch,
-                  PetscInt maxRange, Stencils<D> &s, size_t &m,
-                  LevelBlock<D> *block = nullptr) const;
+                  PetscInt maxRange, Stencils<D> &s, size_t &m, LevelBlock<D> *block = nullptr,
+                  PatternCache *cache = nullptr) const;
+  /// The pattern of level q's candidate box r (trimmed as appendNodes trims it), from the cache
+  /// or read from the window's nodes into it.
+  const NodePattern &patternOf(int q, const Reach &r, PatternCache &cache) const;
+  /// appendNodes' result from a tensor pattern p: per axis the overlaps of each candidate index,
+  /// the entries, then the 1D factors of the indices that hold one.
+  int appendFromPattern(const NodePattern &p, int q, const Reach &r, const double *x,
+                        const double *l, Stencils<D> &s, size_t &m, LevelBlock<D> *block) const;
 
+  mutable PatternCache patterns_; // appendNodes' node patterns
+  // The distinct zone values of the window's active nodes, ascending (NodePattern::Z); empty
+  // when there are more than 255 (appendNodes then reads every node).
+  std::vector<double> zoneValues_;
   static constexpr std::uint8_t kActive = 1, kRegular = 2;
   std::vector<std::uint8_t> flags_; // active and regular in one byte per window node
   // The 3^D block of one level from this node is regular for its particles: its nodes active,
