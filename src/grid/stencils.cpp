@@ -194,6 +194,7 @@ bool Grid<D>::buildStencils(PetscInt n, const double *x, const double *l, Stenci
   // every sub-step (3D; docs/performance.md, *Node patterns*). A single step meets each 3D box
   // about 1.6 times, and a 2D box has at most 16 nodes: there reading the nodes was faster.
   PatternCache *cache = patterns && D == 3 ? &patterns_ : nullptr;
+  if (cache) cache->ready();
   const bool tryLevels = compact && Stencils<D>::kLevelBlocks;
   if (tryLevels) s.roomForLevelBlocks(static_cast<size_t>(K) * static_cast<size_t>(n));
   const auto tooLarge = [&](const Reach &r) { // a particle larger than h0

@@ -258,7 +258,10 @@ private:
   /// and the live cracked nodes (markLiveCracks): each of those forgets them all.
   struct PatternCache {
     static constexpr int kBits = 14, kSize = 1 << kBits; // (1 MB in 3D, whatever the particles)
-    std::vector<NodePattern> slots = std::vector<NodePattern>(kSize);
+    /// The table, made (empty) at the first call: only a build with patterns pays for it.
+    void ready() {
+      if (slots.empty()) slots.resize(kSize);
+    }
     NodePattern &entry(std::uint64_t key) {
       return slots[(key * 0x9E3779B97F4A7C15ull) >> (64 - kBits)];
     }
@@ -266,6 +269,7 @@ private:
       for (NodePattern &p : slots)
         p.key = ~std::uint64_t{0};
     }
+    std::vector<NodePattern> slots;
   };
   /// (scratch: room for 6 D maxRange doubles, maxRange at least the candidates along an axis)
   /// (with `block`, a level of more than 4 candidates along an axis gives -1)
