@@ -252,6 +252,7 @@ private:
     std::uint64_t active = 0, regular = 0, live = 0;
     std::uint8_t Z[D][4][2];
     bool tensor = false;
+    bool recent = false; // (PatternCache: the way of its pair used last)
   };
   /// The patterns of the boxes met last, by their key (a hash, one pattern per entry). What they
   /// read changes with the window's nodes (fillWindowNodes), the second fields (addCrackFields)
@@ -262,8 +263,14 @@ private:
     void ready() {
       if (slots.empty()) slots.resize(kSize);
     }
+    /// The entry that holds key, or the one of its pair (two ways per hash, so that two boxes of
+    /// one hash do not evict each other at every use) to put it in: the one used less recently.
     NodePattern &entry(std::uint64_t key) {
-      return slots[(key * 0x9E3779B97F4A7C15ull) >> (64 - kBits)];
+      NodePattern *pair = &slots[2 * ((key * 0x9E3779B97F4A7C15ull) >> (65 - kBits))];
+      const int way = pair[1].key == key || (pair[0].key != key && pair[0].recent);
+      pair[way].recent = true;
+      pair[1 - way].recent = false;
+      return pair[way];
     }
     void forget() {
       for (NodePattern &p : slots)
