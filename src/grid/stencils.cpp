@@ -194,7 +194,21 @@ bool Grid<D>::buildStencils(PetscInt n, const double *x, const double *l, Stenci
   // every sub-step (3D; docs/performance.md, *Node patterns*). A single step meets each 3D box
   // about 1.6 times, and a 2D box has at most 16 nodes: there reading the nodes was faster.
   PatternCache *cache = patterns && D == 3 ? &patterns_ : nullptr;
-  if (cache) cache->ready();
+  std::vector<std::uint32_t> lastTrace;
+  if (cache) {
+    cache->ready();
+    lastTrace.swap(s.patternTrace);
+    s.patternTrace.clear();
+    cache->ahead = &lastTrace;
+    cache->trace = &s.patternTrace;
+    cache->step = 0;
+  }
+  struct EndWalk { // (the walk's vectors are this build's: the cache forgets them at its end)
+    PatternCache *c;
+    ~EndWalk() {
+      if (c) c->ahead = nullptr, c->trace = nullptr;
+    }
+  } endWalk{cache};
   const bool tryLevels = compact && Stencils<D>::kLevelBlocks;
   if (tryLevels) s.roomForLevelBlocks(static_cast<size_t>(K) * static_cast<size_t>(n));
   const auto tooLarge = [&](const Reach &r) { // a particle larger than h0

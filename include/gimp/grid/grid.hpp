@@ -266,7 +266,14 @@ private:
     /// The entry that holds key, or the one of its pair (two ways per hash, so that two boxes of
     /// one hash do not evict each other at every use) to put it in: the one used less recently.
     NodePattern &entry(std::uint64_t key) {
-      NodePattern *pair = &slots[2 * ((key * 0x9E3779B97F4A7C15ull) >> (65 - kBits))];
+      const std::uint32_t at =
+          static_cast<std::uint32_t>(2 * ((key * 0x9E3779B97F4A7C15ull) >> (65 - kBits)));
+      // (the lookups of the last build of these particles, kAhead further on: fetched now)
+      if (ahead && step + kAhead < ahead->size())
+        __builtin_prefetch(&slots[(*ahead)[step + kAhead]]);
+      ++step;
+      if (trace) trace->push_back(at);
+      NodePattern *pair = &slots[at];
       const int way = pair[1].key == key || (pair[0].key != key && pair[0].recent);
       pair[way].recent = true;
       pair[1 - way].recent = false;
@@ -277,6 +284,12 @@ private:
         p.key = ~std::uint64_t{0};
     }
     std::vector<NodePattern> slots;
+    // A build's walk (buildStencils sets them): the last build's lookups (Stencils::patternTrace)
+    // and this one's, and how many this one has made.
+    static constexpr size_t kAhead = 8;
+    const std::vector<std::uint32_t> *ahead = nullptr;
+    std::vector<std::uint32_t> *trace = nullptr;
+    size_t step = 0;
   };
   /// (scratch: room for 6 D maxRange doubles, maxRange at least the candidates along an axis)
   /// (with `block`, a level of more than 4 candidates along an axis gives -1)

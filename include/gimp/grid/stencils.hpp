@@ -142,6 +142,9 @@ template <int D> struct Stencils {
   // levelOf[k] is particle k's first block in levelBlocks (its others follow, the last marked),
   // or -1; levelOf is empty while no particle has them (the first that does sizes it).
   StencilArray<PetscInt> levelOf;
+  // With node patterns (Grid::buildStencils with patterns): the pattern table's entries the
+  // last build looked up, in order; the next build of the same particles prefetches along it.
+  std::vector<std::uint32_t> patternTrace;
   PetscInt nLevelBlocks = 0;
   StencilArray<LevelBlock<D>> levelBlocks;
   /// True when particle k keeps level blocks (it has no row entries then).
