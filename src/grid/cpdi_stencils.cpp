@@ -292,11 +292,11 @@ const typename Grid<D>::NodePattern &Grid<D>::patternOf(int q, const Reach &r,
           }
         }
       }
-  // (an index no active node has holds no entry; its zones, never read for one, are h's)
-  const std::uint8_t hc = p.tensor ? code(L.h) : 0;
+  // (an index no active node has holds no entry: its zones, never used for one, are any value
+  // of the window's; the first, which exists whenever the pattern is a tensor product)
   for (int a = 0; a < D; ++a)
     for (int c = 0; c < 4; ++c)
-      if (c >= n[a] || !seen[a][c]) p.Z[a][c][0] = p.Z[a][c][1] = hc;
+      if (c >= n[a] || !seen[a][c]) p.Z[a][c][0] = p.Z[a][c][1] = 0;
   return p;
 }
 
