@@ -314,6 +314,10 @@ template <int D> void checkSceneCombinations(const Scene<D> &sc) {
     throw InputError("option -gimp_crack_growth mts: not built with -gimp_multirate true (its rate "
                      "classes keep their crack fields over a coarse step); use -gimp_multirate "
                      "false");
+  // A rate class's crack fields and faces are built in 2D only (MultiRate::startClass).
+  if (D == 3 && sc.multirate && !sc.cracks.empty())
+    throw InputError("option -gimp_multirate true: not built with 3D cracks (a rate class's crack "
+                     "fields and faces exist in 2D only); use -gimp_multirate false");
   // -gimp_multirate is built for tensor-product GIMP weights with the FLIP/PIC blend or APIC, and
   // with cracks for PIC or APIC (docs/method.md, "Multi-rate time steps per level").
   if (sc.multirate && !sc.cracks.empty() && sc.transfer == Transfer::Flip && sc.flip > 0)
