@@ -334,12 +334,14 @@ int Grid<D>::appendFromPattern(const NodePattern &p, int q, const Reach &r, cons
   const std::uint64_t mask = p.active & ((r.inside ? p.regular : 0) | overlap);
   if (block && (mask & p.live)) return -1;
   if (!mask) return 0;
-  unsigned any[3] = {0, 0, 0}; // the indices along each axis that hold an entry
-  for (std::uint64_t left = mask; left; left &= left - 1) {
-    const int bit = __builtin_ctzll(left);
-    any[0] |= 1u << (bit & 3);
-    any[1] |= 1u << ((bit >> 2) & 3);
-    any[2] |= 1u << (bit >> 4);
+  // The indices along each axis that hold an entry: the mask's 4-bit rows (along x) or'd, its
+  // rows j of every layer, its layers q.
+  unsigned any[3] = {0, 0, 0};
+  for (int c = 0; c < 4; ++c) {
+    const std::uint64_t layer = (mask >> (16 * c)) & 0xFFFFu;
+    any[0] |= static_cast<unsigned>(layer | layer >> 4 | layer >> 8 | layer >> 12) & 0xFu;
+    any[1] |= static_cast<unsigned>((mask >> (4 * c)) & 0x000F000F000F000Full ? 1u << c : 0u);
+    any[2] |= layer ? 1u << c : 0u;
   }
   double fw[D][4], fg[D][4];
   for (int a = 0; a < D; ++a) {
