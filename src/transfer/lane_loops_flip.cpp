@@ -52,6 +52,34 @@ GIMP_LANES_INLINE void flipUpdate(const Run &R, PetscInt k, const double *vg, co
   storeVectors(x, k, X + dtv * vx, Y + dtv * vy);
 }
 
+/// FLIP/PIC G2P of every particle (gridToParticles<2>) and, with Projected, the re-projection of
+/// the new momenta into mom (gridToParticlesProjected<2>).
+template <bool Projected>
+GIMP_LANES_INLINE void flipG2P(const Stencils<2> &st, PetscInt n, const double *vg,
+                               const double *ag, double dt, double flip, const double *m, double *v,
+                               double *x, double *mom) {
+  const auto lane = [&](PetscInt k, std::uint8_t group) GIMP_LANES_LAMBDA {
+    if constexpr (Projected)
+      prefetch::fields(k, n, Field<2>{v}, Field<2>{x}, Field<1>{m});
+    else
+      prefetch::fields(k, n, Field<2>{v}, Field<2>{x});
+    Run R;
+    loadRun<false>(st, k, group, R);
+    V4 VX, VY;
+    flipUpdate(R, k, vg, ag, dt, flip, v, x, VX, VY);
+    if constexpr (Projected) {
+      const V4 mp = _mm256_loadu_pd(m + k);
+      momentumScatter(R, mp, mp * VX, mp * VY, mom, nullptr);
+    }
+  };
+  forGroups(st, 0, n, lane, [&](PetscInt k) {
+    if constexpr (Projected)
+      particleFromGridProjected<2>(st, k, vg, ag, dt, flip, m, v, x, mom);
+    else
+      particleFromGridFlip<2>(st, k, vg, ag, dt, flip, v, x);
+  });
+}
+
 } // namespace
 
 GIMP_LANES void particlesToGrid(const Stencils<2> &st, PetscInt n, const double *m, const double *v,
@@ -71,32 +99,13 @@ GIMP_LANES void particlesToGrid(const Stencils<2> &st, PetscInt n, const double 
 
 GIMP_LANES void gridToParticles(const Stencils<2> &st, PetscInt n, const double *vg,
                                 const double *ag, double dt, double flip, double *v, double *x) {
-  const auto lane = [&](PetscInt k, std::uint8_t group) GIMP_LANES_LAMBDA {
-    prefetch::fields(k, n, Field<2>{v}, Field<2>{x});
-    Run R;
-    loadRun<false>(st, k, group, R);
-    V4 VX, VY;
-    flipUpdate(R, k, vg, ag, dt, flip, v, x, VX, VY);
-  };
-  forGroups(st, 0, n, lane,
-            [&](PetscInt k) { particleFromGridFlip<2>(st, k, vg, ag, dt, flip, v, x); });
+  flipG2P<false>(st, n, vg, ag, dt, flip, nullptr, v, x, nullptr);
 }
 
 GIMP_LANES void gridToParticlesProjected(const Stencils<2> &st, PetscInt n, const double *vg,
                                          const double *ag, double dt, double flip, const double *m,
                                          double *v, double *x, double *mom) {
-  const auto lane = [&](PetscInt k, std::uint8_t group) GIMP_LANES_LAMBDA {
-    prefetch::fields(k, n, Field<2>{v}, Field<2>{x}, Field<1>{m});
-    Run R;
-    loadRun<false>(st, k, group, R);
-    V4 VX, VY;
-    flipUpdate(R, k, vg, ag, dt, flip, v, x, VX, VY);
-    const V4 mp = _mm256_loadu_pd(m + k);
-    momentumScatter(R, mp, mp * VX, mp * VY, mom, nullptr);
-  };
-  forGroups(st, 0, n, lane, [&](PetscInt k) {
-    particleFromGridProjected<2>(st, k, vg, ag, dt, flip, m, v, x, mom);
-  });
+  flipG2P<true>(st, n, vg, ag, dt, flip, m, v, x, mom);
 }
 
 GIMP_LANES void gridToParticlesRated(const Stencils<2> &st, PetscInt n, const double *ug,
