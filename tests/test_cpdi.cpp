@@ -19,6 +19,9 @@
 //      the internal force (the solver's kernel) vanishes at every node whose support lies inside
 //      the block, so the patch stays at rest with its stress uniform; the axis-aligned boxes of
 //      corner tracking leave out-of-balance forces there.
+//   7. Every particle's entries are its corners' point shape functions (Grid::pointShapes) in the
+//      order of their first appearance, bit for bit, whichever path built them (also with the
+//      quads moved so that a corner lies on a node line, where tents are exactly 0 or 1).
 //   6. APIC on cpdi2's quadrilaterals: with its moments about the weights' centroid
 //      (transfer::weightCentroids) an affine nodal velocity gives C_p = B_p D_p^-1 = its gradient
 //      and v_p its value at the centroid; about the corners' mean (not the centroid of a
@@ -27,6 +30,7 @@
 #include "gimp/transfer/affine.hpp"
 #include "gimp/transfer/internal_force.hpp"
 
+#include "cpdi_point_entries.hpp"
 #include "grid_layouts.hpp"
 #include "test_util.hpp"
 
@@ -215,6 +219,35 @@ TEST(Cpdi, ApicMomentsAboutTheWeightCentroidReadAnAffineField) {
   EXPECT_WORST_LE(atCentroid, 1e-8);
   // The corners' mean is off the centroid by a few percent of the size: C_p is far off.
   EXPECT_GT(atMean.err, 1e-2);
+}
+
+TEST(Cpdi, CornerWeightsAreThePointShapesInOrder) {
+  int snapped = 0;
+  for (const bool quad : {false, true})
+    onRandomQuads(
+        quad, 300,
+        [&](const Grid<2> &g, const std::string &name, const std::vector<double> &c0, int n) {
+          Stencils s;
+          ASSERT_EQ(g.buildCpdiStencils(n, c0.data(), s), nullptr) << name;
+          for (int k = 0; k < n; ++k)
+            gimp::test::expectPointShapeEntries<2>(g, c0.data(), s, k, name);
+          // Each quad moved so that its corner k % 4 lies on a level-0 node line (along x or y).
+          const double h0 = g.h0();
+          for (int k = 0; k < n; ++k) {
+            double c[8];
+            std::copy(&c0[8 * k], &c0[8 * k + 8], c);
+            const int a = (k / 4) % 2;
+            const double o = g.levels[0].box[a], x = c[2 * (k % 4) + a];
+            const double dx = o + std::round((x - o) / h0) * h0 - x;
+            for (int q = 0; q < 4; ++q)
+              c[2 * q + a] += dx;
+            Stencils t;
+            if (!insideDomain(g, c) || g.buildCpdiStencils(1, c, t) != nullptr) continue;
+            gimp::test::expectPointShapeEntries<2>(g, c, t, 0, name + " (on a node line)");
+            ++snapped;
+          }
+        });
+  EXPECT_GT(snapped, 1000);
 }
 
 TEST(Cpdi, ParallelogramIdentities) {

@@ -10,6 +10,10 @@
 // against a 4 x 4 x 4 Gauss rule written here, independently of the code's 2 x 2 x 2 one.
 // A folded hexahedron or a corner outside the grid is reported. Sums are taken about the
 // corners' mean and the centroid's error is measured in level-0 cells, as in test_cpdi.cpp.
+// Every particle's entries are its corners' point shape functions in the order of their first
+// appearance, bit for bit, whichever path of the build made them (also with a corner moved onto a
+// node plane, where tents are exactly 0 or 1).
+#include "cpdi_point_entries.hpp"
 #include "gimp/grid/cpdi_cells.hpp"
 #include "gimp/grid/grid.hpp"
 #include "grid_layouts3d.hpp"
@@ -170,6 +174,26 @@ TEST(Cpdi3D, ParallelepipedIdentities) {
 
 TEST(Cpdi3D, HexahedronIdentities) {
   identities(0.15);
+}
+
+TEST(Cpdi3D, CornerWeightsAreThePointShapesInOrder) {
+  int n = 0;
+  onRandomHexes(0.15, 60,
+                [&](const Grid<3> &g, const std::array<double, 24> &c, const Stencils<3> &s,
+                    const std::string &name) {
+                  gimp::test::expectPointShapeEntries<3>(g, c.data(), s, 0, name);
+                  std::array<double, 24> d = c; // moved: corner n % 8 on a level-0 node plane
+                  const int a = n % 3;
+                  const double o = g.levels[0].box[a], h0 = g.h0(), x = d[3 * (n % 8) + a];
+                  const double dx = o + std::round((x - o) / h0) * h0 - x;
+                  for (int q = 0; q < 8; ++q)
+                    d[3 * q + a] += dx;
+                  ++n;
+                  if (!insideDomain(g, d.data())) return;
+                  Stencils<3> t;
+                  if (g.buildCpdiStencils(1, d.data(), t) == nullptr)
+                    gimp::test::expectPointShapeEntries<3>(g, d.data(), t, 0, name + " (snapped)");
+                });
 }
 
 TEST(Cpdi3D, ParallelepipedVolumeIsDetFTimesTheBox) {

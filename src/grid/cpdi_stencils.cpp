@@ -9,6 +9,7 @@
 #include "gimp/grid/cpdi_cells.hpp"
 #include "gimp/grid/grid.hpp"
 #include "gimp/grid/shape.hpp"
+#include "rounding.hpp"
 
 #include <algorithm>
 #include <array>
@@ -515,67 +516,163 @@ int Grid<D>::appendNodes(int q, const Reach &reach, const double *x, const doubl
 }
 
 template <int D>
+int Grid<D>::regularCornerEntries(const double *c, PetscInt *node, double *cw) const {
+  // buildCpdiStencils' entries where every corner lies in one level's box among regular nodes
+  // (active, zone h on every side) that no finer level reaches: pointShapes gives each corner
+  // the nodes of levelReach's candidates (at most two per axis) with the tents of zones h, and
+  // nothing on other levels. The same entries, order and values as the general path; each 1D
+  // tent is evaluated once per index and the union of the corners' nodes is kept locally.
+  constexpr int nc = 1 << D;
+  double lo[D], hi[D];
+  for (int a = 0; a < D; ++a) {
+    lo[a] = hi[a] = c[a];
+    for (int q = 1; q < nc; ++q) {
+      lo[a] = std::min(lo[a], c[D * q + a]);
+      hi[a] = std::max(hi[a], c[D * q + a]);
+    }
+  }
+  double mid[D], half[D];
+  for (int a = 0; a < D; ++a) {
+    mid[a] = 0.5 * (lo[a] + hi[a]);
+    half[a] = 0.5 * (hi[a] - lo[a]);
+  }
+  const int lev = coarsestReaching(mid, half);
+  const Level<D> &L = levels[lev];
+  // No finer level reaches a corner (soleBlock's test on the corners' box), so each corner's
+  // coarsestReaching is lev and levelReach finds no candidate on the finer levels.
+  for (int f = lev + 1; f < static_cast<int>(levels.size()); ++f) {
+    const Level<D> &F = levels[f];
+    const double Zf = std::max(F.h, outwardReach_[f]) + 0.5 * F.h;
+    bool misses = false;
+    for (int a = 0; a < D; ++a)
+      misses = misses || hi[a] + Zf < F.box[a] || lo[a] - Zf > F.box[D + a];
+    if (!misses) return -1;
+  }
+  // Each corner's candidates along each axis (levelReach with l = 0, the corner inside the box:
+  // reach h), at most two, and their tents.
+  PetscInt i0[nc][D], n[nc][D], u0[D], u1[D];
+  double t[nc][D][2];
+  const double *coord[3] = {X.data(), Y.data(), Z.data()};
+  for (int a = 0; a < D; ++a) {
+    if (!(lo[a] >= L.box[a] && hi[a] <= L.box[D + a])) return -1;
+    u0[a] = L.w1[a];
+    u1[a] = L.w0[a] - 1;
+    for (int q = 0; q < nc; ++q) {
+      const double x = c[D * q + a];
+      const PetscInt first = ifloor((x - L.h - L.box[a]) * L.ih) + 1;
+      const PetscInt last = iceil((x + L.h - L.box[a]) * L.ih) - 1;
+      if (first < L.w0[a] || last > L.w1[a] - 1 || last < first || last - first > 1) return -1;
+      i0[q][a] = first;
+      n[q][a] = last - first + 1;
+      u0[a] = std::min(u0[a], first);
+      u1[a] = std::max(u1[a], last);
+    }
+    if (u1[a] - u0[a] > 2) return -1;
+  }
+  const PetscInt sy = L.wn(0), sz = D == 3 ? sy * L.wn(1) : 0;
+  const PetscInt stride[3] = {1, sy, sz};
+  auto slotOf = [&](const PetscInt *i) {
+    PetscInt nd = L.offset;
+    for (int a = 0; a < D; ++a)
+      nd += (i[a] - L.w0[a]) * stride[a];
+    return nd;
+  };
+  { // every node of the corners' candidate box active and regular
+    const PetscInt base = slotOf(u0);
+    for (PetscInt k = 0; k <= (D == 3 ? u1[D - 1] - u0[D - 1] : 0); ++k)
+      for (PetscInt j = 0; j <= u1[1] - u0[1]; ++j)
+        for (PetscInt i = 0; i <= u1[0] - u0[0]; ++i)
+          if (flags_[base + k * sz + j * sy + i] != (kActive | kRegular)) return -1;
+  }
+  // The tents: tent(s, h, h) is max(0, 1 - |s| / h) to the bit (also at s = 0 and |s| >= h).
+  for (int q = 0; q < nc; ++q)
+    for (int a = 0; a < D; ++a) {
+      PetscInt ia[D];
+      for (int b = 0; b < D; ++b)
+        ia[b] = i0[q][b];
+      for (PetscInt i = 0; i < 2; ++i) {
+        ia[a] = i0[q][a] + std::min<PetscInt>(i, n[q][a] - 1);
+        t[q][a][i] = std::max(0.0, 1.0 - std::fabs(c[D * q + a] - coord[a][slotOf(ia)]) / L.h);
+      }
+    }
+  // pointShapes' entries corner by corner (x fastest), a node's first appearance its place: the
+  // place of each node of the 3^D box, -1 until a corner gives it a weight.
+  int at[27];
+  for (int b = 0; b < 27; ++b)
+    at[b] = -1;
+  const PetscInt base = slotOf(u0);
+  int m = 0;
+  for (int q = 0; q < nc; ++q) {
+    PetscInt o[3] = {0, 0, 0};
+    for (int a = 0; a < D; ++a)
+      o[a] = i0[q][a] - u0[a];
+    for (PetscInt k = 0; k < (D == 3 ? n[q][D - 1] : 1); ++k)
+      for (PetscInt j = 0; j < n[q][1]; ++j)
+        for (PetscInt i = 0; i < n[q][0]; ++i) {
+          double N = 1.0;
+          N *= t[q][0][i];
+          N *= t[q][1][j];
+          if constexpr (D == 3) N *= t[q][2][k];
+          if (N <= 0) continue;
+          const PetscInt bi = o[0] + i, bj = o[1] + j, bk = o[2] + k;
+          const int b = static_cast<int>(bi + 3 * (bj + 3 * bk));
+          if (at[b] < 0) {
+            at[b] = m;
+            node[m] = base + bk * sz + bj * sy + bi;
+            for (int r = 0; r < nc; ++r)
+              cw[nc * m + r] = 0;
+            ++m;
+          }
+          cw[nc * at[b] + q] = N;
+        }
+  }
+  return m;
+}
+
+template <int D>
 double Grid<D>::pointShapes(const double *x, std::vector<std::pair<PetscInt, double>> &out) const {
   double sum = 0;
   const double zero[D] = {};
-  const std::vector<double> *coord[3] = {&X, &Y, &Z};
+  const double *coord[3] = {X.data(), Y.data(), Z.data()};
   for (int q = coarsestReaching(x, zero); q < static_cast<int>(levels.size()); ++q) {
-    Reach r;
-    if (!levelReach(q, x, zero, r)) continue;
+    // levelReach's candidates for a point (l = 0), without its block flags
     const Level<D> &L = levels[q];
+    PetscInt i0[3] = {0, 0, 0}, i1[3] = {0, 0, 0};
+    bool none = false;
+    for (int a = 0; a < D && !none; ++a) {
+      const bool within = x[a] >= L.box[a] && x[a] <= L.box[D + a];
+      const double Zr = within ? L.h : outwardReach_[q];
+      const PetscInt ir = ifloor((x[a] - Zr - L.box[a]) * L.ih) + 1;
+      i0[a] = std::max(ir, L.w0[a]);
+      i1[a] = std::min(iceil((x[a] + Zr - L.box[a]) * L.ih) - 1, L.w1[a] - 1);
+      none = L.w1[a] <= L.w0[a] || i1[a] < i0[a];
+    }
+    if (none) continue;
     const double eps = 1e-9 * L.h;
-    std::array<PetscInt, D> nn;
-    for (int a = 0; a < D; ++a)
-      nn[a] = r.i1[a] - r.i0[a] + 1;
-    forEachIndex<D>(nn, [&](const Index &b) {
-      PetscInt i[D];
-      for (int a = 0; a < D; ++a)
-        i[a] = r.i0[a] + static_cast<PetscInt>(b[a]);
-      const PetscInt nd = windowSlot(q, i);
-      if (!(flags_[nd] & kActive)) return;
-      const double *z = &zone[2 * D * nd];
-      double N = 1.0;
-      for (int a = 0; a < D; ++a)
-        N *= pointTent(x[a] - (*coord[a])[nd], z[2 * a], z[2 * a + 1], eps);
-      if (N <= 0) return;
-      out.emplace_back(nd, N);
-      sum += N;
-    });
+    const PetscInt sy = L.wn(0), sz = D == 3 ? sy * L.wn(1) : 0;
+    for (PetscInt k = i0[2]; k <= i1[2]; ++k)
+      for (PetscInt j = i0[1]; j <= i1[1]; ++j) {
+        PetscInt nd = L.offset + (j - L.w0[1]) * sy + (i0[0] - L.w0[0]);
+        if constexpr (D == 3) nd += (k - L.w0[2]) * sz;
+        for (PetscInt i = i0[0]; i <= i1[0]; ++i, ++nd) {
+          if (!(flags_[nd] & kActive)) continue;
+          const double *z = &zone[2 * D * nd];
+          double N = 1.0;
+          for (int a = 0; a < D; ++a)
+            N *= pointTent(x[a] - coord[a][nd], z[2 * a], z[2 * a + 1], eps);
+          if (N <= 0) continue;
+          out.emplace_back(nd, N);
+          sum += N;
+        }
+      }
   }
   return sum;
 }
 
 template <int D>
-bool Grid<D>::buildPointStencils(PetscInt n, const double *x, Stencils<D> &s) const {
-  s.start.resize(static_cast<size_t>(n) + 1);
-  s.general = true;
-  s.compact = false;
-  size_t m = 0;
-  std::vector<std::pair<PetscInt, double>> pts;
-  for (PetscInt k = 0; k < n; ++k) {
-    s.start[k] = static_cast<PetscInt>(m);
-    pts.clear();
-    const bool ok = std::fabs(pointShapes(x + D * k, pts) - 1.0) < 1e-9;
-    s.reserveGeneral(m + pts.size());
-    for (const auto &[nd, N] : pts) {
-      s.node[m] = nd;
-      s.sw[m] = N;
-      for (int a = 0; a < D; ++a)
-        s.sg[a][m] = 0;
-      ++m;
-    }
-    if (!ok) {
-      s.start[k + 1] = static_cast<PetscInt>(m);
-      return false;
-    }
-  }
-  s.start[n] = static_cast<PetscInt>(m);
-  return true;
-}
-
-template <int D>
 const char *Grid<D>::buildCpdiStencils(PetscInt n, const double *corners, Stencils<D> &s) const {
-  constexpr int nc = 1 << D; // corners per particle
+  constexpr int nc = 1 << D;                   // corners per particle
+  constexpr int kMaxRegular = D == 2 ? 9 : 27; // regularCornerEntries: a 3^D box at most
   s.start.resize(static_cast<size_t>(n) + 1);
   s.general = true;
   s.compact = false;
@@ -592,7 +689,18 @@ const char *Grid<D>::buildCpdiStencils(PetscInt n, const double *corners, Stenci
       return "a particle's CPDI domain is inverted or collapsed (its corners cross)";
     }
     const size_t first = m;
-    for (int q = 0; q < nc; ++q) {
+    PetscInt rn[kMaxRegular];
+    double rcw[nc * kMaxRegular];
+    const int regular = regularCornerEntries(c, rn, rcw);
+    if (regular >= 0) {
+      s.reserveGeneral(m + static_cast<size_t>(regular));
+      for (int e = 0; e < regular; ++e, ++m) {
+        s.node[m] = rn[e];
+        for (int q = 0; q < nc; ++q)
+          s.cw[nc * m + q] = rcw[nc * e + q];
+      }
+    }
+    for (int q = 0; q < nc && regular < 0; ++q) {
       pts.clear();
       const double sum = pointShapes(&c[D * q], pts);
       if (!(std::fabs(sum - 1.0) < 1e-9)) {
@@ -649,12 +757,12 @@ template int Grid<2>::appendNodes(int, const Reach &, const double *, const doub
 template int Grid<3>::appendNodes(int, const Reach &, const double *, const double *, double *,
                                   PetscInt, Stencils<3> &, size_t &, LevelBlock<3> *,
                                   PatternCache *) const;
+template int Grid<2>::regularCornerEntries(const double *, PetscInt *, double *) const;
+template int Grid<3>::regularCornerEntries(const double *, PetscInt *, double *) const;
 template double Grid<2>::pointShapes(const double *,
                                      std::vector<std::pair<PetscInt, double>> &) const;
 template double Grid<3>::pointShapes(const double *,
                                      std::vector<std::pair<PetscInt, double>> &) const;
-template bool Grid<2>::buildPointStencils(PetscInt, const double *, Stencils<2> &) const;
-template bool Grid<3>::buildPointStencils(PetscInt, const double *, Stencils<3> &) const;
 template const char *Grid<2>::buildCpdiStencils(PetscInt, const double *, Stencils<2> &) const;
 template const char *Grid<3>::buildCpdiStencils(PetscInt, const double *, Stencils<3> &) const;
 

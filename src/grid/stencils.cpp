@@ -2,6 +2,7 @@
 // overlaps it, with the 1D GIMP weights and gradients of Eq. 15 along x and y.
 #include "gimp/grid/grid.hpp"
 #include "gimp/grid/shape.hpp"
+#include "rounding.hpp"
 
 #include <algorithm>
 #include <cstddef>
@@ -10,16 +11,6 @@
 namespace gimp {
 
 namespace {
-
-/// floor and ceil to an integer without a libm call (the hot loop of buildStencils).
-inline PetscInt ifloor(double v) {
-  const PetscInt i = static_cast<PetscInt>(v);
-  return i - (v < static_cast<double>(i));
-}
-inline PetscInt iceil(double v) {
-  const PetscInt i = static_cast<PetscInt>(v);
-  return i + (v > static_cast<double>(i));
-}
 
 /// Readies s for the stencils of n particles: their starts, with `compact` their blocks, with
 /// `lanes` their lane groups (none marked yet).

@@ -31,20 +31,40 @@ const double *cpdiCorners(const Scene<D> &sc, const ParticleView<D> &p,
 template <int D>
 bool CornerMotion<D>::move(const Grid<D> &g, const std::vector<CrackOf<D>> &cracks,
                            double cornerSize, double cut, double dt, const double *vg,
-                           const double *mg, ParticleView<D> &p) {
+                           const double *mg, const Stencils<D> &particles, ParticleView<D> &p) {
   constexpr int nc = kCorners<D>;
   const size_t nCorners = nc * static_cast<size_t>(p.n);
-  if (cornerSize == 0) { // the grid's point shape functions at the corners (cpdi2)
-    if (!g.buildPointStencils(static_cast<PetscInt>(nCorners), p.corners, st_)) return false;
-  } else {
-    size_.resize(D * nCorners);
-    for (PetscInt k = 0; k < p.n; ++k)
+  if (cornerSize == 0) {
+    // cpdi2: the grid's point shape functions at the corners are the particles' own corner
+    // weights (Grid::buildCpdiStencils built this step's stencils from these corners), on the
+    // nodes the particle's crack fields chose from its material point.
+    const PetscInt *start = particles.start.data(), *node = particles.node.data();
+    const double *cw = particles.cw.data();
+    for (PetscInt k = 0; k < p.n; ++k) {
+      double v[nc][D] = {}, wsum[nc] = {};
+      for (PetscInt e = start[k]; e < start[k + 1]; ++e) {
+        if (!(mg[D * node[e]] > cut)) continue;
+        const double *u = &vg[D * node[e]];
+        for (int q = 0; q < nc; ++q) { // (a corner the node misses adds 0)
+          const double w = cw[nc * e + q];
+          for (int a = 0; a < D; ++a)
+            v[q][a] += w * u[a];
+          wsum[q] += w;
+        }
+      }
       for (int q = 0; q < nc; ++q)
-        for (int a = 0; a < D; ++a)
-          size_[D * (nc * k + q) + a] = cornerSize * p.l0[D * k + a];
-    if (!g.buildStencils(static_cast<PetscInt>(nCorners), p.corners, size_.data(), st_))
-      return false;
+        if (wsum[q] > 0)
+          for (int a = 0; a < D; ++a)
+            p.corners[D * (nc * k + q) + a] += dt * v[q][a] / wsum[q];
+    }
+    return true;
   }
+  size_.resize(D * nCorners);
+  for (PetscInt k = 0; k < p.n; ++k)
+    for (int q = 0; q < nc; ++q)
+      for (int a = 0; a < D; ++a)
+        size_[D * (nc * k + q) + a] = cornerSize * p.l0[D * k + a];
+  if (!g.buildStencils(static_cast<PetscInt>(nCorners), p.corners, size_.data(), st_)) return false;
   if (!cracks.empty()) {
     owner_.resize(D * nCorners);
     for (PetscInt k = 0; k < p.n; ++k)

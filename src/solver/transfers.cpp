@@ -227,7 +227,7 @@ PetscErrorCode Step<D>::reproject(ParticleView<D> &p, const StepClock &c, const 
     // cpdi2 moves its corners with the grid's point shape functions (Sadeghirad et al. 2013).
     const double size = s.sc.tracking == Tracking::Cpdi2 ? 0.0 : s.sc.cornerSize;
     const bool ok = corners_.move(s.grid, s.sc.cracks, size, s.sc.massCutoff * s.meanParticleMass,
-                                  c.dt, va, mw, p);
+                                  c.dt, va, mw, s.st, p);
     PetscCall(VecRestoreArrayRead(n.massW, &mw));
     PetscCall(VecRestoreArrayRead(n.accW, &va));
     if (!ok)

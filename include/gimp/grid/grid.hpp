@@ -177,9 +177,11 @@ public:
     const double p[2] = {x, y};
     return pointShapes(p, out);
   }
-  /// Stencils of n points: general entries with the point shape functions as weights (their
-  /// gradients are left zero). False when a point lies outside the grid or the window.
-  bool buildPointStencils(PetscInt n, const double *x, Stencils<D> &s) const;
+
+  /// buildCpdiStencils' entries of a particle whose corners c lie among one level's regular
+  /// nodes that no finer level reaches: its nodes (at most 3^D) and their weights at each corner
+  /// (cw, 2^D per node), the count; -1 where that does not hold (the general path then).
+  int regularCornerEntries(const double *c, PetscInt *node, double *cw) const;
 
   /// The coarsest level whose nodes can reach a particle at x with half-sizes l: the finest
   /// level whose box (closed) holds the particle (0 if none).

@@ -140,8 +140,11 @@ template <int D> class CornerMotion {
 public:
   /// vWindow: nodal velocity on the window; mWindow: nodal mass there (component 0). False when
   /// a corner's stencil cannot be built (a particle larger than a level-0 cell).
+  /// particles: this step's particle stencils; with cornerSize 0 (cpdi2) they were built from
+  /// these corners, and their corner weights are the point shape functions used.
   bool move(const Grid<D> &g, const std::vector<CrackOf<D>> &cracks, double cornerSize, double cut,
-            double dt, const double *vWindow, const double *mWindow, ParticleView<D> &p);
+            double dt, const double *vWindow, const double *mWindow, const Stencils<D> &particles,
+            ParticleView<D> &p);
 
 private:
   Stencils<D> st_;
