@@ -79,9 +79,10 @@ const std::vector<OptionSpec> kMethod = {
      "FLIP fraction of the particle velocity update with -gimp_transfer flip (1: FLIP, 0: PIC)"},
     {"gimp_xpic_order", Kind::Int, "", "2", "", nullptr, intFrom(1, 100),
      "Order m of XPIC(m): m - 1 extra projections filter the particle velocity (1: PIC)"},
-    {"gimp_tracking", Kind::Choice, "", "stretch", "none|strain|stretch|corners|cpdi|cpdi2", nullptr, {},
+    {"gimp_tracking", Kind::Choice, "", "cpdi2", "none|strain|stretch|corners|cpdi|cpdi2", nullptr, {},
      "Particle domain: none, strain ((1 + eps) l0), stretch (F l0), corners (the paper's corner"
-     " tracking), cpdi (parallelogram of F) or cpdi2 (quadrilateral of tracked corners)"},
+     " tracking), cpdi (parallelogram of F) or cpdi2 (quadrilateral of tracked corners); the"
+     " default cpdi2 is stretch with -gimp_multirate true"},
     {"gimp_corner_size", Kind::Real, "", "0.5", "", nullptr, within(0.1, 0.8),
      "Fictitious size of a tracked corner over the initial particle size"},
     {"gimp_separation_threshold", Kind::Real, "", "0.05", "", nullptr, above(0),

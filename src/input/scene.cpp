@@ -68,7 +68,7 @@ template <int D> void readScheme(const Options &o, Scene<D> &sc) {
     Options::bad("gimp_flip", formatNumber(sc.flip),
                  "blends FLIP and PIC only with -gimp_transfer flip, not " + transfer);
   sc.xpicOrder = static_cast<int>(o.integer("gimp_xpic_order", 2));
-  const std::string tracking = o.choice("gimp_tracking", "stretch");
+  const std::string tracking = o.choice("gimp_tracking", "cpdi2");
   const char *const trackings[] = {"none", "strain", "stretch", "corners", "cpdi", "cpdi2"};
   for (int t = 0; t < 6; ++t)
     if (tracking == trackings[t]) sc.tracking = static_cast<Tracking>(t);
@@ -101,6 +101,7 @@ template <int D> void readRunControl(const Options &o, Scene<D> &sc) {
   sc.multirate = o.flag("gimp_multirate", false);
   sc.multirateNodeRule = o.choice("gimp_multirate_forces", "impulse") == "node";
   o.needs(sc.multirate, "gimp_multirate_forces", "-gimp_multirate true");
+  if (sc.multirate && !o.given("gimp_tracking")) sc.tracking = Tracking::Stretch;
   if (!o.help() && sc.multirate && sc.stabilityInterval > 0)
     Options::bad("gimp_stability_interval", std::to_string(sc.stabilityInterval),
                  "re-checks the single-rate step, not -gimp_multirate's; use 0 with "

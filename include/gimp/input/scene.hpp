@@ -132,6 +132,8 @@ struct MethodOptions {
   int xpicOrder = 2;                  // m of XPIC(m)
   bool halfStepStart = true;          // leapfrog start: half kick on the first step
   bool cutCells = true;               // particles cut by a hole take the cut's area and centroid
+  // (-gimp_tracking's default is cpdi2, set by readSceneOptions; a scene built in code names
+  // its tracking, and with corners or cpdi2 seeds the particles' corners)
   Tracking tracking = Tracking::Stretch;
   double cornerSize = 0.5;           // fictitious corner size / initial particle size
   double separationThreshold = 0.05; // gap between former neighbours / particle size
