@@ -64,41 +64,72 @@ double quadIntegrals(const double *c, double w[4], double G[8]) {
   return area;
 }
 
+/// The trilinear corner functions and their reference gradients at the 2 x 2 x 2 Gauss points
+/// ([Gauss point][corner]): they depend on neither the corners nor the particle, so they are
+/// tabulated once, with the expressions they were evaluated with.
+struct HexGauss {
+  double M[8][8], dM[8][8][3];
+};
+const HexGauss &hexGauss() {
+  static const HexGauss T = [] {
+    HexGauss t{};
+    const double gp = 1.0 / std::sqrt(3.0);
+    for (int g = 0; g < 8; ++g) {
+      const double xi[3] = {g & 1 ? gp : -gp, g & 2 ? gp : -gp, g & 4 ? gp : -gp};
+      for (int q = 0; q < 8; ++q) {
+        double f[3], s[3];
+        for (int a = 0; a < 3; ++a) {
+          s[a] = cpdi::cornerSign<3>(q, a);
+          f[a] = 0.5 * (1 + s[a] * xi[a]);
+        }
+        t.M[g][q] = f[0] * f[1] * f[2];
+        t.dM[g][q][0] = 0.5 * s[0] * f[1] * f[2];
+        t.dM[g][q][1] = 0.5 * s[1] * f[0] * f[2];
+        t.dM[g][q][2] = 0.5 * s[2] * f[0] * f[1];
+      }
+    }
+    return t;
+  }();
+  return T;
+}
+
+/// J[i][j] = dx_i / dxi_j of the map of corners c at a Gauss point (dM: its table row).
+inline void hexJacobian(const double *c, const double (&dM)[8][3], double (&J)[3][3]) {
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      J[i][j] = 0;
+  for (int q = 0; q < 8; ++q)
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j)
+        J[i][j] += c[3 * q + i] * dM[q][j];
+}
+
+/// The cofactor of J[i][j]; det J J^-T = cof.
+inline double cofactor(const double (&J)[3][3], int i, int j) {
+  const int i1 = (i + 1) % 3, i2 = (i + 2) % 3, j1 = (j + 1) % 3, j2 = (j + 2) % 3;
+  return J[i1][j1] * J[i2][j2] - J[i1][j2] * J[i2][j1];
+}
+
 /// The hexahedron's corner integrals (corners in the order of cpdi::cornerSign<3>): the same
 /// as quadIntegrals for the trilinear map, by 2 x 2 x 2 Gauss points, exact: M_c det J and
 /// cof(J) grad_xi M_c (= det J grad_x M_c) are at most cubic in each reference coordinate.
 /// w[c] = integral of M_c, G[3c + a] = integral of d M_c / d x_a; returns the volume, 0 when
 /// the map folds (det J <= 0 at a Gauss point).
 double hexIntegrals(const double *c, double w[8], double G[24]) {
-  const double gp = 1.0 / std::sqrt(3.0);
+  const HexGauss &T = hexGauss();
   double volume = 0;
   for (int q = 0; q < 8; ++q)
     w[q] = 0;
   for (int e = 0; e < 24; ++e)
     G[e] = 0;
   for (int g = 0; g < 8; ++g) {
-    const double xi[3] = {g & 1 ? gp : -gp, g & 2 ? gp : -gp, g & 4 ? gp : -gp};
-    double M[8], dM[8][3], J[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}; // J[i][j] = dx_i/dxi_j
-    for (int q = 0; q < 8; ++q) {
-      double f[3], s[3];
-      for (int a = 0; a < 3; ++a) {
-        s[a] = cpdi::cornerSign<3>(q, a);
-        f[a] = 0.5 * (1 + s[a] * xi[a]);
-      }
-      M[q] = f[0] * f[1] * f[2];
-      dM[q][0] = 0.5 * s[0] * f[1] * f[2];
-      dM[q][1] = 0.5 * s[1] * f[0] * f[2];
-      dM[q][2] = 0.5 * s[2] * f[0] * f[1];
-      for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j)
-          J[i][j] += c[3 * q + i] * dM[q][j];
-    }
-    double cof[3][3]; // cof[i][j]: the cofactor of J[i][j]; det J J^-T = cof
+    const double(&M)[8] = T.M[g];
+    const double(&dM)[8][3] = T.dM[g];
+    double J[3][3], cof[3][3];
+    hexJacobian(c, dM, J);
     for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) {
-        const int i1 = (i + 1) % 3, i2 = (i + 2) % 3, j1 = (j + 1) % 3, j2 = (j + 2) % 3;
-        cof[i][j] = J[i1][j1] * J[i2][j2] - J[i1][j2] * J[i2][j1];
-      }
+      for (int j = 0; j < 3; ++j)
+        cof[i][j] = cofactor(J, i, j);
     const double det = J[0][0] * cof[0][0] + J[0][1] * cof[0][1] + J[0][2] * cof[0][2];
     if (!(det > 0)) return 0;
     volume += det;
@@ -178,8 +209,18 @@ void setLevelBlock(LevelBlock<D> &b, std::uint64_t mask, PetscInt base, PetscInt
 namespace cpdi {
 
 double hexVolume(const double *c) {
-  double w[8], G[24];
-  return hexIntegrals(c, w, G);
+  // hexIntegrals' volume (the same sums in the same order) without its corner integrals
+  const HexGauss &T = hexGauss();
+  double volume = 0;
+  for (int g = 0; g < 8; ++g) {
+    double J[3][3];
+    hexJacobian(c, T.dM[g], J);
+    const double det =
+        J[0][0] * cofactor(J, 0, 0) + J[0][1] * cofactor(J, 0, 1) + J[0][2] * cofactor(J, 0, 2);
+    if (!(det > 0)) return 0;
+    volume += det;
+  }
+  return volume;
 }
 
 } // namespace cpdi
