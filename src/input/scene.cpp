@@ -72,7 +72,8 @@ template <int D> void readScheme(const Options &o, Scene<D> &sc) {
   const char *const trackings[] = {"none", "strain", "stretch", "corners", "cpdi", "cpdi2"};
   for (int t = 0; t < 6; ++t)
     if (tracking == trackings[t]) sc.tracking = static_cast<Tracking>(t);
-  if (D == 2) sc.cornerSize = o.real("gimp_corner_size", sc.cornerSize);
+  sc.cornerSize = o.real("gimp_corner_size", sc.cornerSize);
+  o.needs(sc.tracking == Tracking::Corners, "gimp_corner_size", "-gimp_tracking corners");
   sc.separationThreshold = o.real("gimp_separation_threshold", 0.05);
   sc.halfStepStart = o.flag("gimp_half_step_start", true);
   sc.cutCells = o.flag("gimp_cut_cells", true);
