@@ -4,7 +4,7 @@ A run restarted from the checkpoint of step k equals the uninterrupted run bit f
 rank count: every particle field of the last frame in fields.h5, history.csv, the particle dump and
 summary.json but its timing keys; continued in the interrupted run's directory or in a fresh one.
 Cases: a cracked block with contact and corner tracking, 1 -> 1 and 2 -> 2 ranks; a three-level
-patch, 1 -> 1. On another rank count (1 -> 2) the answer matches to 1e-10 of each field's largest
+patch, 1 -> 1, with stretch and with cpdi2 tracking. On another rank count (1 -> 2) the answer matches to 1e-10 of each field's largest
 value. SIGTERM (sent once history.csv shows progress) stops a run after its step: exit 143 (130
 for SIGINT), status "interrupted", a valid summary.json, the last frame readable and listed in
 particles.xmf, a checkpoint of that step from which the restart reaches the uninterrupted answer;
@@ -202,6 +202,10 @@ def crack_np2():
 def patch3():
     patch1, fresh11 = restart_pair(PATCH, "patch3", 50, 100, 1)
     same_bits("patch3 1 -> 1 into a fresh directory", patch1, fresh11, False)
+    # cpdi2 (the default tracking): the tracked corners are part of the restarted state
+    cpdi2 = (PATCH[0], PATCH[1] + ["-gimp_tracking", "cpdi2"])
+    cp1, cfresh = restart_pair(cpdi2, "patch3_cpdi2", 50, 100, 1)
+    same_bits("patch3 with cpdi2 1 -> 1 into a fresh directory", cp1, cfresh, False)
 
     # An unstable run (pulled by 1e8 Pa, a block of E = 1e7 Pa tears apart): the error names step,
     # time, particle, position and the level whose leaf cell holds it; the frame of the failed state
