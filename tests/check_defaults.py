@@ -31,13 +31,15 @@ def tip_error(extra, tag):
     s, x, y, _ = elastica.centre_line(elastica.read_dump(d0), elastica.read_dump(d1), 0.0)
     _, ur, vr = elastica.Elastica(4.0, length=0.5).at(s[-1])
     u, v = x[-1] - s[-1], y[-1]
-    return math.hypot(u - ur, v - vr) / math.hypot(ur, vr), gimptest.summary(out)["status"]
+    summ = gimptest.summary(out)
+    return math.hypot(u - ur, v - vr) / math.hypot(ur, vr), summ["status"], summ["method"]
 
 
-e_default, st_default = tip_error([], "default")
-e_stretch, st_stretch = tip_error(["-gimp_tracking", "stretch"], "stretch")
-c.check("cantilever, default tracking", st_default == "at_rest" and e_default < 0.02,
-        "tip %.2f %% off the elastica (%s)" % (100 * e_default, st_default))
+e_default, st_default, m_default = tip_error([], "default")
+e_stretch, st_stretch, _ = tip_error(["-gimp_tracking", "stretch"], "stretch")
+c.check("cantilever, default tracking", st_default == "at_rest" and e_default < 0.02 and
+        m_default["tracking"] == "cpdi2", "tip %.2f %% off the elastica (%s; summary.json method %s)"
+        % (100 * e_default, st_default, m_default))
 c.check("cantilever, stretch tracking is worse", st_stretch == "at_rest" and e_stretch > 0.03,
         "tip %.2f %% off the elastica (%s)" % (100 * e_stretch, st_stretch))
 
@@ -48,6 +50,9 @@ with open(copy, "w") as f:
     f.writelines(lines)
 p = gimptest.run(args, copy, ["-gimp_multirate", "true", "-ts_max_steps", "8"],
                  outdir=os.path.join(args.work, "multirate"), expect_ok=False)
-c.check("multirate without a tracking option", p.returncode == 0,
-        "exit %d %s" % (p.returncode, p.stderr.strip()[-200:]))
+method = gimptest.summary(os.path.join(args.work, "multirate"))["method"] if p.returncode == 0 \
+    else None
+c.check("multirate without a tracking option", p.returncode == 0 and method["tracking"] ==
+        "stretch" and method["multirate"], "exit %d %s; summary.json method %s"
+        % (p.returncode, p.stderr.strip()[-200:], method))
 c.done()
