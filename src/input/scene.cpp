@@ -69,9 +69,8 @@ template <int D> void readScheme(const Options &o, Scene<D> &sc) {
                  "blends FLIP and PIC only with -gimp_transfer flip, not " + transfer);
   sc.xpicOrder = static_cast<int>(o.integer("gimp_xpic_order", 2));
   const std::string tracking = o.choice("gimp_tracking", "cpdi2");
-  const char *const trackings[] = {"none", "strain", "stretch", "corners", "cpdi", "cpdi2"};
   for (int t = 0; t < 6; ++t)
-    if (tracking == trackings[t]) sc.tracking = static_cast<Tracking>(t);
+    if (tracking == kTrackingNames[t]) sc.tracking = static_cast<Tracking>(t);
   sc.cornerSize = o.real("gimp_corner_size", sc.cornerSize);
   o.needs(sc.tracking == Tracking::Corners, "gimp_corner_size", "-gimp_tracking corners");
   sc.separationThreshold = o.real("gimp_separation_threshold", 0.05);

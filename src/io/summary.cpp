@@ -128,14 +128,12 @@ template <int D> void Output<D>::summaryRun(FILE *f, const SummaryReport &r) con
                jsonString(sc_.name).c_str(), jsonString(GIMP_VERSION).c_str(), D,
                jsonString(r.status).c_str(), jsonString(r.failure).c_str());
   // The scheme the run used, defaults included (the default tracking depends on -gimp_multirate).
-  static const char *const updates[] = {"usf", "usl", "musl"};
-  static const char *const transfers[] = {"flip", "apic", "xpic"};
-  static const char *const trackings[] = {"none", "strain", "stretch", "corners", "cpdi", "cpdi2"};
   std::fprintf(f,
                "  \"method\": {\"update\": \"%s\", \"transfer\": \"%s\", \"tracking\": \"%s\", "
                "\"multirate\": %s},\n",
-               updates[static_cast<int>(sc_.update)], transfers[static_cast<int>(sc_.transfer)],
-               trackings[static_cast<int>(sc_.tracking)], sc_.multirate ? "true" : "false");
+               kUpdateNames[static_cast<int>(sc_.update)],
+               kTransferNames[static_cast<int>(sc_.transfer)],
+               kTrackingNames[static_cast<int>(sc_.tracking)], sc_.multirate ? "true" : "false");
   std::fprintf(f,
                "  \"ranks\": %d,\n  \"steps\": %lld,\n  \"time\": %s,\n  \"dt\": %s,\n"
                "  \"wall_seconds\": %s,\n  \"setup_seconds\": %s,\n  \"cpu_seconds\": %s,\n"

@@ -25,6 +25,11 @@ namespace gimp {
 enum class Update { USF, USL, MUSL };
 enum class Transfer { Flip, Apic, Xpic };
 enum class Tracking { None, Strain, Stretch, Corners, Cpdi, Cpdi2 };
+/// The option values (-gimp_update, -gimp_transfer, -gimp_tracking) of each enum, in its order.
+inline constexpr const char *kUpdateNames[] = {"usf", "usl", "musl"};
+inline constexpr const char *kTransferNames[] = {"flip", "apic", "xpic"};
+inline constexpr const char *kTrackingNames[] = {"none",    "strain", "stretch",
+                                                 "corners", "cpdi",   "cpdi2"};
 
 /// Whether particles carry tracked corners (corners: the paper's mode; cpdi2: the quadrilateral
 /// CPDI domain).
