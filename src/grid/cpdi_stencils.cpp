@@ -600,8 +600,8 @@ int Grid<D>::regularCornerEntries(const double *c, PetscInt *node, double *cw) c
     u1[a] = L.w0[a] - 1;
     for (int q = 0; q < nc; ++q) {
       const double x = c[D * q + a];
-      const PetscInt first = ifloor((x - L.h - L.box[a]) * L.ih) + 1;
-      const PetscInt last = iceil((x + L.h - L.box[a]) * L.ih) - 1;
+      PetscInt first, last;
+      candidates(L, a, x - L.h, x + L.h, first, last);
       if (first < L.w0[a] || last > L.w1[a] - 1 || last < first || last - first > 1) return -1;
       i0[q][a] = first;
       n[q][a] = last - first + 1;
@@ -683,9 +683,10 @@ double Grid<D>::pointShapes(const double *x, std::vector<std::pair<PetscInt, dou
     for (int a = 0; a < D && !none; ++a) {
       const bool within = x[a] >= L.box[a] && x[a] <= L.box[D + a];
       const double Zr = within ? L.h : outwardReach_[q];
-      const PetscInt ir = ifloor((x[a] - Zr - L.box[a]) * L.ih) + 1;
-      i0[a] = std::max(ir, L.w0[a]);
-      i1[a] = std::min(iceil((x[a] + Zr - L.box[a]) * L.ih) - 1, L.w1[a] - 1);
+      PetscInt first, last;
+      candidates(L, a, x[a] - Zr, x[a] + Zr, first, last);
+      i0[a] = std::max(first, L.w0[a]);
+      i1[a] = std::min(last, L.w1[a] - 1);
       none = L.w1[a] <= L.w0[a] || i1[a] < i0[a];
     }
     if (none) continue;

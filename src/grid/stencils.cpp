@@ -76,12 +76,12 @@ GIMP_ALWAYS_INLINE bool Grid<D>::levelReach(int q, const double *x, const double
     lo[a] = x[a] - l[a] - Zr;
     hi[a] = x[a] + l[a] + Zr;
   }
-  const double ih = L.ih;
   bool first = true, small = true, four = D == 2;
   for (int a = 0; a < D; ++a) {
-    const PetscInt ir = ifloor((lo[a] - L.box[a]) * ih) + 1;
+    PetscInt ir, last;
+    candidates(L, a, lo[a], hi[a], ir, last);
     r.i0[a] = std::max(ir, L.w0[a]);
-    r.i1[a] = std::min(iceil((hi[a] - L.box[a]) * ih) - 1, L.w1[a] - 1);
+    r.i1[a] = std::min(last, L.w1[a] - 1);
     if (r.i1[a] < r.i0[a]) return false;
     first = first && ir == r.i0[a];
     small = small && r.i1[a] - r.i0[a] <= 2 && r.i0[a] + 2 < L.w1[a] && l[a] <= 0.5 * L.h;
@@ -107,8 +107,8 @@ GIMP_ALWAYS_INLINE int Grid<D>::soleBlock(int q, const double *x, const double *
   }
   if (D == 3 && side == 4) return 0;
   for (int a = 0; a < D; ++a) {
-    const PetscInt ir = ifloor((x[a] - l[a] - L.h - L.box[a]) * L.ih) + 1;
-    const PetscInt i1 = iceil((x[a] + l[a] + L.h - L.box[a]) * L.ih) - 1;
+    PetscInt ir, i1;
+    candidates(L, a, x[a] - l[a] - L.h, x[a] + l[a] + L.h, ir, i1);
     if (ir < L.w0[a] || ir + side - 1 >= L.w1[a] || i1 - ir > side - 1) return 0;
     i0[a] = ir;
   }
