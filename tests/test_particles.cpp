@@ -13,7 +13,10 @@
 #include <gtest/gtest.h>
 #include <petscsys.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <map>
 #include <set>
 #include <string>
 #include <vector>
@@ -258,6 +261,75 @@ TEST(Seeding, SphereCutsThatAreNotExactAreNamed) {
             std::string::npos);
   EXPECT_EQ(named(ball + "-gimp_body0_hole_spheres 0.25,0,0,0.1,-0.25,0,0,0.1"), "");
   EXPECT_EQ(named("-gimp_body0_box 0,0,0,1,1,1 -gimp_body0_hole_spheres 0.5,0.5,0.5,0.2"), "");
+}
+
+TEST(Swarm, ClassMovesMakeClassesContiguousMovingOnlyTheStrays) {
+  // Rate classes made contiguous (a per-level step's coarse start): after classMoves and
+  // permuteSwarmAt the classes run 0, 1, 2 in order, every particle keeps all its fields (its id
+  // with its position, mass and volume), and a particle already in its class's range stays.
+  EXPECT_EQ(PetscOptionsClear(nullptr), 0);
+  EXPECT_EQ(PetscOptionsInsertString(nullptr, (kMaterial + "-gimp_h 0.1 -gimp_body0_box 0,0,1,0.5 "
+                                                           "-gimp_body0_ppc 4")
+                                                  .c_str()),
+            0);
+  Scene<2> sc;
+  ASSERT_EQ(gimp::readScene<2>(PETSC_COMM_SELF, sc), 0);
+  Grid<2> grid;
+  ASSERT_EQ(grid.create(PETSC_COMM_SELF, sc.h, sc.levelBoxes(), sc.cracks), 0);
+  sc.idSlots = gimp::bodyIdSlots<2>(grid);
+  DM sw = nullptr;
+  ASSERT_EQ(gimp::createSwarm<2>(PETSC_COMM_SELF, gimp::optionalFieldsOf(sc), &sw), 0);
+  gimp::LoadConflict conflict;
+  ASSERT_EQ(gimp::seedParticles<2>(sc, grid, sw, conflict), 0);
+  ParticleView<2> p;
+  ASSERT_EQ(p.get(sw), 0);
+  const PetscInt n = p.n;
+  ASSERT_EQ(n, 200);
+  // Classes as a per-level step leaves them (0 ... 0 1 ... 1 2 ... 2), then a few particles
+  // changed class, in both directions and by two classes.
+  std::vector<int> cls(static_cast<size_t>(n));
+  for (PetscInt k = 0; k < n; ++k)
+    cls[k] = k < 120 ? 0 : k < 170 ? 1 : 2;
+  for (PetscInt k : {3, 57, 119})
+    cls[k] = 1;
+  cls[60] = 2;
+  for (PetscInt k : {121, 150})
+    cls[k] = 0;
+  cls[199] = 0;
+  std::map<PetscInt64, std::array<double, 4>> was; // id -> x, y, m, V
+  for (PetscInt k = 0; k < n; ++k)
+    was[p.id[k]] = {p.x[2 * k], p.x[2 * k + 1], p.m[k], p.V[k]};
+  std::vector<PetscInt64> idBefore(p.id, p.id + n);
+  ASSERT_EQ(p.restore(sw), 0);
+  std::vector<PetscInt> at, from;
+  gimp::classMoves(cls, at, from);
+  ASSERT_EQ(at.size(), from.size());
+  EXPECT_EQ(std::set<PetscInt>(at.begin(), at.end()), std::set<PetscInt>(from.begin(), from.end()));
+  ASSERT_EQ(gimp::permuteSwarmAt<2>(sw, at, from), 0);
+  std::vector<int> now = cls;
+  for (size_t j = 0; j < at.size(); ++j)
+    now[at[j]] = cls[from[j]];
+  EXPECT_TRUE(std::is_sorted(now.begin(), now.end()));
+  EXPECT_EQ(std::count(now.begin(), now.end(), 0), std::count(cls.begin(), cls.end(), 0));
+  EXPECT_EQ(std::count(now.begin(), now.end(), 2), std::count(cls.begin(), cls.end(), 2));
+  ASSERT_EQ(p.get(sw), 0);
+  const std::set<PetscInt> moved(at.begin(), at.end());
+  // Ranges now [0, 119), [119, 170), [170, 200): 119 stays (its new class's range starts there);
+  // 3, 57 (to class 1), 60 (to 2), 121, 150 and 199 (to 0) move, each into a place another of
+  // them left.
+  EXPECT_EQ(moved, (std::set<PetscInt>{3, 57, 60, 121, 150, 199}));
+  for (PetscInt k = 0; k < n; ++k) {
+    const std::array<double, 4> &w = was.at(p.id[k]);
+    EXPECT_EQ(p.x[2 * k], w[0]);
+    EXPECT_EQ(p.x[2 * k + 1], w[1]);
+    EXPECT_EQ(p.m[k], w[2]);
+    EXPECT_EQ(p.V[k], w[3]);
+    if (!moved.count(k)) {
+      EXPECT_EQ(p.id[k], idBefore[k]) << k;
+    }
+  }
+  ASSERT_EQ(p.restore(sw), 0);
+  ASSERT_EQ(DMDestroy(&sw), 0);
 }
 
 } // namespace

@@ -1,6 +1,7 @@
 #include "gimp/particles/swarm.hpp"
 #include "gimp/input/scene.hpp"
 
+#include <algorithm>
 #include <cstring>
 
 namespace gimp {
@@ -172,6 +173,45 @@ template <int D> PetscErrorCode permuteSwarm(DM sw, const std::vector<PetscInt> 
   });
 }
 
+template <int D>
+PetscErrorCode permuteSwarmAt(DM sw, const std::vector<PetscInt> &at,
+                              const std::vector<PetscInt> &from) {
+  std::vector<char> scratch;
+  const size_t n = at.size();
+  return forEachFieldRows<D>(sw, [&](char *rows, size_t row) {
+    scratch.resize(row * n);
+    for (size_t j = 0; j < n; ++j)
+      std::memcpy(&scratch[j * row], rows + static_cast<size_t>(from[j]) * row, row);
+    for (size_t j = 0; j < n; ++j)
+      std::memcpy(rows + static_cast<size_t>(at[j]) * row, &scratch[j * row], row);
+  });
+}
+
+void classMoves(const std::vector<int> &cls, std::vector<PetscInt> &at,
+                std::vector<PetscInt> &from) {
+  // Class c's range is [begin_c, begin_c+1) (classes in order, by their counts). The particles
+  // of class c outside its range fill the places in it held by other classes, both in index
+  // order: a class change moves a few particles, where a stable partition would move every
+  // particle behind the first one that changed.
+  at.clear();
+  from.clear();
+  if (cls.empty()) return;
+  const int nc = 1 + *std::max_element(cls.begin(), cls.end());
+  std::vector<PetscInt> begin(static_cast<size_t>(nc) + 1, 0);
+  for (int c : cls)
+    ++begin[static_cast<size_t>(c) + 1];
+  for (int c = 0; c < nc; ++c)
+    begin[c + 1] += begin[c];
+  std::vector<std::vector<PetscInt>> strays(static_cast<size_t>(nc));
+  for (PetscInt k = 0; k < static_cast<PetscInt>(cls.size()); ++k)
+    if (k < begin[cls[k]] || k >= begin[cls[k] + 1]) strays[cls[k]].push_back(k);
+  for (int c = 0; c < nc; ++c) {
+    for (PetscInt k = begin[c]; k < begin[c + 1]; ++k)
+      if (cls[k] != c) at.push_back(k);
+    from.insert(from.end(), strays[c].begin(), strays[c].end());
+  }
+}
+
 template <int D> PetscErrorCode appendCopies(DM sw, const std::vector<PetscInt> &from) {
   PetscInt n0 = 0;
   PetscCall(DMSwarmGetLocalSize(sw, &n0));
@@ -189,7 +229,9 @@ template <int D> PetscErrorCode appendCopies(DM sw, const std::vector<PetscInt> 
   template OptionalFields optionalFieldsOf<D>(const Scene<D> &);                                   \
   template struct ParticleView<D>;                                                                 \
   template PetscErrorCode createSwarm<D>(MPI_Comm, OptionalFields, DM *);                          \
-  template PetscErrorCode permuteSwarm<D>(DM, const std::vector<PetscInt> &);
+  template PetscErrorCode permuteSwarm<D>(DM, const std::vector<PetscInt> &);                      \
+  template PetscErrorCode permuteSwarmAt<D>(DM, const std::vector<PetscInt> &,                     \
+                                            const std::vector<PetscInt> &);
 GIMP_INSTANTIATE(2)
 GIMP_INSTANTIATE(3)
 #undef GIMP_INSTANTIATE

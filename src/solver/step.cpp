@@ -110,7 +110,7 @@ template <int D> PetscErrorCode Step<D>::sortParticles(std::vector<int> *cls, bo
   // P2G and G2P then walk the nodal arrays in order, and the order depends on neither the
   // seeding nor the migrations. Every -gimp_sort_interval steps; nothing is allocated when the
   // particles are in order already. With rate classes (cls, permuted along) the class comes
-  // first; without byCell only the classes are made contiguous (a stable partition).
+  // first; without byCell only the classes are made contiguous (partitionClasses).
   RunState<D> &s = s_;
   ParticleView<D> p;
   PetscCall(p.get(s.sw));
@@ -129,6 +129,10 @@ template <int D> PetscErrorCode Step<D>::sortParticles(std::vector<int> *cls, bo
   for (PetscInt k = 1; k < p.n && sorted; ++k)
     sorted = keyOf(k - 1) < keyOf(k);
   if (sorted) return p.restore(s.sw);
+  if (cls && !byCell) { // a few particles changed class: they alone move
+    PetscCall(p.restore(s.sw));
+    return partitionClasses(*cls);
+  }
   s.st.release(); // the last step's stencils: room for the keys and the permutation buffer
   std::vector<std::pair<Key, PetscInt>> key(static_cast<size_t>(p.n));
   for (PetscInt k = 0; k < p.n; ++k)
@@ -145,6 +149,16 @@ template <int D> PetscErrorCode Step<D>::sortParticles(std::vector<int> *cls, bo
     for (size_t k = 0; k < order.size(); ++k)
       (*cls)[k] = was[order[k]];
   }
+  return PETSC_SUCCESS;
+}
+
+template <int D> PetscErrorCode Step<D>::partitionClasses(std::vector<int> &cls) {
+  std::vector<PetscInt> at, from;
+  classMoves(cls, at, from);
+  PetscCall(permuteSwarmAt<D>(s_.sw, at, from));
+  const std::vector<int> was = cls;
+  for (size_t j = 0; j < at.size(); ++j)
+    cls[at[j]] = was[from[j]];
   return PETSC_SUCCESS;
 }
 

@@ -113,9 +113,20 @@ PetscErrorCode swarmOptionalFields(DM sw, OptionalFields &optional);
 /// Reorder this rank's particles: particle k becomes the former particle order[k], in every
 /// field (gimp's and DMSwarm's own). Not collective.
 template <int D> PetscErrorCode permuteSwarm(DM sw, const std::vector<PetscInt> &order);
+/// Move a few of this rank's particles: particle at[j] becomes the former particle from[j], in
+/// every field; `from` is a rearrangement of `at`, and every other particle stays. Not collective.
+template <int D>
+PetscErrorCode permuteSwarmAt(DM sw, const std::vector<PetscInt> &at,
+                              const std::vector<PetscInt> &from);
 /// Append copies of this rank's particles: new particle n0 + j (n0 the local size before) a copy
 /// of particle from[j] in every field (gimp's and DMSwarm's own). Not collective.
 template <int D> PetscErrorCode appendCopies(DM sw, const std::vector<PetscInt> &from);
+/// The moves (permuteSwarmAt's at and from) that make the classes cls (0, 1, ..., one per
+/// particle) contiguous and in increasing order: only the particles outside their class's range
+/// move, each into a place of its class's range held by another class, both taken in index
+/// order. Not collective.
+void classMoves(const std::vector<int> &cls, std::vector<PetscInt> &at,
+                std::vector<PetscInt> &from);
 
 template <int D> struct Scene;
 /// The optional fields a scene needs (its tracking and transfer).

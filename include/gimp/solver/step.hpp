@@ -43,6 +43,9 @@ public:
   /// Order this rank's particles by level-0 cell, then id (every -gimp_sort_interval steps);
   /// with rate classes `cls` (permuted along) by class first, and without `byCell` by class only.
   PetscErrorCode sortParticles(std::vector<int> *cls = nullptr, bool byCell = true);
+  /// Make the rate classes `cls` contiguous and in order by moving only the particles outside
+  /// their class's range (sortParticles without byCell).
+  PetscErrorCode partitionClasses(std::vector<int> &cls);
   PetscErrorCode buildStencils(const ParticleView<D> &p, const double *centres);
   /// Where the stencils are centred: the positions, or (2D) tracking::domainCentres, copied when
   /// the affine transfer needs the centres after G2P has moved the particles.
