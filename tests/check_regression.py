@@ -66,7 +66,7 @@ RANKS = (1, 2)
 DEFAULT_STEPS = 60  # past the first particle sort (-gimp_sort_interval 50)
 STEPS = {
     # 3D blocks of 1e5 particles, 0.06 s a step
-    "block3d": 30, "block3d_levels": 30,
+    "block3d": 30, "block3d_levels": 30, "block3d_tenth": 20,
     # an inclined penny crack in a block of 1.3e5 particles on four levels (0.15 s a step; the
     # load reaches the crack in neither 12 nor 30 steps, and 12 run every path the 30 did)
     "penny_inclined3d": 12,
