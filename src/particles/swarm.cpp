@@ -160,31 +160,34 @@ template <int D, class F> PetscErrorCode forEachFieldRows(DM sw, F &&f) {
   return PETSC_SUCCESS;
 }
 
+/// Every field's rows from[j] gathered, then written back to rows at[j], or with `at` null to
+/// rows 0, 1, ... (a whole permutation).
+template <int D>
+PetscErrorCode moveRows(DM sw, const std::vector<PetscInt> &from, const std::vector<PetscInt> *at) {
+  std::vector<char> scratch;
+  const size_t n = from.size();
+  return forEachFieldRows<D>(sw, [&](char *rows, size_t row) {
+    scratch.resize(row * n);
+    for (size_t j = 0; j < n; ++j)
+      std::memcpy(&scratch[j * row], rows + static_cast<size_t>(from[j]) * row, row);
+    if (!at)
+      std::memcpy(rows, scratch.data(), row * n);
+    else
+      for (size_t j = 0; j < n; ++j)
+        std::memcpy(rows + static_cast<size_t>((*at)[j]) * row, &scratch[j * row], row);
+  });
+}
+
 } // namespace
 
 template <int D> PetscErrorCode permuteSwarm(DM sw, const std::vector<PetscInt> &order) {
-  std::vector<char> scratch;
-  const size_t n = order.size();
-  return forEachFieldRows<D>(sw, [&](char *rows, size_t row) {
-    scratch.resize(row * n);
-    for (size_t k = 0; k < n; ++k)
-      std::memcpy(&scratch[k * row], rows + static_cast<size_t>(order[k]) * row, row);
-    std::memcpy(rows, scratch.data(), row * n);
-  });
+  return moveRows<D>(sw, order, nullptr);
 }
 
 template <int D>
 PetscErrorCode permuteSwarmAt(DM sw, const std::vector<PetscInt> &at,
                               const std::vector<PetscInt> &from) {
-  std::vector<char> scratch;
-  const size_t n = at.size();
-  return forEachFieldRows<D>(sw, [&](char *rows, size_t row) {
-    scratch.resize(row * n);
-    for (size_t j = 0; j < n; ++j)
-      std::memcpy(&scratch[j * row], rows + static_cast<size_t>(from[j]) * row, row);
-    for (size_t j = 0; j < n; ++j)
-      std::memcpy(rows + static_cast<size_t>(at[j]) * row, &scratch[j * row], row);
-  });
+  return moveRows<D>(sw, from, &at);
 }
 
 void classMoves(const std::vector<int> &cls, std::vector<PetscInt> &at,
