@@ -167,7 +167,7 @@ with open(path, "w") as fcsv:
 #   -5.5 % (5 mm tubes).
 # - K_III: measured -4.4 % interior and -1.6 % at the ends. The interior's worst points are
 #   beside the front's crest (y near a), where the front runs diagonally across the cells and G
-#   from the domain integral, with no auxiliary field, is itself 13-15 % above the closed form's.
+#   from the domain integral, with no auxiliary field, is itself 14-16 % above the closed form's.
 #   There K_III depends on the tube: -6.6, -5.4 and -4.4 % with radii of 4, 5 and 6 mm (the
 #   scene's), -8 to -9 % for every radius from 3 to 7 mm before the domain integral's arc length
 #   was continuous behind the front's vertices (docs/validation.md, Inclined penny crack). At the
