@@ -54,23 +54,25 @@ template <int D> void readOutputs(const Options &o, Scene<D> &sc) {
   readHoleMeasure(o, sc);
 }
 
+/// The enum value whose option name (names, in the enum's order) is v; o.choice has checked v.
+template <class E, size_t N> E fromName(const std::string &v, const char *const (&names)[N]) {
+  for (size_t i = 0; i < N; ++i)
+    if (v == names[i]) return static_cast<E>(i);
+  return static_cast<E>(0);
+}
+
 /// The update scheme, the transfer and the domain tracking.
 template <int D> void readScheme(const Options &o, Scene<D> &sc) {
-  const std::string update = o.choice("gimp_update", "musl");
-  sc.update = update == "usf" ? Update::USF : update == "usl" ? Update::USL : Update::MUSL;
+  sc.update = fromName<Update>(o.choice("gimp_update", "musl"), kUpdateNames);
   const std::string transfer = o.choice("gimp_transfer", "apic");
-  sc.transfer = transfer == "flip"   ? Transfer::Flip
-                : transfer == "xpic" ? Transfer::Xpic
-                                     : Transfer::Apic;
+  sc.transfer = fromName<Transfer>(transfer, kTransferNames);
   bool flipGiven = false, cutoffGiven = false;
   sc.flip = o.real("gimp_flip", 1.0, &flipGiven);
   if (!o.help() && flipGiven && sc.transfer != Transfer::Flip)
     Options::bad("gimp_flip", formatNumber(sc.flip),
                  "blends FLIP and PIC only with -gimp_transfer flip, not " + transfer);
   sc.xpicOrder = static_cast<int>(o.integer("gimp_xpic_order", 2));
-  const std::string tracking = o.choice("gimp_tracking", "cpdi2");
-  for (int t = 0; t < 6; ++t)
-    if (tracking == kTrackingNames[t]) sc.tracking = static_cast<Tracking>(t);
+  sc.tracking = fromName<Tracking>(o.choice("gimp_tracking", "cpdi2"), kTrackingNames);
   sc.cornerSize = o.real("gimp_corner_size", sc.cornerSize);
   o.needs(sc.tracking == Tracking::Corners, "gimp_corner_size", "-gimp_tracking corners");
   sc.separationThreshold = o.real("gimp_separation_threshold", 0.05);
