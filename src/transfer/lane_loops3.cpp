@@ -164,6 +164,9 @@ GIMP_LANES_INLINE void affineG2P(const Stencils<3> &st, PetscInt n, const double
                                  const double *xc, const double *xs, double dt, const double *m,
                                  double *v, double *B, double *x, double *mom) {
   for (PetscInt k = 0; k < n; ++k) {
+    prefetchRecord(st, k, n);
+    if (k % 4 == 0)
+      prefetch::fields(k, n, prefetch::Field<3>{xc}, prefetch::Field<9>{B}, prefetch::Field<3>{v});
     const double *xk = xc + 3 * k;
     V4 VP, Bc[3];
     Tensor<3> Bk;
@@ -193,6 +196,7 @@ GIMP_LANES_INLINE void flipG2P(const Stencils<3> &st, PetscInt n, const double *
                                double *x, double *mom) {
   const V4 F = splat(flip), G = splat(1.0 - flip), DT = splat(dt);
   for (PetscInt k = 0; k < n; ++k) {
+    prefetchRecord(st, k, n);
     V4 P0, P1;
     fromGrid(st, k, f0, f1, P0, P1);
     const V4 Vk = Rated ? F * load3(v + 3 * k) + P0 : F * (load3(v + 3 * k) + DT * P1) + G * P0;
@@ -208,6 +212,10 @@ GIMP_LANES void particlesToGridAffineB(const Stencils<3> &st, PetscInt n, const 
                                        const double *v, const double *B, const double *xc,
                                        const double *xs, double *mom, double *mass) {
   for (PetscInt k = 0; k < n; ++k) {
+    prefetchRecord(st, k, n);
+    if (k % 4 == 0)
+      prefetch::fields(k, n, prefetch::Field<3>{xc}, prefetch::Field<3>{v}, prefetch::Field<9>{B},
+                       prefetch::Field<1>{m});
     if (st.isBlock(k))
       affineToGrid(st.block(k), m[k], load3(v + 3 * k), tensorAt<3>(B, k), xc + 3 * k, xs, mom,
                    mass);
@@ -231,8 +239,10 @@ GIMP_LANES void gridToParticlesAffine(const Stencils<3> &st, PetscInt n, const d
 
 GIMP_LANES void particlesToGrid(const Stencils<3> &st, PetscInt n, const double *m, const double *v,
                                 double *mom, double *mass) {
-  for (PetscInt k = 0; k < n; ++k)
+  for (PetscInt k = 0; k < n; ++k) {
+    prefetchRecord(st, k, n);
     toGrid(st, k, m[k], splat(m[k]) * load3(v + 3 * k), mom, mass);
+  }
 }
 
 GIMP_LANES void gridToParticles(const Stencils<3> &st, PetscInt n, const double *vg,
@@ -251,6 +261,7 @@ GIMP_LANES void gridToParticlesAffineRated(const Stencils<3> &st, PetscInt n, co
                                            const double *m, double *v, double *B, double *x,
                                            double *mom) {
   for (PetscInt k = 0; k < n; ++k) {
+    prefetchRecord(st, k, n);
     const double *xk = x + 3 * k; // (the particle's place before it moves)
     V4 VP, Bc[3];
     Tensor<3> Bk;

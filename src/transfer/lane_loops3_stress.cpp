@@ -71,6 +71,9 @@ GIMP_LANES_INLINE void storeComponent4(double *p, int a, V4 v) {
 GIMP_LANES void internalForce(const Stencils<3> &st, PetscInt n, const double *V,
                               const double *stress, double *f) {
   for (PetscInt k = 0; k < n; ++k) {
+    prefetchRecord(st, k, n);
+    if (k % 4 == 0)
+      prefetch::fields(k, n, prefetch::Field<kStress<3>>{stress}, prefetch::Field<1>{V});
     const Tensor<3> A = -V[k] * stressAt<3>(stress, k);
     const V4 Ax = column(A, 0), Ay = column(A, 1), Az = column(A, 2);
     if (!st.isBlock(k)) {
@@ -99,6 +102,7 @@ GIMP_LANES void internalForce(const Stencils<3> &st, PetscInt n, const double *V
 GIMP_LANES void velocityGradients(const Stencils<3> &st, PetscInt k0, PetscInt k1, const double *vg,
                                   double *L) {
   for (PetscInt k = k0; k < k1; ++k) {
+    prefetchRecord(st, k, k1);
     auto Lk = tensorAt<3>(L, k - k0);
     if (!st.isBlock(k)) { // velocityGradientAt<3> of a particle that keeps rows
       V4 Lc[3] = {splat(0.0), splat(0.0), splat(0.0)};

@@ -7,6 +7,7 @@
 #include "gimp/grid/stencils.hpp"
 
 #include "gimp/core/lanes.hpp"
+#include "gimp/core/prefetch.hpp"
 
 #if GIMP_HAVE_LANES
 
@@ -99,6 +100,17 @@ template <class F> GIMP_LANES_INLINE void forBlockRows(const Block<3> &b, F &&f)
   for (int q = 0; q < nn[2]; ++q)
     for (int j = 0; j < nn[1]; ++j)
       f(b.base + j * b.stride[0] + q * b.stride[1], b.w[1][j] * b.w[2][q], nn[0]);
+}
+
+/// Asks for the stencil record (its block, or its first level block) of the particle kAhead3
+/// after k, if there are n: the records stream through each loop at 168 bytes or more a particle
+/// (docs/performance.md, *Prefetching the stencil records in 3D*).
+constexpr PetscInt kAhead3 = 8;
+GIMP_LANES_INLINE void prefetchRecord(const Stencils<3> &st, PetscInt k, PetscInt n) {
+  const PetscInt a = k + kAhead3;
+  if (a >= n) return;
+  if (st.isBlock(a)) return prefetch::span<sizeof(Block<3>)>(st.blocks.data() + st.blockOf[a]);
+  if (st.isLevels(a)) prefetch::span<sizeof(LevelBlock<3>)>(st.levelBlocks.data() + st.levelOf[a]);
 }
 
 /// f(slot, weight, gradient) for every row entry of particle k (Stencils::forEach of a particle

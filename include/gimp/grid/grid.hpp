@@ -271,8 +271,9 @@ private:
       const std::uint32_t at =
           static_cast<std::uint32_t>(2 * ((key * 0x9E3779B97F4A7C15ull) >> (65 - kBits)));
       // (the lookups of the last build of these particles, kAhead further on: fetched now)
+      // (both ways of the pair: two entries, three cache lines when the table is not aligned)
       if (ahead && step + kAhead < ahead->size())
-        __builtin_prefetch(&slots[(*ahead)[step + kAhead]]);
+        prefetch::span<2 * sizeof(NodePattern)>(&slots[(*ahead)[step + kAhead]]);
       ++step;
       if (trace) trace->push_back(at);
       NodePattern *pair = &slots[at];
