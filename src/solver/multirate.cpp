@@ -49,6 +49,8 @@ template <int D> PetscErrorCode MultiRate<D>::create(Vec like) {
   if (s_.boundary.active()) perClass.push_back(&v.fext); // (for the work at the class's end)
   r.extStart.assign(n, 0.0);
   r.extScale.assign(n, 0.0);
+  r.loaded.assign(n, 1); // (until the first coarse start)
+  r.fextZero.assign(n, 0);
   for (std::vector<Vec> *vs : perClass) {
     vs->assign(n, nullptr);
     for (Vec &x : *vs)

@@ -28,15 +28,17 @@ PetscErrorCode MultiRate<D>::classForces(const ParticleView<D> &p, const StepClo
   std::vector<double> V; // the volumes of a class with particles that switched class
   // (Boundary keeps the penalty reactions of its last call: the penalty particles are all in the
   // finest class, which comes last here, and it starts at every sub-step.)
-  // The impulse rule without external forces sums on the levels the starting classes reach.
-  const bool restricted = !nodeRule && !external;
+  // The impulse rule sums on the levels the starting classes reach, but for a class with external
+  // forces (RateClasses::loaded), whose external part is spread over the whole window.
+  if (external && !nodeRule && j == 0) PetscCall(loadedClasses(p));
+  const auto restricted = [&](int k) { return !nodeRule && (!external || !r.loaded[k]); };
   int from = r.n - 1;
   for (int k = 0; k < r.n; ++k)
-    if (r.size[k] > 0 && j % r.every[k] == 0) from = std::min(from, restricted ? r.from[k] : 0);
+    if (r.size[k] > 0 && j % r.every[k] == 0) from = std::min(from, restricted(k) ? r.from[k] : 0);
   PetscCall(VecZeroEntries(n.f));
-  if (external) PetscCall(VecZeroEntries(n.fext));
+  // (the impulse rule books each class's external work from its own sums: no nodal.fext)
+  if (external && nodeRule) PetscCall(VecZeroEntries(n.fext));
   if (!nodeRule) PetscCall(zeroTail(n.sumW, s.grid.windowLevelStart(from)));
-  if (!nodeRule && external) PetscCall(VecZeroEntries(n.extW));
   PetscInt nw = 0;
   PetscCall(VecGetLocalSize(w0, &nw));
   for (int k = 0; k < r.n; ++k) {
@@ -51,7 +53,7 @@ PetscErrorCode MultiRate<D>::classForces(const ParticleView<D> &p, const StepClo
       scale = r.kickScale.data() + r.begin[k];
     }
     const double mk = static_cast<double>(r.every[k]);
-    const PetscInt wk = restricted ? windowFrom(k) : 0;
+    const PetscInt wk = restricted(k) ? windowFrom(k) : 0;
     PetscScalar *w = nullptr;
     PetscCall(zeroTail(w0, wk));
     PetscCall(VecGetArray(w0, &w));
@@ -68,15 +70,18 @@ PetscErrorCode MultiRate<D>::classForces(const ParticleView<D> &p, const StepClo
       PetscCall(VecZeroEntries(sums_.force[k]));
       PetscCall(s.grid.addFromWindow(w0, sums_.force[k]));
     }
-    if (external) {
+    if (external && !nodeRule && !r.loaded[k]) { // no external force: its impulse is zero
+      if (!r.fextZero[k]) PetscCall(VecZeroEntries(sums_.fext[k]));
+      r.fextZero[k] = 1;
+      r.extScale[k] = mk * c.kick;
+      r.extStart[k] = 0;
+    } else if (external) {
       PetscCall(VecZeroEntries(w0));
       PetscCall(VecGetArray(w0, &w));
       s.boundary.externalForces(s.sc, s.grid, r.st[k], q, c.t, w, scale);
       PetscCall(VecRestoreArray(w0, &w));
-      if (!nodeRule) {
-        PetscCall(VecAXPY(n.sumW, mk, w0));
-        PetscCall(VecAXPY(n.extW, mk, w0));
-      }
+      if (!nodeRule) PetscCall(VecAXPY(n.sumW, mk, w0));
+      r.fextZero[k] = 0;
       PetscCall(VecZeroEntries(sums_.fext[k]));
       PetscCall(s.grid.addFromWindow(w0, sums_.fext[k]));
       if (nodeRule) PetscCall(VecAXPY(sums_.force[k], 1.0, sums_.fext[k]));
@@ -88,7 +93,6 @@ PetscErrorCode MultiRate<D>::classForces(const ParticleView<D> &p, const StepClo
   }
   if (!nodeRule) {
     PetscCall(s.grid.addFromWindow(n.sumW, n.f, from));
-    if (external) PetscCall(s.grid.addFromWindow(n.extW, n.fext));
   } else if (c.kick != 1.0) { // the RHS applies the sub-step's kick weight again: undo it here
     PetscCall(VecScale(n.f, 1.0 / c.kick));
     if (external) PetscCall(VecScale(n.fext, 1.0 / c.kick));
@@ -102,6 +106,24 @@ PetscErrorCode MultiRate<D>::classForces(const ParticleView<D> &p, const StepClo
   }
   if (external && nodeRule) PetscCall(VecDot(n.fext, n.vel, &power.external));
   PetscCall(PetscLogStagePop());
+  return PETSC_SUCCESS;
+}
+
+template <int D> PetscErrorCode MultiRate<D>::loadedClasses(const ParticleView<D> &p) {
+  // A class is loaded when the scene has a body force or penalty conditions (the penalty
+  // reactions are those of the last class's call: Boundary keeps them) or one of its particles
+  // has a traction face; the same on every rank (its work is a collective sum).
+  RateClasses<D> &r = r_;
+  const Scene<D> &sc = s_.sc;
+  bool everywhere = !sc.dbcs.empty() || sc.mms != Mms::None;
+  for (int c = 0; c < D; ++c)
+    everywhere = everywhere || sc.gravity[c] != 0;
+  std::vector<int> mine(static_cast<size_t>(r.n), everywhere ? 1 : 0), all(mine.size());
+  for (int k = 0; k < r.n && !everywhere && p.trac; ++k)
+    for (PetscInt i = D * r.begin[k]; i < D * r.begin[k + 1] && !mine[k]; ++i)
+      mine[k] = p.trac[i] >= 0;
+  PetscCallMPI(MPI_Allreduce(mine.data(), all.data(), r.n, MPI_INT, MPI_LOR, s_.comm));
+  r.loaded.assign(all.begin(), all.end());
   return PETSC_SUCCESS;
 }
 
@@ -269,14 +291,14 @@ PetscErrorCode MultiRate<D>::externalWork(const StepClock &c, PetscInt j,
   RateClasses<D> &r = r_;
   const bool musl = s_.scheme.stressFromReprojection;
   for (int k = 0; k < r.n; ++k) // the classes that started at this sub-step: after the impulse
-    if (r.size[k] > 0 && r.start[k] == j) {
+    if (r.size[k] > 0 && r.start[k] == j && !r.fextZero[k]) {
       PetscScalar fv = 0;
       PetscCall(VecDot(sums_.fext[k], s_.nodal.vel, &fv));
       r.extStart[k] += fv;
     }
   for (int k : ending) {
     PetscScalar fc = 0;
-    if (musl) PetscCall(VecDot(sums_.fext[k], scratch_.corrSum, &fc));
+    if (musl && !r.fextZero[k]) PetscCall(VecDot(sums_.fext[k], scratch_.corrSum, &fc));
     s_.work.external += 0.5 * c.dt * r.extScale[k] * (r.extStart[k] + fc);
   }
   return PETSC_SUCCESS;

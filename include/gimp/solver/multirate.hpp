@@ -37,6 +37,10 @@ template <int D> struct RateClasses {
   // (ClassSums::fext) before and after the impulse, summed, and the impulse's factor (m_c, times
   // the kick weight of its start).
   std::vector<double> extStart, extScale;
+  // Impulse rule with external forces: whether class c's particles carry any (a traction face,
+  // a body force, penalty conditions; on any rank, from its coarse start), and whether its
+  // ClassSums::fext is zero (a class without them skips its external force and work).
+  std::vector<char> loaded, fextZero;
 };
 
 /// Global, per class (dof layout of the momentum): what it brought to the nodes at its start and
@@ -102,6 +106,8 @@ private:
   /// The starting classes' forces, each times its step in sub-steps, into nodal.f.
   PetscErrorCode classForces(const ParticleView<D> &p, const StepClock &c, PetscInt j,
                              StartPower &power);
+  /// RateClasses::loaded at a coarse start (impulse rule with external forces; collective).
+  PetscErrorCode loadedClasses(const ParticleView<D> &p);
   /// The node rule's delivery of class k's force (and external force) at sub-step j.
   PetscErrorCode deliverNodeRule(int k, PetscInt j, double kick, bool external);
   /// After the grid update with cracks: contact on the new velocities, the momentum follows.
