@@ -675,13 +675,16 @@ TEST(Grid3D, NodePatternsEqualNodeReads) {
   // With patterns (the rate classes' builds) appendNodes reads each candidate box's nodes once
   // (Grid::NodePattern) and each particle's entries axis by axis: the same rows and level blocks,
   // bit for bit, as reading the nodes for every particle, in a first build (the patterns made)
-  // and a second (the patterns kept), as rows and as level blocks. One grid serves every layout
-  // in turn (cleared and made again, as a regrid does), so patterns kept from the last layout
-  // would show. Fails if a pattern drops or adds a node, takes a factor from the wrong zones or
-  // index, or outlives its grid.
+  // and a second (the patterns kept), as rows and as level blocks; then into the stencils of the
+  // last build again, which read each particle's patterns of that build before the table, with
+  // the particles where they were and moved by a little (some of them to other boxes). One grid
+  // serves every layout in turn (cleared and made again, as a regrid does), and one set of
+  // stencils every build, so patterns kept from the last layout would show. Fails if a pattern
+  // drops or adds a node, takes a factor from the wrong zones or index, or outlives its grid.
   long particles = 0, levelParticles = 0, rowEntries = 0;
   std::uint64_t seed = 0x3d0a77e5;
   Grid3 g;
+  Stencils3 carried; // (every build with patterns after the first of a layout: see above)
   const auto sameBlocks = [](const gimp::LevelBlock<D> &a, const gimp::LevelBlock<D> &b) {
     return std::memcmp(a.w, b.w, sizeof a.w) == 0 && std::memcmp(a.g, b.g, sizeof a.g) == 0 &&
            a.mask == b.mask && a.base == b.base && a.stride[0] == b.stride[0] &&
@@ -696,14 +699,28 @@ TEST(Grid3D, NodePatternsEqualNodeReads) {
     std::vector<double> x(D * np), l(D * np);
     for (long p = 0; p < np; ++p)
       drawParticle(lat, rng, &x[D * p], &l[D * p]);
+    const double nudge = 0.3 * lat.levels.back().h; // (the last pass's largest move)
+    std::uniform_real_distribution<double> uni(-1.0, 1.0);
     for (const bool compact : {false, true}) {
       Stencils3 read;
       ASSERT_TRUE(g.buildStencils(np, x.data(), l.data(), read, compact, false, false));
-      for (int pass = 0; pass < 2; ++pass) {
-        Stencils3 kept;
+      for (int pass = 0; pass < 4; ++pass) {
+        if (pass == 3) { // every particle moved by up to `nudge` along each axis, in the domain
+          const auto &Dm = lat.levels[0].box;
+          for (long p = 0; p < np; ++p)
+            for (int a = 0; a < D; ++a)
+              x[D * p + a] = std::clamp(x[D * p + a] + nudge * uni(rng), Dm[a] + l[D * p + a],
+                                        Dm[D + a] - l[D * p + a]);
+          ASSERT_TRUE(g.buildStencils(np, x.data(), l.data(), read, compact, false, false));
+        }
+        Stencils3 fresh;
+        Stencils3 &kept = pass < 2 ? fresh : carried;
         ASSERT_TRUE(g.buildStencils(np, x.data(), l.data(), kept, compact, false, true));
         const std::string where = lay.name + (compact ? ", level blocks" : ", rows") +
-                                  (pass ? ", patterns kept" : ", patterns made");
+                                  (pass == 0   ? ", patterns made"
+                                   : pass == 1 ? ", patterns kept"
+                                   : pass == 2 ? ", the last build's patterns"
+                                               : ", the last build's patterns, moved");
         for (long p = 0; p <= np; ++p)
           ASSERT_EQ(read.start[p], kept.start[p]) << where << ", particle " << p;
         const PetscInt m = read.start[np];

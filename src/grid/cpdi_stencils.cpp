@@ -300,8 +300,20 @@ const typename Grid<D>::NodePattern &Grid<D>::patternOf(int q, const Reach &r,
     n[a] = static_cast<int>(r.i1[a] - r.i0[a] + 1);
     key |= static_cast<std::uint64_t>(n[a] - 1) << (2 * a);
   }
+  // The particle's patterns of the last build, in order (it meets its boxes in the same order
+  // unless it moved to others), then the table.
+  std::vector<NodePattern> &out = *cache.out;
+  for (const NodePattern *e = cache.last; e != cache.lastEnd; ++e)
+    if (e->key == key) {
+      cache.last = e + 1;
+      out.push_back(*e);
+      return out.back();
+    }
   NodePattern &p = cache.entry(key);
-  if (p.key == key) return p;
+  if (p.key == key) {
+    out.push_back(p);
+    return out.back();
+  }
   p.key = key;
   p.tensor = !zoneValues_.empty();
   p.active = p.regular = p.live = 0;
@@ -339,7 +351,8 @@ const typename Grid<D>::NodePattern &Grid<D>::patternOf(int q, const Reach &r,
   for (int a = 0; a < D; ++a)
     for (int c = 0; c < 4; ++c)
       if (c >= n[a] || !seen[a][c]) p.Z[a][c][0] = p.Z[a][c][1] = 0;
-  return p;
+  out.push_back(p);
+  return out.back();
 }
 
 template <int D>

@@ -185,19 +185,26 @@ bool Grid<D>::buildStencils(PetscInt n, const double *x, const double *l, Stenci
   // every sub-step (3D; docs/performance.md, *Node patterns*). A single step meets each 3D box
   // about 1.6 times, and a 2D box has at most 16 nodes: there reading the nodes was faster.
   PatternCache *cache = patterns && D == 3 ? &patterns_ : nullptr;
-  std::vector<std::uint32_t> lastTrace;
+  // The last build's patterns (of this table's generation): particle k's are those of its place
+  // in the swarm then, k + shift (Stencils::swarmOrigin).
+  PetscInt nLast = 0, shift = 0;
   if (cache) {
     cache->ready();
-    lastTrace.swap(s.patternTrace);
-    s.patternTrace.clear();
-    cache->ahead = &lastTrace;
-    cache->trace = &s.patternTrace;
-    cache->step = 0;
+    s.patterns.swap(s.patternsLast);
+    s.patternStart.swap(s.patternStartLast);
+    if (s.patternGeneration == cache->generation && !s.patternStartLast.empty())
+      nLast = static_cast<PetscInt>(s.patternStartLast.size()) - 1;
+    shift = s.swarmOrigin - s.patternOrigin;
+    s.patternGeneration = cache->generation;
+    s.patternOrigin = s.swarmOrigin;
+    s.patterns.clear();
+    s.patternStart.resize(static_cast<size_t>(n) + 1);
+    cache->out = &s.patterns;
   }
   struct EndWalk { // (the walk's vectors are this build's: the cache forgets them at its end)
     PatternCache *c;
     ~EndWalk() {
-      if (c) c->ahead = nullptr, c->trace = nullptr;
+      if (c) c->last = c->lastEnd = nullptr, c->out = nullptr;
     }
   } endWalk{cache};
   const bool tryLevels = compact && Stencils<D>::kLevelBlocks;
@@ -217,6 +224,13 @@ bool Grid<D>::buildStencils(PetscInt n, const double *x, const double *l, Stenci
         continue;
       }
     s.start[k] = static_cast<PetscInt>(m);
+    if (cache) {
+      s.patternStart[k] = static_cast<PetscInt>(s.patterns.size());
+      const PetscInt was = k + shift;
+      const bool had = was >= 0 && was < nLast;
+      cache->last = had ? s.patternsLast.data() + s.patternStartLast[was] : nullptr;
+      cache->lastEnd = had ? s.patternsLast.data() + s.patternStartLast[was + 1] : nullptr;
+    }
     const double *xp = x + D * k, *lp = l + D * k;
     const int first = coarsestReaching(xp, lp);
     if (compact) {
@@ -293,6 +307,7 @@ bool Grid<D>::buildStencils(PetscInt n, const double *x, const double *l, Stenci
     }
   }
   s.start[n] = static_cast<PetscInt>(m);
+  if (cache) s.patternStart[n] = static_cast<PetscInt>(s.patterns.size());
   return true;
 }
 

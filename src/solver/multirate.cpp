@@ -251,6 +251,7 @@ PetscErrorCode MultiRate<D>::startClass(ParticleView<D> &p, int k, PetscInt j, P
   RateClasses<D> &r = r_;
   Nodal &n = s.nodal;
   const ParticleView<D> q = p.slice(r.begin[k], r.begin[k + 1]);
+  r.st[k].swarmOrigin = r.begin[k];
   if (!s.grid.buildStencils(q.n, q.x, q.l, r.st[k], true, s.lanes, true)) {
     // (a particle that went bad inside the coarse step: the check at its end reports it; the
     // class reaches no node until then)

@@ -16,6 +16,7 @@
 #include <petscdmda.h>
 
 #include <array>
+#include <chrono>
 #include <cstdint>
 #include <functional>
 #include <type_traits>
@@ -243,19 +244,7 @@ private:
   /// block (not a tensor product, wider than 4 nodes along an axis, or with a live cracked node).
   int appendThreeNodeBlock(int q, const Reach &r, const double *x, const double *l, Stencils<D> &s,
                            size_t &m, LevelBlock<D> *block = nullptr) const;
-  /// What appendNodes reads of the grid about one level's box of candidate nodes, at most 4 along
-  /// each axis: which nodes are active, regular (zone h on every side) and live cracked nodes
-  /// (bit c0 + 4 c1 + 16 c2), and, when every active node at index c along axis a has the same
-  /// zones there (`tensor`), those (Z, as indices into zoneValues_). The particles of one box
-  /// then need only their 1D factors along each axis (a node's coordinate along an axis depends
-  /// on its level and its index there alone).
-  struct NodePattern {
-    std::uint64_t key = ~std::uint64_t{0}; // level, first slot and extents (none yet: all ones)
-    std::uint64_t active = 0, regular = 0, live = 0;
-    std::uint8_t Z[D][4][2];
-    bool tensor = false;
-    bool recent = false; // (PatternCache: the way of its pair used last)
-  };
+  using NodePattern = gimp::NodePattern<D>;
   /// The patterns of the boxes met last, by their key (a hash, one pattern per entry). What they
   /// read changes with the window's nodes (fillWindowNodes), the second fields (addCrackFields)
   /// and the live cracked nodes (markLiveCracks): each of those forgets them all.
@@ -270,29 +259,28 @@ private:
     NodePattern &entry(std::uint64_t key) {
       const std::uint32_t at =
           static_cast<std::uint32_t>(2 * ((key * 0x9E3779B97F4A7C15ull) >> (65 - kBits)));
-      // (the lookups of the last build of these particles, kAhead further on: fetched now)
-      // (both ways of the pair: two entries, three cache lines when the table is not aligned)
-      if (ahead && step + kAhead < ahead->size())
-        prefetch::span<2 * sizeof(NodePattern)>(&slots[(*ahead)[step + kAhead]]);
-      ++step;
-      if (trace) trace->push_back(at);
       NodePattern *pair = &slots[at];
       const int way = pair[1].key == key || (pair[0].key != key && pair[0].recent);
       pair[way].recent = true;
       pair[1 - way].recent = false;
       return pair[way];
     }
+    /// Every pattern read so far is void (the table's and those the stencils keep).
     void forget() {
       for (NodePattern &p : slots)
         p.key = ~std::uint64_t{0};
+      ++generation;
     }
     std::vector<NodePattern> slots;
-    // A build's walk (buildStencils sets them): the last build's lookups (Stencils::patternTrace)
-    // and this one's, and how many this one has made.
-    static constexpr size_t kAhead = 8;
-    const std::vector<std::uint32_t> *ahead = nullptr;
-    std::vector<std::uint32_t> *trace = nullptr;
-    size_t step = 0;
+    // Which state of which grid the patterns read (Stencils::patternGeneration): counted by
+    // forget() from the clock's reading at construction, so that another grid's count, even at
+    // the same address, is not this one's.
+    std::uint64_t generation = static_cast<std::uint64_t>(
+        std::chrono::steady_clock::now().time_since_epoch().count());
+    // A build's particle (buildStencils sets them): its patterns of the last build, [last,
+    // lastEnd), the next of them to try, and where this build's go (Stencils::patterns).
+    const NodePattern *last = nullptr, *lastEnd = nullptr;
+    std::vector<NodePattern> *out = nullptr;
   };
   /// (scratch: room for 6 D maxRange doubles, maxRange at least the candidates along an axis)
   /// (with `block`, a level of more than 4 candidates along an axis gives -1)

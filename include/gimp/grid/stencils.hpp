@@ -75,6 +75,20 @@ template <int D> struct LevelBlock {
   std::uint8_t last; // 1 on the particle's last level block
 };
 
+/// What the stencil build reads of the grid about one level's box of candidate nodes, at most 4
+/// along each axis (Grid::patternOf): which nodes are active, regular (zone h on every side) and
+/// live cracked nodes (bit c0 + 4 c1 + 16 c2), and, when every active node at index c along axis a
+/// has the same zones there (`tensor`), those (Z, as indices into the grid's zone values). The
+/// particles of one box then need only their 1D factors along each axis (a node's coordinate
+/// along an axis depends on its level and its index there alone).
+template <int D> struct NodePattern {
+  std::uint64_t key = ~std::uint64_t{0}; // level, first slot and extents (none yet: all ones)
+  std::uint64_t active = 0, regular = 0, live = 0;
+  std::uint8_t Z[D][4][2];
+  bool tensor = false;
+  bool recent = false; // (Grid::PatternCache: the way of its pair used last)
+};
+
 /// A lane group's four 3-node blocks (2D) as the lane kernels read them, in the room of the four
 /// Block<2> they replace: factor c of particle q at f[c][q] (factor-major: one load gives a factor
 /// of all four), the factors in the order w[0][0..2], w[1][0..2], g[0][0..2], g[1][0..2]; then the
@@ -142,9 +156,19 @@ template <int D> struct Stencils {
   // levelOf[k] is particle k's first block in levelBlocks (its others follow, the last marked),
   // or -1; levelOf is empty while no particle has them (the first that does sizes it).
   StencilArray<PetscInt> levelOf;
-  // With node patterns (Grid::buildStencils with patterns): the pattern table's entries the
-  // last build looked up, in order; the next build of the same particles prefetches along it.
-  std::vector<std::uint32_t> patternTrace;
+  // With node patterns (Grid::buildStencils with patterns): the patterns this build looked up,
+  // particle k's from patternStart[k] to patternStart[k + 1], and the last build's (the `Last`
+  // pair), with the generation of the grid's pattern table they came from. The next build of
+  // these particles finds a particle's boxes among its last patterns, in order, before it asks
+  // the table (a pattern is its key's whichever particle met it).
+  std::vector<NodePattern<D>> patterns, patternsLast;
+  std::vector<PetscInt> patternStart, patternStartLast;
+  std::uint64_t patternGeneration = ~std::uint64_t{0};
+  // Where the built particles start in their swarm (set by the caller: a rate class's first
+  // particle, MultiRate::startClass), and where they started at the last build with patterns: a
+  // particle's patterns of the last build are found by its place in the swarm, which a class's
+  // particles keep when the classes' ranges move.
+  PetscInt swarmOrigin = 0, patternOrigin = 0;
   PetscInt nLevelBlocks = 0;
   StencilArray<LevelBlock<D>> levelBlocks;
   /// True when particle k keeps level blocks (it has no row entries then).
