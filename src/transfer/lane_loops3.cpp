@@ -20,11 +20,100 @@ namespace gimp::transfer::laneLoops {
 
 namespace {
 
+/// f(row's first slot, the row's node bits along x, d[i] = x_i - x_p along x, dy, dz, w_j w_q,
+/// the row's x factors) for every row of level-block particle k: the walk of the tensor-product
+/// kernels below (the nodes' offsets from the particle along each axis read once per block and
+/// row, as a block's).
+template <class F>
+GIMP_LANES_INLINE void forLevelBlockRows(const Stencils<3> &st, PetscInt k, const double *xk,
+                                         const double *xs, F &&f) {
+  for (const LevelBlock<3> *b = st.levelBlocks.data() + st.levelOf[k];; ++b) {
+    double d[4];
+    for (int i = 0; i < 4; ++i)
+      d[i] = i < b->n[0] ? xs[3 * (b->base + i)] - xk[0] : 0.0;
+    for (int q = 0; q < b->n[2]; ++q)
+      for (int j = 0; j < b->n[1]; ++j) {
+        const unsigned nodes = static_cast<unsigned>(b->mask >> (4 * j + 16 * q)) & 15u;
+        if (!nodes) continue;
+        const PetscInt row = b->base + j * b->stride[0] + q * b->stride[1];
+        f(row, nodes, d, xs[3 * row + 1] - xk[1], xs[3 * row + 2] - xk[2], b->w[1][j] * b->w[2][q],
+          b->w[0]);
+      }
+    if (b->last) return;
+  }
+}
+
+/// affineToGridRows of a level-block particle, by rows as a block's (affineToGrid): D_p from each
+/// row's moments along x (sum_i w_i, w_i d_i, w_i d_i^2 over its nodes), then each row's
+/// R = m w_j w_q (v + C_y dy + C_z dz) and T = m w_j w_q C_x, node i getting w_i R + w_i d_i T.
+GIMP_LANES_INLINE void affineToGridLevels(const Stencils<3> &st, PetscInt k, double mp, V4 V,
+                                          const Tensor<3> &Bk, const double *xk, const double *xs,
+                                          double *mom, double *mass) {
+  double xx = 0, yy = 0, zz = 0, xy = 0, xz = 0, yz = 0;
+  forLevelBlockRows(st, k, xk, xs,
+                    [&](PetscInt, unsigned nodes, const double *d, double dy, double dz, double wyz,
+                        const double *w) GIMP_LANES_LAMBDA {
+                      double s0 = 0, s1 = 0, s2 = 0;
+                      for (int i = 0; i < 4; ++i)
+                        if ((nodes >> i) & 1u) {
+                          s0 += w[i];
+                          s1 += w[i] * d[i];
+                          s2 += w[i] * d[i] * d[i];
+                        }
+                      xx += wyz * s2;
+                      xy += wyz * s1 * dy;
+                      xz += wyz * s1 * dz;
+                      yy += wyz * s0 * dy * dy;
+                      yz += wyz * s0 * dy * dz;
+                      zz += wyz * s0 * dz * dz;
+                    });
+  const Tensor<3> Ck = product<3>(Bk, invertInertia(xx, yy, zz, xy, xz, yz));
+  const V4 Cx = column(Ck, 0), Cy = column(Ck, 1), Cz = column(Ck, 2);
+  forLevelBlockRows(st, k, xk, xs,
+                    [&](PetscInt row, unsigned nodes, const double *d, double dy, double dz,
+                        double wyz, const double *w) GIMP_LANES_LAMBDA {
+                      const double mw = mp * wyz;
+                      const V4 MW = splat(mw);
+                      const V4 R = MW * (V + Cy * splat(dy) + Cz * splat(dz)), T = MW * Cx;
+                      for (int i = 0; i < 4; ++i)
+                        if ((nodes >> i) & 1u) {
+                          double *p = mom + 3 * (row + i);
+                          store3(p, load3(p) + splat(w[i]) * R + splat(w[i] * d[i]) * T);
+                          if (mass) mass[3 * (row + i)] += w[i] * mw;
+                        }
+                    });
+}
+
+/// affineFromGridRows of a level-block particle, by rows (affineFromGrid): per row T = sum_i
+/// w_i v_i and U = sum_i w_i d_i v_i, then v_p += w_j w_q T and B's columns w_j w_q (U, dy T,
+/// dz T).
+GIMP_LANES_INLINE void affineFromGridLevels(const Stencils<3> &st, PetscInt k, const double *vg,
+                                            const double *xk, const double *xs, V4 &VP, V4 *Bc) {
+  VP = Bc[0] = Bc[1] = Bc[2] = splat(0.0);
+  forLevelBlockRows(st, k, xk, xs,
+                    [&](PetscInt row, unsigned nodes, const double *d, double dy, double dz,
+                        double wyz, const double *w) GIMP_LANES_LAMBDA {
+                      V4 T = splat(0.0), U = splat(0.0);
+                      for (int i = 0; i < 4; ++i)
+                        if ((nodes >> i) & 1u) {
+                          const V4 vn = load3(vg + 3 * (row + i));
+                          T = T + splat(w[i]) * vn;
+                          U = U + splat(w[i] * d[i]) * vn;
+                        }
+                      const V4 W = splat(wyz);
+                      VP = VP + W * T;
+                      Bc[0] = Bc[0] + W * U;
+                      Bc[1] = Bc[1] + splat(wyz * dy) * T;
+                      Bc[2] = Bc[2] + splat(wyz * dz) * T;
+                    });
+}
+
 /// particleToGridAffineB<3> of a particle that keeps rows: D_p (inertiaAbout, its columns in
 /// lanes), C = B D^-1, and each entry's S m (v + C (x_i - x_p)) (particleToGridAffine).
 GIMP_LANES_INLINE void affineToGridRows(const Stencils<3> &st, PetscInt k, double mp, V4 V,
                                         const Tensor<3> &Bk, const double *xk, const double *xs,
                                         double *mom, double *mass) {
+  if (st.isLevels(k)) return affineToGridLevels(st, k, mp, V, Bk, xk, xs, mom, mass);
   const V4 XK = load3(xk);
   V4 Dc[3] = {splat(0.0), splat(0.0), splat(0.0)};
   forRows(st, k, [&](PetscInt nd, double w, const Vector<3> &) GIMP_LANES_LAMBDA {
@@ -49,6 +138,7 @@ GIMP_LANES_INLINE void affineToGridRows(const Stencils<3> &st, PetscInt k, doubl
 /// particleFromGridAffine<3> of a particle that keeps rows: v_p and the columns of B_p.
 GIMP_LANES_INLINE void affineFromGridRows(const Stencils<3> &st, PetscInt k, const double *vg,
                                           const double *xk, const double *xs, V4 &VP, V4 *Bc) {
+  if (st.isLevels(k)) return affineFromGridLevels(st, k, vg, xk, xs, VP, Bc);
   VP = Bc[0] = Bc[1] = Bc[2] = splat(0.0);
   forRows(st, k, [&](PetscInt nd, double w, const Vector<3> &) GIMP_LANES_LAMBDA {
     const V4 WV = splat(w) * load3(vg + 3 * nd);
