@@ -27,19 +27,16 @@ namespace {
 template <class F>
 GIMP_LANES_INLINE void forLevelBlockRows(const Stencils<3> &st, PetscInt k, const double *xk,
                                          const double *xs, F &&f) {
-  for (const LevelBlock<3> *b = st.levelBlocks.data() + st.levelOf[k];; ++b) {
-    double d[4];
-    for (int i = 0; i < 4; ++i)
-      d[i] = i < b->n[0] ? xs[3 * (b->base + i)] - xk[0] : 0.0;
-    for (int q = 0; q < b->n[2]; ++q)
-      for (int j = 0; j < b->n[1]; ++j) {
-        const unsigned nodes = static_cast<unsigned>(b->mask >> (4 * j + 16 * q)) & 15u;
-        if (!nodes) continue;
-        const PetscInt row = b->base + j * b->stride[0] + q * b->stride[1];
-        f(row, nodes, d, xs[3 * row + 1] - xk[1], xs[3 * row + 2] - xk[2], b->w[1][j] * b->w[2][q],
-          b->w[0]);
-      }
-    if (b->last) return;
+  Stencils<3>::LevelRow r;
+  const LevelBlock<3> *block = nullptr;
+  double d[4] = {0.0, 0.0, 0.0, 0.0};
+  for (auto rows = st.levelRows(k); rows.next(r);) {
+    if (r.block != block) { // (a block's offsets along x, once)
+      block = r.block;
+      for (int i = 0; i < 4; ++i)
+        d[i] = i < block->n[0] ? xs[3 * (block->base + i)] - xk[0] : 0.0;
+    }
+    f(r.slot, r.nodes, d, xs[3 * r.slot + 1] - xk[1], xs[3 * r.slot + 2] - xk[2], r.wyz, r.w0);
   }
 }
 

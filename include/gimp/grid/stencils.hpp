@@ -212,40 +212,39 @@ template <int D> struct Stencils {
   /// block; a plain loop the lane kernels can inline.
   struct LevelRows {
     const LevelBlock<D> *b;
-    int row; // the next row of b: j + 4 q
+    int j = 0, q = 0; // the next row of b
     GIMP_ALWAYS_INLINE bool next(LevelRow &r) {
       for (;;) {
-        const int rows = 4 * (D == 3 ? b->n[D - 1] : 1);
-        for (; row < rows; ++row) {
-          const int j = row & 3, q = row >> 2;
-          if (j >= b->n[1]) continue;
-          const unsigned nodes = static_cast<unsigned>(b->mask >> (4 * row)) & 15u;
-          if (!nodes) continue;
-          r.nodes = nodes;
-          r.block = b, r.j = j, r.q = q;
-          r.w0 = b->w[0];
-          r.g0 = b->g[0];
-          r.slot = b->base + j * b->stride[0];
-          if constexpr (D == 3) {
-            r.slot += q * b->stride[1];
-            r.wyz = b->w[1][j] * b->w[2][q];
-            r.gy = b->g[1][j] * b->w[2][q];
-            r.gz = b->w[1][j] * b->g[2][q];
-          } else {
-            r.wyz = b->w[1][j];
-            r.gy = b->g[1][j];
-            r.gz = 0.0;
+        const int nq = D == 3 ? b->n[D - 1] : 1;
+        for (; q < nq; ++q, j = 0)
+          for (; j < b->n[1]; ++j) {
+            const unsigned nodes = static_cast<unsigned>(b->mask >> (4 * j + 16 * q)) & 15u;
+            if (!nodes) continue;
+            r.nodes = nodes;
+            r.block = b, r.j = j, r.q = q;
+            r.w0 = b->w[0];
+            r.g0 = b->g[0];
+            r.slot = b->base + j * b->stride[0];
+            if constexpr (D == 3) {
+              r.slot += q * b->stride[1];
+              r.wyz = b->w[1][j] * b->w[2][q];
+              r.gy = b->g[1][j] * b->w[2][q];
+              r.gz = b->w[1][j] * b->g[2][q];
+            } else {
+              r.wyz = b->w[1][j];
+              r.gy = b->g[1][j];
+              r.gz = 0.0;
+            }
+            ++j;
+            return true;
           }
-          ++row;
-          return true;
-        }
         if (b->last) return false;
         ++b;
-        row = 0;
+        j = q = 0;
       }
     }
   };
-  LevelRows levelRows(PetscInt k) const { return {levelBlocks.data() + levelOf[k], 0}; }
+  LevelRows levelRows(PetscInt k) const { return {levelBlocks.data() + levelOf[k]}; }
   /// f(slot, weight, gradient) for node i of row r: the products of a block's (Block::forEach).
   template <class F> static GIMP_ALWAYS_INLINE void levelNode(const LevelRow &r, int i, F &f) {
     Vector<D> gr;
