@@ -156,9 +156,11 @@ template <int D> PetscErrorCode Step<D>::partitionClasses(std::vector<int> &cls)
   std::vector<PetscInt> at, from;
   classMoves(cls, at, from);
   PetscCall(permuteSwarmAt<D>(s_.sw, at, from));
-  const std::vector<int> was = cls;
+  std::vector<int> moved(at.size()); // (the movers' classes, read before any is written)
   for (size_t j = 0; j < at.size(); ++j)
-    cls[at[j]] = was[from[j]];
+    moved[j] = cls[from[j]];
+  for (size_t j = 0; j < at.size(); ++j)
+    cls[at[j]] = moved[j];
   return PETSC_SUCCESS;
 }
 
