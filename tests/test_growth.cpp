@@ -19,6 +19,9 @@
 //      mouths' far vertices come along, the straight mouth vertices left behind are dropped.
 //   9. growthReach holds every point within 1.25 growth lengths of the front, and stops short of
 //      points beyond that by more than its polygon's circumscription allows.
+//  10. The increments being released (-gimp_crack_growth_release): those grown less than the
+//      release time ago, at either end, each with its segment from the tip before it; none
+//      without a release time.
 #include "gimp/cracks/growth.hpp"
 
 #include <gtest/gtest.h>
@@ -178,6 +181,31 @@ TEST(GrowthReach, HoldsTheFrontsNeighbourhood) {
   for (const P3 &x :
        std::vector<P3>{{1 + 1.28 * L, 0.5, 0}, {1 + 0.93 * L, 1 + 0.93 * L, 0}, {-0.2, -0.2, 0}})
     EXPECT_GT(gimp::cracks::distance(r, x.data()), 0.0) << x[0] << " " << x[1];
+}
+
+TEST(Release, IncrementsStillOpening) {
+  gimp::Scene<2> sc;
+  sc.growthRelease = 1e-3;
+  gimp::Crack c;
+  // Grown once at end 0 and twice at end 1 (the last increment kinked).
+  c.points = {{-0.003, 0.012}, {-0.002, 0.012}, {0.050, 0.012}, {0.051, 0.012}, {0.052, 0.0125}};
+  sc.cracks = {c};
+  std::vector<gimp::cracks::GrowthRecord> grown(3);
+  grown[0].t = 1.0e-3, grown[0].end = 1, grown[0].x[0] = 0.051, grown[0].x[1] = 0.012;
+  grown[1].t = 1.8e-3, grown[1].end = 1, grown[1].x[0] = 0.052, grown[1].x[1] = 0.0125;
+  grown[2].t = 1.9e-3, grown[2].end = 0, grown[2].x[0] = -0.003, grown[2].x[1] = 0.012;
+  const auto r = gimp::cracks::releasing(sc, grown, 2.5e-3);
+  ASSERT_EQ(r.size(), 2u); // (the first grew 1.5 ms ago: released)
+  EXPECT_EQ(r[0].t0, 1.8e-3);
+  EXPECT_EQ(r[0].from, (std::array<double, 2>{0.051, 0.012}));
+  EXPECT_EQ(r[0].to, (std::array<double, 2>{0.052, 0.0125}));
+  EXPECT_EQ(r[1].t0, 1.9e-3);
+  EXPECT_EQ(r[1].from, (std::array<double, 2>{-0.002, 0.012}));
+  EXPECT_EQ(r[1].to, (std::array<double, 2>{-0.003, 0.012}));
+  EXPECT_EQ(gimp::cracks::releasing(sc, grown, 2.8e-3).size(), 1u); // (0.9 ms after the last)
+  EXPECT_TRUE(gimp::cracks::releasing(sc, grown, 3.0e-3).empty());
+  sc.growthRelease = 0;
+  EXPECT_TRUE(gimp::cracks::releasing(sc, grown, 1.9e-3).empty());
 }
 
 } // namespace

@@ -13,10 +13,14 @@
 //      rows with every crossing segment's entry re-addressed, particle by particle, before and
 //      after the crack grows, with the nodes marked for the particles' largest half-size
 //      (Grid::liveReachFor; smaller particles mark fewer nodes).
+//   1d. The release of a grown increment (cracks::Contact with a release time): the nodes the
+//      increment newly cut, and only those, have their fields' relative velocity scaled by the
+//      elapsed fraction of the release, momentum kept, accelerations alike.
 //   2. The point shape functions (tent products with each node's zones) on the same grids.
 //
 // All random sampling uses a fixed-seed std::mt19937_64, so every run checks the same points.
 // Random checks keep the largest error and report where (layout and particle) it occurred.
+#include "gimp/cracks/fields.hpp"
 #include "gimp/grid/crack_fields.hpp"
 #include "gimp/grid/grid.hpp"
 #include "gimp/grid/shape.hpp"
@@ -671,6 +675,56 @@ TEST(GridStencils, CrackedBlocksEqualRows) {
   EXPECT_GT(blocks, compared / 20);
   EXPECT_GT(blocksBesideReserve, compared / 50);
   EXPECT_GT(readdressed, compared / 50);
+}
+
+TEST(CrackContact, ReleaseBondsTheNewlyCutNodes) {
+  // A crack along y = 8 h grown by one cell from x = 8 h to 9 h at t0, released over tr: at
+  // every cracked node whose nearest crack point lies on the increment (x >= 8 h here: the node
+  // at the old tip was not cut before), the two fields' relative velocity is kept by the fraction
+  // (t - t0) / tr, in full and with the nodal momentum kept; every other node is untouched.
+  const double h = 1e-3, t0 = 2e-3, tr = 1e-3, dt = 1e-7;
+  const gimp::Scene<2> sc = gimp::test::plainScene({0, 0, 16 * h, 16 * h}, h, {});
+  gimp::Crack c;
+  c.points = {{-0.3 * h, 8 * h}, {8 * h, 8 * h}, {9 * h, 8 * h}};
+  Grid<2> g;
+  g.crackReserve.push_back({8 * h, 8 * h, 3 * h}); // (where it may grow: nodes ahead have slots)
+  ASSERT_EQ(static_cast<int>(g.create(PETSC_COMM_SELF, h, sc.levelBoxes(), {c})), 0);
+  gimp::cracks::Contact<2> contact;
+  contact.setup(g, {c}, {gimp::cracks::Release{{8 * h, 8 * h}, {9 * h, 8 * h}, t0}}, tr);
+  const size_t n2 = 2 * static_cast<size_t>(g.nSlots);
+  std::vector<double> mass(n2, 0.0), face(n2, 0.0), v0(n2, 0.0);
+  for (PetscInt s = g.nWindow; s < g.nSlots; ++s) {
+    const PetscInt n = g.slotNode[s];
+    mass[2 * n] = 1.0, mass[2 * s] = 2.0;
+    face[2 * s] = 1.0; // (the faces far apart: no contact, the release alone acts)
+    v0[2 * n] = 0.3, v0[2 * n + 1] = -1.0, v0[2 * s] = -0.6, v0[2 * s + 1] = 0.5;
+  }
+  int bonded = 0, free = 0;
+  for (const double frac : {0.0, 0.25, 1.0, 1.5}) { // (t - t0) / tr
+    std::vector<double> v = v0, a(n2, 0.0);
+    contact.apply(g, 0.0, dt, mass.data(), face.data(), v.data(), a.data(), t0 + frac * tr);
+    for (PetscInt s = g.nWindow; s < g.nSlots; ++s) {
+      const PetscInt n = g.slotNode[s];
+      const bool newlyCut = g.X[n] >= 8 * h - 1e-12 * h;
+      if (frac == 0.0) ++(newlyCut ? bonded : free);
+      const double keep = newlyCut ? std::min(frac, 1.0) : 1.0;
+      for (int q = 0; q < 2; ++q) {
+        const double rel0 = v0[2 * n + q] - v0[2 * s + q], rel = v[2 * n + q] - v[2 * s + q];
+        EXPECT_NEAR(rel, keep * rel0, 1e-15) << g.X[n] << " " << g.Y[n] << " " << frac;
+        EXPECT_NEAR(v[2 * n + q] + 2.0 * v[2 * s + q], v0[2 * n + q] + 2.0 * v0[2 * s + q], 1e-15);
+        EXPECT_NEAR(a[2 * n + q] * dt, v[2 * n + q] - v0[2 * n + q], 1e-15);
+        EXPECT_NEAR(a[2 * s + q] * dt, v[2 * s + q] - v0[2 * s + q], 1e-15);
+      }
+    }
+  }
+  EXPECT_GT(bonded, 4);
+  EXPECT_GT(free, 4);
+  // Without a release time nothing is bonded.
+  gimp::cracks::Contact<2> open;
+  open.setup(g, {c}, {gimp::cracks::Release{{8 * h, 8 * h}, {9 * h, 8 * h}, t0}}, 0.0);
+  std::vector<double> v = v0;
+  open.apply(g, 0.0, dt, mass.data(), face.data(), v.data(), nullptr, t0);
+  EXPECT_EQ(v, v0);
 }
 
 TEST(GridStencils, CrackedNodesServeParticlesUpToH0) {

@@ -2,11 +2,34 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace gimp::cracks {
 
-template <int D> void Contact<D>::setup(const Grid<D> &g, const std::vector<CrackOf<D>> &cracks) {
+namespace {
+
+/// Whether the increment r newly cut the node at X (2D): X's nearest point on the crack (at
+/// distance `dist`) lies on r's segment, at or beyond the tip before it (a node at that tip was
+/// not cut before: the crack ended there).
+bool newlyCut(const Release &r, const double *X, double dist) {
+  const double e[2] = {r.to[0] - r.from[0], r.to[1] - r.from[1]};
+  const double L2 = e[0] * e[0] + e[1] * e[1];
+  const double lam = ((X[0] - r.from[0]) * e[0] + (X[1] - r.from[1]) * e[1]) / L2;
+  if (lam < -1e-9) return false;
+  const double c = std::min(lam, 1.0), dx = X[0] - r.from[0] - c * e[0],
+               dy = X[1] - r.from[1] - c * e[1];
+  return std::hypot(dx, dy) <= dist + 1e-9 * std::sqrt(L2);
+}
+
+} // namespace
+
+template <int D>
+void Contact<D>::setup(const Grid<D> &g, const std::vector<CrackOf<D>> &cracks,
+                       const std::vector<Release> &releasing, double releaseTime) {
   dir_.assign(D * static_cast<size_t>(g.nSlots - g.nWindow), 0.0);
+  release_ = releaseTime;
+  bondFrom_.assign(releaseTime > 0 ? static_cast<size_t>(g.nSlots - g.nWindow) : 0,
+                   -std::numeric_limits<double>::infinity());
   for (PetscInt s = g.nWindow; s < g.nSlots; ++s) {
     const PetscInt n = g.slotNode[s];
     double X[D];
@@ -27,6 +50,13 @@ template <int D> void Contact<D>::setup(const Grid<D> &g, const std::vector<Crac
     const double side = sideOf(cracks[best], seg, X);
     for (int a = 0; a < D; ++a)
       dir_[D * (s - g.nWindow) + a] = -side * nrm[a];
+    if constexpr (D == 2)
+      if (!bondFrom_.empty())
+        for (const Release &r : releasing)
+          if (newlyCut(r, X, dist)) {
+            double &from = bondFrom_[static_cast<size_t>(s - g.nWindow)];
+            from = std::max(from, r.t0);
+          }
   }
 }
 
@@ -58,7 +88,7 @@ void Contact<D>::faces(const Grid<D> &g, const Stencils<D> &st, PetscInt n, cons
 
 template <int D>
 PetscInt Contact<D>::apply(const Grid<D> &g, double cut, double dt, const double *mass,
-                           const double *face, double *vel, double *acc) {
+                           const double *face, double *vel, double *acc, double t) {
   PetscInt touching = 0;
   if (fresh_) touch_.assign(static_cast<size_t>(g.nSlots - g.nWindow), 0);
   for (PetscInt s = g.nWindow; s < g.nSlots; ++s) {
@@ -71,6 +101,20 @@ PetscInt Contact<D>::apply(const Grid<D> &g, double cut, double dt, const double
     const double gap = face[D * s] / m2 - face[D * n] / m1;
     const double *d = &dir_[D * (s - g.nWindow)];
     double *v1 = &vel[D * n], *v2 = &vel[D * s];
+    const double bond = bondFrom_.empty()
+                            ? 0.0
+                            : 1.0 - (t - bondFrom_[static_cast<size_t>(s - g.nWindow)]) / release_;
+    if (bond > 0) // (an increment being released: both fields toward their common velocity)
+      for (int c = 0; c < D; ++c) {
+        const double common = (m1 * v1[c] + m2 * v2[c]) / (m1 + m2);
+        const double dv1 = std::min(bond, 1.0) * (common - v1[c]),
+                     dv2 = std::min(bond, 1.0) * (common - v2[c]);
+        v1[c] += dv1;
+        v2[c] += dv2;
+        if (!acc) continue;
+        acc[D * n + c] += dv1 / dt;
+        acc[D * s + c] += dv2 / dt;
+      }
     double v1n = 0, v2n = 0, approach = 0, zone = 0;
     for (int a = 0; a < D; ++a) {
       v1n += v1[a] * d[a];

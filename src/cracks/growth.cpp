@@ -53,6 +53,23 @@ std::string refusal(const Scene<2> &sc, const TipGrowth &g, const std::array<dou
 
 } // namespace
 
+std::vector<Release> releasing(const Scene<2> &sc, const std::vector<GrowthRecord> &grown,
+                               double t) {
+  std::vector<Release> out;
+  if (!(sc.growthRelease > 0)) return out;
+  for (const GrowthRecord &r : grown) {
+    if (!(t - r.t < sc.growthRelease)) continue;
+    const auto &pts = sc.cracks[static_cast<size_t>(r.crack)].points;
+    for (size_t i = 0; i < pts.size(); ++i) {
+      if (pts[i][0] != r.x[0] || pts[i][1] != r.x[1]) continue;
+      const size_t before = r.end == 0 ? i + 1 : i - 1; // (i > 0 at end 1: a crack has 2 points)
+      if (before < pts.size()) out.push_back({pts[before], pts[i], r.t});
+      break;
+    }
+  }
+  return out;
+}
+
 std::vector<GrowthRecord> growTips(Scene<2> &sc, const std::vector<TipMeasure> &tips, double t,
                                    std::vector<std::string> &stops) {
   std::vector<GrowthRecord> out;

@@ -243,6 +243,9 @@ const std::vector<OptionSpec> &gridOptions() {
      " the front as given, in the crack's plane) get second velocity fields at setup"},
     {"gimp_crack_growth_interval", Kind::Int, "steps", "10", "", nullptr, intFrom(1, 1e9),
      "Steps between growth checks (each measures every tip's or front point's G and K)"},
+    {"gimp_crack_growth_release", Kind::Real, "s", "0", "", nullptr, atLeast(0),
+     "2D: the time over which an increment opens: the nodes it newly cut keep their two fields"
+     " bonded, the bond falling linearly from whole to none (0: the increment opens at once)"},
   };
   return t;
 }

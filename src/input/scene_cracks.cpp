@@ -183,11 +183,12 @@ GrowthAsked readGrowthOptions(const Options &o, Measures &m, size_t bodies, Pets
   a.step = o.real("gimp_crack_growth_step", 0, &a.stepGiven);
   a.length = o.real("gimp_crack_growth_length", 0, &a.lengthGiven);
   m.growthInterval = static_cast<int>(o.integer("gimp_crack_growth_interval", m.growthInterval));
+  m.growthRelease = o.real("gimp_crack_growth_release", m.growthRelease);
   if (o.help()) return a;
   a.grows = m.growth == Growth::Mts;
   o.needs(nc > 0, "gimp_crack_growth", "cracks (-gimp_cracks)");
-  for (const char *q :
-       {"gimp_crack_growth_step", "gimp_crack_growth_length", "gimp_crack_growth_interval"})
+  for (const char *q : {"gimp_crack_growth_step", "gimp_crack_growth_length",
+                        "gimp_crack_growth_interval", "gimp_crack_growth_release"})
     o.needs(a.grows, q, "-gimp_crack_growth mts");
   // A toughness without growth would do nothing: refused.
   std::vector<std::string> tough;

@@ -73,7 +73,7 @@ PetscErrorCode Step<D>::crackContact(const StepClock &c, Vec velW, Vec vel, Vec 
   PetscCall(VecGetArray(velW, &v));
   if (accW) PetscCall(VecGetArray(accW, &a));
   const PetscInt touching =
-      contact_.apply(s.grid, s.sc.massCutoff * s.meanParticleMass, c.dt, m, face, v, a);
+      contact_.apply(s.grid, s.sc.massCutoff * s.meanParticleMass, c.dt, m, face, v, a, c.t);
   for (PetscInt i = 0; i < D * s.grid.nSlots; ++i) { // constrained dofs stay fixed
     v[i] *= mask[i];
     if (a) a[i] *= mask[i];

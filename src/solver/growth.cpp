@@ -20,15 +20,25 @@ template <int D> void Solver<D>::reserveCrackGrowth() {
       s_.grid.crackReserveSurfaces.push_back(cracks::growthReach(g.start, g.length));
 }
 
-template <int D> PetscErrorCode Solver<D>::followCracks() {
+template <int D> PetscErrorCode Solver<D>::followCracks(double t) {
   if (s_.sc.growth == Growth::None) return PETSC_SUCCESS;
   if constexpr (D == 2)
     updateJDomains(s_.sc);
   else
     updateFrontDomains(s_.sc);
   s_.grid.markLiveCracks(s_.sc.cracks, s_.grid.liveReach());
-  step_.contact().setup(s_.grid, s_.sc.cracks);
+  setupContact(t);
   return PETSC_SUCCESS;
+}
+
+template <int D> void Solver<D>::setupContact(double t) {
+  // (the increments being released follow from the growth records and the polylines alone, so a
+  // restart or a regrid finds them again)
+  if constexpr (D == 2)
+    step_.contact().setup(s_.grid, s_.sc.cracks, cracks::releasing(s_.sc, s_.measures.growth, t),
+                          s_.sc.growthRelease);
+  else
+    step_.contact().setup(s_.grid, s_.sc.cracks);
 }
 
 namespace {
@@ -99,15 +109,17 @@ template <int D> PetscErrorCode Solver<D>::growCracks(PetscInt step, double t) {
                         step, r.crack, D == 2 ? "tip" : "front point", r.end, r.x[0], r.x[1],
                         r.x[2], r.G, r.kink));
   }
-  if (!grown.empty()) PetscCall(followCracks());
+  if (!grown.empty()) PetscCall(followCracks(t));
   PetscCall(PetscLogStagePop());
   return PETSC_SUCCESS;
 }
 
 template void Solver<2>::reserveCrackGrowth();
 template void Solver<3>::reserveCrackGrowth();
-template PetscErrorCode Solver<2>::followCracks();
-template PetscErrorCode Solver<3>::followCracks();
+template PetscErrorCode Solver<2>::followCracks(double);
+template PetscErrorCode Solver<3>::followCracks(double);
+template void Solver<2>::setupContact(double);
+template void Solver<3>::setupContact(double);
 template PetscErrorCode Solver<2>::growCracks(PetscInt, double);
 template PetscErrorCode Solver<3>::growCracks(PetscInt, double);
 

@@ -184,7 +184,7 @@ PetscErrorCode Solver<D>::regrid(const std::vector<LevelBox<D>> &boxes, bool spl
   PetscCall(s.nodal.create(s.grid, s.sc.hasExternalForces(), !s.sc.cracks.empty(),
                            s.sc.transfer == Transfer::Xpic));
   step_.gridChanged();
-  step_.contact().setup(s.grid, s.sc.cracks);
+  setupContact(t);
   PetscCall(physics::nodeConstraints<D>(s.sc, s.grid, s.nodal.bcMask));
   PetscCall(createTimeStepper());
   PetscCall(TSSetStepNumber(s.ts, step));

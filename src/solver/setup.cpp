@@ -126,7 +126,7 @@ template <int D> PetscErrorCode Solver<D>::setupInStage(PetscLogDouble wall0) {
   PetscCall(petscOneLine([this] { return createParticles(); }));
   PetscCall(s.nodal.create(s.grid, s.sc.hasExternalForces(), !s.sc.cracks.empty(),
                            s.sc.transfer == Transfer::Xpic));
-  step_.contact().setup(s.grid, s.sc.cracks);
+  setupContact(0);
   PetscCall(physics::nodeConstraints<D>(s.sc, s.grid, s.nodal.bcMask));
   PetscCall(reporter_.setup(wall0, [this] {
     s_.st.release();
@@ -173,7 +173,9 @@ template <int D> PetscErrorCode Solver<D>::openOutput() {
     PetscInt64 added = 0;
     return regrid(boxes, false, added);
   }));
-  PetscCall(followCracks()); // the checkpoint's cracks may have grown
+  double t = 0;
+  PetscCall(TSGetTime(s_.ts, &t));
+  PetscCall(followCracks(t)); // the checkpoint's cracks may have grown
   return reporter_.open(&resume);
 }
 

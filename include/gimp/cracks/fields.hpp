@@ -7,16 +7,28 @@
 #include "gimp/grid/crack_fields.hpp"
 #include "gimp/grid/grid.hpp"
 
+#include <array>
 #include <vector>
 
 namespace gimp::cracks {
+
+/// An increment of a 2D tip still being released (-gimp_crack_growth_release): the segment it
+/// added, from the tip before it to the new tip, and the time of the check that grew it [s].
+struct Release {
+  std::array<double, 2> from{}, to{};
+  double t0 = 0;
+};
 
 /// Contact between the two fields of every cracked node of a window.
 template <int D> class Contact {
 public:
   /// The direction d of each cracked window node, from field 1's material toward field 2's:
-  /// field 1 is on the node's side of the nearest crack, field 2 across it.
-  void setup(const Grid<D> &g, const std::vector<CrackOf<D>> &cracks);
+  /// field 1 is on the node's side of the nearest crack, field 2 across it. With a release time
+  /// (> 0, 2D) and increments being released: the nodes each increment newly cut, those whose
+  /// nearest point on their crack lies on its segment at or beyond the tip before it, are bonded
+  /// from its time t0 on (see apply).
+  void setup(const Grid<D> &g, const std::vector<CrackOf<D>> &cracks,
+             const std::vector<Release> &releasing = {}, double releaseTime = 0);
 
   /// Each field's mass-weighted displacement along d at every cracked node, into the window
   /// array `face` (component 0 of each slot, sum over particles of m w (x - X0).d; initialised
@@ -39,14 +51,21 @@ public:
   /// part but not return, and ratcheted such a crack open: a DCB on 0.5 mm settled with K 11 %
   /// high.) Window arrays, mass in component 0; the accelerations get the same change / dt so a
   /// FLIP update sees it (acc may be null: a velocity field alone, as MUSL's re-projection).
-  /// Returns the number of nodes in contact.
+  /// A node an increment is releasing (setup) first has both fields' velocities moved toward
+  /// their common centre of mass's by the fraction b = 1 - (t - t0) / release, in full (not only
+  /// along d: the new faces are still bonded, in shear too), so that the increment opens over the
+  /// release time instead of at once; momentum is kept, and the relative motion taken is
+  /// dissipated. Returns the number of nodes in contact.
   PetscInt apply(const Grid<D> &g, double cut, double dt, const double *mass, const double *face,
-                 double *vel, double *acc);
+                 double *vel, double *acc, double t = 0);
 
 private:
   std::vector<double> dir_; // D per crack slot (slot - nWindow)
   std::vector<char> touch_; // this step's contact set, per crack slot
-  bool fresh_ = true;       // touch_ is to be decided by the next apply
+  // The release: per crack slot the time its bond starts to fall (-inf: none), and its length.
+  std::vector<double> bondFrom_;
+  double release_ = 0;
+  bool fresh_ = true; // touch_ is to be decided by the next apply
 };
 
 extern template class Contact<2>;

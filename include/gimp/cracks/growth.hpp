@@ -2,6 +2,7 @@
 // direction from K_I and K_II, and one growth check of every 2D tip or 3D front from its measures.
 #pragma once
 
+#include "gimp/cracks/fields.hpp"
 #include "gimp/cracks/front.hpp"
 #include "gimp/cracks/tips.hpp"
 #include "gimp/input/scene.hpp"
@@ -49,6 +50,13 @@ struct GrowthRecord {
 /// updated here (updateJDomains).
 std::vector<GrowthRecord> growTips(Scene<2> &sc, const std::vector<TipMeasure> &tips, double t,
                                    std::vector<std::string> &stops);
+
+/// The increments of 2D tips still being released at time t (-gimp_crack_growth_release: grown
+/// at a check t0 with t - t0 < release), each with its segment from the tip before it (the
+/// polyline's point next to the record's, toward the crack) to the new tip. Empty without a
+/// release time.
+std::vector<Release> releasing(const Scene<2> &sc, const std::vector<GrowthRecord> &grown,
+                               double t);
 
 /// The vertices of 3D crack c after its front advanced: each front edge cut into the pieces of
 /// frontPoints(c, spacing), piece j moved by advance[j] along its ahead direction (a vertex

@@ -264,6 +264,7 @@ struct Measures {
   std::vector<JDomain> jDomain;         // 2D: per crack tip (crack, then end); 3D: per front point
   Growth growth = Growth::None;         // -gimp_crack_growth
   int growthInterval = 10;              // -gimp_crack_growth_interval: steps between growth checks
+  double growthRelease = 0;             // -gimp_crack_growth_release [s]: 0 opens at once
   std::vector<TipGrowth> tipGrowth;     // 2D: per crack tip, in order, with growth (else empty)
   std::vector<FrontGrowth> frontGrowth; // 3D: per crack, in order, with growth (else empty)
   bool holeMeasure = false; // hoop stress around a hole: centre, radius, remote stress p

@@ -51,7 +51,9 @@ private:
   /// 2D crack growth (-gimp_crack_growth mts): the grid's second fields where the tips may grow
   /// (before the grid is built), and after a restart the things that follow the grown cracks.
   void reserveCrackGrowth();
-  PetscErrorCode followCracks();
+  PetscErrorCode followCracks(double t);
+  /// The contact directions of the cracked nodes, and the increments being released at time t.
+  void setupContact(double t);
   /// One growth check after `step` at t, when due: tips measured, grown, and what follows them
   /// updated (collective; every rank decides alike from the reduced measures).
   PetscErrorCode growCracks(PetscInt step, double t);
