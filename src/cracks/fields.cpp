@@ -101,14 +101,15 @@ PetscInt Contact<D>::apply(const Grid<D> &g, double cut, double dt, const double
     const double gap = face[D * s] / m2 - face[D * n] / m1;
     const double *d = &dir_[D * (s - g.nWindow)];
     double *v1 = &vel[D * n], *v2 = &vel[D * s];
-    const double bond = bondFrom_.empty()
-                            ? 0.0
-                            : 1.0 - (t - bondFrom_[static_cast<size_t>(s - g.nWindow)]) / release_;
-    if (bond > 0) // (an increment being released: both fields toward their common velocity)
+    // (an increment being released: both fields toward their common velocity by the bond)
+    const double bond =
+        bondFrom_.empty()
+            ? 0.0
+            : std::min(1.0, 1.0 - (t - bondFrom_[static_cast<size_t>(s - g.nWindow)]) / release_);
+    if (bond > 0)
       for (int c = 0; c < D; ++c) {
         const double common = (m1 * v1[c] + m2 * v2[c]) / (m1 + m2);
-        const double dv1 = std::min(bond, 1.0) * (common - v1[c]),
-                     dv2 = std::min(bond, 1.0) * (common - v2[c]);
+        const double dv1 = bond * (common - v1[c]), dv2 = bond * (common - v2[c]);
         v1[c] += dv1;
         v2[c] += dv2;
         if (!acc) continue;

@@ -57,7 +57,7 @@ public:
   /// release time instead of at once; momentum is kept, and the relative motion taken is
   /// dissipated. Returns the number of nodes in contact.
   PetscInt apply(const Grid<D> &g, double cut, double dt, const double *mass, const double *face,
-                 double *vel, double *acc, double t = 0);
+                 double *vel, double *acc, double t);
 
 private:
   std::vector<double> dir_; // D per crack slot (slot - nWindow)
