@@ -14,11 +14,9 @@ namespace {
 bool newlyCut(const Release &r, const double *X, double dist) {
   const double e[2] = {r.to[0] - r.from[0], r.to[1] - r.from[1]};
   const double L2 = e[0] * e[0] + e[1] * e[1];
-  const double lam = ((X[0] - r.from[0]) * e[0] + (X[1] - r.from[1]) * e[1]) / L2;
-  if (lam < -1e-9) return false;
-  const double c = std::min(lam, 1.0), dx = X[0] - r.from[0] - c * e[0],
-               dy = X[1] - r.from[1] - c * e[1];
-  return std::hypot(dx, dy) <= dist + 1e-9 * std::sqrt(L2);
+  if ((X[0] - r.from[0]) * e[0] + (X[1] - r.from[1]) * e[1] < -1e-9 * L2) return false;
+  const std::array<double, 2> x = {X[0], X[1]}; // (a point: a segment of no length)
+  return segmentDistance(r.from, r.to, x, x) <= dist + 1e-9 * std::sqrt(L2);
 }
 
 } // namespace

@@ -182,8 +182,9 @@ bool Grid<D>::buildStencils(PetscInt n, const double *x, const double *l, Stenci
   std::vector<Reach> reach(K);
   std::vector<char> reaches(K);
   // The node patterns pay where a build meets each box many times: a rate class's particles at
-  // every sub-step (3D; docs/performance.md, *Node patterns*). A single step meets each 3D box
-  // about 1.6 times, and a 2D box has at most 16 nodes: there reading the nodes was faster.
+  // every sub-step (3D; docs/performance.md, *Node patterns*). The single step does without: its
+  // kept patterns cost 122 B per particle on bench/block3d_levels.opts for no speed that showed
+  // above the machine's noise, and a 2D box has at most 16 nodes: reading them is as fast.
   PatternCache *cache = patterns && D == 3 ? &patterns_ : nullptr;
   // The last build's patterns (of this table's generation): particle k's are those of its place
   // in the swarm then, k + shift (Stencils::swarmOrigin).
