@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -84,6 +85,50 @@ TEST(CrackSurface, Distance) {
   EXPECT_TRUE(cracks::nearCrack(c, box, 0.1));
   const double far[6] = {2.1, 0.4, 0.2, 2.2, 0.5, 0.3};
   EXPECT_FALSE(cracks::nearCrack(c, far, 0.1));
+}
+
+TEST(CrackSurface, NearestPointAndBehindFront) {
+  // An L-shaped polygon in z = 0.25: its nearest point against a brute-force
+  // search over a fine sampling of the region, at random points around it.
+  const double up[3] = {0, 0, 1};
+  CrackSurface c = cracks::makeSurface(
+      {{0, 0, 0.25}, {1, 0, 0.25}, {1, 0.5, 0.25}, {0.5, 0.5, 0.25}, {0.5, 1, 0.25}, {0, 1, 0.25}},
+      up);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-0.5, 1.5);
+  const int n = 200;
+  for (int k = 0; k < 200; ++k) {
+    const double x[3] = {u(rng), u(rng), u(rng)};
+    const P3 p = cracks::nearestPoint(c, x);
+    EXPECT_EQ(p[2], 0.25);
+    const double d = std::hypot(std::hypot(x[0] - p[0], x[1] - p[1]), x[2] - p[2]);
+    EXPECT_NEAR(d, cracks::distance(c, x), 1e-14);
+    double best = 1e300;
+    for (int i = 0; i <= n; ++i)
+      for (int j = 0; j <= n; ++j) {
+        const double a = static_cast<double>(i) / n, b = static_cast<double>(j) / n;
+        if (a > 0.5 && b > 0.5) continue; // (the L's notch)
+        best = std::min(best, std::hypot(std::hypot(x[0] - a, x[1] - b), x[2] - 0.25));
+      }
+    EXPECT_LE(d, best + 1e-15);
+    EXPECT_GE(d, best - 1.0 / n);
+  }
+  // Behind the front: inside, and farther than tol from the front edges (here the edges x = 1
+  // and y = 1 and the notch's two), not from the mouths (x = 0, y = 0).
+  c.front = {0, 1, 1, 1, 1, 0};
+  const double tol = 1e-9;
+  const auto behind = [&](double x, double y) {
+    const double q[3] = {x, y, 0.7}; // (off the plane: projected)
+    return cracks::behindFront(c, q, tol);
+  };
+  EXPECT_TRUE(behind(0.2, 0.2));
+  EXPECT_TRUE(behind(1e-12, 0.3)); // beside a mouth
+  EXPECT_TRUE(behind(1 - 2 * tol, 0.2));
+  EXPECT_FALSE(behind(1 - 0.5 * tol, 0.2)); // on a front edge, within tol
+  EXPECT_FALSE(behind(1.0, 0.2));
+  EXPECT_FALSE(behind(0.5, 0.7)); // on the notch's front
+  EXPECT_FALSE(behind(0.7, 0.7)); // in the notch
+  EXPECT_FALSE(behind(1.2, 0.2));
 }
 
 TEST(CrackSurface, FrontPointsAndFrames) {

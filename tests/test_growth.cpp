@@ -208,4 +208,31 @@ TEST(Release, IncrementsStillOpening) {
   EXPECT_TRUE(gimp::cracks::releasing(sc, grown, 1.9e-3).empty());
 }
 
+TEST(Release, FrontAdvancesStillOpening) {
+  // 3D: each advance of a front keeps its crack's polygon before it (FrontGrowth::opening).
+  gimp::Scene<3> sc;
+  sc.growthRelease = 1e-3;
+  const auto square = [](double a) {
+    return planar({{0, 0, 0}, {a, 0, 0}, {a, 1, 0}, {0, 1, 0}}, {0, 1, 0, 0});
+  };
+  sc.frontGrowth.resize(2);
+  sc.frontGrowth[0].crack = 0;
+  sc.frontGrowth[0].opening = {{1.0e-3, square(0.1)}, {1.8e-3, square(0.2)}};
+  sc.frontGrowth[1].crack = 1;
+  sc.frontGrowth[1].opening = {{1.9e-3, square(0.3)}};
+  const auto r = gimp::cracks::releasing(sc, 2.5e-3);
+  ASSERT_EQ(r.size(), 2u); // (the first grew 1.5 ms ago: released)
+  EXPECT_EQ(r[0].crack, 0);
+  EXPECT_EQ(r[0].t0, 1.8e-3);
+  EXPECT_EQ(r[0].before.points, square(0.2).points);
+  EXPECT_EQ(r[0].before.front, square(0.2).front);
+  EXPECT_EQ(r[1].crack, 1);
+  EXPECT_EQ(r[1].t0, 1.9e-3);
+  EXPECT_EQ(r[1].before.points, square(0.3).points);
+  EXPECT_EQ(gimp::cracks::releasing(sc, 2.8e-3).size(), 1u);
+  EXPECT_TRUE(gimp::cracks::releasing(sc, 3.0e-3).empty());
+  sc.growthRelease = 0;
+  EXPECT_TRUE(gimp::cracks::releasing(sc, 1.9e-3).empty());
+}
+
 } // namespace

@@ -36,6 +36,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <functional>
 #include <map>
 #include <random>
 #include <string>
@@ -677,54 +678,108 @@ TEST(GridStencils, CrackedBlocksEqualRows) {
   EXPECT_GT(readdressed, compared / 50);
 }
 
+/// Contact's release on grid g (setup done with a release time tr of an increment grown at t0),
+/// the two fields of every cracked node moving apart (masses 1 and 2, faces far apart: no contact,
+/// the release alone acts): at (t - t0) / tr = 0, 0.25, 1 and 1.5 the nodes `newlyCut` names keep
+/// the fields' relative velocity by that fraction (at most 1), in full and with the nodal momentum
+/// kept, the accelerations changed by the velocities' change / dt; every other node is untouched.
+/// Counts the nodes of each kind into bonded and free.
+template <int D>
+void expectRelease(const Grid<D> &g, gimp::cracks::Contact<D> &contact, double t0, double tr,
+                   const std::function<bool(PetscInt)> &newlyCut, int &bonded, int &free) {
+  const double dt = 1e-7;
+  const size_t nv = D * static_cast<size_t>(g.nSlots);
+  std::vector<double> mass(nv, 0.0), face(nv, 0.0), v0(nv, 0.0);
+  for (PetscInt s = g.nWindow; s < g.nSlots; ++s) {
+    const PetscInt n = g.slotNode[s];
+    mass[D * n] = 1.0, mass[D * s] = 2.0;
+    face[D * s] = 1.0;
+    for (int q = 0; q < D; ++q)
+      v0[D * n + q] = 0.3 - 1.3 * q, v0[D * s + q] = -0.6 + 1.1 * q;
+  }
+  bonded = free = 0;
+  for (const double frac : {0.0, 0.25, 1.0, 1.5}) {
+    std::vector<double> v = v0, a(nv, 0.0);
+    contact.apply(g, 0.0, dt, mass.data(), face.data(), v.data(), a.data(), t0 + frac * tr);
+    for (PetscInt s = g.nWindow; s < g.nSlots; ++s) {
+      const PetscInt n = g.slotNode[s];
+      const bool cut = newlyCut(n);
+      if (frac == 0.0) ++(cut ? bonded : free);
+      const double keep = cut ? std::min(frac, 1.0) : 1.0;
+      for (int q = 0; q < D; ++q) {
+        const double rel0 = v0[D * n + q] - v0[D * s + q], rel = v[D * n + q] - v[D * s + q];
+        EXPECT_NEAR(rel, keep * rel0, 1e-15) << "node " << n << " at " << frac;
+        EXPECT_NEAR(v[D * n + q] + 2.0 * v[D * s + q], v0[D * n + q] + 2.0 * v0[D * s + q], 1e-15);
+        EXPECT_NEAR(a[D * n + q] * dt, v[D * n + q] - v0[D * n + q], 1e-15);
+        EXPECT_NEAR(a[D * s + q] * dt, v[D * s + q] - v0[D * s + q], 1e-15);
+      }
+    }
+  }
+}
+
 TEST(CrackContact, ReleaseBondsTheNewlyCutNodes) {
-  // A crack along y = 8 h grown by one cell from x = 8 h to 9 h at t0, released over tr: at
-  // every cracked node whose nearest crack point lies on the increment (x >= 8 h here: the node
-  // at the old tip was not cut before), the two fields' relative velocity is kept by the fraction
-  // (t - t0) / tr, in full and with the nodal momentum kept; every other node is untouched.
-  const double h = 1e-3, t0 = 2e-3, tr = 1e-3, dt = 1e-7;
+  // A crack along y = 8 h grown by one cell from x = 8 h to 9 h at t0, released over tr: the
+  // cracked nodes whose nearest crack point lies on the increment (x >= 8 h here: the node at the
+  // old tip was not cut before) are bonded (expectRelease).
+  const double h = 1e-3, t0 = 2e-3, tr = 1e-3;
   const gimp::Scene<2> sc = gimp::test::plainScene({0, 0, 16 * h, 16 * h}, h, {});
   gimp::Crack c;
   c.points = {{-0.3 * h, 8 * h}, {8 * h, 8 * h}, {9 * h, 8 * h}};
   Grid<2> g;
   g.crackReserve.push_back({8 * h, 8 * h, 3 * h}); // (where it may grow: nodes ahead have slots)
   ASSERT_EQ(static_cast<int>(g.create(PETSC_COMM_SELF, h, sc.levelBoxes(), {c})), 0);
-  gimp::cracks::Contact<2> contact;
-  contact.setup(g, {c}, {gimp::cracks::Release{{8 * h, 8 * h}, {9 * h, 8 * h}, t0}}, tr);
-  const size_t n2 = 2 * static_cast<size_t>(g.nSlots);
-  std::vector<double> mass(n2, 0.0), face(n2, 0.0), v0(n2, 0.0);
-  for (PetscInt s = g.nWindow; s < g.nSlots; ++s) {
-    const PetscInt n = g.slotNode[s];
-    mass[2 * n] = 1.0, mass[2 * s] = 2.0;
-    face[2 * s] = 1.0; // (the faces far apart: no contact, the release alone acts)
-    v0[2 * n] = 0.3, v0[2 * n + 1] = -1.0, v0[2 * s] = -0.6, v0[2 * s + 1] = 0.5;
-  }
+  const gimp::cracks::Release<2> grown{{8 * h, 8 * h}, {9 * h, 8 * h}, t0};
   int bonded = 0, free = 0;
-  for (const double frac : {0.0, 0.25, 1.0, 1.5}) { // (t - t0) / tr
-    std::vector<double> v = v0, a(n2, 0.0);
-    contact.apply(g, 0.0, dt, mass.data(), face.data(), v.data(), a.data(), t0 + frac * tr);
-    for (PetscInt s = g.nWindow; s < g.nSlots; ++s) {
-      const PetscInt n = g.slotNode[s];
-      const bool newlyCut = g.X[n] >= 8 * h - 1e-12 * h;
-      if (frac == 0.0) ++(newlyCut ? bonded : free);
-      const double keep = newlyCut ? std::min(frac, 1.0) : 1.0;
-      for (int q = 0; q < 2; ++q) {
-        const double rel0 = v0[2 * n + q] - v0[2 * s + q], rel = v[2 * n + q] - v[2 * s + q];
-        EXPECT_NEAR(rel, keep * rel0, 1e-15) << g.X[n] << " " << g.Y[n] << " " << frac;
-        EXPECT_NEAR(v[2 * n + q] + 2.0 * v[2 * s + q], v0[2 * n + q] + 2.0 * v0[2 * s + q], 1e-15);
-        EXPECT_NEAR(a[2 * n + q] * dt, v[2 * n + q] - v0[2 * n + q], 1e-15);
-        EXPECT_NEAR(a[2 * s + q] * dt, v[2 * s + q] - v0[2 * s + q], 1e-15);
-      }
+  for (const double release : {tr, 0.0}) { // (without a release time nothing is bonded)
+    gimp::cracks::Contact<2> contact;
+    contact.setup(g, {c}, {grown}, release);
+    expectRelease<2>(
+        g, contact, t0, tr, [&](PetscInt n) { return release > 0 && g.X[n] >= 8 * h - 1e-12 * h; },
+        bonded, free);
+    if (release > 0) {
+      EXPECT_GT(bonded, 4);
     }
+    EXPECT_GT(free, 4);
   }
-  EXPECT_GT(bonded, 4);
-  EXPECT_GT(free, 4);
-  // Without a release time nothing is bonded.
-  gimp::cracks::Contact<2> open;
-  open.setup(g, {c}, {gimp::cracks::Release{{8 * h, 8 * h}, {9 * h, 8 * h}, t0}}, 0.0);
-  std::vector<double> v = v0;
-  open.apply(g, 0.0, dt, mass.data(), face.data(), v.data(), nullptr, t0);
-  EXPECT_EQ(v, v0);
+}
+
+TEST(CrackContact, ReleaseBondsTheNewlyCutNodes3D) {
+  // A crack in the plane z = 8 h whose front x = 8 h advanced at t0 by one cell for y <= 8 h and
+  // by two beyond, released over tr: the cracked nodes whose nearest point on the crack is not
+  // behind the front before (x >= 8 h here, the nodes on that front included) are bonded
+  // (expectRelease); for an advance of another crack, none.
+  const double h = 1e-3, t0 = 2e-3, tr = 1e-3, up[3] = {0, 0, 1};
+  gimp::Scene<3> sc;
+  sc.h = h;
+  sc.domain = {0, 0, 0, 16 * h, 16 * h, 16 * h};
+  sc.levels.assign(1, gimp::LevelBox<3>{sc.domain, 1});
+  const auto plane = [&](const std::vector<std::array<double, 2>> &xy) {
+    std::vector<std::array<double, 3>> p;
+    for (const auto &q : xy)
+      p.push_back({q[0], q[1], 8 * h});
+    return gimp::cracks::makeSurface(p, up);
+  };
+  const double lo = -0.3 * h, hi = 16.3 * h;
+  gimp::CrackSurface before = plane({{lo, lo}, {8 * h, lo}, {8 * h, hi}, {lo, hi}});
+  before.front = {0, 1, 0, 0};
+  gimp::CrackSurface c =
+      plane({{lo, lo}, {9 * h, lo}, {9 * h, 8 * h}, {10 * h, 8 * h}, {10 * h, hi}, {lo, hi}});
+  c.front = {0, 1, 1, 1, 0, 0};
+  Grid<3> g;
+  g.crackReserveSurfaces.push_back(plane({{8 * h, lo}, {12 * h, lo}, {12 * h, hi}, {8 * h, hi}}));
+  ASSERT_EQ(static_cast<int>(g.create(PETSC_COMM_SELF, h, sc.levelBoxes(), {c})), 0);
+  for (const int other : {0, 1}) {
+    gimp::cracks::Contact<3> contact;
+    contact.setup(g, {c}, {gimp::cracks::Release<3>{other, before, t0}}, tr);
+    int bonded = 0, free = 0;
+    expectRelease<3>(
+        g, contact, t0, tr, [&](PetscInt n) { return !other && g.X[n] >= 8 * h - 1e-12 * h; },
+        bonded, free);
+    if (!other) {
+      EXPECT_GT(bonded, 16);
+    }
+    EXPECT_GT(free, 16);
+  }
 }
 
 TEST(GridStencils, CrackedNodesServeParticlesUpToH0) {

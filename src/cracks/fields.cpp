@@ -8,10 +8,10 @@ namespace gimp::cracks {
 
 namespace {
 
-/// Whether the increment r newly cut the node at X (2D): X's nearest point on the crack (at
-/// distance `dist`) lies on r's segment, at or beyond the tip before it (a node at that tip was
-/// not cut before: the crack ended there).
-bool newlyCut(const Release &r, const double *X, double dist) {
+/// Whether the increment r newly cut the node at X (2D), whose nearest crack is `crack` (unused:
+/// the segment decides) at distance `dist`: X's nearest point on the crack lies on r's segment,
+/// at or beyond the tip before it (a node at that tip was not cut before: the crack ended there).
+bool newlyCut(const Release<2> &r, const Crack &, size_t, const double *X, double dist) {
   const double e[2] = {r.to[0] - r.from[0], r.to[1] - r.from[1]};
   const double L2 = e[0] * e[0] + e[1] * e[1];
   if ((X[0] - r.from[0]) * e[0] + (X[1] - r.from[1]) * e[1] < -1e-9 * L2) return false;
@@ -19,11 +19,20 @@ bool newlyCut(const Release &r, const double *X, double dist) {
   return segmentDistance(r.from, r.to, x, x) <= dist + 1e-9 * std::sqrt(L2);
 }
 
+/// Whether the increment r newly cut the node at X (3D), whose nearest crack is crack q: X's
+/// nearest point on it is not behind the front of the polygon before r (it lies on what r added,
+/// or on the front before it: a node there was not cut before, the crack ended there).
+bool newlyCut(const Release<3> &r, const CrackSurface &crack, size_t q, const double *X, double) {
+  if (static_cast<size_t>(r.crack) != q) return false;
+  const std::array<double, 3> p = nearestPoint(crack, X);
+  return !behindFront(r.before, p.data(), 1e-9 * r.before.span);
+}
+
 } // namespace
 
 template <int D>
 void Contact<D>::setup(const Grid<D> &g, const std::vector<CrackOf<D>> &cracks,
-                       const std::vector<Release> &releasing, double releaseTime) {
+                       const std::vector<Release<D>> &releasing, double releaseTime) {
   dir_.assign(D * static_cast<size_t>(g.nSlots - g.nWindow), 0.0);
   release_ = releaseTime;
   bondFrom_.assign(releaseTime > 0 ? static_cast<size_t>(g.nSlots - g.nWindow) : 0,
@@ -48,13 +57,12 @@ void Contact<D>::setup(const Grid<D> &g, const std::vector<CrackOf<D>> &cracks,
     const double side = sideOf(cracks[best], seg, X);
     for (int a = 0; a < D; ++a)
       dir_[D * (s - g.nWindow) + a] = -side * nrm[a];
-    if constexpr (D == 2)
-      if (!bondFrom_.empty())
-        for (const Release &r : releasing)
-          if (newlyCut(r, X, dist)) {
-            double &from = bondFrom_[static_cast<size_t>(s - g.nWindow)];
-            from = std::max(from, r.t0);
-          }
+    if (!bondFrom_.empty())
+      for (const Release<D> &r : releasing)
+        if (newlyCut(r, cracks[best], best, X, dist)) {
+          double &from = bondFrom_[static_cast<size_t>(s - g.nWindow)];
+          from = std::max(from, r.t0);
+        }
   }
 }
 

@@ -220,6 +220,15 @@ CrackSurface growthReach(const CrackSurface &c, double length) {
   return reach;
 }
 
+std::vector<Release<3>> releasing(const Scene<3> &sc, double t) {
+  std::vector<Release<3>> out;
+  if (!(sc.growthRelease > 0)) return out;
+  for (const FrontGrowth &g : sc.frontGrowth)
+    for (const auto &[t0, before] : g.opening)
+      if (t - t0 < sc.growthRelease) out.push_back({g.crack, before, t0});
+  return out;
+}
+
 std::vector<GrowthRecord> growFronts(Scene<3> &sc, const std::vector<FrontMeasure> &front, double t,
                                      std::vector<std::string> &stops) {
   std::vector<GrowthRecord> out;
@@ -322,6 +331,13 @@ std::vector<GrowthRecord> growFronts(Scene<3> &sc, const std::vector<FrontMeasur
     if (!why.empty()) {
       stop(why);
       continue;
+    }
+    if (sc.growthRelease > 0) { // the polygon before it, while the advance opens
+      auto &o = g.opening;
+      o.erase(std::remove_if(o.begin(), o.end(),
+                             [&](const auto &b) { return !(t - b.first < sc.growthRelease); }),
+              o.end());
+      o.emplace_back(t, c);
     }
     c = next;
     for (size_t j = 0; j < pts.size(); ++j) {

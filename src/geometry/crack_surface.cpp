@@ -45,12 +45,17 @@ P2 toPlane(const CrackSurface &c, const double x[3]) {
   return {dot(r.data(), c.e1.data()), dot(r.data(), c.e2.data())};
 }
 
+/// Where the point of the segment a-b nearest to q lies on it: a + s (b - a), s in [0, 1].
+double segParam(const P2 &q, const P2 &a, const P2 &b) {
+  const double dx = b[0] - a[0], dy = b[1] - a[1], L2 = dx * dx + dy * dy;
+  const double s = L2 > 0 ? ((q[0] - a[0]) * dx + (q[1] - a[1]) * dy) / L2 : 0.0;
+  return std::clamp(s, 0.0, 1.0);
+}
+
 /// Distance from q to the segment a-b in the plane.
 double segDist2(const P2 &q, const P2 &a, const P2 &b) {
-  const double dx = b[0] - a[0], dy = b[1] - a[1], L2 = dx * dx + dy * dy;
-  double s = L2 > 0 ? ((q[0] - a[0]) * dx + (q[1] - a[1]) * dy) / L2 : 0.0;
-  s = std::clamp(s, 0.0, 1.0);
-  return std::hypot(q[0] - a[0] - s * dx, q[1] - a[1] - s * dy);
+  const double s = segParam(q, a, b);
+  return std::hypot(q[0] - a[0] - s * (b[0] - a[0]), q[1] - a[1] - s * (b[1] - a[1]));
 }
 
 /// Whether q is inside the polygon (crossing number; boundary undecided) and its distance to
@@ -152,6 +157,36 @@ double distance(const CrackSurface &c, const double x[3]) {
   double edge = 0;
   if (inPolygon(c, toPlane(c, x), edge)) return std::fabs(d);
   return std::hypot(d, edge);
+}
+
+P3 nearestPoint(const CrackSurface &c, const double x[3]) {
+  P2 q = toPlane(c, x);
+  double edge = 0;
+  if (!inPolygon(c, q, edge)) { // the nearest point of the nearest edge
+    const size_t m = c.uv.size();
+    double best = 1e300;
+    P2 at = q;
+    for (size_t i = 0, j = m - 1; i < m; j = i++) {
+      const P2 &a = c.uv[j], &b = c.uv[i];
+      const double s = segParam(q, a, b);
+      const P2 p = {a[0] + s * (b[0] - a[0]), a[1] + s * (b[1] - a[1])};
+      const double d = std::hypot(q[0] - p[0], q[1] - p[1]);
+      if (d < best) {
+        best = d;
+        at = p;
+      }
+    }
+    q = at;
+  }
+  P3 p{};
+  for (int d = 0; d < 3; ++d)
+    p[d] = c.origin[d] + q[0] * c.e1[d] + q[1] * c.e2[d];
+  return p;
+}
+
+bool behindFront(const CrackSurface &c, const double x[3], double tol) {
+  double edge = 0, front = 0;
+  return inPolygon(c, toPlane(c, x), edge, &front) && front > tol;
 }
 
 int normalAt(const CrackSurface &c, const double *, double n[3]) {

@@ -191,11 +191,6 @@ const std::vector<Feature> &featureTable() {
         "gimp_dbcK_components=yz", "gimp_dbcK_components=xyz", "gimp_bcK_z", "gimp_bcK_type=x",
         "gimp_bcK_type=y", "gimp_bcK_type=z"},
        "a z axis exists in 3D scenes (give -gimp_dim 3)"},
-      {"the release of a crack increment",
-       In2D,
-       {"gimp_crack_growth_release"},
-       "a 2D increment is one segment, whose newly cut nodes are bonded while it opens; a 3D "
-       "front advances point by point and opens at once (its release is not built)"},
       {"loads on a disk of a face",
        In3D,
        {"gimp_tractionK_disk"},

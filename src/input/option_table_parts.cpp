@@ -244,8 +244,9 @@ const std::vector<OptionSpec> &gridOptions() {
     {"gimp_crack_growth_interval", Kind::Int, "steps", "10", "", nullptr, intFrom(1, 1e9),
      "Steps between growth checks (each measures every tip's or front point's G and K)"},
     {"gimp_crack_growth_release", Kind::Real, "s", "0", "", nullptr, atLeast(0),
-     "2D: the time over which an increment opens: the nodes it newly cut keep their two fields"
-     " bonded, the bond falling linearly from whole to none (0: the increment opens at once)"},
+     "The time over which an increment (a tip's segment, a front's advance) opens: the nodes it"
+     " newly cut keep their two fields bonded, the bond falling linearly from whole to none (0:"
+     " the increment opens at once)"},
   };
   return t;
 }

@@ -19,15 +19,25 @@ void growthState(const RunState<D> &s, std::vector<double> &cracks, std::vector<
       growth.insert(growth.end(), {r.t, static_cast<double>(r.crack), static_cast<double>(r.end),
                                    r.x[0], r.x[1], r.G, r.KI, r.KII, r.kink});
   } else {
-    for (const CrackSurface &c : s.sc.cracks) {
+    const auto put = [&](const CrackSurface &c) {
       cracks.push_back(static_cast<double>(c.points.size()));
       for (const auto &p : c.points)
         cracks.insert(cracks.end(), p.begin(), p.end());
       for (const char f : c.front)
         cracks.push_back(f);
-    }
+    };
+    for (const CrackSurface &c : s.sc.cracks)
+      put(c);
     for (const FrontGrowth &g : s.sc.frontGrowth)
       cracks.push_back(g.stopped ? 1.0 : 0.0);
+    // (then the polygons before the advances still opening: none without a release time)
+    for (const FrontGrowth &g : s.sc.frontGrowth) {
+      cracks.push_back(static_cast<double>(g.opening.size()));
+      for (const auto &[t0, before] : g.opening) {
+        cracks.push_back(t0);
+        put(before);
+      }
+    }
     for (const cracks::GrowthRecord &r : s.measures.growth)
       growth.insert(growth.end(), {r.t, static_cast<double>(r.crack), static_cast<double>(r.end),
                                    r.x[0], r.x[1], r.x[2], r.G, r.KI, r.KII, r.KIII, r.kink});
@@ -68,7 +78,7 @@ void restoreGrowth(RunState<D> &s, const std::vector<double> &cracks,
     }
   } else {
     size_t q = 0;
-    for (CrackSurface &c : s.sc.cracks) {
+    const auto get = [&](CrackSurface &c, const double *normal) {
       const size_t n = static_cast<size_t>(cracks.at(q++));
       std::vector<std::array<double, 3>> pts(n);
       for (auto &p : pts) {
@@ -78,11 +88,20 @@ void restoreGrowth(RunState<D> &s, const std::vector<double> &cracks,
       std::vector<char> front(n);
       for (char &f : front)
         f = static_cast<char>(cracks.at(q++) != 0);
-      c = cracks::makeSurface(pts, c.normal.data());
+      c = cracks::makeSurface(pts, normal);
       c.front = front;
-    }
+    };
+    for (CrackSurface &c : s.sc.cracks)
+      get(c, c.normal.data());
     for (FrontGrowth &g : s.sc.frontGrowth)
       g.stopped = cracks.at(q++) != 0;
+    for (FrontGrowth &g : s.sc.frontGrowth) { // (absent from checkpoints that kept none)
+      g.opening.resize(q < cracks.size() ? static_cast<size_t>(cracks.at(q++)) : 0);
+      for (auto &[t0, before] : g.opening) {
+        t0 = cracks.at(q++);
+        get(before, s.sc.cracks[static_cast<size_t>(g.crack)].normal.data());
+      }
+    }
     s.measures.growth.clear();
     for (size_t k = 0; k + 10 < growth.size(); k += 11) {
       cracks::GrowthRecord r;

@@ -32,13 +32,14 @@ template <int D> PetscErrorCode Solver<D>::followCracks(double t) {
 }
 
 template <int D> void Solver<D>::setupContact(double t) {
-  // (the increments being released follow from the growth records and the polylines alone, so a
-  // restart or a regrid finds them again)
+  // (2D: the increments being released follow from the growth records and the polylines alone;
+  // 3D: from the polygons before the advances, which the checkpoint keeps; so a restart or a
+  // regrid finds them again)
   if constexpr (D == 2)
     step_.contact().setup(s_.grid, s_.sc.cracks, cracks::releasing(s_.sc, s_.measures.growth, t),
                           s_.sc.growthRelease);
   else
-    step_.contact().setup(s_.grid, s_.sc.cracks);
+    step_.contact().setup(s_.grid, s_.sc.cracks, cracks::releasing(s_.sc, t), s_.sc.growthRelease);
 }
 
 namespace {

@@ -12,10 +12,18 @@
 
 namespace gimp::cracks {
 
-/// An increment of a 2D tip still being released (-gimp_crack_growth_release): the segment it
-/// added, from the tip before it to the new tip, and the time of the check that grew it [s].
-struct Release {
+/// An increment still being released (-gimp_crack_growth_release), grown at the check of time t0
+/// [s]. 2D: the segment it added, from the tip before it to the new tip. 3D: its crack and the
+/// crack's polygon before it (the front advances point by point, so what it added is the new
+/// polygon less this one).
+template <int D> struct Release;
+template <> struct Release<2> {
   std::array<double, 2> from{}, to{};
+  double t0 = 0;
+};
+template <> struct Release<3> {
+  int crack = 0;
+  CrackSurface before;
   double t0 = 0;
 };
 
@@ -24,11 +32,12 @@ template <int D> class Contact {
 public:
   /// The direction d of each cracked window node, from field 1's material toward field 2's:
   /// field 1 is on the node's side of the nearest crack, field 2 across it. With a release time
-  /// (> 0, 2D) and increments being released: the nodes each increment newly cut, those whose
-  /// nearest point on their crack lies on its segment at or beyond the tip before it, are bonded
-  /// from its time t0 on (see apply).
+  /// (> 0) and increments being released: the nodes each increment newly cut are bonded from its
+  /// time t0 on (see apply). Newly cut: the node's nearest point on its crack lies on the
+  /// increment's segment at or beyond the tip before it (2D), or not inside the polygon before it
+  /// farther than round-off from that polygon's front (3D).
   void setup(const Grid<D> &g, const std::vector<CrackOf<D>> &cracks,
-             const std::vector<Release> &releasing = {}, double releaseTime = 0);
+             const std::vector<Release<D>> &releasing = {}, double releaseTime = 0);
 
   /// Each field's mass-weighted displacement along d at every cracked node, into the window
   /// array `face` (component 0 of each slot, sum over particles of m w (x - X0).d; initialised

@@ -55,8 +55,13 @@ std::vector<GrowthRecord> growTips(Scene<2> &sc, const std::vector<TipMeasure> &
 /// at a check t0 with t - t0 < release), each with its segment from the tip before it (the
 /// polyline's point next to the record's, toward the crack) to the new tip. Empty without a
 /// release time.
-std::vector<Release> releasing(const Scene<2> &sc, const std::vector<GrowthRecord> &grown,
-                               double t);
+std::vector<Release<2>> releasing(const Scene<2> &sc, const std::vector<GrowthRecord> &grown,
+                                  double t);
+
+/// The advances of 3D fronts still being released at time t (grown at a check t0 with t - t0 <
+/// release), each with its crack's polygon before it (FrontGrowth::opening). Empty without a
+/// release time.
+std::vector<Release<3>> releasing(const Scene<3> &sc, double t);
 
 /// The vertices of 3D crack c after its front advanced: each front edge cut into the pieces of
 /// frontPoints(c, spacing), piece j moved by advance[j] along its ahead direction (a vertex
@@ -85,8 +90,9 @@ CrackSurface growthReach(const CrackSurface &c, double length);
 /// rest of the run, with a line in `stops`, when a growing point would kink or twist by more than
 /// kPlanarGrowthAngle, a point has no measure, or the new polygon would cross itself, reach farther
 /// than the growth length from the crack as given, meet another crack or keep no front. Returns the
-/// increments taken, one per front point advanced. The front domains are not updated here
-/// (updateFrontDomains).
+/// increments taken, one per front point advanced. With a release time, each advance keeps the
+/// polygon before it (FrontGrowth::opening, those older than the release dropped). The front
+/// domains are not updated here (updateFrontDomains).
 std::vector<GrowthRecord> growFronts(Scene<3> &sc, const std::vector<FrontMeasure> &front, double t,
                                      std::vector<std::string> &stops);
 

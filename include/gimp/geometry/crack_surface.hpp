@@ -77,6 +77,13 @@ int crossing(const CrackSurface &c, const double a[3], const double b[3]);
 /// Distance from x to the polygon (the closed planar region) [m].
 double distance(const CrackSurface &c, const double x[3]);
 
+/// The point of the polygon (the closed planar region) nearest to x [m].
+std::array<double, 3> nearestPoint(const CrackSurface &c, const double x[3]);
+
+/// Whether x, projected on c's plane, lies inside the polygon farther than tol from every front
+/// edge (a point on or beyond the front is not behind it; mouth edges are open to the surface).
+bool behindFront(const CrackSurface &c, const double x[3], double tol);
+
 /// The unit normal into n; returns 0 (the polygon's one face).
 int normalAt(const CrackSurface &c, const double x[3], double n[3]);
 

@@ -18,6 +18,7 @@
 
 #include <array>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace gimp {
@@ -245,11 +246,15 @@ struct TipGrowth {
 /// front may advance at most `length` from it; the grid gives second fields to the nodes within
 /// that of it, in its plane), the length of an increment, and whether it stopped (an increment it
 /// could not take: out of that reach, kinking or twisting out of its plane, meeting a crack).
+/// With a release time (-gimp_crack_growth_release), the polygon before each advance still
+/// opening, with the time of the check that grew it [s]: what the advance newly cut follows from
+/// it (the checkpoint keeps them).
 struct FrontGrowth {
   int crack = 0;
   CrackSurface start;
   double step = 0, length = 0;
   bool stopped = false;
+  std::vector<std::pair<double, CrackSurface>> opening;
 };
 
 /// The crack growth criterion: none, or a tip (2D) or front point (3D) grows when G reaches the
