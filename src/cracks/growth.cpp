@@ -54,7 +54,7 @@ std::string refusal(const Scene<2> &sc, const TipGrowth &g, const std::array<dou
 } // namespace
 
 std::vector<Release<2>> releasing(const Scene<2> &sc, const std::vector<GrowthRecord> &grown,
-                               double t) {
+                                  double t) {
   std::vector<Release<2>> out;
   if (!(sc.growthRelease > 0)) return out;
   for (const GrowthRecord &r : grown) {
