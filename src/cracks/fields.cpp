@@ -8,24 +8,37 @@ namespace gimp::cracks {
 
 namespace {
 
-/// Whether the increment r newly cut the node at X (2D), whose nearest crack is `crack` (unused:
-/// the segment decides) at distance `dist`: X's nearest point on the crack lies on r's segment,
-/// at or beyond the tip before it (a node at that tip was not cut before: the crack ended there).
-bool newlyCut(const Release<2> &r, const Crack &, size_t, const double *X, double dist) {
+/// Where a cracked node lies against its nearest crack, as the release's test reads it: 2D, the
+/// node and its distance to the crack; 3D, the crack's index and the node's nearest point on it.
+template <int D> struct NodeOnCrack;
+template <> struct NodeOnCrack<2> {
+  std::array<double, 2> x;
+  double dist;
+  NodeOnCrack(const Crack &, size_t, const double *X, double d) : x{X[0], X[1]}, dist(d) {}
+};
+template <> struct NodeOnCrack<3> {
+  size_t crack;
+  std::array<double, 3> nearest;
+  NodeOnCrack(const CrackSurface &c, size_t q, const double *X, double)
+      : crack(q), nearest(nearestPoint(c, X)) {}
+};
+
+/// Whether the increment r newly cut the node (2D): its nearest point on the crack lies on r's
+/// segment, at or beyond the tip before it (a node at that tip was not cut before: the crack
+/// ended there).
+bool newlyCut(const Release<2> &r, const NodeOnCrack<2> &at) {
   const double e[2] = {r.to[0] - r.from[0], r.to[1] - r.from[1]};
   const double L2 = e[0] * e[0] + e[1] * e[1];
-  if ((X[0] - r.from[0]) * e[0] + (X[1] - r.from[1]) * e[1] < -1e-9 * L2) return false;
-  const std::array<double, 2> x = {X[0], X[1]}; // (a point: a segment of no length)
-  return segmentDistance(r.from, r.to, x, x) <= dist + 1e-9 * std::sqrt(L2);
+  if ((at.x[0] - r.from[0]) * e[0] + (at.x[1] - r.from[1]) * e[1] < -1e-9 * L2) return false;
+  return segmentDistance(r.from, r.to, at.x, at.x) <= at.dist + 1e-9 * std::sqrt(L2);
 }
 
-/// Whether the increment r newly cut the node at X (3D), whose nearest crack is crack q: X's
+/// Whether the advance r newly cut the node (3D): r grew the node's nearest crack, and the node's
 /// nearest point on it is not behind the front of the polygon before r (it lies on what r added,
 /// or on the front before it: a node there was not cut before, the crack ended there).
-bool newlyCut(const Release<3> &r, const CrackSurface &crack, size_t q, const double *X, double) {
-  if (static_cast<size_t>(r.crack) != q) return false;
-  const std::array<double, 3> p = nearestPoint(crack, X);
-  return !behindFront(r.before, p.data(), 1e-9 * r.before.span);
+bool newlyCut(const Release<3> &r, const NodeOnCrack<3> &at) {
+  return static_cast<size_t>(r.crack) == at.crack &&
+         !behindFront(r.before, at.nearest.data(), 1e-9 * r.before.span);
 }
 
 } // namespace
@@ -57,12 +70,13 @@ void Contact<D>::setup(const Grid<D> &g, const std::vector<CrackOf<D>> &cracks,
     const double side = sideOf(cracks[best], seg, X);
     for (int a = 0; a < D; ++a)
       dir_[D * (s - g.nWindow) + a] = -side * nrm[a];
-    if (!bondFrom_.empty())
-      for (const Release<D> &r : releasing)
-        if (newlyCut(r, cracks[best], best, X, dist)) {
-          double &from = bondFrom_[static_cast<size_t>(s - g.nWindow)];
-          from = std::max(from, r.t0);
-        }
+    if (bondFrom_.empty() || releasing.empty()) continue;
+    const NodeOnCrack<D> at(cracks[best], best, X, dist);
+    for (const Release<D> &r : releasing)
+      if (newlyCut(r, at)) {
+        double &from = bondFrom_[static_cast<size_t>(s - g.nWindow)];
+        from = std::max(from, r.t0);
+      }
   }
 }
 
