@@ -77,8 +77,6 @@ def mts(ki, kii):
     return 2.0 * math.atan((ki - math.sqrt(ki * ki + 8.0 * kii * kii)) / (4.0 * kii))
 
 
-
-
 def start_points(b):
     """The straight crack of half-length A at angle b through the plate's centre."""
     return [(0.08 - A * math.cos(b), 0.08 - A * math.sin(b)),
