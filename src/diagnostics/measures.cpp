@@ -181,10 +181,10 @@ template <int D> inline Key keyOf(const double *x, double q) {
 /// The rows sorted by their X0 lattice key (step q), for lookups: (key, row) in key order, rows
 /// of equal keys in row order. When the keys' ranges multiply to less than 2^62 (a key step is a
 /// 512th of the finest cell: up to about 3,000 finest cells along each axis in 3D, 4 million in
-/// 2D), the keys are packed into one integer that orders
-/// them alike, ((z - z_lo) R_y + (y - y_lo)) R_x + (x - x_lo), and sorted by a stable radix sort
-/// of 11 bits a pass: time linear in the rows (a history row's measure; a comparison sort grew as
-/// N log N). Otherwise a comparison sort gives the same order.
+/// 2D), the keys are packed into one integer that orders them alike, ((z - z_lo) R_y + (y -
+/// y_lo)) R_x + (x - x_lo), and sorted by a stable radix sort of 11 bits a pass: time linear in
+/// the rows (a history row's measure; a comparison sort grew as N log N). Otherwise a comparison
+/// sort gives the same order.
 template <int D> std::vector<std::pair<Key, size_t>> keyed(const Rows<D> &rows, double q) {
   const size_t n = rows.n;
   std::vector<std::pair<Key, size_t>> at(n);
