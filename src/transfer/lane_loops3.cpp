@@ -219,29 +219,36 @@ GIMP_LANES_INLINE void affineToGrid(const Block<3> &b, double mp, V4 V, const Te
 }
 
 /// particleFromGridAffine<3>, block branch: v_p and the columns of B_p (row sums along x, then
-/// the (y, z) factors).
+/// the (y, z) factors). With Mean, also WP = sum_i S_ip w_i of a second field wg from the same
+/// walk: interpolate's sums in interpolate's order (the nodes a block does not reach have weight
+/// zero and add exact zeros), so WP is bit for bit the separate interpolation.
+template <bool Mean = false>
 GIMP_LANES_INLINE void affineFromGrid(const Block<3> &b, const double *vg, const double *xk,
-                                      const double *xs, V4 &VP, V4 *Bc) {
+                                      const double *xs, V4 &VP, V4 *Bc, const double *wg = nullptr,
+                                      V4 *WP = nullptr) {
   double wdx[3];
   for (int i = 0; i < 3; ++i)
     wdx[i] = b.w[0][i] * (xs[3 * (b.base + i)] - xk[0]);
   VP = Bc[0] = Bc[1] = Bc[2] = splat(0.0);
+  if constexpr (Mean) *WP = splat(0.0);
   for (int q = 0; q < 3; ++q) {
     const double dz = xs[3 * (b.base + q * b.stride[1]) + 2] - xk[2];
     for (int j = 0; j < 3; ++j) {
       const PetscInt r = 3 * (b.base + j * b.stride[0] + q * b.stride[1]);
       const double dy = xs[r + 1] - xk[1], wyz = b.w[1][j] * b.w[2][q];
-      V4 T = splat(0.0), U = splat(0.0);
+      V4 T = splat(0.0), U = splat(0.0), M = splat(0.0);
       for (int i = 0; i < 3; ++i) {
         const V4 vn = load3(vg + r + 3 * i);
         T = T + splat(b.w[0][i]) * vn;
         U = U + splat(wdx[i]) * vn;
+        if constexpr (Mean) M = M + splat(b.w[0][i]) * load3(wg + r + 3 * i);
       }
       const V4 W = splat(wyz);
       VP = VP + W * T;
       Bc[0] = Bc[0] + W * U;
       Bc[1] = Bc[1] + splat(wyz * dy) * T;
       Bc[2] = Bc[2] + splat(wyz * dz) * T;
+      if constexpr (Mean) *WP = *WP + W * M;
     }
   }
 }
@@ -353,12 +360,18 @@ GIMP_LANES void gridToParticlesAffineRated(const Stencils<3> &st, PetscInt n, co
     V4 VP, Bc[3];
     Tensor<3> Bk;
     const bool block = st.isBlock(k);
-    if (block)
+    V4 WP;
+    if (block && wg != vg)
+      affineFromGrid<true>(st.block(k), vg, xk, xs, VP, Bc, wg, &WP);
+    else if (block)
       affineFromGrid(st.block(k), vg, xk, xs, VP, Bc);
     else
       affineFromGridRows(st, k, vg, xk, xs, VP, Bc);
+    if (wg == vg)
+      WP = VP;
+    else if (!block)
+      WP = interpolate(st, k, wg);
     setColumns(Bc, Bk);
-    const V4 WP = wg == vg ? VP : interpolate(st, k, wg);
     if (mom && block) affineToGrid(st.block(k), m[k], VP, Bk, xk, xs, mom, nullptr);
     if (mom && !block) affineToGridRows(st, k, m[k], VP, Bk, xk, xs, mom, nullptr);
     tensorAt<3>(B, k) = Bk;
