@@ -148,6 +148,7 @@ template <int D> PetscErrorCode MultiRate<D>::run(StepClock &done) {
   PetscCall(VecZeroEntries(s.nodal.P)); // every class starts at sub-step 0
   s.work.strainBefore.assign(s.work.measureStrain ? r_.n : 0, 0.0);
   const bool cracked = !s.sc.cracks.empty();
+  typename Step<D>::CheckTally tally; // (taken by the classes' stress updates at the last sub-step)
   for (PetscInt j = 0; j < s.stride(); ++j) {
     StepClock c;
     PetscCall(readStepClock(s.ts, s.sc.halfStepStart, c));
@@ -164,10 +165,10 @@ template <int D> PetscErrorCode MultiRate<D>::run(StepClock &done) {
     PetscCall(step_.gridUpdate(cracked));
     if (cracked) PetscCall(contactAfterUpdate(c));
     PetscCall(accumulate(c, j));
-    PetscCall(endClasses(p, c, j, power));
+    PetscCall(endClasses(p, c, j, power, j + 1 == s.stride() ? &tally : nullptr));
   }
   PetscCall(readStepClock(s.ts, s.sc.halfStepStart, done));
-  PetscCall(step_.checks(p, done.step, done.t));
+  PetscCall(step_.checks(p, done.step, done.t, &tally));
   PetscCall(p.restore(s.sw));
   return PETSC_SUCCESS;
 }

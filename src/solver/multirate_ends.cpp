@@ -240,7 +240,8 @@ PetscErrorCode MultiRate<D>::takenBy(int k, double flip, double dt, Vec out, boo
 
 template <int D>
 PetscErrorCode MultiRate<D>::endClasses(ParticleView<D> &p, const StepClock &c, PetscInt j,
-                                        const StartPower &power) {
+                                        const StartPower &power,
+                                        typename Step<D>::CheckTally *tally) {
   RunState<D> &s = s_;
   RateClasses<D> &r = r_;
   const double flip = s.sc.transfer == Transfer::Apic ? 0.0 : s.sc.flip;
@@ -264,7 +265,7 @@ PetscErrorCode MultiRate<D>::endClasses(ParticleView<D> &p, const StepClock &c, 
   if (musl) PetscCall(zeroTail(scratch_.corrSum, std::min(from, scratch_.zeroFrom)));
   scratch_.zeroFrom = from;
   for (size_t e = 0; e < ending.size(); ++e)
-    PetscCall(endClass(p, c, ending[e], e, flip));
+    PetscCall(endClass(p, c, ending[e], e, flip, tally));
   PetscCall(PetscLogStagePop());
   // The work of the external impulses (classForces): a class's impulse m_c dt f_c times the mean
   // of the grid velocity before and after it (its start sub-step), the latter with the MUSL
@@ -329,7 +330,7 @@ PetscErrorCode MultiRate<D>::spreadRemainder(const std::vector<int> &ending, con
 
 template <int D>
 PetscErrorCode MultiRate<D>::endClass(ParticleView<D> &p, const StepClock &c, int k, size_t e,
-                                      double flip) {
+                                      double flip, typename Step<D>::CheckTally *tally) {
   RunState<D> &s = s_;
   RateClasses<D> &r = r_;
   RateScratch &w0 = scratch_;
@@ -409,7 +410,13 @@ PetscErrorCode MultiRate<D>::endClass(ParticleView<D> &p, const StepClock &c, in
   // (a report follows the coarse step: the class's strain energy before its update, the last
   // one of the coarse step counting; WorkLedger::strainBefore)
   double *sb = s.work.strainBefore.empty() ? nullptr : &s.work.strainBefore[k];
-  return step_.stress(r.st[k], q, w, every * c.dt, sb);
+  typename Step<D>::CheckTally mine;
+  PetscCall(step_.stress(r.st[k], q, w, every * c.dt, sb, tally ? &mine : nullptr));
+  if (tally) { // (the classes end in swarm order: the first bad one is the swarm's first)
+    if (tally->bad < 0 && mine.bad >= 0) tally->bad = r.begin[k] + mine.bad;
+    tally->leaving += mine.leaving;
+  }
+  return PETSC_SUCCESS;
 }
 
 template <int D> PetscErrorCode MultiRate<D>::correction(const StepClock &c, int k, size_t e) {
@@ -459,7 +466,8 @@ template <int D> PetscErrorCode MultiRate<D>::correction(const StepClock &c, int
                                                     PetscInt, StartPower &);                       \
   template PetscErrorCode MultiRate<D>::accumulate(const StepClock &, PetscInt);                   \
   template PetscErrorCode MultiRate<D>::endClasses(ParticleView<D> &, const StepClock &, PetscInt, \
-                                                   const StartPower &);
+                                                   const StartPower &,                             \
+                                                   typename Step<D>::CheckTally *);
 GIMP_INSTANTIATE(2)
 GIMP_INSTANTIATE(3)
 #undef GIMP_INSTANTIATE

@@ -117,15 +117,20 @@ private:
   /// What class k's particles take from the nodes at their G2P, into (or added to) out.
   PetscErrorCode takenBy(int k, double flip, double dt, Vec out, bool add);
   /// After the grid update of sub-step j: the ending classes' G2P, stress and momentum removal.
+  /// With `tally` (the coarse step's last sub-step, where every class ends and its stress
+  /// update is its particles' last change), each class's particles are tested as
+  /// Step::checks would test them, while they are in cache; indices are the swarm's.
   PetscErrorCode endClasses(ParticleView<D> &p, const StepClock &c, PetscInt j,
-                            const StartPower &power);
+                            const StartPower &power, typename Step<D>::CheckTally *tally);
   /// After the grid update of sub-step j: the work of the starting classes' external impulses
   /// (booked at their classes' ends, with the ending classes' MUSL correction).
   PetscErrorCode externalWork(const StepClock &c, PetscInt j, const std::vector<int> &ending);
   /// Every class ends with a FLIP/PIC blend: the momentum no particle took goes to them.
   PetscErrorCode spreadRemainder(const std::vector<int> &ending, const StepClock &c, double flip);
-  /// Class k's G2P and stress at its end (the e-th of the ending classes).
-  PetscErrorCode endClass(ParticleView<D> &p, const StepClock &c, int k, size_t e, double flip);
+  /// Class k's G2P and stress at its end (the e-th of the ending classes), its particles'
+  /// test added to `tally` when not null (endClasses).
+  PetscErrorCode endClass(ParticleView<D> &p, const StepClock &c, int k, size_t e, double flip,
+                          typename Step<D>::CheckTally *tally);
   /// MUSL: class k's re-projection correction and the stress velocity into meanW.
   PetscErrorCode correction(const StepClock &c, int k, size_t e);
   /// v's values from `from` on (this rank's part) set to zero.
