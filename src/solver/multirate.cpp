@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <array>
+#include <limits>
 #include <string>
 
 namespace gimp {
@@ -82,28 +83,25 @@ template <int D> std::array<double, 2 * D> outwardZones(const Grid<D> &g, int c)
 
 /// Each particle's class (cls, n particles at x with half-sizes l): the finest level c whose box,
 /// widened by the reach of its boundary nodes (zones), the particle's half-size and one finest
-/// cell of motion within the coarse step, it overlaps (0 if none). One pass per level, coarse to
-/// fine, so the finest that meets a particle is the last to write it.
+/// cell of motion within the coarse step, it overlaps (0 if none). One pass over the particles,
+/// each tried from the finest level down.
 template <int D>
 void classesOf(const Grid<D> &g, const std::vector<std::array<double, 2 * D>> &zones, PetscInt n,
                const double *x, const double *l, int *cls) {
-  std::fill(cls, cls + n, 0);
+  const int K = static_cast<int>(g.levels.size());
   const double m = g.hMin();
-  for (int c = 1; c < static_cast<int>(g.levels.size()); ++c) {
-    double lo[D], hi[D]; // the box widened by its zones and the finest cell
-    for (int a = 0; a < D; ++a) {
-      lo[a] = g.levels[c].box[a];
-      hi[a] = g.levels[c].box[D + a];
-    }
-    const std::array<double, 2 *D> &z = zones[c];
-    for (PetscInt k = 0; k < n; ++k) {
+  for (PetscInt k = 0; k < n; ++k) {
+    const double *xk = x + D * k, *lk = l + D * k;
+    int c = K - 1;
+    for (; c > 0; --c) { // (the box widened by its zones and the finest cell)
+      const BoxOf<D> &b = g.levels[c].box;
+      const std::array<double, 2 *D> &z = zones[c];
       bool meets = true;
-      for (int a = 0; a < D; ++a) {
-        const double xa = x[D * k + a], la = l[D * k + a];
-        meets = meets && xa + la + z[a] + m > lo[a] && xa - la - z[D + a] - m < hi[a];
-      }
-      cls[k] = meets ? c : cls[k];
+      for (int a = 0; a < D; ++a)
+        meets = meets && xk[a] + lk[a] + z[a] + m > b[a] && xk[a] - lk[a] - z[D + a] - m < b[D + a];
+      if (meets) break;
     }
+    cls[k] = c;
   }
 }
 
@@ -231,11 +229,13 @@ template <int D> PetscErrorCode MultiRate<D>::classify(PetscInt step) {
   // A particle that changes class gets the mean of its old and new steps as its first kick (the
   // variable-step leapfrog): its velocity stands half its old step before and half its new step
   // after the sync point.
-  r.kickScale.assign(static_cast<size_t>(p.n), 1.0);
+  // (kickScale is read only for a class with switched particles: filled when one switched)
+  r.kickScale.clear();
   r.switched.assign(r.n, 0);
   for (PetscInt k = 0; k < p.n; ++k) {
     const PetscInt was = p.rate[k], now = cls[k];
     if (was >= 0 && was != now) {
+      if (r.kickScale.empty()) r.kickScale.assign(static_cast<size_t>(p.n), 1.0);
       r.kickScale[k] = 0.5 * static_cast<double>(r.every[was] + r.every[now]) /
                        static_cast<double>(r.every[now]);
       ++r.switched[now];
@@ -262,29 +262,35 @@ PetscErrorCode MultiRate<D>::startClass(ParticleView<D> &p, int k, PetscInt j, P
     r.st[k].start.assign(static_cast<size_t>(q.n) + 1, 0);
   }
   cracks::assignFields<D>(s.grid, s.sc.cracks, q.n, q.x, r.st[k]);
-  if (k + 1 < r.n) { // the class's margin kept it off the finer levels' nodes
-    // (only where they might reach: no node of level k + 1 or finer reaches farther out of level
-    // k + 1's box than a level-0 cell, the widest zone)
-    const BoxOf<D> &b = s.grid.levels[k + 1].box;
-    const double reach = s.grid.levels[0].h;
-    for (PetscInt i = 0; i < q.n; ++i) {
-      bool near = true;
-      for (int a = 0; a < D; ++a) {
-        const double x = q.x[D * i + a], l = q.l[D * i + a];
-        near = near && x + l + reach >= b[a] && x - l - reach <= b[D + a];
-      }
-      if (near && maxSlot(s.grid, r.st[k], i) >= s.grid.levels[k + 1].offset) {
-        s.status.localFailure = "a particle of level " + std::to_string(k) +
-                                "'s rate class reached level " + std::to_string(k + 1) +
-                                "'s nodes within a coarse step (it moved more than one finest "
-                                "cell; reduce -ts_dt)";
-        break;
-      }
+  // One pass over the class: the bounding box of its particles' domains (classReach) and, below
+  // the finest class, whether its margin kept it off the finer levels' nodes (only where they
+  // might reach: no node of level k + 1 or finer reaches farther out of level k + 1's box than a
+  // level-0 cell, the widest zone).
+  double lo[D], hi[D];
+  for (int a = 0; a < D; ++a)
+    lo[a] = std::numeric_limits<double>::infinity(), hi[a] = -lo[a];
+  const bool finer = k + 1 < r.n;
+  const BoxOf<D> &fb = s.grid.levels[finer ? k + 1 : k].box;
+  const double reach = s.grid.levels[0].h;
+  bool reached = false;
+  for (PetscInt i = 0; i < q.n; ++i) {
+    bool near = finer && !reached;
+    for (int a = 0; a < D; ++a) {
+      const double x = q.x[D * i + a], l = q.l[D * i + a];
+      lo[a] = std::min(lo[a], x - l);
+      hi[a] = std::max(hi[a], x + l);
+      near = near && x + l + reach >= fb[a] && x - l - reach <= fb[D + a];
     }
+    if (near && maxSlot(s.grid, r.st[k], i) >= s.grid.levels[k + 1].offset) reached = true;
   }
+  if (reached)
+    s.status.localFailure = "a particle of level " + std::to_string(k) +
+                            "'s rate class reached level " + std::to_string(k + 1) +
+                            "'s nodes within a coarse step (it moved more than one finest "
+                            "cell; reduce -ts_dt)";
   // Its P2G onto the levels it reaches: the nodal sums and moves from there on.
   const PetscInt was = localFrom(k); // (its last start's levels: zero before them)
-  PetscCall(classReach(q, k));
+  PetscCall(classReach(lo, hi, q.n > 0, k));
   const int from = r.from[k];
   const PetscInt w0 = windowFrom(k), g0 = localFrom(k);
   PetscScalar *mom = nullptr, *mass = nullptr;
@@ -423,25 +429,16 @@ template <int D> PetscErrorCode MultiRate<D>::addTail(Vec y, double a, Vec x, Pe
   return PETSC_SUCCESS;
 }
 
-template <int D> PetscErrorCode MultiRate<D>::classReach(const ParticleView<D> &q, int k) {
+template <int D>
+PetscErrorCode MultiRate<D>::classReach(const double *a, const double *b, bool any, int k) {
   // No particle reaches a level coarser than the one whose box holds it (Grid::coarsestReaching),
   // so none of the class reaches a level coarser than the finest box that holds all their
-  // domains (their bounding box). With cracks every level: the crack contact works on every cracked
-  // node's fields.
+  // domains (their bounding box [a, b]). With cracks every level: the crack contact works on
+  // every cracked node's fields.
   const Grid<D> &g = s_.grid;
   int lo = static_cast<int>(g.levels.size()) - 1;
   if (!s_.sc.cracks.empty()) lo = 0;
-  if (lo > 0 && q.n > 0) {
-    double a[D], b[D]; // the bounding box's lower corner and upper corner
-    for (int d = 0; d < D; ++d) {
-      a[d] = q.x[d] - q.l[d];
-      b[d] = q.x[d] + q.l[d];
-    }
-    for (PetscInt i = 1; i < q.n; ++i)
-      for (int d = 0; d < D; ++d) {
-        a[d] = std::min(a[d], q.x[D * i + d] - q.l[D * i + d]);
-        b[d] = std::max(b[d], q.x[D * i + d] + q.l[D * i + d]);
-      }
+  if (lo > 0 && any) {
     // (the boxes are nested: the finest box that holds every domain, as coarsestReaching tests
     // one domain, on the same x - l and x + l)
     while (lo > 0) {

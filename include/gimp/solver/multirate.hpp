@@ -25,7 +25,8 @@ template <int D> struct RateClasses {
   std::vector<PetscInt64> size;   // particles of class c on all ranks (0: the class is skipped)
   std::vector<PetscInt> switched; // particles of class c that were in another class before
   std::vector<double> kickScale;  // per particle of this coarse step: its first kick's weight
-                                  // over its class's step, (m_old + m_new) / (2 m_new)
+                                  // over its class's step, (m_old + m_new) / (2 m_new) (empty
+                                  // when no particle switched)
   std::vector<Stencils<D>> st;    // class c's stencils, from its last start
   std::vector<PetscInt> start;    // the sub-step of class c's last start
   // The coarsest level class c's stencils reach (on every rank), from its last start: its nodal
@@ -137,8 +138,9 @@ private:
   static PetscErrorCode zeroTail(Vec v, PetscInt from);
   /// y += a x on this rank's values from `from` on (a = +-1 here: exact as VecAXPY).
   static PetscErrorCode addTail(Vec y, double a, Vec x, PetscInt from);
-  /// The coarsest level that class k's particles q reach, on every rank (RateClasses::from).
-  PetscErrorCode classReach(const ParticleView<D> &q, int k);
+  /// The coarsest level that class k's particles reach, on every rank (RateClasses::from), from
+  /// the bounding box [lo, hi] of their domains on this rank (any: it holds a particle).
+  PetscErrorCode classReach(const double *lo, const double *hi, bool any, int k);
   /// Where class k's nodal values start in this rank's part of a global Vec, and in a window.
   PetscInt localFrom(int k) const { return s_.grid.localLevelStart(r_.from[k]); }
   PetscInt windowFrom(int k) const { return s_.grid.windowLevelStart(r_.from[k]); }
