@@ -388,24 +388,15 @@ PetscErrorCode MultiRate<D>::endClass(ParticleView<D> &p, const StepClock &c, in
   PetscCall(VecRestoreArrayRead(w, &wg));
   PetscCall(VecRestoreArrayRead(u, &ug));
   if (musl) PetscCall(VecRestoreArray(n.sumW, &mom));
-  // What the class took from the nodes (into field), summed over the ending classes (taken is
-  // zero before the levels of the first: endClasses).
-  PetscCall(takenBy(k, flip, c.dt, w0.field, false));
-  {
-    PetscInt nloc = 0;
-    PetscScalar *t = nullptr;
-    const PetscScalar *fd = nullptr;
-    PetscCall(VecGetLocalSize(w0.taken, &nloc));
-    PetscCall(VecGetArray(w0.taken, &t));
-    PetscCall(VecGetArrayRead(w0.field, &fd));
-    for (PetscInt i = i0; i < nloc; ++i)
-      t[i] = e == 0 ? fd[i] : t[i] + fd[i];
-    PetscCall(VecRestoreArrayRead(w0.field, &fd));
-    PetscCall(VecRestoreArray(w0.taken, &t));
-  }
+  // What the class took from the nodes, summed over the ending classes into taken (zero before
+  // the levels of the first: endClasses); with MUSL into field first, which its correction
+  // reads and adds to taken.
   if (musl) {
+    PetscCall(takenBy(k, flip, c.dt, w0.field, false));
     PetscCall(correction(c, k, e));
     w = w0.meanW;
+  } else {
+    PetscCall(takenBy(k, flip, c.dt, w0.taken, e > 0));
   }
   // (a report follows the coarse step: the class's strain energy before its update, the last
   // one of the coarse step counting; WorkLedger::strainBefore)
@@ -435,14 +426,16 @@ template <int D> PetscErrorCode MultiRate<D>::correction(const StepClock &c, int
   PetscCall(s.grid.addFromWindow(n.sumW, w0.corr, from));
   Vec vsv = r_.every[k] > 1 ? sums_.vsum[k] : n.vel;
   const PetscScalar *t = nullptr, *im = nullptr, *vs = nullptr;
-  PetscScalar *cr = nullptr, *cs = nullptr, *sf = nullptr;
+  PetscScalar *cr = nullptr, *cs = nullptr, *sf = nullptr, *tk = nullptr;
   PetscCall(VecGetArrayRead(w0.field, &t));
+  PetscCall(VecGetArray(w0.taken, &tk));
   PetscCall(VecGetArrayRead(n.invMass, &im));
   PetscCall(VecGetArrayRead(vsv, &vs));
   PetscCall(VecGetArray(w0.corr, &cr));
   PetscCall(VecGetArray(w0.corrSum, &cs));
   PetscCall(VecGetArray(n.f, &sf));      // (free after the grid update)
-  for (PetscInt i = i0; i < nloc; ++i) { // (corrSum is zero before the first class's levels)
+  for (PetscInt i = i0; i < nloc; ++i) { // (corrSum, taken: zero before the first's levels)
+    tk[i] = e == 0 ? t[i] : tk[i] + t[i];
     cr[i] = (cr[i] - t[i]) * im[i];
     cs[i] = e == 0 ? cr[i] : cs[i] + cr[i];
     sf[i] = vs[i] / every + cr[i];
@@ -452,6 +445,7 @@ template <int D> PetscErrorCode MultiRate<D>::correction(const StepClock &c, int
   PetscCall(VecRestoreArray(w0.corr, &cr));
   PetscCall(VecRestoreArrayRead(vsv, &vs));
   PetscCall(VecRestoreArrayRead(n.invMass, &im));
+  PetscCall(VecRestoreArray(w0.taken, &tk));
   PetscCall(VecRestoreArrayRead(w0.field, &t));
   PetscCall(s.grid.toWindow(n.f, w0.meanW, from));
   // The re-projected fields of a cracked node may approach each other again: the same contact

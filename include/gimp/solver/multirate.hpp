@@ -132,7 +132,8 @@ private:
   /// test added to `tally` when not null (endClasses).
   PetscErrorCode endClass(ParticleView<D> &p, const StepClock &c, int k, size_t e, double flip,
                           typename Step<D>::CheckTally *tally);
-  /// MUSL: class k's re-projection correction and the stress velocity into meanW.
+  /// MUSL: class k's re-projection correction and the stress velocity into meanW; what it took
+  /// (in field, takenBy) added to taken.
   PetscErrorCode correction(const StepClock &c, int k, size_t e);
   /// v's values from `from` on (this rank's part) set to zero.
   static PetscErrorCode zeroTail(Vec v, PetscInt from);
