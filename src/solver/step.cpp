@@ -105,12 +105,26 @@ template <int D> PetscErrorCode Step<D>::migrate() {
   return PETSC_SUCCESS;
 }
 
+namespace {
+
+/// The index of the level-0 cell that holds x (x fastest): the particles' sort key.
+template <int D> PetscInt64 cellIndex(const Level<D> &L, const double *x) {
+  PetscInt64 cell = 0;
+  for (int a = D - 1; a >= 0; --a)
+    cell = cell * static_cast<PetscInt64>(L.n[a]) +
+           static_cast<PetscInt64>(std::floor((x[a] - L.box[a]) * L.ih));
+  return cell;
+}
+
+} // namespace
+
 template <int D> PetscErrorCode Step<D>::sortParticles(std::vector<int> *cls, bool byCell) {
   // Each rank's particles in the order of their level-0 cell (x fastest), by id within a cell:
   // P2G and G2P then walk the nodal arrays in order, and the order depends on neither the
   // seeding nor the migrations. Every -gimp_sort_interval steps; nothing is allocated when the
   // particles are in order already. With rate classes (cls, permuted along) the class comes
-  // first; without byCell only the classes are made contiguous (partitionClasses).
+  // first; without byCell only the classes are made contiguous (partitionClasses), with it each
+  // class's range is then ordered (sortClassRanges).
   RunState<D> &s = s_;
   ParticleView<D> p;
   PetscCall(p.get(s.sw));
@@ -119,19 +133,16 @@ template <int D> PetscErrorCode Step<D>::sortParticles(std::vector<int> *cls, bo
   auto keyOf = [&](PetscInt k) {
     const PetscInt64 c = cls ? (*cls)[k] : 0;
     if (!byCell) return Key{c, 0, k};
-    PetscInt64 cell = 0;
-    for (int a = D - 1; a >= 0; --a)
-      cell = cell * static_cast<PetscInt64>(L.n[a]) +
-             static_cast<PetscInt64>(std::floor((p.x[D * k + a] - L.box[a]) * L.ih));
-    return Key{c, cell, p.id[k]};
+    return Key{c, cellIndex(L, p.x + D * k), p.id[k]};
   };
   bool sorted = true;
   for (PetscInt k = 1; k < p.n && sorted; ++k)
     sorted = keyOf(k - 1) < keyOf(k);
   if (sorted) return p.restore(s.sw);
-  if (cls && !byCell) { // a few particles changed class: they alone move
+  if (cls) { // a few particles changed class: they alone move
     PetscCall(p.restore(s.sw));
-    return partitionClasses(*cls);
+    if (!std::is_sorted(cls->begin(), cls->end())) PetscCall(partitionClasses(*cls));
+    return byCell ? sortClassRanges(*cls) : PETSC_SUCCESS;
   }
   s.st.release(); // the last step's stencils: room for the keys and the permutation buffer
   std::vector<std::pair<Key, PetscInt>> key(static_cast<size_t>(p.n));
@@ -143,13 +154,40 @@ template <int D> PetscErrorCode Step<D>::sortParticles(std::vector<int> *cls, bo
   for (size_t k = 0; k < order.size(); ++k)
     order[k] = key[k].second;
   key = {};
-  PetscCall(permuteSwarm<D>(s.sw, order));
-  if (cls) {
-    const std::vector<int> was = *cls;
-    for (size_t k = 0; k < order.size(); ++k)
-      (*cls)[k] = was[order[k]];
+  return permuteSwarm<D>(s.sw, order);
+}
+
+template <int D> PetscErrorCode Step<D>::sortClassRanges(const std::vector<int> &cls) {
+  // The classes are contiguous and in order (cls sorted): each class's range in the order of
+  // (cell, id) where it is not in it already. The particles end in the order of the sort by
+  // (class, cell, id), the ids being unique, and only those out of place move: the classes that
+  // kept their particles keep their order.
+  RunState<D> &s = s_;
+  ParticleView<D> p;
+  PetscCall(p.get(s.sw));
+  const Level<D> &L = s.grid.levels[0];
+  using Key = std::array<PetscInt64, 2>;
+  auto keyOf = [&](PetscInt k) { return Key{cellIndex(L, p.x + D * k), p.id[k]}; };
+  std::vector<PetscInt> at, from;
+  std::vector<std::pair<Key, PetscInt>> key;
+  for (PetscInt b = 0, e = 0; b < p.n; b = e) {
+    e = static_cast<PetscInt>(std::upper_bound(cls.begin() + b, cls.end(), cls[b]) - cls.begin());
+    bool sorted = true;
+    for (PetscInt k = b + 1; k < e && sorted; ++k)
+      sorted = keyOf(k - 1) < keyOf(k);
+    if (sorted) continue;
+    key.resize(static_cast<size_t>(e - b));
+    for (PetscInt k = b; k < e; ++k)
+      key[k - b] = {keyOf(k), k};
+    std::sort(key.begin(), key.end());
+    for (PetscInt j = b; j < e; ++j)
+      if (key[j - b].second != j) {
+        at.push_back(j);
+        from.push_back(key[j - b].second);
+      }
   }
-  return PETSC_SUCCESS;
+  PetscCall(p.restore(s.sw));
+  return at.empty() ? PETSC_SUCCESS : permuteSwarmAt<D>(s.sw, at, from);
 }
 
 template <int D> PetscErrorCode Step<D>::partitionClasses(std::vector<int> &cls) {

@@ -46,6 +46,9 @@ public:
   /// Make the rate classes `cls` contiguous and in order by moving only the particles outside
   /// their class's range (sortParticles without byCell).
   PetscErrorCode partitionClasses(std::vector<int> &cls);
+  /// With the classes `cls` contiguous and in order: each class's range ordered by level-0 cell,
+  /// then id, moving only the particles out of place (sortParticles with byCell).
+  PetscErrorCode sortClassRanges(const std::vector<int> &cls);
   PetscErrorCode buildStencils(const ParticleView<D> &p, const double *centres);
   /// Where the stencils are centred: the positions, or (2D) tracking::domainCentres, copied when
   /// the affine transfer needs the centres after G2P has moved the particles.
