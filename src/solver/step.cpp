@@ -139,7 +139,7 @@ template <int D> PetscErrorCode Step<D>::sortParticles(std::vector<int> *cls, bo
   for (PetscInt k = 1; k < p.n && sorted; ++k)
     sorted = keyOf(k - 1) < keyOf(k);
   if (sorted) return p.restore(s.sw);
-  if (cls) { // a few particles changed class: they alone move
+  if (cls) { // the particles that changed class move, then (byCell) those out of place
     PetscCall(p.restore(s.sw));
     if (!std::is_sorted(cls->begin(), cls->end())) PetscCall(partitionClasses(*cls));
     return byCell ? sortClassRanges(*cls) : PETSC_SUCCESS;
