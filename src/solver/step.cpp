@@ -144,7 +144,8 @@ template <int D> PetscErrorCode Step<D>::sortParticles(std::vector<int> *cls, bo
   if (sorted) return p.restore(s.sw);
   if (cls) { // the particles that changed class move, then (byCell) those out of place
     PetscCall(p.restore(s.sw));
-    if (!std::is_sorted(cls->begin(), cls->end())) PetscCall(partitionClasses(*cls));
+    // (without byCell the test above was this one)
+    if (!byCell || !std::is_sorted(cls->begin(), cls->end())) PetscCall(partitionClasses(*cls));
     return byCell ? sortClassRanges(*cls) : PETSC_SUCCESS;
   }
   s.st.release(); // the last step's stencils: room for the keys and the permutation buffer
