@@ -9,14 +9,20 @@ the tip with a margin of 4 mm). The grids:
   - fixed:        a fixed 1 mm box from x = 40 to 84 mm, y = 2 to 22 mm, that holds the whole 22 mm
                   of growth with its J domains;
   - uniform:      1 mm cells everywhere (the level-1 box over the whole beam).
+With --scene dcb_growth3 (options/dcb_growth3.opts: a third level, 0.5 mm cells in an 8 x 8 mm box
+that follows the tip inside the 1 mm box) the grids are the same three levels following, kept,
+fixed (1 mm from x = 40 to 84 mm, y = 2 to 22 mm; 0.5 mm from x = 44 to 78 mm, y = 6 to 18 mm,
+which holds the tip's 5 mm J domain all along the path) and uniform 0.5 mm.
 Each run is timed (summary.json: cpu_seconds, wall_seconds) with its particle count at the end,
 and its P(a) (the load at which a crack of length a starts to grow, as tests/check_dcb_growth.py
 reads it) is compared with corrected beam theory and with the uniform grid's, and its tip path
 with the uniform grid's. One run at a time, on one rank; the machine line is printed first.
 
-    /usr/bin/python3 bench/dcb_follow.py [--gimp build/gimp] [--work /tmp/dcb_follow] [--reuse]
+    /usr/bin/python3 bench/dcb_follow.py [--scene dcb_growth|dcb_growth3] [--gimp build/gimp]
+                                         [--work /tmp/dcb_follow] [--reuse]
 
-It writes docs/img/dcb_follow.png (P(a) of each grid against corrected beam theory).
+It writes docs/img/dcb_follow.png (dcb_follow3.png with dcb_growth3: P(a) of each grid against
+corrected beam theory).
 """
 import argparse
 import json
@@ -30,24 +36,35 @@ sys.path.insert(0, os.path.join(ROOT, "tests"))
 import gimptest  # noqa: E402
 from check_dcb_growth import beam, growth_points  # noqa: E402
 
-# (options, whether the box follows the tip: the fixed grids drop the scene's follow options)
-GRIDS = {
-    "follow": ([], True),
-    "keep": (["-gimp_follow_merge", "false"], True),
-    "fixed": (["-gimp_level1_box", "0.040,0.002,0.084,0.022"], False),
-    "uniform": (["-gimp_level1_box", "0,0,0.1,0.024"], False),
+# Per scene: its finest cell [m] and its grids, each (options, whether the boxes follow the tip:
+# the fixed grids drop the scene's follow options).
+BEAM = "0,0,0.1,0.024"
+SCENES = {
+    "dcb_growth": (1e-3, {
+        "follow": ([], True),
+        "keep": (["-gimp_follow_merge", "false"], True),
+        "fixed": (["-gimp_level1_box", "0.040,0.002,0.084,0.022"], False),
+        "uniform": (["-gimp_level1_box", BEAM], False),
+    }),
+    "dcb_growth3": (0.5e-3, {
+        "follow": ([], True),
+        "keep": (["-gimp_follow_merge", "false"], True),
+        "fixed": (["-gimp_level1_box", "0.040,0.002,0.084,0.022",
+                   "-gimp_level2_box", "0.044,0.006,0.078,0.018"], False),
+        "uniform": (["-gimp_level1_box", BEAM, "-gimp_level2_box", BEAM], False),
+    }),
 }
 
 
-def scene_file(work, follows):
+def scene_file(work, scene, follows):
     """The scene, or a copy without its follow options."""
-    src = os.path.join(ROOT, "options", "dcb_growth.opts")
+    src = os.path.join(ROOT, "options", scene + ".opts")
     if follows:
         return src
     os.makedirs(work, exist_ok=True)
-    dst = os.path.join(work, "dcb_growth_fixed.opts")
+    dst = os.path.join(work, scene + "_fixed.opts")
     with open(src) as f, open(dst, "w") as g:
-        g.writelines(l for l in f if not l.startswith("-gimp_level1_follow"))
+        g.writelines(l for l in f if not (l.startswith("-gimp_level") and "_follow" in l))
     return dst
 
 
@@ -73,17 +90,22 @@ def plot(res, path):
 
 def main():
     ap = argparse.ArgumentParser()
+    ap.add_argument("--scene", default="dcb_growth", choices=sorted(SCENES))
     ap.add_argument("--gimp", default=os.path.join(ROOT, "build", "gimp"))
-    ap.add_argument("--work", default="/tmp/dcb_follow")
-    ap.add_argument("--plot", default=os.path.join(ROOT, "docs", "img", "dcb_follow.png"))
+    ap.add_argument("--work", help="default /tmp/dcb_follow (/tmp/dcb_follow3 with dcb_growth3)")
+    ap.add_argument("--plot", help="default docs/img/dcb_follow.png (dcb_follow3.png)")
     ap.add_argument("--reuse", action="store_true",
                     help="read the runs already in --work instead of running them")
     a = ap.parse_args()
+    tag = "" if a.scene == "dcb_growth" else a.scene[len("dcb_growth"):]
+    a.work = a.work or "/tmp/dcb_follow" + tag
+    a.plot = a.plot or os.path.join(ROOT, "docs", "img", "dcb_follow%s.png" % tag)
+    cell, grids = SCENES[a.scene]
     subprocess.run(["bash", os.path.join(ROOT, "bench", "machine.sh")])
     res = {}
-    for name, (extra, follows) in GRIDS.items():
+    for name, (extra, follows) in grids.items():
         out = os.path.join(a.work, name)
-        cmd = [a.gimp, "-options_file", scene_file(a.work, follows),
+        cmd = [a.gimp, "-options_file", scene_file(a.work, a.scene, follows),
                "-gimp_output_dir", out] + extra
         p = subprocess.run(cmd, capture_output=True, text=True) if not a.reuse else None
         if p is not None and p.returncode != 0:
@@ -105,11 +127,12 @@ def main():
         print("%-8s %9d %9d %10.1f %8.2f %+5.2f..%+5.2f%% %+5.2f..%+5.2f%% %14.2g" % (
             name, s["particles"], moves, s["cpu_seconds"],
             res["uniform"][0]["cpu_seconds"] / s["cpu_seconds"], 100 * min(cbt), 100 * max(cbt),
-            100 * min(vs), 100 * max(vs), path / 1e-3))
+            100 * min(vs), 100 * max(vs), path / cell))
     plot(res, a.plot)
     print("P from %.0f to %.0f mm of crack (%d points); path: the largest |y - y_uniform| at the "
-          "same a, in 1 mm cells" % (1e3 * res["uniform"][1][1][1], 1e3 * res["uniform"][1][-1][1],
-                                     len(res["uniform"][1]) - 1))
+          "same a, in finest cells (%g mm)" % (1e3 * res["uniform"][1][1][1],
+                                              1e3 * res["uniform"][1][-1][1],
+                                              len(res["uniform"][1]) - 1, 1e3 * cell))
 
 
 if __name__ == "__main__":
