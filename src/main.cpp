@@ -11,6 +11,7 @@
 #include <cctype>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <new>
 #include <set>
 #include <string>
@@ -106,6 +107,20 @@ void outOfMemory() {
   if (size > 1) MPI_Abort(PETSC_COMM_WORLD, 2);
 }
 
+/// A process that no launcher started (gimp::launcherRank() < 0) is one rank alone. Open MPI
+/// would start it as a singleton with its runtime daemon (orted) and probe the network
+/// transports (UCX) it might use to reach other processes: about 0.4 s of wall time on a 2-core
+/// machine, more than the whole setup of most scenes, for a process that talks to no other and
+/// spawns none. So it asks for neither (an isolated singleton; the ob1 transport layer, over the
+/// self and shared-memory links), unless the user set these variables; other MPI libraries read
+/// no OMPI_MCA_ variable. A run under mpiexec or srun keeps what its launcher and the user chose
+/// (docs/performance.md, *A process alone*).
+void startAlone() {
+  if (gimp::launcherRank() >= 0) return;
+  setenv("OMPI_MCA_ess_singleton_isolated", "1", 0);
+  setenv("OMPI_MCA_pml", "ob1", 0);
+}
+
 } // namespace
 
 int main(int argc, char **argv) {
@@ -129,6 +144,7 @@ int main(int argc, char **argv) {
   // The scene's options are not on the command line MPI starts with (a long scene would not
   // fit there): inserted now, in their order; they override what comes before them on the
   // expanded command line as they did there (PETSc reads no -gimp_ option while it starts).
+  startAlone();
   PetscCall(PetscInitialize(&argc, &argv, nullptr, help));
   if (const std::string full = insertSceneOptions(split.late); !full.empty()) {
     PetscMPIInt rank = 0;
