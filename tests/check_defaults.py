@@ -5,10 +5,16 @@
     elastica (the default, cpdi2: 1.4 %; the elastica itself leaves out shear and axial strain,
     about 1 % here), where -gimp_tracking stretch, the default before, is more than 3 % off;
   - -gimp_multirate true with no tracking option runs (it is not built for tracked corners, so
-    its default is stretch) on a copy of options/wave_levels.opts without its tracking line.
+    its default is stretch) on a copy of options/wave_levels.opts without its tracking line;
+  - a process that no launcher started asks Open MPI for an isolated singleton over the ob1
+    transport layer (src/main.cpp, startAlone) only where the user has not chosen: with the
+    user's own OMPI_MCA_pml naming no component, MPI's start fails (the choice was kept; ob1
+    would have run), and with the variables unset the same run succeeds.
 """
 import math
 import os
+import shutil
+import subprocess
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -55,4 +61,19 @@ method = gimptest.summary(os.path.join(args.work, "multirate"))["method"] if p.r
 c.check("multirate without a tracking option", p.returncode == 0 and method["tracking"] ==
         "stretch" and method["multirate"], "exit %d %s; summary.json method %s"
         % (p.returncode, p.stderr.strip()[-200:], method))
+
+# startAlone: the user's own Open MPI choice is kept. No launcher variables, one step of a scene.
+launched = ("OMPI_COMM_WORLD_RANK", "PMIX_RANK", "PMI_RANK")
+env = {k: v for k, v in os.environ.items() if k not in launched and not k.startswith("OMPI_MCA_")}
+cmd = [args.gimp, "-options_file", os.path.join(args.root, "options", "plate.opts"),
+       "-ts_max_steps", "1"]
+alone = subprocess.run(cmd + ["-gimp_output_dir", os.path.join(args.work, "alone")],
+                       env=env, capture_output=True, text=True)
+chosen = subprocess.run(cmd + ["-gimp_output_dir", os.path.join(args.work, "alone_pml")],
+                        env=dict(env, OMPI_MCA_pml="no_such_pml"), capture_output=True, text=True)
+openmpi = shutil.which("ompi_info") is not None  # (another MPI reads no OMPI_MCA_ variable)
+c.check("a process alone starts; the user's OMPI_MCA_pml is kept",
+        alone.returncode == 0 and (chosen.returncode != 0 or not openmpi),
+        "exit %d without the variables, %d with OMPI_MCA_pml=no_such_pml"
+        % (alone.returncode, chosen.returncode))
 c.done()
