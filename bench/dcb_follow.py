@@ -18,11 +18,12 @@ and its P(a) (the load at which a crack of length a starts to grow, as tests/che
 reads it) is compared with corrected beam theory and with the uniform grid's, and its tip path
 with the uniform grid's. One run at a time, on one rank; the machine line is printed first.
 
-    /usr/bin/python3 bench/dcb_follow.py [--scene dcb_growth|dcb_growth3] [--gimp build/gimp]
-                                         [--work /tmp/dcb_follow] [--reuse]
+    /usr/bin/python3 bench/dcb_follow.py [--scene dcb_growth|dcb_growth3] [--transfer xpic|apic]
+                                         [--gimp build/gimp] [--work /tmp/dcb_follow] [--reuse]
 
-It writes docs/img/dcb_follow.png (dcb_follow3.png with dcb_growth3: P(a) of each grid against
-corrected beam theory).
+--transfer runs every grid with that transfer instead of the scenes' PIC (-gimp_flip 0). It
+writes docs/img/dcb_follow.png (dcb_follow3.png with dcb_growth3, dcb_follow3_xpic.png with
+--transfer xpic: P(a) of each grid against corrected beam theory).
 """
 import argparse
 import json
@@ -56,15 +57,23 @@ SCENES = {
 }
 
 
-def scene_file(work, scene, follows):
-    """The scene, or a copy without its follow options."""
+def scene_file(work, scene, follows, transfer):
+    """The scene, or a copy without its follow options (fixed grids) and with another transfer
+    than its PIC (-gimp_transfer TRANSFER in place of its -gimp_transfer and -gimp_flip lines)."""
     src = os.path.join(ROOT, "options", scene + ".opts")
-    if follows:
+    if follows and not transfer:
         return src
     os.makedirs(work, exist_ok=True)
-    dst = os.path.join(work, scene + "_fixed.opts")
+    dst = os.path.join(work, scene + ("" if follows else "_fixed") + ".opts")
     with open(src) as f, open(dst, "w") as g:
-        g.writelines(l for l in f if not (l.startswith("-gimp_level") and "_follow" in l))
+        for l in f:
+            if not follows and l.startswith("-gimp_level") and "_follow" in l:
+                continue
+            if transfer and l.split()[:1] in (["-gimp_transfer"], ["-gimp_flip"]):
+                continue
+            g.write(l)
+        if transfer:
+            g.write("-gimp_transfer %s\n" % transfer)
     return dst
 
 
@@ -91,13 +100,17 @@ def plot(res, path):
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--scene", default="dcb_growth", choices=sorted(SCENES))
+    ap.add_argument("--transfer", choices=["apic", "xpic"],
+                    help="every grid with this transfer instead of the scene's PIC")
     ap.add_argument("--gimp", default=os.path.join(ROOT, "build", "gimp"))
-    ap.add_argument("--work", help="default /tmp/dcb_follow (/tmp/dcb_follow3 with dcb_growth3)")
-    ap.add_argument("--plot", help="default docs/img/dcb_follow.png (dcb_follow3.png)")
+    ap.add_argument("--work", help="default /tmp/dcb_follow, /tmp/dcb_follow3 with dcb_growth3, "
+                    "a suffix _xpic or _apic with --transfer")
+    ap.add_argument("--plot", help="default docs/img/dcb_follow.png, with the --work suffixes")
     ap.add_argument("--reuse", action="store_true",
                     help="read the runs already in --work instead of running them")
     a = ap.parse_args()
-    tag = "" if a.scene == "dcb_growth" else a.scene[len("dcb_growth"):]
+    tag = ("" if a.scene == "dcb_growth" else a.scene[len("dcb_growth"):]) + \
+        ("_" + a.transfer if a.transfer else "")
     a.work = a.work or "/tmp/dcb_follow" + tag
     a.plot = a.plot or os.path.join(ROOT, "docs", "img", "dcb_follow%s.png" % tag)
     cell, grids = SCENES[a.scene]
@@ -105,7 +118,7 @@ def main():
     res = {}
     for name, (extra, follows) in grids.items():
         out = os.path.join(a.work, name)
-        cmd = [a.gimp, "-options_file", scene_file(a.work, a.scene, follows),
+        cmd = [a.gimp, "-options_file", scene_file(a.work, a.scene, follows, a.transfer),
                "-gimp_output_dir", out] + extra
         p = subprocess.run(cmd, capture_output=True, text=True) if not a.reuse else None
         if p is not None and p.returncode != 0:
