@@ -141,10 +141,10 @@ int main(int argc, char **argv) {
   cargs.push_back(nullptr);
   argc = static_cast<int>(args.size());
   argv = cargs.data();
+  startAlone();
   // The scene's options are not on the command line MPI starts with (a long scene would not
   // fit there): inserted now, in their order; they override what comes before them on the
   // expanded command line as they did there (PETSc reads no -gimp_ option while it starts).
-  startAlone();
   PetscCall(PetscInitialize(&argc, &argv, nullptr, help));
   if (const std::string full = insertSceneOptions(split.late); !full.empty()) {
     PetscMPIInt rank = 0;
