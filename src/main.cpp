@@ -108,16 +108,16 @@ void outOfMemory() {
 }
 
 /// A process that no launcher started (gimp::launcherRank() < 0) is one rank alone. Open MPI
-/// would start it as a singleton with its runtime daemon (orted) and probe the network
-/// transports (UCX) it might use to reach other processes: about 0.4 s of wall time on a 2-core
-/// machine, more than the whole setup of most scenes, for a process that talks to no other and
-/// spawns none. So it asks for neither (an isolated singleton; the ob1 transport layer, over the
-/// self and shared-memory links), unless the user set these variables; other MPI libraries read
-/// no OMPI_MCA_ variable. A run under mpiexec or srun keeps what its launcher and the user chose
-/// (docs/performance.md, *A process alone*).
+/// would probe for it the network transports (UCX) it might use to reach other processes: about
+/// 0.25 s of wall time on a 2-core machine, more than the whole setup of most scenes, for a
+/// process that talks to no other. So it asks for the ob1 transport layer (over the self and
+/// shared-memory links), unless the user set OMPI_MCA_pml; other MPI libraries read no OMPI_MCA_
+/// variable. A run under mpiexec or srun keeps what its launcher and the user chose. (The
+/// singleton's runtime daemon is kept: an isolated singleton would skip it, but every isolated
+/// process then takes the same job id, and two at once share, and remove at their end, the
+/// session directory that MPI-IO keeps its shared file pointers in: HDF5 output fails.)
 void startAlone() {
   if (gimp::launcherRank() >= 0) return;
-  setenv("OMPI_MCA_ess_singleton_isolated", "1", 0);
   setenv("OMPI_MCA_pml", "ob1", 0);
 }
 

@@ -6,8 +6,8 @@
     about 1 % here), where -gimp_tracking stretch, the default before, is more than 3 % off;
   - -gimp_multirate true with no tracking option runs (it is not built for tracked corners, so
     its default is stretch) on a copy of options/wave_levels.opts without its tracking line;
-  - a process that no launcher started asks Open MPI for an isolated singleton over the ob1
-    transport layer (src/main.cpp, startAlone) only where the user has not chosen: with the
+  - a process that no launcher started asks Open MPI for the ob1 transport layer (src/main.cpp,
+    startAlone) only where the user has not chosen: with the
     user's own OMPI_MCA_pml naming no component, MPI's start fails (the choice was kept; ob1
     would have run), and with the variables unset the same run succeeds.
 """
