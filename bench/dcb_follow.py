@@ -35,25 +35,25 @@ import sys
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(ROOT, "tests"))
 import gimptest  # noqa: E402
-from check_dcb_growth import beam, growth_points  # noqa: E402
+from check_dcb_growth import SCENES, beam, growth_points  # noqa: E402
 
-# Per scene: its finest cell [m] and its grids, each (options, whether the boxes follow the tip:
-# the fixed grids drop the scene's follow options).
+# Per scene its grids, each (options, whether the boxes follow the tip: the fixed grids drop the
+# scene's follow options); the scene's finest cell is the check's (check_dcb_growth.SCENES).
 BEAM = "0,0,0.1,0.024"
-SCENES = {
-    "dcb_growth": (1e-3, {
+GRIDS = {
+    "dcb_growth": {
         "follow": ([], True),
         "keep": (["-gimp_follow_merge", "false"], True),
         "fixed": (["-gimp_level1_box", "0.040,0.002,0.084,0.022"], False),
         "uniform": (["-gimp_level1_box", BEAM], False),
-    }),
-    "dcb_growth3": (0.5e-3, {
+    },
+    "dcb_growth3": {
         "follow": ([], True),
         "keep": (["-gimp_follow_merge", "false"], True),
         "fixed": (["-gimp_level1_box", "0.040,0.002,0.084,0.022",
                    "-gimp_level2_box", "0.044,0.006,0.078,0.018"], False),
         "uniform": (["-gimp_level1_box", BEAM, "-gimp_level2_box", BEAM], False),
-    }),
+    },
 }
 
 
@@ -99,7 +99,7 @@ def plot(res, path):
 
 def main():
     ap = argparse.ArgumentParser()
-    ap.add_argument("--scene", default="dcb_growth", choices=sorted(SCENES))
+    ap.add_argument("--scene", default="dcb_growth", choices=sorted(GRIDS))
     ap.add_argument("--transfer", choices=["apic", "xpic"],
                     help="every grid with this transfer instead of the scene's PIC")
     ap.add_argument("--gimp", default=os.path.join(ROOT, "build", "gimp"))
@@ -113,7 +113,7 @@ def main():
         ("_" + a.transfer if a.transfer else "")
     a.work = a.work or "/tmp/dcb_follow" + tag
     a.plot = a.plot or os.path.join(ROOT, "docs", "img", "dcb_follow%s.png" % tag)
-    cell, grids = SCENES[a.scene]
+    cell, grids = SCENES[a.scene][0], GRIDS[a.scene]
     subprocess.run(["bash", os.path.join(ROOT, "bench", "machine.sh")])
     res = {}
     for name, (extra, follows) in grids.items():
