@@ -196,6 +196,30 @@ TEST(CrackScene, GrowthIncrements) {
   EXPECT_TRUE(sc.jDomain[0].clipped && sc.jDomain[1].clipped);
 }
 
+TEST(CrackScene, RoundOffModeIIGrowsStraight) {
+  // K_II at the round-off of the interaction integrals' sums (1e-11 of K_I on a mode-I tip) does
+  // not kink the crack: the new tip stays on the crack's line exactly, so a tip on a line of nodes
+  // does not drift off it increment by increment. Just above 1e-8 of K_I the kink is applied.
+  gimp::Scene<2> sc;
+  ASSERT_EQ(read("-gimp_h 0.05 -gimp_cracks 1 -gimp_crack0_points 0.3,0.2,0.5,0.2 "
+                 "-gimp_crack_growth mts -gimp_Gc 2",
+                 sc),
+            "");
+  std::vector<std::string> stops;
+  auto grown = gimp::cracks::growTips(
+      sc, {measure(sc, 0, 1.0, 1.0, 0.0), measure(sc, 1, 2.0, 4.7e4, -2.8e-7)}, 1e-3, stops);
+  ASSERT_EQ(grown.size(), 1u);
+  EXPECT_EQ(sc.cracks[0].points.back()[1], 0.2);
+  EXPECT_EQ(grown[0].kink, 0.0);
+  EXPECT_EQ(grown[0].KII, -2.8e-7); // (recorded as measured)
+  grown = gimp::cracks::growTips(
+      sc, {measure(sc, 0, 1.0, 1.0, 0.0), measure(sc, 1, 2.0, 1.0, -1.1e-8)}, 2e-3, stops);
+  ASSERT_EQ(grown.size(), 1u);
+  EXPECT_GT(sc.cracks[0].points.back()[1], 0.2); // K_II < 0: counter-clockwise, toward +y
+  EXPECT_NEAR(grown[0].kink, gimp::cracks::mtsKink(1.0, -1.1e-8) * 180.0 / 3.141592653589793,
+              1e-20);
+}
+
 TEST(CrackScene, GrowthStopsAtItsLength) {
   gimp::Scene<2> sc;
   ASSERT_EQ(read("-gimp_cracks 1 -gimp_crack0_points -0.1,0.2,0.5,0.2 -gimp_crack_growth mts "

@@ -16,6 +16,13 @@ double mtsKink(double KI, double KII) {
 
 namespace {
 
+/// K_II at or below this fraction of |K_I| is the round-off of the interaction integrals' sums
+/// (a mode-I tip reads about 1e-11 of K_I): the tip grows straight on. The kink it would give,
+/// below 2e-8 rad, moves the new tip less than 2e-8 of the increment; applied, such kinks drift a
+/// tip on a line of nodes off it by round-off, until the nodes' side of the crack flips on one
+/// face and not the other (docs/method.md, *Crack growth*).
+constexpr double kModeIIRoundoff = 1e-8;
+
 std::string fmt(double v) {
   char b[32];
   std::snprintf(b, sizeof b, "%.6g", v);
@@ -93,7 +100,9 @@ std::vector<GrowthRecord> growTips(Scene<2> &sc, const std::vector<TipMeasure> &
     const std::array<double, 2> &back = g.end == 0 ? c.points[1] : c.points[n - 2];
     const double dx = tip[0] - back[0], dy = tip[1] - back[1], len = std::hypot(dx, dy);
     const double tt[2] = {dx / len, dy / len}, nn[2] = {-tt[1], tt[0]};
-    const double theta = mtsKink(m.KI_J, m.KII_J), ct = std::cos(theta), st = std::sin(theta);
+    const double theta =
+        std::fabs(m.KII_J) <= kModeIIRoundoff * std::fabs(m.KI_J) ? 0.0 : mtsKink(m.KI_J, m.KII_J);
+    const double ct = std::cos(theta), st = std::sin(theta);
     const std::array<double, 2> x = {tip[0] + g.step * (ct * tt[0] + st * nn[0]),
                                      tip[1] + g.step * (ct * tt[1] + st * nn[1])};
     const std::string why = refusal(sc, g, tip, x);
