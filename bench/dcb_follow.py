@@ -10,7 +10,8 @@ the tip with a margin of 4 mm). The grids:
                   of growth with its J domains;
   - uniform:      1 mm cells everywhere (the level-1 box over the whole beam).
 With --scene dcb_growth3 (options/dcb_growth3.opts: a third level, 0.5 mm cells in an 8 x 8 mm box
-that follows the tip inside the 1 mm box) the grids are the same three levels following, kept,
+that follows the tip inside the 1 mm box; XPIC, and the opening rising half as fast) the grids are
+the same three levels following, kept,
 fixed (1 mm from x = 40 to 84 mm, y = 2 to 22 mm; 0.5 mm from x = 44 to 78 mm, y = 6 to 18 mm,
 which holds the tip's 5 mm J domain all along the path) and uniform 0.5 mm.
 Each run is timed (summary.json: cpu_seconds, wall_seconds) with its particle count at the end,
@@ -18,12 +19,13 @@ and its P(a) (the load at which a crack of length a starts to grow, as tests/che
 reads it) is compared with corrected beam theory and with the uniform grid's, and its tip path
 with the uniform grid's. One run at a time, on one rank; the machine line is printed first.
 
-    /usr/bin/python3 bench/dcb_follow.py [--scene dcb_growth|dcb_growth3] [--transfer xpic|apic]
+    /usr/bin/python3 bench/dcb_follow.py [--scene dcb_growth|dcb_growth3] [--transfer pic|xpic|apic]
                                          [--gimp build/gimp] [--work /tmp/dcb_follow] [--reuse]
 
---transfer runs every grid with that transfer instead of the scenes' PIC (-gimp_flip 0). It
-writes docs/img/dcb_follow.png (dcb_follow3.png with dcb_growth3, dcb_follow3_xpic.png with
---transfer xpic: P(a) of each grid against corrected beam theory).
+--transfer runs every grid with that transfer instead of the scene's (dcb_growth: PIC, that is
+-gimp_transfer flip -gimp_flip 0; dcb_growth3: XPIC). It writes docs/img/dcb_follow.png
+(dcb_follow3.png with dcb_growth3, a suffix _pic, _xpic or _apic with --transfer: P(a) of each
+grid against corrected beam theory).
 """
 import argparse
 import json
@@ -59,7 +61,8 @@ GRIDS = {
 
 def scene_file(work, scene, follows, transfer):
     """The scene, or a copy without its follow options (fixed grids) and with another transfer
-    than its PIC (-gimp_transfer TRANSFER in place of its -gimp_transfer and -gimp_flip lines)."""
+    than its own (in place of its -gimp_transfer and -gimp_flip lines: -gimp_transfer TRANSFER,
+    or for pic -gimp_transfer flip -gimp_flip 0)."""
     src = os.path.join(ROOT, "options", scene + ".opts")
     if follows and not transfer:
         return src
@@ -72,7 +75,9 @@ def scene_file(work, scene, follows, transfer):
             if transfer and l.split()[:1] in (["-gimp_transfer"], ["-gimp_flip"]):
                 continue
             g.write(l)
-        if transfer:
+        if transfer == "pic":
+            g.write("-gimp_transfer flip\n-gimp_flip 0\n")
+        elif transfer:
             g.write("-gimp_transfer %s\n" % transfer)
     return dst
 
@@ -100,11 +105,11 @@ def plot(res, path):
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--scene", default="dcb_growth", choices=sorted(GRIDS))
-    ap.add_argument("--transfer", choices=["apic", "xpic"],
-                    help="every grid with this transfer instead of the scene's PIC")
+    ap.add_argument("--transfer", choices=["pic", "apic", "xpic"],
+                    help="every grid with this transfer instead of the scene's")
     ap.add_argument("--gimp", default=os.path.join(ROOT, "build", "gimp"))
     ap.add_argument("--work", help="default /tmp/dcb_follow, /tmp/dcb_follow3 with dcb_growth3, "
-                    "a suffix _xpic or _apic with --transfer")
+                    "a suffix _pic, _xpic or _apic with --transfer")
     ap.add_argument("--plot", help="default docs/img/dcb_follow.png, with the --work suffixes")
     ap.add_argument("--reuse", action="store_true",
                     help="read the runs already in --work instead of running them")
