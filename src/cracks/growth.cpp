@@ -19,8 +19,8 @@ namespace {
 /// K_II at or below this fraction of |K_I| is the round-off of the interaction integrals' sums
 /// (a mode-I tip reads about 1e-11 of K_I): the tip grows straight on. The kink it would give,
 /// below 2e-8 rad, moves the new tip less than 2e-8 of the increment; applied, such kinks drift a
-/// tip on a line of nodes off it by round-off, until the nodes' side of the crack flips on one
-/// face and not the other (docs/method.md, *Crack growth*).
+/// tip on a line of nodes off it by round-off, until the two faces no longer meet those nodes
+/// alike and the tip's fields lose their symmetry (docs/method.md, *Crack growth*).
 constexpr double kModeIIRoundoff = 1e-8;
 
 std::string fmt(double v) {
