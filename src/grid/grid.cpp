@@ -414,6 +414,15 @@ template <int D> PetscErrorCode Grid<D>::createScatter(MPI_Comm comm) {
   PetscCall(VecSetBlockSize(windowTemplate_, D));
   PetscCall(DMGetGlobalVector(dm, &g));
   PetscCall(VecScatterCreate(g, is, windowTemplate_, nullptr, &scatter_));
+  // One rank holding every node: the window is the global Vec's array slot for slot, and a move
+  // is a loop over the two arrays (the same sums, in the same order, as the scatter's).
+  PetscInt lo = 0, hi = 0;
+  PetscCall(VecGetOwnershipRange(g, &lo, &hi));
+  int same = hi - lo == D * nSlots;
+  for (PetscInt i = 0; i < nSlots && same; ++i)
+    same = blocks[i] == lo / D + i;
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &same, 1, MPI_INT, MPI_LAND, comm));
+  windowIsLocal_ = same != 0;
   PetscCall(DMRestoreGlobalVector(dm, &g));
   PetscCall(ISDestroy(&is));
   return PETSC_SUCCESS;
@@ -449,6 +458,32 @@ template <int D> PetscErrorCode Grid<D>::createWindowVec(Vec *v) const {
   return PETSC_SUCCESS;
 }
 
+namespace {
+PetscErrorCode zeroFrom(Vec v, PetscInt from) {
+  PetscInt n = 0;
+  PetscScalar *a = nullptr;
+  PetscCall(VecGetLocalSize(v, &n));
+  PetscCall(VecGetArray(v, &a));
+  std::fill(a + std::min(from, n), a + n, 0.0);
+  PetscCall(VecRestoreArray(v, &a));
+  return PETSC_SUCCESS;
+}
+} // namespace
+
+template <int D>
+PetscErrorCode Grid<D>::startSum(Vec window, Vec global, Vec *sum, int from,
+                                 PetscInt zeroFrom_) const {
+  PetscCall(zeroFrom(global, zeroFrom_ >= 0 ? zeroFrom_ : localLevelStart(from)));
+  *sum = windowIsLocal_ ? global : window;
+  if (!windowIsLocal_) PetscCall(zeroFrom(window, windowLevelStart(from)));
+  return PETSC_SUCCESS;
+}
+
+template <int D> PetscErrorCode Grid<D>::endSum(Vec window, Vec global, int from) const {
+  if (!windowIsLocal_) PetscCall(addFromWindow(window, global, from));
+  return PETSC_SUCCESS;
+}
+
 template <int D>
 PetscErrorCode Grid<D>::fromWindow(Vec window, Vec global, InsertMode mode, int from) const {
   return move(window, global, mode, SCATTER_REVERSE, from);
@@ -462,6 +497,29 @@ template <int D>
 PetscErrorCode Grid<D>::move(Vec window, Vec global, InsertMode mode, ScatterMode dir,
                              int from) const {
   const bool forward = dir == SCATTER_FORWARD;
+  if (windowIsLocal_ && (mode == INSERT_VALUES || mode == ADD_VALUES || mode == MAX_VALUES)) {
+    const PetscInt i0 = windowLevelStart(from), n = D * nSlots;
+    const PetscScalar *x = nullptr;
+    PetscScalar *y = nullptr;
+    PetscInt nw = 0, ng = 0;
+    PetscCall(VecGetLocalSize(window, &nw));
+    PetscCall(VecGetLocalSize(global, &ng));
+    PetscCheck(nw == n && ng == n, PETSC_COMM_SELF, PETSC_ERR_ARG_SIZ,
+               "a move between the window and a global Vec of another layout");
+    PetscCall(VecGetArrayRead(forward ? global : window, &x));
+    PetscCall(VecGetArray(forward ? window : global, &y));
+    if (mode == INSERT_VALUES)
+      std::copy(x + i0, x + n, y + i0);
+    else if (mode == ADD_VALUES)
+      for (PetscInt i = i0; i < n; ++i)
+        y[i] += x[i];
+    else
+      for (PetscInt i = i0; i < n; ++i)
+        y[i] = std::max(y[i], x[i]);
+    PetscCall(VecRestoreArray(forward ? window : global, &y));
+    PetscCall(VecRestoreArrayRead(forward ? global : window, &x));
+    return PETSC_SUCCESS;
+  }
   if (from == 0) {
     PetscCall(
         VecScatterBegin(scatter_, forward ? global : window, forward ? window : global, mode, dir));

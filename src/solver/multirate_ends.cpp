@@ -35,10 +35,15 @@ PetscErrorCode MultiRate<D>::classForces(const ParticleView<D> &p, const StepClo
   int from = r.n - 1;
   for (int k = 0; k < r.n; ++k)
     if (r.size[k] > 0 && j % r.every[k] == 0) from = std::min(from, restricted(k) ? r.from[k] : 0);
-  PetscCall(VecZeroEntries(n.f));
+  // The impulse rule sums the classes' impulses into `sum` (Grid::startSum: the window, or
+  // nodal.f itself on one rank); nodal.f is zero before the levels from.
+  Vec sum = nullptr;
+  if (!nodeRule)
+    PetscCall(s.grid.startSum(n.sumW, n.f, &sum, from, 0));
+  else
+    PetscCall(VecZeroEntries(n.f));
   // (the impulse rule books each class's external work from its own sums: no nodal.fext)
   if (external && nodeRule) PetscCall(VecZeroEntries(n.fext));
-  if (!nodeRule) PetscCall(zeroTail(n.sumW, s.grid.windowLevelStart(from)));
   PetscInt nw = 0;
   PetscCall(VecGetLocalSize(w0, &nw));
   for (int k = 0; k < r.n; ++k) {
@@ -58,12 +63,12 @@ PetscErrorCode MultiRate<D>::classForces(const ParticleView<D> &p, const StepClo
     PetscCall(zeroTail(w0, wk));
     PetscCall(VecGetArray(w0, &w));
     step_.internalForce(r.st[k], q.n, q.V, q.s, w);
-    if (!nodeRule) { // the impulse m_c f_c, summed on the window (m_c a power of 2: exact)
-      PetscScalar *sum = nullptr;
-      PetscCall(VecGetArray(n.sumW, &sum));
+    if (!nodeRule) { // the impulse m_c f_c, summed (m_c a power of 2: exact)
+      PetscScalar *a = nullptr;
+      PetscCall(VecGetArray(sum, &a));
       for (PetscInt i = wk; i < nw; ++i)
-        sum[i] += mk * w[i];
-      PetscCall(VecRestoreArray(n.sumW, &sum));
+        a[i] += mk * w[i];
+      PetscCall(VecRestoreArray(sum, &a));
     }
     PetscCall(VecRestoreArray(w0, &w));
     if (nodeRule) {
@@ -80,7 +85,7 @@ PetscErrorCode MultiRate<D>::classForces(const ParticleView<D> &p, const StepClo
       PetscCall(VecGetArray(w0, &w));
       s.boundary.externalForces(s.sc, s.grid, r.st[k], q, c.t, w, scale);
       PetscCall(VecRestoreArray(w0, &w));
-      if (!nodeRule) PetscCall(VecAXPY(n.sumW, mk, w0));
+      if (!nodeRule) PetscCall(VecAXPY(sum, mk, w0));
       r.fextZero[k] = 0;
       PetscCall(VecZeroEntries(sums_.fext[k]));
       PetscCall(s.grid.addFromWindow(w0, sums_.fext[k]));
@@ -92,7 +97,7 @@ PetscErrorCode MultiRate<D>::classForces(const ParticleView<D> &p, const StepClo
     if (nodeRule) PetscCall(deliverNodeRule(k, j, c.kick, external));
   }
   if (!nodeRule) {
-    PetscCall(s.grid.addFromWindow(n.sumW, n.f, from));
+    PetscCall(s.grid.endSum(n.sumW, n.f, from));
   } else if (c.kick != 1.0) { // the RHS applies the sub-step's kick weight again: undo it here
     PetscCall(VecScale(n.f, 1.0 / c.kick));
     if (external) PetscCall(VecScale(n.fext, 1.0 / c.kick));
@@ -376,10 +381,13 @@ PetscErrorCode MultiRate<D>::endClass(ParticleView<D> &p, const StepClock &c, in
       w = w0.meanW;
     }
   }
+  // MUSL: the class's new momenta, summed into w0.corr (Grid::startSum; its mean velocity is on
+  // meanW now) for its correction.
   PetscScalar *mom = nullptr;
+  Vec sum = nullptr;
   if (musl) {
-    PetscCall(zeroTail(n.sumW, windowFrom(k)));
-    PetscCall(VecGetArray(n.sumW, &mom));
+    PetscCall(s.grid.startSum(n.sumW, w0.corr, &sum, from, i0));
+    PetscCall(VecGetArray(sum, &mom));
   }
   const PetscScalar *ug = nullptr, *wg = nullptr;
   PetscCall(VecGetArrayRead(u, &ug));
@@ -387,7 +395,7 @@ PetscErrorCode MultiRate<D>::endClass(ParticleView<D> &p, const StepClock &c, in
   step_.gridToParticlesRated(r.st[k], q, ug, wg, every * c.dt, flip, mom);
   PetscCall(VecRestoreArrayRead(w, &wg));
   PetscCall(VecRestoreArrayRead(u, &ug));
-  if (musl) PetscCall(VecRestoreArray(n.sumW, &mom));
+  if (musl) PetscCall(VecRestoreArray(sum, &mom));
   // What the class took from the nodes, summed over the ending classes into taken (zero before
   // the levels of the first: endClasses); with MUSL into field first, which its correction
   // reads and adds to taken.
@@ -422,8 +430,7 @@ template <int D> PetscErrorCode MultiRate<D>::correction(const StepClock &c, int
   PetscCall(VecGetLocalSize(n.P, &nloc));
   const int from = r_.from[k];
   const PetscInt i0 = localFrom(k);
-  PetscCall(zeroTail(w0.corr, i0));
-  PetscCall(s.grid.addFromWindow(n.sumW, w0.corr, from));
+  PetscCall(s.grid.endSum(n.sumW, w0.corr, from)); // (the class's new momenta: endClass)
   Vec vsv = r_.every[k] > 1 ? sums_.vsum[k] : n.vel;
   const PetscScalar *t = nullptr, *im = nullptr, *vs = nullptr;
   PetscScalar *cr = nullptr, *cs = nullptr, *sf = nullptr, *tk = nullptr;

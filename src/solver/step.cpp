@@ -252,37 +252,32 @@ PetscErrorCode Step<D>::forces(const ParticleView<D> &p, const StepClock &c, Sta
   Nodal &n = s.nodal;
   PetscCall(PetscLogStagePush(s.stages.forces));
   PetscScalar *f = nullptr;
-  PetscCall(VecZeroEntries(n.sumW));
-  PetscCall(VecGetArray(n.sumW, &f));
+  const bool external = s.boundary.active();
+  Vec sum = nullptr, ext = nullptr;
+  PetscCall(s.grid.startSum(n.sumW, n.f, &sum));
+  PetscCall(VecGetArray(sum, &f));
   internalForce(s.st, p.n, p.V, p.s, f);
-  if (s.boundary.active()) {
+  if (external) {
     PetscScalar *fe = nullptr;
-    PetscCall(VecZeroEntries(n.extW));
-    PetscCall(VecGetArray(n.extW, &fe));
+    PetscCall(s.grid.startSum(n.extW, n.fext, &ext));
+    PetscCall(VecGetArray(ext, &fe));
     s.boundary.externalForces(s.sc, s.grid, s.st, p, c.t, fe);
     for (PetscInt i = 0; i < D * s.grid.nSlots; ++i)
       f[i] += fe[i];
-    PetscCall(VecRestoreArray(n.extW, &fe));
+    PetscCall(VecRestoreArray(ext, &fe));
   }
-  PetscCall(VecRestoreArray(n.sumW, &f));
-  PetscCall(globalForces(power));
+  PetscCall(VecRestoreArray(sum, &f));
+  if (external) PetscCall(s.grid.endSum(n.extW, n.fext));
+  PetscCall(s.grid.endSum(n.sumW, n.f));
+  PetscCall(startPower(power, external));
   PetscCall(PetscLogStagePop());
   return PETSC_SUCCESS;
 }
 
-template <int D> PetscErrorCode Step<D>::globalForces(StartPower &power, bool external) {
-  // The window's forces (nodal.sumW, the external part in nodal.extW) summed over the ranks
-  // into nodal.f and nodal.fext; the power of the damping and external forces at the start.
-  // Without `external` (the multi-rate step keeps each class's own) no nodal.fext.
+template <int D> PetscErrorCode Step<D>::startPower(StartPower &power, bool external) {
+  // The power of the damping and, with `external`, of the external forces at the step's start.
   RunState<D> &s = s_;
   Nodal &n = s.nodal;
-  external = external && s.boundary.active();
-  if (external) {
-    PetscCall(VecZeroEntries(n.fext));
-    PetscCall(s.grid.addFromWindow(n.extW, n.fext));
-  }
-  PetscCall(VecZeroEntries(n.f));
-  PetscCall(s.grid.addFromWindow(n.sumW, n.f));
   if (s.sc.damping > 0) {
     PetscScalar pv = 0;
     PetscCall(VecDot(n.P, n.vel, &pv));
@@ -381,7 +376,7 @@ PetscErrorCode Step<D>::stress(const Stencils<D> &st, ParticleView<D> &p, Vec ve
                                        const double *, double *) const;                            \
   template PetscErrorCode Step<D>::forces(const ParticleView<D> &, const StepClock &,              \
                                           StartPower &);                                           \
-  template PetscErrorCode Step<D>::globalForces(StartPower &, bool);                               \
+  template PetscErrorCode Step<D>::startPower(StartPower &, bool);                                 \
   template PetscErrorCode Step<D>::gridUpdate(bool);                                               \
   template PetscErrorCode Step<D>::work(const StepClock &, const StartPower &, bool);              \
   template PetscErrorCode Step<D>::stress(const Stencils<D> &, ParticleView<D> &, Vec, double,     \

@@ -67,17 +67,16 @@ PetscErrorCode Step<D>::particlesToGrid(const ParticleView<D> &p, const double *
   RunState<D> &s = s_;
   Nodal &n = s.nodal;
   PetscScalar *mom = nullptr, *mass = nullptr;
-  PetscCall(VecZeroEntries(n.sumW));
-  PetscCall(VecZeroEntries(n.massW));
-  PetscCall(VecGetArray(n.sumW, &mom));
-  PetscCall(VecGetArray(n.massW, &mass));
+  Vec momSum = nullptr, massSum = nullptr;
+  PetscCall(s.grid.startSum(n.sumW, n.P, &momSum));
+  PetscCall(s.grid.startSum(n.massW, n.mass, &massSum));
+  PetscCall(VecGetArray(momSum, &mom));
+  PetscCall(VecGetArray(massSum, &mass));
   projectMomentum(s.st, p, centres, mom, mass);
-  PetscCall(VecRestoreArray(n.massW, &mass));
-  PetscCall(VecRestoreArray(n.sumW, &mom));
-  PetscCall(VecZeroEntries(n.P));
-  PetscCall(s.grid.addFromWindow(n.sumW, n.P));
-  PetscCall(VecZeroEntries(n.mass));
-  PetscCall(s.grid.addFromWindow(n.massW, n.mass));
+  PetscCall(VecRestoreArray(massSum, &mass));
+  PetscCall(VecRestoreArray(momSum, &mom));
+  PetscCall(s.grid.endSum(n.sumW, n.P));
+  PetscCall(s.grid.endSum(n.massW, n.mass));
   PetscCall(physics::massMask(n.mass, n.bcMask, s.sc.massCutoff * s.meanParticleMass, n.mask,
                               n.invMass, D));
   PetscCall(VecPointwiseMult(n.P, n.P, n.mask));
@@ -102,12 +101,12 @@ template <int D> PetscErrorCode Step<D>::xpicFilter(const ParticleView<D> &p, co
     PetscCall(VecGetArrayRead(n.vstarW, &t));
     transfer::interpolate<D>(s.st, p.n, t, xpicVp_.data());
     PetscCall(VecRestoreArrayRead(n.vstarW, &t));
-    PetscCall(VecZeroEntries(n.sumW));
-    PetscCall(VecGetArray(n.sumW, &mom));
+    Vec sum = nullptr; // (n.f is free after the grid update: Q t)
+    PetscCall(s.grid.startSum(n.sumW, n.f, &sum));
+    PetscCall(VecGetArray(sum, &mom));
     transfer::particlesToGrid<D>(s.st, p.n, p.m, xpicVp_.data(), mom, nullptr);
-    PetscCall(VecRestoreArray(n.sumW, &mom));
-    PetscCall(VecZeroEntries(n.f)); // free after the grid update: Q t
-    PetscCall(s.grid.addFromWindow(n.sumW, n.f));
+    PetscCall(VecRestoreArray(sum, &mom));
+    PetscCall(s.grid.endSum(n.sumW, n.f));
     PetscCall(VecPointwiseMult(n.f, n.f, n.invMass));
     PetscCall(VecAXPY(n.term, -1.0, n.f)); // (I - Q) t
     PetscCall(VecAXPY(n.vstar, 1.0, n.term));
@@ -172,9 +171,10 @@ PetscErrorCode Step<D>::gridToParticles(ParticleView<D> &p, const StepClock &c,
   // with the same stencil right after its G2P, in one pass over the particles.
   const bool fused = reprojects && !xpic;
   PetscScalar *mom = nullptr;
+  Vec sum = nullptr; // (the re-projection's sum ends in n.acc: free once accW holds it)
   if (fused) {
-    PetscCall(VecZeroEntries(n.sumW));
-    PetscCall(VecGetArray(n.sumW, &mom));
+    PetscCall(s.grid.startSum(n.sumW, n.acc, &sum));
+    PetscCall(VecGetArray(sum, &mom));
   }
   if (xpic) {
     const PetscScalar *vs = nullptr;
@@ -184,7 +184,7 @@ PetscErrorCode Step<D>::gridToParticles(ParticleView<D> &p, const StepClock &c,
   } else {
     gridToParticlesKernel(p, c, centres, vg, ag, fused, mom);
   }
-  if (fused) PetscCall(VecRestoreArray(n.sumW, &mom));
+  if (fused) PetscCall(VecRestoreArray(sum, &mom));
   PetscCall(VecRestoreArrayRead(n.accW, &ag));
   PetscCall(VecRestoreArrayRead(n.velW, &vg));
   if (reprojects) PetscCall(reproject(p, c, centres, fused));
@@ -201,15 +201,15 @@ PetscErrorCode Step<D>::reproject(ParticleView<D> &p, const StepClock &c, const 
   // node that a particle barely touches (tiny mass, huge F / m) cannot throw a corner away.
   RunState<D> &s = s_;
   Nodal &n = s.nodal;
-  if (!projected) { // (else G2P put the momenta on the window already)
+  if (!projected) { // (else G2P made the sums already: Step::gridToParticles)
     PetscScalar *mom = nullptr;
-    PetscCall(VecZeroEntries(n.sumW));
-    PetscCall(VecGetArray(n.sumW, &mom));
+    Vec sum = nullptr;
+    PetscCall(s.grid.startSum(n.sumW, n.acc, &sum));
+    PetscCall(VecGetArray(sum, &mom));
     projectMomentum(s.st, p, centres, mom, nullptr);
-    PetscCall(VecRestoreArray(n.sumW, &mom));
+    PetscCall(VecRestoreArray(sum, &mom));
   }
-  PetscCall(VecZeroEntries(n.acc));
-  PetscCall(s.grid.addFromWindow(n.sumW, n.acc));
+  PetscCall(s.grid.endSum(n.sumW, n.acc));
   PetscCall(VecPointwiseMult(n.acc, n.acc, n.invMass));
   PetscCall(s.grid.toWindow(n.acc, n.accW));
   // The re-projected fields of a cracked node may approach each other again: the same contact

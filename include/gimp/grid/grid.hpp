@@ -121,6 +121,15 @@ public:
   PetscErrorCode addFromWindow(Vec window, Vec global, int from = 0) const {
     return fromWindow(window, global, ADD_VALUES, from);
   }
+  /// Sums made on the window that end in a global Vec (P2G, forces). startSum zeroes `global`
+  /// on this rank from value zeroFrom on (-1: the levels from `from` on) and gives in *sum the
+  /// Vec to add into on the levels from `from` on: the window, zeroed there, or `global` itself
+  /// where the window is this rank's global array (one rank). endSum adds the window's sums over
+  /// the ranks into `global` (nothing to do on one rank). The same sums, in the same order,
+  /// either way.
+  PetscErrorCode startSum(Vec window, Vec global, Vec *sum, int from = 0,
+                          PetscInt zeroFrom = -1) const;
+  PetscErrorCode endSum(Vec window, Vec global, int from = 0) const;
   /// The first value of level a's nodes in a window array: levels a, a + 1, ... and then the
   /// crack fields fill the rest of it.
   PetscInt windowLevelStart(int a) const { return D * levels[a].offset; }
@@ -275,8 +284,8 @@ private:
     // Which state of which grid the patterns read (Stencils::patternGeneration): counted by
     // forget() from the clock's reading at construction, so that another grid's count, even at
     // the same address, is not this one's.
-    std::uint64_t generation = static_cast<std::uint64_t>(
-        std::chrono::steady_clock::now().time_since_epoch().count());
+    std::uint64_t generation =
+        static_cast<std::uint64_t>(std::chrono::steady_clock::now().time_since_epoch().count());
     // A build's particle (buildStencils sets them): its patterns of the last build, [last,
     // lastEnd), the next of them to try, and where this build's go (Stencils::patterns).
     const NodePattern *last = nullptr, *lastEnd = nullptr;
@@ -325,6 +334,7 @@ private:
   std::vector<PetscInt> crackedOfSlot_;      // index into cracked_ of each second-field slot
   std::vector<PetscInt> crackCount_;         // cracked nodes owned by each rank
   VecScatter scatter_ = nullptr;
+  bool windowIsLocal_ = false; // the window is this rank's global array (one rank): moves copy
   Vec windowTemplate_ = nullptr;
   std::vector<PetscInt> localLevelStart_; // per level, then the end: localLevelStart
   /// The window slots' composite block indices (the scatter's, slot by slot) and, with

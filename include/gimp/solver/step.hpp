@@ -72,9 +72,8 @@ public:
   void gridToParticlesRated(const Stencils<D> &st, ParticleView<D> &q, const double *ug,
                             const double *wg, double dt, double flip, double *mom);
   PetscErrorCode forces(const ParticleView<D> &p, const StepClock &c, StartPower &power);
-  /// The window's forces into nodal.f and, with `external`, nodal.fext (all ranks); the start
-  /// power.
-  PetscErrorCode globalForces(StartPower &power, bool external = true);
+  /// The power of the damping and, with `external`, of nodal.fext at the step's start.
+  PetscErrorCode startPower(StartPower &power, bool external);
   /// TSStep, the nodal velocity and acceleration (when the transfer reads it), the velocity (and
   /// acceleration) on the window.
   PetscErrorCode gridUpdate(bool accOnWindow = true);
