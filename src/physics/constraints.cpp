@@ -140,13 +140,49 @@ PetscErrorCode massMask(Vec mass, Vec bcMask, double cut, Vec mask, Vec invMass,
   PetscCall(VecGetArrayRead(bcMask, &bc));
   PetscCall(VecGetArray(mask, &mk));
   PetscCall(VecGetArray(invMass, &im));
-  for (PetscInt i = from; i < nloc; i += dof) {
-    const bool has = m[i] > cut;
+  for (PetscInt i = from; i < nloc; i += dof)
+    maskNode(m[i], bc + i, cut, dof, mk + i, im + i);
+  PetscCall(VecRestoreArray(invMass, &im));
+  PetscCall(VecRestoreArray(mask, &mk));
+  PetscCall(VecRestoreArrayRead(bcMask, &bc));
+  PetscCall(VecRestoreArrayRead(mass, &m));
+  return PETSC_SUCCESS;
+}
+
+namespace {
+template <int dof>
+void maskMomentum(PetscInt nloc, const double *m, const double *bc, double cut, double *mk,
+                  double *im, double *p, double *v) {
+  for (PetscInt i = 0; i < nloc; i += dof) {
+    maskNode(m[i], bc + i, cut, dof, mk + i, im + i);
     for (int c = 0; c < dof; ++c) {
-      mk[i + c] = has ? bc[i + c] : 0.0;
-      im[i + c] = has && bc[i + c] != 0.0 ? 1.0 / m[i] : 0.0;
+      p[i + c] *= mk[i + c];
+      v[i + c] = p[i + c] * im[i + c];
     }
   }
+}
+} // namespace
+
+PetscErrorCode massMaskMomentum(Vec mass, Vec bcMask, double cut, Vec mask, Vec invMass, Vec P,
+                                Vec vel, int dof) {
+  PetscCheck(dof == 2 || dof == 3, PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE,
+             "massMaskMomentum: dof %d (2 or 3)", dof);
+  const PetscScalar *m = nullptr, *bc = nullptr;
+  PetscScalar *mk = nullptr, *im = nullptr, *p = nullptr, *v = nullptr;
+  PetscInt nloc = 0;
+  PetscCall(VecGetLocalSize(mass, &nloc));
+  PetscCall(VecGetArrayRead(mass, &m));
+  PetscCall(VecGetArrayRead(bcMask, &bc));
+  PetscCall(VecGetArray(mask, &mk));
+  PetscCall(VecGetArray(invMass, &im));
+  PetscCall(VecGetArray(P, &p));
+  PetscCall(VecGetArray(vel, &v));
+  if (dof == 2)
+    maskMomentum<2>(nloc, m, bc, cut, mk, im, p, v);
+  else
+    maskMomentum<3>(nloc, m, bc, cut, mk, im, p, v);
+  PetscCall(VecRestoreArray(vel, &v));
+  PetscCall(VecRestoreArray(P, &p));
   PetscCall(VecRestoreArray(invMass, &im));
   PetscCall(VecRestoreArray(mask, &mk));
   PetscCall(VecRestoreArrayRead(bcMask, &bc));

@@ -305,17 +305,7 @@ PetscErrorCode MultiRate<D>::startClass(ParticleView<D> &p, int k, PetscInt j, P
   PetscCall(VecRestoreArray(momSum, &mom));
   PetscCall(s.grid.endSum(n.sumW, sums_.mom[k], from));
   PetscCall(s.grid.endSum(n.massW, sums_.mass[k], from));
-  changed = z;
-  PetscInt nloc = 0;
-  PetscScalar *P = nullptr;
-  const PetscScalar *pk = nullptr;
-  PetscCall(VecGetLocalSize(n.P, &nloc));
-  PetscCall(VecGetArray(n.P, &P));
-  PetscCall(VecGetArrayRead(sums_.mom[k], &pk));
-  for (PetscInt i = g0; i < nloc; ++i)
-    P[i] += pk[i];
-  PetscCall(VecRestoreArrayRead(sums_.mom[k], &pk));
-  PetscCall(VecRestoreArray(n.P, &P));
+  changed = z; // (its momenta join P in startNodes)
   if constexpr (D == 2)
     if (!s.sc.cracks.empty()) { // the class's crack faces, until its end
       if (sums_.faces.empty()) sums_.faces.assign(r.n, nullptr);
@@ -349,67 +339,120 @@ template <int D> PetscErrorCode MultiRate<D>::startClasses(ParticleView<D> &p, P
   // those that ended at the sub-step before, and the grid update left v = P / m. At a coarse
   // step's start everywhere (a class may have emptied).
   if (j == 0) from = 0;
-  if (from < nloc) PetscCall(classMass(from));
-  PetscScalar *P = nullptr, *v = nullptr;
-  const PetscScalar *mk = nullptr, *im = nullptr;
-  PetscCall(VecGetArray(n.P, &P));
-  PetscCall(VecGetArray(n.vel, &v));
-  PetscCall(VecGetArrayRead(n.mask, &mk));
-  PetscCall(VecGetArrayRead(n.invMass, &im));
-  for (PetscInt i = from; i < nloc; ++i) {
-    P[i] *= mk[i];
-    v[i] = P[i] * im[i];
-  }
-  PetscCall(VecRestoreArrayRead(n.invMass, &im));
-  PetscCall(VecRestoreArrayRead(n.mask, &mk));
-  PetscCall(VecRestoreArray(n.vel, &v));
-  PetscCall(VecRestoreArray(n.P, &P));
+  if (from < nloc) PetscCall(startNodes(from, j));
   PetscCall(PetscLogStagePop());
   return PETSC_SUCCESS;
 }
 
-template <int D> PetscErrorCode MultiRate<D>::classMass(PetscInt from) {
-  // The summed mass of the classes; with the node rule also each node's rate: the step of the
-  // slowest class whose mass is on it now (its anchor; 1 on an empty node). The anchor stays on
-  // the node through its own step, so the changes of the faster classes' forces
-  // (MultiRate::classForces) always find mass there.
+template <int D> PetscErrorCode MultiRate<D>::startNodes(PetscInt from, PetscInt j) {
+  // One pass over the nodes from `from` on. The starting classes' momenta join P (in class
+  // order). The nodal mass is the sum of every class's (each from its last start, in class
+  // order). With the node rule also each node's rate: the step of the slowest class whose mass is
+  // on it now (its anchor; 1 on an empty node); the anchor stays on the node through its own
+  // step, so the changes of the faster classes' forces (MultiRate::classForces) always find mass
+  // there. Then the masks (physics::maskNode), P masked and v = P / m.
   RunState<D> &s = s_;
   RateClasses<D> &r = r_;
   Nodal &n = s.nodal;
-  PetscInt nloc = 0;
-  PetscCall(VecGetLocalSize(n.mass, &nloc));
-  PetscScalar *m = nullptr, *rate = nullptr;
-  PetscCall(VecGetArray(n.mass, &m));
-  std::fill(m + from, m + nloc, 0.0);
-  if (s.sc.multirateNodeRule) {
-    PetscCall(VecGetArray(sums_.nodeRate, &rate));
-    std::fill(rate + from, rate + nloc, 1.0);
-  }
+  struct Part { // a class's nodal sums, from its first value on
+    const PetscScalar *a;
+    PetscInt from;
+    double every;
+  };
+  std::vector<Part> masses, moms;
   for (int k = 0; k < r.n; ++k) {
     if (r.size[k] == 0) continue;
-    const PetscScalar *mk = nullptr;
-    PetscCall(VecGetArrayRead(sums_.mass[k], &mk));
-    const double every = static_cast<double>(r.every[k]);
-    for (PetscInt i = std::max(from, localFrom(k)); i < nloc; i += D) { // (zero before)
-      m[i] += mk[i];
-      if (rate && mk[i] > 0)
-        for (int d = 0; d < D; ++d)
-          rate[i + d] = std::max(rate[i + d], every);
-    }
-    PetscCall(VecRestoreArrayRead(sums_.mass[k], &mk));
+    const PetscScalar *a = nullptr;
+    PetscCall(VecGetArrayRead(sums_.mass[k], &a));
+    masses.push_back({a, localFrom(k), static_cast<double>(r.every[k])});
+    if (j % r.every[k] != 0) continue;
+    PetscCall(VecGetArrayRead(sums_.mom[k], &a));
+    moms.push_back({a, localFrom(k), 0.0});
   }
+  PetscInt nloc = 0;
+  PetscCall(VecGetLocalSize(n.mass, &nloc));
+  const double cut = s.sc.massCutoff * s.meanParticleMass;
+  PetscScalar *m = nullptr, *rate = nullptr, *P = nullptr, *v = nullptr, *mk = nullptr,
+              *im = nullptr;
+  const PetscScalar *bc = nullptr;
+  PetscCall(VecGetArray(n.mass, &m));
+  if (s.sc.multirateNodeRule) PetscCall(VecGetArray(sums_.nodeRate, &rate));
+  PetscCall(VecGetArray(n.P, &P));
+  PetscCall(VecGetArray(n.vel, &v));
+  PetscCall(VecGetArray(n.mask, &mk));
+  PetscCall(VecGetArray(n.invMass, &im));
+  PetscCall(VecGetArrayRead(n.bcMask, &bc));
+  // By stretches in which the same classes have values (each class's sums are zero before its
+  // first value): the levels' starts.
+  std::vector<PetscInt> cuts = {from, nloc};
+  for (const std::vector<Part> *parts : {&masses, &moms})
+    for (const Part &c : *parts)
+      if (c.from > from && c.from < nloc) cuts.push_back(c.from);
+  std::sort(cuts.begin(), cuts.end());
+  cuts.erase(std::unique(cuts.begin(), cuts.end()), cuts.end());
+  std::vector<Part> ms, ps; // the classes with values in the stretch
+  for (size_t t = 0; t + 1 < cuts.size(); ++t) {
+    const PetscInt i0 = cuts[t], i1 = cuts[t + 1];
+    ms.clear();
+    ps.clear();
+    for (const Part &c : masses)
+      if (c.from <= i0) ms.push_back(c);
+    for (const Part &c : moms)
+      if (c.from <= i0) ps.push_back(c);
+    for (PetscInt i = i0; i < i1; i += D) {
+      for (const Part &c : ps)
+        for (int d = 0; d < D; ++d)
+          P[i + d] += c.a[i + d];
+      double mi = 0.0;
+      for (int d = 0; d < D; ++d)
+        m[i + d] = 0.0;
+      if (rate)
+        for (int d = 0; d < D; ++d)
+          rate[i + d] = 1.0;
+      for (const Part &c : ms) {
+        mi += c.a[i];
+        if (rate && c.a[i] > 0)
+          for (int d = 0; d < D; ++d)
+            rate[i + d] = std::max(rate[i + d], c.every);
+      }
+      m[i] = mi;
+      physics::maskNode(mi, bc + i, cut, D, mk + i, im + i);
+      for (int d = 0; d < D; ++d) {
+        P[i + d] *= mk[i + d];
+        v[i + d] = P[i + d] * im[i + d];
+      }
+    }
+  }
+  PetscCall(VecRestoreArrayRead(n.bcMask, &bc));
+  PetscCall(VecRestoreArray(n.invMass, &im));
+  PetscCall(VecRestoreArray(n.mask, &mk));
+  PetscCall(VecRestoreArray(n.vel, &v));
+  PetscCall(VecRestoreArray(n.P, &P));
   if (rate) PetscCall(VecRestoreArray(sums_.nodeRate, &rate));
   PetscCall(VecRestoreArray(n.mass, &m));
-  return physics::massMask(n.mass, n.bcMask, s.sc.massCutoff * s.meanParticleMass, n.mask,
-                           n.invMass, D, from);
+  size_t q = 0;
+  for (int k = 0; k < r.n; ++k) {
+    if (r.size[k] == 0) continue;
+    PetscCall(VecRestoreArrayRead(sums_.mass[k], &masses[q++].a));
+  }
+  q = 0;
+  for (int k = 0; k < r.n; ++k)
+    if (r.size[k] > 0 && j % r.every[k] == 0)
+      PetscCall(VecRestoreArrayRead(sums_.mom[k], &moms[q++].a));
+  return PETSC_SUCCESS;
 }
 
 template <int D> PetscErrorCode MultiRate<D>::zeroTail(Vec v, PetscInt from) {
   PetscInt nloc = 0;
-  PetscScalar *a = nullptr;
   PetscCall(VecGetLocalSize(v, &nloc));
+  return zeroRange(v, from, nloc);
+}
+
+template <int D> PetscErrorCode MultiRate<D>::zeroRange(Vec v, PetscInt from, PetscInt to) {
+  if (from >= to) return PETSC_SUCCESS;
+  PetscScalar *a = nullptr;
   PetscCall(VecGetArray(v, &a));
-  std::fill(a + from, a + nloc, 0.0);
+  std::fill(a + from, a + to, 0.0);
   PetscCall(VecRestoreArray(v, &a));
   return PETSC_SUCCESS;
 }
@@ -457,6 +500,7 @@ PetscErrorCode MultiRate<D>::classReach(const double *a, const double *b, bool a
 #define GIMP_INSTANTIATE(D)                                                                        \
   template PetscErrorCode MultiRate<D>::create(Vec);                                               \
   template PetscErrorCode MultiRate<D>::zeroTail(Vec, PetscInt);                                   \
+  template PetscErrorCode MultiRate<D>::zeroRange(Vec, PetscInt, PetscInt);                        \
   template PetscErrorCode MultiRate<D>::addTail(Vec, double, Vec, PetscInt);                       \
   template PetscErrorCode MultiRate<D>::run(StepClock &);
 GIMP_INSTANTIATE(2)

@@ -14,7 +14,7 @@ PetscErrorCode MultiRate<D>::classForces(const ParticleView<D> &p, const StepClo
                                          StartPower &power) {
   // Each starting class's force f_c (internal and external), and the sub-step's nodal force
   // from it by the rule of -gimp_multirate_forces (docs/method.md). Impulse: m_c f_c at the
-  // class's start. Node: a node of rate m_i (its anchor's step, MultiRate::classMass) takes, at
+  // class's start. Node: a node of rate m_i (its anchor's step, MultiRate::startNodes) takes, at
   // the start of each of its own steps, m_i times the force of every class that reaches it; at a
   // later start of a faster class c inside that step, m_c times the change of c's force since.
   // Either way each node gets exactly m_c dt f_c over a class's step; with the node rule, where
@@ -261,13 +261,17 @@ PetscErrorCode MultiRate<D>::endClasses(ParticleView<D> &p, const StepClock &c, 
   if (ending.size() == present.size() && present.size() > 1 && flip > 0 && flip < 1)
     PetscCall(spreadRemainder(ending, c, flip));
   // What the ending classes take and their MUSL corrections: on the levels they reach, zero
-  // before.
-  PetscInt from = 0;
-  PetscCall(VecGetLocalSize(s.nodal.P, &from));
+  // before. The first ending class writes them from its levels on (endClass); the rest is zeroed
+  // where the sub-step before left values.
+  PetscInt from = 0, nloc = 0;
+  PetscCall(VecGetLocalSize(s.nodal.P, &nloc));
+  from = nloc;
   for (int k : ending)
     from = std::min(from, localFrom(k));
-  PetscCall(zeroTail(scratch_.taken, std::min(from, scratch_.zeroFrom)));
-  if (musl) PetscCall(zeroTail(scratch_.corrSum, std::min(from, scratch_.zeroFrom)));
+  const PetscInt z0 = std::min(from, scratch_.zeroFrom);
+  const PetscInt z1 = ending.empty() ? nloc : localFrom(ending.front());
+  PetscCall(zeroRange(scratch_.taken, z0, z1));
+  if (musl) PetscCall(zeroRange(scratch_.corrSum, z0, z1));
   scratch_.zeroFrom = from;
   for (size_t e = 0; e < ending.size(); ++e)
     PetscCall(endClass(p, c, ending[e], e, flip, tally));

@@ -67,9 +67,13 @@ template <int D> PetscErrorCode Step<D>::rhs(TS ts, PetscReal, Vec X, Vec F, voi
   const RunState<D> *s = static_cast<const RunState<D> *>(ctx);
   StepClock c;
   PetscCall(readStepClock(ts, s->sc.halfStepStart, c));
-  PetscCall(VecCopy(s->nodal.f, F));
-  if (s->sc.damping > 0) PetscCall(VecAXPY(F, -s->sc.damping, X));
-  PetscCall(VecPointwiseMult(F, F, s->nodal.mask));
+  if (s->sc.damping > 0) {
+    PetscCall(VecCopy(s->nodal.f, F));
+    PetscCall(VecAXPY(F, -s->sc.damping, X));
+    PetscCall(VecPointwiseMult(F, F, s->nodal.mask));
+  } else {
+    PetscCall(VecPointwiseMult(F, s->nodal.f, s->nodal.mask));
+  }
   if (c.kick != 1.0) PetscCall(VecScale(F, c.kick));
   PetscCall(VecCopy(F, s->nodal.rhs));
   return PETSC_SUCCESS;

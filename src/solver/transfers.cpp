@@ -77,10 +77,8 @@ PetscErrorCode Step<D>::particlesToGrid(const ParticleView<D> &p, const double *
   PetscCall(VecRestoreArray(momSum, &mom));
   PetscCall(s.grid.endSum(n.sumW, n.P));
   PetscCall(s.grid.endSum(n.massW, n.mass));
-  PetscCall(physics::massMask(n.mass, n.bcMask, s.sc.massCutoff * s.meanParticleMass, n.mask,
-                              n.invMass, D));
-  PetscCall(VecPointwiseMult(n.P, n.P, n.mask));
-  PetscCall(VecPointwiseMult(n.vel, n.P, n.invMass));
+  PetscCall(physics::massMaskMomentum(n.mass, n.bcMask, s.sc.massCutoff * s.meanParticleMass,
+                                      n.mask, n.invMass, n.P, n.vel, D));
   if (s.scheme.stressBeforeGridUpdate) PetscCall(s.grid.toWindow(n.vel, n.velW));
   return PETSC_SUCCESS;
 }

@@ -19,4 +19,19 @@ PetscErrorCode nodeConstraints(const Scene<D> &sc, const Grid<D> &grid, Vec bcMa
 PetscErrorCode massMask(Vec mass, Vec bcMask, double cut, Vec mask, Vec invMass, int dof,
                         PetscInt from = 0);
 
+/// massMask and then, in the same pass, the momentum masked, P *= mask, and the velocity
+/// vel = P invMass.
+PetscErrorCode massMaskMomentum(Vec mass, Vec bcMask, double cut, Vec mask, Vec invMass, Vec P,
+                                Vec vel, int dof);
+
+/// massMask at one node: its `dof` values of mask and invMass from its mass m and bcMask bc.
+inline void maskNode(double m, const double *bc, double cut, int dof, double *mask,
+                     double *invMass) {
+  const bool has = m > cut;
+  for (int c = 0; c < dof; ++c) {
+    mask[c] = has ? bc[c] : 0.0;
+    invMass[c] = has && bc[c] != 0.0 ? 1.0 / m : 0.0;
+  }
+}
+
 } // namespace gimp::physics

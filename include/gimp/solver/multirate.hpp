@@ -101,9 +101,10 @@ private:
   /// A starting class's stencils, P2G and crack faces (startClasses, class k); `changed` is the
   /// first value of its mass and momentum that the start changed.
   PetscErrorCode startClass(ParticleView<D> &p, int k, PetscInt j, PetscInt &changed);
-  /// The summed mass of the classes, with the node rule the node rates, and the masks, from this
-  /// rank's value `from` on (before it they are as they were).
-  PetscErrorCode classMass(PetscInt from);
+  /// Sub-step j, from this rank's value `from` on (before it all is as it was), in one pass: the
+  /// starting classes' momenta added to P, the summed mass of the classes, with the node rule
+  /// the node rates, the masks, P masked and the velocity.
+  PetscErrorCode startNodes(PetscInt from, PetscInt j);
   /// The starting classes' forces, each times its step in sub-steps, into nodal.f.
   PetscErrorCode classForces(const ParticleView<D> &p, const StepClock &c, PetscInt j,
                              StartPower &power);
@@ -137,6 +138,8 @@ private:
   PetscErrorCode correction(const StepClock &c, int k, size_t e);
   /// v's values from `from` on (this rank's part) set to zero.
   static PetscErrorCode zeroTail(Vec v, PetscInt from);
+  /// v's values [from, to) (this rank's part) set to zero.
+  static PetscErrorCode zeroRange(Vec v, PetscInt from, PetscInt to);
   /// y += a x on this rank's values from `from` on (a = +-1 here: exact as VecAXPY).
   static PetscErrorCode addTail(Vec y, double a, Vec x, PetscInt from);
   /// The coarsest level that class k's particles reach, on every rank (RateClasses::from), from
