@@ -130,25 +130,6 @@ PetscErrorCode nodeConstraints(const Scene<D> &sc, const Grid<D> &grid, Vec bcMa
   return PETSC_SUCCESS;
 }
 
-PetscErrorCode massMask(Vec mass, Vec bcMask, double cut, Vec mask, Vec invMass, int dof,
-                        PetscInt from) {
-  const PetscScalar *m = nullptr, *bc = nullptr;
-  PetscScalar *mk = nullptr, *im = nullptr;
-  PetscInt nloc = 0;
-  PetscCall(VecGetLocalSize(mass, &nloc));
-  PetscCall(VecGetArrayRead(mass, &m));
-  PetscCall(VecGetArrayRead(bcMask, &bc));
-  PetscCall(VecGetArray(mask, &mk));
-  PetscCall(VecGetArray(invMass, &im));
-  for (PetscInt i = from; i < nloc; i += dof)
-    maskNode(m[i], bc + i, cut, dof, mk + i, im + i);
-  PetscCall(VecRestoreArray(invMass, &im));
-  PetscCall(VecRestoreArray(mask, &mk));
-  PetscCall(VecRestoreArrayRead(bcMask, &bc));
-  PetscCall(VecRestoreArrayRead(mass, &m));
-  return PETSC_SUCCESS;
-}
-
 namespace {
 template <int dof>
 void maskMomentum(PetscInt nloc, const double *m, const double *bc, double cut, double *mk,

@@ -13,18 +13,14 @@ namespace gimp::physics {
 template <int D>
 PetscErrorCode nodeConstraints(const Scene<D> &sc, const Grid<D> &grid, Vec bcMask);
 
-/// mask = bcMask where the node's mass exceeds `cut`, else 0; invMass = mask / m. The mass sits
-/// in component 0 of each node's `dof` values (D). From this rank's value `from` on (a multiple
-/// of dof; before it mask and invMass are left as they are).
-PetscErrorCode massMask(Vec mass, Vec bcMask, double cut, Vec mask, Vec invMass, int dof,
-                        PetscInt from = 0);
-
-/// massMask and then, in the same pass, the momentum masked, P *= mask, and the velocity
-/// vel = P invMass.
+/// mask = bcMask where the node's mass exceeds `cut`, else 0; invMass = mask / m (the mass sits
+/// in component 0 of each node's `dof` values, D); in the same pass the momentum masked,
+/// P *= mask, and the velocity vel = P invMass.
 PetscErrorCode massMaskMomentum(Vec mass, Vec bcMask, double cut, Vec mask, Vec invMass, Vec P,
                                 Vec vel, int dof);
 
-/// massMask at one node: its `dof` values of mask and invMass from its mass m and bcMask bc.
+/// The mask at one node (massMaskMomentum, MultiRate::startNodes): its `dof` values of mask and
+/// invMass from its mass m and bcMask bc.
 inline void maskNode(double m, const double *bc, double cut, int dof, double *mask,
                      double *invMass) {
   const bool has = m > cut;
