@@ -3,7 +3,8 @@
 
 Timings on this machine move by 10-30 % from minute to minute; instruction counts do not. For
 each scene this runs the single step and the per-level step (-gimp_multirate true) under
-callgrind, counting only the stepping loop (Solver::advance), and prints per fine step:
+callgrind, counting only the stepping loop (Solver::advance), twice (--steps A B fine steps) so
+that the difference leaves out what the first steps alone do, and prints per fine step:
 
   kernels   the particle kernels (stencils, P2G, forces, G2P, velocity gradient, stress update,
             checks): work that falls with the particles a sub-step moves;
@@ -18,9 +19,9 @@ that the particle kernels set (a class at a level border holds the particles wit
 which cost several times a block particle's and step more often).
 
 Usage: bench/multirate_counts.py [--scenes block3_tenth block3] [--transfer apic|flip]
-                                  [--steps 16] [--build DIR]
+                                  [--steps 8 24] [--build DIR]
 A scene is bench/NAME.opts, else options/NAME.opts. Needs valgrind; about a minute per 2D scene
-and five per 3D scene.
+and ten per 3D scene.
 """
 import argparse
 import os
@@ -49,7 +50,7 @@ def dimension(opts):
 
 
 def count(build, opts, multirate, transfer, steps, tmp):
-    tag = "%s_%s" % (os.path.basename(opts), multirate)
+    tag = "%s_%s_%d" % (os.path.basename(opts), multirate, steps)
     out = os.path.join(tmp, tag + ".cg")
     env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
     dim = dimension(opts)
@@ -75,27 +76,36 @@ def count(build, opts, multirate, transfer, steps, tmp):
             kernels += n
         else:
             nodal += n
-    return kernels / steps, nodal / steps, classes
+    return kernels, nodal, classes
+
+
+def per_step(build, opts, multirate, transfer, steps, tmp):
+    """Instructions per fine step between steps[0] and steps[1]: kernels, nodal; the classes."""
+    k0, n0, _ = count(build, opts, multirate, transfer, steps[0], tmp)
+    k1, n1, classes = count(build, opts, multirate, transfer, steps[1], tmp)
+    d = steps[1] - steps[0]
+    return (k1 - k0) / d, (n1 - n0) / d, classes
 
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--scenes", nargs="+", default=["block3_tenth", "block3"])
     ap.add_argument("--transfer", default="apic", choices=["apic", "flip"])
-    ap.add_argument("--steps", type=int, default=16, help="fine steps (a multiple of R)")
+    ap.add_argument("--steps", type=int, nargs=2, default=[8, 24],
+                    help="the two run lengths in fine steps (multiples of R)")
     ap.add_argument("--build", default=os.path.join(ROOT, "build"))
     a = ap.parse_args()
     subprocess.run([os.path.join(ROOT, "bench", "machine.sh")], check=False)
-    print("instructions per fine step [M], %s, %d fine steps (callgrind, Solver::advance)"
-          % (a.transfer.upper(), a.steps))
+    print("instructions per fine step [M], %s, fine steps %d to %d (callgrind, Solver::advance)"
+          % (a.transfer.upper(), a.steps[0], a.steps[1]))
     print("| scene | single: kernels, nodal | per-level: kernels, nodal | ratio | kernels only "
           "| work | of work |")
     print("| --- | --- | --- | --- | --- | --- | --- |")
     with tempfile.TemporaryDirectory() as tmp:
         for name in a.scenes:
             opts = scene_file(name)
-            k1, n1, _ = count(a.build, opts, "false", a.transfer, a.steps, tmp)
-            k2, n2, classes = count(a.build, opts, "true", a.transfer, a.steps, tmp)
+            k1, n1, _ = per_step(a.build, opts, "false", a.transfer, a.steps, tmp)
+            k2, n2, classes = per_step(a.build, opts, "true", a.transfer, a.steps, tmp)
             R = max(e for _, e in classes)
             work = R * sum(n for n, _ in classes) / sum(R / e * n for n, e in classes)
             ratio = (k1 + n1) / (k2 + n2)
