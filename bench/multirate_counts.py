@@ -20,8 +20,9 @@ which cost several times a block particle's and step more often).
 
 Usage: bench/multirate_counts.py [--scenes block3_tenth block3] [--transfer apic|flip]
                                   [--steps 8 24] [--build DIR]
-A scene is bench/NAME.opts, else options/NAME.opts. Needs valgrind; about a minute per 2D scene
-and ten per 3D scene.
+A scene is bench/NAME.opts, else options/NAME.opts. Needs valgrind; about two minutes per scene.
+2D only: the 3D lane kernels use vector instructions that valgrind cannot decode (3D speed-ups:
+bench/multirate.sh).
 """
 import argparse
 import os
