@@ -19,7 +19,9 @@ that the particle kernels set (a class at a level border holds the particles wit
 which cost several times a block particle's and step more often).
 
 Usage: bench/multirate_counts.py [--scenes block3_tenth block3] [--transfer apic|flip]
-                                  [--steps 8 24] [--build DIR]
+                                  [--steps 8 24] [--build DIR] [--single]
+--single counts the single step alone (any scene, e.g. --single --scenes block: the 2D default
+step of bench/block.opts).
 A scene is bench/NAME.opts, else options/NAME.opts. Needs valgrind; about two minutes per scene.
 2D only: the 3D lane kernels use vector instructions that valgrind cannot decode (3D speed-ups:
 bench/multirate.sh).
@@ -95,17 +97,25 @@ def main():
     ap.add_argument("--steps", type=int, nargs=2, default=[8, 24],
                     help="the two run lengths in fine steps (multiples of R)")
     ap.add_argument("--build", default=os.path.join(ROOT, "build"))
+    ap.add_argument("--single", action="store_true", help="the single step alone")
     a = ap.parse_args()
     subprocess.run([os.path.join(ROOT, "bench", "machine.sh")], check=False)
     print("instructions per fine step [M], %s, fine steps %d to %d (callgrind, Solver::advance)"
           % (a.transfer.upper(), a.steps[0], a.steps[1]))
-    print("| scene | single: kernels, nodal | per-level: kernels, nodal | ratio | kernels only "
-          "| work | of work |")
-    print("| --- | --- | --- | --- | --- | --- | --- |")
+    if a.single:
+        print("| scene | single: kernels | nodal | total |")
+        print("| --- | --- | --- | --- |")
+    else:
+        print("| scene | single: kernels, nodal | per-level: kernels, nodal | ratio | kernels only "
+              "| work | of work |")
+        print("| --- | --- | --- | --- | --- | --- | --- |")
     with tempfile.TemporaryDirectory() as tmp:
         for name in a.scenes:
             opts = scene_file(name)
             k1, n1, _ = per_step(a.build, opts, "false", a.transfer, a.steps, tmp)
+            if a.single:
+                print("| %s | %.2f | %.2f | %.2f |" % (name, k1 / 1e6, n1 / 1e6, (k1 + n1) / 1e6))
+                continue
             k2, n2, classes = per_step(a.build, opts, "true", a.transfer, a.steps, tmp)
             R = max(e for _, e in classes)
             work = R * sum(n for n, _ in classes) / sum(R / e * n for n, e in classes)
