@@ -458,24 +458,24 @@ template <int D> PetscErrorCode Grid<D>::createWindowVec(Vec *v) const {
   return PETSC_SUCCESS;
 }
 
-namespace {
-PetscErrorCode zeroFrom(Vec v, PetscInt from) {
+PetscErrorCode zeroValues(Vec v, PetscInt from, PetscInt to) {
   PetscInt n = 0;
-  PetscScalar *a = nullptr;
   PetscCall(VecGetLocalSize(v, &n));
+  to = to < 0 ? n : std::min(to, n);
+  if (from >= to) return PETSC_SUCCESS;
+  PetscScalar *a = nullptr;
   PetscCall(VecGetArray(v, &a));
-  std::fill(a + std::min(from, n), a + n, 0.0);
+  std::fill(a + from, a + to, 0.0);
   PetscCall(VecRestoreArray(v, &a));
   return PETSC_SUCCESS;
 }
-} // namespace
 
 template <int D>
 PetscErrorCode Grid<D>::startSum(Vec window, Vec global, Vec *sum, int from,
                                  PetscInt zeroFrom_) const {
-  PetscCall(zeroFrom(global, zeroFrom_ >= 0 ? zeroFrom_ : localLevelStart(from)));
+  PetscCall(zeroValues(global, zeroFrom_ >= 0 ? zeroFrom_ : localLevelStart(from)));
   *sum = windowIsLocal_ ? global : window;
-  if (!windowIsLocal_) PetscCall(zeroFrom(window, windowLevelStart(from)));
+  if (!windowIsLocal_) PetscCall(zeroValues(window, windowLevelStart(from)));
   return PETSC_SUCCESS;
 }
 
@@ -497,7 +497,7 @@ template <int D>
 PetscErrorCode Grid<D>::move(Vec window, Vec global, InsertMode mode, ScatterMode dir,
                              int from) const {
   const bool forward = dir == SCATTER_FORWARD;
-  if (windowIsLocal_ && (mode == INSERT_VALUES || mode == ADD_VALUES || mode == MAX_VALUES)) {
+  if (windowIsLocal_ && (mode == INSERT_VALUES || mode == ADD_VALUES)) {
     const PetscInt i0 = windowLevelStart(from), n = D * nSlots;
     const PetscScalar *x = nullptr;
     PetscScalar *y = nullptr;
@@ -510,12 +510,9 @@ PetscErrorCode Grid<D>::move(Vec window, Vec global, InsertMode mode, ScatterMod
     PetscCall(VecGetArray(forward ? window : global, &y));
     if (mode == INSERT_VALUES)
       std::copy(x + i0, x + n, y + i0);
-    else if (mode == ADD_VALUES)
-      for (PetscInt i = i0; i < n; ++i)
-        y[i] += x[i];
     else
       for (PetscInt i = i0; i < n; ++i)
-        y[i] = std::max(y[i], x[i]);
+        y[i] += x[i];
     PetscCall(VecRestoreArray(forward ? window : global, &y));
     PetscCall(VecRestoreArrayRead(forward ? global : window, &x));
     return PETSC_SUCCESS;

@@ -355,6 +355,7 @@ template <int D> PetscErrorCode MultiRate<D>::startNodes(PetscInt from, PetscInt
   RateClasses<D> &r = r_;
   Nodal &n = s.nodal;
   struct Part { // a class's nodal sums, from its first value on
+    Vec v;
     const PetscScalar *a;
     PetscInt from;
     double every;
@@ -362,13 +363,12 @@ template <int D> PetscErrorCode MultiRate<D>::startNodes(PetscInt from, PetscInt
   std::vector<Part> masses, moms;
   for (int k = 0; k < r.n; ++k) {
     if (r.size[k] == 0) continue;
-    const PetscScalar *a = nullptr;
-    PetscCall(VecGetArrayRead(sums_.mass[k], &a));
-    masses.push_back({a, localFrom(k), static_cast<double>(r.every[k])});
-    if (j % r.every[k] != 0) continue;
-    PetscCall(VecGetArrayRead(sums_.mom[k], &a));
-    moms.push_back({a, localFrom(k), 0.0});
+    masses.push_back({sums_.mass[k], nullptr, localFrom(k), static_cast<double>(r.every[k])});
+    if (j % r.every[k] == 0) moms.push_back({sums_.mom[k], nullptr, localFrom(k), 0.0});
   }
+  for (std::vector<Part> *parts : {&masses, &moms})
+    for (Part &c : *parts)
+      PetscCall(VecGetArrayRead(c.v, &c.a));
   PetscInt nloc = 0;
   PetscCall(VecGetLocalSize(n.mass, &nloc));
   const double cut = s.sc.massCutoff * s.meanParticleMass;
@@ -430,30 +430,9 @@ template <int D> PetscErrorCode MultiRate<D>::startNodes(PetscInt from, PetscInt
   PetscCall(VecRestoreArray(n.P, &P));
   if (rate) PetscCall(VecRestoreArray(sums_.nodeRate, &rate));
   PetscCall(VecRestoreArray(n.mass, &m));
-  size_t q = 0;
-  for (int k = 0; k < r.n; ++k) {
-    if (r.size[k] == 0) continue;
-    PetscCall(VecRestoreArrayRead(sums_.mass[k], &masses[q++].a));
-  }
-  q = 0;
-  for (int k = 0; k < r.n; ++k)
-    if (r.size[k] > 0 && j % r.every[k] == 0)
-      PetscCall(VecRestoreArrayRead(sums_.mom[k], &moms[q++].a));
-  return PETSC_SUCCESS;
-}
-
-template <int D> PetscErrorCode MultiRate<D>::zeroTail(Vec v, PetscInt from) {
-  PetscInt nloc = 0;
-  PetscCall(VecGetLocalSize(v, &nloc));
-  return zeroRange(v, from, nloc);
-}
-
-template <int D> PetscErrorCode MultiRate<D>::zeroRange(Vec v, PetscInt from, PetscInt to) {
-  if (from >= to) return PETSC_SUCCESS;
-  PetscScalar *a = nullptr;
-  PetscCall(VecGetArray(v, &a));
-  std::fill(a + from, a + to, 0.0);
-  PetscCall(VecRestoreArray(v, &a));
+  for (std::vector<Part> *parts : {&masses, &moms})
+    for (Part &c : *parts)
+      PetscCall(VecRestoreArrayRead(c.v, &c.a));
   return PETSC_SUCCESS;
 }
 
@@ -499,8 +478,6 @@ PetscErrorCode MultiRate<D>::classReach(const double *a, const double *b, bool a
 
 #define GIMP_INSTANTIATE(D)                                                                        \
   template PetscErrorCode MultiRate<D>::create(Vec);                                               \
-  template PetscErrorCode MultiRate<D>::zeroTail(Vec, PetscInt);                                   \
-  template PetscErrorCode MultiRate<D>::zeroRange(Vec, PetscInt, PetscInt);                        \
   template PetscErrorCode MultiRate<D>::addTail(Vec, double, Vec, PetscInt);                       \
   template PetscErrorCode MultiRate<D>::run(StepClock &);
 GIMP_INSTANTIATE(2)

@@ -60,7 +60,7 @@ PetscErrorCode MultiRate<D>::classForces(const ParticleView<D> &p, const StepClo
     const double mk = static_cast<double>(r.every[k]);
     const PetscInt wk = restricted(k) ? windowFrom(k) : 0;
     PetscScalar *w = nullptr;
-    PetscCall(zeroTail(w0, wk));
+    PetscCall(zeroValues(w0, wk));
     PetscCall(VecGetArray(w0, &w));
     step_.internalForce(r.st[k], q.n, q.V, q.s, w);
     if (!nodeRule) { // the impulse m_c f_c, summed (m_c a power of 2: exact)
@@ -270,8 +270,8 @@ PetscErrorCode MultiRate<D>::endClasses(ParticleView<D> &p, const StepClock &c, 
     from = std::min(from, localFrom(k));
   const PetscInt z0 = std::min(from, scratch_.zeroFrom);
   const PetscInt z1 = ending.empty() ? nloc : localFrom(ending.front());
-  PetscCall(zeroRange(scratch_.taken, z0, z1));
-  if (musl) PetscCall(zeroRange(scratch_.corrSum, z0, z1));
+  PetscCall(zeroValues(scratch_.taken, z0, z1));
+  if (musl) PetscCall(zeroValues(scratch_.corrSum, z0, z1));
   scratch_.zeroFrom = from;
   for (size_t e = 0; e < ending.size(); ++e)
     PetscCall(endClass(p, c, ending[e], e, flip, tally));

@@ -350,6 +350,9 @@ private:
   mutable std::vector<Vec> suffixWindow_;
 };
 
+/// v's values [from, to) on this rank set to zero (to < 0: to the end of this rank's part).
+PetscErrorCode zeroValues(Vec v, PetscInt from, PetscInt to = -1);
+
 extern template class Grid<2>;
 extern template class Grid<3>;
 

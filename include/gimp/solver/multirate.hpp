@@ -136,10 +136,6 @@ private:
   /// MUSL: class k's re-projection correction and the stress velocity into meanW; what it took
   /// (in field, takenBy) added to taken.
   PetscErrorCode correction(const StepClock &c, int k, size_t e);
-  /// v's values from `from` on (this rank's part) set to zero.
-  static PetscErrorCode zeroTail(Vec v, PetscInt from);
-  /// v's values [from, to) (this rank's part) set to zero.
-  static PetscErrorCode zeroRange(Vec v, PetscInt from, PetscInt to);
   /// y += a x on this rank's values from `from` on (a = +-1 here: exact as VecAXPY).
   static PetscErrorCode addTail(Vec y, double a, Vec x, PetscInt from);
   /// The coarsest level that class k's particles reach, on every rank (RateClasses::from), from
