@@ -14,9 +14,9 @@ the phase's formulas ask for (the node values it reads or writes, products count
   stress       F += dt L F and the Jaumann rate: 2D 8 + 12, 3D 27 + 36 products: about 3
 
 Usage: bench/kernel_counts.py [--transfer apic|flip] [--steps 4] [--build DIR] [--no-lanes]
-Needs valgrind; takes about a minute. Valgrind cannot decode some vector instructions of the 3D
-lane kernels: a scene whose run fails under it is reported as not counted; --no-lanes runs every
-scene with -gimp_lanes false (the scalar kernels, which are not the step's own in 3D).
+Needs valgrind; takes a few minutes. A scene whose run fails under valgrind is reported as not
+counted (a build whose 3D lane kernels hold an instruction valgrind cannot decode: lanes::set3);
+--no-lanes runs every scene with -gimp_lanes false (the scalar kernels).
 """
 import argparse
 import os

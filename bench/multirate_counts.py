@@ -22,9 +22,8 @@ Usage: bench/multirate_counts.py [--scenes block3_tenth block3] [--transfer apic
                                   [--steps 8 24] [--build DIR] [--single]
 --single counts the single step alone (any scene, e.g. --single --scenes block: the 2D default
 step of bench/block.opts).
-A scene is bench/NAME.opts, else options/NAME.opts. Needs valgrind; about two minutes per scene.
-2D only: the 3D lane kernels use vector instructions that valgrind cannot decode (3D speed-ups:
-bench/multirate.sh).
+A scene is bench/NAME.opts, else options/NAME.opts, in 2D or 3D. Needs valgrind; about two minutes
+per 2D scene, ten per 3D one.
 """
 import argparse
 import os

@@ -120,6 +120,54 @@ GIMP_LANES_INLINE void laneFactors(const Level<2> &L, const V4 *X, const V4 *Lh,
                          g[a]);
 }
 
+/// The smallest of four lanes, in every lane.
+GIMP_LANES_INLINE V4 laneMin(V4 v) {
+  const V4 t = _mm256_min_pd(v, _mm256_permute2f128_pd(v, v, 1));
+  return _mm256_min_pd(t, _mm256_permute_pd(t, 0b0101));
+}
+
+/// One block for the four where the nodes allow it, so that the kernels take the group as one
+/// piece (lane_runs.hpp, byBlock; a group whose blocks differ is cut where they change): along an
+/// axis where the four blocks start at nodes m and m + 1 (fi), a block that starts at m + 1 and
+/// whose third node carries nothing (c = 0 in threeNodeWeights: the domain ends in the block's
+/// first cell, B <= 1 computed as laneThreeNodeWeights computes it) may start at m instead, with
+/// the factors (0, w0, w1): the same weights on the same nodes, node m's exactly 0. Returns whether
+/// a block moves; late[a] marks the lanes that move along a, from[a] the first nodes then.
+GIMP_LANES_INLINE bool alignedStarts(const Level<2> &L, const V4 *X, const V4 *Lh, const V4 *fi,
+                                     V4 *late, V4 *from) {
+  const V4 h = _mm256_set1_pd(L.h), ih = _mm256_set1_pd(L.ih), one = _mm256_set1_pd(1.0);
+  bool moves = false;
+  for (int a = 0; a < 2; ++a) {
+    const V4 m = laneMin(fi[a]);
+    const V4 B = (X[a] - (_mm256_set1_pd(L.box[a]) + fi[a] * h)) * ih + Lh[a] * ih;
+    late[a] =
+        _mm256_and_pd(_mm256_cmp_pd(fi[a], m + one, _CMP_EQ_OQ), _mm256_cmp_pd(B, one, _CMP_LE_OQ));
+    const int lateMask = _mm256_movemask_pd(late[a]);
+    if (lateMask == 0 ||
+        (_mm256_movemask_pd(_mm256_cmp_pd(fi[a], m, _CMP_EQ_OQ)) | lateMask) != 15) {
+      late[a] = _mm256_setzero_pd();
+      from[a] = fi[a];
+      continue;
+    }
+    from[a] = m;
+    moves = true;
+  }
+  return moves;
+}
+
+/// The factors of the lanes late[a] moved one node on along a: (w0, w1, w2 = 0) -> (0, w0, w1).
+GIMP_LANES_INLINE void moveFactors(const V4 *late, V4 w[2][3], V4 g[2][3]) {
+  const V4 zero = _mm256_setzero_pd();
+  for (int a = 0; a < 2; ++a) {
+    w[a][2] = _mm256_blendv_pd(w[a][2], w[a][1], late[a]);
+    w[a][1] = _mm256_blendv_pd(w[a][1], w[a][0], late[a]);
+    w[a][0] = _mm256_blendv_pd(w[a][0], zero, late[a]);
+    g[a][2] = _mm256_blendv_pd(g[a][2], g[a][1], late[a]);
+    g[a][1] = _mm256_blendv_pd(g[a][1], g[a][0], late[a]);
+    g[a][0] = _mm256_blendv_pd(g[a][0], zero, late[a]);
+  }
+}
+
 /// Particles k .. k+3 as lane group k / 4 of s: their blocks (first slots base, row stride of
 /// level L, factors w and g) stored factor-major.
 GIMP_LANES_INLINE void storeLaneGroup(const Level<2> &L, PetscInt k, const PetscInt *base,
@@ -169,13 +217,24 @@ GIMP_LANES bool blockRunLanes(const Grid<2> &grid, const std::uint8_t *threeNode
   if (q < 0) return false;
   V4 fi[2];
   if (!laneSoleBlocks(grid, outwardReach, q, X, Lh, fi)) return false;
+  // one block for the four where level q keeps a 3-node block from the new first nodes too
+  V4 late[2], from[2];
+  bool moves = alignedStarts(grid.levels[q], X, Lh, fi, late, from);
   alignas(16) PetscInt base[4];
-  laneSlots(grid, q, fi, base);
-  if (!(threeNodeBlocks[base[0]] && threeNodeBlocks[base[1]] && threeNodeBlocks[base[2]] &&
-        threeNodeBlocks[base[3]]))
-    return false;
+  const auto regular = [&] {
+    return threeNodeBlocks[base[0]] && threeNodeBlocks[base[1]] && threeNodeBlocks[base[2]] &&
+           threeNodeBlocks[base[3]];
+  };
+  laneSlots(grid, q, moves ? from : fi, base);
+  if (!regular()) {
+    if (!moves) return false;
+    moves = false;
+    laneSlots(grid, q, fi, base);
+    if (!regular()) return false;
+  }
   V4 w[2][3], g[2][3];
   laneFactors(grid.levels[q], X, Lh, fi, w, g);
+  if (moves) moveFactors(late, w, g);
   storeLaneGroup(grid.levels[q], k, base, w, g, s);
   return true;
 }
@@ -196,8 +255,8 @@ GIMP_LANES bool blockLanes3(const Grid<3> &grid, const std::uint8_t *threeNodeBl
   ok = _mm256_and_pd(ok, _mm256_cmp_pd(Lh, _mm256_set1_pd(0.5 * L.h), _CMP_LE_OQ));
   const V4 ir = _mm256_floor_pd((X - Lh - h - box0) * ih) + 1.0;
   const V4 i1 = _mm256_ceil_pd((X + Lh + h - box0) * ih) - 1.0;
-  const V4 w0 = _mm256_set_pd(0.0, L.w0[2], L.w0[1], L.w0[0]);
-  const V4 w1 = _mm256_set_pd(0.0, L.w1[2], L.w1[1], L.w1[0]);
+  const V4 w0 = lanes::set3(L.w0[0], L.w0[1], L.w0[2]);
+  const V4 w1 = lanes::set3(L.w1[0], L.w1[1], L.w1[2]);
   ok = _mm256_and_pd(ok, _mm256_cmp_pd(ir, w0, _CMP_GE_OQ));
   ok = _mm256_and_pd(ok, _mm256_cmp_pd(ir + 2.0, w1, _CMP_LT_OQ));
   ok = _mm256_and_pd(ok, _mm256_cmp_pd(i1 - ir, _mm256_set1_pd(2.0), _CMP_LE_OQ));

@@ -25,7 +25,16 @@ bool available() {
 namespace {
 
 /// blocks::offsets for a run: the offsets dx, dy of its node lines from the centres (XP, YP).
+/// One: the run is one block (byBlock), its node lines one load each.
+template <bool One>
 GIMP_LANES_INLINE void offsets(const Run &R, V4 XP, V4 YP, const double *xs, V4 *dx, V4 *dy) {
+  if constexpr (One) {
+    for (int i = 0; i < 3; ++i) {
+      dx[i] = _mm256_broadcast_sd(xs + R.row[0][0] + 2 * i) - XP;
+      dy[i] = _mm256_broadcast_sd(xs + R.row[i][0] + 1) - YP;
+    }
+    return;
+  }
   for (int i = 0; i < 3; ++i) {
     const PetscInt o = 2 * i;
     dx[i] = _mm256_set_pd(xs[R.row[0][3] + o], xs[R.row[0][2] + o], xs[R.row[0][1] + o],
@@ -39,9 +48,10 @@ GIMP_LANES_INLINE void offsets(const Run &R, V4 XP, V4 YP, const double *xs, V4 
 
 /// blocks::offsetsAndInverseInertia (N = 3): the offsets dx, dy of the run's node lines from
 /// the centres (XP, YP) and D^-1 (xx, xy, yx, yy), 0 where D is singular (invertInertia).
+template <bool One>
 GIMP_LANES_INLINE void offsetsAndInverseInertia(const Run &R, V4 XP, V4 YP, const double *xs,
                                                 V4 *dx, V4 *dy, V4 *Di) {
-  offsets(R, XP, YP, xs, dx, dy);
+  offsets<One>(R, XP, YP, xs, dx, dy);
   V4 S0x = splat(0), S1x = splat(0), S2x = splat(0), S0y = splat(0), S1y = splat(0), S2y = splat(0);
   for (int i = 0; i < 3; ++i) {
     const V4 tx = R.wx[i] * dx[i], ty = R.wy[i] * dy[i];
@@ -76,7 +86,8 @@ GIMP_LANES_INLINE void product(const V4 *B, const V4 *Di, V4 *C) {
 }
 
 /// blocks::affineScatter: node (i, j) gets m w_j [w_i (v + C e_y dy_j) + w_i dx_i C e_x] and, with
-/// mass, m w_i w_j.
+/// mass, m w_i w_j; a run of one block (One) adds each node's four at once (addSummed).
+template <bool One>
 GIMP_LANES_INLINE void affineScatter(const Run &R, V4 mp, V4 VX, V4 VY, const V4 *C, const V4 *dx,
                                      const V4 *dy, double *mom, double *mass) {
   NodeValues N;
@@ -93,10 +104,17 @@ GIMP_LANES_INLINE void affineScatter(const Run &R, V4 mp, V4 VX, V4 VY, const V4
       N.M[j][i] = R.wx[i] * mw;
     }
   }
-  if (mass)
-    addToNodes<true>(R, N, mom, mass);
-  else
-    addToNodes<false>(R, N, mom, nullptr);
+  if constexpr (One) {
+    if (mass)
+      addSummed<true>(R, N, mom, mass);
+    else
+      addSummed<false>(R, N, mom, nullptr);
+  } else {
+    if (mass)
+      addToNodes<true>(R, N, mom, mass);
+    else
+      addToNodes<false>(R, N, mom, nullptr);
+  }
 }
 
 } // namespace
@@ -108,13 +126,16 @@ GIMP_LANES void particlesToGridAffineB(const Stencils<2> &st, PetscInt n, const 
     prefetch::fields(k, n, Field<2>{xc}, Field<2>{v}, Field<4>{B}, Field<1>{m});
     Run R;
     loadRun<false>(st, k, group, R);
-    V4 XP, YP, VX, VY, Bk[4], Di[4], C[4], dx[3], dy[3];
-    loadVectors(xc, k, XP, YP);
-    loadVectors(v, k, VX, VY);
-    loadTensors(B, k, Bk);
-    offsetsAndInverseInertia(R, XP, YP, xs, dx, dy, Di);
-    product(Bk, Di, C);
-    affineScatter(R, _mm256_loadu_pd(m + k), VX, VY, C, dx, dy, mom, mass);
+    byBlock(R, [&](auto one) GIMP_LANES_LAMBDA {
+      constexpr bool One = decltype(one)::value;
+      V4 XP, YP, VX, VY, Bk[4], Di[4], C[4], dx[3], dy[3];
+      loadVectors(xc, k, XP, YP);
+      loadVectors(v, k, VX, VY);
+      loadTensors(B, k, Bk);
+      offsetsAndInverseInertia<One>(R, XP, YP, xs, dx, dy, Di);
+      product(Bk, Di, C);
+      affineScatter<One>(R, _mm256_loadu_pd(m + k), VX, VY, C, dx, dy, mom, mass);
+    });
   };
   forGroups(st, 0, n, lane, [&](PetscInt k) {
     particleToGridAffineB<2>(st, k, m[k], v + 2 * k, tensorAt<2>(B, k), xc + 2 * k, xs, mom, mass);
@@ -125,6 +146,7 @@ namespace {
 
 /// blocks::affineGather for a run: v_p = sum_j w_j t_j, B0 = sum_j w_j u_j, B1 = sum_j (w_j dy_j)
 /// t_j with t_j = sum_i w_i v_ij, u_j = sum_i (w_i v_ij) dx_i; B_p = (B0x, B1x; B0y, B1y).
+template <bool One>
 GIMP_LANES_INLINE void affineGather(const Run &R, const double *vg, const V4 *dx, const V4 *dy,
                                     V4 &vx, V4 &vy, V4 *Bk) {
   V4 B0x = splat(0), B0y = splat(0), B1x = splat(0), B1y = splat(0);
@@ -135,7 +157,7 @@ GIMP_LANES_INLINE void affineGather(const Run &R, const double *vg, const V4 *dx
     V4 tx, ty, ux, uy;
     for (int i = 0; i < 3; ++i) {
       V4 gx, gy;
-      gatherPairs(r, 2 * i, gx, gy);
+      gatherPairs<One>(r, 2 * i, gx, gy);
       const V4 wvx = R.wx[i] * gx, wvy = R.wx[i] * gy;
       if (i == 0) {
         tx = wvx;
@@ -196,25 +218,28 @@ gridToParticlesAffineRuns(const Stencils<2> &st, PetscInt n, const double *vg, c
     if (!centredOnX) prefetch::fields(k, n, Field<2>{x});
     Run R;
     loadRun<false>(st, k, group, R);
-    V4 XP, YP, dx[3], dy[3], vx, vy, Bk[4];
-    loadVectors(xc, k, XP, YP);
-    if constexpr (Project) {
-      V4 Di[4], C[4];
-      offsetsAndInverseInertia(R, XP, YP, xs, dx, dy, Di);
-      affineGather(R, vg, dx, dy, vx, vy, Bk);
-      product(Bk, Di, C);
-      affineScatter(R, _mm256_loadu_pd(m + k), vx, vy, C, dx, dy, mom, nullptr);
-    } else {
-      offsets(R, XP, YP, xs, dx, dy);
-      affineGather(R, vg, dx, dy, vx, vy, Bk);
-    }
-    storeTensors(B, k, Bk);
-    storeVectors(v, k, vx, vy);
-    V4 X = XP, Y = YP, ux = vx, uy = vy;
-    if (!centredOnX) loadVectors(x, k, X, Y);
-    if (wg) interpolateRun(R, wg, ux, uy);
-    const V4 dtv = splat(dt);
-    storeVectors(x, k, X + dtv * ux, Y + dtv * uy);
+    byBlock(R, [&](auto one) GIMP_LANES_LAMBDA {
+      constexpr bool One = decltype(one)::value;
+      V4 XP, YP, dx[3], dy[3], vx, vy, Bk[4];
+      loadVectors(xc, k, XP, YP);
+      if constexpr (Project) {
+        V4 Di[4], C[4];
+        offsetsAndInverseInertia<One>(R, XP, YP, xs, dx, dy, Di);
+        affineGather<One>(R, vg, dx, dy, vx, vy, Bk);
+        product(Bk, Di, C);
+        affineScatter<One>(R, _mm256_loadu_pd(m + k), vx, vy, C, dx, dy, mom, nullptr);
+      } else {
+        offsets<One>(R, XP, YP, xs, dx, dy);
+        affineGather<One>(R, vg, dx, dy, vx, vy, Bk);
+      }
+      storeTensors(B, k, Bk);
+      storeVectors(v, k, vx, vy);
+      V4 X = XP, Y = YP, ux = vx, uy = vy;
+      if (!centredOnX) loadVectors(x, k, X, Y);
+      if (wg) interpolateRun<One>(R, wg, ux, uy);
+      const V4 dtv = splat(dt);
+      storeVectors(x, k, X + dtv * ux, Y + dtv * uy);
+    });
   };
   forGroups(st, 0, n, lane, one);
 }

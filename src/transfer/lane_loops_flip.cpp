@@ -37,12 +37,14 @@ GIMP_LANES_INLINE void momentumScatter(const Run &R, V4 mp, V4 PX, V4 PY, double
 }
 
 /// The FLIP/PIC G2P of a run (blocks::fromGrid, then gridToParticles' update): v <- flip (v + dt
-/// a_p) + (1 - flip) v_p, x += dt v_p; returns the new velocities.
+/// a_p) + (1 - flip) v_p, x += dt v_p; returns the new velocities. One: the run is one block
+/// (byBlock: its nodes read by one load each, the same values).
+template <bool One>
 GIMP_LANES_INLINE void flipUpdate(const Run &R, PetscInt k, const double *vg, const double *ag,
                                   double dt, double flip, double *v, double *x, V4 &VX, V4 &VY) {
   V4 vx, vy, ax, ay, X, Y;
-  interpolateRun(R, vg, vx, vy);
-  interpolateRun(R, ag, ax, ay);
+  interpolateRun<One>(R, vg, vx, vy);
+  interpolateRun<One>(R, ag, ax, ay);
   loadVectors(v, k, VX, VY);
   const V4 f = splat(flip), g = splat(1.0 - flip), dtv = splat(dt);
   VX = f * (VX + dtv * ax) + g * vx;
@@ -66,7 +68,9 @@ GIMP_LANES_INLINE void flipG2P(const Stencils<2> &st, PetscInt n, const double *
     Run R;
     loadRun<false>(st, k, group, R);
     V4 VX, VY;
-    flipUpdate(R, k, vg, ag, dt, flip, v, x, VX, VY);
+    byBlock(R, [&](auto one) GIMP_LANES_LAMBDA {
+      flipUpdate<decltype(one)::value>(R, k, vg, ag, dt, flip, v, x, VX, VY);
+    });
     if constexpr (Projected) {
       const V4 mp = _mm256_loadu_pd(m + k);
       momentumScatter(R, mp, mp * VX, mp * VY, mom, nullptr);
@@ -116,8 +120,10 @@ GIMP_LANES void gridToParticlesRated(const Stencils<2> &st, PetscInt n, const do
     Run R;
     loadRun<false>(st, k, group, R);
     V4 ux, uy, wx, wy, VX, VY, X, Y;
-    interpolateRun(R, ug, ux, uy);
-    interpolateRun(R, wg, wx, wy);
+    byBlock(R, [&](auto one) GIMP_LANES_LAMBDA {
+      interpolateRun<decltype(one)::value>(R, ug, ux, uy);
+      interpolateRun<decltype(one)::value>(R, wg, wx, wy);
+    });
     loadVectors(v, k, VX, VY);
     const V4 f = splat(flip), dtv = splat(dt);
     VX = f * VX + ux;

@@ -39,7 +39,10 @@ GIMP_LANES void internalForce(const Stencils<2> &st, PetscInt n, const double *V
         N.Y[j][i] = R.gx[i] * ay + R.wx[i] * cy;
       }
     }
-    addToNodes<false>(R, N, f, nullptr);
+    if (R.split == 0) // a run of one block: each node's four at once
+      addSummed<false>(R, N, f, nullptr);
+    else
+      addToNodes<false>(R, N, f, nullptr);
   };
   forGroups(st, 0, n, lane,
             [&](PetscInt k) { transfer::internalForce<2>(st, k, k + 1, V, stress, f); });
@@ -50,33 +53,37 @@ GIMP_LANES void velocityGradients(const Stencils<2> &st, PetscInt k0, PetscInt k
   const auto lane = [&](PetscInt k, std::uint8_t group) GIMP_LANES_LAMBDA {
     Run R;
     loadRun<true>(st, k, group, R);
-    // blocks::gradient: L0 = sum_j w_j sum_i g_i v_ij, L1 = sum_j g_j sum_i w_i v_ij
-    V4 L0x = splat(0), L0y = splat(0), L1x = splat(0), L1y = splat(0);
-    for (int j = 0; j < 3; ++j) {
-      const double *r[4] = {vg + R.row[j][0], vg + R.row[j][1], vg + R.row[j][2], vg + R.row[j][3]};
-      V4 px, py, sx, sy;
-      for (int i = 0; i < 3; ++i) {
-        V4 gx, gy;
-        gatherPairs(r, 2 * i, gx, gy);
-        if (i == 0) {
-          px = R.gx[0] * gx;
-          py = R.gx[0] * gy;
-          sx = R.wx[0] * gx;
-          sy = R.wx[0] * gy;
-        } else {
-          px = px + R.gx[i] * gx;
-          py = py + R.gx[i] * gy;
-          sx = sx + R.wx[i] * gx;
-          sy = sy + R.wx[i] * gy;
+    byBlock(R, [&](auto one) GIMP_LANES_LAMBDA {
+      constexpr bool One = decltype(one)::value;
+      // blocks::gradient: L0 = sum_j w_j sum_i g_i v_ij, L1 = sum_j g_j sum_i w_i v_ij
+      V4 L0x = splat(0), L0y = splat(0), L1x = splat(0), L1y = splat(0);
+      for (int j = 0; j < 3; ++j) {
+        const double *r[4] = {vg + R.row[j][0], vg + R.row[j][1], vg + R.row[j][2],
+                              vg + R.row[j][3]};
+        V4 px, py, sx, sy;
+        for (int i = 0; i < 3; ++i) {
+          V4 gx, gy;
+          gatherPairs<One>(r, 2 * i, gx, gy);
+          if (i == 0) {
+            px = R.gx[0] * gx;
+            py = R.gx[0] * gy;
+            sx = R.wx[0] * gx;
+            sy = R.wx[0] * gy;
+          } else {
+            px = px + R.gx[i] * gx;
+            py = py + R.gx[i] * gy;
+            sx = sx + R.wx[i] * gx;
+            sy = sy + R.wx[i] * gy;
+          }
         }
+        L0x = L0x + R.wy[j] * px;
+        L0y = L0y + R.wy[j] * py;
+        L1x = L1x + R.gy[j] * sx;
+        L1y = L1y + R.gy[j] * sy;
       }
-      L0x = L0x + R.wy[j] * px;
-      L0y = L0y + R.wy[j] * py;
-      L1x = L1x + R.gy[j] * sx;
-      L1y = L1y + R.gy[j] * sy;
-    }
-    const V4 Lk[4] = {L0x, L1x, L0y, L1y};
-    storeTensors(L, k - k0, Lk);
+      const V4 Lk[4] = {L0x, L1x, L0y, L1y};
+      storeTensors(L, k - k0, Lk);
+    });
   };
   forGroups(st, k0, k1, lane,
             [&](PetscInt k) { tensorAt<2>(L, k - k0) = velocityGradientAt<2>(st, k, vg); });

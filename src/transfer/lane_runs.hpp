@@ -10,6 +10,7 @@
 
 #include <cstddef>
 #include <cstring>
+#include <type_traits>
 
 #include "gimp/core/lanes.hpp"
 
@@ -71,8 +72,15 @@ GIMP_LANES_INLINE void storeVectors(double *a, PetscInt k, V4 X, V4 Y) {
   lanes::storeXY(a + 2 * k, X, Y);
 }
 
-/// The nodal pairs at the same offset o from four row pointers, as x and y in lanes.
+/// The nodal pairs at the same offset o from four row pointers, as x and y in lanes. With One
+/// the four rows are one (a run of one block, byBlock): each component is one broadcast load.
+template <bool One = false>
 GIMP_LANES_INLINE void gatherPairs(const double *const *r, PetscInt o, V4 &X, V4 &Y) {
+  if constexpr (One) {
+    X = _mm256_broadcast_sd(r[0] + o);
+    Y = _mm256_broadcast_sd(r[0] + o + 1);
+    return;
+  }
   const V4 u = _mm256_loadu2_m128d(r[2] + o, r[0] + o), w = _mm256_loadu2_m128d(r[3] + o, r[1] + o);
   X = _mm256_unpacklo_pd(u, w);
   Y = _mm256_unpackhi_pd(u, w);
@@ -86,6 +94,18 @@ struct Run {
   alignas(16) PetscInt row[3][4]; // row[j][q]: particle q's row j
   int split;
 };
+
+/// body(std::true_type{}) when the run's four particles share one block (no block changes,
+/// split 0: one set of nodes, which each particle reaches at the same (j, i)), else
+/// body(std::false_type{}): a kernel's body for either case, the first reading a node by one
+/// broadcast load (gatherPairs<true>) and adding its four contributions at once (addSummed).
+/// Lane groups take one block wherever the nodes allow (Grid's alignLaneBlocks).
+template <class Body> GIMP_LANES_INLINE void byBlock(const Run &R, Body &&body) {
+  if (R.split == 0)
+    body(std::true_type{});
+  else
+    body(std::false_type{});
+}
 
 /// Lane(k, group) for each lane group k .. k+3 of [k0, k1) (k0 a multiple of 4), one(k) for
 /// every other particle, in particle order.
@@ -144,16 +164,17 @@ GIMP_LANES_INLINE void loadRun(const Stencils<2> &st, PetscInt k, std::uint8_t g
 }
 
 /// blocks::interpolate for a run: f_p = sum_j w_j sum_i w_i f_ij (x and y in lanes; fused
-/// where the including file contracts).
+/// where the including file contracts). One: the run is one block (byBlock).
+template <bool One = false>
 GIMP_LANES_INLINE void interpolateRun(const Run &R, const double *fg, V4 &fx, V4 &fy) {
   fx = fy = splat(0);
   for (int j = 0; j < 3; ++j) {
     const double *r[4] = {fg + R.row[j][0], fg + R.row[j][1], fg + R.row[j][2], fg + R.row[j][3]};
     V4 gx, gy;
-    gatherPairs(r, 0, gx, gy);
+    gatherPairs<One>(r, 0, gx, gy);
     V4 tx = R.wx[0] * gx, ty = R.wx[0] * gy;
     for (int i = 1; i < 3; ++i) {
-      gatherPairs(r, 2 * i, gx, gy);
+      gatherPairs<One>(r, 2 * i, gx, gy);
       tx = tx + R.wx[i] * gx;
       ty = ty + R.wx[i] * gy;
     }
@@ -245,6 +266,35 @@ GIMP_LANES_INLINE void addToNodes(const Run &R, const NodeValues &N, double *f, 
     return addSegments<6, Mass>(R, N, f, mass);
   default:
     return addSegments<7, Mass>(R, N, f, mass);
+  }
+}
+
+/// A run of one block (byBlock): each node's four contributions summed first, as (c0 + c1) +
+/// (c2 + c3), then added to the node, two nodes of a row at once (their pairs are adjacent). Not
+/// in particle order: the nodes' sums differ from the scalar loop's at round-off (APIC's
+/// transfers and the force; FLIP's transfers keep addToNodes, the scalar loops bit for bit).
+template <bool Mass>
+GIMP_LANES_INLINE void addSummed(const Run &R, const NodeValues &N, double *f, double *mass) {
+  for (int j = 0; j < 3; ++j) {
+    double *r = f + R.row[j][0];
+    // hadd(X, Y) = (x0 + x1, y0 + y1, x2 + x3, y2 + y3): the halves' sum is the node's pair
+    const V4 s0 = _mm256_hadd_pd(N.X[j][0], N.Y[j][0]), s1 = _mm256_hadd_pd(N.X[j][1], N.Y[j][1]);
+    const V4 s2 = _mm256_hadd_pd(N.X[j][2], N.Y[j][2]);
+    const V4 p01 =
+        _mm256_add_pd(_mm256_permute2f128_pd(s0, s1, 0x20), _mm256_permute2f128_pd(s0, s1, 0x31));
+    const __m128d p2 = _mm_add_pd(_mm256_castpd256_pd128(s2), _mm256_extractf128_pd(s2, 1));
+    _mm256_storeu_pd(r, _mm256_add_pd(_mm256_loadu_pd(r), p01));
+    _mm_storeu_pd(r + 4, _mm_add_pd(_mm_loadu_pd(r + 4), p2));
+    if constexpr (Mass) {
+      double *s = mass + R.row[j][0];
+      const V4 m01 = _mm256_hadd_pd(N.M[j][0], N.M[j][1]),
+               m22 = _mm256_hadd_pd(N.M[j][2], N.M[j][2]);
+      const __m128d m = _mm_add_pd(_mm256_castpd256_pd128(m01), _mm256_extractf128_pd(m01, 1));
+      const __m128d m2 = _mm_add_sd(_mm256_castpd256_pd128(m22), _mm256_extractf128_pd(m22, 1));
+      s[0] += _mm_cvtsd_f64(m);
+      s[2] += _mm_cvtsd_f64(_mm_unpackhi_pd(m, m));
+      s[4] += _mm_cvtsd_f64(m2);
+    }
   }
 }
 

@@ -32,7 +32,7 @@ GIMP_LANES_INLINE void store3(double *p, V4 v) {
 
 /// Column a of a row-major 3 x 3 tensor in lanes 0-2.
 template <class T> GIMP_LANES_INLINE V4 column(const T &t, int a) {
-  return _mm256_set_pd(0.0, t(2, a), t(1, a), t(0, a));
+  return lanes::set3(t(0, a), t(1, a), t(2, a));
 }
 
 /// Columns c[0..2] back into the row-major tensor t.

@@ -49,6 +49,16 @@ GIMP_LANES_INLINE void storeXY(double *p, V4 X, V4 Y) {
   _mm256_storeu2_m128d(p + 6, p + 2, hi);
 }
 
+/// (a, b, c) in lanes 0-2, lane 3 zero: a blend with a zero the compiler cannot see through. Its
+/// own form of _mm256_set_pd(0, c, b, a) zeroes the upper half with a register-to-register vmovq,
+/// which valgrind 3.19 cannot decode; the 3D kernels are counted under callgrind
+/// (bench/multirate_counts.py, bench/kernel_counts.py).
+GIMP_LANES_INLINE V4 set3(double a, double b, double c) {
+  V4 z = _mm256_setzero_pd();
+  __asm__("" : "+x"(z));
+  return _mm256_blend_pd(_mm256_set_pd(c, c, b, a), z, 0b1000);
+}
+
 /// The three doubles at p in lanes 0-2, lane 3 zero (two loads and a blend: no shuffle): a 3D
 /// point, or a node's three components.
 GIMP_LANES_INLINE V4 load3(const double *p) {

@@ -367,10 +367,11 @@ template <int D> struct Stencils {
       --n;
     return n;
   }
-  /// f(slot, weight, gradient) for the first nn[0] x nn[1] nodes of a 2D block.
-  template <int N, class F> static void forEachNode(const Block<2, N> &b, const int *nn, F &f) {
-    for (int j = 0; j < nn[1]; ++j)
-      for (int i = 0; i < nn[0]; ++i) {
+  /// f(slot, weight, gradient) for the nodes n0[d] .. nn[d] - 1 along each axis of a 2D block.
+  template <int N, class F>
+  static void forEachNode(const Block<2, N> &b, const int *n0, const int *nn, F &f) {
+    for (int j = n0[1]; j < nn[1]; ++j)
+      for (int i = n0[0]; i < nn[0]; ++i) {
         Vector<2> gr;
         gr[0] = b.g[0][i] * b.w[1][j];
         gr[1] = b.g[1][j] * b.w[0][i];
@@ -382,8 +383,8 @@ template <int D> struct Stencils {
     if constexpr (D == 2)
       if (isBlock4(k)) {
         const Block<2, 4> b = block4(k); // a copy: f's stores cannot alias it
-        const int nn[2] = {nodesReached(b, 0), nodesReached(b, 1)};
-        return forEachNode(b, nn, f);
+        const int n0[2] = {0, 0}, nn[2] = {nodesReached(b, 0), nodesReached(b, 1)};
+        return forEachNode(b, n0, nn, f);
       }
     if (!isBlock(k)) {
       if (isLevels(k)) return forEachLevelNode(k, f);
@@ -392,19 +393,24 @@ template <int D> struct Stencils {
       return;
     }
     const Block<D> b = block(k); // a copy: f's stores cannot alias it
-    int nn[D];                   // the third node is reached only when its weight is not 0
-    for (int d = 0; d < D; ++d)
+    // The third node is reached only when its weight is not 0, the first always but in a block
+    // a lane group took one node early (its factors there 0: grid/stencil_lanes.cpp,
+    // alignLaneBlocks), so the entries are those of the particle's own block.
+    int n0[D], nn[D];
+    for (int d = 0; d < D; ++d) {
+      n0[d] = b.w[d][0] == 0.0 && b.g[d][0] == 0.0 ? 1 : 0;
       nn[d] = b.g[d][2] > 0.0 ? 3 : 2;
+    }
     if constexpr (D == 2) {
-      forEachNode(b, nn, f);
+      forEachNode(b, n0, nn, f);
     } else {
       // (3D) Along x innermost, the (y, z) factors of the weight and gradient formed once per row.
-      for (int q = 0; q < nn[2]; ++q)
-        for (int j = 0; j < nn[1]; ++j) {
+      for (int q = n0[2]; q < nn[2]; ++q)
+        for (int j = n0[1]; j < nn[1]; ++j) {
           const double wyz = b.w[1][j] * b.w[2][q], gy = b.g[1][j] * b.w[2][q],
                        gz = b.w[1][j] * b.g[2][q];
           const PetscInt row = b.base + j * b.stride[0] + q * b.stride[1];
-          for (int i = 0; i < nn[0]; ++i) {
+          for (int i = n0[0]; i < nn[0]; ++i) {
             Vector<D> gr;
             gr[0] = b.g[0][i] * wyz;
             gr[1] = b.w[0][i] * gy;
