@@ -495,6 +495,81 @@ TEST(GridStencils, BlocksBesideFacesEqualRows) {
 }
 
 // ---------------------------------------------------------------------------------------------
+// 1d'. Lane groups of one block: the four particles of a cell (two per axis, half-size h / 4)
+// moved together by up to a quarter cell, so that one particle's domain crosses a cell line while
+// the other's ends inside the cell. Their blocks started one node apart; the stencil build starts
+// the later one a node earlier with a zero first factor (alignedStarts), so that the group is one
+// block. Every particle keeps its rows' entries, and almost every group is one block.
+
+TEST(GridStencils, LaneGroupsOfOneBlockEqualRows) {
+  namespace lanes = gimp::transfer::laneLoops;
+  std::vector<Layout> layouts = twoLevelLayouts();
+  for (const Layout &lay : threeLevelLayouts())
+    layouts.push_back(lay);
+  long compared = 0, groups = 0, laneGroups = 0, oneBlock = 0;
+  Worst weight, gradient;
+  std::mt19937_64 rng(0x6a1d0f0b);
+  std::uniform_real_distribution<double> U(0.0, 1.0);
+  for (const Layout &lay : layouts) {
+    const auto gp = makeGrid(sceneOf(lay));
+    const Grid<2> &g = *gp;
+    const BoxOf<2> &D = g.levels[0].box;
+    std::vector<double> x, l;
+    while (x.size() < 2 * 4 * 800) {
+      double c[2] = {D[0] + U(rng) * (D[2] - D[0]), D[1] + U(rng) * (D[3] - D[1])};
+      const Level<2> &L = g.levels[g.leafLevelAt(c[0], c[1])];
+      double shift[2], p[4][2];
+      for (int a = 0; a < 2; ++a) {
+        c[a] = L.box[a] + std::floor((c[a] - L.box[a]) / L.h) * L.h; // the cell's first corner
+        shift[a] = (U(rng) - 0.5) * 0.5 * L.h;
+      }
+      bool inside = true;
+      for (int q = 0; q < 4; ++q) {
+        for (int a = 0; a < 2; ++a) // (a little strain: each particle off by up to h / 50)
+          p[q][a] =
+              c[a] + ((q >> a) & 1 ? 0.75 : 0.25) * L.h + shift[a] + (U(rng) - 0.5) * 0.04 * L.h;
+        inside = inside && gimp::test::insideDomain(g, p[q][0], p[q][1], 0.25 * L.h, 0.25 * L.h);
+      }
+      if (!inside) continue;
+      for (int q = 0; q < 4; ++q)
+        for (int a = 0; a < 2; ++a) {
+          x.push_back(p[q][a]);
+          l.push_back(0.25 * L.h);
+        }
+    }
+    const long np = static_cast<long>(x.size() / 2);
+    Stencils rows, compact;
+    ASSERT_TRUE(g.buildStencils(np, x.data(), l.data(), rows, false));
+    ASSERT_TRUE(g.buildStencils(np, x.data(), l.data(), compact, true, true));
+    for (long q = 0; q + 4 <= np; q += 4) {
+      const std::uint8_t group = compact.laneGroupOf(q / 4);
+      ++groups;
+      laneGroups += group != 0;
+      oneBlock += group != 0 && (group & 7) == 0;
+    }
+    const auto r = entriesOf(rows, np), b = entriesOf(compact, np);
+    for (long p = 0; p < np; ++p) {
+      const auto where = [&] {
+        return lay.name + ": " + at({{"xp", x[2 * p]}, {"yp", x[2 * p + 1]}, {"l", l[2 * p]}});
+      };
+      compareEntries(r[p], b[p], g.h0(), where, weight, gradient);
+      ++compared;
+    }
+  }
+  std::printf("  particles %ld; groups %ld: %ld in lanes, %ld of them one block\n", compared,
+              groups, laneGroups, oneBlock);
+  EXPECT_WORST_LE(weight, 1e-13);
+  EXPECT_WORST_LE(gradient, 1e-12);
+  if (!lanes::available()) GTEST_SKIP() << "no AVX2 here: no lane groups";
+  // Lane groups are those inside one level's regular nodes (about a third here: the layouts'
+  // boxes are a few cells wide). Without the earlier starts about three in four of them would
+  // hold two or four blocks; with them only groups whose strain (the h / 50 offsets) spreads
+  // their domains over four nodes along an axis (a few in a hundred) keep more than one.
+  EXPECT_GT(laneGroups, 1000);
+  EXPECT_GT(oneBlock, laneGroups * 9 / 10);
+}
+
+// ---------------------------------------------------------------------------------------------
 // 1e. The FLIP/PIC transfers in lanes of four block particles (src/transfer/lane_loops_flip.cpp,
 // built without contraction) give the scalar loops' values bit for bit: P2G of momentum and
 // mass, G2P with and without the re-projection, and a rate class's G2P, on stencils with lane
