@@ -1,7 +1,8 @@
 // Lanes of four 2D block particles (AVX2): see transfer/lane_loops.hpp. Every lane expression below
 // is the scalar one of transfer/block_kernels.hpp (named next to it) in the same order; this file
 // is built with contraction for AVX2 with FMA (CMakeLists.txt), so products and sums fuse where
-// the compiler finds them and the results are the scalar ones to round-off.
+// the compiler finds them, and a run of one block sums each node's four contributions before it
+// adds them (addSummed): the results are the scalar ones to round-off.
 //
 // This file: APIC's transfers, P2G and G2P (with the re-projection or without); the internal
 // force, the velocity gradient, the stress update and the checks are in lane_loops_stress.cpp,

@@ -1,9 +1,10 @@
 // Runs of four 2D block particles in lanes (AVX2), the pieces every lane loop shares
 // (src/transfer/lane_loops.cpp, src/transfer/lane_loops_stress.cpp; transfer/lane_loops.hpp): the
 // loads and stores of particle fields four at a time, a lane group's blocks (Run, loadRun), the
-// walk over the lane groups (forGroups) and the scatter of a run's contributions to its nodes in
-// particle order (addToNodes). Every lane expression is the scalar one of
-// transfer/block_kernels.hpp in the same order (see lane_loops.cpp).
+// walk over the lane groups (forGroups) and the scatter of a run's contributions to its nodes,
+// in particle order (addToNodes) or, for a run of one block, each node's four summed first
+// (addSummed, byBlock). Every lane expression is the scalar one of transfer/block_kernels.hpp in
+// the same order (see lane_loops.cpp), but for addSummed's sums.
 #pragma once
 
 #include "gimp/grid/stencils.hpp"
@@ -99,7 +100,8 @@ struct Run {
 /// split 0: one set of nodes, which each particle reaches at the same (j, i)), else
 /// body(std::false_type{}): a kernel's body for either case, the first reading a node by one
 /// broadcast load (gatherPairs<true>) and adding its four contributions at once (addSummed).
-/// Lane groups take one block wherever the nodes allow (Grid's alignLaneBlocks).
+/// Lane groups take one block wherever the nodes allow (src/grid/stencil_lanes.cpp,
+/// alignedStarts).
 template <class Body> GIMP_LANES_INLINE void byBlock(const Run &R, Body &&body) {
   if (R.split == 0)
     body(std::true_type{});

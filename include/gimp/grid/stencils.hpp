@@ -48,7 +48,8 @@
 namespace gimp {
 
 /// The 1D factors of a block particle: the weights w[d][i] and derivatives g[d][i] of the N
-/// nodes along axis d (the last ones are 0 where the particle does not reach them); node
+/// nodes along axis d (the last ones are 0 where the particle does not reach them, and in a 2D
+/// lane group's block the first one may be: grid/stencil_lanes.cpp, alignedStarts); node
 /// (i, j, ...) is slot base + i + j stride[0] + k stride[1] .... Kernels with a tensor-product
 /// form use it directly (sums along one axis, then the other). N = 3 for particles of half-size
 /// up to h/2 (104 bytes in 2D); N = 4 (2D only) for half-sizes up to h that reach 4 nodes along
@@ -395,7 +396,7 @@ template <int D> struct Stencils {
     const Block<D> b = block(k); // a copy: f's stores cannot alias it
     // The third node is reached only when its weight is not 0, the first always but in a block
     // a lane group took one node early (its factors there 0: grid/stencil_lanes.cpp,
-    // alignLaneBlocks), so the entries are those of the particle's own block.
+    // alignedStarts), so the entries are those of the particle's own block.
     int n0[D], nn[D];
     for (int d = 0; d < D; ++d) {
       n0[d] = b.w[d][0] == 0.0 && b.g[d][0] == 0.0 ? 1 : 0;
