@@ -15,8 +15,8 @@ the phase's formulas ask for (the node values it reads or writes, products count
 
 Usage: bench/kernel_counts.py [--transfer apic|flip] [--steps 4] [--build DIR] [--no-lanes]
 Needs valgrind; takes a few minutes. A scene whose run fails under valgrind is reported as not
-counted (a build whose 3D lane kernels hold an instruction valgrind cannot decode: lanes::set3);
---no-lanes runs every scene with -gimp_lanes false (the scalar kernels).
+counted (a build from before lanes::set3, whose 3D lane kernels held an instruction valgrind
+cannot decode); --no-lanes runs every scene with -gimp_lanes false (the scalar kernels).
 """
 import argparse
 import os
