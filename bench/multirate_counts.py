@@ -116,8 +116,8 @@ def main():
         print("| scene | single: kernels | nodal | total | bytes |")
         print("| --- | --- | --- | --- | --- |")
     else:
-        print("| scene | single: kernels, nodal (bytes) | per-level: kernels, nodal (bytes) | ratio "
-              "| no bytes | kernels only | work | of work | no bytes, of work |")
+        print("| scene | single: kernels, nodal (bytes) | per-level: kernels, nodal (bytes) "
+              "| ratio | no bytes | kernels only | work | of work | no bytes, of work |")
         print("| --- | --- | --- | --- | --- | --- | --- | --- | --- |")
     with tempfile.TemporaryDirectory() as tmp:
         for name in a.scenes:
@@ -132,8 +132,8 @@ def main():
             work = R * sum(n for n, _ in classes) / sum(R / e * n for n, e in classes)
             ratio = (k1 + n1) / (k2 + n2)
             bare = (k1 + n1 - s1) / (k2 + n2 - s2)
-            print("| %s | %.2f, %.2f (%.2f) | %.2f, %.2f (%.2f) | %.2f | %.2f | %.2f | %.2f | %.0f %% "
-                  "| %.0f %% |"
+            print("| %s | %.2f, %.2f (%.2f) | %.2f, %.2f (%.2f) | %.2f | %.2f | %.2f | %.2f "
+                  "| %.0f %% | %.0f %% |"
                   % (name, k1 / 1e6, n1 / 1e6, s1 / 1e6, k2 / 1e6, n2 / 1e6, s2 / 1e6, ratio, bare,
                      (k1 + n1) / k2, work, 100 * ratio / work, 100 * bare / work))
 
