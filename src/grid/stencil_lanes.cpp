@@ -109,15 +109,24 @@ GIMP_LANES_INLINE void laneThreeNodeWeights(V4 xi, V4 lam, V4 ih, V4 *w, V4 *g) 
   g[2] = c * i2lh;
 }
 
-/// setBlock's factors of four particles in lanes: the weights w and derivatives g of their
-/// 3-node blocks on level L from nodes fi.
-GIMP_LANES_INLINE void laneFactors(const Level<2> &L, const V4 *X, const V4 *Lh, const V4 *fi,
-                                   V4 w[2][3], V4 g[2][3]) {
+/// setBlock's centres and half-sizes of four particles in cells of level L from nodes fi:
+/// xi = (x - (box + i0 h)) / h, lam = l / h along each axis.
+GIMP_LANES_INLINE void laneCells(const Level<2> &L, const V4 *X, const V4 *Lh, const V4 *fi, V4 *xi,
+                                 V4 *lam) {
   const V4 h = _mm256_set1_pd(L.h), ih = _mm256_set1_pd(L.ih);
-  // setBlock: xi = (x - (box + i0 h)) / h, lam = l / h, then shape::threeNodeWeights per axis
+  for (int a = 0; a < 2; ++a) {
+    xi[a] = (X[a] - (_mm256_set1_pd(L.box[a]) + fi[a] * h)) * ih;
+    lam[a] = Lh[a] * ih;
+  }
+}
+
+/// setBlock's factors of four particles in lanes: the weights w and derivatives g of their
+/// 3-node blocks on level L (shape::threeNodeWeights per axis, from laneCells).
+GIMP_LANES_INLINE void laneFactors(const Level<2> &L, const V4 *xi, const V4 *lam, V4 w[2][3],
+                                   V4 g[2][3]) {
+  const V4 ih = _mm256_set1_pd(L.ih);
   for (int a = 0; a < 2; ++a)
-    laneThreeNodeWeights((X[a] - (_mm256_set1_pd(L.box[a]) + fi[a] * h)) * ih, Lh[a] * ih, ih, w[a],
-                         g[a]);
+    laneThreeNodeWeights(xi[a], lam[a], ih, w[a], g[a]);
 }
 
 /// The smallest of four lanes, in every lane.
@@ -130,16 +139,17 @@ GIMP_LANES_INLINE V4 laneMin(V4 v) {
 /// piece (lane_runs.hpp, byBlock; a group whose blocks differ is cut where they change): along an
 /// axis where the four blocks start at nodes m and m + 1 (fi), a block that starts at m + 1 and
 /// whose third node carries nothing (c = 0 in threeNodeWeights: the domain ends in the block's
-/// first cell, B <= 1 computed as laneThreeNodeWeights computes it) may start at m instead, with
-/// the factors (0, w0, w1): the same weights on the same nodes, node m's exactly 0. Returns whether
-/// a block moves; late[a] marks the lanes that move along a, from[a] the first nodes then.
-GIMP_LANES_INLINE bool alignedStarts(const Level<2> &L, const V4 *X, const V4 *Lh, const V4 *fi,
-                                     V4 *late, V4 *from) {
-  const V4 h = _mm256_set1_pd(L.h), ih = _mm256_set1_pd(L.ih), one = _mm256_set1_pd(1.0);
+/// first cell, B = xi + lam <= 1 as laneThreeNodeWeights computes it from laneCells) may start at
+/// m instead, with the factors (0, w0, w1): the same weights on the same nodes, node m's exactly
+/// 0. Returns whether a block moves; late[a] marks the lanes that move along a, from[a] the first
+/// nodes then.
+GIMP_LANES_INLINE bool alignedStarts(const V4 *xi, const V4 *lam, const V4 *fi, V4 *late,
+                                     V4 *from) {
+  const V4 one = _mm256_set1_pd(1.0);
   bool moves = false;
   for (int a = 0; a < 2; ++a) {
     const V4 m = laneMin(fi[a]);
-    const V4 B = (X[a] - (_mm256_set1_pd(L.box[a]) + fi[a] * h)) * ih + Lh[a] * ih;
+    const V4 B = xi[a] + lam[a];
     late[a] =
         _mm256_and_pd(_mm256_cmp_pd(fi[a], m + one, _CMP_EQ_OQ), _mm256_cmp_pd(B, one, _CMP_LE_OQ));
     const int lateMask = _mm256_movemask_pd(late[a]);
@@ -218,8 +228,9 @@ GIMP_LANES bool blockRunLanes(const Grid<2> &grid, const std::uint8_t *threeNode
   V4 fi[2];
   if (!laneSoleBlocks(grid, outwardReach, q, X, Lh, fi)) return false;
   // one block for the four where level q keeps a 3-node block from the new first nodes too
-  V4 late[2], from[2];
-  bool moves = alignedStarts(grid.levels[q], X, Lh, fi, late, from);
+  V4 xi[2], lam[2], late[2], from[2];
+  laneCells(grid.levels[q], X, Lh, fi, xi, lam);
+  bool moves = alignedStarts(xi, lam, fi, late, from);
   alignas(16) PetscInt base[4];
   const auto regular = [&] {
     return threeNodeBlocks[base[0]] && threeNodeBlocks[base[1]] && threeNodeBlocks[base[2]] &&
@@ -233,7 +244,7 @@ GIMP_LANES bool blockRunLanes(const Grid<2> &grid, const std::uint8_t *threeNode
     if (!regular()) return false;
   }
   V4 w[2][3], g[2][3];
-  laneFactors(grid.levels[q], X, Lh, fi, w, g);
+  laneFactors(grid.levels[q], xi, lam, w, g);
   if (moves) moveFactors(late, w, g);
   storeLaneGroup(grid.levels[q], k, base, w, g, s);
   return true;

@@ -134,13 +134,8 @@ namespace {
 template <int dof>
 void maskMomentum(PetscInt nloc, const double *m, const double *bc, double cut, double *mk,
                   double *im, double *p, double *v) {
-  for (PetscInt i = 0; i < nloc; i += dof) {
-    maskNode(m[i], bc + i, cut, dof, mk + i, im + i);
-    for (int c = 0; c < dof; ++c) {
-      p[i + c] *= mk[i + c];
-      v[i + c] = p[i + c] * im[i + c];
-    }
-  }
+  for (PetscInt i = 0; i < nloc; i += dof)
+    maskMomentumNode(m[i], bc + i, cut, dof, mk + i, im + i, p + i, v + i);
 }
 } // namespace
 

@@ -350,7 +350,7 @@ template <int D> PetscErrorCode MultiRate<D>::startNodes(PetscInt from, PetscInt
   // order). With the node rule also each node's rate: the step of the slowest class whose mass is
   // on it now (its anchor; 1 on an empty node); the anchor stays on the node through its own
   // step, so the changes of the faster classes' forces (MultiRate::classForces) always find mass
-  // there. Then the masks (physics::maskNode), P masked and v = P / m.
+  // there. Then the masks, P masked and v = P / m (physics::maskMomentumNode).
   RunState<D> &s = s_;
   RateClasses<D> &r = r_;
   Nodal &n = s.nodal;
@@ -404,7 +404,7 @@ template <int D> PetscErrorCode MultiRate<D>::startNodes(PetscInt from, PetscInt
         for (int d = 0; d < D; ++d)
           P[i + d] += c.a[i + d];
       double mi = 0.0;
-      for (int d = 0; d < D; ++d)
+      for (int d = 1; d < D; ++d) // (the mass in component 0, the rest 0)
         m[i + d] = 0.0;
       if (rate)
         for (int d = 0; d < D; ++d)
@@ -416,11 +416,7 @@ template <int D> PetscErrorCode MultiRate<D>::startNodes(PetscInt from, PetscInt
             rate[i + d] = std::max(rate[i + d], c.every);
       }
       m[i] = mi;
-      physics::maskNode(mi, bc + i, cut, D, mk + i, im + i);
-      for (int d = 0; d < D; ++d) {
-        P[i + d] *= mk[i + d];
-        v[i + d] = P[i + d] * im[i + d];
-      }
+      physics::maskMomentumNode(mi, bc + i, cut, D, mk + i, im + i, P + i, v + i);
     }
   }
   PetscCall(VecRestoreArrayRead(n.bcMask, &bc));

@@ -30,4 +30,14 @@ inline void maskNode(double m, const double *bc, double cut, int dof, double *ma
   }
 }
 
+/// maskNode, then the node's momentum masked, P *= mask, and its velocity vel = P invMass.
+inline void maskMomentumNode(double m, const double *bc, double cut, int dof, double *mask,
+                             double *invMass, double *P, double *vel) {
+  maskNode(m, bc, cut, dof, mask, invMass);
+  for (int c = 0; c < dof; ++c) {
+    P[c] *= mask[c];
+    vel[c] = P[c] * invMass[c];
+  }
+}
+
 } // namespace gimp::physics
