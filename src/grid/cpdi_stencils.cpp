@@ -9,7 +9,7 @@
 #include "gimp/grid/cpdi_cells.hpp"
 #include "gimp/grid/grid.hpp"
 #include "gimp/grid/shape.hpp"
-#include "rounding.hpp"
+#include "gimp/grid/rounding.hpp"
 
 #include <algorithm>
 #include <array>

@@ -2,7 +2,7 @@
 // overlaps it, with the 1D GIMP weights and gradients of Eq. 15 along x and y.
 #include "gimp/grid/grid.hpp"
 #include "gimp/grid/shape.hpp"
-#include "rounding.hpp"
+#include "gimp/grid/rounding.hpp"
 
 #include <algorithm>
 #include <cstddef>

@@ -2,6 +2,8 @@
 // starts. Their forces and ends: solver/multirate_ends.cpp.
 #include "gimp/solver/multirate.hpp"
 
+#include "gimp/core/pair.hpp"
+#include "gimp/grid/rounding.hpp"
 #include "gimp/physics/constraints.hpp"
 
 #include <algorithm>
@@ -81,24 +83,79 @@ template <int D> std::array<double, 2 * D> outwardZones(const Grid<D> &g, int c)
   return z;
 }
 
+/// Classes of whole cells (2D): the lane kernels take a cell's four particles as one block
+/// (transfer/lane_runs.hpp, byBlock), which a class slice that starts inside a cell breaks for
+/// every lane group after it. The 3D kernels take one particle at a time: there a whole cell only
+/// adds particles to the faster classes (on options/block3d_multirate.opts the finest class grew
+/// by half and the per-level step took 20 % more instructions).
+template <int D> constexpr bool kWholeCells = D == 2;
+
 /// Each particle's class (cls, n particles at x with half-sizes l): the finest level c whose box,
 /// widened by the reach of its boundary nodes (zones), the particle's half-size and one finest
-/// cell of motion within the coarse step, it overlaps (0 if none). One pass over the particles,
-/// each tried from the finest level down.
+/// cell of motion within the coarse step, the particle's leaf cell (kWholeCells) or its own
+/// domain overlaps (0 if none). Its leaf cell: the cell that holds its centre on the finest level
+/// whose box holds it. The particle lies in that cell, so its class is never coarser than its own
+/// domain needs, and the particles of one cell (of one half-size) share a class: a class holds
+/// whole cells. One pass over the particles, each tried from the finest level down.
 template <int D>
 void classesOf(const Grid<D> &g, const std::vector<std::array<double, 2 * D>> &zones, PetscInt n,
                const double *x, const double *l, int *cls) {
   const int K = static_cast<int>(g.levels.size());
-  const double m = g.hMin();
+  const double m = g.hMin(), h0 = g.levels[0].h;
+  // Per level c: its box widened by its zones, the finest cell and two level-0 cells (the
+  // pretest: the leaf cell lies within a level-0 cell of the centre, so a box that the particle's
+  // domain widened so does not meet, its leaf cell does not either, whatever the rounding; nor its
+  // domain).
+  std::vector<std::array<double, 2 * D>> near(K);
+  for (int c = 1; c < K; ++c)
+    for (int a = 0; a < D; ++a) {
+      near[c][a] = g.levels[c].box[a] - zones[c][a] - m - 2 * h0;
+      near[c][D + a] = g.levels[c].box[D + a] + zones[c][D + a] + m + 2 * h0;
+    }
+  const auto inside = [&](const double *xk, int q) {
+    const BoxOf<D> &b = g.levels[q].box;
+    bool in = true;
+    for (int a = 0; a < D; ++a)
+      in = in && xk[a] >= b[a] && xk[a] < b[D + a];
+    return in;
+  };
   for (PetscInt k = 0; k < n; ++k) {
     const double *xk = x + D * k, *lk = l + D * k;
+    // Tried from the finest level down: a centre inside level c's box (and no finer one) has its
+    // leaf cell there, which meets the box. Otherwise the leaf cell (or the particle's domain)
+    // widened by the half-size, [lo, hi], is found when the box is near enough to need it.
+    double lo[D] = {}, hi[D] = {};
+    bool found = false;
     int c = K - 1;
-    for (; c > 0; --c) { // (the box widened by its zones and the finest cell)
-      const BoxOf<D> &b = g.levels[c].box;
+    for (; c > 0; --c) {
+      bool close = true;
+      for (int a = 0; a < D; ++a)
+        close = close && xk[a] + lk[a] > near[c][a] && xk[a] - lk[a] < near[c][D + a];
+      if (!close) continue;
+      if (inside(xk, c)) break;
+      if (!found) {
+        if constexpr (kWholeCells<D>) {
+          // (the leaf level: the finest coarser than c whose box holds the centre)
+          int q = c - 1;
+          while (q > 0 && !inside(xk, q))
+            --q;
+          const Level<D> &L = g.levels[q];
+          for (int a = 0; a < D; ++a) {
+            lo[a] = L.box[a] + static_cast<double>(ifloor((xk[a] - L.box[a]) * L.ih)) * L.h;
+            hi[a] = lo[a] + L.h + lk[a];
+            lo[a] -= lk[a];
+          }
+        } else {
+          for (int a = 0; a < D; ++a)
+            lo[a] = xk[a] - lk[a], hi[a] = xk[a] + lk[a];
+        }
+        found = true;
+      }
+      const BoxOf<D> &b = g.levels[c].box; // (the box widened by its zones and the finest cell)
       const std::array<double, 2 *D> &z = zones[c];
       bool meets = true;
       for (int a = 0; a < D; ++a)
-        meets = meets && xk[a] + lk[a] + z[a] + m > b[a] && xk[a] - lk[a] - z[D + a] - m < b[D + a];
+        meets = meets && hi[a] + z[a] + m > b[a] && lo[a] - z[D + a] - m < b[D + a];
       if (meets) break;
     }
     cls[k] = c;
@@ -262,26 +319,41 @@ PetscErrorCode MultiRate<D>::startClass(ParticleView<D> &p, int k, PetscInt j, P
     r.st[k].start.assign(static_cast<size_t>(q.n) + 1, 0);
   }
   cracks::assignFields<D>(s.grid, s.sc.cracks, q.n, q.x, r.st[k]);
-  // One pass over the class: the bounding box of its particles' domains (classReach) and, below
+  // The bounding box of the class's particles' domains (classReach), a plain pass; then, below
   // the finest class, whether its margin kept it off the finer levels' nodes (only where they
   // might reach: no node of level k + 1 or finer reaches farther out of level k + 1's box than a
-  // level-0 cell, the widest zone).
+  // level-0 cell, the widest zone), until a particle did.
   double lo[D], hi[D];
   for (int a = 0; a < D; ++a)
     lo[a] = std::numeric_limits<double>::infinity(), hi[a] = -lo[a];
   const bool finer = k + 1 < r.n;
   const BoxOf<D> &fb = s.grid.levels[finer ? k + 1 : k].box;
   const double reach = s.grid.levels[0].h;
+  if constexpr (D == 2) { // both axes at once (simd::minOf, maxOf: std::min, max lane by lane)
+    simd::Pair lo2 = simd::splat(lo[0]), hi2 = simd::splat(hi[0]);
+    for (PetscInt i = 0; i < q.n; ++i) {
+      const simd::Pair x = simd::load(q.x + 2 * i), l = simd::load(q.l + 2 * i);
+      lo2 = simd::minOf(x - l, lo2);
+      hi2 = simd::maxOf(x + l, hi2);
+    }
+    for (int a = 0; a < D; ++a)
+      lo[a] = lo2[a], hi[a] = hi2[a];
+  } else {
+    for (PetscInt i = 0; i < q.n; ++i)
+      for (int a = 0; a < D; ++a) {
+        const double x = q.x[D * i + a], l = q.l[D * i + a];
+        lo[a] = std::min(lo[a], x - l);
+        hi[a] = std::max(hi[a], x + l);
+      }
+  }
   bool reached = false;
-  for (PetscInt i = 0; i < q.n; ++i) {
-    bool near = finer && !reached;
+  for (PetscInt i = 0; finer && !reached && i < q.n; ++i) {
+    bool near = true;
     for (int a = 0; a < D; ++a) {
       const double x = q.x[D * i + a], l = q.l[D * i + a];
-      lo[a] = std::min(lo[a], x - l);
-      hi[a] = std::max(hi[a], x + l);
       near = near && x + l + reach >= fb[a] && x - l - reach <= fb[D + a];
     }
-    if (near && maxSlot(s.grid, r.st[k], i) >= s.grid.levels[k + 1].offset) reached = true;
+    reached = near && maxSlot(s.grid, r.st[k], i) >= s.grid.levels[k + 1].offset;
   }
   if (reached)
     s.status.localFailure = "a particle of level " + std::to_string(k) +

@@ -208,38 +208,55 @@ template <int D> PetscErrorCode MultiRate<D>::accumulate(const StepClock &c, Pet
   return PETSC_SUCCESS;
 }
 
+template <int D> PetscErrorCode MultiRate<D>::Taken::get() {
+  PetscCall(VecGetArrayRead(vv, &v));
+  PetscCall(VecGetArrayRead(mv, &m));
+  PetscCall(VecGetArrayRead(pv, &p));
+  PetscCall(VecGetArrayRead(dv, &d));
+  return PETSC_SUCCESS;
+}
+
+template <int D> PetscErrorCode MultiRate<D>::Taken::restore() {
+  PetscCall(VecRestoreArrayRead(dv, &d));
+  PetscCall(VecRestoreArrayRead(pv, &p));
+  PetscCall(VecRestoreArrayRead(mv, &m));
+  PetscCall(VecRestoreArrayRead(vv, &v));
+  return PETSC_SUCCESS;
+}
+
+template <int D>
+typename MultiRate<D>::Taken MultiRate<D>::taken(int k, double flip, double dt) const {
+  // p_k and m_k: the class's momentum and mass at its start; inc_k the grid velocity increments
+  // since (dt a for a class stepping every sub-step, unless materialised); v the grid velocity
+  // now.
+  const bool summed = r_.every[k] > 1 || r_.live[k];
+  Taken t;
+  t.vv = s_.nodal.vel;
+  t.mv = sums_.mass[k];
+  t.pv = sums_.mom[k];
+  t.dv = summed ? sums_.inc[k] : s_.nodal.acc;
+  t.flip = flip;
+  t.ds = summed ? 1.0 : dt;
+  return t;
+}
+
 template <int D>
 PetscErrorCode MultiRate<D>::takenBy(int k, double flip, double dt, Vec out, bool add) {
-  // What the particles of class k take from the nodes at their G2P: flip (p_k + m_k inc_k) +
-  // (1 - flip) m_k v, with p_k and m_k the class's momentum and mass at its start, inc_k the grid
-  // velocity increments since (dt a for a class stepping every sub-step, unless materialised)
-  // and v the grid velocity now (APIC: flip 0). On the levels the class reaches (out is left as
-  // it is before them: the class takes nothing there).
-  Nodal &n = s_.nodal;
+  // What the particles of class k take from the nodes at their G2P (Taken), on the levels the
+  // class reaches (out is left as it is before them: the class takes nothing there).
   PetscInt nloc = 0;
   PetscCall(VecGetLocalSize(out, &nloc));
-  const bool summed = r_.every[k] > 1 || r_.live[k];
-  const PetscScalar *v = nullptr, *m = nullptr, *p = nullptr, *d = nullptr;
+  Taken tk = taken(k, flip, dt);
   PetscScalar *t = nullptr;
-  PetscCall(VecGetArrayRead(n.vel, &v));
-  PetscCall(VecGetArrayRead(sums_.mass[k], &m));
-  PetscCall(VecGetArrayRead(sums_.mom[k], &p));
-  PetscCall(VecGetArrayRead(summed ? sums_.inc[k] : n.acc, &d));
+  PetscCall(tk.get());
   PetscCall(VecGetArray(out, &t));
-  const double ds = summed ? 1.0 : dt;
   for (PetscInt i = localFrom(k); i < nloc; i += D)
     for (int q = 0; q < D; ++q) {
-      // (with flip 0 the increments are not summed: not read)
-      const double took =
-          flip > 0 ? flip * (p[i + q] + m[i] * ds * d[i + q]) + (1.0 - flip) * m[i] * v[i + q]
-                   : m[i] * v[i + q];
+      const double took = tk.at(i, q);
       t[i + q] = add ? t[i + q] + took : took;
     }
   PetscCall(VecRestoreArray(out, &t));
-  PetscCall(VecRestoreArrayRead(summed ? sums_.inc[k] : n.acc, &d));
-  PetscCall(VecRestoreArrayRead(sums_.mom[k], &p));
-  PetscCall(VecRestoreArrayRead(sums_.mass[k], &m));
-  PetscCall(VecRestoreArrayRead(n.vel, &v));
+  PetscCall(tk.restore());
   return PETSC_SUCCESS;
 }
 
@@ -404,8 +421,7 @@ PetscErrorCode MultiRate<D>::endClass(ParticleView<D> &p, const StepClock &c, in
   // the levels of the first: endClasses); with MUSL into field first, which its correction
   // reads and adds to taken.
   if (musl) {
-    PetscCall(takenBy(k, flip, c.dt, w0.field, false));
-    PetscCall(correction(c, k, e));
+    PetscCall(correction(c, k, e, flip));
     w = w0.meanW;
   } else {
     PetscCall(takenBy(k, flip, c.dt, w0.taken, e > 0));
@@ -422,10 +438,12 @@ PetscErrorCode MultiRate<D>::endClass(ParticleView<D> &p, const StepClock &c, in
   return PETSC_SUCCESS;
 }
 
-template <int D> PetscErrorCode MultiRate<D>::correction(const StepClock &c, int k, size_t e) {
+template <int D>
+PetscErrorCode MultiRate<D>::correction(const StepClock &c, int k, size_t e, double flip) {
   // The stress from the mean grid velocity over the class's step (what moved it); with MUSL
   // plus the class's own re-projection correction (its new momenta minus what it took, over the
-  // nodal mass): with one class MUSL's velocity, with several each class's share of it.
+  // nodal mass): with one class MUSL's velocity, with several each class's share of it. What it
+  // took (Taken) is formed here, in the same pass, and added to taken.
   RunState<D> &s = s_;
   RateScratch &w0 = scratch_;
   Nodal &n = s.nodal;
@@ -436,28 +454,33 @@ template <int D> PetscErrorCode MultiRate<D>::correction(const StepClock &c, int
   const PetscInt i0 = localFrom(k);
   PetscCall(s.grid.endSum(n.sumW, w0.corr, from)); // (the class's new momenta: endClass)
   Vec vsv = r_.every[k] > 1 ? sums_.vsum[k] : n.vel;
-  const PetscScalar *t = nullptr, *im = nullptr, *vs = nullptr;
+  Taken took = taken(k, flip, c.dt);
+  const PetscScalar *im = nullptr, *vs = nullptr;
   PetscScalar *cr = nullptr, *cs = nullptr, *sf = nullptr, *tk = nullptr;
-  PetscCall(VecGetArrayRead(w0.field, &t));
+  PetscCall(took.get());
   PetscCall(VecGetArray(w0.taken, &tk));
   PetscCall(VecGetArrayRead(n.invMass, &im));
   PetscCall(VecGetArrayRead(vsv, &vs));
   PetscCall(VecGetArray(w0.corr, &cr));
   PetscCall(VecGetArray(w0.corrSum, &cs));
-  PetscCall(VecGetArray(n.f, &sf));      // (free after the grid update)
-  for (PetscInt i = i0; i < nloc; ++i) { // (corrSum, taken: zero before the first's levels)
-    tk[i] = e == 0 ? t[i] : tk[i] + t[i];
-    cr[i] = (cr[i] - t[i]) * im[i];
-    cs[i] = e == 0 ? cr[i] : cs[i] + cr[i];
-    sf[i] = vs[i] / every + cr[i];
-  }
+  PetscCall(VecGetArray(n.f, &sf)); // (free after the grid update)
+  // (corrSum, taken: zero before the first's levels)
+  for (PetscInt i0n = i0; i0n < nloc; i0n += D)
+    for (int q = 0; q < D; ++q) {
+      const PetscInt i = i0n + q;
+      const double t = took.at(i0n, q);
+      tk[i] = e == 0 ? t : tk[i] + t;
+      cr[i] = (cr[i] - t) * im[i];
+      cs[i] = e == 0 ? cr[i] : cs[i] + cr[i];
+      sf[i] = vs[i] / every + cr[i];
+    }
   PetscCall(VecRestoreArray(n.f, &sf));
   PetscCall(VecRestoreArray(w0.corrSum, &cs));
   PetscCall(VecRestoreArray(w0.corr, &cr));
   PetscCall(VecRestoreArrayRead(vsv, &vs));
   PetscCall(VecRestoreArrayRead(n.invMass, &im));
   PetscCall(VecRestoreArray(w0.taken, &tk));
-  PetscCall(VecRestoreArrayRead(w0.field, &t));
+  PetscCall(took.restore());
   PetscCall(s.grid.toWindow(n.f, w0.meanW, from));
   // The re-projected fields of a cracked node may approach each other again: the same contact
   // as the single-rate step's (Step::reproject), or the strain would see the faces

@@ -116,6 +116,22 @@ private:
   PetscErrorCode contactAfterUpdate(const StepClock &c);
   /// After the grid update of sub-step j: each class's sums since its start.
   PetscErrorCode accumulate(const StepClock &c, PetscInt j);
+  /// What class k's particles take from the nodes at their G2P (takenBy's rule), read from
+  /// its sums: flip (p_k + m_k ds inc_k) + (1 - flip) m_k v per component (APIC: flip 0).
+  struct Taken {
+    Vec vv, mv, pv, dv;
+    double flip, ds;
+    const PetscScalar *v = nullptr, *m = nullptr, *p = nullptr, *d = nullptr;
+    PetscErrorCode get();
+    PetscErrorCode restore();
+    /// Component q of node value i (i a node's first component).
+    double at(PetscInt i, int q) const {
+      // (with flip 0 the increments are not summed: not read)
+      return flip > 0 ? flip * (p[i + q] + m[i] * ds * d[i + q]) + (1.0 - flip) * m[i] * v[i + q]
+                      : m[i] * v[i + q];
+    }
+  };
+  Taken taken(int k, double flip, double dt) const;
   /// What class k's particles take from the nodes at their G2P, into (or added to) out.
   PetscErrorCode takenBy(int k, double flip, double dt, Vec out, bool add);
   /// After the grid update of sub-step j: the ending classes' G2P, stress and momentum removal.
@@ -134,8 +150,8 @@ private:
   PetscErrorCode endClass(ParticleView<D> &p, const StepClock &c, int k, size_t e, double flip,
                           typename Step<D>::CheckTally *tally);
   /// MUSL: class k's re-projection correction and the stress velocity into meanW; what it took
-  /// (in field, takenBy) added to taken.
-  PetscErrorCode correction(const StepClock &c, int k, size_t e);
+  /// (takenBy's rule, in the same pass) added to taken.
+  PetscErrorCode correction(const StepClock &c, int k, size_t e, double flip);
   /// y += a x on this rank's values from `from` on (a = +-1 here: exact as VecAXPY).
   static PetscErrorCode addTail(Vec y, double a, Vec x, PetscInt from);
   /// The coarsest level that class k's particles reach, on every rank (RateClasses::from), from

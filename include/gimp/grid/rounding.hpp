@@ -1,5 +1,6 @@
-// Node indices from coordinates without a libm call, for the grid's hot loops (stencils.cpp,
-// cpdi_stencils.cpp): floor, ceil, and the candidate nodes of a level along an axis.
+// Node and cell indices from coordinates without a libm call, for hot loops (grid/stencils.cpp,
+// grid/cpdi_stencils.cpp, the rate classes' leaf cells): floor, ceil, and the candidate nodes of a
+// level along an axis.
 #pragma once
 
 #include <petscsys.h>
