@@ -418,8 +418,7 @@ PetscErrorCode MultiRate<D>::endClass(ParticleView<D> &p, const StepClock &c, in
   PetscCall(VecRestoreArrayRead(u, &ug));
   if (musl) PetscCall(VecRestoreArray(sum, &mom));
   // What the class took from the nodes, summed over the ending classes into taken (zero before
-  // the levels of the first: endClasses); with MUSL into field first, which its correction
-  // reads and adds to taken.
+  // the levels of the first: endClasses); with MUSL its correction forms it in its own pass.
   if (musl) {
     PetscCall(correction(c, k, e, flip));
     w = w0.meanW;
@@ -465,10 +464,10 @@ PetscErrorCode MultiRate<D>::correction(const StepClock &c, int k, size_t e, dou
   PetscCall(VecGetArray(w0.corrSum, &cs));
   PetscCall(VecGetArray(n.f, &sf)); // (free after the grid update)
   // (corrSum, taken: zero before the first's levels)
-  for (PetscInt i0n = i0; i0n < nloc; i0n += D)
+  for (PetscInt node = i0; node < nloc; node += D) // (a node's first value)
     for (int q = 0; q < D; ++q) {
-      const PetscInt i = i0n + q;
-      const double t = took.at(i0n, q);
+      const PetscInt i = node + q;
+      const double t = took.at(node, q);
       tk[i] = e == 0 ? t : tk[i] + t;
       cr[i] = (cr[i] - t) * im[i];
       cs[i] = e == 0 ? cr[i] : cs[i] + cr[i];
