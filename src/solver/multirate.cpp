@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <limits>
 #include <string>
 
@@ -25,6 +26,45 @@ RateScratch::~RateScratch() {
     (void)VecDestroy(v);
 }
 
+Stretches unite(const Stretches &a, const Stretches &b) {
+  Stretches all(a);
+  all.insert(all.end(), b.begin(), b.end());
+  std::sort(all.begin(), all.end());
+  Stretches u;
+  for (const auto &t : all) {
+    if (t[0] >= t[1]) continue;
+    if (!u.empty() && t[0] <= u.back()[1])
+      u.back()[1] = std::max(u.back()[1], t[1]);
+    else
+      u.push_back(t);
+  }
+  return u;
+}
+
+Stretches minus(const Stretches &a, const Stretches &b) {
+  Stretches d;
+  for (const auto &t : a) {
+    PetscInt at = t[0];
+    for (const auto &c : b) {
+      if (c[1] <= at || c[0] >= t[1]) continue;
+      if (c[0] > at) d.push_back({at, c[0]});
+      at = std::max(at, c[1]);
+    }
+    if (at < t[1]) d.push_back({at, t[1]});
+  }
+  return d;
+}
+
+PetscErrorCode zeroStretches(Vec v, const Stretches &at) {
+  if (at.empty()) return PETSC_SUCCESS;
+  PetscScalar *a = nullptr;
+  PetscCall(VecGetArray(v, &a));
+  for (const auto &t : at)
+    std::fill(a + t[0], a + t[1], 0.0);
+  PetscCall(VecRestoreArray(v, &a));
+  return PETSC_SUCCESS;
+}
+
 template <int D> PetscErrorCode MultiRate<D>::create(Vec like) {
   const Grid<D> &grid = s_.grid;
   RateClasses<D> &r = r_;
@@ -40,7 +80,10 @@ template <int D> PetscErrorCode MultiRate<D>::create(Vec like) {
   r.start.assign(n, 0);
   r.live.assign(n, 0);
   r.from.assign(n, 0);
-  scratch_.zeroFrom = 0;
+  PetscInt nloc = 0;
+  PetscCall(VecGetLocalSize(like, &nloc));
+  r.values.assign(n, Stretches{{0, nloc}}); // (until their first start: anywhere)
+  scratch_.dirty = {{0, nloc}};
   ClassSums &v = sums_;
   std::vector<std::vector<Vec> *> perClass = {&v.mass, &v.mom, &v.inc, &v.vsum};
   if (s_.sc.multirateNodeRule) { // the node rule's forces, bases and rates (the impulse rule
@@ -304,7 +347,7 @@ template <int D> PetscErrorCode MultiRate<D>::classify(PetscInt step) {
 }
 
 template <int D>
-PetscErrorCode MultiRate<D>::startClass(ParticleView<D> &p, int k, PetscInt j, PetscInt &changed) {
+PetscErrorCode MultiRate<D>::startClass(ParticleView<D> &p, int k, PetscInt j, Stretches &changed) {
   RunState<D> &s = s_;
   RateClasses<D> &r = r_;
   Nodal &n = s.nodal;
@@ -360,16 +403,20 @@ PetscErrorCode MultiRate<D>::startClass(ParticleView<D> &p, int k, PetscInt j, P
                             "'s rate class reached level " + std::to_string(k + 1) +
                             "'s nodes within a coarse step (it moved more than one finest "
                             "cell; reduce -ts_dt)";
-  // Its P2G onto the levels it reaches: the nodal sums and moves from there on.
-  const PetscInt was = localFrom(k); // (its last start's levels: zero before them)
+  // Its P2G onto the values it reaches (its sums zero where its last start's or this one's
+  // values lie, zero elsewhere already): the nodal sums and moves from its level on.
+  const Stretches was = r.values[k];
   PetscCall(classReach(lo, hi, q.n > 0, k));
   const int from = r.from[k];
-  const PetscInt g0 = localFrom(k);
-  const PetscInt z = std::min(g0, was);
+  changed = unite(was, r.values[k]); // (its momenta join P in startNodes)
+  PetscInt nloc = 0;
+  PetscCall(VecGetLocalSize(n.P, &nloc));
+  PetscCall(zeroStretches(sums_.mom[k], changed));
+  PetscCall(zeroStretches(sums_.mass[k], changed));
   PetscScalar *mom = nullptr, *mass = nullptr;
   Vec momSum = nullptr, massSum = nullptr;
-  PetscCall(s.grid.startSum(n.sumW, sums_.mom[k], &momSum, from, z));
-  PetscCall(s.grid.startSum(n.massW, sums_.mass[k], &massSum, from, z));
+  PetscCall(s.grid.startSum(n.sumW, sums_.mom[k], &momSum, from, nloc));
+  PetscCall(s.grid.startSum(n.massW, sums_.mass[k], &massSum, from, nloc));
   PetscCall(VecGetArray(momSum, &mom));
   PetscCall(VecGetArray(massSum, &mass));
   step_.projectMomentum(r.st[k], q, q.x, mom, mass);
@@ -377,7 +424,6 @@ PetscErrorCode MultiRate<D>::startClass(ParticleView<D> &p, int k, PetscInt j, P
   PetscCall(VecRestoreArray(momSum, &mom));
   PetscCall(s.grid.endSum(n.sumW, sums_.mom[k], from));
   PetscCall(s.grid.endSum(n.massW, sums_.mass[k], from));
-  changed = z; // (its momenta join P in startNodes)
   if constexpr (D == 2)
     if (!s.sc.cracks.empty()) { // the class's crack faces, until its end
       if (sums_.faces.empty()) sums_.faces.assign(r.n, nullptr);
@@ -399,25 +445,25 @@ template <int D> PetscErrorCode MultiRate<D>::startClasses(ParticleView<D> &p, P
   PetscCall(PetscLogStagePush(s.stages.p2g));
   PetscInt nloc = 0;
   PetscCall(VecGetLocalSize(n.P, &nloc));
-  PetscInt from = nloc;
+  Stretches sweep;
   for (int k = 0; k < r.n; ++k) {
     if (r.size[k] == 0 || j % r.every[k] != 0) continue;
-    PetscInt changed = 0;
+    Stretches changed;
     PetscCall(startClass(p, k, j, changed));
-    from = std::min(from, changed);
+    sweep = unite(sweep, changed);
   }
   // The mass of every class (each from its last start), the masks and the velocity, where the
   // starting classes changed them. Elsewhere the nodes kept them: the classes that start are
   // those that ended at the sub-step before, and the grid update left v = P / m. At a coarse
   // step's start everywhere (a class may have emptied).
-  if (j == 0) from = 0;
-  if (from < nloc) PetscCall(startNodes(from, j));
+  if (j == 0) sweep = {{0, nloc}};
+  if (!sweep.empty()) PetscCall(startNodes(sweep, j));
   PetscCall(PetscLogStagePop());
   return PETSC_SUCCESS;
 }
 
-template <int D> PetscErrorCode MultiRate<D>::startNodes(PetscInt from, PetscInt j) {
-  // One pass over the nodes from `from` on. The starting classes' momenta join P (in class
+template <int D> PetscErrorCode MultiRate<D>::startNodes(const Stretches &sweep, PetscInt j) {
+  // One pass over the nodes of `sweep`. The starting classes' momenta join P (in class
   // order). The nodal mass is the sum of every class's (each from its last start, in class
   // order). With the node rule also each node's rate: the step of the slowest class whose mass is
   // on it now (its anchor; 1 on an empty node); the anchor stays on the node through its own
@@ -426,17 +472,22 @@ template <int D> PetscErrorCode MultiRate<D>::startNodes(PetscInt from, PetscInt
   RunState<D> &s = s_;
   RateClasses<D> &r = r_;
   Nodal &n = s.nodal;
-  struct Part { // a class's nodal sums, from its first value on
+  struct Part { // a class's nodal sums, zero outside its values
     Vec v;
     const PetscScalar *a;
-    PetscInt from;
+    const Stretches *at;
     double every;
+    bool has(PetscInt i) const {
+      for (const auto &t : *at)
+        if (i >= t[0] && i < t[1]) return true;
+      return false;
+    }
   };
   std::vector<Part> masses, moms;
   for (int k = 0; k < r.n; ++k) {
     if (r.size[k] == 0) continue;
-    masses.push_back({sums_.mass[k], nullptr, localFrom(k), static_cast<double>(r.every[k])});
-    if (j % r.every[k] == 0) moms.push_back({sums_.mom[k], nullptr, localFrom(k), 0.0});
+    masses.push_back({sums_.mass[k], nullptr, &r.values[k], static_cast<double>(r.every[k])});
+    if (j % r.every[k] == 0) moms.push_back({sums_.mom[k], nullptr, &r.values[k], 0.0});
   }
   for (std::vector<Part> *parts : {&masses, &moms})
     for (Part &c : *parts)
@@ -454,23 +505,30 @@ template <int D> PetscErrorCode MultiRate<D>::startNodes(PetscInt from, PetscInt
   PetscCall(VecGetArray(n.mask, &mk));
   PetscCall(VecGetArray(n.invMass, &im));
   PetscCall(VecGetArrayRead(n.bcMask, &bc));
-  // By stretches in which the same classes have values (each class's sums are zero before its
-  // first value): the levels' starts.
-  std::vector<PetscInt> cuts = {from, nloc};
+  // By pieces of the sweep in which the same classes have values (each class's sums are zero
+  // outside its values): cut where a class's values start or end.
+  std::vector<PetscInt> cuts;
+  for (const auto &t : sweep)
+    cuts.insert(cuts.end(), {t[0], t[1]});
   for (const std::vector<Part> *parts : {&masses, &moms})
     for (const Part &c : *parts)
-      if (c.from > from && c.from < nloc) cuts.push_back(c.from);
+      for (const auto &t : *c.at)
+        cuts.insert(cuts.end(), {t[0], t[1]});
   std::sort(cuts.begin(), cuts.end());
   cuts.erase(std::unique(cuts.begin(), cuts.end()), cuts.end());
-  std::vector<Part> ms, ps; // the classes with values in the stretch
+  std::vector<Part> ms, ps; // the classes with values in the piece
   for (size_t t = 0; t + 1 < cuts.size(); ++t) {
     const PetscInt i0 = cuts[t], i1 = cuts[t + 1];
+    bool swept = false;
+    for (const auto &w : sweep)
+      swept = swept || (i0 >= w[0] && i0 < w[1]);
+    if (!swept) continue;
     ms.clear();
     ps.clear();
     for (const Part &c : masses)
-      if (c.from <= i0) ms.push_back(c);
+      if (c.has(i0)) ms.push_back(c);
     for (const Part &c : moms)
-      if (c.from <= i0) ps.push_back(c);
+      if (c.has(i0)) ps.push_back(c);
     for (PetscInt i = i0; i < i1; i += D) {
       for (const Part &c : ps)
         for (int d = 0; d < D; ++d)
@@ -504,17 +562,35 @@ template <int D> PetscErrorCode MultiRate<D>::startNodes(PetscInt from, PetscInt
   return PETSC_SUCCESS;
 }
 
-template <int D> PetscErrorCode MultiRate<D>::addTail(Vec y, double a, Vec x, PetscInt from) {
-  PetscInt nloc = 0;
+template <int D> PetscErrorCode MultiRate<D>::addOn(Vec y, double a, Vec x, const Stretches &at) {
+  if (at.empty()) return PETSC_SUCCESS;
   PetscScalar *py = nullptr;
   const PetscScalar *px = nullptr;
-  PetscCall(VecGetLocalSize(y, &nloc));
   PetscCall(VecGetArray(y, &py));
   PetscCall(VecGetArrayRead(x, &px));
-  for (PetscInt i = from; i < nloc; ++i)
-    py[i] += a * px[i];
+  for (const auto &t : at)
+    for (PetscInt i = t[0]; i < t[1]; ++i)
+      py[i] += a * px[i];
   PetscCall(VecRestoreArrayRead(x, &px));
   PetscCall(VecRestoreArray(y, &py));
+  return PETSC_SUCCESS;
+}
+
+template <int D> Stretches MultiRate<D>::windowValues(int k, PetscInt nw) const {
+  return s_.grid.windowIsLocal() ? r_.values[k]
+                                 : Stretches{{s_.grid.windowLevelStart(r_.from[k]), nw}};
+}
+
+template <int D> PetscErrorCode MultiRate<D>::toWindow(Vec global, Vec window, int k) const {
+  if (!s_.grid.windowIsLocal()) return s_.grid.toWindow(global, window, r_.from[k]);
+  const PetscScalar *x = nullptr;
+  PetscScalar *y = nullptr;
+  PetscCall(VecGetArrayRead(global, &x));
+  PetscCall(VecGetArray(window, &y));
+  for (const auto &t : r_.values[k])
+    std::copy(x + t[0], x + t[1], y + t[0]);
+  PetscCall(VecRestoreArray(window, &y));
+  PetscCall(VecRestoreArrayRead(global, &x));
   return PETSC_SUCCESS;
 }
 
@@ -541,12 +617,42 @@ PetscErrorCode MultiRate<D>::classReach(const double *a, const double *b, bool a
   }
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &lo, 1, MPI_INT, MPI_MIN, s_.comm));
   r_.from[k] = lo;
+  // Where its values lie. On one rank (the window is the global array) the rows of level lo,
+  // along the last axis, that a node reaching the class's domains may lie on (a node's zones
+  // are at most a level-0 cell, so its support overlaps the domains only within a level-0 cell
+  // of [a, b]; one row more each way, against rounding), then the finer levels. Outside them the
+  // class's sums stay zero and its nodal passes skip them. Elsewhere (and with cracks, whose
+  // contact reads every cracked node, or where a domain is not finite) every value from the
+  // level's start on.
+  PetscInt nloc = 0;
+  PetscCall(VecGetLocalSize(s_.nodal.P, &nloc));
+  const PetscInt l0 = g.localLevelStart(lo);
+  Stretches &v = r_.values[k];
+  v = {{l0, nloc}};
+  constexpr int t = D - 1;
+  if (g.windowIsLocal() && s_.sc.cracks.empty() && any && std::isfinite(a[t]) &&
+      std::isfinite(b[t])) {
+    const Level<D> &L = g.levels[lo];
+    const double h0 = g.levels[0].h;
+    PetscInt size = D; // (values of one row of the level's window)
+    for (int c = 0; c < t; ++c)
+      size *= L.wn(c);
+    const auto row = [&](double y) { // (clamped before the cast: a far particle is finite)
+      const double q = std::floor((y - L.box[t]) * L.ih) - static_cast<double>(L.w0[t]);
+      return static_cast<PetscInt>(std::clamp(q, 0.0, static_cast<double>(L.wn(t))));
+    };
+    const PetscInt r0 = row(a[t] - h0) - 1, r1 = row(b[t] + h0) + 2;
+    v = unite({{l0 + size * std::max<PetscInt>(r0, 0), l0 + size * std::min(r1, L.wn(t))}},
+              {{g.localLevelStart(lo + 1), nloc}});
+  }
   return PETSC_SUCCESS;
 }
 
 #define GIMP_INSTANTIATE(D)                                                                        \
   template PetscErrorCode MultiRate<D>::create(Vec);                                               \
-  template PetscErrorCode MultiRate<D>::addTail(Vec, double, Vec, PetscInt);                       \
+  template Stretches MultiRate<D>::windowValues(int, PetscInt) const;                              \
+  template PetscErrorCode MultiRate<D>::toWindow(Vec, Vec, int) const;                             \
+  template PetscErrorCode MultiRate<D>::addOn(Vec, double, Vec, const Stretches &);                \
   template PetscErrorCode MultiRate<D>::run(StepClock &);
 GIMP_INSTANTIATE(2)
 GIMP_INSTANTIATE(3)

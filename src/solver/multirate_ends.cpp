@@ -58,16 +58,17 @@ PetscErrorCode MultiRate<D>::classForces(const ParticleView<D> &p, const StepClo
       scale = r.kickScale.data() + r.begin[k];
     }
     const double mk = static_cast<double>(r.every[k]);
-    const PetscInt wk = restricted(k) ? windowFrom(k) : 0;
+    const Stretches wk = restricted(k) ? windowValues(k, nw) : Stretches{{0, nw}};
     PetscScalar *w = nullptr;
-    PetscCall(zeroValues(w0, wk));
+    PetscCall(zeroStretches(w0, wk));
     PetscCall(VecGetArray(w0, &w));
     step_.internalForce(r.st[k], q.n, q.V, q.s, w);
     if (!nodeRule) { // the impulse m_c f_c, summed (m_c a power of 2: exact)
       PetscScalar *a = nullptr;
       PetscCall(VecGetArray(sum, &a));
-      for (PetscInt i = wk; i < nw; ++i)
-        a[i] += mk * w[i];
+      for (const auto &t : wk)
+        for (PetscInt i = t[0]; i < t[1]; ++i)
+          a[i] += mk * w[i];
       PetscCall(VecRestoreArray(sum, &a));
     }
     PetscCall(VecRestoreArray(w0, &w));
@@ -174,32 +175,33 @@ template <int D> PetscErrorCode MultiRate<D>::accumulate(const StepClock &c, Pet
   RunState<D> &s = s_;
   RateClasses<D> &r = r_;
   PetscCall(PetscLogStagePush(s.stages.grid));
-  PetscInt nloc = 0;
-  PetscCall(VecGetLocalSize(s.nodal.P, &nloc));
   const PetscScalar *a = nullptr, *v = nullptr;
   PetscCall(VecGetArrayRead(s.nodal.acc, &a));
   PetscCall(VecGetArrayRead(s.nodal.vel, &v));
   // The increments only where a FLIP fraction reads them (not APIC, not PIC).
   const bool increments = s.sc.transfer != Transfer::Apic && s.sc.flip > 0;
-  for (int k = 0; k < r.n; ++k) { // (on the levels the class reaches: read there alone)
+  for (int k = 0; k < r.n; ++k) { // (on the values the class reaches: read there alone)
     if (r.size[k] == 0 || r.every[k] == 1) continue;
-    const PetscInt i0 = localFrom(k);
     PetscScalar *d = nullptr, *w = nullptr;
     PetscCall(VecGetArray(sums_.vsum[k], &w));
-    if (r.start[k] == j)
-      std::copy(v + i0, v + nloc, w + i0);
-    else
-      for (PetscInt i = i0; i < nloc; ++i)
-        w[i] += v[i];
+    for (const auto &t : r.values[k]) {
+      if (r.start[k] == j)
+        std::copy(v + t[0], v + t[1], w + t[0]);
+      else
+        for (PetscInt i = t[0]; i < t[1]; ++i)
+          w[i] += v[i];
+    }
     PetscCall(VecRestoreArray(sums_.vsum[k], &w));
     if (!increments) continue;
     PetscCall(VecGetArray(sums_.inc[k], &d));
-    if (r.start[k] == j)
-      for (PetscInt i = i0; i < nloc; ++i)
-        d[i] = c.dt * a[i];
-    else
-      for (PetscInt i = i0; i < nloc; ++i)
-        d[i] += c.dt * a[i];
+    for (const auto &t : r.values[k]) {
+      if (r.start[k] == j)
+        for (PetscInt i = t[0]; i < t[1]; ++i)
+          d[i] = c.dt * a[i];
+      else
+        for (PetscInt i = t[0]; i < t[1]; ++i)
+          d[i] += c.dt * a[i];
+    }
     PetscCall(VecRestoreArray(sums_.inc[k], &d));
   }
   PetscCall(VecRestoreArrayRead(s.nodal.vel, &v));
@@ -242,19 +244,18 @@ typename MultiRate<D>::Taken MultiRate<D>::taken(int k, double flip, double dt) 
 
 template <int D>
 PetscErrorCode MultiRate<D>::takenBy(int k, double flip, double dt, Vec out, bool add) {
-  // What the particles of class k take from the nodes at their G2P (Taken), on the levels the
-  // class reaches (out is left as it is before them: the class takes nothing there).
-  PetscInt nloc = 0;
-  PetscCall(VecGetLocalSize(out, &nloc));
+  // What the particles of class k take from the nodes at their G2P (Taken), on the values the
+  // class reaches (out is left as it is elsewhere: the class takes nothing there).
   Taken tk = taken(k, flip, dt);
   PetscScalar *t = nullptr;
   PetscCall(tk.get());
   PetscCall(VecGetArray(out, &t));
-  for (PetscInt i = localFrom(k); i < nloc; i += D)
-    for (int q = 0; q < D; ++q) {
-      const double took = tk.at(i, q);
-      t[i + q] = add ? t[i + q] + took : took;
-    }
+  for (const auto &st : r_.values[k])
+    for (PetscInt i = st[0]; i < st[1]; i += D)
+      for (int q = 0; q < D; ++q) {
+        const double took = tk.at(i, q);
+        t[i + q] = add ? t[i + q] + took : took;
+      }
   PetscCall(VecRestoreArray(out, &t));
   PetscCall(tk.restore());
   return PETSC_SUCCESS;
@@ -277,19 +278,17 @@ PetscErrorCode MultiRate<D>::endClasses(ParticleView<D> &p, const StepClock &c, 
   PetscCall(PetscLogStagePush(s.stages.g2p));
   if (ending.size() == present.size() && present.size() > 1 && flip > 0 && flip < 1)
     PetscCall(spreadRemainder(ending, c, flip));
-  // What the ending classes take and their MUSL corrections: on the levels they reach, zero
-  // before. The first ending class writes them from its levels on (endClass); the rest is zeroed
-  // where the sub-step before left values.
-  PetscInt from = 0, nloc = 0;
-  PetscCall(VecGetLocalSize(s.nodal.P, &nloc));
-  from = nloc;
+  // What the ending classes take and their MUSL corrections: on the values they reach (at), zero
+  // elsewhere. The first ending class writes them on its values (endClass); the rest is zeroed
+  // where the sub-step before left values or another ending class adds.
+  Stretches at;
   for (int k : ending)
-    from = std::min(from, localFrom(k));
-  const PetscInt z0 = std::min(from, scratch_.zeroFrom);
-  const PetscInt z1 = ending.empty() ? nloc : localFrom(ending.front());
-  PetscCall(zeroValues(scratch_.taken, z0, z1));
-  if (musl) PetscCall(zeroValues(scratch_.corrSum, z0, z1));
-  scratch_.zeroFrom = from;
+    at = unite(at, r.values[k]);
+  const Stretches zero =
+      minus(unite(scratch_.dirty, at), ending.empty() ? Stretches{} : r.values[ending.front()]);
+  PetscCall(zeroStretches(scratch_.taken, zero));
+  if (musl) PetscCall(zeroStretches(scratch_.corrSum, zero));
+  scratch_.dirty = at;
   for (size_t e = 0; e < ending.size(); ++e)
     PetscCall(endClass(p, c, ending[e], e, flip, tally));
   PetscCall(PetscLogStagePop());
@@ -303,12 +302,11 @@ PetscErrorCode MultiRate<D>::endClasses(ParticleView<D> &p, const StepClock &c, 
   // Damping per sub-step, with MUSL's velocity at the end (the grid velocity plus the ending
   // classes' corrections), as in the single-rate step.
   const bool corrected = musl && !ending.empty(); // (USF is refused with -gimp_multirate)
-  if (corrected) PetscCall(addTail(s.nodal.vel, 1.0, scratch_.corrSum, from));
+  if (corrected) PetscCall(addOn(s.nodal.vel, 1.0, scratch_.corrSum, at));
   PetscCall(step_.work(c, power, nodeRule));
   // The ending classes leave the nodes; at the coarse end every class does and the next coarse
   // step starts from P = 0, so P keeps the nodal momentum for the monitor and the frames.
-  if (!ending.empty() && j + 1 < s.stride())
-    PetscCall(addTail(s.nodal.P, -1.0, scratch_.taken, from));
+  if (!ending.empty() && j + 1 < s.stride()) PetscCall(addOn(s.nodal.P, -1.0, scratch_.taken, at));
   return PETSC_SUCCESS;
 }
 
@@ -344,9 +342,10 @@ PetscErrorCode MultiRate<D>::spreadRemainder(const std::vector<int> &ending, con
       r_.live[k] = 1;
     }
   PetscCall(VecZeroEntries(scratch_.taken));
-  for (int k : ending)
+  for (int k : ending) {
     PetscCall(takenBy(k, flip, c.dt, scratch_.taken, true));
-  scratch_.zeroFrom = 0;
+    scratch_.dirty = unite(scratch_.dirty, r_.values[k]);
+  }
   PetscCall(VecWAXPY(scratch_.field, -1.0, scratch_.taken, n.P));
   PetscCall(VecPointwiseMult(scratch_.field, scratch_.field, n.invMass));
   for (int k : ending)
@@ -366,39 +365,43 @@ PetscErrorCode MultiRate<D>::endClass(ParticleView<D> &p, const StepClock &c, in
   const double every = static_cast<double>(r.every[k]);
   const bool summed = r.every[k] > 1 || r.live[k];
   // The velocity update field flip inc + (1 - flip) v (APIC: v) and the mean grid velocity over
-  // the class's step (a class stepping every sub-step: v), on the window.
+  // the class's step (a class stepping every sub-step: v), on the window: formed on this rank's
+  // global values and moved there, or formed there where the window is the global array.
   Vec u = n.velW, w = n.velW;
   const int from = r.from[k];
-  const PetscInt i0 = localFrom(k);
+  const Stretches &at = r.values[k];
+  const bool direct = s.grid.windowIsLocal();
   if (!apic || r.every[k] > 1) {
-    PetscInt nloc = 0;
-    PetscCall(VecGetLocalSize(n.P, &nloc));
     Vec dv = summed ? sums_.inc[k] : n.acc, vs = r.every[k] > 1 ? sums_.vsum[k] : n.vel;
     const PetscScalar *v = nullptr, *d = nullptr, *vsum = nullptr;
     PetscScalar *uf = nullptr, *wf = nullptr;
     PetscCall(VecGetArrayRead(n.vel, &v));
     PetscCall(VecGetArrayRead(dv, &d));
     PetscCall(VecGetArrayRead(vs, &vsum));
-    PetscCall(VecGetArray(w0.field, &uf));
-    PetscCall(VecGetArray(w0.corr, &wf)); // (free until the re-projection)
+    // (corr is free until the MUSL momenta)
+    Vec uv = direct ? w0.fieldW : w0.field, wv = direct ? w0.meanW : w0.corr;
+    PetscCall(VecGetArray(uv, &uf));
+    PetscCall(VecGetArray(wv, &wf));
     const double ds = summed ? 1.0 : c.dt;
-    if (!apic) // (APIC moves with the grid velocity: no update field)
-      for (PetscInt i = i0; i < nloc; ++i)
-        uf[i] = flip > 0 ? flip * ds * d[i] + (1.0 - flip) * v[i] : v[i];
-    if (r.every[k] > 1)
-      for (PetscInt i = i0; i < nloc; ++i)
-        wf[i] = vsum[i] / every;
-    PetscCall(VecRestoreArray(w0.corr, &wf));
-    PetscCall(VecRestoreArray(w0.field, &uf));
+    for (const auto &t : at) {
+      if (!apic) // (APIC moves with the grid velocity: no update field)
+        for (PetscInt i = t[0]; i < t[1]; ++i)
+          uf[i] = flip > 0 ? flip * ds * d[i] + (1.0 - flip) * v[i] : v[i];
+      if (r.every[k] > 1)
+        for (PetscInt i = t[0]; i < t[1]; ++i)
+          wf[i] = vsum[i] / every;
+    }
+    PetscCall(VecRestoreArray(wv, &wf));
+    PetscCall(VecRestoreArray(uv, &uf));
     PetscCall(VecRestoreArrayRead(vs, &vsum));
     PetscCall(VecRestoreArrayRead(dv, &d));
     PetscCall(VecRestoreArrayRead(n.vel, &v));
     if (!apic) {
-      PetscCall(s.grid.toWindow(w0.field, w0.fieldW, from));
+      if (!direct) PetscCall(toWindow(w0.field, w0.fieldW, k));
       u = w0.fieldW;
     }
     if (r.every[k] > 1) {
-      PetscCall(s.grid.toWindow(w0.corr, w0.meanW, from));
+      if (!direct) PetscCall(toWindow(w0.corr, w0.meanW, k));
       w = w0.meanW;
     }
   }
@@ -407,7 +410,10 @@ PetscErrorCode MultiRate<D>::endClass(ParticleView<D> &p, const StepClock &c, in
   PetscScalar *mom = nullptr;
   Vec sum = nullptr;
   if (musl) {
-    PetscCall(s.grid.startSum(n.sumW, w0.corr, &sum, from, i0));
+    PetscInt nloc = 0;
+    PetscCall(VecGetLocalSize(n.P, &nloc));
+    PetscCall(zeroStretches(w0.corr, at));
+    PetscCall(s.grid.startSum(n.sumW, w0.corr, &sum, from, nloc));
     PetscCall(VecGetArray(sum, &mom));
   }
   const PetscScalar *ug = nullptr, *wg = nullptr;
@@ -447,10 +453,7 @@ PetscErrorCode MultiRate<D>::correction(const StepClock &c, int k, size_t e, dou
   RateScratch &w0 = scratch_;
   Nodal &n = s.nodal;
   const double every = static_cast<double>(r_.every[k]);
-  PetscInt nloc = 0;
-  PetscCall(VecGetLocalSize(n.P, &nloc));
   const int from = r_.from[k];
-  const PetscInt i0 = localFrom(k);
   PetscCall(s.grid.endSum(n.sumW, w0.corr, from)); // (the class's new momenta: endClass)
   Vec vsv = r_.every[k] > 1 ? sums_.vsum[k] : n.vel;
   Taken took = taken(k, flip, c.dt);
@@ -462,25 +465,30 @@ PetscErrorCode MultiRate<D>::correction(const StepClock &c, int k, size_t e, dou
   PetscCall(VecGetArrayRead(vsv, &vs));
   PetscCall(VecGetArray(w0.corr, &cr));
   PetscCall(VecGetArray(w0.corrSum, &cs));
-  PetscCall(VecGetArray(n.f, &sf)); // (free after the grid update)
-  // (corrSum, taken: zero before the first's levels)
-  for (PetscInt node = i0; node < nloc; node += D) // (a node's first value)
-    for (int q = 0; q < D; ++q) {
-      const PetscInt i = node + q;
-      const double t = took.at(node, q);
-      tk[i] = e == 0 ? t : tk[i] + t;
-      cr[i] = (cr[i] - t) * im[i];
-      cs[i] = e == 0 ? cr[i] : cs[i] + cr[i];
-      sf[i] = vs[i] / every + cr[i];
-    }
-  PetscCall(VecRestoreArray(n.f, &sf));
+  // The stress velocity on the window: formed on nodal.f (free after the grid update) and moved
+  // there, or formed there where the window is the global array and no crack contact follows.
+  const bool direct = s.grid.windowIsLocal() && s.sc.cracks.empty();
+  Vec sv = direct ? w0.meanW : n.f;
+  PetscCall(VecGetArray(sv, &sf));
+  // (corrSum, taken: zero outside the first's values)
+  for (const auto &st : r_.values[k])
+    for (PetscInt node = st[0]; node < st[1]; node += D) // (a node's first value)
+      for (int q = 0; q < D; ++q) {
+        const PetscInt i = node + q;
+        const double t = took.at(node, q);
+        tk[i] = e == 0 ? t : tk[i] + t;
+        cr[i] = (cr[i] - t) * im[i];
+        cs[i] = e == 0 ? cr[i] : cs[i] + cr[i];
+        sf[i] = vs[i] / every + cr[i];
+      }
+  PetscCall(VecRestoreArray(sv, &sf));
   PetscCall(VecRestoreArray(w0.corrSum, &cs));
   PetscCall(VecRestoreArray(w0.corr, &cr));
   PetscCall(VecRestoreArrayRead(vsv, &vs));
   PetscCall(VecRestoreArrayRead(n.invMass, &im));
   PetscCall(VecRestoreArray(w0.taken, &tk));
   PetscCall(took.restore());
-  PetscCall(s.grid.toWindow(n.f, w0.meanW, from));
+  if (!direct) PetscCall(toWindow(n.f, w0.meanW, k));
   // The re-projected fields of a cracked node may approach each other again: the same contact
   // as the single-rate step's (Step::reproject), or the strain would see the faces
   // interpenetrate.

@@ -136,6 +136,9 @@ public:
   /// The first value of level a's nodes in this rank's part of a global Vec: levels a, a + 1,
   /// ... and then the crack fields fill the rest of it.
   PetscInt localLevelStart(int a) const { return localLevelStart_[a]; }
+  /// Whether the window is this rank's global array, slot for slot (one rank): window value i
+  /// is this rank's global value i.
+  bool windowIsLocal() const { return windowIsLocal_; }
   /// Every cracked node, in the order of the composite's crack part (see crack_fields.cpp).
   const std::vector<CrackedNode> &crackedNodes() const { return cracked_; }
 

@@ -13,9 +13,19 @@
 
 #include "gimp/solver/step.hpp"
 
+#include <array>
 #include <vector>
 
 namespace gimp {
+
+/// Values of this rank's part of a global Vec (or of a window): disjoint stretches [from, to),
+/// in order. A rate class's nodal sums are zero outside its stretches (RateClasses::values).
+using Stretches = std::vector<std::array<PetscInt, 2>>;
+/// The union of two sets of stretches, and the values of a that are not in b.
+Stretches unite(const Stretches &a, const Stretches &b);
+Stretches minus(const Stretches &a, const Stretches &b);
+/// v = 0 on the stretches.
+PetscErrorCode zeroStretches(Vec v, const Stretches &at);
 
 /// Which particles step how: class c holds this rank's particles [begin[c], begin[c + 1]).
 template <int D> struct RateClasses {
@@ -30,9 +40,14 @@ template <int D> struct RateClasses {
   std::vector<Stencils<D>> st;    // class c's stencils, from its last start
   std::vector<PetscInt> start;    // the sub-step of class c's last start
   // The coarsest level class c's stencils reach (on every rank), from its last start: its nodal
-  // sums and their moves cover the levels from there on (Grid::localLevelStart), the rest of them
-  // is zero.
+  // values lie on the levels from there on (values), and the moves of its fields between the
+  // window and the global Vecs cover those levels (Grid::toWindow: a scatter of them alone).
   std::vector<int> from;
+  // Where class k's nodal values lie in this rank's part of a global Vec, from its last start:
+  // on one rank the rows (along the last axis) of level `from` that its particles' domains may
+  // reach and the finer levels after them, else every value from that level's start on
+  // (Grid::localLevelStart). Its sums are zero elsewhere, and its nodal passes skip the rest.
+  std::vector<Stretches> values;
   std::vector<char> live; // a class stepping every sub-step: inc holds its increments (else dt a)
   // With external forces, for the work of class c's external impulse: the power of its force
   // (ClassSums::fext) before and after the impulse, summed, and the impulse's factor (m_c, times
@@ -76,7 +91,7 @@ struct RateScratch {
   Vec taken = nullptr, field = nullptr;  // global: what the ending classes took, a field
   Vec corr = nullptr, corrSum = nullptr; // MUSL: a class's re-projection correction, their sum
   Vec fieldW = nullptr, meanW = nullptr, forceW = nullptr; // window
-  PetscInt zeroFrom = 0; // taken and corrSum: the first value that may not be zero
+  Stretches dirty; // taken and corrSum: where they may not be zero
 };
 
 template <int D> class MultiRate {
@@ -98,13 +113,13 @@ private:
   PetscErrorCode classify(PetscInt step);
   /// Sub-step j: the classes that start (stencils, P2G), the total mass and mask.
   PetscErrorCode startClasses(ParticleView<D> &p, PetscInt j);
-  /// A starting class's stencils, P2G and crack faces (startClasses, class k); `changed` is the
-  /// first value of its mass and momentum that the start changed.
-  PetscErrorCode startClass(ParticleView<D> &p, int k, PetscInt j, PetscInt &changed);
-  /// Sub-step j, from this rank's value `from` on (before it all is as it was), in one pass: the
+  /// A starting class's stencils, P2G and crack faces (startClasses, class k); `changed` holds
+  /// the values of its mass and momentum that the start changed.
+  PetscErrorCode startClass(ParticleView<D> &p, int k, PetscInt j, Stretches &changed);
+  /// Sub-step j, on this rank's values `sweep` (elsewhere all is as it was), in one pass: the
   /// starting classes' momenta added to P, the summed mass of the classes, with the node rule
   /// the node rates, the masks, P masked and the velocity.
-  PetscErrorCode startNodes(PetscInt from, PetscInt j);
+  PetscErrorCode startNodes(const Stretches &sweep, PetscInt j);
   /// The starting classes' forces, each times its step in sub-steps, into nodal.f.
   PetscErrorCode classForces(const ParticleView<D> &p, const StepClock &c, PetscInt j,
                              StartPower &power);
@@ -152,14 +167,17 @@ private:
   /// MUSL: class k's re-projection correction and the stress velocity into meanW; what it took
   /// (takenBy's rule, in the same pass) added to taken.
   PetscErrorCode correction(const StepClock &c, int k, size_t e, double flip);
-  /// y += a x on this rank's values from `from` on (a = +-1 here: exact as VecAXPY).
-  static PetscErrorCode addTail(Vec y, double a, Vec x, PetscInt from);
-  /// The coarsest level that class k's particles reach, on every rank (RateClasses::from), from
-  /// the bounding box [lo, hi] of their domains on this rank (any: it holds a particle).
+  /// y += a x on this rank's values `at` (a = +-1 here: exact as VecAXPY).
+  static PetscErrorCode addOn(Vec y, double a, Vec x, const Stretches &at);
+  /// The coarsest level that class k's particles reach, on every rank (RateClasses::from), and
+  /// where its nodal values lie (RateClasses::values), from the bounding box [lo, hi] of their
+  /// domains on this rank (any: it holds a particle).
   PetscErrorCode classReach(const double *lo, const double *hi, bool any, int k);
-  /// Where class k's nodal values start in this rank's part of a global Vec, and in a window.
-  PetscInt localFrom(int k) const { return s_.grid.localLevelStart(r_.from[k]); }
-  PetscInt windowFrom(int k) const { return s_.grid.windowLevelStart(r_.from[k]); }
+  /// Class k's values in a window of nw values (RateClasses::values where the window is the
+  /// global array, else every value from its level on), and a global Vec's values there copied
+  /// into the window (Grid::toWindow, collective).
+  Stretches windowValues(int k, PetscInt nw) const;
+  PetscErrorCode toWindow(Vec global, Vec window, int k) const;
 
   RunState<D> &s_;
   Step<D> &step_;
