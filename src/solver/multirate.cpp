@@ -149,11 +149,18 @@ void classesOf(const Grid<D> &g, const std::vector<std::array<double, 2 * D>> &z
   // pretest: the leaf cell lies within a level-0 cell of the centre, so a box that the particle's
   // domain widened so does not meet, its leaf cell does not either, whatever the rounding; nor its
   // domain).
+  // Their hull first: a particle whose domain misses it is near no box, class 0 (the same
+  // comparisons: it misses each box's).
   std::vector<std::array<double, 2 * D>> near(K);
+  std::array<double, 2 * D> hull;
+  for (int a = 0; a < D; ++a)
+    hull[a] = std::numeric_limits<double>::infinity(), hull[D + a] = -hull[a];
   for (int c = 1; c < K; ++c)
     for (int a = 0; a < D; ++a) {
       near[c][a] = g.levels[c].box[a] - zones[c][a] - m - 2 * h0;
       near[c][D + a] = g.levels[c].box[D + a] + zones[c][D + a] + m + 2 * h0;
+      hull[a] = std::min(hull[a], near[c][a]);
+      hull[D + a] = std::max(hull[D + a], near[c][D + a]);
     }
   const auto inside = [&](const double *xk, int q) {
     const BoxOf<D> &b = g.levels[q].box;
@@ -167,6 +174,13 @@ void classesOf(const Grid<D> &g, const std::vector<std::array<double, 2 * D>> &z
     // Tried from the finest level down: a centre inside level c's box (and no finer one) has its
     // leaf cell there, which meets the box. Otherwise the leaf cell (or the particle's domain)
     // widened by the half-size, [lo, hi], is found when the box is near enough to need it.
+    bool inHull = true;
+    for (int a = 0; a < D; ++a)
+      inHull = inHull && xk[a] + lk[a] > hull[a] && xk[a] - lk[a] < hull[D + a];
+    if (!inHull) {
+      cls[k] = 0;
+      continue;
+    }
     double lo[D] = {}, hi[D] = {};
     bool found = false;
     int c = K - 1;
