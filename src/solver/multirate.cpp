@@ -595,19 +595,6 @@ template <int D> Stretches MultiRate<D>::windowValues(int k, PetscInt nw) const 
                                  : Stretches{{s_.grid.windowLevelStart(r_.from[k]), nw}};
 }
 
-template <int D> PetscErrorCode MultiRate<D>::toWindow(Vec global, Vec window, int k) const {
-  if (!s_.grid.windowIsLocal()) return s_.grid.toWindow(global, window, r_.from[k]);
-  const PetscScalar *x = nullptr;
-  PetscScalar *y = nullptr;
-  PetscCall(VecGetArrayRead(global, &x));
-  PetscCall(VecGetArray(window, &y));
-  for (const auto &t : r_.values[k])
-    std::copy(x + t[0], x + t[1], y + t[0]);
-  PetscCall(VecRestoreArray(window, &y));
-  PetscCall(VecRestoreArrayRead(global, &x));
-  return PETSC_SUCCESS;
-}
-
 template <int D>
 PetscErrorCode MultiRate<D>::classReach(const double *a, const double *b, bool any, int k) {
   // No particle reaches a level coarser than the one whose box holds it (Grid::coarsestReaching),
@@ -665,7 +652,6 @@ PetscErrorCode MultiRate<D>::classReach(const double *a, const double *b, bool a
 #define GIMP_INSTANTIATE(D)                                                                        \
   template PetscErrorCode MultiRate<D>::create(Vec);                                               \
   template Stretches MultiRate<D>::windowValues(int, PetscInt) const;                              \
-  template PetscErrorCode MultiRate<D>::toWindow(Vec, Vec, int) const;                             \
   template PetscErrorCode MultiRate<D>::addOn(Vec, double, Vec, const Stretches &);                \
   template PetscErrorCode MultiRate<D>::run(StepClock &);
 GIMP_INSTANTIATE(2)

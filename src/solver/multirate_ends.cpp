@@ -397,11 +397,11 @@ PetscErrorCode MultiRate<D>::endClass(ParticleView<D> &p, const StepClock &c, in
     PetscCall(VecRestoreArrayRead(dv, &d));
     PetscCall(VecRestoreArrayRead(n.vel, &v));
     if (!apic) {
-      if (!direct) PetscCall(toWindow(w0.field, w0.fieldW, k));
+      if (!direct) PetscCall(s.grid.toWindow(w0.field, w0.fieldW, from));
       u = w0.fieldW;
     }
     if (r.every[k] > 1) {
-      if (!direct) PetscCall(toWindow(w0.corr, w0.meanW, k));
+      if (!direct) PetscCall(s.grid.toWindow(w0.corr, w0.meanW, from));
       w = w0.meanW;
     }
   }
@@ -488,7 +488,7 @@ PetscErrorCode MultiRate<D>::correction(const StepClock &c, int k, size_t e, dou
   PetscCall(VecRestoreArrayRead(n.invMass, &im));
   PetscCall(VecRestoreArray(w0.taken, &tk));
   PetscCall(took.restore());
-  if (!direct) PetscCall(toWindow(n.f, w0.meanW, k));
+  if (!direct) PetscCall(s.grid.toWindow(n.f, w0.meanW, from));
   // The re-projected fields of a cracked node may approach each other again: the same contact
   // as the single-rate step's (Step::reproject), or the strain would see the faces
   // interpenetrate.

@@ -174,10 +174,8 @@ private:
   /// domains on this rank (any: it holds a particle).
   PetscErrorCode classReach(const double *lo, const double *hi, bool any, int k);
   /// Class k's values in a window of nw values (RateClasses::values where the window is the
-  /// global array, else every value from its level on), and a global Vec's values there copied
-  /// into the window (Grid::toWindow, collective).
+  /// global array, else every value from its level on).
   Stretches windowValues(int k, PetscInt nw) const;
-  PetscErrorCode toWindow(Vec global, Vec window, int k) const;
 
   RunState<D> &s_;
   Step<D> &step_;
