@@ -162,6 +162,7 @@ void classesOf(const Grid<D> &g, const std::vector<std::array<double, 2 * D>> &z
       hull[a] = std::min(hull[a], near[c][a]);
       hull[D + a] = std::max(hull[D + a], near[c][D + a]);
     }
+  const simd::Pair hull0 = {hull[0], hull[1]}, hull1 = {hull[D], hull[D + 1]};
   const auto inside = [&](const double *xk, int q) {
     const BoxOf<D> &b = g.levels[q].box;
     bool in = true;
@@ -175,8 +176,13 @@ void classesOf(const Grid<D> &g, const std::vector<std::array<double, 2 * D>> &z
     // leaf cell there, which meets the box. Otherwise the leaf cell (or the particle's domain)
     // widened by the half-size, [lo, hi], is found when the box is near enough to need it.
     bool inHull = true;
-    for (int a = 0; a < D; ++a)
-      inHull = inHull && xk[a] + lk[a] > hull[a] && xk[a] - lk[a] < hull[D + a];
+    if constexpr (D == 2) { // (both axes at once)
+      const simd::Pair x = simd::load(xk), l = simd::load(lk);
+      inHull = simd::bothLt(hull0, x + l) && simd::bothLt(x - l, hull1);
+    } else {
+      for (int a = 0; a < D; ++a)
+        inHull = inHull && xk[a] + lk[a] > hull[a] && xk[a] - lk[a] < hull[D + a];
+    }
     if (!inHull) {
       cls[k] = 0;
       continue;
@@ -257,7 +263,9 @@ template <int D> PetscErrorCode MultiRate<D>::run(StepClock &done) {
   PetscCall(PetscLogStagePop());
   ParticleView<D> p;
   PetscCall(p.get(s.sw));
-  PetscCall(VecZeroEntries(s.nodal.P)); // every class starts at sub-step 0
+  PetscCall(VecZeroEntries(s.nodal.P));                         // every class starts at sub-step 0
+  scratch_.accAt = {{0, std::numeric_limits<PetscInt>::max()}}; // (gridUpdate: unknown here)
+  PetscCall(decideSparseUpdate());
   s.work.strainBefore.assign(s.work.measureStrain ? r_.n : 0, 0.0);
   const bool cracked = !s.sc.cracks.empty();
   typename Step<D>::CheckTally tally; // (taken by the classes' stress updates at the last sub-step)
@@ -274,7 +282,7 @@ template <int D> PetscErrorCode MultiRate<D>::run(StepClock &done) {
     }
     StartPower power;
     PetscCall(classForces(p, c, j, power));
-    PetscCall(step_.gridUpdate(cracked));
+    PetscCall(gridUpdate(c, cracked));
     if (cracked) PetscCall(contactAfterUpdate(c));
     PetscCall(accumulate(c, j));
     PetscCall(endClasses(p, c, j, power, j + 1 == s.stride() ? &tally : nullptr));
@@ -282,6 +290,83 @@ template <int D> PetscErrorCode MultiRate<D>::run(StepClock &done) {
   PetscCall(readStepClock(s.ts, s.sc.halfStepStart, done));
   PetscCall(step_.checks(p, done.step, done.t, &tally));
   PetscCall(p.restore(s.sw));
+  return PETSC_SUCCESS;
+}
+
+template <int D> PetscErrorCode MultiRate<D>::decideSparseUpdate() {
+  // Elsewhere a node's force is zero (classForces) and its momentum, mass and velocity are as
+  // the last update left them (startNodes sets them where classes start): the euler update
+  // would leave them. Not with damping (a force on every moving node), the node rule (forces at
+  // other sub-steps), cracks (contact on every node) or several ranks (the values are a tail);
+  // and TS must step over the final time, as it does by default (a matched final step is TS's
+  // to choose).
+  const RunState<D> &s = s_;
+  TSExactFinalTimeOption exact = TS_EXACTFINALTIME_STEPOVER;
+  PetscCall(TSGetExactFinalTime(s.ts, &exact));
+  sparse_ = s.grid.windowIsLocal() && !(s.sc.damping > 0) && !s.sc.multirateNodeRule &&
+            s.sc.cracks.empty() && exact == TS_EXACTFINALTIME_STEPOVER;
+  return PETSC_SUCCESS;
+}
+
+template <int D> PetscErrorCode MultiRate<D>::gridUpdate(const StepClock &c, bool cracked) {
+  RunState<D> &s = s_;
+  if (!sparse_) {
+    scratch_.accAt = {{0, std::numeric_limits<PetscInt>::max()}};
+    return step_.gridUpdate(cracked);
+  }
+  // Step::rhs and TS euler's update, value by value on the forced values (the same operations:
+  // F = kick mask f, P + dt F, v = P / m, a = F / m), the velocity moved to the window where it
+  // changed (here or in startNodes), the acceleration zeroed where it was left from before.
+  Nodal &n = s.nodal;
+  RateScratch &w0 = scratch_;
+  PetscCall(PetscLogStagePush(s.stages.grid));
+  PetscInt nloc = 0;
+  PetscCall(VecGetLocalSize(n.P, &nloc));
+  const bool acc = s.sc.transfer != Transfer::Apic;
+  const PetscScalar *f = nullptr, *mk = nullptr, *im = nullptr;
+  PetscScalar *P = nullptr, *v = nullptr, *a = nullptr, *vw = nullptr;
+  PetscCall(VecGetArrayRead(n.f, &f));
+  PetscCall(VecGetArrayRead(n.mask, &mk));
+  PetscCall(VecGetArrayRead(n.invMass, &im));
+  PetscCall(VecGetArray(n.P, &P));
+  PetscCall(VecGetArray(n.vel, &v));
+  if (acc) PetscCall(VecGetArray(n.acc, &a));
+  const double dt = c.dt, kick = c.kick;
+  for (const auto &t : w0.forced)
+    for (PetscInt i = t[0]; i < t[1]; ++i) {
+      double F = f[i] * mk[i];
+      if (kick != 1.0) F *= kick;
+      P[i] = P[i] + dt * F;
+      v[i] = P[i] * im[i];
+      if (acc) a[i] = F * im[i];
+    }
+  if (acc) {
+    Stretches stale = minus(w0.accAt, w0.forced);
+    for (auto &t : stale) {
+      t[1] = std::min(t[1], nloc);
+      if (t[0] < t[1]) std::fill(a + t[0], a + t[1], 0.0);
+    }
+    w0.accAt = w0.forced;
+    PetscCall(VecRestoreArray(n.acc, &a));
+  }
+  PetscCall(VecGetArray(n.velW, &vw));
+  for (const auto &t : unite(w0.forced, w0.swept))
+    std::copy(v + t[0], v + t[1], vw + t[0]);
+  PetscCall(VecRestoreArray(n.velW, &vw));
+  PetscCall(VecRestoreArray(n.vel, &v));
+  PetscCall(VecRestoreArray(n.P, &P));
+  PetscCall(VecRestoreArrayRead(n.invMass, &im));
+  PetscCall(VecRestoreArrayRead(n.mask, &mk));
+  PetscCall(VecRestoreArrayRead(n.f, &f));
+  // TS's clock, as its euler step moves it
+  PetscReal t = 0, h = 0;
+  PetscInt step = 0;
+  PetscCall(TSGetTime(s.ts, &t));
+  PetscCall(TSGetTimeStep(s.ts, &h));
+  PetscCall(TSGetStepNumber(s.ts, &step));
+  PetscCall(TSSetTime(s.ts, t + h));
+  PetscCall(TSSetStepNumber(s.ts, step + 1));
+  PetscCall(PetscLogStagePop());
   return PETSC_SUCCESS;
 }
 
@@ -376,22 +461,29 @@ PetscErrorCode MultiRate<D>::startClass(ParticleView<D> &p, int k, PetscInt j, S
     r.st[k].start.assign(static_cast<size_t>(q.n) + 1, 0);
   }
   cracks::assignFields<D>(s.grid, s.sc.cracks, q.n, q.x, r.st[k]);
-  // The bounding box of the class's particles' domains (classReach), a plain pass; then, below
-  // the finest class, whether its margin kept it off the finer levels' nodes (only where they
-  // might reach: no node of level k + 1 or finer reaches farther out of level k + 1's box than a
-  // level-0 cell, the widest zone), until a particle did.
+  // The bounding box of the class's particles' domains (classReach), a plain pass; then (in the
+  // same pass in 2D), below the finest class, whether its margin kept it off the finer levels'
+  // nodes (only where they might reach: no node of level k + 1 or finer reaches farther out of
+  // level k + 1's box than a level-0 cell, the widest zone), until a particle did.
   double lo[D], hi[D];
   for (int a = 0; a < D; ++a)
     lo[a] = std::numeric_limits<double>::infinity(), hi[a] = -lo[a];
   const bool finer = k + 1 < r.n;
   const BoxOf<D> &fb = s.grid.levels[finer ? k + 1 : k].box;
   const double reach = s.grid.levels[0].h;
-  if constexpr (D == 2) { // both axes at once (simd::minOf, maxOf: std::min, max lane by lane)
-    simd::Pair lo2 = simd::splat(lo[0]), hi2 = simd::splat(hi[0]);
+  bool reached = false;
+  if constexpr (D == 2) { // both axes at once (simd::minOf, maxOf: std::min, max lane by lane),
+    // the test below in the same pass
+    using simd::Pair;
+    Pair lo2 = simd::splat(lo[0]), hi2 = simd::splat(hi[0]);
+    const Pair rr = simd::splat(reach), f0 = {fb[0], fb[1]}, f1 = {fb[2], fb[3]};
     for (PetscInt i = 0; i < q.n; ++i) {
-      const simd::Pair x = simd::load(q.x + 2 * i), l = simd::load(q.l + 2 * i);
-      lo2 = simd::minOf(x - l, lo2);
-      hi2 = simd::maxOf(x + l, hi2);
+      const Pair x = simd::load(q.x + 2 * i), l = simd::load(q.l + 2 * i);
+      const Pair a = x - l, b = x + l;
+      lo2 = simd::minOf(a, lo2);
+      hi2 = simd::maxOf(b, hi2);
+      if (finer && !reached && simd::bothLe(f0, b + rr) && simd::bothLe(a - rr, f1))
+        reached = maxSlot(s.grid, r.st[k], i) >= s.grid.levels[k + 1].offset;
     }
     for (int a = 0; a < D; ++a)
       lo[a] = lo2[a], hi[a] = hi2[a];
@@ -403,8 +495,7 @@ PetscErrorCode MultiRate<D>::startClass(ParticleView<D> &p, int k, PetscInt j, S
         hi[a] = std::max(hi[a], x + l);
       }
   }
-  bool reached = false;
-  for (PetscInt i = 0; finer && !reached && i < q.n; ++i) {
+  for (PetscInt i = 0; D == 3 && finer && !reached && i < q.n; ++i) {
     bool near = true;
     for (int a = 0; a < D; ++a) {
       const double x = q.x[D * i + a], l = q.l[D * i + a];
@@ -472,6 +563,7 @@ template <int D> PetscErrorCode MultiRate<D>::startClasses(ParticleView<D> &p, P
   // step's start everywhere (a class may have emptied).
   if (j == 0) sweep = {{0, nloc}};
   if (!sweep.empty()) PetscCall(startNodes(sweep, j));
+  scratch_.swept = sweep;
   PetscCall(PetscLogStagePop());
   return PETSC_SUCCESS;
 }

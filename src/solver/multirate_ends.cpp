@@ -35,17 +35,25 @@ PetscErrorCode MultiRate<D>::classForces(const ParticleView<D> &p, const StepClo
   int from = r.n - 1;
   for (int k = 0; k < r.n; ++k)
     if (r.size[k] > 0 && j % r.every[k] == 0) from = std::min(from, restricted(k) ? r.from[k] : 0);
-  // The impulse rule sums the classes' impulses into `sum` (Grid::startSum: the window, or
-  // nodal.f itself on one rank); nodal.f is zero before the levels from.
-  Vec sum = nullptr;
-  if (!nodeRule)
-    PetscCall(s.grid.startSum(n.sumW, n.f, &sum, from, 0));
-  else
-    PetscCall(VecZeroEntries(n.f));
-  // (the impulse rule books each class's external work from its own sums: no nodal.fext)
-  if (external && nodeRule) PetscCall(VecZeroEntries(n.fext));
   PetscInt nw = 0;
   PetscCall(VecGetLocalSize(w0, &nw));
+  // The values the starting classes' forces reach (MultiRate::gridUpdate).
+  scratch_.forced.clear();
+  for (int k = 0; k < r.n; ++k)
+    if (r.size[k] > 0 && j % r.every[k] == 0)
+      scratch_.forced =
+          unite(scratch_.forced, restricted(k) ? windowValues(k, nw) : Stretches{{0, nw}});
+  // The impulse rule sums the classes' impulses into `sum` (Grid::startSum: the window, or
+  // nodal.f itself on one rank); nodal.f is zero before the levels from. Where the grid update
+  // reads the forced values alone, only they are zeroed.
+  Vec sum = nullptr;
+  if (!nodeRule)
+    PetscCall(s.grid.startSum(n.sumW, n.f, &sum, from, sparse_ ? nw : 0));
+  else
+    PetscCall(VecZeroEntries(n.f));
+  if (sparse_) PetscCall(zeroStretches(n.f, scratch_.forced));
+  // (the impulse rule books each class's external work from its own sums: no nodal.fext)
+  if (external && nodeRule) PetscCall(VecZeroEntries(n.fext));
   for (int k = 0; k < r.n; ++k) {
     if (r.size[k] == 0 || j % r.every[k] != 0) continue;
     ParticleView<D> q = p.slice(r.begin[k], r.begin[k + 1]);

@@ -92,6 +92,9 @@ struct RateScratch {
   Vec corr = nullptr, corrSum = nullptr; // MUSL: a class's re-projection correction, their sum
   Vec fieldW = nullptr, meanW = nullptr, forceW = nullptr; // window
   Stretches dirty; // taken and corrSum: where they may not be zero
+  // The sub-step's nodes (MultiRate::gridUpdate): the values the starting classes' forces reach
+  // and those startNodes swept; where the acceleration may not be zero.
+  Stretches forced, swept, accAt;
 };
 
 template <int D> class MultiRate {
@@ -127,6 +130,12 @@ private:
   PetscErrorCode loadedClasses(const ParticleView<D> &p);
   /// The node rule's delivery of class k's force (and external force) at sub-step j.
   PetscErrorCode deliverNodeRule(int k, PetscInt j, double kick, bool external);
+  /// Sub-step j's grid update: TS euler on every node (Step::gridUpdate); or, where the nodes
+  /// outside the starting classes' values feel no force (one rank, no damping, the impulse
+  /// rule, no cracks), the same update on those values alone, TS's clock moved on by a step.
+  PetscErrorCode gridUpdate(const StepClock &c, bool cracked);
+  /// Whether gridUpdate may keep to the starting classes' values (sparse_; at a coarse start).
+  PetscErrorCode decideSparseUpdate();
   /// After the grid update with cracks: contact on the new velocities, the momentum follows.
   PetscErrorCode contactAfterUpdate(const StepClock &c);
   /// After the grid update of sub-step j: each class's sums since its start.
@@ -182,6 +191,7 @@ private:
   RateClasses<D> r_;
   ClassSums sums_;
   RateScratch scratch_;
+  bool sparse_ = false; // (decideSparseUpdate)
 };
 
 } // namespace gimp
