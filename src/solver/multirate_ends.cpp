@@ -28,13 +28,14 @@ PetscErrorCode MultiRate<D>::classForces(const ParticleView<D> &p, const StepClo
   std::vector<double> V; // the volumes of a class with particles that switched class
   // (Boundary keeps the penalty reactions of its last call: the penalty particles are all in the
   // finest class, which comes last here, and it starts at every sub-step.)
-  // The impulse rule sums on the levels the starting classes reach, but for a class with external
-  // forces (RateClasses::loaded), whose external part is spread over the whole window.
+  // The impulse rule sums on the values the starting classes reach, their external forces too
+  // (body forces, tractions and penalties are spread through the class's stencils: on its
+  // values); the node rule on every value.
   if (external && !nodeRule && j == 0) PetscCall(loadedClasses(p));
-  const auto restricted = [&](int k) { return !nodeRule && (!external || !r.loaded[k]); };
+  const bool restricted = !nodeRule;
   int from = r.n - 1;
   for (int k = 0; k < r.n; ++k)
-    if (r.size[k] > 0 && j % r.every[k] == 0) from = std::min(from, restricted(k) ? r.from[k] : 0);
+    if (r.size[k] > 0 && j % r.every[k] == 0) from = std::min(from, restricted ? r.from[k] : 0);
   PetscInt nw = 0;
   PetscCall(VecGetLocalSize(w0, &nw));
   // The values the starting classes' forces reach (MultiRate::gridUpdate).
@@ -42,7 +43,7 @@ PetscErrorCode MultiRate<D>::classForces(const ParticleView<D> &p, const StepClo
   for (int k = 0; k < r.n; ++k)
     if (r.size[k] > 0 && j % r.every[k] == 0)
       scratch_.forced =
-          unite(scratch_.forced, restricted(k) ? windowValues(k, nw) : Stretches{{0, nw}});
+          unite(scratch_.forced, restricted ? windowValues(k, nw) : Stretches{{0, nw}});
   // The impulse rule sums the classes' impulses into `sum` (Grid::startSum: the window, or
   // nodal.f itself on one rank); nodal.f is zero before the levels from. Where the grid update
   // reads the forced values alone, only they are zeroed.
@@ -66,7 +67,7 @@ PetscErrorCode MultiRate<D>::classForces(const ParticleView<D> &p, const StepClo
       scale = r.kickScale.data() + r.begin[k];
     }
     const double mk = static_cast<double>(r.every[k]);
-    const Stretches wk = restricted(k) ? windowValues(k, nw) : Stretches{{0, nw}};
+    const Stretches wk = restricted ? windowValues(k, nw) : Stretches{{0, nw}};
     PetscScalar *w = nullptr;
     PetscCall(zeroStretches(w0, wk));
     PetscCall(VecGetArray(w0, &w));
