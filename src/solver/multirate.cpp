@@ -162,7 +162,6 @@ void classesOf(const Grid<D> &g, const std::vector<std::array<double, 2 * D>> &z
       hull[a] = std::min(hull[a], near[c][a]);
       hull[D + a] = std::max(hull[D + a], near[c][D + a]);
     }
-  const simd::Pair hull0 = {hull[0], hull[1]}, hull1 = {hull[D], hull[D + 1]};
   const auto inside = [&](const double *xk, int q) {
     const BoxOf<D> &b = g.levels[q].box;
     bool in = true;
@@ -176,13 +175,8 @@ void classesOf(const Grid<D> &g, const std::vector<std::array<double, 2 * D>> &z
     // leaf cell there, which meets the box. Otherwise the leaf cell (or the particle's domain)
     // widened by the half-size, [lo, hi], is found when the box is near enough to need it.
     bool inHull = true;
-    if constexpr (D == 2) { // (both axes at once)
-      const simd::Pair x = simd::load(xk), l = simd::load(lk);
-      inHull = simd::bothLt(hull0, x + l) && simd::bothLt(x - l, hull1);
-    } else {
-      for (int a = 0; a < D; ++a)
-        inHull = inHull && xk[a] + lk[a] > hull[a] && xk[a] - lk[a] < hull[D + a];
-    }
+    for (int a = 0; a < D; ++a)
+      inHull = inHull && xk[a] + lk[a] > hull[a] && xk[a] - lk[a] < hull[D + a];
     if (!inHull) {
       cls[k] = 0;
       continue;
@@ -461,29 +455,22 @@ PetscErrorCode MultiRate<D>::startClass(ParticleView<D> &p, int k, PetscInt j, S
     r.st[k].start.assign(static_cast<size_t>(q.n) + 1, 0);
   }
   cracks::assignFields<D>(s.grid, s.sc.cracks, q.n, q.x, r.st[k]);
-  // The bounding box of the class's particles' domains (classReach), a plain pass; then (in the
-  // same pass in 2D), below the finest class, whether its margin kept it off the finer levels'
-  // nodes (only where they might reach: no node of level k + 1 or finer reaches farther out of
-  // level k + 1's box than a level-0 cell, the widest zone), until a particle did.
+  // The bounding box of the class's particles' domains (classReach), a plain pass; then, below
+  // the finest class, whether its margin kept it off the finer levels' nodes (only where they
+  // might reach: no node of level k + 1 or finer reaches farther out of level k + 1's box than a
+  // level-0 cell, the widest zone), until a particle did.
   double lo[D], hi[D];
   for (int a = 0; a < D; ++a)
     lo[a] = std::numeric_limits<double>::infinity(), hi[a] = -lo[a];
   const bool finer = k + 1 < r.n;
   const BoxOf<D> &fb = s.grid.levels[finer ? k + 1 : k].box;
   const double reach = s.grid.levels[0].h;
-  bool reached = false;
-  if constexpr (D == 2) { // both axes at once (simd::minOf, maxOf: std::min, max lane by lane),
-    // the test below in the same pass
-    using simd::Pair;
-    Pair lo2 = simd::splat(lo[0]), hi2 = simd::splat(hi[0]);
-    const Pair rr = simd::splat(reach), f0 = {fb[0], fb[1]}, f1 = {fb[2], fb[3]};
+  if constexpr (D == 2) { // both axes at once (simd::minOf, maxOf: std::min, max lane by lane)
+    simd::Pair lo2 = simd::splat(lo[0]), hi2 = simd::splat(hi[0]);
     for (PetscInt i = 0; i < q.n; ++i) {
-      const Pair x = simd::load(q.x + 2 * i), l = simd::load(q.l + 2 * i);
-      const Pair a = x - l, b = x + l;
-      lo2 = simd::minOf(a, lo2);
-      hi2 = simd::maxOf(b, hi2);
-      if (finer && !reached && simd::bothLe(f0, b + rr) && simd::bothLe(a - rr, f1))
-        reached = maxSlot(s.grid, r.st[k], i) >= s.grid.levels[k + 1].offset;
+      const simd::Pair x = simd::load(q.x + 2 * i), l = simd::load(q.l + 2 * i);
+      lo2 = simd::minOf(x - l, lo2);
+      hi2 = simd::maxOf(x + l, hi2);
     }
     for (int a = 0; a < D; ++a)
       lo[a] = lo2[a], hi[a] = hi2[a];
@@ -495,7 +482,8 @@ PetscErrorCode MultiRate<D>::startClass(ParticleView<D> &p, int k, PetscInt j, S
         hi[a] = std::max(hi[a], x + l);
       }
   }
-  for (PetscInt i = 0; D == 3 && finer && !reached && i < q.n; ++i) {
+  bool reached = false;
+  for (PetscInt i = 0; finer && !reached && i < q.n; ++i) {
     bool near = true;
     for (int a = 0; a < D; ++a) {
       const double x = q.x[D * i + a], l = q.l[D * i + a];
