@@ -24,7 +24,9 @@ Checks:
   * bad input: the limits of the coarse step and the combinations it is not built for (cracks
     with FLIP, corner and CPDI tracking, XPIC, USF, a run to rest with the impulse rule) are refused in one
     line, as are -gimp_multirate_forces without the option, with MUSL and a bad value of it. The node rule
-    is checked by check_multirate_rest.py.
+    is checked by check_multirate_rest.py;
+  * a class that comes onto a finer level's nodes within a coarse step (a body near the wave
+    speed, ratios 4) stops the run in one line and keeps its summary, in 2D and in 3D.
 """
 import csv
 import math
@@ -237,4 +239,27 @@ refused("-gimp_multirate_forces without -gimp_multirate", "bench/block3.opts",
         "option -gimp_multirate_forces node: acts only with -gimp_multirate true")
 refused("a multi-rate checkpoint without -gimp_multirate", "options/drift3.opts",
         ["-gimp_restart", ck], "option -gimp_multirate false (the default): the checkpoint")
+
+
+def stops(name, opts, extra, needle):
+    """The run stops with exit 3 and one error line that holds needle, keeping its summary."""
+    out = os.path.join(W, "stops_" + name)
+    p = gimptest.run(args, opts, extra + MR, expect_ok=False, outdir=out)
+    lines = [l for l in p.stderr.splitlines() if l.strip()]
+    kept = os.path.exists(os.path.join(out, "summary.json"))
+    c.check("stops: " + name, p.returncode == 3 and len(lines) == 1 and needle in lines[0]
+            and kept, "exit %d, summary kept %s: %s"
+            % (p.returncode, kept, lines[0] if lines else "(no message)"))
+
+
+# A class that comes onto a finer level's nodes within a coarse step: a body moving at about
+# 0.9 c_p with ratios 4 (16 fine steps per coarse step), in 2D and in 3D (startClass's test).
+FAST = ["-gimp_level1_ratio", "4", "-gimp_level2_ratio", "4"]
+stops("a class reaching a finer level (2D)", "options/drift3.opts",
+      FAST + ["-gimp_body0_velocity", "120,0", "-ts_dt", "1.4e-5", "-ts_max_steps", "320"],
+      "a particle of level 1's rate class reached level 2's nodes within a coarse step")
+stops("a class reaching a finer level (3D)", "options/block3d_multirate.opts",
+      FAST + ["-gimp_body0_velocity", "1100,0,0", "-gimp_domain", "-0.25,-0.25,-0.25,2,2.125,2.125",
+              "-ts_max_steps", "128"],
+      "a particle of level 1's rate class reached level 2's nodes within a coarse step")
 c.done()

@@ -427,7 +427,8 @@ template <int D> PetscErrorCode MultiRate<D>::classify(PetscInt step) {
   r.switched.assign(r.n, 0);
   for (PetscInt k = 0; k < p.n; ++k) {
     const PetscInt was = p.rate[k], now = cls[k];
-    if (was >= 0 && was != now) {
+    if (was == now) continue; // (most particles: nothing to write)
+    if (was >= 0) {
       if (r.kickScale.empty()) r.kickScale.assign(static_cast<size_t>(p.n), 1.0);
       r.kickScale[k] = 0.5 * static_cast<double>(r.every[was] + r.every[now]) /
                        static_cast<double>(r.every[now]);
@@ -455,7 +456,7 @@ PetscErrorCode MultiRate<D>::startClass(ParticleView<D> &p, int k, PetscInt j, S
     r.st[k].start.assign(static_cast<size_t>(q.n) + 1, 0);
   }
   cracks::assignFields<D>(s.grid, s.sc.cracks, q.n, q.x, r.st[k]);
-  // The bounding box of the class's particles' domains (classReach), a plain pass; then, below
+  // The bounding box of the class's particles' domains (classReach) and, in the same pass below
   // the finest class, whether its margin kept it off the finer levels' nodes (only where they
   // might reach: no node of level k + 1 or finer reaches farther out of level k + 1's box than a
   // level-0 cell, the widest zone), until a particle did.
@@ -465,31 +466,37 @@ PetscErrorCode MultiRate<D>::startClass(ParticleView<D> &p, int k, PetscInt j, S
   const bool finer = k + 1 < r.n;
   const BoxOf<D> &fb = s.grid.levels[finer ? k + 1 : k].box;
   const double reach = s.grid.levels[0].h;
+  const PetscInt finerStart = finer ? s.grid.levels[k + 1].offset : 0;
+  bool reached = false, check = finer; // (check: until a particle reached)
   if constexpr (D == 2) { // both axes at once (simd::minOf, maxOf: std::min, max lane by lane)
     simd::Pair lo2 = simd::splat(lo[0]), hi2 = simd::splat(hi[0]);
+    const simd::Pair r2 = simd::splat(reach), fbLo = {fb[0], fb[1]}, fbHi = {fb[2], fb[3]};
     for (PetscInt i = 0; i < q.n; ++i) {
       const simd::Pair x = simd::load(q.x + 2 * i), l = simd::load(q.l + 2 * i);
-      lo2 = simd::minOf(x - l, lo2);
-      hi2 = simd::maxOf(x + l, hi2);
+      const simd::Pair xl = x - l, xh = x + l;
+      lo2 = simd::minOf(xl, lo2);
+      hi2 = simd::maxOf(xh, hi2);
+      if (check && simd::bothLe(fbLo, xh + r2) && simd::bothLe(xl - r2, fbHi)) {
+        reached = maxSlot(s.grid, r.st[k], i) >= finerStart;
+        check = !reached;
+      }
     }
     for (int a = 0; a < D; ++a)
       lo[a] = lo2[a], hi[a] = hi2[a];
   } else {
-    for (PetscInt i = 0; i < q.n; ++i)
+    for (PetscInt i = 0; i < q.n; ++i) {
+      bool near = check;
       for (int a = 0; a < D; ++a) {
         const double x = q.x[D * i + a], l = q.l[D * i + a];
         lo[a] = std::min(lo[a], x - l);
         hi[a] = std::max(hi[a], x + l);
+        near = near && x + l + reach >= fb[a] && x - l - reach <= fb[D + a];
       }
-  }
-  bool reached = false;
-  for (PetscInt i = 0; finer && !reached && i < q.n; ++i) {
-    bool near = true;
-    for (int a = 0; a < D; ++a) {
-      const double x = q.x[D * i + a], l = q.l[D * i + a];
-      near = near && x + l + reach >= fb[a] && x - l - reach <= fb[D + a];
+      if (near) {
+        reached = maxSlot(s.grid, r.st[k], i) >= finerStart;
+        check = !reached;
+      }
     }
-    reached = near && maxSlot(s.grid, r.st[k], i) >= s.grid.levels[k + 1].offset;
   }
   if (reached)
     s.status.localFailure = "a particle of level " + std::to_string(k) +
