@@ -65,6 +65,26 @@ PetscErrorCode zeroStretches(Vec v, const Stretches &at) {
   return PETSC_SUCCESS;
 }
 
+PetscErrorCode dotsOn(Vec a, Vec b, Vec y, const Stretches &at, PetscScalar *z) {
+  const PetscScalar *pa = nullptr, *pb = nullptr, *py = nullptr;
+  PetscCall(VecGetArrayRead(a, &pa));
+  PetscCall(VecGetArrayRead(b, &pb));
+  PetscCall(VecGetArrayRead(y, &py));
+  PetscScalar sum[2] = {0, 0};
+  for (const auto &t : at)
+    for (PetscInt i = t[0]; i < t[1]; ++i) {
+      sum[0] = sum[0] + pa[i] * py[i];
+      sum[1] = sum[1] + pb[i] * py[i];
+    }
+  PetscCall(VecRestoreArrayRead(y, &py));
+  PetscCall(VecRestoreArrayRead(b, &pb));
+  PetscCall(VecRestoreArrayRead(a, &pa));
+  MPI_Comm comm = MPI_COMM_NULL;
+  PetscCall(PetscObjectGetComm(reinterpret_cast<PetscObject>(y), &comm));
+  PetscCallMPI(MPI_Allreduce(sum, z, 2, MPIU_SCALAR, MPIU_SUM, comm));
+  return PETSC_SUCCESS;
+}
+
 template <int D> PetscErrorCode MultiRate<D>::create(Vec like) {
   const Grid<D> &grid = s_.grid;
   RateClasses<D> &r = r_;
@@ -276,7 +296,7 @@ template <int D> PetscErrorCode MultiRate<D>::run(StepClock &done) {
     }
     StartPower power;
     PetscCall(classForces(p, c, j, power));
-    PetscCall(gridUpdate(c, cracked));
+    PetscCall(gridUpdate(c, cracked, power));
     if (cracked) PetscCall(contactAfterUpdate(c));
     PetscCall(accumulate(c, j));
     PetscCall(endClasses(p, c, j, power, j + 1 == s.stride() ? &tally : nullptr));
@@ -290,33 +310,39 @@ template <int D> PetscErrorCode MultiRate<D>::run(StepClock &done) {
 template <int D> PetscErrorCode MultiRate<D>::decideSparseUpdate() {
   // Elsewhere a node's force is zero (classForces) and its momentum, mass and velocity are as
   // the last update left them (startNodes sets them where classes start): the euler update
-  // would leave them. Not with damping (a force on every moving node), the node rule (forces at
-  // other sub-steps), cracks (contact on every node) or several ranks (the values are a tail);
-  // and TS must step over the final time, as it does by default (a matched final step is TS's
-  // to choose).
+  // would leave them, but for the damping, which moves every node whose momentum is not zero:
+  // those lie on the classes' values (startNodes masks P to zero where no class has mass). Not
+  // with the node rule (forces at other sub-steps), cracks (contact on every node) or several
+  // ranks (the values are a tail); and TS must step over the final time, as it does by default
+  // (a matched final step is TS's to choose).
   const RunState<D> &s = s_;
   TSExactFinalTimeOption exact = TS_EXACTFINALTIME_STEPOVER;
   PetscCall(TSGetExactFinalTime(s.ts, &exact));
-  sparse_ = s.grid.windowIsLocal() && !(s.sc.damping > 0) && !s.sc.multirateNodeRule &&
-            s.sc.cracks.empty() && exact == TS_EXACTFINALTIME_STEPOVER;
+  sparse_ = s.grid.windowIsLocal() && !s.sc.multirateNodeRule && s.sc.cracks.empty() &&
+            exact == TS_EXACTFINALTIME_STEPOVER;
   return PETSC_SUCCESS;
 }
 
-template <int D> PetscErrorCode MultiRate<D>::gridUpdate(const StepClock &c, bool cracked) {
+template <int D>
+PetscErrorCode MultiRate<D>::gridUpdate(const StepClock &c, bool cracked, StartPower &power) {
   RunState<D> &s = s_;
   if (!sparse_) {
     scratch_.accAt = {{0, std::numeric_limits<PetscInt>::max()}};
     return step_.gridUpdate(cracked);
   }
   // Step::rhs and TS euler's update, value by value on the forced values (the same operations:
-  // F = kick mask f, P + dt F, v = P / m, a = F / m), the velocity moved to the window where it
-  // changed (here or in startNodes), the acceleration zeroed where it was left from before.
+  // F = kick mask f, with damping kick mask (f - d P), P + dt F, v = P / m, a = F / m), with
+  // damping also on the other values where P may be nonzero (f is zero there: F = kick mask (0 -
+  // d P)), the velocity moved to the window where it changed (here or in startNodes), the
+  // acceleration zeroed where it was left from before; with damping F kept in nodal.rhs for the
+  // damping's work.
   Nodal &n = s.nodal;
   RateScratch &w0 = scratch_;
   PetscCall(PetscLogStagePush(s.stages.grid));
   PetscInt nloc = 0;
   PetscCall(VecGetLocalSize(n.P, &nloc));
   const bool acc = s.sc.transfer != Transfer::Apic;
+  const bool damped = s.sc.damping > 0;
   const PetscScalar *f = nullptr, *mk = nullptr, *im = nullptr;
   PetscScalar *P = nullptr, *v = nullptr, *a = nullptr, *vw = nullptr;
   PetscCall(VecGetArrayRead(n.f, &f));
@@ -325,26 +351,58 @@ template <int D> PetscErrorCode MultiRate<D>::gridUpdate(const StepClock &c, boo
   PetscCall(VecGetArray(n.P, &P));
   PetscCall(VecGetArray(n.vel, &v));
   if (acc) PetscCall(VecGetArray(n.acc, &a));
-  const double dt = c.dt, kick = c.kick;
-  for (const auto &t : w0.forced)
-    for (PetscInt i = t[0]; i < t[1]; ++i) {
-      double F = f[i] * mk[i];
-      if (kick != 1.0) F *= kick;
-      P[i] = P[i] + dt * F;
-      v[i] = P[i] * im[i];
-      if (acc) a[i] = F * im[i];
-    }
+  const double dt = c.dt, kick = c.kick, nd = -s.sc.damping;
+  const auto update = [&](PetscInt i, double F) { // (F with the kick: the RHS)
+    if (kick != 1.0) F *= kick;
+    P[i] = P[i] + dt * F;
+    v[i] = P[i] * im[i];
+    if (acc) a[i] = F * im[i];
+    return F;
+  };
+  if (!damped) {
+    for (const auto &t : w0.forced)
+      for (PetscInt i = t[0]; i < t[1]; ++i)
+        update(i, f[i] * mk[i]);
+  } else {
+    // In the values' order, with VecDot's sums of P v before (the damping's power at the
+    // start) and after, and of F v after (Step::work); the forced values lie among them, and
+    // f is zero on the rest (VecAXPY's 0 + (-d) P there).
+    PetscScalar *rhs = nullptr;
+    PetscCall(VecGetArray(n.rhs, &rhs));
+    std::array<PetscScalar, 3> sums{}; // (P v before, P v after, F v after)
+    const Stretches &fd = w0.forced;
+    size_t e = 0;
+    for (const auto &t : w0.massive)
+      for (PetscInt i0 = t[0]; i0 < t[1];) {
+        while (e < fd.size() && fd[e][1] <= i0)
+          ++e;
+        const bool forced = e < fd.size() && fd[e][0] <= i0;
+        const PetscInt i1 = std::min(t[1], e < fd.size() ? fd[e][forced ? 1 : 0] : t[1]);
+        for (PetscInt i = i0; i < i1; ++i) {
+          sums[0] = sums[0] + P[i] * v[i];
+          rhs[i] = update(i, (forced ? f[i] + nd * P[i] : 0.0 + nd * P[i]) * mk[i]);
+          sums[1] = sums[1] + P[i] * v[i];
+          sums[2] = sums[2] + rhs[i] * v[i];
+        }
+        i0 = i1;
+      }
+    PetscCall(VecRestoreArray(n.rhs, &rhs));
+    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, sums.data(), 3, MPIU_SCALAR, MPIU_SUM, s.comm));
+    power.damping = s.sc.damping * sums[0];
+    w0.dampingDots = {sums[1], sums[2]};
+  }
+  const Stretches &moved = damped ? w0.massive : w0.forced; // (forced lies in massive)
   if (acc) {
-    Stretches stale = minus(w0.accAt, w0.forced);
+    Stretches stale = minus(w0.accAt, moved);
     for (auto &t : stale) {
       t[1] = std::min(t[1], nloc);
       if (t[0] < t[1]) std::fill(a + t[0], a + t[1], 0.0);
     }
-    w0.accAt = w0.forced;
+    w0.accAt = moved;
     PetscCall(VecRestoreArray(n.acc, &a));
   }
   PetscCall(VecGetArray(n.velW, &vw));
-  for (const auto &t : unite(w0.forced, w0.swept))
+  for (const auto &t : unite(moved, w0.swept))
     std::copy(v + t[0], v + t[1], vw + t[0]);
   PetscCall(VecRestoreArray(n.velW, &vw));
   PetscCall(VecRestoreArray(n.vel, &v));

@@ -115,9 +115,15 @@ PetscErrorCode MultiRate<D>::classForces(const ParticleView<D> &p, const StepClo
   // The power of the damping and, with the node rule, of the delivered external force at the
   // sub-step's start (the impulse rule books each class's external work itself).
   if (s.sc.damping > 0) {
-    PetscScalar pv = 0;
-    PetscCall(VecDot(n.P, n.vel, &pv));
-    power.damping = s.sc.damping * pv;
+    if (sparse_) { // (P is zero off the classes' values; gridUpdate forms the power there)
+      scratch_.massive.clear();
+      for (int k = 0; k < r.n; ++k)
+        if (r.size[k] > 0) scratch_.massive = unite(scratch_.massive, r.values[k]);
+    } else {
+      PetscScalar pv = 0;
+      PetscCall(VecDot(n.P, n.vel, &pv));
+      power.damping = s.sc.damping * pv;
+    }
   }
   if (external && nodeRule) PetscCall(VecDot(n.fext, n.vel, &power.external));
   PetscCall(PetscLogStagePop());
@@ -312,7 +318,15 @@ PetscErrorCode MultiRate<D>::endClasses(ParticleView<D> &p, const StepClock &c, 
   // classes' corrections), as in the single-rate step.
   const bool corrected = musl && !ending.empty(); // (USF is refused with -gimp_multirate)
   if (corrected) PetscCall(addOn(s.nodal.vel, 1.0, scratch_.corrSum, at));
-  PetscCall(step_.work(c, power, nodeRule));
+  if (sparse_ && s.sc.damping > 0) { // (the sums on the values the damping moved: gridUpdate's,
+    // or with the correction on the velocity, formed again)
+    if (corrected)
+      PetscCall(dotsOn(s.nodal.P, s.nodal.rhs, s.nodal.vel, scratch_.massive,
+                       scratch_.dampingDots.data()));
+    PetscCall(step_.work(c, power, nodeRule, &scratch_.dampingDots));
+  } else {
+    PetscCall(step_.work(c, power, nodeRule));
+  }
   // The ending classes leave the nodes; at the coarse end every class does and the next coarse
   // step starts from P = 0, so P keeps the nodal momentum for the monitor and the frames.
   if (!ending.empty() && j + 1 < s.stride()) PetscCall(addOn(s.nodal.P, -1.0, scratch_.taken, at));

@@ -308,7 +308,8 @@ template <int D> PetscErrorCode Step<D>::gridUpdate(bool accOnWindow) {
 }
 
 template <int D>
-PetscErrorCode Step<D>::work(const StepClock &c, const StartPower &power, bool external) {
+PetscErrorCode Step<D>::work(const StepClock &c, const StartPower &power, bool external,
+                             const std::array<PetscScalar, 2> *dampingDots) {
   // Work of the external and damping forces over the step: force times the mean of the grid
   // velocities at its start and end. With MUSL the end velocity is the re-projection of the
   // particles' velocities, so nodal force residuals that move no particle do no work.
@@ -322,8 +323,13 @@ PetscErrorCode Step<D>::work(const StepClock &c, const StartPower &power, bool e
   if (s.sc.damping > 0) {
     // The damping force is -d p^n, and p^n = p^n+1 - dt F.
     PetscScalar pv = 0, fv = 0;
-    PetscCall(VecDot(n.P, n.vel, &pv));
-    PetscCall(VecDot(n.rhs, n.vel, &fv));
+    if (dampingDots) {
+      pv = (*dampingDots)[0];
+      fv = (*dampingDots)[1];
+    } else {
+      PetscCall(VecDot(n.P, n.vel, &pv));
+      PetscCall(VecDot(n.rhs, n.vel, &fv));
+    }
     s.work.damping += 0.5 * c.kick * c.dt * (power.damping + s.sc.damping * (pv - c.dt * fv));
   }
   return PETSC_SUCCESS;
@@ -382,7 +388,8 @@ PetscErrorCode Step<D>::stress(const Stencils<D> &st, ParticleView<D> &p, Vec ve
                                           StartPower &);                                           \
   template PetscErrorCode Step<D>::startPower(StartPower &, bool);                                 \
   template PetscErrorCode Step<D>::gridUpdate(bool);                                               \
-  template PetscErrorCode Step<D>::work(const StepClock &, const StartPower &, bool);              \
+  template PetscErrorCode Step<D>::work(const StepClock &, const StartPower &, bool,               \
+                                        const std::array<PetscScalar, 2> *);                       \
   template PetscErrorCode Step<D>::stress(const Stencils<D> &, ParticleView<D> &, Vec, double,     \
                                           double *, CheckTally *);
 GIMP_INSTANTIATE(2)

@@ -26,6 +26,10 @@ Stretches unite(const Stretches &a, const Stretches &b);
 Stretches minus(const Stretches &a, const Stretches &b);
 /// v = 0 on the stretches.
 PetscErrorCode zeroStretches(Vec v, const Stretches &at);
+/// The sums over every rank of a_i y_i and b_i y_i on this rank's values `at`, each in their
+/// order, into z[0] and z[1]: VecDot's sums where a y and b y are zero elsewhere (its BLAS sums
+/// in order too, so the two agree on one rank).
+PetscErrorCode dotsOn(Vec a, Vec b, Vec y, const Stretches &at, PetscScalar *z);
 
 /// Which particles step how: class c holds this rank's particles [begin[c], begin[c + 1]).
 template <int D> struct RateClasses {
@@ -93,8 +97,11 @@ struct RateScratch {
   Vec fieldW = nullptr, meanW = nullptr, forceW = nullptr; // window
   Stretches dirty; // taken and corrSum: where they may not be zero
   // The sub-step's nodes (MultiRate::gridUpdate): the values the starting classes' forces reach
-  // and those startNodes swept; where the acceleration may not be zero.
-  Stretches forced, swept, accAt;
+  // and those startNodes swept; where the acceleration may not be zero; with damping the values
+  // where P may be nonzero (every class's), which the damping moves.
+  Stretches forced, swept, accAt, massive;
+  // With damping on those values: P . v and rhs . v after the update (Step::work's sums).
+  std::array<PetscScalar, 2> dampingDots{};
 };
 
 template <int D> class MultiRate {
@@ -131,9 +138,12 @@ private:
   /// The node rule's delivery of class k's force (and external force) at sub-step j.
   PetscErrorCode deliverNodeRule(int k, PetscInt j, double kick, bool external);
   /// Sub-step j's grid update: TS euler on every node (Step::gridUpdate); or, where the nodes
-  /// outside the starting classes' values feel no force (one rank, no damping, the impulse
-  /// rule, no cracks), the same update on those values alone, TS's clock moved on by a step.
-  PetscErrorCode gridUpdate(const StepClock &c, bool cracked);
+  /// outside the starting classes' values feel no force but the damping's (one rank, the
+  /// impulse rule, no cracks), the same update on those values (and with damping on the values
+  /// where P may be nonzero) alone, TS's clock moved on by a step.
+  /// With damping there it forms the damping's power at the sub-step's start (power) and its
+  /// sums for Step::work (RateScratch::dampingDots) in the same pass.
+  PetscErrorCode gridUpdate(const StepClock &c, bool cracked, StartPower &power);
   /// Whether gridUpdate may keep to the starting classes' values (sparse_; at a coarse start).
   PetscErrorCode decideSparseUpdate();
   /// After the grid update with cracks: contact on the new velocities, the momentum follows.

@@ -17,6 +17,7 @@
 #include "gimp/physics/tracking.hpp"
 #include "gimp/solver/state.hpp"
 
+#include <array>
 #include <vector>
 
 namespace gimp {
@@ -79,8 +80,11 @@ public:
   PetscErrorCode gridUpdate(bool accOnWindow = true);
   PetscErrorCode gridToParticles(ParticleView<D> &p, const StepClock &c, const double *centres);
   /// The step's work: damping, and the external forces unless `external` is false (the
-  /// multi-rate step takes each class's external work over its own step).
-  PetscErrorCode work(const StepClock &c, const StartPower &power, bool external = true);
+  /// multi-rate step takes each class's external work over its own step). `dampingDots`, when
+  /// given, holds the damping's sums P . v and rhs . v over every rank (the multi-rate step
+  /// forms them on the values that can be nonzero); else they are VecDots here.
+  PetscErrorCode work(const StepClock &c, const StartPower &power, bool external = true,
+                      const std::array<PetscScalar, 2> *dampingDots = nullptr);
   /// The particles' test of checks() over a range: the first failing particle (or -1) and the
   /// particles leaving their rank's cells, summed over the ranges tested.
   struct CheckTally {
