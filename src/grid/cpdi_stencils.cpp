@@ -8,8 +8,8 @@
 // sheared domains, which GIMP's axis-aligned boxes cannot represent.
 #include "gimp/grid/cpdi_cells.hpp"
 #include "gimp/grid/grid.hpp"
-#include "gimp/grid/shape.hpp"
 #include "gimp/grid/rounding.hpp"
+#include "gimp/grid/shape.hpp"
 
 #include <algorithm>
 #include <array>
@@ -156,17 +156,24 @@ template <int D> double cellIntegrals(const double *c, double *w, double *G) {
 /// gives). Room: 4 D maxRange doubles.
 template <int D> struct ZoneMemo {
   double *z[D], *w[D], *g[D];
+  PetscInt n[D];
+  bool ready = false; // (the zones' table is cleared at the first irregular factor)
   ZoneMemo(double *room, PetscInt maxRange, const PetscInt *i0, const PetscInt *i1) {
     for (int a = 0; a < D; ++a) {
       z[a] = room + 4 * a * maxRange;
       w[a] = z[a] + 2 * maxRange;
       g[a] = w[a] + maxRange;
-      std::fill(z[a], z[a] + 2 * (i1[a] - i0[a] + 1), -1.0); // (no zone is negative)
+      n[a] = i1[a] - i0[a] + 1;
     }
   }
   /// The factor along axis a of candidate index c at offset d, half-size l, zones za[0..1].
   bool mixed = false; // an index weighed for two sets of zones (not a tensor product)
   void factor(int a, PetscInt c, double d, double l, const double *za, double &wa, double &ga) {
+    if (!ready) {
+      for (int b = 0; b < D; ++b)
+        std::fill(z[b], z[b] + 2 * n[b], -1.0); // (no zone is negative)
+      ready = true;
+    }
     double *m = z[a] + 2 * c;
     if (m[0] != za[0] || m[1] != za[1]) {
       mixed = mixed || m[0] >= 0;
@@ -465,11 +472,27 @@ int Grid<D>::appendNodes(int q, const Reach &reach, const double *x, const doubl
   for (int a = 0; a < D; ++a) {
     rw[a] = scratch + 2 * a * maxRange;
     rg[a] = rw[a] + maxRange;
-    const double i2l = 0.5 / l[a];
-    for (PetscInt i = r.i0[a]; i <= r.i1[a]; ++i)
-      shape::weightAndGradientUniform(x[a] - (L.box[a] + i * L.h), l[a], L.h, ih, i2l,
-                                      rw[a][i - r.i0[a]], rg[a][i - r.i0[a]]);
     count *= static_cast<size_t>(r.i1[a] - r.i0[a] + 1);
+  }
+  if constexpr (D == 2) { // both axes at once, the i-th candidate of each (simd::Pair)
+    using simd::Pair;
+    const PetscInt n0 = r.i1[0] - r.i0[0] + 1, n1 = r.i1[1] - r.i0[1] + 1;
+    const Pair x2 = {x[0], x[1]}, l2 = {l[0], l[1]}, box = {L.box[0], L.box[1]};
+    const Pair h = simd::splat(L.h), ih2 = simd::splat(ih), i2l = 0.5 / l2;
+    for (PetscInt c = 0; c < std::max(n0, n1); ++c) {
+      const Pair i = {static_cast<double>(r.i0[0] + c), static_cast<double>(r.i0[1] + c)};
+      Pair w, g;
+      shape::weightAndGradientUniform(x2 - (box + i * h), l2, h, ih2, i2l, w, g);
+      if (c < n0) rw[0][c] = w[0], rg[0][c] = g[0];
+      if (c < n1) rw[1][c] = w[1], rg[1][c] = g[1];
+    }
+  } else {
+    for (int a = 0; a < D; ++a) {
+      const double i2l = 0.5 / l[a];
+      for (PetscInt i = r.i0[a]; i <= r.i1[a]; ++i)
+        shape::weightAndGradientUniform(x[a] - (L.box[a] + i * L.h), l[a], L.h, ih, i2l,
+                                        rw[a][i - r.i0[a]], rg[a][i - r.i0[a]]);
+    }
   }
   PetscInt *node = nullptr;
   double *ws[D] = {}, *gs[D] = {};
