@@ -483,16 +483,25 @@ template <int D> PetscErrorCode MultiRate<D>::classify(PetscInt step) {
   // (kickScale is read only for a class with switched particles: filled when one switched)
   r.kickScale.clear();
   r.switched.assign(r.n, 0);
-  for (PetscInt k = 0; k < p.n; ++k) {
-    const PetscInt was = p.rate[k], now = cls[k];
-    if (was == now) continue; // (most particles: nothing to write)
-    if (was >= 0) {
-      if (r.kickScale.empty()) r.kickScale.assign(static_cast<size_t>(p.n), 1.0);
-      r.kickScale[k] = 0.5 * static_cast<double>(r.every[was] + r.every[now]) /
-                       static_cast<double>(r.every[now]);
-      ++r.switched[now];
+  // (most particles keep their class: a block of them is passed over after one vector pass)
+  constexpr PetscInt kBlock = 64;
+  for (PetscInt k0 = 0; k0 < p.n; k0 += kBlock) {
+    const PetscInt k1 = std::min(p.n, k0 + kBlock);
+    unsigned changed = 0;
+    for (PetscInt k = k0; k < k1; ++k)
+      changed |= static_cast<unsigned>(p.rate[k] ^ cls[k]);
+    if (!changed) continue;
+    for (PetscInt k = k0; k < k1; ++k) {
+      const PetscInt was = p.rate[k], now = cls[k];
+      if (was == now) continue;
+      if (was >= 0) {
+        if (r.kickScale.empty()) r.kickScale.assign(static_cast<size_t>(p.n), 1.0);
+        r.kickScale[k] = 0.5 * static_cast<double>(r.every[was] + r.every[now]) /
+                         static_cast<double>(r.every[now]);
+        ++r.switched[now];
+      }
+      p.rate[k] = now;
     }
-    p.rate[k] = now;
   }
   PetscCall(p.restore(s.sw));
   return PETSC_SUCCESS;
