@@ -367,6 +367,9 @@ PetscErrorCode MultiRate<D>::gridUpdate(const StepClock &c, bool cracked, StartP
     // In the values' order, with VecDot's sums of P v before (the damping's power at the
     // start) and after, and of F v after (Step::work); the forced values lie among them, and
     // f is zero on the rest (VecAXPY's 0 + (-d) P there).
+    w0.massive.clear(); // (P is zero off the classes' values: decideSparseUpdate)
+    for (int k = 0; k < r_.n; ++k)
+      if (r_.size[k] > 0) w0.massive = unite(w0.massive, r_.values[k]);
     PetscScalar *rhs = nullptr;
     PetscCall(VecGetArray(n.rhs, &rhs));
     std::array<PetscScalar, 3> sums{}; // (P v before, P v after, F v after)

@@ -114,16 +114,10 @@ PetscErrorCode MultiRate<D>::classForces(const ParticleView<D> &p, const StepClo
   }
   // The power of the damping and, with the node rule, of the delivered external force at the
   // sub-step's start (the impulse rule books each class's external work itself).
-  if (s.sc.damping > 0) {
-    if (sparse_) { // (P is zero off the classes' values; gridUpdate forms the power there)
-      scratch_.massive.clear();
-      for (int k = 0; k < r.n; ++k)
-        if (r.size[k] > 0) scratch_.massive = unite(scratch_.massive, r.values[k]);
-    } else {
-      PetscScalar pv = 0;
-      PetscCall(VecDot(n.P, n.vel, &pv));
-      power.damping = s.sc.damping * pv;
-    }
+  if (s.sc.damping > 0 && !sparse_) { // (else gridUpdate forms it in its pass)
+    PetscScalar pv = 0;
+    PetscCall(VecDot(n.P, n.vel, &pv));
+    power.damping = s.sc.damping * pv;
   }
   if (external && nodeRule) PetscCall(VecDot(n.fext, n.vel, &power.external));
   PetscCall(PetscLogStagePop());
