@@ -778,18 +778,21 @@ PetscErrorCode MultiRate<D>::classReach(const double *a, const double *b, bool a
   // Where its values lie. On one rank (the window is the global array) the rows of level lo,
   // along the last axis, that a node reaching the class's domains may lie on (a node's zones
   // are at most a level-0 cell, so its support overlaps the domains only within a level-0 cell
-  // of [a, b]; one row more each way, against rounding), then the finer levels. Outside them the
-  // class's sums stay zero and its nodal passes skip them. Elsewhere (and with cracks, whose
-  // contact reads every cracked node, or where a domain is not finite) every value from the
-  // level's start on.
+  // of [a, b]; one row more each way, against rounding), then the finer levels. Elsewhere (and
+  // where a domain is not finite) every value from the level's start on. Without cracks
+  // neither goes past level k: its particles reach no node of level k + 1 or finer until its
+  // next start (its class says so, and startClass stops the run where one did). Outside them the
+  // class's sums stay zero and its nodal passes skip them. With cracks every value from level
+  // lo = 0 on: the contact reads every cracked node.
   PetscInt nloc = 0;
   PetscCall(VecGetLocalSize(s_.nodal.P, &nloc));
   const PetscInt l0 = g.localLevelStart(lo);
   Stretches &v = r_.values[k];
-  v = {{l0, nloc}};
+  const bool cracked = !s_.sc.cracks.empty();
+  const PetscInt end = cracked ? nloc : g.localLevelStart(std::max(lo, k) + 1);
+  v = {{l0, end}};
   constexpr int t = D - 1;
-  if (g.windowIsLocal() && s_.sc.cracks.empty() && any && std::isfinite(a[t]) &&
-      std::isfinite(b[t])) {
+  if (g.windowIsLocal() && !cracked && any && std::isfinite(a[t]) && std::isfinite(b[t])) {
     const Level<D> &L = g.levels[lo];
     const double h0 = g.levels[0].h;
     PetscInt size = D; // (values of one row of the level's window)
@@ -801,7 +804,7 @@ PetscErrorCode MultiRate<D>::classReach(const double *a, const double *b, bool a
     };
     const PetscInt r0 = row(a[t] - h0) - 1, r1 = row(b[t] + h0) + 2;
     v = unite({{l0 + size * std::max<PetscInt>(r0, 0), l0 + size * std::min(r1, L.wn(t))}},
-              {{g.localLevelStart(lo + 1), nloc}});
+              {{g.localLevelStart(lo + 1), end}});
   }
   return PETSC_SUCCESS;
 }
