@@ -46,13 +46,19 @@ PetscErrorCode MultiRate<D>::classForces(const ParticleView<D> &p, const StepClo
           unite(scratch_.forced, restricted ? windowValues(k, nw) : Stretches{{0, nw}});
   // The impulse rule sums the classes' impulses into `sum` (Grid::startSum: the window, or
   // nodal.f itself on one rank); nodal.f is zero before the levels from. Where the grid update
-  // reads the forced values alone, only they are zeroed.
+  // reads the forced values alone, only they are zeroed, and of them not the first starting
+  // class's values: its impulse is written there as 0 + m_c f_c, the sum on zero.
   Vec sum = nullptr;
   if (!nodeRule)
     PetscCall(s.grid.startSum(n.sumW, n.f, &sum, from, sparse_ ? nw : 0));
   else
     PetscCall(VecZeroEntries(n.f));
-  if (sparse_) PetscCall(zeroStretches(n.f, scratch_.forced));
+  int first = -1; // (the first starting class, sparse_: its sum writes)
+  for (int k = 0; k < r.n && sparse_ && first < 0; ++k)
+    if (r.size[k] > 0 && j % r.every[k] == 0) first = k;
+  if (sparse_)
+    PetscCall(zeroStretches(n.f, first < 0 ? scratch_.forced
+                                           : minus(scratch_.forced, windowValues(first, nw))));
   // (the impulse rule books each class's external work from its own sums: no nodal.fext)
   if (external && nodeRule) PetscCall(VecZeroEntries(n.fext));
   for (int k = 0; k < r.n; ++k) {
@@ -75,9 +81,14 @@ PetscErrorCode MultiRate<D>::classForces(const ParticleView<D> &p, const StepClo
     if (!nodeRule) { // the impulse m_c f_c, summed (m_c a power of 2: exact)
       PetscScalar *a = nullptr;
       PetscCall(VecGetArray(sum, &a));
-      for (const auto &t : wk)
-        for (PetscInt i = t[0]; i < t[1]; ++i)
-          a[i] += mk * w[i];
+      if (k == first)
+        for (const auto &t : wk)
+          for (PetscInt i = t[0]; i < t[1]; ++i)
+            a[i] = 0.0 + mk * w[i];
+      else
+        for (const auto &t : wk)
+          for (PetscInt i = t[0]; i < t[1]; ++i)
+            a[i] += mk * w[i];
       PetscCall(VecRestoreArray(sum, &a));
     }
     PetscCall(VecRestoreArray(w0, &w));
