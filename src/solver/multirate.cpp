@@ -373,6 +373,11 @@ PetscErrorCode MultiRate<D>::gridUpdate(const StepClock &c, bool cracked, StartP
     PetscScalar *rhs = nullptr;
     PetscCall(VecGetArray(n.rhs, &rhs));
     std::array<PetscScalar, 3> sums{}; // (P v before, P v after, F v after)
+    // By blocks: the products and the update value by value (in pairs of lanes: F = (f - d P)
+    // mask kick, P + dt F, v = P / m, a = F / m, the same operations; a kick of 1 leaves F as it
+    // is), then the three sums over the block in the values' order.
+    constexpr PetscInt kBlock = 256;
+    std::array<PetscScalar, kBlock> before, after, rate; // (P v, P v, F v)
     const Stretches &fd = w0.forced;
     size_t e = 0;
     for (const auto &t : w0.massive)
@@ -380,12 +385,32 @@ PetscErrorCode MultiRate<D>::gridUpdate(const StepClock &c, bool cracked, StartP
         while (e < fd.size() && fd[e][1] <= i0)
           ++e;
         const bool forced = e < fd.size() && fd[e][0] <= i0;
-        const PetscInt i1 = std::min(t[1], e < fd.size() ? fd[e][forced ? 1 : 0] : t[1]);
-        for (PetscInt i = i0; i < i1; ++i) {
-          sums[0] = sums[0] + P[i] * v[i];
-          rhs[i] = update(i, (forced ? f[i] + nd * P[i] : 0.0 + nd * P[i]) * mk[i]);
-          sums[1] = sums[1] + P[i] * v[i];
-          sums[2] = sums[2] + rhs[i] * v[i];
+        const PetscInt i1 = std::min(
+            {t[1], e < fd.size() ? fd[e][forced ? 1 : 0] : t[1], i0 + kBlock}); // (one block)
+        const PetscInt nb = i1 - i0;
+        double *Pb = P + i0, *vb = v + i0, *rb = rhs + i0;
+        const double *fb = f + i0, *mb = mk + i0, *ib = im + i0;
+        for (PetscInt q = 0; q < nb; ++q)
+          before[q] = Pb[q] * vb[q];
+        if (forced)
+          for (PetscInt q = 0; q < nb; ++q)
+            rb[q] = (fb[q] + nd * Pb[q]) * mb[q] * kick;
+        else
+          for (PetscInt q = 0; q < nb; ++q)
+            rb[q] = (0.0 + nd * Pb[q]) * mb[q] * kick;
+        for (PetscInt q = 0; q < nb; ++q) {
+          Pb[q] = Pb[q] + dt * rb[q];
+          vb[q] = Pb[q] * ib[q];
+          after[q] = Pb[q] * vb[q];
+          rate[q] = rb[q] * vb[q];
+        }
+        if (acc)
+          for (PetscInt q = 0; q < nb; ++q)
+            a[i0 + q] = rb[q] * ib[q];
+        for (PetscInt q = 0; q < nb; ++q) {
+          sums[0] = sums[0] + before[q];
+          sums[1] = sums[1] + after[q];
+          sums[2] = sums[2] + rate[q];
         }
         i0 = i1;
       }
