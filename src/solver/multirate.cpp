@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <string>
 
@@ -257,8 +258,22 @@ template <int D> PetscInt maxSlot(const Grid<D> &g, const Stencils<D> &st, Petsc
     }
   PetscInt s = -1;
   if (st.isLevels(k)) { // (window nodes: a level block holds no cracked node's second slot)
-    st.forEach(k, [&](PetscInt slot, double, const Vector<D> &) { s = std::max(s, slot); });
-    return s;
+    // Per block the node of its highest entry bit that forEach visits (rows j < n[1], planes q
+    // < n[2]: bit i + 4 j + 16 q; the slot grows with i, j and q).
+    for (const LevelBlock<D> *b = st.levelBlocks.data() + st.levelOf[k];; ++b) {
+      const int nq = D == 3 ? b->n[D - 1] : 1;
+      const std::uint64_t row = (std::uint64_t{1} << (4 * b->n[1])) - 1;
+      std::uint64_t visited = 0;
+      for (int q = 0; q < nq; ++q)
+        visited |= row << (16 * q);
+      if (const std::uint64_t m = b->mask & visited) {
+        const int top = 63 - __builtin_clzll(m), q = top / 16, j = top % 16 / 4;
+        PetscInt slot = b->base + j * b->stride[0] + top % 4;
+        if constexpr (D == 3) slot += q * b->stride[1];
+        s = std::max(s, slot);
+      }
+      if (b->last) return s;
+    }
   }
   for (PetscInt e = st.start[k]; e < st.start[k + 1]; ++e)
     s = std::max(s, g.slotNode[st.node[e]]);
@@ -478,7 +493,8 @@ template <int D> PetscErrorCode MultiRate<D>::classify(PetscInt step) {
   RateClasses<D> &r = r_;
   ParticleView<D> p;
   PetscCall(p.get(s.sw));
-  std::vector<int> cls(static_cast<size_t>(p.n));
+  std::vector<int> &cls = cls_; // (every entry written below: the room of the last call)
+  cls.resize(static_cast<size_t>(p.n));
   std::vector<std::array<double, 2 * D>> zones(s.grid.levels.size());
   for (size_t c = 1; c < zones.size(); ++c)
     zones[c] = outwardZones(s.grid, static_cast<int>(c));

@@ -201,7 +201,8 @@ private:
   RateClasses<D> r_;
   ClassSums sums_;
   RateScratch scratch_;
-  bool sparse_ = false; // (decideSparseUpdate)
+  bool sparse_ = false;  // (decideSparseUpdate)
+  std::vector<int> cls_; // (classify: each particle's class; kept for its room)
 };
 
 } // namespace gimp
