@@ -210,42 +210,42 @@ template <int D> struct Stencils {
     int j, q;
   };
   /// The rows of level-block particle k one by one (rows without entries skipped), block by
-  /// block; a plain loop the lane kernels can inline.
+  /// block; a plain loop the lane kernels can inline. A block's entry bits lie within its n
+  /// nodes along each axis (setLevelBlock, appendThreeNodeBlock), so its rows with entries are
+  /// the nonzero 4-bit groups of its mask, row j + 4 q at bits 4 (j + 4 q), in the order of q
+  /// then j.
   struct LevelRows {
     const LevelBlock<D> *b;
-    int j = 0, q = 0; // the next row of b
+    std::uint64_t rest; // the entry bits of b's rows not walked yet
     GIMP_ALWAYS_INLINE bool next(LevelRow &r) {
-      for (;;) {
-        const int nq = D == 3 ? b->n[D - 1] : 1;
-        for (; q < nq; ++q, j = 0)
-          for (; j < b->n[1]; ++j) {
-            const unsigned nodes = static_cast<unsigned>(b->mask >> (4 * j + 16 * q)) & 15u;
-            if (!nodes) continue;
-            r.nodes = nodes;
-            r.block = b, r.j = j, r.q = q;
-            r.w0 = b->w[0];
-            r.g0 = b->g[0];
-            r.slot = b->base + j * b->stride[0];
-            if constexpr (D == 3) {
-              r.slot += q * b->stride[1];
-              r.wyz = b->w[1][j] * b->w[2][q];
-              r.gy = b->g[1][j] * b->w[2][q];
-              r.gz = b->w[1][j] * b->g[2][q];
-            } else {
-              r.wyz = b->w[1][j];
-              r.gy = b->g[1][j];
-              r.gz = 0.0;
-            }
-            ++j;
-            return true;
-          }
+      while (!rest) {
         if (b->last) return false;
-        ++b;
-        j = q = 0;
+        rest = (++b)->mask;
       }
+      const int t = __builtin_ctzll(rest) >> 2, j = t & 3, q = t >> 2; // (the row)
+      r.nodes = static_cast<unsigned>(rest >> (4 * t)) & 15u;
+      rest &= ~(std::uint64_t{15} << (4 * t));
+      r.block = b, r.j = j, r.q = q;
+      r.w0 = b->w[0];
+      r.g0 = b->g[0];
+      r.slot = b->base + j * b->stride[0];
+      if constexpr (D == 3) {
+        r.slot += q * b->stride[1];
+        r.wyz = b->w[1][j] * b->w[2][q];
+        r.gy = b->g[1][j] * b->w[2][q];
+        r.gz = b->w[1][j] * b->g[2][q];
+      } else {
+        r.wyz = b->w[1][j];
+        r.gy = b->g[1][j];
+        r.gz = 0.0;
+      }
+      return true;
     }
   };
-  LevelRows levelRows(PetscInt k) const { return {levelBlocks.data() + levelOf[k]}; }
+  LevelRows levelRows(PetscInt k) const {
+    const LevelBlock<D> *b = levelBlocks.data() + levelOf[k];
+    return {b, b->mask};
+  }
   /// f(slot, weight, gradient) for node i of row r: the products of a block's (Block::forEach).
   template <class F> static GIMP_ALWAYS_INLINE void levelNode(const LevelRow &r, int i, F &f) {
     Vector<D> gr;
