@@ -6,6 +6,7 @@
 #include "gimp/transfer/transfer.hpp"
 
 #include <algorithm>
+#include <type_traits>
 
 namespace gimp {
 
@@ -270,12 +271,20 @@ PetscErrorCode MultiRate<D>::takenBy(int k, double flip, double dt, Vec out, boo
   PetscScalar *t = nullptr;
   PetscCall(tk.get());
   PetscCall(VecGetArray(out, &t));
-  for (const auto &st : r_.values[k])
-    for (PetscInt i = st[0]; i < st[1]; i += D)
-      for (int q = 0; q < D; ++q) {
-        const double took = tk.at(i, q);
-        t[i + q] = add ? t[i + q] + took : took;
-      }
+  const auto pass = [&](auto flipOn, auto addOn) { // (the branches as constants: one loop)
+    for (const auto &st : r_.values[k])
+      for (PetscInt i = st[0]; i < st[1]; i += D)
+        for (int q = 0; q < D; ++q) {
+          const double took = tk.template at<decltype(flipOn)::value>(i, q);
+          t[i + q] = decltype(addOn)::value ? t[i + q] + took : took;
+        }
+  };
+  const std::true_type on;
+  const std::false_type off;
+  if (tk.flip > 0)
+    add ? pass(on, on) : pass(on, off);
+  else
+    add ? pass(off, on) : pass(off, off);
   PetscCall(VecRestoreArray(out, &t));
   PetscCall(tk.restore());
   return PETSC_SUCCESS;
@@ -499,16 +508,25 @@ PetscErrorCode MultiRate<D>::correction(const StepClock &c, int k, size_t e, dou
   Vec sv = direct ? w0.meanW : n.f;
   PetscCall(VecGetArray(sv, &sf));
   // (corrSum, taken: zero outside the first's values)
-  for (const auto &st : r_.values[k])
-    for (PetscInt node = st[0]; node < st[1]; node += D) // (a node's first value)
-      for (int q = 0; q < D; ++q) {
-        const PetscInt i = node + q;
-        const double t = took.at(node, q);
-        tk[i] = e == 0 ? t : tk[i] + t;
-        cr[i] = (cr[i] - t) * im[i];
-        cs[i] = e == 0 ? cr[i] : cs[i] + cr[i];
-        sf[i] = vs[i] / every + cr[i];
-      }
+  const auto pass = [&](auto flipOn, auto firstOn) { // (the branches as constants: one loop)
+    constexpr bool first = decltype(firstOn)::value;
+    for (const auto &st : r_.values[k])
+      for (PetscInt node = st[0]; node < st[1]; node += D) // (a node's first value)
+        for (int q = 0; q < D; ++q) {
+          const PetscInt i = node + q;
+          const double t = took.template at<decltype(flipOn)::value>(node, q);
+          tk[i] = first ? t : tk[i] + t;
+          cr[i] = (cr[i] - t) * im[i];
+          cs[i] = first ? cr[i] : cs[i] + cr[i];
+          sf[i] = vs[i] / every + cr[i];
+        }
+  };
+  const std::true_type on;
+  const std::false_type off;
+  if (took.flip > 0)
+    e == 0 ? pass(on, on) : pass(on, off);
+  else
+    e == 0 ? pass(off, on) : pass(off, off);
   PetscCall(VecRestoreArray(sv, &sf));
   PetscCall(VecRestoreArray(w0.corrSum, &cs));
   PetscCall(VecRestoreArray(w0.corr, &cr));

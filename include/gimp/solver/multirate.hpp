@@ -158,11 +158,14 @@ private:
     const PetscScalar *v = nullptr, *m = nullptr, *p = nullptr, *d = nullptr;
     PetscErrorCode get();
     PetscErrorCode restore();
-    /// Component q of node value i (i a node's first component).
-    double at(PetscInt i, int q) const {
+    /// Component q of node value i (i a node's first component), Flip: flip > 0 (the passes
+    /// over a class's values take the branch once, outside their loops).
+    template <bool Flip> double at(PetscInt i, int q) const {
       // (with flip 0 the increments are not summed: not read)
-      return flip > 0 ? flip * (p[i + q] + m[i] * ds * d[i + q]) + (1.0 - flip) * m[i] * v[i + q]
-                      : m[i] * v[i + q];
+      if constexpr (Flip)
+        return flip * (p[i + q] + m[i] * ds * d[i + q]) + (1.0 - flip) * m[i] * v[i + q];
+      else
+        return m[i] * v[i + q];
     }
   };
   Taken taken(int k, double flip, double dt) const;
