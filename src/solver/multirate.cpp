@@ -741,25 +741,28 @@ template <int D> PetscErrorCode MultiRate<D>::startNodes(const Stretches &sweep,
       if (c.has(i0)) ms.push_back(c);
     for (const Part &c : moms)
       if (c.has(i0)) ps.push_back(c);
-    for (PetscInt i = i0; i < i1; i += D) {
-      for (const Part &c : ps)
-        for (int d = 0; d < D; ++d)
-          P[i + d] += c.a[i + d];
-      double mi = 0.0;
-      for (int d = 1; d < D; ++d) // (the mass in component 0, the rest 0)
+    // Class by class over the piece (each node's sums in class order, as one node at a time),
+    // then the masks node by node.
+    for (const Part &c : ps)
+      for (PetscInt i = i0; i < i1; ++i)
+        P[i] += c.a[i];
+    for (PetscInt i = i0; i < i1; i += D) { // (the mass in component 0, the rest 0)
+      m[i] = 0.0;
+      for (int d = 1; d < D; ++d)
         m[i + d] = 0.0;
-      if (rate)
-        for (int d = 0; d < D; ++d)
-          rate[i + d] = 1.0;
-      for (const Part &c : ms) {
-        mi += c.a[i];
-        if (rate && c.a[i] > 0)
-          for (int d = 0; d < D; ++d)
-            rate[i + d] = std::max(rate[i + d], c.every);
-      }
-      m[i] = mi;
-      physics::maskMomentumNode(mi, bc + i, cut, D, mk + i, im + i, P + i, v + i);
     }
+    for (const Part &c : ms)
+      for (PetscInt i = i0; i < i1; i += D)
+        m[i] += c.a[i];
+    if (rate)
+      for (PetscInt i = i0; i < i1; i += D)
+        for (int d = 0; d < D; ++d) {
+          rate[i + d] = 1.0;
+          for (const Part &c : ms)
+            if (c.a[i] > 0) rate[i + d] = std::max(rate[i + d], c.every);
+        }
+    for (PetscInt i = i0; i < i1; i += D)
+      physics::maskMomentumNode(m[i], bc + i, cut, D, mk + i, im + i, P + i, v + i);
   }
   PetscCall(VecRestoreArrayRead(n.bcMask, &bc));
   PetscCall(VecRestoreArray(n.invMass, &im));
