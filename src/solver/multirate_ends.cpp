@@ -60,6 +60,10 @@ PetscErrorCode MultiRate<D>::classForces(const ParticleView<D> &p, const StepClo
   if (sparse_)
     PetscCall(zeroStretches(n.f, first < 0 ? scratch_.forced
                                            : minus(scratch_.forced, windowValues(first, nw))));
+  // w0 takes each class's forces in turn: zero everywhere before (forceClean), and again after
+  // each class's use of it.
+  if (!scratch_.forceClean) PetscCall(VecZeroEntries(w0));
+  scratch_.forceClean = true;
   // (the impulse rule books each class's external work from its own sums: no nodal.fext)
   if (external && nodeRule) PetscCall(VecZeroEntries(n.fext));
   for (int k = 0; k < r.n; ++k) {
@@ -76,34 +80,37 @@ PetscErrorCode MultiRate<D>::classForces(const ParticleView<D> &p, const StepClo
     const double mk = static_cast<double>(r.every[k]);
     const Stretches wk = restricted ? windowValues(k, nw) : Stretches{{0, nw}};
     PetscScalar *w = nullptr;
-    PetscCall(zeroStretches(w0, wk));
     PetscCall(VecGetArray(w0, &w));
-    step_.internalForce(r.st[k], q.n, q.V, q.s, w);
-    if (!nodeRule) { // the impulse m_c f_c, summed (m_c a power of 2: exact)
+    step_.internalForce(r.st[k], q.n, q.V, q.s, w); // (on wk: the class's values)
+    if (!nodeRule) { // the impulse m_c f_c, summed (m_c a power of 2: exact); w0 zeroed after
       PetscScalar *a = nullptr;
       PetscCall(VecGetArray(sum, &a));
       if (k == first)
         for (const auto &t : wk)
-          for (PetscInt i = t[0]; i < t[1]; ++i)
+          for (PetscInt i = t[0]; i < t[1]; ++i) {
             a[i] = 0.0 + mk * w[i];
+            w[i] = 0.0;
+          }
       else
         for (const auto &t : wk)
-          for (PetscInt i = t[0]; i < t[1]; ++i)
+          for (PetscInt i = t[0]; i < t[1]; ++i) {
             a[i] += mk * w[i];
+            w[i] = 0.0;
+          }
       PetscCall(VecRestoreArray(sum, &a));
     }
     PetscCall(VecRestoreArray(w0, &w));
     if (nodeRule) {
       PetscCall(VecZeroEntries(sums_.force[k]));
       PetscCall(s.grid.addFromWindow(w0, sums_.force[k]));
+      PetscCall(zeroStretches(w0, wk));
     }
     if (external && !nodeRule && !r.loaded[k]) { // no external force: its impulse is zero
       if (!r.fextZero[k]) PetscCall(VecZeroEntries(sums_.fext[k]));
       r.fextZero[k] = 1;
       r.extScale[k] = mk * c.kick;
       r.extStart[k] = 0;
-    } else if (external) {
-      PetscCall(VecZeroEntries(w0));
+    } else if (external) { // (on w0, zero here, and zeroed after)
       PetscCall(VecGetArray(w0, &w));
       s.boundary.externalForces(s.sc, s.grid, r.st[k], q, c.t, w, scale);
       PetscCall(VecRestoreArray(w0, &w));
@@ -111,6 +118,7 @@ PetscErrorCode MultiRate<D>::classForces(const ParticleView<D> &p, const StepClo
       r.fextZero[k] = 0;
       PetscCall(VecZeroEntries(sums_.fext[k]));
       PetscCall(s.grid.addFromWindow(w0, sums_.fext[k]));
+      PetscCall(VecZeroEntries(w0));
       if (nodeRule) PetscCall(VecAXPY(sums_.force[k], 1.0, sums_.fext[k]));
       // Impulse rule: its work is booked at its class's end (MultiRate::externalWork).
       r.extScale[k] = mk * c.kick;
@@ -308,13 +316,14 @@ PetscErrorCode MultiRate<D>::endClasses(ParticleView<D> &p, const StepClock &c, 
   if (ending.size() == present.size() && present.size() > 1 && flip > 0 && flip < 1)
     PetscCall(spreadRemainder(ending, c, flip));
   // What the ending classes take and their MUSL corrections: on the values they reach (at), zero
-  // elsewhere. The first ending class writes them on its values (endClass); the rest is zeroed
-  // where the sub-step before left values or another ending class adds.
+  // elsewhere. The first ending class writes them on its values (endClass), the others add; both
+  // are zero outside `dirty` (the passes that read them last zeroed them where they did, but at a
+  // coarse step's end), so they are zeroed there alone, but for the first class's values.
   Stretches at;
   for (int k : ending)
     at = unite(at, r.values[k]);
   const Stretches zero =
-      minus(unite(scratch_.dirty, at), ending.empty() ? Stretches{} : r.values[ending.front()]);
+      minus(scratch_.dirty, ending.empty() ? Stretches{} : r.values[ending.front()]);
   PetscCall(zeroStretches(scratch_.taken, zero));
   if (musl) PetscCall(zeroStretches(scratch_.corrSum, zero));
   scratch_.dirty = at;
@@ -331,7 +340,7 @@ PetscErrorCode MultiRate<D>::endClasses(ParticleView<D> &p, const StepClock &c, 
   // Damping per sub-step, with MUSL's velocity at the end (the grid velocity plus the ending
   // classes' corrections), as in the single-rate step.
   const bool corrected = musl && !ending.empty(); // (USF is refused with -gimp_multirate)
-  if (corrected) PetscCall(addOn(s.nodal.vel, 1.0, scratch_.corrSum, at));
+  if (corrected) PetscCall(addOnAndZero(s.nodal.vel, 1.0, scratch_.corrSum, at));
   if (sparse_ && s.sc.damping > 0) { // (the sums on the values the damping moved: gridUpdate's,
     // or with the correction on the velocity, formed again)
     if (corrected)
@@ -343,7 +352,10 @@ PetscErrorCode MultiRate<D>::endClasses(ParticleView<D> &p, const StepClock &c, 
   }
   // The ending classes leave the nodes; at the coarse end every class does and the next coarse
   // step starts from P = 0, so P keeps the nodal momentum for the monitor and the frames.
-  if (!ending.empty() && j + 1 < s.stride()) PetscCall(addOn(s.nodal.P, -1.0, scratch_.taken, at));
+  if (!ending.empty() && j + 1 < s.stride()) {
+    PetscCall(addOnAndZero(s.nodal.P, -1.0, scratch_.taken, at));
+    scratch_.dirty.clear(); // (corrSum too: zeroed above with the correction)
+  }
   return PETSC_SUCCESS;
 }
 
@@ -446,10 +458,14 @@ PetscErrorCode MultiRate<D>::endClass(ParticleView<D> &p, const StepClock &c, in
   // meanW now) for its correction.
   PetscScalar *mom = nullptr;
   Vec sum = nullptr;
-  if (musl) {
+  if (musl) { // (corr zero everywhere where the correction zeroed it after use: corrClean)
     PetscInt nloc = 0;
     PetscCall(VecGetLocalSize(n.P, &nloc));
-    PetscCall(zeroStretches(w0.corr, at));
+    if (!direct) // (it held the mean velocity)
+      PetscCall(zeroStretches(w0.corr, at));
+    else if (!w0.corrClean)
+      PetscCall(VecZeroEntries(w0.corr));
+    w0.corrClean = direct;
     PetscCall(s.grid.startSum(n.sumW, w0.corr, &sum, from, nloc));
     PetscCall(VecGetArray(sum, &mom));
   }
@@ -515,10 +531,11 @@ PetscErrorCode MultiRate<D>::correction(const StepClock &c, int k, size_t e, dou
         for (int q = 0; q < D; ++q) {
           const PetscInt i = node + q;
           const double t = took.template at<decltype(flipOn)::value>(node, q);
+          const double ci = (cr[i] - t) * im[i];
           tk[i] = first ? t : tk[i] + t;
-          cr[i] = (cr[i] - t) * im[i];
-          cs[i] = first ? cr[i] : cs[i] + cr[i];
-          sf[i] = vs[i] / every + cr[i];
+          cs[i] = first ? ci : cs[i] + ci;
+          sf[i] = vs[i] / every + ci;
+          cr[i] = 0.0; // (read no more: zero for the next class's sum)
         }
   };
   const std::true_type on;

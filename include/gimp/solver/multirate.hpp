@@ -96,6 +96,8 @@ struct RateScratch {
   Vec corr = nullptr, corrSum = nullptr; // MUSL: a class's re-projection correction, their sum
   Vec fieldW = nullptr, meanW = nullptr, forceW = nullptr; // window
   Stretches dirty; // taken and corrSum: where they may not be zero
+  // forceW and corr zero everywhere: their passes zero them where they wrote, after use
+  bool forceClean = false, corrClean = false;
   // The sub-step's nodes (MultiRate::gridUpdate): the values the starting classes' forces reach
   // and those startNodes swept; where the acceleration may not be zero; with damping the values
   // where P may be nonzero (every class's), which the damping moves.
@@ -191,6 +193,8 @@ private:
   PetscErrorCode correction(const StepClock &c, int k, size_t e, double flip);
   /// y += a x on this rank's values `at` (a = +-1 here: exact as VecAXPY).
   static PetscErrorCode addOn(Vec y, double a, Vec x, const Stretches &at);
+  /// addOn, and x zeroed on at in the same pass (it is read there no more).
+  static PetscErrorCode addOnAndZero(Vec y, double a, Vec x, const Stretches &at);
   /// The coarsest level that class k's particles reach, on every rank (RateClasses::from), and
   /// where its nodal values lie (RateClasses::values), from the bounding box [lo, hi] of their
   /// domains on this rank (any: it holds a particle).
