@@ -114,6 +114,7 @@ template <int D> PetscErrorCode MultiRate<D>::create(Vec like) {
     PetscCall(VecDuplicate(like, &v.nodeRate));
   }
   if (s_.boundary.active()) perClass.push_back(&v.fext); // (for the work at the class's end)
+  v.clean.assign(n, 0);
   r.extStart.assign(n, 0.0);
   r.extScale.assign(n, 0.0);
   r.loaded.assign(n, 1); // (until the first coarse start)
@@ -622,8 +623,11 @@ PetscErrorCode MultiRate<D>::startClass(ParticleView<D> &p, int k, PetscInt j, S
   changed = unite(was, r.values[k]); // (its momenta join P in startNodes)
   PetscInt nloc = 0;
   PetscCall(VecGetLocalSize(n.P, &nloc));
-  PetscCall(zeroStretches(sums_.mom[k], changed));
-  PetscCall(zeroStretches(sums_.mass[k], changed));
+  if (!sums_.clean[k]) { // (else zero everywhere: its last end zeroed them)
+    PetscCall(zeroStretches(sums_.mom[k], changed));
+    PetscCall(zeroStretches(sums_.mass[k], changed));
+  }
+  sums_.clean[k] = 0;
   PetscScalar *mom = nullptr, *mass = nullptr;
   Vec momSum = nullptr, massSum = nullptr;
   PetscCall(s.grid.startSum(n.sumW, sums_.mom[k], &momSum, from, nloc));

@@ -239,18 +239,30 @@ template <int D> PetscErrorCode MultiRate<D>::accumulate(const StepClock &c, Pet
   return PETSC_SUCCESS;
 }
 
-template <int D> PetscErrorCode MultiRate<D>::Taken::get() {
+template <int D> PetscErrorCode MultiRate<D>::Taken::get(bool own) {
   PetscCall(VecGetArrayRead(vv, &v));
-  PetscCall(VecGetArrayRead(mv, &m));
-  PetscCall(VecGetArrayRead(pv, &p));
+  if (own) {
+    PetscCall(VecGetArray(mv, &mw));
+    PetscCall(VecGetArray(pv, &pw));
+    m = mw, p = pw;
+  } else {
+    PetscCall(VecGetArrayRead(mv, &m));
+    PetscCall(VecGetArrayRead(pv, &p));
+  }
   PetscCall(VecGetArrayRead(dv, &d));
   return PETSC_SUCCESS;
 }
 
 template <int D> PetscErrorCode MultiRate<D>::Taken::restore() {
   PetscCall(VecRestoreArrayRead(dv, &d));
-  PetscCall(VecRestoreArrayRead(pv, &p));
-  PetscCall(VecRestoreArrayRead(mv, &m));
+  if (mw) {
+    PetscCall(VecRestoreArray(pv, &pw));
+    PetscCall(VecRestoreArray(mv, &mw));
+    m = p = nullptr;
+  } else {
+    PetscCall(VecRestoreArrayRead(pv, &p));
+    PetscCall(VecRestoreArrayRead(mv, &m));
+  }
   PetscCall(VecRestoreArrayRead(vv, &v));
   return PETSC_SUCCESS;
 }
@@ -272,20 +284,22 @@ typename MultiRate<D>::Taken MultiRate<D>::taken(int k, double flip, double dt) 
 }
 
 template <int D>
-PetscErrorCode MultiRate<D>::takenBy(int k, double flip, double dt, Vec out, bool add) {
+PetscErrorCode MultiRate<D>::takenBy(int k, double flip, double dt, Vec out, bool add, bool zero) {
   // What the particles of class k take from the nodes at their G2P (Taken), on the values the
   // class reaches (out is left as it is elsewhere: the class takes nothing there).
   Taken tk = taken(k, flip, dt);
   PetscScalar *t = nullptr;
-  PetscCall(tk.get());
+  PetscCall(tk.get(zero));
   PetscCall(VecGetArray(out, &t));
   const auto pass = [&](auto flipOn, auto addOn) { // (the branches as constants: one loop)
     for (const auto &st : r_.values[k])
-      for (PetscInt i = st[0]; i < st[1]; i += D)
+      for (PetscInt i = st[0]; i < st[1]; i += D) {
         for (int q = 0; q < D; ++q) {
           const double took = tk.template at<decltype(flipOn)::value>(i, q);
           t[i + q] = decltype(addOn)::value ? t[i + q] + took : took;
         }
+        if (zero) tk.zero(i);
+      }
   };
   const std::true_type on;
   const std::false_type off;
@@ -295,6 +309,7 @@ PetscErrorCode MultiRate<D>::takenBy(int k, double flip, double dt, Vec out, boo
     add ? pass(off, on) : pass(off, off);
   PetscCall(VecRestoreArray(out, &t));
   PetscCall(tk.restore());
+  if (zero) sums_.clean[k] = 1;
   return PETSC_SUCCESS;
 }
 
@@ -482,7 +497,7 @@ PetscErrorCode MultiRate<D>::endClass(ParticleView<D> &p, const StepClock &c, in
     PetscCall(correction(c, k, e, flip));
     w = w0.meanW;
   } else {
-    PetscCall(takenBy(k, flip, c.dt, w0.taken, e > 0));
+    PetscCall(takenBy(k, flip, c.dt, w0.taken, e > 0, true));
   }
   // (a report follows the coarse step: the class's strain energy before its update, the last
   // one of the coarse step counting; WorkLedger::strainBefore)
@@ -512,7 +527,7 @@ PetscErrorCode MultiRate<D>::correction(const StepClock &c, int k, size_t e, dou
   Taken took = taken(k, flip, c.dt);
   const PetscScalar *im = nullptr, *vs = nullptr;
   PetscScalar *cr = nullptr, *cs = nullptr, *sf = nullptr, *tk = nullptr;
-  PetscCall(took.get());
+  PetscCall(took.get(true)); // (the class's sums are read here last: zeroed after)
   PetscCall(VecGetArray(w0.taken, &tk));
   PetscCall(VecGetArrayRead(n.invMass, &im));
   PetscCall(VecGetArrayRead(vsv, &vs));
@@ -527,7 +542,7 @@ PetscErrorCode MultiRate<D>::correction(const StepClock &c, int k, size_t e, dou
   const auto pass = [&](auto flipOn, auto firstOn) { // (the branches as constants: one loop)
     constexpr bool first = decltype(firstOn)::value;
     for (const auto &st : r_.values[k])
-      for (PetscInt node = st[0]; node < st[1]; node += D) // (a node's first value)
+      for (PetscInt node = st[0]; node < st[1]; node += D) { // (a node's first value)
         for (int q = 0; q < D; ++q) {
           const PetscInt i = node + q;
           const double t = took.template at<decltype(flipOn)::value>(node, q);
@@ -537,6 +552,8 @@ PetscErrorCode MultiRate<D>::correction(const StepClock &c, int k, size_t e, dou
           sf[i] = vs[i] / every + ci;
           cr[i] = 0.0; // (read no more: zero for the next class's sum)
         }
+        took.zero(node);
+      }
   };
   const std::true_type on;
   const std::false_type off;
@@ -551,6 +568,7 @@ PetscErrorCode MultiRate<D>::correction(const StepClock &c, int k, size_t e, dou
   PetscCall(VecRestoreArrayRead(n.invMass, &im));
   PetscCall(VecRestoreArray(w0.taken, &tk));
   PetscCall(took.restore());
+  sums_.clean[k] = 1;
   if (!direct) PetscCall(s.grid.toWindow(n.f, w0.meanW, from));
   // The re-projected fields of a cracked node may approach each other again: the same contact
   // as the single-rate step's (Step::reproject), or the strain would see the faces

@@ -84,6 +84,8 @@ struct ClassSums {
   // With cracks, per class on the window: its crack faces from its start (Contact::faces; its
   // stencils and positions do not change until its end).
   std::vector<Vec> faces;
+  // Per class: mass and mom zero everywhere (its end zeroed them as it read them last).
+  std::vector<char> clean;
 };
 
 /// Scratch vectors of the coarse step.
@@ -158,8 +160,17 @@ private:
     Vec vv, mv, pv, dv;
     double flip, ds;
     const PetscScalar *v = nullptr, *m = nullptr, *p = nullptr, *d = nullptr;
-    PetscErrorCode get();
+    // With get(true) the class's mass and momentum writable too, to zero them after their last
+    // read (the class's end: zero() node by node).
+    PetscScalar *mw = nullptr, *pw = nullptr;
+    PetscErrorCode get(bool own = false);
     PetscErrorCode restore();
+    /// Node value i's mass and momentum zeroed (get(true); the mass in component 0).
+    void zero(PetscInt i) const {
+      mw[i] = 0.0;
+      for (int q = 0; q < D; ++q)
+        pw[i + q] = 0.0;
+    }
     /// Component q of node value i (i a node's first component), Flip: flip > 0 (the passes
     /// over a class's values take the branch once, outside their loops).
     template <bool Flip> double at(PetscInt i, int q) const {
@@ -172,7 +183,8 @@ private:
   };
   Taken taken(int k, double flip, double dt) const;
   /// What class k's particles take from the nodes at their G2P, into (or added to) out.
-  PetscErrorCode takenBy(int k, double flip, double dt, Vec out, bool add);
+  /// With zero (the class's end) its mass and momentum are zeroed in the same pass.
+  PetscErrorCode takenBy(int k, double flip, double dt, Vec out, bool add, bool zero = false);
   /// After the grid update of sub-step j: the ending classes' G2P, stress and momentum removal.
   /// With `tally` (the coarse step's last sub-step, where every class ends and its stress
   /// update is its particles' last change), each class's particles are tested as
