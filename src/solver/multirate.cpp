@@ -781,29 +781,16 @@ template <int D> PetscErrorCode MultiRate<D>::startNodes(const Stretches &sweep,
   return PETSC_SUCCESS;
 }
 
-template <int D> PetscErrorCode MultiRate<D>::addOn(Vec y, double a, Vec x, const Stretches &at) {
-  if (at.empty()) return PETSC_SUCCESS;
-  PetscScalar *py = nullptr;
-  const PetscScalar *px = nullptr;
-  PetscCall(VecGetArray(y, &py));
-  PetscCall(VecGetArrayRead(x, &px));
-  for (const auto &t : at)
-    for (PetscInt i = t[0]; i < t[1]; ++i)
-      py[i] += a * px[i];
-  PetscCall(VecRestoreArrayRead(x, &px));
-  PetscCall(VecRestoreArray(y, &py));
-  return PETSC_SUCCESS;
-}
-
 template <int D>
-PetscErrorCode MultiRate<D>::addOnAndZero(Vec y, double a, Vec x, const Stretches &at) {
+PetscErrorCode MultiRate<D>::addOnAndZero(Vec y, double a, Vec x, const Stretches &at,
+                                          bool onZero) {
   if (at.empty()) return PETSC_SUCCESS;
   PetscScalar *py = nullptr, *px = nullptr;
   PetscCall(VecGetArray(y, &py));
   PetscCall(VecGetArray(x, &px));
   for (const auto &t : at)
     for (PetscInt i = t[0]; i < t[1]; ++i) {
-      py[i] += a * px[i];
+      py[i] = (onZero ? 0.0 : py[i]) + a * px[i];
       px[i] = 0.0;
     }
   PetscCall(VecRestoreArray(x, &px));
@@ -876,8 +863,7 @@ PetscErrorCode MultiRate<D>::classReach(const double *a, const double *b, bool a
 #define GIMP_INSTANTIATE(D)                                                                        \
   template PetscErrorCode MultiRate<D>::create(Vec);                                               \
   template Stretches MultiRate<D>::windowValues(int, PetscInt) const;                              \
-  template PetscErrorCode MultiRate<D>::addOn(Vec, double, Vec, const Stretches &);                \
-  template PetscErrorCode MultiRate<D>::addOnAndZero(Vec, double, Vec, const Stretches &);         \
+  template PetscErrorCode MultiRate<D>::addOnAndZero(Vec, double, Vec, const Stretches &, bool);   \
   template PetscErrorCode MultiRate<D>::run(StepClock &);
 GIMP_INSTANTIATE(2)
 GIMP_INSTANTIATE(3)

@@ -82,24 +82,9 @@ PetscErrorCode MultiRate<D>::classForces(const ParticleView<D> &p, const StepClo
     PetscScalar *w = nullptr;
     PetscCall(VecGetArray(w0, &w));
     step_.internalForce(r.st[k], q.n, q.V, q.s, w); // (on wk: the class's values)
-    if (!nodeRule) { // the impulse m_c f_c, summed (m_c a power of 2: exact); w0 zeroed after
-      PetscScalar *a = nullptr;
-      PetscCall(VecGetArray(sum, &a));
-      if (k == first)
-        for (const auto &t : wk)
-          for (PetscInt i = t[0]; i < t[1]; ++i) {
-            a[i] = 0.0 + mk * w[i];
-            w[i] = 0.0;
-          }
-      else
-        for (const auto &t : wk)
-          for (PetscInt i = t[0]; i < t[1]; ++i) {
-            a[i] += mk * w[i];
-            w[i] = 0.0;
-          }
-      PetscCall(VecRestoreArray(sum, &a));
-    }
     PetscCall(VecRestoreArray(w0, &w));
+    // the impulse m_c f_c, summed (m_c a power of 2: exact); w0 zeroed after
+    if (!nodeRule) PetscCall(addOnAndZero(sum, mk, w0, wk, k == first));
     if (nodeRule) {
       PetscCall(VecZeroEntries(sums_.force[k]));
       PetscCall(s.grid.addFromWindow(w0, sums_.force[k]));

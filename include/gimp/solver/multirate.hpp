@@ -203,10 +203,11 @@ private:
   /// MUSL: class k's re-projection correction and the stress velocity into meanW; what it took
   /// (takenBy's rule, in the same pass) added to taken.
   PetscErrorCode correction(const StepClock &c, int k, size_t e, double flip);
-  /// y += a x on this rank's values `at` (a = +-1 here: exact as VecAXPY).
-  static PetscErrorCode addOn(Vec y, double a, Vec x, const Stretches &at);
-  /// addOn, and x zeroed on at in the same pass (it is read there no more).
-  static PetscErrorCode addOnAndZero(Vec y, double a, Vec x, const Stretches &at);
+  /// y += a x on this rank's values `at` (a = +-1 or a class's step count, a power of 2: exact as
+  /// VecAXPY; onZero: y = 0 + a x, the sum on a zero y), and x zeroed there in the same pass (it
+  /// is read there no more).
+  static PetscErrorCode addOnAndZero(Vec y, double a, Vec x, const Stretches &at,
+                                     bool onZero = false);
   /// The coarsest level that class k's particles reach, on every rank (RateClasses::from), and
   /// where its nodal values lie (RateClasses::values), from the bounding box [lo, hi] of their
   /// domains on this rank (any: it holds a particle).
