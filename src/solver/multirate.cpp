@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <limits>
 #include <string>
@@ -28,28 +29,33 @@ RateScratch::~RateScratch() {
 }
 
 Stretches unite(const Stretches &a, const Stretches &b) {
-  Stretches all(a);
-  all.insert(all.end(), b.begin(), b.end());
-  std::sort(all.begin(), all.end());
+  // (both in order and disjoint: one merge of the two)
   Stretches u;
-  for (const auto &t : all) {
-    if (t[0] >= t[1]) continue;
+  u.reserve(a.size() + b.size());
+  const auto add = [&u](const std::array<PetscInt, 2> &t) {
+    if (t[0] >= t[1]) return;
     if (!u.empty() && t[0] <= u.back()[1])
       u.back()[1] = std::max(u.back()[1], t[1]);
     else
       u.push_back(t);
-  }
+  };
+  size_t i = 0, j = 0;
+  while (i < a.size() || j < b.size())
+    add(j == b.size() || (i < a.size() && a[i] < b[j]) ? a[i++] : b[j++]);
   return u;
 }
 
 Stretches minus(const Stretches &a, const Stretches &b) {
+  // (both in order and disjoint: one walk along each)
   Stretches d;
+  size_t e = 0;
   for (const auto &t : a) {
+    while (e < b.size() && b[e][1] <= t[0])
+      ++e;
     PetscInt at = t[0];
-    for (const auto &c : b) {
-      if (c[1] <= at || c[0] >= t[1]) continue;
-      if (c[0] > at) d.push_back({at, c[0]});
-      at = std::max(at, c[1]);
+    for (size_t c = e; c < b.size() && b[c][0] < t[1]; ++c) {
+      if (b[c][0] > at) d.push_back({at, b[c][0]});
+      at = std::max(at, b[c][1]);
     }
     if (at < t[1]) d.push_back({at, t[1]});
   }
@@ -693,17 +699,18 @@ template <int D> PetscErrorCode MultiRate<D>::startNodes(const Stretches &sweep,
     const PetscScalar *a;
     const Stretches *at;
     double every;
-    bool has(PetscInt i) const {
-      for (const auto &t : *at)
-        if (i >= t[0] && i < t[1]) return true;
-      return false;
+    size_t next; // (has: the first of its stretches that may hold a later piece)
+    bool has(PetscInt i) {
+      while (next < at->size() && (*at)[next][1] <= i)
+        ++next;
+      return next < at->size() && (*at)[next][0] <= i;
     }
   };
   std::vector<Part> masses, moms;
   for (int k = 0; k < r.n; ++k) {
     if (r.size[k] == 0) continue;
-    masses.push_back({sums_.mass[k], nullptr, &r.values[k], static_cast<double>(r.every[k])});
-    if (j % r.every[k] == 0) moms.push_back({sums_.mom[k], nullptr, &r.values[k], 0.0});
+    masses.push_back({sums_.mass[k], nullptr, &r.values[k], static_cast<double>(r.every[k]), 0});
+    if (j % r.every[k] == 0) moms.push_back({sums_.mom[k], nullptr, &r.values[k], 0.0, 0});
   }
   for (std::vector<Part> *parts : {&masses, &moms})
     for (Part &c : *parts)
@@ -723,27 +730,28 @@ template <int D> PetscErrorCode MultiRate<D>::startNodes(const Stretches &sweep,
   PetscCall(VecGetArrayRead(n.bcMask, &bc));
   // By pieces of the sweep in which the same classes have values (each class's sums are zero
   // outside its values): cut where a class's values start or end.
-  std::vector<PetscInt> cuts;
-  for (const auto &t : sweep)
-    cuts.insert(cuts.end(), {t[0], t[1]});
+  std::vector<PetscInt> cuts; // (each set's ends in order: merged as they come)
+  const auto addCuts = [&cuts](const Stretches &at) {
+    const auto mid = static_cast<std::ptrdiff_t>(cuts.size());
+    for (const auto &t : at)
+      cuts.insert(cuts.end(), {t[0], t[1]});
+    std::inplace_merge(cuts.begin(), cuts.begin() + mid, cuts.end());
+  };
+  addCuts(sweep);
   for (const std::vector<Part> *parts : {&masses, &moms})
     for (const Part &c : *parts)
-      for (const auto &t : *c.at)
-        cuts.insert(cuts.end(), {t[0], t[1]});
-  std::sort(cuts.begin(), cuts.end());
+      addCuts(*c.at);
   cuts.erase(std::unique(cuts.begin(), cuts.end()), cuts.end());
   std::vector<Part> ms, ps; // the classes with values in the piece
-  for (size_t t = 0; t + 1 < cuts.size(); ++t) {
+  Part swept{nullptr, nullptr, &sweep, 0.0, 0};
+  for (size_t t = 0; t + 1 < cuts.size(); ++t) { // (the pieces in order: has walks on)
     const PetscInt i0 = cuts[t], i1 = cuts[t + 1];
-    bool swept = false;
-    for (const auto &w : sweep)
-      swept = swept || (i0 >= w[0] && i0 < w[1]);
-    if (!swept) continue;
+    if (!swept.has(i0)) continue;
     ms.clear();
     ps.clear();
-    for (const Part &c : masses)
+    for (Part &c : masses)
       if (c.has(i0)) ms.push_back(c);
-    for (const Part &c : moms)
+    for (Part &c : moms)
       if (c.has(i0)) ps.push_back(c);
     // Class by class over the piece (each node's sums in class order, as one node at a time),
     // then the masks node by node.
@@ -826,15 +834,15 @@ PetscErrorCode MultiRate<D>::classReach(const double *a, const double *b, bool a
   }
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &lo, 1, MPI_INT, MPI_MIN, s_.comm));
   r_.from[k] = lo;
-  // Where its values lie. On one rank (the window is the global array) the rows of level lo,
-  // along the last axis, that a node reaching the class's domains may lie on (a node's zones
-  // are at most a level-0 cell, so its support overlaps the domains only within a level-0 cell
-  // of [a, b]; one row more each way, against rounding), then the finer levels. Elsewhere (and
-  // where a domain is not finite) every value from the level's start on. Without cracks
-  // neither goes past level k: its particles reach no node of level k + 1 or finer until its
-  // next start (its class says so, and startClass stops the run where one did). Outside them the
-  // class's sums stay zero and its nodal passes skip them. With cracks every value from level
-  // lo = 0 on: the contact reads every cracked node.
+  // Where its values lie. On one rank (the window is the global array) the nodes of level lo
+  // that may reach the class's domains (a node's zones are at most a level-0 cell, so its support
+  // overlaps the domains only within a level-0 cell of [a, b] along every axis; one node more
+  // each way, against rounding): its rows along x within that box, then the finer levels.
+  // Elsewhere (and where a domain is not finite) every value from the level's start on. Without
+  // cracks neither goes past level k: its particles reach no node of level k + 1 or finer until
+  // its next start (its class says so, and startClass stops the run where one did). Outside them
+  // the class's sums stay zero and its nodal passes skip them. With cracks every value from
+  // level lo = 0 on: the contact reads every cracked node.
   PetscInt nloc = 0;
   PetscCall(VecGetLocalSize(s_.nodal.P, &nloc));
   const PetscInt l0 = g.localLevelStart(lo);
@@ -842,20 +850,36 @@ PetscErrorCode MultiRate<D>::classReach(const double *a, const double *b, bool a
   const bool cracked = !s_.sc.cracks.empty();
   const PetscInt end = cracked ? nloc : g.localLevelStart(std::max(lo, k) + 1);
   v = {{l0, end}};
-  constexpr int t = D - 1;
-  if (g.windowIsLocal() && !cracked && any && std::isfinite(a[t]) && std::isfinite(b[t])) {
+  bool finite = any;
+  for (int d = 0; d < D; ++d)
+    finite = finite && std::isfinite(a[d]) && std::isfinite(b[d]);
+  if (g.windowIsLocal() && !cracked && finite) {
     const Level<D> &L = g.levels[lo];
     const double h0 = g.levels[0].h;
-    PetscInt size = D; // (values of one row of the level's window)
-    for (int c = 0; c < t; ++c)
-      size *= L.wn(c);
-    const auto row = [&](double y) { // (clamped before the cast: a far particle is finite)
-      const double q = std::floor((y - L.box[t]) * L.ih) - static_cast<double>(L.w0[t]);
-      return static_cast<PetscInt>(std::clamp(q, 0.0, static_cast<double>(L.wn(t))));
-    };
-    const PetscInt r0 = row(a[t] - h0) - 1, r1 = row(b[t] + h0) + 2;
-    v = unite({{l0 + size * std::max<PetscInt>(r0, 0), l0 + size * std::min(r1, L.wn(t))}},
-              {{g.localLevelStart(lo + 1), end}});
+    PetscInt i0[D], i1[D]; // (the nodes [i0, i1) of the level's window along each axis)
+    for (int d = 0; d < D; ++d) {
+      const auto node = [&](double y) { // (clamped before the cast: a far particle is finite)
+        const double q = std::floor((y - L.box[d]) * L.ih) - static_cast<double>(L.w0[d]);
+        return static_cast<PetscInt>(std::clamp(q, 0.0, static_cast<double>(L.wn(d))));
+      };
+      i0[d] = std::max<PetscInt>(node(a[d] - h0) - 1, 0);
+      i1[d] = std::min<PetscInt>(node(b[d] + h0) + 2, L.wn(d));
+    }
+    // The rows along x (y, then z, in the window's order), a row's values next to the last's
+    // joined to them.
+    Stretches rows;
+    const PetscInt nz = D == 3 ? i1[D - 1] : 1, z0 = D == 3 ? i0[D - 1] : 0;
+    for (PetscInt q = z0; q < nz; ++q)
+      for (PetscInt j = i0[1]; j < i1[1]; ++j) {
+        const PetscInt row = l0 + D * L.wn(0) * (j + (D == 3 ? L.wn(1) * q : 0));
+        const std::array<PetscInt, 2> t = {row + D * i0[0], row + D * i1[0]};
+        if (t[0] >= t[1]) continue;
+        if (!rows.empty() && rows.back()[1] == t[0])
+          rows.back()[1] = t[1];
+        else
+          rows.push_back(t);
+      }
+    v = unite(rows, {{g.localLevelStart(lo + 1), end}});
   }
   return PETSC_SUCCESS;
 }

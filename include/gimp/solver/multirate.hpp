@@ -21,7 +21,8 @@ namespace gimp {
 /// Values of this rank's part of a global Vec (or of a window): disjoint stretches [from, to),
 /// in order. A rate class's nodal sums are zero outside its stretches (RateClasses::values).
 using Stretches = std::vector<std::array<PetscInt, 2>>;
-/// The union of two sets of stretches, and the values of a that are not in b.
+/// The union of two sets of stretches, and the values of a that are not in b (one walk along
+/// each: both in order and disjoint).
 Stretches unite(const Stretches &a, const Stretches &b);
 Stretches minus(const Stretches &a, const Stretches &b);
 /// v = 0 on the stretches.
@@ -48,9 +49,10 @@ template <int D> struct RateClasses {
   // window and the global Vecs cover those levels (Grid::toWindow: a scatter of them alone).
   std::vector<int> from;
   // Where class k's nodal values lie in this rank's part of a global Vec, from its last start:
-  // on one rank the rows (along the last axis) of level `from` that its particles' domains may
-  // reach and the finer levels after them, else every value from that level's start on
-  // (Grid::localLevelStart). Its sums are zero elsewhere, and its nodal passes skip the rest.
+  // on one rank the nodes of level `from` that its particles' domains may reach (a box of them,
+  // row by row along x) and the finer levels after them, else every value from that level's
+  // start on (Grid::localLevelStart). Its sums are zero elsewhere, and its nodal passes skip the
+  // rest: they cost what the class's own box of nodes holds, however wide the coarse grid.
   std::vector<Stretches> values;
   std::vector<char> live; // a class stepping every sub-step: inc holds its increments (else dt a)
   // With external forces, for the work of class c's external impulse: the power of its force
