@@ -379,6 +379,43 @@ template <int D> struct Stencils {
         f(b.base + j * b.stride[0] + i, b.w[0][i] * b.w[1][j], gr);
       }
   }
+  /// f(slot, weight, gradient) for the row entries of particle k: weight(e) and gradient(e), the
+  /// same products, with the arrays and `general` read once (f's stores to doubles could alias
+  /// them, and each entry would load them again).
+  template <class F> GIMP_ALWAYS_INLINE void forEachEntry(PetscInt k, F &f) const {
+    const PetscInt e0 = start[k], e1 = start[k + 1];
+    const PetscInt *nd = node.data();
+    const double *wp[D], *gp[D];
+    if (general) {
+      const double *s = sw.data();
+      for (int a = 0; a < D; ++a)
+        gp[a] = sg[a].data();
+      for (PetscInt e = e0; e < e1; ++e) {
+        Vector<D> r;
+        for (int a = 0; a < D; ++a)
+          r[a] = gp[a][e];
+        f(nd[e], s[e], r);
+      }
+      return;
+    }
+    for (int d = 0; d < D; ++d) {
+      wp[d] = w[d].data();
+      gp[d] = g[d].data();
+    }
+    for (PetscInt e = e0; e < e1; ++e) {
+      double s = wp[0][e];
+      for (int d = 1; d < D; ++d)
+        s *= wp[d][e];
+      Vector<D> r;
+      for (int a = 0; a < D; ++a) {
+        double t = gp[a][e];
+        for (int d = 0; d < D; ++d)
+          if (d != a) t *= wp[d][e];
+        r[a] = t;
+      }
+      f(nd[e], s, r);
+    }
+  }
   /// f(slot, weight, gradient) for every entry of particle k.
   template <class F> void forEach(PetscInt k, F &&f) const {
     if constexpr (D == 2)
@@ -389,9 +426,7 @@ template <int D> struct Stencils {
       }
     if (!isBlock(k)) {
       if (isLevels(k)) return forEachLevelNode(k, f);
-      for (PetscInt e = start[k]; e < start[k + 1]; ++e)
-        f(node[e], weight(e), gradient(e));
-      return;
+      return forEachEntry(k, f);
     }
     const Block<D> b = block(k); // a copy: f's stores cannot alias it
     // The third node is reached only when its weight is not 0, the first always but in a block
