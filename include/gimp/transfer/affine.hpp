@@ -69,19 +69,22 @@ inline Tensor<3> invertInertia(double xx, double yy, double zz, double xy, doubl
   return r;
 }
 
-/// D_p^-1 of particle k about xk. Where D_p is singular (its determinant below 1e-12 of
-/// (trace / D)^D: a particle whose weights all sit on one line of nodes) the inverse is taken as
-/// 0, so C_p = 0 and the particle transfers as in PIC.
-template <int D>
-Tensor<D> inverseInertiaAbout(const Stencils<D> &st, PetscInt k, const double *xk,
-                              const double *xs) {
-  const Tensor<D> Dp = inertiaAbout<D>(st, k, xk, xs);
+/// D_p^-1 of particle k about xk (of a given D_p: inverseOfInertia). Where D_p is singular (its
+/// determinant below 1e-12 of (trace / D)^D: a particle whose weights all sit on one line of nodes)
+/// the inverse is taken as 0, so C_p = 0 and the particle transfers as in PIC.
+template <int D> Tensor<D> inverseOfInertia(const Tensor<D> &Dp) {
   // Closed forms: no pow, no general inverse in the per-particle loop (D_p is symmetric: its
   // (a, b) and (b, a) sums are the same products in the same order).
   if constexpr (D == 2)
     return invertInertia(Dp(0, 0), Dp(0, 1), Dp(1, 0), Dp(1, 1));
   else
     return invertInertia(Dp(0, 0), Dp(1, 1), Dp(2, 2), Dp(0, 1), Dp(0, 2), Dp(1, 2));
+}
+
+template <int D>
+Tensor<D> inverseInertiaAbout(const Stencils<D> &st, PetscInt k, const double *xk,
+                              const double *xs) {
+  return inverseOfInertia<D>(inertiaAbout<D>(st, k, xk, xs));
 }
 
 /// D_p^-1 of particle k about its centre in xc.
@@ -257,7 +260,8 @@ GIMP_ALWAYS_INLINE void particleFromGridAffine(const Stencils<D> &st, PetscInt k
 }
 
 /// APIC G2P of particle k (particleFromGridAffine) and the re-projection of its new v_p, B_p
-/// into mom (particleToGridAffineB, no mass); a 2D block's offsets formed once for both.
+/// into mom (particleToGridAffineB, no mass); a 2D block's offsets formed once for both, a row
+/// particle's D_p (inertiaAbout's sums, in its order) in the gather's walk.
 template <int D>
 GIMP_ALWAYS_INLINE void particleFromAndToGridAffine(const Stencils<D> &st, PetscInt k, double mp,
                                                     const double *vg, const double *xk,
@@ -267,6 +271,30 @@ GIMP_ALWAYS_INLINE void particleFromAndToGridAffine(const Stencils<D> &st, Petsc
     if (st.isBlock(k)) return blocks::affineFromAndToGrid(st.block(k), mp, vg, xk, xs, vp, Bk, mom);
     if (st.isBlock4(k))
       return blocks::affineFromAndToGrid(st.block4(k), mp, vg, xk, xs, vp, Bk, mom);
+  }
+  if (!st.isBlock(k) && !st.isLevels(k)) {
+    for (int c = 0; c < D; ++c)
+      vp[c] = 0.0;
+    Bk = Tensor<D>::Zero();
+    Tensor<D> Dp = Tensor<D>::Zero();
+    const auto gather = [&](PetscInt nd, double w, const Vector<D> &) {
+      double dx[D];
+      for (int a = 0; a < D; ++a)
+        dx[a] = xs[D * nd + a] - xk[a];
+      for (int c = 0; c < D; ++c) {
+        const double wv = w * vg[D * nd + c];
+        vp[c] += wv;
+        for (int a = 0; a < D; ++a)
+          Bk(c, a) += wv * dx[a];
+      }
+      for (int a = 0; a < D; ++a)
+        for (int b = 0; b < D; ++b)
+          Dp(a, b) += w * dx[a] * dx[b];
+    };
+    st.forEachEntry(k, gather);
+    const Tensor<D> Ck = product<D>(Bk, inverseOfInertia<D>(Dp));
+    particleToGridAffine<D>(st, k, mp, vp, Ck, xk, xs, mom, nullptr);
+    return;
   }
   particleFromGridAffine<D>(st, k, vg, xk, xs, vp, Bk);
   particleToGridAffineB<D>(st, k, mp, vp, Bk, xk, xs, mom, nullptr);
