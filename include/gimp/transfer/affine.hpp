@@ -69,9 +69,9 @@ inline Tensor<3> invertInertia(double xx, double yy, double zz, double xy, doubl
   return r;
 }
 
-/// D_p^-1 of particle k about xk (of a given D_p: inverseOfInertia). Where D_p is singular (its
-/// determinant below 1e-12 of (trace / D)^D: a particle whose weights all sit on one line of nodes)
-/// the inverse is taken as 0, so C_p = 0 and the particle transfers as in PIC.
+/// D_p^-1 of a particle's inertia D_p. Where D_p is singular (its determinant below 1e-12 of
+/// (trace / D)^D: a particle whose weights all sit on one line of nodes) the inverse is taken as
+/// 0, so C_p = 0 and the particle transfers as in PIC.
 template <int D> Tensor<D> inverseOfInertia(const Tensor<D> &Dp) {
   // Closed forms: no pow, no general inverse in the per-particle loop (D_p is symmetric: its
   // (a, b) and (b, a) sums are the same products in the same order).
@@ -81,6 +81,7 @@ template <int D> Tensor<D> inverseOfInertia(const Tensor<D> &Dp) {
     return invertInertia(Dp(0, 0), Dp(1, 1), Dp(2, 2), Dp(0, 1), Dp(0, 2), Dp(1, 2));
 }
 
+/// D_p^-1 of particle k about xk (inverseOfInertia's rule).
 template <int D>
 Tensor<D> inverseInertiaAbout(const Stencils<D> &st, PetscInt k, const double *xk,
                               const double *xs) {
