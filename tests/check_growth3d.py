@@ -1,7 +1,9 @@
 """Crack growth along a 3D front (-gimp_crack_growth mts; docs/method.md, Crack growth in 3D).
 
-Quick part (ctest growth3d_quick, default suite): options/penny_growth3d.opts, a penny crack of
-radius 5 mm in a block under a sudden 2 MPa, toughness 1 J/m^2, 150 steps.
+Quick part (default suite; ctest growth3d_quick runs --part one, the 1-rank run, its checks and
+the restart, and growth3d_ranks --part ranks, the 2-rank run against it; without --part both):
+options/penny_growth3d.opts, a penny crack of radius 5 mm in a block under a sudden 2 MPa,
+toughness 1 J/m^2, 150 steps.
   - The front grows: at least 3 growth checks advance it, every front point has advanced by
     the end (history.csv crack0_advance_mean > 0 and _max within one step of the growth length)
     and each increment record lies one growth step (0.5 mm) ahead of a front point of the crack
@@ -52,6 +54,11 @@ from restart_files import run_with_dump, same_bits
 
 pre = argparse.ArgumentParser(add_help=False)
 pre.add_argument("--physics", action="store_true")
+# The quick part in two tests that ctest can pack (tests/CMakeLists.txt): "one", the 1-rank run,
+# its checks and the restart (1 processor), and "ranks", the 2-rank run against the 1-rank run
+# of --one (that test's run directory); "all" (the default) both in one.
+pre.add_argument("--part", choices=("all", "one", "ranks"), default="all")
+pre.add_argument("--one", default=None)
 mine, rest = pre.parse_known_args()
 sys.argv = sys.argv[:1] + rest
 args = gimptest.parse_args()
@@ -231,61 +238,85 @@ RELEASE = ["-gimp_crack_growth_release", "2e-6"]
 SCENE = ("options/penny_growth3d.opts", ["-ts_max_steps", "150"] + RELEASE)
 GROWTH_STEP, LENGTH = 5e-4, 2e-3
 # (its checkpoint of step 100 is the restart's below: output only, the run is the same)
-one = run_with_dump(args, SCENE, "np1", ["-gimp_checkpoint_interval", "100"])
+if mine.part == "ranks":
+    one = os.path.abspath(mine.one or os.path.join(args.work, "np1"))
+    if not os.path.exists(os.path.join(one, "summary.json")):
+        sys.exit("check_growth3d.py --part ranks: no 1-rank run in %s (run --part one first)" % one)
+else:
+    one = run_with_dump(args, SCENE, "np1", ["-gimp_checkpoint_interval", "100"])
 s1 = gimptest.summary(one)
 crack = s1["cracks"][0]
 records, front = crack["growth"], crack["front"]
 checks = sorted({g["t"] for g in records})
 h = gimptest.history(one)
 adv_mean, adv_max = h["crack0_advance_mean"][-1], h["crack0_advance_max"][-1]
-c.check("the front grows", len(checks) >= 3 and adv_mean > 0 and
-        LENGTH - GROWTH_STEP <= adv_max <= 1.01 * LENGTH,
-        "%d growth checks advanced it (%d increments); advanced %.3f mm on average, %.3f mm at "
-        "most (growth length %.1f mm)" % (len(checks), len(records), 1e3 * adv_mean,
-                                         1e3 * adv_max, 1e3 * LENGTH))
-c.check("in the crack's plane", all(abs(g["x"][2]) < 1e-12 for g in records) and
-        all(abs(f["x"][2]) < 1e-12 for f in front),
-        "largest |z| of the increments %.1e" % max(abs(g["x"][2]) for g in records))
-# Each increment is one growth step ahead of the front as it was: its radius grows by at most
-# a step and at least the step's projection on the radius (a polygon's pieces advance along
-# their own normals).
-r_prev = {}
-ok = True
-for t in checks:
-    for g in (g for g in records if g["t"] == t):
-        r = math.hypot(g["x"][0], g["x"][1])
-        ok = ok and 5e-3 + GROWTH_STEP * 0.9 <= r <= 5e-3 + LENGTH * 1.01
-c.check("increments ahead of the crack", ok, "every record beyond the initial radius by 0.45 "
-        "mm and within the growth length")
-sym = max(mirrored(front, "x"), max(mirrored([g for g in records if g["t"] == t], "x")
-                                     for t in checks))
-c.check("symmetric about x = y", sym <= 1e-9,
-        "front points and each check's increments mirrored within %.1e m" % sym)
 
-two = run_with_dump(args, SCENE, "np2", ["-da_processors_x", "1", "-da_processors_y", "1",
-                                         "-da_processors_z", "2", "-gimp_balance", "false"], 2)
-s2 = gimptest.summary(two)
-rec2, front2 = s2["cracks"][0]["growth"], s2["cracks"][0]["front"]
-same_path = len(rec2) == len(records) and all(
-    p["t"] == q["t"] and p["point"] == q["point"] and
-    max(abs(u - v) for u, v in zip(p["x"], q["x"])) <= 1e-15 for p, q in zip(records, rec2))
-scale = max(abs(f["G"]) for f in front)
-dG = max(abs(p["G"] - q["G"]) / scale for p, q in zip(front, front2)) if front2 else 1.0
-a = compare3d.read_dump(os.path.join(one, "particles.csv"))[1]
-b = compare3d.read_dump(os.path.join(two, "particles.csv"))[1]
-dd, group = compare3d.dump_diff(a, b)
-c.check("2 ranks = 1 rank", same_path and len(front2) == len(front) and dG <= 1e-10 and
-        dd <= 1e-10,
-        "%d increments %s; front G within %.1e; particles within %.1e of their group's scale "
-        "(%s)" % (len(rec2), "the same" if same_path else "DIFFER", dG, dd, group))
 
-ckpt = os.path.join(args.work, "step100.h5")
-shutil.copy(os.path.join(one, "checkpoint.h5"), ckpt)
-t100 = h["time"][h["step"].index(100)]
-grown = [g for g in records if g["t"] <= t100]
-opening = {g["t"] for g in grown if t100 - g["t"] < 2e-6}
-c.check("checkpoint after growth, advances opening", len(grown) > 0 and len(opening) >= 2,
-        "%d increments before step 100, of %d checks still opening" % (len(grown), len(opening)))
-fresh = run_with_dump(args, SCENE, "fresh", ["-gimp_restart", ckpt])
-same_bits(c, "restart after growth", one, fresh, False)
+def check_one(one):
+    """The 1-rank run: the front grows, in its plane, ahead of the crack, symmetric."""
+    c.check("the front grows", len(checks) >= 3 and adv_mean > 0 and
+            LENGTH - GROWTH_STEP <= adv_max <= 1.01 * LENGTH,
+            "%d growth checks advanced it (%d increments); advanced %.3f mm on average, %.3f mm at "
+            "most (growth length %.1f mm)" % (len(checks), len(records), 1e3 * adv_mean,
+                                             1e3 * adv_max, 1e3 * LENGTH))
+    c.check("in the crack's plane", all(abs(g["x"][2]) < 1e-12 for g in records) and
+            all(abs(f["x"][2]) < 1e-12 for f in front),
+            "largest |z| of the increments %.1e" % max(abs(g["x"][2]) for g in records))
+    # Each increment is one growth step ahead of the front as it was: its radius grows by at most
+    # a step and at least the step's projection on the radius (a polygon's pieces advance along
+    # their own normals).
+    r_prev = {}
+    ok = True
+    for t in checks:
+        for g in (g for g in records if g["t"] == t):
+            r = math.hypot(g["x"][0], g["x"][1])
+            ok = ok and 5e-3 + GROWTH_STEP * 0.9 <= r <= 5e-3 + LENGTH * 1.01
+    c.check("increments ahead of the crack", ok, "every record beyond the initial radius by 0.45 "
+            "mm and within the growth length")
+    sym = max(mirrored(front, "x"), max(mirrored([g for g in records if g["t"] == t], "x")
+                                         for t in checks))
+    c.check("symmetric about x = y", sym <= 1e-9,
+            "front points and each check's increments mirrored within %.1e m" % sym)
+
+
+def check_ranks(one):
+    """2 ranks split at the crack's plane give the 1-rank run."""
+    two = run_with_dump(args, SCENE, "np2", ["-da_processors_x", "1", "-da_processors_y", "1",
+                                             "-da_processors_z", "2", "-gimp_balance", "false"], 2)
+    s2 = gimptest.summary(two)
+    rec2, front2 = s2["cracks"][0]["growth"], s2["cracks"][0]["front"]
+    same_path = len(rec2) == len(records) and all(
+        p["t"] == q["t"] and p["point"] == q["point"] and
+        max(abs(u - v) for u, v in zip(p["x"], q["x"])) <= 1e-15 for p, q in zip(records, rec2))
+    scale = max(abs(f["G"]) for f in front)
+    dG = max(abs(p["G"] - q["G"]) / scale for p, q in zip(front, front2)) if front2 else 1.0
+    a = compare3d.read_dump(os.path.join(one, "particles.csv"))[1]
+    b = compare3d.read_dump(os.path.join(two, "particles.csv"))[1]
+    dd, group = compare3d.dump_diff(a, b)
+    c.check("2 ranks = 1 rank", same_path and len(front2) == len(front) and dG <= 1e-10 and
+            dd <= 1e-10,
+            "%d increments %s; front G within %.1e; particles within %.1e of their group's scale "
+            "(%s)" % (len(rec2), "the same" if same_path else "DIFFER", dG, dd, group))
+
+
+def check_restart(one):
+    """A restart from the 1-rank run's checkpoint of step 100 gives its answer bit for bit."""
+    ckpt = os.path.join(args.work, "step100.h5")
+    shutil.copy(os.path.join(one, "checkpoint.h5"), ckpt)
+    t100 = h["time"][h["step"].index(100)]
+    grown = [g for g in records if g["t"] <= t100]
+    opening = {g["t"] for g in grown if t100 - g["t"] < 2e-6}
+    c.check("checkpoint after growth, advances opening", len(grown) > 0 and len(opening) >= 2,
+            "%d increments before step 100, of %d checks still opening" % (len(grown), len(opening)))
+    fresh = run_with_dump(args, SCENE, "fresh", ["-gimp_restart", ckpt])
+    same_bits(c, "restart after growth", one, fresh, False)
+
+
+if mine.part != "ranks":
+    check_one(one)
+if mine.part != "one":
+    check_ranks(one)
+if mine.part != "ranks":
+    check_restart(one)
 c.done()
+
