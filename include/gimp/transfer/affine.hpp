@@ -209,6 +209,27 @@ void particlesToGridAffineB(const Stencils<D> &st, PetscInt n, const double *m, 
     particleToGridAffineB<D>(st, k, m[k], v + D * k, tensorAt<D>(B, k), xc + D * k, xs, mom, mass);
 }
 
+/// One entry (slot nd, weight w) of the APIC gather about xk: its S v into vp and S v (x_i -
+/// x_p)^T into Bk; with Inertia also S (x_i - x_p)(x_i - x_p)^T into Dp (inertiaAbout's sum).
+template <int D, bool Inertia>
+GIMP_ALWAYS_INLINE void gatherAffineEntry(PetscInt nd, double w, const double *vg, const double *xk,
+                                          const double *xs, double *vp, Tensor<D> &Bk,
+                                          Tensor<D> *Dp) {
+  double dx[D];
+  for (int a = 0; a < D; ++a)
+    dx[a] = xs[D * nd + a] - xk[a];
+  for (int c = 0; c < D; ++c) {
+    const double wv = w * vg[D * nd + c];
+    vp[c] += wv;
+    for (int a = 0; a < D; ++a)
+      Bk(c, a) += wv * dx[a];
+  }
+  if constexpr (Inertia)
+    for (int a = 0; a < D; ++a)
+      for (int b = 0; b < D; ++b)
+        (*Dp)(a, b) += w * dx[a] * dx[b];
+}
+
 /// APIC G2P of particle k: v_p = sum_i S_ip v_i into vp, B_p = sum_i S_ip v_i (x_i - x_p)^T into
 /// Bk (x_p = xk, the stencil's centre).
 template <int D>
@@ -251,12 +272,7 @@ GIMP_ALWAYS_INLINE void particleFromGridAffine(const Stencils<D> &st, PetscInt k
       return;
     }
   st.forEach(k, [&](PetscInt nd, double w, const Vector<D> &) {
-    for (int c = 0; c < D; ++c) {
-      const double wv = w * vg[D * nd + c];
-      vp[c] += wv;
-      for (int a = 0; a < D; ++a)
-        Bk(c, a) += wv * (xs[D * nd + a] - xk[a]);
-    }
+    gatherAffineEntry<D, false>(nd, w, vg, xk, xs, vp, Bk, nullptr);
   });
 }
 
@@ -279,18 +295,7 @@ GIMP_ALWAYS_INLINE void particleFromAndToGridAffine(const Stencils<D> &st, Petsc
     Bk = Tensor<D>::Zero();
     Tensor<D> Dp = Tensor<D>::Zero();
     const auto gather = [&](PetscInt nd, double w, const Vector<D> &) {
-      double dx[D];
-      for (int a = 0; a < D; ++a)
-        dx[a] = xs[D * nd + a] - xk[a];
-      for (int c = 0; c < D; ++c) {
-        const double wv = w * vg[D * nd + c];
-        vp[c] += wv;
-        for (int a = 0; a < D; ++a)
-          Bk(c, a) += wv * dx[a];
-      }
-      for (int a = 0; a < D; ++a)
-        for (int b = 0; b < D; ++b)
-          Dp(a, b) += w * dx[a] * dx[b];
+      gatherAffineEntry<D, true>(nd, w, vg, xk, xs, vp, Bk, &Dp);
     };
     st.forEachEntry(k, gather);
     const Tensor<D> Ck = product<D>(Bk, inverseOfInertia<D>(Dp));
