@@ -1,8 +1,9 @@
 // Stencils of particles on the composite grid: for each particle the active nodes whose support
 // overlaps it, with the 1D GIMP weights and gradients of Eq. 15 along x and y.
+#include "gimp/core/pair.hpp"
 #include "gimp/grid/grid.hpp"
-#include "gimp/grid/shape.hpp"
 #include "gimp/grid/rounding.hpp"
+#include "gimp/grid/shape.hpp"
 
 #include <algorithm>
 #include <cstddef>
@@ -167,7 +168,7 @@ GIMP_ALWAYS_INLINE void Grid<D>::setBlock4(int q, const PetscInt *i0, const doub
 
 template <int D>
 bool Grid<D>::buildStencils(PetscInt n, const double *x, const double *l, Stencils<D> &s,
-                            bool compact, bool lanes, bool patterns) const {
+                            bool compact, bool lanes, bool patterns, BuildSeen *seen) const {
   const int K = static_cast<int>(levels.size());
   // Lane groups (2D): each aligned group of four tries blockRun, which marks the groups it builds;
   // in 3D each particle tries blockLanes first (both in stencil_lanes.cpp).
@@ -215,15 +216,57 @@ bool Grid<D>::buildStencils(PetscInt n, const double *x, const double *l, Stenci
       if (r.i1[a] - r.i0[a] >= maxRange) return true;
     return false;
   };
+  // What `seen` notes, each particle as it is read (in order), kept in locals (the stencils'
+  // stores would otherwise reload them) and stored at the end: BuildSeen::note's operations,
+  // in 2D both axes at once (simd::minOf, maxOf, bothLe lane by lane).
+  BuildSeen none;
+  BuildSeen &notes = seen ? *seen : none;
+  notes.start();
+  const bool watch = seen && seen->watch;
+  const double widen = notes.reach;
+  [[maybe_unused]] simd::Pair lo2{}, hi2{}, nearLo{}, nearHi{}, widen2{};
+  [[maybe_unused]] double lo[D], hi[D];
+  if constexpr (D == 2) {
+    lo2 = simd::splat(notes.lo[0]);
+    hi2 = simd::splat(notes.hi[0]);
+    nearLo = simd::Pair{notes.near[0], notes.near[1]};
+    nearHi = simd::Pair{notes.near[2], notes.near[3]};
+    widen2 = simd::splat(widen);
+  } else {
+    for (int a = 0; a < D; ++a)
+      lo[a] = notes.lo[a], hi[a] = notes.hi[a];
+  }
+  const BoxOf<D> near = notes.near;
+  const auto note = [&](PetscInt k) {
+    bool close = watch;
+    if constexpr (D == 2) {
+      const simd::Pair xk = simd::load(x + 2 * k), lk = simd::load(l + 2 * k);
+      const simd::Pair xl = xk - lk, xh = xk + lk;
+      lo2 = simd::minOf(xl, lo2);
+      hi2 = simd::maxOf(xh, hi2);
+      close = close && simd::bothLe(nearLo, xh + widen2) && simd::bothLe(xl - widen2, nearHi);
+    } else {
+      for (int a = 0; a < D; ++a) {
+        const double xl = x[D * k + a] - l[D * k + a], xh = x[D * k + a] + l[D * k + a];
+        lo[a] = std::min(lo[a], xl);
+        hi[a] = std::max(hi[a], xh);
+        close = close && near[a] <= xh + widen && xl - widen <= near[D + a];
+      }
+    }
+    if (close) notes.nearParticles.push_back(k);
+  };
   // Aligned groups of four blocks in lanes; a group that is not one goes one by one.
   for (PetscInt k = 0; k < n; ++k) {
     if constexpr (D == 2)
       if (lanes && k % 4 == 0 && k + 4 <= n && blockRun(k, x, l, s)) {
-        for (int q = 0; q < 4; ++q)
+        for (int q = 0; q < 4; ++q) {
           s.start[k + q] = static_cast<PetscInt>(m);
+          if (seen) note(k + q);
+        }
         k += 3;
         continue;
       }
+    if (seen) note(k);
     s.start[k] = static_cast<PetscInt>(m);
     if (cache) {
       s.patternStart[k] = static_cast<PetscInt>(s.patterns.size());
@@ -309,6 +352,12 @@ bool Grid<D>::buildStencils(PetscInt n, const double *x, const double *l, Stenci
   }
   s.start[n] = static_cast<PetscInt>(m);
   if (cache) s.patternStart[n] = static_cast<PetscInt>(s.patterns.size());
+  for (int a = 0; a < D; ++a) {
+    if constexpr (D == 2)
+      notes.lo[a] = lo2[a], notes.hi[a] = hi2[a];
+    else
+      notes.lo[a] = lo[a], notes.hi[a] = hi[a];
+  }
   return true;
 }
 
@@ -327,8 +376,8 @@ template void Grid<3>::setBlock(int, const PetscInt *, const double *, const dou
 template int Grid<2>::coarsestReaching(const double *, const double *) const;
 template int Grid<3>::coarsestReaching(const double *, const double *) const;
 template bool Grid<2>::buildStencils(PetscInt, const double *, const double *, Stencils<2> &, bool,
-                                     bool, bool) const;
+                                     bool, bool, BuildSeen *) const;
 template bool Grid<3>::buildStencils(PetscInt, const double *, const double *, Stencils<3> &, bool,
-                                     bool, bool) const;
+                                     bool, bool, BuildSeen *) const;
 
 } // namespace gimp

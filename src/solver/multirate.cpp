@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <limits>
 #include <string>
+#include <type_traits>
 
 namespace gimp {
 
@@ -213,9 +214,11 @@ void classesOf(const Grid<D> &g, const std::vector<std::array<double, 2 * D>> &z
     bool found = false;
     int c = K - 1;
     for (; c > 0; --c) {
+      // (every comparison made, and'ed without branches: the outcome changes from particle to
+      // particle along a row, where a branch per comparison is mispredicted)
       bool close = true;
       for (int a = 0; a < D; ++a)
-        close = close && xk[a] + lk[a] > near[c][a] && xk[a] - lk[a] < near[c][D + a];
+        close = close & (xk[a] + lk[a] > near[c][a]) & (xk[a] - lk[a] < near[c][D + a]);
       if (!close) continue;
       if (inside(xk, c)) break;
       if (!found) {
@@ -565,7 +568,17 @@ PetscErrorCode MultiRate<D>::startClass(ParticleView<D> &p, int k, PetscInt j, S
   Nodal &n = s.nodal;
   const ParticleView<D> q = p.slice(r.begin[k], r.begin[k + 1]);
   r.st[k].swarmOrigin = r.begin[k];
-  if (!s.grid.buildStencils(q.n, q.x, q.l, r.st[k], true, s.lanes, true)) {
+  // The bounding box of the class's particles' domains (classReach) and, below the finest
+  // class, whether its margin kept it off the finer levels' nodes (only where they might reach:
+  // no node of level k + 1 or finer reaches farther out of level k + 1's box than a level-0
+  // cell, the widest zone): the build notes both as it reads the particles (Grid::BuildSeen).
+  const bool finer = k + 1 < r.n;
+  typename Grid<D>::BuildSeen &seen = seen_;
+  seen.watch = finer;
+  seen.near = s.grid.levels[finer ? k + 1 : k].box;
+  seen.reach = s.grid.levels[0].h;
+  const bool built = s.grid.buildStencils(q.n, q.x, q.l, r.st[k], true, s.lanes, true, &seen);
+  if (!built) {
     // (a particle that went bad inside the coarse step: the check at its end reports it; the
     // class reaches no node until then)
     s.status.localFailure = "a particle is larger than a level-0 cell (its half-size exceeds "
@@ -574,47 +587,20 @@ PetscErrorCode MultiRate<D>::startClass(ParticleView<D> &p, int k, PetscInt j, S
     r.st[k].start.assign(static_cast<size_t>(q.n) + 1, 0);
   }
   cracks::assignFields<D>(s.grid, s.sc.cracks, q.n, q.x, r.st[k]);
-  // The bounding box of the class's particles' domains (classReach) and, in the same pass below
-  // the finest class, whether its margin kept it off the finer levels' nodes (only where they
-  // might reach: no node of level k + 1 or finer reaches farther out of level k + 1's box than a
-  // level-0 cell, the widest zone), until a particle did.
   double lo[D], hi[D];
-  for (int a = 0; a < D; ++a)
-    lo[a] = std::numeric_limits<double>::infinity(), hi[a] = -lo[a];
-  const bool finer = k + 1 < r.n;
-  const BoxOf<D> &fb = s.grid.levels[finer ? k + 1 : k].box;
-  const double reach = s.grid.levels[0].h;
-  const PetscInt finerStart = finer ? s.grid.levels[k + 1].offset : 0;
-  bool reached = false, check = finer; // (check: until a particle reached)
-  if constexpr (D == 2) { // both axes at once (simd::minOf, maxOf: std::min, max lane by lane)
-    simd::Pair lo2 = simd::splat(lo[0]), hi2 = simd::splat(hi[0]);
-    const simd::Pair r2 = simd::splat(reach), fbLo = {fb[0], fb[1]}, fbHi = {fb[2], fb[3]};
-    for (PetscInt i = 0; i < q.n; ++i) {
-      const simd::Pair x = simd::load(q.x + 2 * i), l = simd::load(q.l + 2 * i);
-      const simd::Pair xl = x - l, xh = x + l;
-      lo2 = simd::minOf(xl, lo2);
-      hi2 = simd::maxOf(xh, hi2);
-      if (check && simd::bothLe(fbLo, xh + r2) && simd::bothLe(xl - r2, fbHi)) {
-        reached = maxSlot(s.grid, r.st[k], i) >= finerStart;
-        check = !reached;
-      }
-    }
+  bool reached = false;
+  if (built) {
     for (int a = 0; a < D; ++a)
-      lo[a] = lo2[a], hi[a] = hi2[a];
-  } else {
-    for (PetscInt i = 0; i < q.n; ++i) {
-      bool near = check;
-      for (int a = 0; a < D; ++a) {
-        const double x = q.x[D * i + a], l = q.l[D * i + a];
-        lo[a] = std::min(lo[a], x - l);
-        hi[a] = std::max(hi[a], x + l);
-        near = near && x + l + reach >= fb[a] && x - l - reach <= fb[D + a];
+      lo[a] = seen.lo[a], hi[a] = seen.hi[a];
+    const PetscInt finerStart = finer ? s.grid.levels[k + 1].offset : 0;
+    for (PetscInt i : seen.nearParticles)
+      if (maxSlot(s.grid, r.st[k], i) >= finerStart) {
+        reached = true;
+        break;
       }
-      if (near) {
-        reached = maxSlot(s.grid, r.st[k], i) >= finerStart;
-        check = !reached;
-      }
-    }
+  } else { // (no particle has entries; the class's values: every level's, until the step fails)
+    for (int a = 0; a < D; ++a)
+      lo[a] = -std::numeric_limits<double>::infinity(), hi[a] = -lo[a];
   }
   if (reached)
     s.status.localFailure = "a particle of level " + std::to_string(k) +
@@ -742,39 +728,81 @@ template <int D> PetscErrorCode MultiRate<D>::startNodes(const Stretches &sweep,
     for (const Part &c : *parts)
       addCuts(*c.at);
   cuts.erase(std::unique(cuts.begin(), cuts.end()), cuts.end());
-  std::vector<Part> ms, ps; // the classes with values in the piece
+  std::vector<const PetscScalar *> ms, ps; // the sums of the classes with values in the piece
+  std::vector<double> everyOf;             // (the node rule: ms's steps)
   Part swept{nullptr, nullptr, &sweep, 0.0, 0};
   for (size_t t = 0; t + 1 < cuts.size(); ++t) { // (the pieces in order: has walks on)
     const PetscInt i0 = cuts[t], i1 = cuts[t + 1];
     if (!swept.has(i0)) continue;
     ms.clear();
     ps.clear();
+    everyOf.clear();
     for (Part &c : masses)
-      if (c.has(i0)) ms.push_back(c);
+      if (c.has(i0)) ms.push_back(c.a), everyOf.push_back(c.every);
     for (Part &c : moms)
-      if (c.has(i0)) ps.push_back(c);
-    // Class by class over the piece (each node's sums in class order, as one node at a time),
-    // then the masks node by node.
-    for (const Part &c : ps)
-      for (PetscInt i = i0; i < i1; ++i)
-        P[i] += c.a[i];
-    for (PetscInt i = i0; i < i1; i += D) { // (the mass in component 0, the rest 0)
-      m[i] = 0.0;
-      for (int d = 1; d < D; ++d)
-        m[i + d] = 0.0;
-    }
-    for (const Part &c : ms)
-      for (PetscInt i = i0; i < i1; i += D)
-        m[i] += c.a[i];
-    if (rate)
-      for (PetscInt i = i0; i < i1; i += D)
+      if (c.has(i0)) ps.push_back(c.a);
+    // Node by node in one pass: its momenta and mass summed in class order (from P and from
+    // 0.0), the rest of the mass values 0, its rate, then its masks. (The class counts as
+    // constants up to 3 classes of each: the sums unrolled.)
+    const auto piece = [&](auto npOf, auto nmOf) {
+      constexpr int kP = decltype(npOf)::value, kM = decltype(nmOf)::value; // (-1: any)
+      const size_t np = kP >= 0 ? static_cast<size_t>(kP) : ps.size();
+      const size_t nm = kM >= 0 ? static_cast<size_t>(kM) : ms.size();
+      for (PetscInt i = i0; i < i1; i += D) {
         for (int d = 0; d < D; ++d) {
-          rate[i + d] = 1.0;
-          for (const Part &c : ms)
-            if (c.a[i] > 0) rate[i + d] = std::max(rate[i + d], c.every);
+          double sum = P[i + d];
+          for (size_t c = 0; c < np; ++c)
+            sum += ps[c][i + d];
+          P[i + d] = sum;
         }
-    for (PetscInt i = i0; i < i1; i += D)
-      physics::maskMomentumNode(m[i], bc + i, cut, D, mk + i, im + i, P + i, v + i);
+        double mass = 0.0; // (the mass in component 0, the rest 0)
+        for (size_t c = 0; c < nm; ++c)
+          mass += ms[c][i];
+        m[i] = mass;
+        for (int d = 1; d < D; ++d)
+          m[i + d] = 0.0;
+        if (rate)
+          for (int d = 0; d < D; ++d) {
+            rate[i + d] = 1.0;
+            for (size_t c = 0; c < nm; ++c)
+              if (ms[c][i] > 0) rate[i + d] = std::max(rate[i + d], everyOf[c]);
+          }
+        physics::maskMomentumNode(mass, bc + i, cut, D, mk + i, im + i, P + i, v + i);
+      }
+    };
+    using N0 = std::integral_constant<int, 0>;
+    using N1 = std::integral_constant<int, 1>;
+    using N2 = std::integral_constant<int, 2>;
+    using N3 = std::integral_constant<int, 3>;
+    using Any = std::integral_constant<int, -1>;
+    const auto withMasses = [&](auto npOf) {
+      switch (ms.size()) {
+      case 1:
+        return piece(npOf, N1{});
+      case 2:
+        return piece(npOf, N2{});
+      case 3:
+        return piece(npOf, N3{});
+      default:
+        return piece(npOf, Any{});
+      }
+    };
+    switch (ps.size()) {
+    case 0:
+      withMasses(N0{});
+      break;
+    case 1:
+      withMasses(N1{});
+      break;
+    case 2:
+      withMasses(N2{});
+      break;
+    case 3:
+      withMasses(N3{});
+      break;
+    default:
+      withMasses(Any{});
+    }
   }
   PetscCall(VecRestoreArrayRead(n.bcMask, &bc));
   PetscCall(VecRestoreArray(n.invMass, &im));

@@ -6,9 +6,26 @@
 #include "gimp/transfer/transfer.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <type_traits>
 
 namespace gimp {
+
+namespace {
+
+/// Division by a class's step count, value by value. A power of two (every ratio of 2 or 4)
+/// divides exactly as a product by its reciprocal, the same double (x 2^-k is x / 2^k rounded
+/// once either way), which does not wait on the divider; any other count divides.
+struct DivideBy {
+  double d, inverse;
+  bool power2;
+  explicit DivideBy(double divisor) : d(divisor), inverse(1.0 / divisor) {
+    int e = 0;
+    power2 = std::frexp(divisor, &e) == 0.5;
+  }
+};
+
+} // namespace
 
 template <int D>
 PetscErrorCode MultiRate<D>::classForces(const ParticleView<D> &p, const StepClock &c, PetscInt j,
@@ -327,8 +344,18 @@ PetscErrorCode MultiRate<D>::endClasses(ParticleView<D> &p, const StepClock &c, 
   PetscCall(zeroStretches(scratch_.taken, zero));
   if (musl) PetscCall(zeroStretches(scratch_.corrSum, zero));
   scratch_.dirty = at;
+  // One ending class (no cracks: their contact follows the correction): its correction moves
+  // the grid velocity itself where nothing reads it before the end (no external force: its work
+  // reads the velocity before the correction and corrSum), and takes its momentum from P where
+  // P is not kept (not the coarse step's end) and not read (no damping). The same sums: vel + 1.0
+  // c is vel + c, P + (-1.0) t is P - t.
+  const bool alone = musl && ending.size() == 1 && s.sc.cracks.empty();
+  scratch_.velInCorrection = alone && !s.boundary.active();
+  scratch_.momentumInCorrection = alone && j + 1 < s.stride() && !(s.sc.damping > 0);
   for (size_t e = 0; e < ending.size(); ++e)
     PetscCall(endClass(p, c, ending[e], e, flip, tally));
+  const bool velDone = scratch_.velInCorrection, momentumDone = scratch_.momentumInCorrection;
+  scratch_.velInCorrection = scratch_.momentumInCorrection = false;
   PetscCall(PetscLogStagePop());
   // The work of the external impulses (classForces): a class's impulse m_c dt f_c times the mean
   // of the grid velocity before and after it (its start sub-step), the latter with the MUSL
@@ -340,7 +367,7 @@ PetscErrorCode MultiRate<D>::endClasses(ParticleView<D> &p, const StepClock &c, 
   // Damping per sub-step, with MUSL's velocity at the end (the grid velocity plus the ending
   // classes' corrections), as in the single-rate step.
   const bool corrected = musl && !ending.empty(); // (USF is refused with -gimp_multirate)
-  if (corrected) PetscCall(addOnAndZero(s.nodal.vel, 1.0, scratch_.corrSum, at));
+  if (corrected && !velDone) PetscCall(addOnAndZero(s.nodal.vel, 1.0, scratch_.corrSum, at));
   if (sparse_ && s.sc.damping > 0) { // (the sums on the values the damping moved: gridUpdate's,
     // or with the correction on the velocity, formed again)
     if (corrected)
@@ -352,7 +379,8 @@ PetscErrorCode MultiRate<D>::endClasses(ParticleView<D> &p, const StepClock &c, 
   }
   // The ending classes leave the nodes; at the coarse end every class does and the next coarse
   // step starts from P = 0, so P keeps the nodal momentum for the monitor and the frames.
-  if (!ending.empty() && j + 1 < s.stride()) {
+  // (after momentumDone taken keeps what it held on the class's values, which stay dirty)
+  if (!ending.empty() && j + 1 < s.stride() && !momentumDone) {
     PetscCall(addOnAndZero(s.nodal.P, -1.0, scratch_.taken, at));
     scratch_.dirty.clear(); // (corrSum too: zeroed above with the correction)
   }
@@ -432,13 +460,19 @@ PetscErrorCode MultiRate<D>::endClass(ParticleView<D> &p, const StepClock &c, in
     PetscCall(VecGetArray(uv, &uf));
     PetscCall(VecGetArray(wv, &wf));
     const double ds = summed ? 1.0 : c.dt;
+    const DivideBy by(every);
     for (const auto &t : at) {
       if (!apic) // (APIC moves with the grid velocity: no update field)
         for (PetscInt i = t[0]; i < t[1]; ++i)
           uf[i] = flip > 0 ? flip * ds * d[i] + (1.0 - flip) * v[i] : v[i];
-      if (r.every[k] > 1)
-        for (PetscInt i = t[0]; i < t[1]; ++i)
-          wf[i] = vsum[i] / every;
+      if (r.every[k] > 1) {
+        if (by.power2)
+          for (PetscInt i = t[0]; i < t[1]; ++i)
+            wf[i] = vsum[i] * by.inverse;
+        else
+          for (PetscInt i = t[0]; i < t[1]; ++i)
+            wf[i] = vsum[i] / every;
+      }
     }
     PetscCall(VecRestoreArray(wv, &wf));
     PetscCall(VecRestoreArray(uv, &uf));
@@ -524,17 +558,32 @@ PetscErrorCode MultiRate<D>::correction(const StepClock &c, int k, size_t e, dou
   Vec sv = direct ? w0.meanW : n.f;
   PetscCall(VecGetArray(sv, &sf));
   // (corrSum, taken: zero outside the first's values)
-  const auto pass = [&](auto flipOn, auto firstOn) { // (the branches as constants: one loop)
-    constexpr bool first = decltype(firstOn)::value;
+  // (endClasses: with velInCorrection the correction goes to the velocity, with
+  // momentumInCorrection what the class took comes off P; each value's reads come first, so
+  // vs and took read the velocity before it)
+  PetscScalar *vel = nullptr, *P = nullptr;
+  if (w0.velInCorrection) PetscCall(VecGetArray(n.vel, &vel));
+  if (w0.momentumInCorrection) PetscCall(VecGetArray(n.P, &P));
+  const DivideBy by(every);
+  const auto pass = [&](auto flipOn, auto firstOn, auto power2On, auto velOn, auto momentumOn) {
+    constexpr bool first = decltype(firstOn)::value; // (the branches as constants: one loop)
+    constexpr bool power2 = decltype(power2On)::value;
     for (const auto &st : r_.values[k])
       for (PetscInt node = st[0]; node < st[1]; node += D) { // (a node's first value)
         for (int q = 0; q < D; ++q) {
           const PetscInt i = node + q;
           const double t = took.template at<decltype(flipOn)::value>(node, q);
           const double ci = (cr[i] - t) * im[i];
-          tk[i] = first ? t : tk[i] + t;
-          cs[i] = first ? ci : cs[i] + ci;
-          sf[i] = vs[i] / every + ci;
+          const double stressVelocity = (power2 ? vs[i] * by.inverse : vs[i] / every) + ci;
+          if constexpr (decltype(momentumOn)::value)
+            P[i] = P[i] - t;
+          else
+            tk[i] = first ? t : tk[i] + t;
+          if constexpr (decltype(velOn)::value)
+            vel[i] = vel[i] + ci;
+          else
+            cs[i] = first ? ci : cs[i] + ci;
+          sf[i] = stressVelocity;
           cr[i] = 0.0; // (read no more: zero for the next class's sum)
         }
         took.zero(node);
@@ -542,10 +591,23 @@ PetscErrorCode MultiRate<D>::correction(const StepClock &c, int k, size_t e, dou
   };
   const std::true_type on;
   const std::false_type off;
+  const auto passBy = [&](auto flipOn, auto firstOn) {
+    const auto fused = [&](auto power2On) {
+      if (w0.velInCorrection)
+        w0.momentumInCorrection ? pass(flipOn, firstOn, power2On, on, on)
+                                : pass(flipOn, firstOn, power2On, on, off);
+      else
+        w0.momentumInCorrection ? pass(flipOn, firstOn, power2On, off, on)
+                                : pass(flipOn, firstOn, power2On, off, off);
+    };
+    by.power2 ? fused(on) : fused(off);
+  };
   if (took.flip > 0)
-    e == 0 ? pass(on, on) : pass(on, off);
+    e == 0 ? passBy(on, on) : passBy(on, off);
   else
-    e == 0 ? pass(off, on) : pass(off, off);
+    e == 0 ? passBy(off, on) : passBy(off, off);
+  if (P) PetscCall(VecRestoreArray(n.P, &P));
+  if (vel) PetscCall(VecRestoreArray(n.vel, &vel));
   PetscCall(VecRestoreArray(sv, &sf));
   PetscCall(VecRestoreArray(w0.corrSum, &cs));
   PetscCall(VecRestoreArray(w0.corr, &cr));

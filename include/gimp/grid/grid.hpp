@@ -15,10 +15,12 @@
 #include <petscdmcomposite.h>
 #include <petscdmda.h>
 
+#include <algorithm>
 #include <array>
 #include <chrono>
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <type_traits>
 #include <utility>
 #include <vector>
@@ -162,6 +164,23 @@ public:
     return L.offset + s;
   }
 
+  /// What a build notes of its particles as it reads them (buildStencils' `seen`, on success):
+  /// the bounding box [lo, hi] of their domains [x - l, x + l] (2D simd::minOf(x - l, lo), 3D
+  /// std::min(lo, x - l)), and with `watch` the particles whose domain widened by `reach` meets
+  /// the box `near` (in order). A rate class's start reads them without a second pass over its
+  /// particles.
+  struct BuildSeen {
+    bool watch = false;
+    BoxOf<D> near{};
+    double reach = 0;
+    double lo[D], hi[D];
+    std::vector<PetscInt> nearParticles;
+    void start() {
+      for (int a = 0; a < D; ++a)
+        lo[a] = std::numeric_limits<double>::infinity(), hi[a] = -lo[a];
+      nearParticles.clear();
+    }
+  };
   /// Stencils of n particles (positions x, half-sizes l; D values each). Returns false, with s
   /// unchanged past the particles done, when a particle is larger than a level-0 cell (the
   /// caller reports it collectively). With `compact` a particle inside one level's regular
@@ -170,7 +189,8 @@ public:
   /// appendNodes keeps the node patterns it reads (NodePattern) for the next particles and
   /// builds; the same stencils.
   bool buildStencils(PetscInt n, const double *x, const double *l, Stencils<D> &s,
-                     bool compact = false, bool lanes = false, bool patterns = false) const;
+                     bool compact = false, bool lanes = false, bool patterns = false,
+                     BuildSeen *seen = nullptr) const;
 
   /// CPDI stencils (Sadeghirad et al. 2011, 2013) of n particles whose domains are the
   /// quadrilaterals (2D) or hexahedra (3D) of their 2^D corners (D 2^D values each, in the order

@@ -24,9 +24,10 @@ PetscErrorCode massMaskMomentum(Vec mass, Vec bcMask, double cut, Vec mask, Vec 
 inline void maskNode(double m, const double *bc, double cut, int dof, double *mask,
                      double *invMass) {
   const bool has = m > cut;
+  const double inverse = has ? 1.0 / m : 0.0; // (one division per node, not per value)
   for (int c = 0; c < dof; ++c) {
     mask[c] = has ? bc[c] : 0.0;
-    invMass[c] = has && bc[c] != 0.0 ? 1.0 / m : 0.0;
+    invMass[c] = bc[c] != 0.0 ? inverse : 0.0;
   }
 }
 

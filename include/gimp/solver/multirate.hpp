@@ -102,6 +102,10 @@ struct RateScratch {
   Stretches dirty; // taken and corrSum: where they may not be zero
   // forceW and corr zero everywhere: their passes zero them where they wrote, after use
   bool forceClean = false, corrClean = false;
+  // One class ends and nothing reads the grid velocity (momentum) between its MUSL correction
+  // and the sub-step's end: the correction adds its share to nodal.vel (takes what the class
+  // took from nodal.P) in its own pass, not through corrSum (taken) (MultiRate::endClasses).
+  bool velInCorrection = false, momentumInCorrection = false;
   // The sub-step's nodes (MultiRate::gridUpdate): the values the starting classes' forces reach
   // and those startNodes swept; where the acceleration may not be zero; with damping the values
   // where P may be nonzero (every class's), which the damping moves.
@@ -223,8 +227,9 @@ private:
   RateClasses<D> r_;
   ClassSums sums_;
   RateScratch scratch_;
-  bool sparse_ = false;  // (decideSparseUpdate)
-  std::vector<int> cls_; // (classify: each particle's class; kept for its room)
+  bool sparse_ = false;              // (decideSparseUpdate)
+  std::vector<int> cls_;             // (classify: each particle's class; kept for its room)
+  typename Grid<D>::BuildSeen seen_; // (startClass: what its build notes; kept for its room)
 };
 
 } // namespace gimp
