@@ -169,6 +169,14 @@ GIMP_ALWAYS_INLINE void Grid<D>::setBlock4(int q, const PetscInt *i0, const doub
 template <int D>
 bool Grid<D>::buildStencils(PetscInt n, const double *x, const double *l, Stencils<D> &s,
                             bool compact, bool lanes, bool patterns, BuildSeen *seen) const {
+  return seen ? buildStencilsNoting<true>(n, x, l, s, compact, lanes, patterns, seen)
+              : buildStencilsNoting<false>(n, x, l, s, compact, lanes, patterns, nullptr);
+}
+
+template <int D>
+template <bool Notes>
+bool Grid<D>::buildStencilsNoting(PetscInt n, const double *x, const double *l, Stencils<D> &s,
+                                  bool compact, bool lanes, bool patterns, BuildSeen *seen) const {
   const int K = static_cast<int>(levels.size());
   // Lane groups (2D): each aligned group of four tries blockRun, which marks the groups it builds;
   // in 3D each particle tries blockLanes first (both in stencil_lanes.cpp).
@@ -261,12 +269,12 @@ bool Grid<D>::buildStencils(PetscInt n, const double *x, const double *l, Stenci
       if (lanes && k % 4 == 0 && k + 4 <= n && blockRun(k, x, l, s)) {
         for (int q = 0; q < 4; ++q) {
           s.start[k + q] = static_cast<PetscInt>(m);
-          if (seen) note(k + q);
+          if constexpr (Notes) note(k + q);
         }
         k += 3;
         continue;
       }
-    if (seen) note(k);
+    if constexpr (Notes) note(k);
     s.start[k] = static_cast<PetscInt>(m);
     if (cache) {
       s.patternStart[k] = static_cast<PetscInt>(s.patterns.size());

@@ -221,6 +221,11 @@ public:
   int coarsestReaching(const double *x, const double *l) const;
 
 private:
+  /// buildStencils with (Notes) and without a BuildSeen: the single step's build does not test
+  /// for one per particle.
+  template <bool Notes>
+  bool buildStencilsNoting(PetscInt n, const double *x, const double *l, Stencils<D> &s,
+                           bool compact, bool lanes, bool patterns, BuildSeen *seen) const;
   void destroyPetsc();
   /// The DMs, the window, its nodes, the crack fields and the scatter.
   PetscErrorCode build(MPI_Comm comm, const std::vector<CrackOf<D>> &cracks);
