@@ -224,9 +224,9 @@ bool Grid<D>::buildStencilsNoting(PetscInt n, const double *x, const double *l, 
       if (r.i1[a] - r.i0[a] >= maxRange) return true;
     return false;
   };
-  // What `seen` notes, each particle as it is read (in order), kept in locals (the stencils'
-  // stores would otherwise reload them) and stored at the end: BuildSeen::note's operations,
-  // in 2D both axes at once (simd::minOf, maxOf, bothLe lane by lane).
+  // What `seen` notes (BuildSeen), each particle as it is read (in order), kept in locals (the
+  // stencils' stores would otherwise reload them) and stored at the end; in 2D both axes at once
+  // (simd::minOf, maxOf, bothLe lane by lane).
   BuildSeen none;
   BuildSeen &notes = seen ? *seen : none;
   notes.start();
