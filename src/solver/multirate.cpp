@@ -250,6 +250,23 @@ void classesOf(const Grid<D> &g, const std::vector<std::array<double, 2 * D>> &z
   }
 }
 
+/// f called with n as a constant (std::integral_constant<int, n>) for n up to 3, else with -1
+/// (any count): loops over a few classes unrolled.
+template <class F> void countAsConstant(size_t n, F &&f) {
+  switch (n) {
+  case 0:
+    return f(std::integral_constant<int, 0>{});
+  case 1:
+    return f(std::integral_constant<int, 1>{});
+  case 2:
+    return f(std::integral_constant<int, 2>{});
+  case 3:
+    return f(std::integral_constant<int, 3>{});
+  default:
+    return f(std::integral_constant<int, -1>{});
+  }
+}
+
 /// The largest window node particle k's stencil reaches (levels are concatenated in the window,
 /// coarse to fine, so this tells the finest level it reaches); a crack's second-field slot counts
 /// as its node.
@@ -770,39 +787,9 @@ template <int D> PetscErrorCode MultiRate<D>::startNodes(const Stretches &sweep,
         physics::maskMomentumNode(mass, bc + i, cut, D, mk + i, im + i, P + i, v + i);
       }
     };
-    using N0 = std::integral_constant<int, 0>;
-    using N1 = std::integral_constant<int, 1>;
-    using N2 = std::integral_constant<int, 2>;
-    using N3 = std::integral_constant<int, 3>;
-    using Any = std::integral_constant<int, -1>;
-    const auto withMasses = [&](auto npOf) {
-      switch (ms.size()) {
-      case 1:
-        return piece(npOf, N1{});
-      case 2:
-        return piece(npOf, N2{});
-      case 3:
-        return piece(npOf, N3{});
-      default:
-        return piece(npOf, Any{});
-      }
-    };
-    switch (ps.size()) {
-    case 0:
-      withMasses(N0{});
-      break;
-    case 1:
-      withMasses(N1{});
-      break;
-    case 2:
-      withMasses(N2{});
-      break;
-    case 3:
-      withMasses(N3{});
-      break;
-    default:
-      withMasses(Any{});
-    }
+    countAsConstant(ps.size(), [&](auto npOf) {
+      countAsConstant(ms.size(), [&](auto nmOf) { piece(npOf, nmOf); });
+    });
   }
   PetscCall(VecRestoreArrayRead(n.bcMask, &bc));
   PetscCall(VecRestoreArray(n.invMass, &im));

@@ -17,9 +17,9 @@ namespace {
 /// divides exactly as a product by its reciprocal, the same double (x 2^-k is x / 2^k rounded
 /// once either way), which does not wait on the divider; any other count divides.
 struct DivideBy {
-  double d, inverse;
+  double inverse;
   bool power2;
-  explicit DivideBy(double divisor) : d(divisor), inverse(1.0 / divisor) {
+  explicit DivideBy(double divisor) : inverse(1.0 / divisor) {
     int e = 0;
     power2 = std::frexp(divisor, &e) == 0.5;
   }
